@@ -1,0 +1,188 @@
+"""Batched 2D Perlin gradient noise, shared by every environment's procedural content.
+
+Wind fields use it now; terrain height maps and weather will use it later. All functions work on a
+batch of ``B`` independent noise fields at once, each with its own random lattice:
+
+* :func:`draw_lattice` draws the lattice (a permutation table and unit gradient vectors) from an
+  ``np.random.Generator`` -- the only source of randomness in this module.
+* :func:`perlin2d` evaluates classic Perlin noise (quintic fade) at arbitrary points.
+* :func:`fractal2d` sums several octaves of it ("fractal Brownian motion").
+
+Coordinates are in *lattice units*: one unit is the distance between neighbouring lattice points,
+and a field with period ``P`` repeats every ``P`` units in x and in y. Noise values are
+dimensionless and lie in ``[-1, 1]``; callers scale them to physical units (m/s, metres, ...).
+"""
+
+from __future__ import annotations
+
+import numbers
+
+import numpy as np
+
+__all__ = ["draw_lattice", "perlin2d", "fractal2d"]
+
+# Unit-gradient 2D Perlin noise peaks at sqrt(2)/2 in magnitude; this factor maps it onto [-1, 1].
+_RANGE_SCALE = np.sqrt(2.0)
+
+
+def _require_int(name: str, value: object, minimum: int) -> int:
+    """``value`` as a Python int, or ValueError if it is not an integer >= ``minimum``."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+        raise ValueError(f"{name} must be an integer, got {value!r}")
+    if value < minimum:
+        raise ValueError(f"{name} must be >= {minimum}, got {value}")
+    return int(value)
+
+
+def draw_lattice(
+    rng: np.random.Generator, batch: int, period: int = 256
+) -> tuple[np.ndarray, np.ndarray]:
+    """Random lattice for ``batch`` independent noise fields.
+
+    Args:
+        rng: the generator every random number is drawn from.
+        batch: number of independent fields ``B`` (>= 1).
+        period: lattice period ``P`` in lattice units (>= 2); the noise repeats every ``P`` units.
+
+    Returns:
+        perm: ``(B, 2P)`` int64 -- per row, a random permutation of ``range(P)`` repeated twice.
+        grads: ``(B, P, 2)`` float64 -- unit gradient vectors at uniformly random angles.
+    """
+    if not isinstance(rng, np.random.Generator):
+        raise ValueError(f"rng must be a numpy.random.Generator, got {type(rng).__name__}")
+    batch = _require_int("batch", batch, 1)
+    period = _require_int("period", period, 2)
+    ordered = np.broadcast_to(np.arange(period, dtype=np.int64), (batch, period))
+    perm = rng.permuted(ordered, axis=1)
+    angles = rng.uniform(0.0, 2.0 * np.pi, size=(batch, period))
+    grads = np.stack([np.cos(angles), np.sin(angles)], axis=-1)
+    return np.concatenate([perm, perm], axis=1), grads
+
+
+def _checked_inputs(
+    perm: np.ndarray, grads: np.ndarray, x: np.ndarray, y: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Validate a lattice and sample coordinates; return them as int64 / float64 arrays."""
+    perm = np.asarray(perm)
+    grads = np.asarray(grads, dtype=np.float64)
+    x = np.asarray(x, dtype=np.float64)
+    y = np.asarray(y, dtype=np.float64)
+    if grads.ndim != 3 or grads.shape[2] != 2 or grads.shape[1] < 2:
+        raise ValueError(f"grads must have shape (B, P, 2) with P >= 2, got {grads.shape}")
+    batch, period = grads.shape[:2]
+    if perm.shape != (batch, 2 * period):
+        raise ValueError(
+            f"perm must have shape (B, 2P) = {(batch, 2 * period)} to match grads {grads.shape}, "
+            f"got {perm.shape}"
+        )
+    if not np.issubdtype(perm.dtype, np.integer):
+        raise ValueError(f"perm must hold integers, got dtype {perm.dtype}")
+    if perm.min() < 0 or perm.max() >= period:
+        raise ValueError(f"perm entries must lie in [0, {period}), the lattice period")
+    if x.shape != y.shape:
+        raise ValueError(f"x and y must have identical shapes, got {x.shape} and {y.shape}")
+    if x.ndim < 1 or x.shape[0] != batch:
+        raise ValueError(f"x and y must have shape (B, ...) with B = {batch}, got {x.shape}")
+    if not (np.isfinite(x).all() and np.isfinite(y).all()):
+        raise ValueError("x and y must be finite")
+    return perm.astype(np.int64, copy=False), grads, x, y
+
+
+def _fade(t: np.ndarray) -> np.ndarray:
+    """Quintic smoothstep 6t^5 - 15t^4 + 10t^3 (zero first and second derivative at 0 and 1)."""
+    return t * t * t * (t * (t * 6.0 - 15.0) + 10.0)
+
+
+def _lattice_cell(coord: np.ndarray, period: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Lower and upper lattice indices (wrapped into ``[0, P)``) and the fractional offset."""
+    lower = np.floor(coord)
+    index0 = np.mod(lower, period).astype(np.int64)
+    index1 = (index0 + 1) % period
+    return index0, index1, coord - lower
+
+
+def _perlin_unchecked(
+    perm: np.ndarray, grads: np.ndarray, x: np.ndarray, y: np.ndarray
+) -> np.ndarray:
+    """Perlin noise on validated inputs (see :func:`perlin2d`), values in [-1, 1]."""
+    batch, period = grads.shape[:2]
+    row = np.arange(batch).reshape((batch,) + (1,) * (x.ndim - 1))
+    xi0, xi1, fx = _lattice_cell(x, period)
+    yi0, yi1, fy = _lattice_cell(y, period)
+    grad_x, grad_y = grads[..., 0], grads[..., 1]
+
+    def corner_dot(xi: np.ndarray, yi: np.ndarray, dx: np.ndarray, dy: np.ndarray) -> np.ndarray:
+        """Dot product of the corner's hashed gradient with the offset from that corner."""
+        gradient = perm[row, perm[row, xi] + yi]
+        return grad_x[row, gradient] * dx + grad_y[row, gradient] * dy
+
+    n00 = corner_dot(xi0, yi0, fx, fy)
+    n10 = corner_dot(xi1, yi0, fx - 1.0, fy)
+    n01 = corner_dot(xi0, yi1, fx, fy - 1.0)
+    n11 = corner_dot(xi1, yi1, fx - 1.0, fy - 1.0)
+    u, v = _fade(fx), _fade(fy)
+    bottom = n00 + u * (n10 - n00)
+    top = n01 + u * (n11 - n01)
+    return np.clip(_RANGE_SCALE * (bottom + v * (top - bottom)), -1.0, 1.0)
+
+
+def perlin2d(perm: np.ndarray, grads: np.ndarray, x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """Classic 2D Perlin gradient noise with quintic fade, evaluated for a batch of fields.
+
+    Args:
+        perm: ``(B, 2P)`` integer permutation table from :func:`draw_lattice`.
+        grads: ``(B, P, 2)`` unit gradients from :func:`draw_lattice`.
+        x, y: float arrays of identical shape ``(B, ...)``, coordinates in lattice units.
+            Row ``b`` of ``x``/``y`` is evaluated with ``perm[b]``/``grads[b]``.
+
+    Returns:
+        ``(B, ...)`` float64 noise in ``[-1, 1]`` (raw value times sqrt(2), clipped). The noise is
+        0 at integer lattice points, smooth (C2) everywhere, and periodic with period ``P`` in
+        x and in y.
+    """
+    return _perlin_unchecked(*_checked_inputs(perm, grads, x, y))
+
+
+def _check_octave_args(octaves: int, persistence: float, lacunarity: float) -> int:
+    """Validate the fractal parameters; return ``octaves`` as an int."""
+    octaves = _require_int("octaves", octaves, 1)
+    if not (isinstance(persistence, numbers.Real) and 0.0 < persistence <= 1.0):
+        raise ValueError(f"persistence must be in (0, 1], got {persistence!r}")
+    if not (isinstance(lacunarity, numbers.Real) and 1.0 <= lacunarity < np.inf):
+        raise ValueError(f"lacunarity must be a finite number >= 1, got {lacunarity!r}")
+    return octaves
+
+
+def fractal2d(
+    perm: np.ndarray,
+    grads: np.ndarray,
+    x: np.ndarray,
+    y: np.ndarray,
+    octaves: int = 4,
+    persistence: float = 0.5,
+    lacunarity: float = 2.0,
+) -> np.ndarray:
+    """Fractal (multi-octave) Perlin noise for a batch of fields.
+
+    Octave ``k`` (``k = 0 .. octaves-1``) is :func:`perlin2d` at frequency ``lacunarity**k``
+    with amplitude ``persistence**k``; the sum is divided by the sum of amplitudes, so the result
+    stays in ``[-1, 1]``. With an integer ``lacunarity`` the result keeps period ``P``.
+
+    Args:
+        perm, grads, x, y: as for :func:`perlin2d`; shapes ``(B, 2P)``, ``(B, P, 2)``, ``(B, ...)``.
+        octaves: number of octaves, >= 1.
+        persistence: amplitude ratio between successive octaves, in (0, 1].
+        lacunarity: frequency ratio between successive octaves, >= 1.
+
+    Returns:
+        ``(B, ...)`` float64 noise in ``[-1, 1]``.
+    """
+    octaves = _check_octave_args(octaves, persistence, lacunarity)
+    perm, grads, x, y = _checked_inputs(perm, grads, x, y)
+    total = np.zeros(x.shape, dtype=np.float64)
+    amplitude_sum = 0.0
+    for k in range(octaves):  # loop over octaves only; every octave is whole-array
+        amplitude, frequency = persistence**k, lacunarity**k
+        total += amplitude * _perlin_unchecked(perm, grads, x * frequency, y * frequency)
+        amplitude_sum += amplitude
+    return np.clip(total / amplitude_sum, -1.0, 1.0)
