@@ -1,0 +1,98 @@
+"""PettingZoo ParallelEnv: the batch-of-one view of :class:`hivex_dsl.runtime.BatchedEnv`."""
+
+from __future__ import annotations
+
+from typing import Any, Optional
+
+import numpy as np
+from pettingzoo import ParallelEnv
+
+from ..compiler import CompiledScenario
+from ..runtime import BatchedEnv, Split
+from ..spaces import check_actions, placeholder_action, stack_agent_actions
+
+
+def _unbatch(observations: Any, world: int, agent: int) -> Any:
+    if isinstance(observations, dict):
+        return {key: value[world, agent] for key, value in observations.items()}
+    return observations[world, agent]
+
+
+class HivexParallelEnv(ParallelEnv):
+    """One world of a compiled scenario behind PettingZoo's parallel API.
+
+    ``infos[agent]["reward_terms"]`` holds the unweighted value of every active reward term this
+    step; when an agent's episode ends, ``infos[agent]["episode"]`` holds its return, length and
+    per-term sums. A reset without a seed follows the scenario's seeds for ``split``.
+    """
+
+    def __init__(self, compiled: CompiledScenario, render_mode: Optional[str] = None, split: Split = "train"):
+        if render_mode not in (None, "rgb_array"):
+            raise ValueError(f"render_mode must be None or 'rgb_array', got {render_mode!r}")
+        self.compiled = compiled
+        self.core = BatchedEnv(compiled, batch=1, split=split)
+        self.render_mode = render_mode
+        self.possible_agents = list(compiled.agent_names)
+        self.agents: list[str] = []
+        self.metadata = {"name": f"hivex_{compiled.environment}_v0", "render_modes": ["rgb_array"],
+                         "is_parallelizable": True, "render_fps": self.core.sim.render_fps}
+        self._index = {name: i for i, name in enumerate(self.possible_agents)}
+        self.observation_spaces = {a: self.core.sim.observation_space for a in self.possible_agents}
+        self.action_spaces = {a: self.core.sim.action_space for a in self.possible_agents}
+
+    def observation_space(self, agent: str):
+        return self.observation_spaces[agent]
+
+    def action_space(self, agent: str):
+        return self.action_spaces[agent]
+
+    def reset(self, seed: Optional[int] = None, options: Optional[dict] = None):
+        observations = self.core.reset(seed)
+        self.agents = list(self.possible_agents)
+        obs = {a: _unbatch(observations, 0, i) for i, a in enumerate(self.agents)}
+        return obs, {a: {} for a in self.agents}
+
+    def step(self, actions: dict[str, Any]):
+        if not self.agents:
+            raise RuntimeError("every agent is done: call reset() before step()")
+        live = self.agents
+        space = self.core.sim.action_space
+        batched = stack_agent_actions(space, actions, live)
+        full = self._fill_inactive(batched, live)
+        full = check_actions(space, full, self.possible_agents, self.core.sim.action_meanings)
+        result = self.core.step(full)
+        obs, rewards, terminations, truncations, infos = {}, {}, {}, {}, {}
+        for agent in live:
+            i = self._index[agent]
+            obs[agent] = _unbatch(result.observations, 0, i)
+            rewards[agent] = float(result.rewards[0, i])
+            terminations[agent] = bool(result.terminated[0, i])
+            truncations[agent] = bool(result.truncated[0, i])
+            infos[agent] = {"reward_terms": {k: float(v[0, i]) for k, v in result.terms.items()}}
+            if result.ended[0, i]:
+                infos[agent]["episode"] = self.core.episode_summary(0, i)
+        self.agents = [a for a in live if not result.ended[0, self._index[a]]]
+        return obs, rewards, terminations, truncations, infos
+
+    def _fill_inactive(self, batched: Any, live: list[str]) -> Any:
+        """Actions for every agent slot; finished agents get a valid placeholder the runtime masks out."""
+        if len(live) == len(self.possible_agents):
+            return batched
+        rows = [self._index[a] for a in live]
+        if isinstance(batched, dict):
+            return {k: self._fill_part(v, rows, self.core.sim.action_space[k]) for k, v in batched.items()}
+        return self._fill_part(batched, rows, self.core.sim.action_space)
+
+    def _fill_part(self, part: np.ndarray, rows: list[int], space) -> np.ndarray:
+        sample = placeholder_action(space)
+        full = np.broadcast_to(sample, (1, len(self.possible_agents)) + sample.shape).copy()
+        full[0, rows] = part[0]
+        return full
+
+    def render(self):
+        if self.render_mode is None:
+            return None
+        return self.core.render(0)
+
+    def close(self) -> None:
+        pass

@@ -1,0 +1,318 @@
+"""YAML -> validated spec -> CompiledScenario (frozen), one per sweep grid point.
+
+Compilation is total: every check that could fail later (names, bounds, seeds, layouts that
+must fit) runs here, so a scenario that compiles always resets and steps.
+"""
+
+from __future__ import annotations
+
+import copy
+import hashlib
+import itertools
+import json
+from dataclasses import dataclass, field
+from functools import cached_property
+from pathlib import Path
+from types import MappingProxyType
+from typing import Any, Mapping, Union
+
+from . import registry
+from .errors import Location, Problem, ScenarioError, did_you_mean, kind_of, one_of, show
+from .loader import Loaded, PathKey, load_file
+from .resources import resolve_scenario_path
+from .spec.common import SCHEMA_VERSION, StrictModel
+from .spec.scenario import SWEEPABLE_PREFIXES, ScenarioVocabulary, Seeds, sweepable_fields
+from .spec.validate import dotted, validate_model
+
+MAX_SWEEP_POINTS = 10_000
+MAX_SWEEP_VALUES = 1_000
+LOCK_VERSION = 1
+LOCK_KEYS = ("hivex_lock", "fingerprint", "scenario", "task_index", "ends_on", "sweep_point",
+             "term_contracts", "spaces")
+
+Source = Union[str, Path, Mapping[str, Any]]
+
+
+@dataclass(frozen=True, eq=False)
+class CompiledScenario:
+    """One fully resolved scenario: every value explicit, nothing left to fail at reset."""
+
+    entry: "registry.EnvironmentEntry"
+    spec: StrictModel
+    source: str
+    task_index: int
+    level: int | None
+    weights: Mapping[str, float]
+    ends_on: tuple[str, ...]
+    sweep_point: Mapping[str, Any] = field(default_factory=dict)
+
+    @property
+    def environment(self) -> str:
+        return self.entry.id
+
+    @property
+    def name(self) -> str:
+        if not self.sweep_point:
+            return self.spec.name
+        return f"{self.spec.name}[{','.join(f'{k}={v}' for k, v in self.sweep_point.items())}]"
+
+    @property
+    def task_name(self) -> str:
+        return self.entry.reward_table.tasks[self.task_index].name
+
+    @property
+    def agents(self) -> int:
+        return self.spec.agents
+
+    @property
+    def episode_length(self) -> int:
+        return self.spec.episode_length
+
+    @property
+    def seeds(self) -> Seeds:
+        return self.spec.seeds
+
+    @property
+    def params(self) -> StrictModel:
+        return self.spec.params
+
+    @property
+    def agent_names(self) -> tuple[str, ...]:
+        return tuple(f"{self.entry.info.agent_name}_{i}" for i in range(self.agents))
+
+    def resolved(self) -> dict[str, Any]:
+        """The scenario in the language itself, with every value written out."""
+        out: dict[str, Any] = {"hivex": SCHEMA_VERSION, "name": self.name, "environment": self.environment,
+                               "task": self.task_name}
+        if self.entry.info.level_field:
+            out[self.entry.info.level_field] = self.level
+        out |= {"agents": self.agents, "episode_length": self.episode_length,
+                "seeds": {"train": _plain(self.seeds.train), "test": _plain(self.seeds.test)},
+                "weights": dict(self.weights), "params": self.params.model_dump(mode="json")}
+        return out
+
+    @cached_property
+    def fingerprint(self) -> str:
+        """sha256 of what determines behaviour: resolved content (not name) and term contracts."""
+        content = {key: value for key, value in self.resolved().items() if key != "name"}
+        content["ends_on"] = list(self.ends_on)
+        content["term_contracts"] = [term.contract.as_dict() for term in self.entry.terms]
+        canonical = json.dumps(content, sort_keys=True, separators=(",", ":"), allow_nan=False)
+        return "sha256:" + hashlib.sha256(canonical.encode()).hexdigest()
+
+    def to_lock(self) -> dict[str, Any]:
+        from .spaces import describe_space
+
+        simulator = self.entry.make_simulator(self)
+        return {
+            "hivex_lock": LOCK_VERSION,
+            "fingerprint": self.fingerprint,
+            "scenario": self.resolved(),
+            "task_index": self.task_index,
+            "ends_on": list(self.ends_on),
+            "sweep_point": dict(self.sweep_point),
+            "term_contracts": {t.name: t.contract.as_dict() for t in self.entry.terms},
+            "spaces": {"observation": describe_space(simulator.observation_space),
+                       "action": describe_space(simulator.action_space)},
+        }
+
+
+def compile(source: Source) -> CompiledScenario:  # noqa: A001 - the public verb of this package
+    """Compile a file (or dict) that describes exactly one scenario."""
+    loaded = _load(source)
+    if isinstance(loaded.data, dict) and loaded.data.get("sweep") is not None:
+        raise ScenarioError([Problem(loaded.locate(("sweep",), key=True),
+                                     "this file sweeps over a grid; use compile_all() (or `hivex compile`) to get every point")])
+    return compile_loaded(loaded)[0]
+
+
+def compile_all(source: Source) -> list[CompiledScenario]:
+    """Compile a file (or dict) into one scenario per sweep grid point (one if it does not sweep)."""
+    return compile_loaded(_load(source))
+
+
+def _load(source: Source) -> Loaded:
+    if isinstance(source, Mapping):
+        return Loaded("<dict>", copy.deepcopy(dict(source)))
+    return load_file(resolve_scenario_path(str(source)))
+
+
+def _plain(seeds: Any) -> Any:
+    return list(seeds) if isinstance(seeds, tuple) else seeds
+
+
+def compile_loaded(loaded: Loaded) -> list[CompiledScenario]:
+    data = loaded.data
+    if not isinstance(data, dict):
+        _fail(loaded, (), f"the top level must be a mapping of keys such as 'hivex' and 'environment', got {kind_of(data)}")
+    if "hivex_lock" in data:
+        return [_compile_lock(loaded)]
+    entry = _environment(loaded)
+    points = _sweep_points(loaded, entry)
+    compiled, problems = [], []
+    for assignment in points:
+        try:
+            compiled.append(_compile_point(loaded, entry, assignment))
+        except ScenarioError as exc:
+            problems.extend(p for p in exc.problems if p not in problems)
+    if problems:
+        raise ScenarioError(problems)
+    return compiled
+
+
+def _fail(loaded: Loaded, path: PathKey, message: str, key: bool = False):
+    raise ScenarioError([Problem(loaded.locate(path, key=key), message)])
+
+
+def _environment(loaded: Loaded) -> "registry.EnvironmentEntry":
+    data = loaded.data
+    version = data.get("hivex")
+    if "hivex" not in data:
+        _fail(loaded, (), f"missing required key 'hivex' (the language version; write 'hivex: {SCHEMA_VERSION}')")
+    if version != SCHEMA_VERSION or isinstance(version, bool):
+        _fail(loaded, ("hivex",), f"hivex: {show(version)} is not a version this toolkit reads: expected {SCHEMA_VERSION}")
+    if "environment" not in data:
+        _fail(loaded, (), f"missing required key 'environment'; expected one of: {', '.join(registry.CATALOGUE)}")
+    env_id = data["environment"]
+    if not isinstance(env_id, str):
+        _fail(loaded, ("environment",), f"environment: expected a name, got {show(env_id)} ({kind_of(env_id)})")
+    try:
+        return registry.get(env_id)
+    except KeyError as exc:
+        _fail(loaded, ("environment",), f"environment: {exc.args[0]}")
+
+
+def _vocabulary(entry) -> ScenarioVocabulary:
+    return ScenarioVocabulary(entry.info, entry.params_model, entry.reward_table.task_names, entry.terms.names,
+                              entry.level_names)
+
+
+Assignment = tuple[tuple[PathKey, Any, PathKey], ...]  # (field path, value, where the value is written)
+
+
+def _sweep_points(loaded: Loaded, entry) -> list[Assignment]:
+    sweep = loaded.data.get("sweep")
+    if sweep is None:
+        return [()]
+    if not isinstance(sweep, dict) or not sweep:
+        _fail(loaded, ("sweep",), f"sweep: expected a mapping of field -> list of values, got {show(sweep)}")
+    axes = []
+    for key, values in sweep.items():
+        target = _sweep_target(loaded, entry, key)
+        where = ("sweep", key)
+        if not isinstance(values, list) or not values:
+            _fail(loaded, where, f"sweep.{key}: expected a non-empty list of values, got {show(values)} ({kind_of(values)})")
+        if len(values) > MAX_SWEEP_VALUES:
+            _fail(loaded, where, f"sweep.{key}: {len(values)} values; at most {MAX_SWEEP_VALUES} are allowed")
+        for i, value in enumerate(values):
+            if isinstance(value, (dict, list)) or value is None:
+                _fail(loaded, where + (i,), f"sweep.{key}[{i}]: expected a single value, got {kind_of(value)}")
+            if values.index(value) != i:
+                _fail(loaded, where + (i,), f"sweep.{key}[{i}]: {show(value)} is listed twice")
+        axes.append([(target, value, where + (i,)) for i, value in enumerate(values)])
+    total = 1
+    for axis in axes:
+        total *= len(axis)
+    if total > MAX_SWEEP_POINTS:
+        _fail(loaded, ("sweep",), f"sweep makes {total:,} scenarios; at most {MAX_SWEEP_POINTS:,} are allowed", key=True)
+    return [tuple(point) for point in itertools.product(*axes)]
+
+
+def _sweep_target(loaded: Loaded, entry, key: str) -> PathKey:
+    vocab = _vocabulary(entry)
+    fields = sweepable_fields(vocab)
+    nested = {"params": tuple(entry.params_model.model_fields), "weights": entry.terms.names,
+              "seeds": tuple(Seeds.model_fields)}
+    options = list(fields) + [f"{p}.{n}" for p in SWEEPABLE_PREFIXES for n in nested[p]]
+    head, _, tail = key.partition(".")
+    if key in fields or (head in nested and tail in nested[head]):
+        target = tuple(key.split("."))
+        if _get(loaded.data, target) is not _MISSING:
+            _fail(loaded, ("sweep", key), f"'{key}' is both set in the file and swept; keep only one", key=True)
+        return target
+    hint = did_you_mean(key, options)
+    _fail(loaded, ("sweep", key), f"cannot sweep over '{key}'{hint}; expected one of: {', '.join(fields)}, "
+          f"params.<name>, weights.<term>, seeds.train or seeds.test", key=True)
+
+
+_MISSING = object()
+
+
+def _get(data: Any, path: PathKey) -> Any:
+    for part in path:
+        if not isinstance(data, dict) or part not in data:
+            return _MISSING
+        data = data[part]
+    return data
+
+
+def _compile_point(loaded: Loaded, entry, assignment: Assignment) -> CompiledScenario:
+    data = {k: v for k, v in copy.deepcopy(loaded.data).items() if k != "sweep"}
+    redirects = {}
+    for target, value, where in assignment:
+        parent = data
+        for part in target[:-1]:
+            parent = parent.setdefault(part, {}) if isinstance(parent, dict) else parent
+        if isinstance(parent, dict):
+            parent[target[-1]] = value
+        redirects[target] = where
+
+    def locate(path: PathKey, key: bool = False) -> Location:
+        for target, where in redirects.items():
+            if tuple(path[: len(target)]) == target:
+                return loaded.locate(where)
+        return loaded.locate(path, key=key)
+
+    spec = validate_model(entry.scenario_model, data, locate)
+    compiled = _resolve(entry, spec, loaded.source, {".".join(t): v for t, v, _ in assignment})
+    problems = [Problem(locate(path), message) for path, message in _semantic_problems(compiled)]
+    if problems:
+        raise ScenarioError(problems)
+    return compiled
+
+
+def _resolve(entry, spec: StrictModel, source: str, point: dict[str, Any]) -> CompiledScenario:
+    table = entry.reward_table
+    task = spec.task if isinstance(spec.task, int) else table.task_names.index(spec.task)
+    weights = table.column(task)
+    weights.update({name: w for name, w in spec.weights.model_dump().items() if w is not None})
+    level = None
+    if entry.info.level_field == "pattern":
+        level = spec.pattern if isinstance(spec.pattern, int) else entry.level_names.index(spec.pattern)
+    elif entry.info.level_field == "terrain_level":
+        level = spec.terrain_level
+    return CompiledScenario(entry=entry, spec=spec, source=source, task_index=task, level=level,
+                            weights=MappingProxyType(weights), ends_on=table.tasks[task].ends_on,
+                            sweep_point=MappingProxyType(point))
+
+
+def _semantic_problems(compiled: CompiledScenario) -> list[tuple[PathKey, str]]:
+    problems: list[tuple[PathKey, str]] = []
+    shared = compiled.seeds.overlap()
+    if shared:
+        problems.append((("seeds", "test"), f"seeds: train and test share {one_of(shared[:5])}; "
+                                            "the test split must hold seeds never used in training"))
+    for check in compiled.entry.checks:
+        problems.extend(check(compiled))
+    return problems
+
+
+def _compile_lock(loaded: Loaded) -> CompiledScenario:
+    data = loaded.data
+    for key in data:
+        if key not in LOCK_KEYS:
+            _fail(loaded, (key,), f"unknown key '{key}' in a lock file{did_you_mean(key, LOCK_KEYS)}", key=True)
+    if data.get("hivex_lock") != LOCK_VERSION:
+        _fail(loaded, ("hivex_lock",), f"hivex_lock: {show(data.get('hivex_lock'))} is not supported: expected {LOCK_VERSION}")
+    scenario = data.get("scenario")
+    if not isinstance(scenario, dict):
+        _fail(loaded, ("scenario",), "a lock file needs the resolved scenario under 'scenario'")
+    inner = Loaded(loaded.source, scenario,
+                   {path[1:]: loc for path, loc in loaded.marks.items() if path[:1] == ("scenario",)},
+                   {path[1:]: loc for path, loc in loaded.key_marks.items() if path[:1] == ("scenario",)})
+    compiled = compile_loaded(inner)[0]
+    stored = data.get("fingerprint")
+    if stored != compiled.fingerprint:
+        _fail(loaded, ("fingerprint",), f"fingerprint {show(stored)} does not match the content ({compiled.fingerprint}): "
+              "the lock was edited, or this version's reward terms differ from the ones it was made with")
+    return compiled

@@ -1,0 +1,113 @@
+"""Wind Farm Control as a batched NumPy simulator (no Python loop over worlds or turbines in step)."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+from gymnasium import spaces
+
+from ...procgen.layouts import turbine_layout
+from ...procgen.wind import WindSpec, local_wind, wind_reset, wind_reset_where, wind_step, wrap_angle
+from ...runtime import StepOutcome
+from .params import WindFarmControlParams
+from .types import WindFarmState
+
+RANDOM_PATTERN = 8
+# action -> rotation sign: 0 do nothing, 1 rotate left (counter-clockwise), 2 rotate right
+ROTATION_SIGN = np.array([0.0, 1.0, -1.0])
+
+
+def angle_between(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Unsigned angle between directions ``a`` and ``b`` (radians, any shape) in [0, pi]."""
+    return np.abs(wrap_angle(a - b))
+
+
+def alignment(heading: np.ndarray, wind: np.ndarray) -> np.ndarray:
+    """How squarely the rotor faces into the wind, in [0, 1]: 1 facing upwind, 0 facing downwind.
+
+    The paper's theta: the angle between the rotor's facing and the upwind direction, mapped
+    linearly from [0, 180] degrees to [1, 0].
+    """
+    return 1.0 - angle_between(heading, wind + np.pi) / np.pi
+
+
+def wind_force(align: np.ndarray, threshold: float) -> np.ndarray:
+    """The paper's W(theta): 0 below the threshold, Map(theta, threshold, 1, 0, 1) above it."""
+    return np.clip((align - threshold) / (1.0 - threshold), 0.0, 1.0)
+
+
+def next_performance(performance: np.ndarray, force: np.ndarray, acceleration: float, drag: float) -> np.ndarray:
+    """The paper's update P <- P + d + W * a_turbine with d = -drag * P."""
+    return performance - drag * performance + force * acceleration
+
+
+class WindFarmSimulator:
+    """B worlds of one compiled Wind Farm Control scenario."""
+
+    action_meanings = "0 do nothing, 1 rotate left, 2 rotate right"
+    render_fps = 30
+
+    def __init__(self, compiled):
+        params: WindFarmControlParams = compiled.params
+        self.params = params
+        self.agents = compiled.agents
+        self.pattern = compiled.level
+        self.observation_space = spaces.Box(-1.0, 1.0, (6,), np.float32)
+        self.action_space = spaces.Discrete(3)
+        self.wind_spec = WindSpec(
+            ease_rate=params.wind_ease_rate, target_shift_deg=params.wind_target_shift_deg,
+            retarget_tolerance_deg=params.wind_retarget_tolerance_deg,
+            deviation_max_deg=params.wind_deviation_max_deg, noise_scale_m=params.wind_noise_scale_m,
+            noise_octaves=params.wind_noise_octaves, drift_m=params.wind_drift_m)
+        self._rotation = np.radians(params.rotation_speed_deg)
+        self._fixed_layout = None if self.pattern == RANDOM_PATTERN else self._layout(None)
+
+    def _layout(self, rng: np.random.Generator | None) -> np.ndarray:
+        p = self.params
+        return turbine_layout(self.pattern, self.agents, p.turbine_spacing_m, p.farm_half_extent_m, rng)
+
+    def _layouts(self, rng: np.random.Generator, count: int) -> np.ndarray:
+        """(count, A, 2) turbine positions; Random draws one layout per world (reset only)."""
+        if self._fixed_layout is not None:
+            return np.broadcast_to(self._fixed_layout, (count, self.agents, 2)).copy()
+        return np.stack([self._layout(rng) for _ in range(count)]) if count else np.zeros((0, self.agents, 2))
+
+    def reset(self, rng: np.random.Generator, batch: int) -> WindFarmState:
+        positions = self._layouts(rng, batch)
+        heading = rng.uniform(-np.pi, np.pi, (batch, self.agents))
+        wind = wind_reset(rng, batch, self.wind_spec)
+        return WindFarmState(positions=positions, heading=heading, performance=np.zeros((batch, self.agents)),
+                             local_wind=local_wind(wind, positions, self.wind_spec), wind=wind)
+
+    def reset_where(self, state: WindFarmState, mask: np.ndarray, rng: np.random.Generator) -> WindFarmState:
+        count = int(np.count_nonzero(mask))
+        positions, heading, performance = state.positions.copy(), state.heading.copy(), state.performance.copy()
+        positions[mask] = self._layouts(rng, count)
+        heading[mask] = rng.uniform(-np.pi, np.pi, (count, self.agents))
+        performance[mask] = 0.0
+        wind = wind_reset_where(state.wind, mask, rng, self.wind_spec)
+        return WindFarmState(positions=positions, heading=heading, performance=performance,
+                             local_wind=local_wind(wind, positions, self.wind_spec), wind=wind)
+
+    def step(self, state: WindFarmState, actions: np.ndarray, rng: np.random.Generator) -> tuple[WindFarmState, StepOutcome]:
+        """actions (B, A) ints in {0, 1, 2}: rotate, move the wind, then update each turbine's performance."""
+        heading = wrap_angle(state.heading + self._rotation * ROTATION_SIGN[actions])
+        wind = wind_step(state.wind, rng, self.wind_spec)
+        wind_here = local_wind(wind, state.positions, self.wind_spec)
+        force = wind_force(alignment(heading, wind_here), self.params.alignment_threshold)
+        performance = next_performance(state.performance, force, self.params.motor_acceleration, self.params.drag)
+        new = replace(state, heading=heading, performance=performance, local_wind=wind_here, wind=wind)
+        return new, StepOutcome(terminated=np.zeros(heading.shape, bool), events={})
+
+    def observe(self, state: WindFarmState) -> np.ndarray:
+        """(B, A, 6) float32: position / half extent (2), heading (cos, sin), local wind (cos, sin)."""
+        position = np.clip(state.positions / self.params.farm_half_extent_m, -1.0, 1.0)
+        heading = np.stack([np.cos(state.heading), np.sin(state.heading)], axis=-1)
+        wind = np.stack([np.cos(state.local_wind), np.sin(state.local_wind)], axis=-1)
+        return np.concatenate([position, heading, wind], axis=-1).astype(np.float32)
+
+    def render(self, state: WindFarmState, index: int) -> np.ndarray:
+        from .render import draw_wind_farm
+
+        return draw_wind_farm(state, index, self.params, self.wind_spec)

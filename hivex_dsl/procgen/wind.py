@@ -1,0 +1,84 @@
+"""The HIVEX wind model, batched over worlds and steppable over time.
+
+From the original release's shared Wind component: a main direction eases toward a target;
+once within a tolerance of it, the target turns by +/- a fixed shift (random sign). The wind at
+a point is the main direction rotated by a smooth noise field value mapped to +/- a maximum
+deviation; the noise field drifts with the wind over time.
+
+Angles are radians, directions are where the wind blows *to*, lengths are metres.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from .noise import draw_lattice, fractal2d
+
+TWO_PI = 2.0 * np.pi
+
+
+@dataclass(frozen=True)
+class WindSpec:
+    """Constants of the wind model (the environments expose them as bounded params)."""
+
+    ease_rate: float  # fraction of the remaining angle to the target covered per step
+    target_shift_deg: float  # how far the target turns once reached
+    retarget_tolerance_deg: float  # "reached" means within this angle
+    deviation_max_deg: float  # local deviation at noise value +/-1
+    noise_scale_m: float  # size of one noise lattice cell
+    noise_octaves: int
+    drift_m: float  # distance the noise field moves with the wind per step
+
+
+@dataclass(frozen=True)
+class WindState:
+    main: np.ndarray  # (B,) main direction
+    target: np.ndarray  # (B,) direction the main one eases toward
+    drift: np.ndarray  # (B, 2) displacement of the noise field since reset
+    perm: np.ndarray  # (B, 2P) noise permutation per world
+    grads: np.ndarray  # (B, P, 2) noise gradients per world
+
+
+def wrap_angle(angle: np.ndarray) -> np.ndarray:
+    """Angles mapped into [-pi, pi)."""
+    return (np.asarray(angle) + np.pi) % TWO_PI - np.pi
+
+
+def wind_reset(rng: np.random.Generator, batch: int, spec: WindSpec) -> WindState:
+    """Fresh wind for ``batch`` worlds: random main direction, target one shift away."""
+    main = rng.uniform(0.0, TWO_PI, batch)
+    sign = np.where(rng.random(batch) < 0.5, -1.0, 1.0)
+    perm, grads = draw_lattice(rng, batch)
+    return WindState(main=main, target=wrap_angle(main + sign * np.radians(spec.target_shift_deg)),
+                     drift=np.zeros((batch, 2)), perm=perm, grads=grads)
+
+
+def wind_reset_where(state: WindState, mask: np.ndarray, rng: np.random.Generator, spec: WindSpec) -> WindState:
+    """Replace the wind of the worlds where ``mask`` (B,) is true by fresh draws."""
+    fresh = wind_reset(rng, int(np.count_nonzero(mask)), spec)
+    merged = {}
+    for name in ("main", "target", "drift", "perm", "grads"):
+        array = getattr(state, name).copy()
+        array[mask] = getattr(fresh, name)
+        merged[name] = array
+    return WindState(**merged)
+
+
+def wind_step(state: WindState, rng: np.random.Generator, spec: WindSpec) -> WindState:
+    """Advance every world's wind by one step (one uniform draw per world, always)."""
+    remaining = wrap_angle(state.target - state.main)
+    main = wrap_angle(state.main + spec.ease_rate * remaining)
+    reached = np.abs(wrap_angle(state.target - main)) < np.radians(spec.retarget_tolerance_deg)
+    sign = np.where(rng.random(main.shape[0]) < 0.5, -1.0, 1.0)
+    target = np.where(reached, wrap_angle(state.target + sign * np.radians(spec.target_shift_deg)), state.target)
+    drift = state.drift + spec.drift_m * np.stack([np.cos(main), np.sin(main)], axis=-1)
+    return replace(state, main=main, target=target, drift=drift)
+
+
+def local_wind(state: WindState, points: np.ndarray, spec: WindSpec) -> np.ndarray:
+    """Wind direction at ``points`` (B, N, 2) metres -> (B, N) radians."""
+    moved = (points - state.drift[:, None, :]) / spec.noise_scale_m
+    noise = fractal2d(state.perm, state.grads, moved[..., 0], moved[..., 1], octaves=spec.noise_octaves)
+    return wrap_angle(state.main[:, None] + np.radians(spec.deviation_max_deg) * noise)

@@ -1,0 +1,107 @@
+"""Registered environments: catalogue entry + params + reward terms + simulator factory.
+
+Each environment package calls :func:`register` once on import; :func:`get` loads every
+environment package on first use so users never import them by hand.
+"""
+
+from __future__ import annotations
+
+import importlib
+from dataclasses import dataclass, field
+from functools import cached_property
+from typing import TYPE_CHECKING, Any, Callable, Mapping
+
+from .errors import Location, Problem, ScenarioError, did_you_mean
+from .loader import load_file
+from .resources import data_dir
+from .reward.terms import TermRegistry
+from .spec.catalogue import CATALOGUE, EnvironmentInfo
+from .spec.common import StrictModel
+from .spec.reward_table import RewardTable, table_problems
+from .spec.scenario import ScenarioVocabulary, scenario_model
+from .spec.validate import validate_model
+
+if TYPE_CHECKING:
+    from .compiler import CompiledScenario
+
+_ENV_PACKAGES = ("hivex_dsl.envs.wind_farm_control",)
+_REGISTRY: dict[str, "EnvironmentEntry"] = {}
+
+# A compile-time check: resolved scenario -> [(path in the file, message)].
+ScenarioCheck = Callable[["CompiledScenario"], list[tuple[tuple, str]]]
+
+
+@dataclass(frozen=True, eq=False)
+class EnvironmentEntry:
+    """Everything the compiler, adapters, CLI and docs need to know about one environment."""
+
+    info: EnvironmentInfo
+    params_model: type[StrictModel]
+    terms: TermRegistry
+    make_simulator: Callable[["CompiledScenario"], Any]
+    scripted_policy: Callable[["CompiledScenario"], Callable[[Any], Any]]
+    events: Mapping[str, str] = field(default_factory=dict)
+    level_names: tuple[str, ...] = ()
+    level_titles: tuple[str, ...] = ()
+    checks: tuple[ScenarioCheck, ...] = ()
+    notes: tuple[str, ...] = ()
+
+    @property
+    def id(self) -> str:
+        return self.info.id
+
+    @cached_property
+    def reward_table(self) -> RewardTable:
+        return load_reward_table(self)
+
+    @cached_property
+    def scenario_model(self) -> type[StrictModel]:
+        return scenario_model(ScenarioVocabulary(
+            info=self.info, params_model=self.params_model, task_names=self.reward_table.task_names,
+            term_names=self.terms.names, level_names=self.level_names))
+
+
+def register(entry: EnvironmentEntry) -> EnvironmentEntry:
+    if entry.id not in CATALOGUE:
+        raise ValueError(f"{entry.id!r} is not in the catalogue of HIVEX environments")
+    if entry.id in _REGISTRY:
+        raise ValueError(f"environment {entry.id!r} registered twice")
+    if entry.terms.environment != entry.id:
+        raise ValueError(f"{entry.id}: its term registry belongs to {entry.terms.environment!r}")
+    _REGISTRY[entry.id] = entry
+    return entry
+
+
+def _load_all() -> None:
+    for package in _ENV_PACKAGES:
+        importlib.import_module(package)
+
+
+def environments() -> dict[str, EnvironmentEntry]:
+    """The available environments by id, in catalogue order."""
+    _load_all()
+    return {env_id: _REGISTRY[env_id] for env_id in CATALOGUE if env_id in _REGISTRY}
+
+
+def get(env_id: str) -> EnvironmentEntry:
+    available = environments()
+    if env_id in available:
+        return available[env_id]
+    if env_id in CATALOGUE:
+        raise KeyError(f"environment '{env_id}' is part of HIVEX but not available in this version yet; "
+                       f"available: {', '.join(available)}")
+    raise KeyError(f"unknown environment '{env_id}'{did_you_mean(env_id, CATALOGUE)}; expected one of: {', '.join(CATALOGUE)}")
+
+
+def load_reward_table(entry: EnvironmentEntry) -> RewardTable:
+    """Read and check rewards/<env>.yaml against the environment's registered terms and events."""
+    loaded = load_file(data_dir("rewards") / f"{entry.id}.yaml")
+    locate = lambda path, key=False: loaded.locate(path, key=key)  # noqa: E731
+    table = validate_model(RewardTable, loaded.data, locate)
+    problems = table_problems(table, entry.id, entry.terms.names, tuple(entry.events))
+    if problems:
+        raise ScenarioError([Problem(loaded.locate(path), message) for path, message in problems])
+    return table
+
+
+__all__ = ["EnvironmentEntry", "Location", "register", "environments", "get"]

@@ -1,0 +1,164 @@
+"""B copies of one compiled scenario stepping in lockstep: the engine behind both adapters.
+
+The simulator moves the world; this module adds what every environment shares: the reward
+composer, episode clocks and truncation, task endings declared as events in the reward table,
+per-agent episode sums of every active term, and the seed schedule of the train/test split.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Literal, Optional, Protocol
+
+import numpy as np
+from gymnasium import spaces
+
+from .compiler import CompiledScenario
+from .reward.composer import RewardComposer
+
+Split = Literal["train", "test"]
+
+
+@dataclass(frozen=True)
+class StepOutcome:
+    """What a simulator reports besides its new state: (batch, agents) bool arrays."""
+
+    terminated: np.ndarray
+    events: dict[str, np.ndarray]
+
+
+class Simulator(Protocol):
+    """The contract every environment's batched simulator fulfils."""
+
+    agents: int
+    observation_space: spaces.Space  # one agent's
+    action_space: spaces.Space  # one agent's
+    action_meanings: str
+    render_fps: int
+
+    def reset(self, rng: np.random.Generator, batch: int) -> Any: ...
+    def reset_where(self, state: Any, mask: np.ndarray, rng: np.random.Generator) -> Any: ...
+    def step(self, state: Any, actions: Any, rng: np.random.Generator) -> tuple[Any, StepOutcome]: ...
+    def observe(self, state: Any) -> Any: ...
+    def render(self, state: Any, index: int) -> np.ndarray: ...
+
+
+class SeedSchedule:
+    """Seeds of one split: an integer seeds a stream that episodes continue; a list seeds each episode."""
+
+    def __init__(self, seeds: int | tuple[int, ...]):
+        self.seeds = seeds
+        self.episode = 0
+        self.rng: Optional[np.random.Generator] = None
+
+    def next_rng(self, explicit: Optional[int]) -> np.random.Generator:
+        """The generator for the next reset; ``explicit`` (a user's seed) restarts the stream."""
+        if explicit is not None:
+            self.rng = np.random.default_rng(explicit)
+        elif isinstance(self.seeds, tuple):
+            self.rng = np.random.default_rng(self.seeds[self.episode % len(self.seeds)])
+        elif self.rng is None:
+            self.rng = np.random.default_rng(self.seeds)
+        self.episode += 1
+        return self.rng
+
+
+@dataclass(frozen=True)
+class Transition:
+    """One batched step. Arrays are (batch, agents); ``ended`` marks agents whose episode ended now."""
+
+    observations: Any
+    rewards: np.ndarray
+    terminated: np.ndarray
+    truncated: np.ndarray
+    terms: dict[str, np.ndarray]
+    ended: np.ndarray
+
+
+class BatchedEnv:
+    """``batch`` worlds of one scenario. Agents of a world may end early; a world ends when all have."""
+
+    def __init__(self, compiled: CompiledScenario, batch: int = 1, split: Split = "train"):
+        if batch < 1:
+            raise ValueError(f"batch must be >= 1, got {batch}")
+        if split not in ("train", "test"):
+            raise ValueError(f"split must be 'train' or 'test', got {split!r}")
+        self.compiled = compiled
+        self.batch = batch
+        self.agents = compiled.agents
+        self.sim: Simulator = compiled.entry.make_simulator(compiled)
+        self.composer = RewardComposer(compiled.entry.terms, compiled.weights)
+        self.schedule = SeedSchedule(getattr(compiled.seeds, split))
+        self.state: Any = None
+        self.rng: Optional[np.random.Generator] = None
+        shape = (batch, self.agents)
+        self.clock = np.zeros(batch, np.int64)
+        self.alive = np.zeros(shape, bool)
+        self.returns = np.zeros(shape)
+        self.term_sums = {name: np.zeros(shape) for name in self.composer.active}
+        self.lengths = np.zeros(shape, np.int64)
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        return (self.batch, self.agents)
+
+    def reset(self, seed: Optional[int] = None) -> Any:
+        """Reset every world; returns batched observations."""
+        self.rng = self.schedule.next_rng(seed)
+        self.state = self.sim.reset(self.rng, self.batch)
+        self._clear(np.ones(self.batch, bool))
+        return self.sim.observe(self.state)
+
+    def reset_worlds(self, mask: np.ndarray) -> Any:
+        """Reset the worlds where ``mask`` (batch,) is true, continuing the random stream."""
+        self._require_reset()
+        self.state = self.sim.reset_where(self.state, mask, self.rng)
+        self._clear(mask)
+        return self.sim.observe(self.state)
+
+    def _clear(self, mask: np.ndarray) -> None:
+        self.clock[mask] = 0
+        self.alive[mask] = True
+        self.returns[mask] = 0.0
+        self.lengths[mask] = 0
+        for sums in self.term_sums.values():
+            sums[mask] = 0.0
+
+    def _require_reset(self) -> None:
+        if self.state is None:
+            raise RuntimeError("call reset() before step()")
+
+    def step(self, actions: Any) -> Transition:
+        """Advance every world one step with already validated (batch, agents, ...) actions."""
+        self._require_reset()
+        prev = self.state
+        self.state, outcome = self.sim.step(prev, actions, self.rng)
+        rewards, terms = self.composer(prev, self.state, actions, self.compiled.params, self.shape)
+        live = self.alive
+        rewards = np.where(live, rewards, 0.0)
+        terms = {name: np.where(live, value, 0.0) for name, value in terms.items()}
+        self.clock += 1
+        self.lengths += live
+        ending = outcome.terminated.copy()
+        for event in self.compiled.ends_on:
+            ending |= outcome.events[event]
+        terminated = live & ending
+        truncated = live & ~terminated & (self.clock >= self.compiled.episode_length)[:, None]
+        self.returns += rewards
+        for name, value in terms.items():
+            self.term_sums[name] += value
+        ended = terminated | truncated
+        self.alive = live & ~ended
+        return Transition(self.sim.observe(self.state), rewards, terminated, truncated, terms, ended)
+
+    def episode_summary(self, world: int, agent: int) -> dict[str, Any]:
+        """Return, length and per-term sums of one agent's current (or just ended) episode."""
+        return {
+            "return": float(self.returns[world, agent]),
+            "length": int(self.lengths[world, agent]),
+            "reward_terms": {name: float(s[world, agent]) for name, s in self.term_sums.items()},
+        }
+
+    def render(self, world: int = 0) -> np.ndarray:
+        self._require_reset()
+        return self.sim.render(self.state, world)

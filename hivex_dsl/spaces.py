@@ -1,0 +1,113 @@
+"""Shared space helpers: readable descriptions and batched action checks that name the culprit."""
+
+from __future__ import annotations
+
+from typing import Any, Sequence
+
+import numpy as np
+from gymnasium import spaces
+
+from .errors import ActionError
+
+
+def describe_space(space: spaces.Space) -> str:
+    """A compact, stable description, e.g. ``Box(-1.0, 1.0, (6,), float32)`` or ``Discrete(3)``."""
+    if isinstance(space, spaces.Box):
+        low, high = np.min(space.low), np.max(space.high)
+        return f"Box({float(low)}, {float(high)}, {tuple(space.shape)}, {space.dtype})"
+    if isinstance(space, spaces.Discrete):
+        return f"Discrete({int(space.n)})" if int(space.start) == 0 else f"Discrete({int(space.n)}, start={int(space.start)})"
+    if isinstance(space, spaces.MultiDiscrete):
+        return f"MultiDiscrete({space.nvec.tolist()})"
+    if isinstance(space, spaces.Dict):
+        inner = ", ".join(f"{k}={describe_space(v)}" for k, v in space.spaces.items())
+        return f"Dict({inner})"
+    return repr(space)
+
+
+def flat_size(space: spaces.Space) -> int:
+    """Number of scalars in one sample (Dict spaces summed over their parts)."""
+    if isinstance(space, spaces.Dict):
+        return sum(flat_size(s) for s in space.spaces.values())
+    if isinstance(space, spaces.Discrete):
+        return 1
+    return int(np.prod(space.shape))
+
+
+def placeholder_action(space: spaces.Space) -> np.ndarray:
+    """A valid do-nothing-like action of a Box/Discrete/MultiDiscrete space (0 clipped into it)."""
+    if isinstance(space, spaces.Box):
+        return np.clip(np.zeros(space.shape, space.dtype), space.low, space.high)
+    if isinstance(space, (spaces.Discrete, spaces.MultiDiscrete)):
+        return np.asarray(space.start, dtype=space.dtype)
+    raise TypeError(f"no placeholder action for {describe_space(space)}")
+
+
+def stack_agent_actions(space: spaces.Space, actions: dict[str, Any], agents: Sequence[str]) -> Any:
+    """Per-agent actions (PettingZoo style) -> one batched array shaped (1, agents, ...)."""
+    missing = [a for a in agents if a not in actions]
+    if missing:
+        raise ActionError(f"no action for {', '.join(missing)}; every live agent needs one")
+    extra = [a for a in actions if a not in agents]
+    if extra:
+        raise ActionError(f"action for {extra[0]!r}, which is not a live agent; live agents: {', '.join(agents)}")
+    if isinstance(space, spaces.Dict):
+        return {key: stack_agent_actions(sub, {a: _part(actions[a], key, a, space) for a in agents}, agents)
+                for key, sub in space.spaces.items()}
+    try:
+        return np.asarray([actions[a] for a in agents])[None]
+    except ValueError as exc:
+        raise ActionError(f"actions do not fit {describe_space(space)}: {exc}") from None
+
+
+def _part(action: Any, key: str, agent: str, space: spaces.Dict) -> Any:
+    if not isinstance(action, dict) or key not in action:
+        raise ActionError(f"action for {agent} must be a dict with keys {list(space.spaces)}, got {action!r}")
+    return action[key]
+
+
+def check_actions(space: spaces.Space, actions: Any, agent_names: Sequence[str], meanings: str = "") -> Any:
+    """Validate batched actions shaped (batch, agents, ...) against one agent's space.
+
+    Returns the actions as arrays of the space's dtype; raises :class:`ActionError` naming the
+    first offending agent, its value and the space.
+    """
+    if isinstance(space, spaces.Dict):
+        if not isinstance(actions, dict) or set(actions) != set(space.spaces):
+            raise ActionError(f"actions must be a dict with keys {list(space.spaces)} for {describe_space(space)}")
+        return {k: check_actions(s, actions[k], agent_names, meanings) for k, s in space.spaces.items()}
+    array = np.asarray(actions)
+    batch_agents = array.shape[:2]
+    if array.ndim != 2 + len(space.shape) or array.shape[2:] != space.shape or batch_agents[1] != len(agent_names):
+        raise ActionError(f"actions have shape {array.shape}; expected (batch, {len(agent_names)}) + {space.shape} "
+                          f"for {describe_space(space)}")
+    bad = _out_of_space(space, array)
+    if bad.any():
+        b, a = np.argwhere(bad)[0]
+        where = f" in env {b}" if batch_agents[0] > 1 else ""
+        value = array[b, a]
+        hint = f" ({meanings})" if meanings else ""
+        raise ActionError(f"action for {agent_names[a]}{where} is {value.tolist()!r}, not in {describe_space(space)}{hint}")
+    return array.astype(space.dtype, copy=False)
+
+
+def _out_of_space(space: spaces.Space, array: np.ndarray) -> np.ndarray:
+    """(batch, agents) bool: which agents' actions are outside the space."""
+    reduce_axes = tuple(range(2, array.ndim))
+    if isinstance(space, (spaces.Discrete, spaces.MultiDiscrete)):
+        if array.dtype.kind not in "iu":
+            integral = np.isfinite(array) & (array == np.round(array)) if array.dtype.kind == "f" else np.zeros(array.shape, bool)
+            if array.dtype.kind == "f" and integral.all():
+                array = array.astype(np.int64)
+            else:
+                return ~integral.all(axis=reduce_axes) if reduce_axes else ~integral
+        low = space.start if isinstance(space, spaces.Discrete) else space.start
+        high = low + (space.n if isinstance(space, spaces.Discrete) else space.nvec)
+        outside = (array < low) | (array >= high)
+    elif isinstance(space, spaces.Box):
+        if array.dtype.kind not in "fiu":
+            return np.ones(array.shape[:2], bool)
+        outside = ~np.isfinite(array) | (array < space.low) | (array > space.high)
+    else:
+        raise TypeError(f"unsupported action space {describe_space(space)}")
+    return outside.any(axis=reduce_axes) if reduce_axes else outside

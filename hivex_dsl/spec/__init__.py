@@ -1,0 +1,1 @@
+"""Pydantic models of the scenario language (no NumPy here)."""

@@ -1,0 +1,27 @@
+"""Base model and shared field types of the scenario language."""
+
+from __future__ import annotations
+
+from pydantic import BaseModel, ConfigDict
+
+SCHEMA_VERSION = 1
+NAME_PATTERN = r"^[A-Za-z0-9][A-Za-z0-9_.\-\[\]=,]*$"
+MAX_WEIGHT = 1.0e6
+MAX_SEED = 2**32 - 1
+
+
+class StrictModel(BaseModel):
+    """Frozen, closed, strictly typed: nothing a user wrote is coerced or dropped.
+
+    ``strict`` means ``agents: "8"`` is an error, not an 8; ``extra="forbid"`` means a
+    misspelt key is an error, not ignored; ``frozen`` means a validated config never changes.
+    """
+
+    model_config = ConfigDict(
+        extra="forbid",
+        frozen=True,
+        strict=True,
+        allow_inf_nan=False,
+        validate_default=True,
+        use_attribute_docstrings=False,
+    )

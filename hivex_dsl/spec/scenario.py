@@ -1,0 +1,173 @@
+"""The scenario model, built per environment so every bound and name is that environment's own.
+
+One factory, :func:`scenario_model`, makes the model for any environment from its catalogue
+entry, params model, task names, reward-term names and level names; the JSON Schema that a YAML
+language server uses for completion comes from the same models.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Annotated, Any, Literal, Optional, Union
+
+from pydantic import Field, PlainValidator, WithJsonSchema, create_model
+
+from ..errors import did_you_mean, kind_of, one_of, show
+from .catalogue import CATALOGUE, LEVEL_FIELDS, EnvironmentInfo, environments_with
+from .common import MAX_SEED, MAX_WEIGHT, NAME_PATTERN, SCHEMA_VERSION, StrictModel
+
+MAX_SEEDS_PER_SPLIT = 10_000
+TERRAIN_LEVELS = (1, 10)
+MAX_EPISODE_LENGTH = 1_000_000
+
+# Fields a sweep may range over; "params.<name>", "weights.<term>" and "seeds.<split>" too.
+SWEEPABLE_FIELDS = ("task", "pattern", "terrain_level", "agents", "episode_length")
+SWEEPABLE_PREFIXES = ("params", "weights", "seeds")
+
+
+@dataclass(frozen=True)
+class ScenarioVocabulary:
+    """What the model needs to know about one environment, as plain names."""
+
+    info: EnvironmentInfo
+    params_model: type[StrictModel]
+    task_names: tuple[str, ...]
+    term_names: tuple[str, ...]
+    level_names: tuple[str, ...] = ()
+
+
+def _is_int(value: Any) -> bool:
+    return isinstance(value, int) and not isinstance(value, bool)
+
+
+def _check_seed(value: Any) -> int:
+    if not _is_int(value) or not 0 <= value <= MAX_SEED:
+        raise ValueError(f"expected a seed (an integer from 0 to {MAX_SEED}), got {show(value)} ({kind_of(value)})")
+    return value
+
+
+def _check_seed_set(value: Any) -> Union[int, tuple[int, ...]]:
+    if isinstance(value, (list, tuple)):
+        if not 1 <= len(value) <= MAX_SEEDS_PER_SPLIT:
+            raise ValueError(f"expected 1 to {MAX_SEEDS_PER_SPLIT} seeds, got {len(value)}")
+        seeds = tuple(_check_seed(v) for v in value)
+        repeated = sorted({s for s in seeds if seeds.count(s) > 1})
+        if repeated:
+            raise ValueError(f"seed {repeated[0]} is listed twice; list each seed once")
+        return seeds
+    return _check_seed(value)
+
+
+SEED_SET_SCHEMA = {
+    "anyOf": [
+        {"type": "integer", "minimum": 0, "maximum": MAX_SEED},
+        {"type": "array", "items": {"type": "integer", "minimum": 0, "maximum": MAX_SEED},
+         "minItems": 1, "maxItems": MAX_SEEDS_PER_SPLIT, "uniqueItems": True},
+    ]
+}
+SeedSet = Annotated[Union[int, tuple[int, ...]], PlainValidator(_check_seed_set), WithJsonSchema(SEED_SET_SCHEMA)]
+
+
+class Seeds(StrictModel):
+    """Seeds of the train and test splits (the paper trains on 5000 and tests on 6000).
+
+    A single integer seeds one random stream that successive episodes continue; a list gives
+    each episode its own seed in turn. The two splits may not share a seed.
+    """
+
+    train: SeedSet = Field(5000, description="Seed (or list of per-episode seeds) of the training split.")
+    test: SeedSet = Field(6000, description="Seed (or list of per-episode seeds) of the test split; disjoint from train.")
+
+    def overlap(self) -> list[int]:
+        as_set = lambda s: {s} if isinstance(s, int) else set(s)  # noqa: E731
+        return sorted(as_set(self.train) & as_set(self.test))
+
+
+def _name_or_index(what: str, names: tuple[str, ...], index_base: int = 0):
+    """A validator taking one of ``names`` or its index (``index_base`` .. ``index_base + n - 1``)."""
+    listing = ", ".join(f"{i + index_base} '{n}'" for i, n in enumerate(names))
+
+    def check(value: Any) -> Union[int, str]:
+        if isinstance(value, str) and value in names:
+            return value
+        if _is_int(value) and index_base <= value < index_base + len(names):
+            return value
+        hint = did_you_mean(value, names) if isinstance(value, str) else ""
+        raise ValueError(f"unknown {what} {show(value)}{hint}; expected a name or index: {listing}")
+
+    schema = {"anyOf": [{"enum": list(names)},
+                        {"type": "integer", "minimum": index_base, "maximum": index_base + len(names) - 1}],
+              "description": f"A {what}: {listing}."}
+    return Annotated[Union[int, str], PlainValidator(check), WithJsonSchema(schema)]
+
+
+def weights_model(env_id: str, term_names: tuple[str, ...]) -> type[StrictModel]:
+    """A closed mapping term name -> optional weight, so unknown terms are located errors."""
+    bounded = Annotated[Optional[float], Field(ge=-MAX_WEIGHT, le=MAX_WEIGHT)]
+    fields = {name: (bounded, Field(None, description=f"Weight of the '{name}' reward term; overrides the task column."))
+              for name in term_names}
+    return create_model(f"{_camel(env_id)}Weights", __base__=StrictModel, **fields)
+
+
+def scenario_model(vocab: ScenarioVocabulary) -> type[StrictModel]:
+    """The pydantic model of a scenario for one environment."""
+    info = vocab.info
+    weights = weights_model(info.id, vocab.term_names)
+    fields: dict[str, Any] = {
+        "hivex": (Literal[SCHEMA_VERSION], Field(description="Version of the scenario language this file is written in.")),
+        "name": (str, Field("scenario", pattern=NAME_PATTERN, max_length=200,
+                            description="Short identifier used in logs, lock files and sweep point names.")),
+        "description": (str, Field("", max_length=4000, description="Free text for people; ignored by the compiler.")),
+        "environment": (Literal[info.id], Field(description=f"The environment: {info.title} ({info.abbreviation}).")),
+        "task": (_name_or_index("task", vocab.task_names), Field(vocab.task_names[0],
+                 description="A column of the environment's reward table, by name or the paper's 0-based task index.")),
+    }
+    if info.level_field == "pattern":
+        fields["pattern"] = (_name_or_index("pattern", vocab.level_names), Field(0,
+                             description="Turbine layout pattern, by name or the paper's index 0-8."))
+    if info.level_field == "terrain_level":
+        fields["terrain_level"] = (int, Field(1, ge=TERRAIN_LEVELS[0], le=TERRAIN_LEVELS[1],
+                                   description="Terrain elevation level 1 (flat) to 10 (steepest)."))
+    fields |= {
+        "agents": (int, Field(info.default_agents, ge=info.min_agents, le=info.max_agents,
+                              description=f"Number of {info.agent_name}s.")),
+        "episode_length": (int, Field(info.default_episode_length, ge=1, le=MAX_EPISODE_LENGTH,
+                                      description="Steps before an episode is truncated.")),
+        "seeds": (Seeds, Field(default_factory=Seeds, description="Seeds of the train and test splits.")),
+        "weights": (weights, Field(default_factory=weights,
+                    description="Overrides of single cells of the task's reward column.")),
+        "params": (vocab.params_model, Field(default_factory=vocab.params_model,
+                   description="Physical constants of the simulator; each is bounded and documented.")),
+        "sweep": (Optional[dict[str, list[Union[int, float, str]]]], Field(None, description=(
+            "A grid: each key names a scalar field (task, agents, params.<name>, weights.<term> ...) and lists "
+            "its values; the file compiles to one scenario per combination."),
+            json_schema_extra={"propertyNames": {"anyOf": [{"enum": list(sweepable_fields(vocab))},
+                                                            {"pattern": r"^(params|weights|seeds)\.[a-z_]+$"}]}})),
+    }
+    model = create_model(f"{_camel(info.id)}Scenario", __base__=StrictModel, **fields)
+    model.__hivex_unknown_key_hint__ = staticmethod(_level_field_hint(info))
+    return model
+
+
+def sweepable_fields(vocab: ScenarioVocabulary) -> tuple[str, ...]:
+    level = {"pattern", "terrain_level"} - ({vocab.info.level_field} if vocab.info.level_field else set())
+    return tuple(f for f in SWEEPABLE_FIELDS if f not in level)
+
+
+def _level_field_hint(info: EnvironmentInfo):
+    def hint(key: str, parent: tuple) -> str | None:
+        if parent or key not in LEVEL_FIELDS:
+            return None
+        owners = environments_with(key)
+        uses = f"; {info.id} uses '{info.level_field}'" if info.level_field else f"; {info.id} has no difficulty levels"
+        return f"'{key}' does not apply to {info.id}: only {one_of(owners)} have it{uses}"
+
+    return hint
+
+
+def _camel(env_id: str) -> str:
+    return "".join(part.capitalize() for part in env_id.split("_"))
+
+
+def known_environment_ids() -> tuple[str, ...]:
+    return tuple(CATALOGUE)
