@@ -1,0 +1,180 @@
+"""The `hivex` command: validate | compile | run | render | schema | docs | list."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+from typing import Sequence
+
+from .errors import HivexError, ScenarioError
+
+EXIT_OK, EXIT_FAIL, EXIT_USAGE = 0, 1, 2
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = _parser()
+    args = parser.parse_args(argv)
+    try:
+        return args.handler(args)
+    except ScenarioError as exc:
+        for problem in exc.problems:
+            print(problem, file=sys.stderr)
+        return EXIT_USAGE
+    except HivexError as exc:
+        print(f"hivex: {exc}", file=sys.stderr)
+        return EXIT_USAGE
+    except KeyboardInterrupt:
+        print("hivex: interrupted", file=sys.stderr)
+        return 130
+
+
+def _parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="hivex", description=__doc__)
+    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+
+    p = sub.add_parser("validate", help="check scenario files; report every problem as path:line:col")
+    p.add_argument("files", nargs="+", metavar="FILE")
+    p.set_defaults(handler=cmd_validate)
+
+    p = sub.add_parser("compile", help="show the resolved scenario(s); -o writes a lock file")
+    p.add_argument("file", metavar="FILE")
+    p.add_argument("-o", "--output", metavar="OUT", help="lock JSON (a directory of them for a sweep)")
+    p.set_defaults(handler=cmd_compile)
+
+    p = sub.add_parser("run", help="run episodes with a scripted or random policy; print returns per term")
+    p.add_argument("file", metavar="FILE")
+    _policy_args(p)
+    p.add_argument("--episodes", type=_positive, default=1, help="episodes to run (default 1)")
+    p.add_argument("--split", choices=("train", "test"), default="train", help="seed split (default train)")
+    p.set_defaults(handler=cmd_run)
+
+    p = sub.add_parser("render", help="write an animated GIF of one episode")
+    p.add_argument("file", metavar="FILE")
+    p.add_argument("-o", "--output", required=True, metavar="GIF")
+    _policy_args(p)
+    p.add_argument("--steps", type=_positive, default=600, help="steps to simulate (default 600)")
+    p.add_argument("--every", type=_positive, default=5, help="keep one frame every N steps (default 5)")
+    p.add_argument("--fps", type=_positive, default=20, help="GIF frames per second (default 20)")
+    p.set_defaults(handler=cmd_render)
+
+    p = sub.add_parser("schema", help="print the JSON Schema of the scenario language")
+    p.set_defaults(handler=cmd_schema)
+
+    p = sub.add_parser("docs", help="generate docs/ from the live code; --check fails if it is stale")
+    p.add_argument("--dir", default="docs", type=Path, help="docs directory (default ./docs)")
+    p.add_argument("--check", action="store_true", help="only check; exit 1 if docs/ is stale")
+    p.set_defaults(handler=cmd_docs)
+
+    p = sub.add_parser("list", help="list the bundled scenarios")
+    p.set_defaults(handler=cmd_list)
+    return parser
+
+
+def _policy_args(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--policy", choices=("scripted", "random"), default="scripted", help="default scripted")
+    p.add_argument("--seed", type=int, default=None, help="environment seed (default: the scenario's split seeds)")
+
+
+def _positive(text: str) -> int:
+    value = int(text)
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"expected a positive integer, got {text}")
+    return value
+
+
+def cmd_validate(args) -> int:
+    from .compiler import compile_all
+
+    failed = 0
+    for file in args.files:
+        try:
+            count = len(compile_all(file))
+        except ScenarioError as exc:
+            failed += 1
+            for problem in exc.problems:
+                print(problem, file=sys.stderr)
+            continue
+        print(f"ok  {file}  ({count} scenario{'s' if count != 1 else ''})")
+    return EXIT_USAGE if failed else EXIT_OK
+
+
+def cmd_compile(args) -> int:
+    from .compiler import compile_all
+    from .report import describe_compiled, describe_sweep
+
+    compiled = compile_all(args.file)
+    print(describe_compiled(compiled[0]) if len(compiled) == 1 else describe_sweep(compiled))
+    if args.output:
+        for path in _write_locks(compiled, Path(args.output)):
+            print(f"wrote {path}")
+    return EXIT_OK
+
+
+def _write_locks(compiled, output: Path) -> list[Path]:
+    def dump(scenario, path: Path) -> Path:
+        path.write_text(json.dumps(scenario.to_lock(), indent=2) + "\n", encoding="utf-8")
+        return path
+
+    if len(compiled) == 1:
+        return [dump(compiled[0], output)]
+    output.mkdir(parents=True, exist_ok=True)
+    return [dump(sc, output / f"{i:04d}.lock.json") for i, sc in enumerate(compiled)]
+
+
+def cmd_run(args) -> int:
+    from .compiler import compile
+    from .report import run_episodes
+
+    compiled = compile(args.file)
+    print(run_episodes(compiled, args.policy, args.episodes, args.split, args.seed))
+    return EXIT_OK
+
+
+def cmd_render(args) -> int:
+    from .compiler import compile
+    from .render.gif import save_gif
+    from .report import episode_frames
+
+    compiled = compile(args.file)
+    frames = episode_frames(compiled, args.policy, args.steps, args.every, args.seed)
+    count = save_gif(frames, args.output, fps=args.fps)
+    print(f"wrote {args.output} ({count} frames)")
+    return EXIT_OK
+
+
+def cmd_schema(args) -> int:
+    from .docsgen.schema import schema_text
+
+    sys.stdout.write(schema_text())
+    return EXIT_OK
+
+
+def cmd_docs(args) -> int:
+    from .docsgen import stale_docs, write_docs
+
+    if args.check:
+        stale = stale_docs(args.dir)
+        for path in stale:
+            print(f"stale: {args.dir / path}", file=sys.stderr)
+        if stale:
+            print("docs are stale: run `hivex docs` and commit the result", file=sys.stderr)
+            return EXIT_FAIL
+        print(f"{args.dir} is up to date")
+        return EXIT_OK
+    changed = write_docs(args.dir)
+    print(f"{args.dir}: {len(changed)} file(s) written or removed")
+    return EXIT_OK
+
+
+def cmd_list(args) -> int:
+    from .resources import bundled_scenarios
+
+    for path in bundled_scenarios():
+        print(f"{path.parent.name}/{path.name}")
+    return EXIT_OK
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

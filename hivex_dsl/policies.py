@@ -1,0 +1,40 @@
+"""Policies used by `hivex run`, `hivex render` and the tests: scripted (per environment) and random."""
+
+from __future__ import annotations
+
+from typing import Any, Callable
+
+import numpy as np
+from gymnasium import spaces
+
+from .compiler import CompiledScenario
+
+Policy = Callable[[Any], Any]
+POLICIES = ("scripted", "random")
+
+
+def random_policy(space: spaces.Space, shape: tuple[int, int], rng: np.random.Generator) -> Policy:
+    """Uniform random actions shaped ``shape + space.shape`` for any Box/Discrete/MultiDiscrete/Dict space."""
+
+    def sample(sub: spaces.Space) -> Any:
+        if isinstance(sub, spaces.Dict):
+            return {k: sample(s) for k, s in sub.spaces.items()}
+        if isinstance(sub, spaces.Discrete):
+            return rng.integers(sub.start, sub.start + sub.n, shape)
+        if isinstance(sub, spaces.MultiDiscrete):
+            return rng.integers(sub.start, sub.start + sub.nvec, shape + sub.nvec.shape)
+        if isinstance(sub, spaces.Box):
+            return rng.uniform(sub.low, sub.high, shape + sub.shape).astype(sub.dtype)
+        raise TypeError(f"no random policy for {sub}")
+
+    return lambda observations: sample(space)
+
+
+def make_policy(name: str, compiled: CompiledScenario, space: spaces.Space, shape: tuple[int, int],
+                seed: int = 0) -> Policy:
+    """A batched policy: observations (batch, agents, ...) -> actions (batch, agents, ...)."""
+    if name == "scripted":
+        return compiled.entry.scripted_policy(compiled)
+    if name == "random":
+        return random_policy(space, shape, np.random.default_rng(seed))
+    raise ValueError(f"unknown policy {name!r}; expected one of {', '.join(POLICIES)}")

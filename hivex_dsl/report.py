@@ -1,0 +1,151 @@
+"""What the CLI prints: compiled scenario summaries, episode runs with per-term returns, GIF frames."""
+
+from __future__ import annotations
+
+import sys
+import time
+from typing import Iterator, Optional, TextIO
+
+import numpy as np
+
+from .compiler import CompiledScenario
+from .policies import make_policy
+from .runtime import BatchedEnv, Split
+from .spaces import check_actions, describe_space
+
+
+def _fmt(value: object) -> str:
+    return f"{value:g}" if isinstance(value, float) else str(value)
+
+
+def _seeds(compiled: CompiledScenario) -> str:
+    show = lambda s: _fmt(s) if isinstance(s, int) else "[" + ", ".join(map(str, s)) + "]"  # noqa: E731
+    return f"train {show(compiled.seeds.train)} | test {show(compiled.seeds.test)}"
+
+
+def describe_compiled(compiled: CompiledScenario) -> str:
+    """A readable multi-line summary of one resolved scenario."""
+    entry, info = compiled.entry, compiled.entry.info
+    sim = entry.make_simulator(compiled)
+    task = entry.reward_table.tasks[compiled.task_index]
+    names = compiled.agent_names
+    rows = [
+        ("environment", f"{info.id} ({info.title})"),
+        ("task", f"{task.index} {task.name} - {task.title}"),
+    ]
+    if info.level_field == "pattern":
+        rows.append(("pattern", f"{compiled.level} {entry.level_names[compiled.level]}"))
+    elif info.level_field:
+        rows.append((info.level_field, str(compiled.level)))
+    rows += [
+        ("agents", f"{compiled.agents} ({names[0]} .. {names[-1]})" if len(names) > 1 else f"1 ({names[0]})"),
+        ("episode_length", str(compiled.episode_length)),
+        ("seeds", _seeds(compiled)),
+        ("ends on", ", ".join(compiled.ends_on) or "episode length only"),
+        ("observation", describe_space(sim.observation_space)),
+        ("action", f"{describe_space(sim.action_space)}: {sim.action_meanings}"),
+        ("fingerprint", compiled.fingerprint),
+    ]
+    width = max(len(k) for k, _ in rows)
+    lines = [f"{compiled.name}  ({compiled.source})"] + [f"  {k:<{width}}  {v}" for k, v in rows]
+    lines.append("  reward weights (task column with overrides):")
+    lines += [f"    {w:>10g}  {term}" + ("" if w else "  (inactive)") for term, w in compiled.weights.items()]
+    lines.append("  params:")
+    lines += [f"    {k} = {_fmt(v)}" for k, v in compiled.params.model_dump().items()]
+    return "\n".join(lines)
+
+
+def describe_sweep(compiled: list[CompiledScenario]) -> str:
+    """One line per grid point, then the full summary of the first point."""
+    first = compiled[0]
+    axes = list(first.sweep_point)
+    header = ["#"] + axes + ["task name", "fingerprint"]
+    rows = [[str(i)] + [str(sc.sweep_point[a]) for a in axes] + [sc.task_name, sc.fingerprint[7:19]]
+            for i, sc in enumerate(compiled)]
+    widths = [max(len(r[c]) for r in rows + [header]) for c in range(len(header))]
+    table = ["  ".join(cell.ljust(w) for cell, w in zip(row, widths)) for row in [header] + rows]
+    return "\n".join([f"{first.source}: {len(compiled)} scenarios over {' x '.join(axes)}", *table, "",
+                      "first point:", describe_compiled(first)])
+
+
+class Progress:
+    """Progress of long runs on stderr: a live line on a terminal, a line per episode otherwise."""
+
+    def __init__(self, total_episodes: int, stream: TextIO = sys.stderr):
+        self.total, self.stream = total_episodes, stream
+        self.live = hasattr(stream, "isatty") and stream.isatty()
+        self.started = time.monotonic()
+
+    def step(self, episode: int, step: int, length: int) -> None:
+        if self.live and step % 250 == 0:
+            self.stream.write(f"\r  episode {episode + 1}/{self.total}  step {step}/{length}   ")
+            self.stream.flush()
+
+    def episode_done(self, episode: int, mean_return: float, steps: int) -> None:
+        end = "\r" if self.live else ""
+        self.stream.write(f"{end}  episode {episode + 1}/{self.total}: {steps} steps, mean return per agent "
+                          f"{mean_return:.2f} ({time.monotonic() - self.started:.1f} s)\n")
+        self.stream.flush()
+
+
+def run_episodes(compiled: CompiledScenario, policy_name: str, episodes: int, split: Split = "train",
+                 seed: Optional[int] = None, progress: Optional[Progress] = None) -> str:
+    """Run whole episodes in one world; returns the per-agent table of returns and term sums."""
+    returns, sums = collect_returns(compiled, policy_name, episodes, split, seed, progress or Progress(episodes))
+    terms = list(sums)
+    header = ["agent", "return"] + [f"{t} (x{compiled.weights[t]:g})" for t in terms]
+    rows = [[name, returns[:, i].mean()] + [sums[t][:, i].mean() for t in terms]
+            for i, name in enumerate(compiled.agent_names)]
+    rows.append(["mean", returns.mean()] + [sums[t].mean() for t in terms])
+    cells = [header] + [[r[0]] + [f"{v:.2f}" for v in r[1:]] for r in rows]
+    widths = [max(len(row[c]) for row in cells) for c in range(len(header))]
+    lines = [f"{compiled.name}: {episodes} episode(s), policy {policy_name}, split {split}; "
+             "returns are per agent per episode (term columns unweighted)"]
+    for k, row in enumerate(cells):
+        lines.append("  ".join(row[0].ljust(widths[0]) if c == 0 else row[c].rjust(widths[c]) for c in range(len(row))))
+        if k == 0 or k == len(cells) - 2:
+            lines.append("  ".join("-" * w for w in widths))
+    return "\n".join(lines)
+
+
+def collect_returns(compiled: CompiledScenario, policy_name: str, episodes: int, split: Split = "train",
+                    seed: Optional[int] = None, progress: Optional[Progress] = None
+                    ) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+    """(episodes, agents) returns and unweighted per-term sums of whole episodes."""
+    core = BatchedEnv(compiled, batch=1, split=split)
+    space = core.sim.action_space
+    policy = make_policy(policy_name, compiled, space, core.shape, seed=0 if seed is None else seed)
+    returns = np.zeros((episodes, core.agents))
+    sums = {name: np.zeros((episodes, core.agents)) for name in core.composer.active}
+    for episode in range(episodes):
+        observations = core.reset(seed if episode == 0 else None)
+        step = 0
+        while core.alive.any():
+            actions = check_actions(space, policy(observations), compiled.agent_names, core.sim.action_meanings)
+            observations = core.step(actions).observations
+            step += 1
+            if progress:
+                progress.step(episode, step, compiled.episode_length)
+        returns[episode] = core.returns[0]
+        for name in sums:
+            sums[name][episode] = core.term_sums[name][0]
+        if progress:
+            progress.episode_done(episode, float(returns[episode].mean()), step)
+    return returns, sums
+
+
+def episode_frames(compiled: CompiledScenario, policy_name: str, steps: int, every: int,
+                   seed: Optional[int] = None) -> Iterator[np.ndarray]:
+    """Frames of one world every ``every`` steps for up to ``steps`` steps (stops when the episode ends)."""
+    core = BatchedEnv(compiled, batch=1)
+    space = core.sim.action_space
+    policy = make_policy(policy_name, compiled, space, core.shape, seed=0 if seed is None else seed)
+    observations = core.reset(seed)
+    yield core.render(0)
+    for step in range(1, steps + 1):
+        actions = check_actions(space, policy(observations), compiled.agent_names, core.sim.action_meanings)
+        observations = core.step(actions).observations
+        if step % every == 0:
+            yield core.render(0)
+        if not core.alive.any():
+            break

@@ -1,0 +1,65 @@
+"""The Gymnasium vector env: slots are (world, agent) pairs, NEXT_STEP autoreset per world."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from gymnasium import spaces
+from gymnasium.vector import AutoresetMode
+
+import hivex_dsl
+
+SCENARIO = {"hivex": 1, "environment": "wind_farm_control", "agents": 3, "episode_length": 4}
+
+
+def test_spaces_single_and_batched():
+    venv = hivex_dsl.vector_env(SCENARIO, num_envs=5)
+    assert venv.num_envs == 15 and venv.num_worlds == 5 and venv.agents_per_world == 3
+    assert venv.single_observation_space == spaces.Box(-1, 1, (6,), np.float32)
+    assert venv.single_action_space == spaces.Discrete(3)
+    assert venv.observation_space.shape == (15, 6)
+    assert venv.action_space == spaces.MultiDiscrete([3] * 15)
+    assert venv.metadata["autoreset_mode"] is AutoresetMode.NEXT_STEP
+
+
+def test_next_step_autoreset_and_episode_infos():
+    venv = hivex_dsl.vector_env(SCENARIO, num_envs=2)
+    obs, _ = venv.reset(seed=1)
+    assert obs.shape == (6, 6) and venv.observation_space.contains(obs)
+    for step in range(1, 5):
+        obs, rewards, terminated, truncated, infos = venv.step(np.zeros(6, np.int64))
+        assert rewards.shape == (6,) and not terminated.any()
+        assert truncated.all() == (step == 4)
+    assert infos["_episode"].all()
+    np.testing.assert_array_equal(infos["episode"]["length"], 4)
+    np.testing.assert_allclose(infos["episode"]["return"], infos["episode"]["reward_terms"]["generate_energy"])
+    last_obs = obs
+    obs, rewards, terminated, truncated, infos = venv.step(np.zeros(6, np.int64))
+    np.testing.assert_array_equal(rewards, 0.0)
+    assert not truncated.any() and "episode" not in infos and infos["active"].all()
+    assert not np.array_equal(obs, last_obs)  # new layout of headings and wind after the reset
+
+
+def test_one_world_matches_the_parallel_env():
+    venv = hivex_dsl.vector_env(SCENARIO | {"episode_length": 50}, num_envs=1)
+    penv = hivex_dsl.parallel_env(SCENARIO | {"episode_length": 50})
+    v_obs, _ = venv.reset(seed=8)
+    p_obs, _ = penv.reset(seed=8)
+    rng = np.random.default_rng(0)
+    for _ in range(40):
+        np.testing.assert_array_equal(v_obs, np.stack([p_obs[a] for a in penv.possible_agents]))
+        actions = rng.integers(0, 3, 3)
+        v_obs, v_rew, *_ = venv.step(actions)
+        p_obs, p_rew, *_ = penv.step({a: int(actions[i]) for i, a in enumerate(penv.possible_agents)})
+        np.testing.assert_allclose(v_rew, [p_rew[a] for a in penv.possible_agents])
+
+
+def test_bad_slot_action_names_agent_and_world():
+    venv = hivex_dsl.vector_env(SCENARIO, num_envs=2)
+    venv.reset(seed=0)
+    actions = np.zeros(6, np.int64)
+    actions[4] = 7
+    with pytest.raises(hivex_dsl.ActionError, match=r"action for turbine_1 in env 1 is 7, not in Discrete\(3\)"):
+        venv.step(actions)
+    with pytest.raises(ValueError, match="expected \\(6,\\) slots"):
+        venv.step(np.zeros(5, np.int64))
