@@ -71,9 +71,9 @@ def describe_sweep(compiled: list[CompiledScenario]) -> str:
 class Progress:
     """Progress of long runs on stderr: a live line on a terminal, a line per episode otherwise."""
 
-    def __init__(self, total_episodes: int, stream: TextIO = sys.stderr):
-        self.total, self.stream = total_episodes, stream
-        self.live = hasattr(stream, "isatty") and stream.isatty()
+    def __init__(self, total_episodes: int, stream: Optional[TextIO] = None):
+        self.total, self.stream = total_episodes, stream or sys.stderr
+        self.live = self.stream.isatty()
         self.started = time.monotonic()
 
     def step(self, episode: int, step: int, length: int) -> None:

@@ -1,0 +1,119 @@
+"""The `hivex` command as a researcher uses it: exit codes, located errors, no tracebacks."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from PIL import Image
+
+from hivex_dsl.cli import main
+
+ROOT = Path(__file__).resolve().parents[1]
+MAIN = ROOT / "scenarios/wind_farm_control/main.yaml"
+SUITE = ROOT / "scenarios/wind_farm_control/paper_suite.yaml"
+
+
+@pytest.fixture
+def short(tmp_path):
+    path = tmp_path / "short.yaml"
+    path.write_text("hivex: 1\nname: short\nenvironment: wind_farm_control\nagents: 3\nepisode_length: 40\n")
+    return path
+
+
+def test_validate_every_bundled_scenario(capsys):
+    files = sorted(str(p) for p in (ROOT / "scenarios").glob("*/*.yaml"))
+    assert main(["validate", *files]) == 0
+    out = capsys.readouterr().out
+    assert f"ok  {SUITE}  (18 scenarios)" in out
+    assert out.count("ok  ") == len(files)
+
+
+def test_validate_reports_located_errors_with_exit_2(tmp_path, capsys):
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("hivex: 1\nenvironment: wind_farm_control\nagents: 40\n")
+    assert main(["validate", str(bad), str(MAIN)]) == 2
+    captured = capsys.readouterr()
+    assert captured.err.strip() == f"{bad}:3:9: agents: 40 is out of range: expected an integer from 1 to 16"
+    assert f"ok  {MAIN}" in captured.out
+
+
+def test_compile_summary_names_spaces_weights_and_seeds(capsys):
+    assert main(["compile", str(MAIN)]) == 0
+    out = capsys.readouterr().out
+    for expected in ("wind_farm_control (Wind Farm Control)", "0 generate_energy", "Box(-1.0, 1.0, (6,), float32)",
+                     "Discrete(3)", "train 5000 | test 6000", "rotation_speed_deg = 2", "(inactive)"):
+        assert expected in out
+
+
+def test_compile_sweep_lists_all_18_points(capsys):
+    assert main(["compile", str(SUITE)]) == 0
+    out = capsys.readouterr().out
+    assert "18 scenarios over pattern x task" in out
+    assert out.count("generate_energy  ") >= 9
+
+
+def test_lock_file_round_trip_keeps_the_fingerprint(tmp_path, capsys):
+    lock = tmp_path / "main.lock.json"
+    assert main(["compile", str(MAIN), "-o", str(lock)]) == 0
+    first = json.loads(lock.read_text())
+    assert first["scenario"]["weights"] == {"generate_energy": 1.0, "avoid_damage": 0.0}
+    assert first["spaces"] == {"observation": "Box(-1.0, 1.0, (6,), float32)", "action": "Discrete(3)"}
+    again = tmp_path / "again.lock.json"
+    assert main(["compile", str(lock), "-o", str(again)]) == 0
+    assert json.loads(again.read_text()) == first
+
+
+def test_sweep_locks_go_to_a_directory(tmp_path):
+    assert main(["compile", str(SUITE), "-o", str(tmp_path / "locks")]) == 0
+    assert len(list((tmp_path / "locks").glob("*.lock.json"))) == 18
+
+
+def test_run_prints_per_agent_returns_and_terms(short, capsys):
+    assert main(["run", str(short), "--policy", "random", "--episodes", "2", "--seed", "4"]) == 0
+    captured = capsys.readouterr()
+    lines = captured.out.splitlines()
+    assert lines[0].startswith("short: 2 episode(s), policy random")
+    assert "generate_energy (x1)" in lines[1]
+    assert [l.split()[0] for l in lines if l.startswith(("turbine_", "mean"))] == [
+        "turbine_0", "turbine_1", "turbine_2", "mean"]
+    assert "episode 2/2: 40 steps" in captured.err
+
+
+def test_run_refuses_a_sweep(capsys):
+    assert main(["run", str(SUITE)]) == 2
+    assert "use compile_all()" in capsys.readouterr().err
+
+
+def test_render_writes_an_animated_gif(short, tmp_path):
+    out = tmp_path / "wfc.gif"
+    assert main(["render", str(short), "-o", str(out), "--steps", "30", "--every", "10"]) == 0
+    with Image.open(out) as gif:
+        assert gif.n_frames >= 2 and gif.size[0] == gif.size[1] >= 256
+
+
+def test_schema_is_json_with_the_environment_bounds(capsys):
+    assert main(["schema"]) == 0
+    schema = json.loads(capsys.readouterr().out)
+    assert schema["properties"]["agents"]["maximum"] == 16
+
+
+def test_bundled_scenarios_resolve_from_another_directory(tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    assert main(["validate", "scenarios/wind_farm_control/main.yaml", "wind_farm_control/avoid_damage"]) == 0
+    assert main(["list"]) == 0
+    assert "wind_farm_control/main.yaml" in capsys.readouterr().out
+
+
+def test_console_script_exit_code_without_traceback(tmp_path):
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("hivex: 1\nenvironment: wind_farm_contol\n")
+    result = subprocess.run([sys.executable, "-m", "hivex_dsl.cli", "validate", str(bad)],
+                            capture_output=True, text=True)
+    assert result.returncode == 2
+    assert "Traceback" not in result.stderr
+    assert result.stderr.startswith(f"{bad}:2:14: environment: unknown environment 'wind_farm_contol'; "
+                                    "did you mean 'wind_farm_control'?")
