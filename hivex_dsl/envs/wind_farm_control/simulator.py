@@ -46,6 +46,7 @@ class WindFarmSimulator:
     """B worlds of one compiled Wind Farm Control scenario."""
 
     action_meanings = "0 do nothing, 1 rotate left, 2 rotate right"
+    observation_labels = ("turbine location x", "turbine location y", "turbine direction x", "turbine direction y", "wind direction x", "wind direction y")
     render_fps = 30
 
     def __init__(self, compiled):

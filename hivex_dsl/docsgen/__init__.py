@@ -1,0 +1,132 @@
+"""docs/ generated from the live code with jinja2: nothing in it is written by hand.
+
+Tables come from the registry, the reward tables, the term contracts, the params models, the
+real spaces of a compiled default scenario and the bundled scenario files. ``docs/.generated``
+lists every file this generator owns, so files it no longer produces can be removed safely.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path, PurePosixPath
+
+from jinja2 import Environment, FileSystemLoader, StrictUndefined
+
+from .. import registry
+from .context import SCHEMA_FILE, env_page, environment_context, index_context, language_context
+from .schema import scenario_json_schema, schema_text
+
+MANIFEST = ".generated"
+TEMPLATES = Path(__file__).resolve().parent / "templates"
+
+
+def md(value: object) -> str:
+    """Prose safe in Markdown: ``<name>`` outside code spans is escaped so it is not read as HTML."""
+    parts = str(value).split("`")
+    return "`".join(part.replace("<", "&lt;") if i % 2 == 0 else part for i, part in enumerate(parts))
+
+
+def cell(value: object) -> str:
+    """Text safe inside one Markdown table cell: one line, pipes escaped."""
+    return md(" ".join(str(value).split())).replace("|", "\\|")
+
+
+def _jinja() -> Environment:
+    env = Environment(loader=FileSystemLoader(TEMPLATES), undefined=StrictUndefined, keep_trailing_newline=True,
+                      autoescape=False, trim_blocks=True, lstrip_blocks=True)
+    env.filters["cell"] = cell
+    env.filters["md"] = md
+    return env
+
+
+def render_docs() -> dict[str, str | bytes]:
+    """Relative path under docs/ -> file content, for everything docs/ should hold."""
+    jinja = _jinja()
+    docs: dict[str, str | bytes] = {
+        "index.md": jinja.get_template("index.md.j2").render(**index_context()),
+        "language.md": jinja.get_template("language.md.j2").render(**language_context()),
+        SCHEMA_FILE: schema_text(),
+    }
+    page = jinja.get_template("environment.md.j2")
+    for env_id, entry in registry.environments().items():
+        docs[env_page(env_id)] = page.render(**environment_context(entry))
+    return dict(sorted(docs.items()))
+
+
+def _bytes(content: str | bytes) -> bytes:
+    return content.encode("utf-8") if isinstance(content, str) else content
+
+
+def _manifest_text(paths: list[str]) -> str:
+    return "".join(f"{p}\n" for p in sorted(paths))
+
+
+def _safe(entry: str) -> bool:
+    """A manifest line naming a file inside docs/ (never absolute, never climbing out)."""
+    path = PurePosixPath(entry)
+    return bool(entry) and not path.is_absolute() and ".." not in path.parts and "\\" not in entry \
+        and entry != MANIFEST and ":" not in entry
+
+
+def _read_manifest(docs_dir: Path) -> list[str] | None:
+    path = docs_dir / MANIFEST
+    if not path.is_file():
+        return None
+    return [line for line in path.read_text(encoding="utf-8").splitlines() if line.strip()]
+
+
+def write_docs(docs_dir: Path) -> list[str]:
+    """Write render_docs() into docs_dir (creating dirs), delete generated files no longer produced
+    (only files listed in docs/.generated), return the relative paths written or removed."""
+    docs_dir = Path(docs_dir)
+    rendered = render_docs()
+    changed: list[str] = []
+    for rel in sorted(set(_read_manifest(docs_dir) or ()) - set(rendered)):
+        target = docs_dir / rel
+        if _safe(rel) and target.is_file():
+            target.unlink()
+            changed.append(rel)
+            _prune_empty_dirs(target.parent, docs_dir)
+    for rel, content in rendered.items():
+        target = docs_dir / rel
+        data = _bytes(content)
+        if target.is_file() and target.read_bytes() == data:
+            continue
+        target.parent.mkdir(parents=True, exist_ok=True)
+        target.write_bytes(data)
+        changed.append(rel)
+    manifest = docs_dir / MANIFEST
+    text = _manifest_text(list(rendered)).encode("utf-8")
+    if not (manifest.is_file() and manifest.read_bytes() == text):
+        manifest.write_bytes(text)
+        changed.append(MANIFEST)
+    return sorted(changed)
+
+
+def _prune_empty_dirs(directory: Path, root: Path) -> None:
+    root = root.resolve()
+    directory = directory.resolve()
+    while directory != root and root in directory.parents and not any(directory.iterdir()):
+        directory.rmdir()
+        directory = directory.parent
+
+
+def stale_docs(docs_dir: Path) -> list[str]:
+    """Relative paths that are missing, differ from render_docs(), or are listed in docs/.generated but
+    no longer produced (docs/.generated itself if it is missing or omits a produced file).
+    Empty list == docs are fresh."""
+    docs_dir = Path(docs_dir)
+    rendered = render_docs()
+    stale = [rel for rel, content in rendered.items()
+             if not (docs_dir / rel).is_file() or (docs_dir / rel).read_bytes() != _bytes(content)]
+    listed = _read_manifest(docs_dir)
+    if listed is None:
+        stale.append(MANIFEST)
+    else:
+        leftovers = [rel for rel in listed if rel not in rendered]
+        stale.extend(leftovers)
+        if set(rendered) - set(listed) or len(listed) != len(set(listed)):
+            stale.append(MANIFEST)
+    return sorted(set(stale))
+
+
+__all__ = ["render_docs", "write_docs", "stale_docs", "scenario_json_schema", "schema_text"]

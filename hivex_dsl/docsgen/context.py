@@ -1,0 +1,185 @@
+"""Template contexts built from the live code: registry, reward tables, terms, models, scenarios."""
+
+from __future__ import annotations
+
+import importlib
+from typing import Any
+
+from .. import compiler, loader, registry
+from ..resources import bundled_scenarios
+from ..spec import scenario as scenario_spec
+from ..spec.catalogue import CATALOGUE
+from ..spec.common import MAX_SEED, MAX_WEIGHT, SCHEMA_VERSION
+from ..spec.reward_table import RewardTable, TaskColumn
+from .fields import field_rows, num, source_tag
+from .spaces_table import specification
+
+SCHEMA_FILE = "hivex.schema.json"
+MAX_LISTED_VALUES = 6
+
+
+def env_page(env_id: str) -> str:
+    return f"environments/{env_id}.md"
+
+
+def index_context() -> dict[str, Any]:
+    available = registry.environments()
+    rows = []
+    for info in CATALOGUE.values():
+        level = f"`{info.level_field}` ({info.level_count} levels)" if info.level_field else "none"
+        rows.append({
+            "id": info.id, "title": info.title, "abbreviation": info.abbreviation,
+            "agents": (f"{info.default_agents} (fixed)" if info.min_agents == info.max_agents
+                       else f"{info.default_agents} ({info.min_agents} to {info.max_agents})"),
+            "episode_length": num(info.default_episode_length), "level": level,
+            "available": info.id in available, "page": env_page(info.id),
+        })
+    return {"environments": rows, "available": [r for r in rows if r["available"]], "schema_file": SCHEMA_FILE,
+            "schema_version": SCHEMA_VERSION}
+
+
+def _vocabulary(entry: registry.EnvironmentEntry) -> scenario_spec.ScenarioVocabulary:
+    return scenario_spec.ScenarioVocabulary(entry.info, entry.params_model, entry.reward_table.task_names,
+                                            entry.terms.names, entry.level_names)
+
+
+def _matrix(entry: registry.EnvironmentEntry) -> dict[str, Any]:
+    table = entry.reward_table
+    rows = []
+    for term_name, weights in table.matrix.items():
+        contract = entry.terms[term_name].contract
+        rows.append({"name": term_name, "title": contract.title,
+                     "paper_row": num(contract.paper_row) if contract.paper_row is not None else "-",
+                     "weights": [num(float(w)) for w in weights]})
+    tasks = [{"index": t.index, "name": t.name, "title": t.title, "description": t.description,
+              "ends_on": [{"name": e, "meaning": entry.events.get(e, "")} for e in t.ends_on]}
+             for t in table.tasks]
+    return {"source": table.source, "tasks": tasks, "rows": rows}
+
+
+def _contracts(entry: registry.EnvironmentEntry) -> list[dict[str, Any]]:
+    out = []
+    for term in entry.terms:
+        c = term.contract
+        out.append({"name": c.name, "title": c.title, "description": c.description,
+                    "range": f"[{num(float(c.low))}, {num(float(c.high))}]", "sign": c.sign, "timing": c.timing,
+                    "scope": c.scope, "paper_row": num(c.paper_row) if c.paper_row is not None else "-",
+                    "equation": c.equation})
+    return out
+
+
+def _params(entry: registry.EnvironmentEntry) -> list[dict[str, str]]:
+    rows = field_rows(entry.params_model)
+    for row in rows:
+        row["source"], row["description"] = source_tag(row["description"])
+    return rows
+
+
+def _levels(entry: registry.EnvironmentEntry) -> dict[str, Any] | None:
+    info = entry.info
+    if info.level_field is None:
+        return None
+    # The environment's package (e.g. hivex_dsl.envs.wind_farm_control) may hold a PRESET of its levels.
+    package = importlib.import_module(entry.params_model.__module__.rsplit(".", 1)[0])
+    preset = getattr(package, "PRESET", None)
+    descriptions = {p.index: p.description for p in getattr(preset, "patterns", ())}
+    if info.level_field == "pattern":
+        rows = [{"index": i, "name": name, "title": entry.level_titles[i] if i < len(entry.level_titles) else "",
+                 "description": descriptions.get(i, "")} for i, name in enumerate(entry.level_names)]
+        return {"field": "pattern", "heading": "Layout patterns", "rows": rows}
+    low, high = scenario_spec.TERRAIN_LEVELS
+    rows = [{"index": level, "name": str(level), "title": "", "description": ""} for level in range(low, high + 1)]
+    return {"field": "terrain_level", "heading": "Terrain levels", "rows": rows}
+
+
+def _listing(values: list[Any]) -> str:
+    distinct = list(dict.fromkeys(values))
+    if len(distinct) == 1:
+        return str(distinct[0])
+    if len(distinct) <= MAX_LISTED_VALUES:
+        return "swept: " + ", ".join(str(v) for v in distinct)
+    return f"swept: {len(distinct)} values"
+
+
+def _scenarios(entry: registry.EnvironmentEntry) -> list[dict[str, Any]]:
+    out = []
+    for path in bundled_scenarios():
+        if path.parent.name != entry.id:
+            continue
+        compiled = compiler.compile_all(path)
+        first = compiled[0]
+        level = ""
+        if entry.info.level_field == "pattern":
+            level = _listing([entry.level_names[c.level] for c in compiled])
+        elif entry.info.level_field:
+            level = _listing([c.level for c in compiled])
+        out.append({"file": f"scenarios/{entry.id}/{path.name}", "name": first.spec.name,
+                    "description": first.spec.description, "count": len(compiled),
+                    "swept": list(first.sweep_point), "task": _listing([c.task_name for c in compiled]),
+                    "level": level, "agents": _listing([c.agents for c in compiled])})
+    return out
+
+
+def environment_context(entry: registry.EnvironmentEntry) -> dict[str, Any]:
+    compiled = compiler.compile({"hivex": SCHEMA_VERSION, "environment": entry.id})
+    simulator = entry.make_simulator(compiled)
+    return {
+        "info": entry.info,
+        "spec": specification(entry.info, compiled, simulator),
+        "matrix": _matrix(entry),
+        "events": sorted(entry.events.items()),
+        "contracts": _contracts(entry),
+        "params": _params(entry),
+        "levels": _levels(entry),
+        "notes": list(entry.notes),
+        "table_notes": list(entry.reward_table.notes),
+        "scenarios": _scenarios(entry),
+        "schema_file": SCHEMA_FILE,
+        "reward_file": f"rewards/{entry.id}.yaml",
+    }
+
+
+def _nested_models(model: type) -> list[tuple[str, type]]:
+    out = []
+    for name, field in model.model_fields.items():
+        if field.default_factory is not None and isinstance(field.default_factory, type):
+            out.append((name, field.default_factory))
+    return out
+
+
+def language_context() -> dict[str, Any]:
+    envs = []
+    for entry in registry.environments().values():
+        model = entry.scenario_model
+        nested = {name: field_rows(sub) for name, sub in _nested_models(model) if name != "params"}
+        envs.append({
+            "id": entry.id, "title": entry.info.title, "page": env_page(entry.id),
+            "fields": field_rows(model), "nested": nested,
+            "sweepable": list(scenario_spec.sweepable_fields(_vocabulary(entry))),
+            "prefixes": {"params": list(entry.params_model.model_fields), "weights": list(entry.terms.names),
+                         "seeds": list(scenario_spec.Seeds.model_fields)},
+        })
+    limits = [
+        ("Scenario file size", f"{num(loader.MAX_FILE_BYTES)} bytes", "loader.MAX_FILE_BYTES"),
+        ("YAML nodes per file", num(loader.MAX_NODES), "loader.MAX_NODES"),
+        ("YAML nesting depth", num(loader.MAX_DEPTH), "loader.MAX_DEPTH"),
+        ("Values per swept field", num(compiler.MAX_SWEEP_VALUES), "compiler.MAX_SWEEP_VALUES"),
+        ("Scenarios per sweep (grid points)", num(compiler.MAX_SWEEP_POINTS), "compiler.MAX_SWEEP_POINTS"),
+        ("Seeds per split", num(scenario_spec.MAX_SEEDS_PER_SPLIT), "spec.scenario.MAX_SEEDS_PER_SPLIT"),
+        ("Largest seed", num(MAX_SEED), "spec.common.MAX_SEED"),
+        ("Largest episode length", num(scenario_spec.MAX_EPISODE_LENGTH), "spec.scenario.MAX_EPISODE_LENGTH"),
+        ("Largest weight magnitude", num(MAX_WEIGHT), "spec.common.MAX_WEIGHT"),
+    ]
+    return {
+        "environments": envs, "schema_version": SCHEMA_VERSION, "schema_file": SCHEMA_FILE,
+        "sweepable_all": list(scenario_spec.SWEEPABLE_FIELDS), "prefixes": list(scenario_spec.SWEEPABLE_PREFIXES),
+        "limits": limits,
+        "reward_table": {"doc": _doc(RewardTable), "fields": field_rows(RewardTable)},
+        "task_column": {"doc": _doc(TaskColumn), "fields": field_rows(TaskColumn)},
+    }
+
+
+def _doc(model: type) -> str:
+    """The first paragraph of a model's docstring, on one line."""
+    text = (model.__doc__ or "").strip().split("\n\n")[0]
+    return " ".join(text.split())
