@@ -46,9 +46,9 @@ def draw_wind_farm(state: WindFarmState, index: int, params: WindFarmControlPara
     heading = state.heading[index]
     facing = np.stack([np.cos(heading), np.sin(heading)], axis=-1)
     across = np.stack([-facing[:, 1], facing[:, 0]], axis=-1)
-    size = 0.3 * params.turbine_spacing_m
+    size = 0.45 * params.turbine_spacing_m
     power = np.clip(state.performance[index], 0.0, 1.0)
-    canvas.disks(positions, size * 0.55, colormap(power))
+    canvas.disks(positions, size * 0.7, colormap(power))
     canvas.segments(positions - across * size, positions + across * size, 4.0, (20, 20, 20))
     canvas.segments(positions, positions + facing * size * 0.9, 2.5, (20, 20, 20))
 
