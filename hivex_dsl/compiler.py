@@ -17,7 +17,7 @@ from types import MappingProxyType
 from typing import Any, Mapping, Union
 
 from . import registry
-from .errors import Location, Problem, ScenarioError, did_you_mean, kind_of, one_of, show
+from .errors import Location, Problem, ScenarioError, did_you_mean, got, kind_of, one_of, show
 from .loader import Loaded, PathKey, load_file
 from .resources import resolve_scenario_path
 from .spec.common import SCHEMA_VERSION, StrictModel
@@ -133,8 +133,21 @@ def compile_all(source: Source) -> list[CompiledScenario]:
 
 def _load(source: Source) -> Loaded:
     if isinstance(source, Mapping):
-        return Loaded("<dict>", copy.deepcopy(dict(source)))
+        return Loaded("<dict>", _plain_data(source, ()))
     return load_file(resolve_scenario_path(str(source)))
+
+
+def _plain_data(value: Any, path: PathKey) -> Any:
+    """A copy of dict input as YAML would give it: string keys only, tuples as lists."""
+    if isinstance(value, Mapping):
+        for key in value:
+            if not isinstance(key, str):
+                raise ScenarioError([Problem(Location("<dict>", 1, 1), f"{dotted(path + (str(key),))}: "
+                                             f"a key must be a name (a string), got {got(key)}")])
+        return {key: _plain_data(item, path + (key,)) for key, item in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_plain_data(item, path + (i,)) for i, item in enumerate(value)]
+    return copy.deepcopy(value)
 
 
 def _plain(seeds: Any) -> Any:
@@ -144,7 +157,7 @@ def _plain(seeds: Any) -> Any:
 def compile_loaded(loaded: Loaded) -> list[CompiledScenario]:
     data = loaded.data
     if not isinstance(data, dict):
-        _fail(loaded, (), f"the top level must be a mapping of keys such as 'hivex' and 'environment', got {kind_of(data)}")
+        _fail(loaded, (), f"the top level must be a mapping of keys such as 'hivex' and 'environment', got {got(data)}")
     if "hivex_lock" in data:
         return [_compile_lock(loaded)]
     entry = _environment(loaded)
@@ -172,10 +185,10 @@ def _environment(loaded: Loaded) -> "registry.EnvironmentEntry":
     if version != SCHEMA_VERSION or isinstance(version, bool):
         _fail(loaded, ("hivex",), f"hivex: {show(version)} is not a version this toolkit reads: expected {SCHEMA_VERSION}")
     if "environment" not in data:
-        _fail(loaded, (), f"missing required key 'environment'; expected one of: {', '.join(registry.CATALOGUE)}")
+        _fail(loaded, (), f"missing required key 'environment'; expected one of: {', '.join(registry.environments())}")
     env_id = data["environment"]
     if not isinstance(env_id, str):
-        _fail(loaded, ("environment",), f"environment: expected a name, got {show(env_id)} ({kind_of(env_id)})")
+        _fail(loaded, ("environment",), f"environment: expected a name, got {got(env_id)}")
     try:
         return registry.get(env_id)
     except KeyError as exc:
@@ -195,13 +208,13 @@ def _sweep_points(loaded: Loaded, entry) -> list[Assignment]:
     if sweep is None:
         return [()]
     if not isinstance(sweep, dict) or not sweep:
-        _fail(loaded, ("sweep",), f"sweep: expected a mapping of field -> list of values, got {show(sweep)}")
+        _fail(loaded, ("sweep",), f"sweep: expected a mapping of field -> list of values, got {got(sweep)}")
     axes = []
     for key, values in sweep.items():
         target = _sweep_target(loaded, entry, key)
         where = ("sweep", key)
         if not isinstance(values, list) or not values:
-            _fail(loaded, where, f"sweep.{key}: expected a non-empty list of values, got {show(values)} ({kind_of(values)})")
+            _fail(loaded, where, f"sweep.{key}: expected a non-empty list of values, got {got(values)}")
         if len(values) > MAX_SWEEP_VALUES:
             _fail(loaded, where, f"sweep.{key}: {len(values)} values; at most {MAX_SWEEP_VALUES} are allowed")
         for i, value in enumerate(values):
@@ -290,10 +303,12 @@ def _semantic_problems(compiled: CompiledScenario) -> list[tuple[PathKey, str]]:
     problems: list[tuple[PathKey, str]] = []
     shared = compiled.seeds.overlap()
     if shared:
-        problems.append((("seeds", "test"), f"seeds: train and test share {one_of(shared[:5])}; "
-                                            "the test split must hold seeds never used in training"))
+        test = compiled.seeds.test
+        where = ("seeds", "test") if isinstance(test, int) else ("seeds", "test", min(test.index(s) for s in shared))
+        problems.append((where, f"seeds: train and test share {one_of(shared[:5])}; "
+                                "the test split must hold seeds never used in training"))
     for check in compiled.entry.checks:
-        problems.extend(check(compiled))
+        problems.extend((path, f"{dotted(path)}: {message}") for path, message in check(compiled))
     return problems
 
 
@@ -302,7 +317,7 @@ def _compile_lock(loaded: Loaded) -> CompiledScenario:
     for key in data:
         if key not in LOCK_KEYS:
             _fail(loaded, (key,), f"unknown key '{key}' in a lock file{did_you_mean(key, LOCK_KEYS)}", key=True)
-    if data.get("hivex_lock") != LOCK_VERSION:
+    if data.get("hivex_lock") != LOCK_VERSION or isinstance(data.get("hivex_lock"), bool):
         _fail(loaded, ("hivex_lock",), f"hivex_lock: {show(data.get('hivex_lock'))} is not supported: expected {LOCK_VERSION}")
     scenario = data.get("scenario")
     if not isinstance(scenario, dict):

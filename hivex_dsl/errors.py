@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import difflib
+import math
 from dataclasses import dataclass
 from typing import Iterable, Sequence
 
@@ -26,8 +27,17 @@ class Problem:
     location: Location
     message: str
 
+    def __post_init__(self) -> None:
+        # a message is one line even when it quotes a value or key that holds a line break
+        if len(self.message.splitlines()) > 1 or self.message.endswith(tuple(_LINE_BREAKS)):
+            one_line = "".join(c.encode("unicode_escape").decode() if c in _LINE_BREAKS else c for c in self.message)
+            object.__setattr__(self, "message", one_line)
+
     def __str__(self) -> str:
         return f"{self.location}: {self.message}"
+
+
+_LINE_BREAKS = frozenset("\n\r\v\f\x1c\x1d\x1e\x85\u2028\u2029")
 
 
 class HivexError(Exception):
@@ -46,6 +56,14 @@ class ScenarioError(HivexError, ValueError):
     @property
     def first(self) -> Problem:
         return self.problems[0]
+
+
+class ItemValueError(ValueError):
+    """Raised by a field validator to blame one part of the value, ``at`` (indices or keys below the field)."""
+
+    def __init__(self, message: str, at: tuple = ()):
+        super().__init__(message)
+        self.at = tuple(at)
 
 
 class ActionError(HivexError, ValueError):
@@ -74,6 +92,8 @@ def show(value: object) -> str:
         text = repr(value)
     elif isinstance(value, bool):
         text = "true" if value else "false"
+    elif isinstance(value, float) and not math.isfinite(value):
+        text = ".nan" if math.isnan(value) else (".inf" if value > 0 else "-.inf")  # as YAML spells them
     elif value is None:
         text = "null"
     elif isinstance(value, dict):
@@ -81,8 +101,17 @@ def show(value: object) -> str:
     elif isinstance(value, list):
         text = "a list"
     else:
-        text = str(value)
+        try:
+            text = str(value)
+        except ValueError:  # an integer too long to print
+            text = "a very large integer"
     return text if len(text) <= 60 else text[:57] + "..."
+
+
+def got(value: object) -> str:
+    """The tail of 'expected ..., got ...': ``'8' (a string)``, ``4 (an integer)``, ``a list``."""
+    shown, kind = show(value), kind_of(value)
+    return shown if shown == kind else f"{shown} ({kind})"
 
 
 def kind_of(value: object) -> str:

@@ -8,13 +8,14 @@ JSON is YAML, so lock files are read by the same code.
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Union
 
 import yaml
 
-from .errors import Location, Problem, ScenarioError
+from .errors import Location, Problem, ScenarioError, show
 
 PathKey = tuple[Union[str, int], ...]
 
@@ -22,6 +23,7 @@ MAX_FILE_BYTES = 1_000_000
 MAX_NODES = 100_000
 MAX_DEPTH = 64
 
+_STANDARD_TAG_PREFIX = "tag:yaml.org,2002:"
 _PLAIN_TAGS = {
     "tag:yaml.org,2002:str",
     "tag:yaml.org,2002:int",
@@ -76,16 +78,25 @@ def load_file(path: str | Path) -> Loaded:
     try:
         text = raw.decode("utf-8")
     except UnicodeDecodeError as exc:
+        line_start = raw.rfind(b"\n", 0, exc.start) + 1
         line = raw[: exc.start].count(b"\n") + 1
-        col = exc.start - (raw.rfind(b"\n", 0, exc.start) + 1) + 1
-        _fail(source, line, col, "not a text file: expected UTF-8 encoded YAML")
+        col = len(raw[line_start: exc.start].decode("utf-8", errors="replace")) + 1  # in characters, not bytes
+        _fail(source, line, col, f"byte 0x{raw[exc.start]:02x} is not valid UTF-8: expected UTF-8 encoded YAML")
     return load_text(text, source)
 
 
 def load_text(text: str, source: str = "<string>") -> Loaded:
     """Parse YAML text named ``source`` (used in error locations)."""
+    reader = _Reader(text, source)
+    documents: list[tuple[yaml.Mark, yaml.Node]] = []
     try:
-        documents = list(yaml.compose_all(text, Loader=yaml.SafeLoader))
+        while reader.check_node():
+            start = reader.peek_event().start_mark  # the document's '---', or its first token
+            node = reader.get_node()
+            if node is not None and not _is_empty(node):
+                documents.append((start, node))
+            if len(documents) > 1:
+                break
     except yaml.MarkedYAMLError as exc:
         mark = exc.problem_mark or exc.context_mark
         line, col = (mark.line + 1, mark.column + 1) if mark else (1, 1)
@@ -93,14 +104,17 @@ def load_text(text: str, source: str = "<string>") -> Loaded:
         _fail(source, line, col, f"not valid YAML: {what}")
     except yaml.YAMLError as exc:  # pragma: no cover - PyYAML marks all parse errors it raises
         _fail(source, 1, 1, f"not valid YAML: {exc}")
-    documents = [d for d in documents if d is not None]
+    except RecursionError:  # pragma: no cover - _Reader bounds the nesting first
+        _fail(source, 1, 1, f"document nests deeper than {MAX_DEPTH} levels; refusing to read it")
+    finally:
+        reader.dispose()
     if not documents:
         _fail(source, 1, 1, "the file is empty: expected a mapping with at least 'hivex' and 'environment'")
     if len(documents) > 1:
-        start = documents[1].start_mark
+        start = documents[1][0]
         _fail(source, start.line + 1, start.column + 1, "a file holds one scenario; found a second YAML document")
-    builder = _Builder(source)
-    data = builder.build(documents[0], (), 0)
+    builder = _Builder(source, reader.alias_marks)
+    data = builder.build(documents[0][1], (), 0)
     return Loaded(source, data, builder.marks, builder.key_marks)
 
 
@@ -108,35 +122,139 @@ def _fail(source: str, line: int, col: int, message: str):
     raise ScenarioError([Problem(Location(source, line, col), message)])
 
 
+def _dotted(path: PathKey) -> str:
+    return "".join(f"[{p}]" if isinstance(p, int) else (f".{p}" if i else p) for i, p in enumerate(path))
+
+
+def _is_empty(node: yaml.Node) -> bool:
+    """A document with nothing in it (just '---' and comments)."""
+    return isinstance(node, yaml.ScalarNode) and node.tag == "tag:yaml.org,2002:null" and node.value == ""
+
+
+def _tag(tag: str) -> str:
+    """A tag as it is written in YAML: ``!!python/object`` rather than ``tag:yaml.org,2002:python/object``."""
+    return "!!" + tag[len(_STANDARD_TAG_PREFIX):] if tag.startswith(_STANDARD_TAG_PREFIX) else tag
+
+
+class _Reader(yaml.SafeLoader):
+    """PyYAML's safe composer, bounded in depth, remembering where each alias is written.
+
+    Also reads ``1e-3`` and ``1e+16`` (YAML 1.2 and JSON floats) as numbers, not strings.
+    """
+
+    def __init__(self, text: str, source: str):
+        super().__init__(text)
+        self.source = source
+        self.depth = 0
+        # (id of the parent node, index or id of the key node) -> where the alias was written
+        self.alias_marks: dict[tuple[int, int], yaml.Mark] = {}
+
+    def compose_node(self, parent, index):
+        if self.check_event(yaml.AliasEvent):
+            mark = self.peek_event().start_mark
+            node = super().compose_node(parent, index)
+            if parent is not None:
+                self.alias_marks[(id(parent), index if isinstance(index, int) else id(index))] = mark
+            return node
+        if self.depth > MAX_DEPTH:
+            mark = self.peek_event().start_mark
+            _fail(self.source, mark.line + 1, mark.column + 1,
+                  f"document nests deeper than {MAX_DEPTH} levels; refusing to read it")
+        self.depth += 1
+        try:
+            return super().compose_node(parent, index)
+        finally:
+            self.depth -= 1
+
+
+_Reader.add_implicit_resolver(
+    "tag:yaml.org,2002:float",
+    re.compile(r"^[-+]?[0-9][0-9_]*(?:\.[0-9_]*)?[eE][-+]?[0-9]+$"),
+    list("-+0123456789"),
+)
+
+
+_KEY_KINDS = {"tag:yaml.org,2002:int": "an integer", "tag:yaml.org,2002:float": "a number",
+              "tag:yaml.org,2002:bool": "a boolean", "tag:yaml.org,2002:null": "null",
+              "tag:yaml.org,2002:timestamp": "a date"}
+
+
 class _Builder:
     """Turns composed nodes into dicts, lists and scalars, recording marks."""
 
-    def __init__(self, source: str):
+    def __init__(self, source: str, alias_marks: dict[tuple[int, int], yaml.Mark] | None = None):
         self.source = source
         self.marks: dict[PathKey, Location] = {}
         self.key_marks: dict[PathKey, Location] = {}
-        self.visited = 0
+        self.alias_marks = alias_marks or {}
+        self.sizes: dict[int, int] = {}  # id(node) -> size(node)
         self._scalars = yaml.SafeLoader("")
 
-    def where(self, node: yaml.Node) -> Location:
-        return Location(self.source, node.start_mark.line + 1, node.start_mark.column + 1)
+    def where(self, node: yaml.Node, mark: yaml.Mark | None = None) -> Location:
+        mark = mark or node.start_mark
+        return Location(self.source, mark.line + 1, mark.column + 1)
 
-    def fail(self, node: yaml.Node, message: str):
-        raise ScenarioError([Problem(self.where(node), message)])
+    def fail(self, node: yaml.Node, message: str, mark: yaml.Mark | None = None):
+        raise ScenarioError([Problem(self.where(node, mark), message)])
 
-    def build(self, node: yaml.Node, path: PathKey, depth: int) -> Any:
-        self.visited += 1
-        if self.visited > MAX_NODES:
-            self.fail(node, f"document expands to more than {MAX_NODES} values (an alias bomb?); refusing to read it")
+    def size(self, node: yaml.Node) -> int:
+        """How many values ``node`` expands to once aliases are copied out (capped at MAX_NODES + 1).
+
+        Iterative, so aliases chained deeper than Python's recursion limit are fine; a recursive
+        alias (a node inside itself) expands forever, so it counts as too many.
+        """
+        cap = MAX_NODES + 1
+        if id(node) in self.sizes:
+            return self.sizes[id(node)]
+        totals = {id(node): 1}
+        stack = [(node, iter(self.children(node)))]
+        while stack:
+            current, pending = stack[-1]
+            child = next(pending, None) if totals[id(current)] < cap else None
+            if child is None:
+                stack.pop()
+                done = self.sizes[id(current)] = min(totals.pop(id(current)), cap)
+                if stack:
+                    parent = id(stack[-1][0])
+                    totals[parent] = min(totals[parent] + done, cap)
+            elif id(child) in self.sizes:
+                totals[id(current)] = min(totals[id(current)] + self.sizes[id(child)], cap)
+            elif id(child) in totals:  # still open: the child contains its own ancestor
+                totals[id(current)] = cap
+            else:
+                totals[id(child)] = 1
+                stack.append((child, iter(self.children(child))))
+        return self.sizes[id(node)]
+
+    @staticmethod
+    def children(node: yaml.Node) -> list[yaml.Node]:
+        if isinstance(node, yaml.MappingNode):
+            return [part for pair in node.value for part in pair]
+        if isinstance(node, yaml.SequenceNode):
+            return list(node.value)
+        return []
+
+    def build(self, node: yaml.Node, path: PathKey, depth: int, mark: yaml.Mark | None = None) -> Any:
         if depth > MAX_DEPTH:
-            self.fail(node, f"document nests deeper than {MAX_DEPTH} levels (a recursive alias?); refusing to read it")
+            self.fail(node, f"document nests deeper than {MAX_DEPTH} levels (a recursive alias?); refusing to read it", mark)
+        if self.size(node) > MAX_NODES and not any(self.size(c) > MAX_NODES for c in self.children(node)):
+            # the smallest part of the document that is too big: where the aliases multiply
+            self.fail(node, f"this value expands to more than {MAX_NODES:,} values (an alias bomb?); refusing to read it",
+                      mark)
         if node.tag not in _PLAIN_TAGS:
-            self.fail(node, f"YAML tag '{node.tag}' is not allowed: scenarios hold plain data only (no tags that construct objects)")
-        self.marks.setdefault(path, self.where(node))
+            self.fail(node, f"YAML tag '{_tag(node.tag)}' is not allowed: scenarios hold plain data only "
+                            "(no tags that construct objects)", mark)
+        fits = {yaml.MappingNode: ("tag:yaml.org,2002:map",), yaml.SequenceNode: ("tag:yaml.org,2002:seq",)}
+        allowed = fits.get(type(node), tuple(_PLAIN_TAGS - {"tag:yaml.org,2002:map", "tag:yaml.org,2002:seq"}))
+        if node.tag not in allowed:
+            kind = {yaml.MappingNode: "a mapping", yaml.SequenceNode: "a list"}.get(type(node), "a single value")
+            self.fail(node, f"YAML tag '{_tag(node.tag)}' cannot be put on {kind}", mark)
+        self.marks.setdefault(path, self.where(node, mark))
         if isinstance(node, yaml.MappingNode):
             return self.build_mapping(node, path, depth)
         if isinstance(node, yaml.SequenceNode):
-            return [self.build(item, path + (i,), depth + 1) for i, item in enumerate(node.value)]
+            return [self.build(item, path + (i,), depth + 1, self.alias_marks.get((id(node), i)))
+                    for i, item in enumerate(node.value)]
         return self.build_scalar(node)
 
     def build_mapping(self, node: yaml.MappingNode, path: PathKey, depth: int) -> dict:
@@ -145,18 +263,31 @@ class _Builder:
         for key_node, value_node in node.value:
             if key_node.tag == "tag:yaml.org,2002:merge":
                 self.fail(key_node, "merge keys ('<<') are not supported: write the keys out")
-            if not isinstance(key_node, yaml.ScalarNode) or key_node.tag not in _PLAIN_TAGS:
-                self.fail(key_node, "a key must be a plain name, not a list, mapping or tagged value")
+            if not isinstance(key_node, yaml.ScalarNode):
+                kind = "a mapping" if isinstance(key_node, yaml.MappingNode) else "a list"
+                self.fail(key_node, f"a key must be a plain name, got {kind}")
+            if key_node.tag in _KEY_KINDS:
+                self.fail(key_node, f"a key must be a name, got {key_node.value or 'null'} ({_KEY_KINDS[key_node.tag]}); "
+                                    "quote it if it is meant as a name")
+            if key_node.tag != "tag:yaml.org,2002:str":
+                self.fail(key_node, f"a key must be a plain name, not a value tagged '{_tag(key_node.tag)}'")
             key = key_node.value
             if key in first_seen:
                 first = first_seen[key]
-                self.fail(key_node, f"duplicate key '{key}' (first written at line {first.line}); a key may appear once")
+                place = f" in '{_dotted(path)}'" if path else ""
+                self.fail(key_node, f"duplicate key '{key}'{place} (first written at line {first.line}); a key may appear once")
             first_seen[key] = self.where(key_node)
             self.key_marks[path + (key,)] = self.where(key_node)
-            result[key] = self.build(value_node, path + (key,), depth + 1)
+            result[key] = self.build(value_node, path + (key,), depth + 1, self.alias_marks.get((id(node), id(key_node))))
         return result
 
     def build_scalar(self, node: yaml.ScalarNode) -> Any:
         if node.tag == "tag:yaml.org,2002:timestamp":
             return node.value  # kept as written; no field takes a date, so validation names it
-        return self._scalars.construct_object(node, deep=False)
+        try:
+            return self._scalars.construct_object(node, deep=False)
+        except (yaml.YAMLError, ValueError, TypeError, KeyError, IndexError, OverflowError):
+            # only an explicit tag (``!!int 0.5``) or an absurdly long number gets here
+            kind = {"tag:yaml.org,2002:int": "an integer", "tag:yaml.org,2002:float": "a number",
+                    "tag:yaml.org,2002:bool": "true or false"}.get(node.tag, f"'{_tag(node.tag)}'")
+            self.fail(node, f"{show(node.value)} cannot be read as {kind}")

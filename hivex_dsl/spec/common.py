@@ -6,6 +6,7 @@ from pydantic import BaseModel, ConfigDict
 
 SCHEMA_VERSION = 1
 NAME_PATTERN = r"^[A-Za-z0-9][A-Za-z0-9_.\-\[\]=,]*$"
+NAME_EXPECTED = "a name made of letters, digits and the characters '_.-[]=,', starting with a letter or digit"
 MAX_WEIGHT = 1.0e6
 MAX_SEED = 2**32 - 1
 

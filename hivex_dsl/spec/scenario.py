@@ -12,9 +12,9 @@ from typing import Annotated, Any, Literal, Optional, Union
 
 from pydantic import Field, PlainValidator, WithJsonSchema, create_model
 
-from ..errors import did_you_mean, kind_of, one_of, show
+from ..errors import ItemValueError, did_you_mean, got, one_of, show
 from .catalogue import CATALOGUE, LEVEL_FIELDS, EnvironmentInfo, environments_with
-from .common import MAX_SEED, MAX_WEIGHT, NAME_PATTERN, SCHEMA_VERSION, StrictModel
+from .common import MAX_SEED, MAX_WEIGHT, NAME_EXPECTED, NAME_PATTERN, SCHEMA_VERSION, StrictModel
 
 MAX_SEEDS_PER_SPLIT = 10_000
 TERRAIN_LEVELS = (1, 10)
@@ -40,9 +40,11 @@ def _is_int(value: Any) -> bool:
     return isinstance(value, int) and not isinstance(value, bool)
 
 
-def _check_seed(value: Any) -> int:
-    if not _is_int(value) or not 0 <= value <= MAX_SEED:
-        raise ValueError(f"expected a seed (an integer from 0 to {MAX_SEED}), got {show(value)} ({kind_of(value)})")
+def _check_seed(value: Any, at: tuple = ()) -> int:
+    if not _is_int(value):
+        raise ItemValueError(f"expected a seed (an integer from 0 to {MAX_SEED}), got {got(value)}", at)
+    if not 0 <= value <= MAX_SEED:
+        raise ItemValueError(f"{value} is out of range: expected a seed, an integer from 0 to {MAX_SEED}", at)
     return value
 
 
@@ -50,11 +52,15 @@ def _check_seed_set(value: Any) -> Union[int, tuple[int, ...]]:
     if isinstance(value, (list, tuple)):
         if not 1 <= len(value) <= MAX_SEEDS_PER_SPLIT:
             raise ValueError(f"expected 1 to {MAX_SEEDS_PER_SPLIT} seeds, got {len(value)}")
-        seeds = tuple(_check_seed(v) for v in value)
-        repeated = sorted({s for s in seeds if seeds.count(s) > 1})
-        if repeated:
-            raise ValueError(f"seed {repeated[0]} is listed twice; list each seed once")
+        seeds = tuple(_check_seed(v, (i,)) for i, v in enumerate(value))
+        first: dict[int, int] = {}
+        for i, seed in enumerate(seeds):
+            if seed in first:
+                raise ItemValueError(f"seed {seed} is listed twice (first at [{first[seed]}]); list each seed once", (i,))
+            first[seed] = i
         return seeds
+    if not _is_int(value):
+        raise ValueError(f"expected a seed (an integer from 0 to {MAX_SEED}) or a list of seeds, got {got(value)}")
     return _check_seed(value)
 
 
@@ -92,8 +98,11 @@ def _name_or_index(what: str, names: tuple[str, ...], index_base: int = 0):
             return value
         if _is_int(value) and index_base <= value < index_base + len(names):
             return value
-        hint = did_you_mean(value, names) if isinstance(value, str) else ""
-        raise ValueError(f"unknown {what} {show(value)}{hint}; expected a name or index: {listing}")
+        if isinstance(value, str):
+            raise ValueError(f"unknown {what} {show(value)}{did_you_mean(value, names)}; expected a name or index: {listing}")
+        if _is_int(value):
+            raise ValueError(f"{value} is out of range: expected a name or index: {listing}")
+        raise ValueError(f"expected a {what} name or index ({listing}), got {got(value)}")
 
     schema = {"anyOf": [{"enum": list(names)},
                         {"type": "integer", "minimum": index_base, "maximum": index_base + len(names) - 1}],
@@ -106,7 +115,9 @@ def weights_model(env_id: str, term_names: tuple[str, ...]) -> type[StrictModel]
     bounded = Annotated[Optional[float], Field(ge=-MAX_WEIGHT, le=MAX_WEIGHT)]
     fields = {name: (bounded, Field(None, description=f"Weight of the '{name}' reward term; overrides the task column."))
               for name in term_names}
-    return create_model(f"{_camel(env_id)}Weights", __base__=StrictModel, **fields)
+    model = create_model(f"{_camel(env_id)}Weights", __base__=StrictModel, **fields)
+    model.__hivex_key_noun__ = "reward term"  # 'unknown reward term ...' in error messages
+    return model
 
 
 def scenario_model(vocab: ScenarioVocabulary) -> type[StrictModel]:
@@ -116,7 +127,8 @@ def scenario_model(vocab: ScenarioVocabulary) -> type[StrictModel]:
     fields: dict[str, Any] = {
         "hivex": (Literal[SCHEMA_VERSION], Field(description="Version of the scenario language this file is written in.")),
         "name": (str, Field("scenario", pattern=NAME_PATTERN, max_length=200,
-                            description="Short identifier used in logs, lock files and sweep point names.")),
+                            description="Short identifier used in logs, lock files and sweep point names.",
+                            json_schema_extra={"x-expected": NAME_EXPECTED})),
         "description": (str, Field("", max_length=4000, description="Free text for people; ignored by the compiler.")),
         "environment": (Literal[info.id], Field(description=f"The environment: {info.title} ({info.abbreviation}).")),
         "task": (_name_or_index("task", vocab.task_names), Field(vocab.task_names[0],

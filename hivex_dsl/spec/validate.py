@@ -10,7 +10,7 @@ import annotated_types as at
 from pydantic import BaseModel, ValidationError
 from pydantic.fields import FieldInfo
 
-from ..errors import Location, Problem, ScenarioError, did_you_mean, kind_of, one_of, show
+from ..errors import ItemValueError, Location, Problem, ScenarioError, did_you_mean, got, one_of, show
 from ..loader import PathKey
 
 M = TypeVar("M", bound=BaseModel)
@@ -22,13 +22,16 @@ def validate_model(model: type[M], data: Any, locate: Locate, context: dict | No
     try:
         return model.model_validate(data, context=context)
     except ValidationError as exc:
-        raise ScenarioError(problems_from(exc, model, locate)) from None
+        raise ScenarioError(problems_from(exc, model, locate, data)) from None
 
 
-def problems_from(exc: ValidationError, model: type[BaseModel], locate: Locate) -> list[Problem]:
+def problems_from(exc: ValidationError, model: type[BaseModel], locate: Locate, data: Any = None) -> list[Problem]:
     problems = []
     for err in exc.errors(include_url=False):
-        loc = tuple(part for part in err["loc"] if not _is_union_tag(part))
+        loc = _user_loc(err["loc"], data)
+        cause = (err.get("ctx") or {}).get("error")
+        if isinstance(cause, ItemValueError):
+            loc += cause.at
         message, at_key = describe(err, loc, model)
         problems.append(Problem(locate(loc, at_key), message))
     return _dedupe(problems)
@@ -53,10 +56,13 @@ def describe(err: dict, loc: PathKey, model: type[BaseModel]) -> tuple[str, bool
         return f"{where}: {show(value)} is not allowed: expected {err['ctx']['expected']}", False
     if kind in ("finite_number",):
         return f"{where}: {show(value)} is not allowed: expected a finite number", False
-    if kind in ("string_too_long", "string_too_short", "string_pattern_mismatch", "too_long", "too_short"):
-        return f"{where}: {show(value)} is not allowed: {err['msg'].lower()}", False
+    if kind == "string_pattern_mismatch":
+        wanted = expected if expected and expected != "a string" else f"a string matching {err['ctx']['pattern']}"
+        return f"{where}: {show(value)} is not allowed: expected {wanted}", False
+    if kind in ("string_too_long", "string_too_short", "too_long", "too_short"):
+        return f"{where}: {show(value)} is not allowed: {err['msg'][:1].lower()}{err['msg'][1:]}", False
     if expected:
-        return f"{where}: expected {expected}, got {show(value)} ({kind_of(value)})", False
+        return f"{where}: expected {expected}, got {got(value)}", False
     return f"{where}: {err['msg']}", False
 
 
@@ -69,7 +75,9 @@ def _unknown_key(loc: PathKey, model: type[BaseModel]) -> str:
     if special:
         return special
     listing = f"; expected one of: {', '.join(allowed)}" if allowed else ""
-    return f"unknown key '{key}'{place}{did_you_mean(key, allowed)}{listing}"
+    target = model if not parent else _model_of(field_at(model, parent))
+    noun = getattr(target, "__hivex_key_noun__", "key")
+    return f"unknown {noun} '{key}'{place}{did_you_mean(key, allowed)}{listing}"
 
 
 def dotted(loc: PathKey) -> str:
@@ -160,6 +168,22 @@ def _flatten(annotation: Any) -> list[Any]:
     if origin in (Union, types.UnionType):
         return [leaf for arg in typing.get_args(annotation) for leaf in _flatten(arg)]
     return [annotation]
+
+
+def _user_loc(loc: tuple, data: Any) -> PathKey:
+    """pydantic's error location with union member tags dropped; the user's own keys are always kept."""
+    path: list = []
+    for part in loc:
+        if isinstance(data, dict) and part in data:
+            data = data[part]
+        elif isinstance(data, (list, tuple)) and isinstance(part, int) and 0 <= part < len(data):
+            data = data[part]
+        elif _is_union_tag(part):
+            continue
+        else:
+            data = None
+        path.append(part)
+    return tuple(path)
 
 
 def _is_union_tag(part: Any) -> bool:

@@ -1,0 +1,60 @@
+"""Every file in tests/bad/ holds one mistake; its first line says where and what compile_all reports.
+
+The first line of each file is ``# expect: LINE:COL: message``: the location (1-based; the
+column of the value for bad values, of the key for unknown or duplicate keys) and the full
+message of the first problem, without the path.
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import pytest
+
+import hivex_dsl
+from hivex_dsl import ScenarioError
+
+BAD = Path(__file__).parent / "bad"
+FILES = sorted(BAD.glob("*.yaml"))
+EXPECT = re.compile(rb"^# expect: (\d+:\d+: .+)$")
+
+
+def _expectation(path: Path) -> str:
+    first_line = path.read_bytes().split(b"\n", 1)[0]
+    match = EXPECT.match(first_line)
+    assert match, f"{path.name}: the first line must be '# expect: LINE:COL: message'"
+    return match.group(1).decode("utf-8")
+
+
+def test_the_corpus_is_large_enough():
+    assert len(FILES) >= 30
+
+
+@pytest.mark.parametrize("path", FILES, ids=[p.stem for p in FILES])
+def test_bad_scenario_reports_exactly_its_problem(path: Path):
+    expected = _expectation(path)
+    with pytest.raises(ScenarioError) as caught:
+        hivex_dsl.compile_all(path)
+    assert type(caught.value) is ScenarioError  # nothing else, not even a subclass
+    problems = caught.value.problems
+    assert problems
+    first = problems[0]
+    assert f"{first.location.line}:{first.location.col}: {first.message}" == expected
+    assert first.location.path == str(path)
+    assert str(first) == f"{path}:{expected}"
+    for problem in problems:
+        assert problem.message and "\n" not in problem.message and "\r" not in problem.message
+        assert problem.location.line >= 1 and problem.location.col >= 1
+
+
+@pytest.mark.parametrize("path", FILES, ids=[p.stem for p in FILES])
+def test_compile_reports_the_same_first_problem(path: Path):
+    """compile() stops at the same place (it also refuses sweeps, which a bad sweep file may hit first)."""
+    expected = _expectation(path)
+    with pytest.raises(ScenarioError) as caught:
+        hivex_dsl.compile(path)
+    first = caught.value.problems[0]
+    text = f"{first.location.line}:{first.location.col}: {first.message}"
+    if text != expected:
+        assert "use compile_all()" in first.message
