@@ -105,4 +105,4 @@ class HivexVectorEnv(VectorEnv):
         return None if self.render_mode is None else self.core.render(0)
 
     def close_extras(self, **kwargs: Any) -> None:
-        pass
+        """Nothing to release: the worlds are only NumPy arrays."""

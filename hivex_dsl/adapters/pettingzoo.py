@@ -95,4 +95,4 @@ class HivexParallelEnv(ParallelEnv):
         return self.core.render(0)
 
     def close(self) -> None:
-        pass
+        """Nothing to release: a world is only NumPy arrays."""

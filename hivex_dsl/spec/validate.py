@@ -188,9 +188,7 @@ def _user_loc(loc: tuple, data: Any) -> PathKey:
 
 def _is_union_tag(part: Any) -> bool:
     """pydantic inserts member names such as 'int' or 'list[int]' into union error locations."""
-    return isinstance(part, str) and (part.endswith("]") or part in ("int", "float", "str", "bool")) and (
-        "[" in part or part in ("int", "float", "str", "bool")
-    )
+    return isinstance(part, str) and (part in ("int", "float", "str", "bool") or ("[" in part and part.endswith("]")))
 
 
 def _dedupe(problems: Sequence[Problem]) -> list[Problem]:
