@@ -19,7 +19,7 @@ from .spec.catalogue import CATALOGUE, EnvironmentInfo
 from .spec.common import StrictModel
 from .spec.reward_table import RewardTable, table_problems
 from .spec.scenario import ScenarioVocabulary, scenario_model
-from .spec.validate import validate_model
+from .spec.validate import validate_loaded
 
 if TYPE_CHECKING:
     from .compiler import CompiledScenario
@@ -96,8 +96,7 @@ def get(env_id: str) -> EnvironmentEntry:
 def load_reward_table(entry: EnvironmentEntry) -> RewardTable:
     """Read and check rewards/<env>.yaml against the environment's registered terms and events."""
     loaded = load_file(data_dir("rewards") / f"{entry.id}.yaml")
-    locate = lambda path, key=False: loaded.locate(path, key=key)  # noqa: E731
-    table = validate_model(RewardTable, loaded.data, locate)
+    table = validate_loaded(RewardTable, loaded)
     problems = table_problems(table, entry.id, entry.terms.names, tuple(entry.events))
     if problems:
         raise ScenarioError([Problem(loaded.locate(path), message) for path, message in problems])

@@ -11,7 +11,7 @@ from pydantic import BaseModel, ValidationError
 from pydantic.fields import FieldInfo
 
 from ..errors import ItemValueError, Location, Problem, ScenarioError, did_you_mean, got, one_of, show
-from ..loader import PathKey
+from ..loader import Loaded, PathKey
 
 M = TypeVar("M", bound=BaseModel)
 Locate = Callable[[PathKey, bool], Location]
@@ -23,6 +23,11 @@ def validate_model(model: type[M], data: Any, locate: Locate, context: dict | No
         return model.model_validate(data, context=context)
     except ValidationError as exc:
         raise ScenarioError(problems_from(exc, model, locate, data)) from None
+
+
+def validate_loaded(model: type[M], loaded: "Loaded", context: dict | None = None) -> M:
+    """Validate a whole loaded file, locating problems in it."""
+    return validate_model(model, loaded.data, lambda path, key=False: loaded.locate(path, key=key), context)
 
 
 def problems_from(exc: ValidationError, model: type[BaseModel], locate: Locate, data: Any = None) -> list[Problem]:

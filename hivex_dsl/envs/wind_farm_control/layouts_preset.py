@@ -6,11 +6,12 @@ from typing import Literal
 
 from pydantic import Field
 
-from ...loader import load_file
 from ...procgen.layouts import PATTERN_NAMES
-from ...resources import data_dir
+from ...procgen.presets import load_preset
 from ...spec.common import SCHEMA_VERSION, StrictModel
-from ...spec.validate import validate_model
+
+
+PRESET_FILE = "wind_farm_control_layouts.yaml"
 
 
 class Pattern(StrictModel):
@@ -27,9 +28,8 @@ class LayoutPreset(StrictModel):
 
 
 def load_layout_preset() -> LayoutPreset:
-    loaded = load_file(data_dir("generators") / "wind_farm_control_layouts.yaml")
-    preset = validate_model(LayoutPreset, loaded.data, lambda path, key=False: loaded.locate(path, key=key))
+    preset = load_preset(PRESET_FILE, LayoutPreset)
     names = tuple(p.name for p in preset.patterns)
     if names != PATTERN_NAMES or [p.index for p in preset.patterns] != list(range(9)):
-        raise ValueError(f"{loaded.source}: patterns must be {PATTERN_NAMES} in index order, found {names}")
+        raise ValueError(f"generators/{PRESET_FILE}: patterns must be {PATTERN_NAMES} in index order, found {names}")
     return preset
