@@ -7,15 +7,22 @@ lists every file this generator owns, so files it no longer produces can be remo
 
 from __future__ import annotations
 
+import io
 from pathlib import Path, PurePosixPath
+from typing import Union
 
+import numpy as np
 from jinja2 import Environment, FileSystemLoader, StrictUndefined
 
 from .. import registry
 from .context import SCHEMA_FILE, env_page, environment_context, index_context, language_context
+from .figures import preview_figures
 from .schema import scenario_json_schema, schema_text
 
 MANIFEST = ".generated"
+# Pictures are compared by pixels, not bytes: PNG encoders of different zlib builds may differ.
+PIXEL_TOLERANCE = 2
+Content = Union[str, bytes, np.ndarray]
 TEMPLATES = Path(__file__).resolve().parent / "templates"
 
 
@@ -38,22 +45,47 @@ def _jinja() -> Environment:
     return env
 
 
-def render_docs() -> dict[str, str | bytes]:
-    """Relative path under docs/ -> file content, for everything docs/ should hold."""
+def render_docs() -> dict[str, Content]:
+    """Relative path under docs/ -> file content (text, bytes, or an (H, W, 3) uint8 picture saved as PNG)."""
     jinja = _jinja()
     docs: dict[str, str | bytes] = {
         "index.md": jinja.get_template("index.md.j2").render(**index_context()),
         "language.md": jinja.get_template("language.md.j2").render(**language_context()),
         SCHEMA_FILE: schema_text(),
     }
+    figures = preview_figures()
+    docs["generators.md"] = jinja.get_template("generators.md.j2").render(
+        figures=[{"path": rel, "caption": caption} for rel, (caption, _) in figures.items()])
+    docs |= {rel: image for rel, (_, image) in figures.items()}
     page = jinja.get_template("environment.md.j2")
     for env_id, entry in registry.environments().items():
         docs[env_page(env_id)] = page.render(**environment_context(entry))
     return dict(sorted(docs.items()))
 
 
-def _bytes(content: str | bytes) -> bytes:
+def _bytes(content: Content) -> bytes:
+    if isinstance(content, np.ndarray):
+        from PIL import Image
+
+        buffer = io.BytesIO()
+        Image.fromarray(content).save(buffer, format="PNG", optimize=False)
+        return buffer.getvalue()
     return content.encode("utf-8") if isinstance(content, str) else content
+
+
+def _is_fresh(path: Path, content: Content) -> bool:
+    if not path.is_file():
+        return False
+    if not isinstance(content, np.ndarray):
+        return path.read_bytes() == _bytes(content)
+    from PIL import Image
+
+    try:
+        with Image.open(path) as image:
+            pixels = np.asarray(image.convert("RGB"))
+    except OSError:
+        return False
+    return pixels.shape == content.shape and int(np.abs(pixels.astype(int) - content).max()) <= PIXEL_TOLERANCE
 
 
 def _manifest_text(paths: list[str]) -> str:
@@ -88,11 +120,10 @@ def write_docs(docs_dir: Path) -> list[str]:
             _prune_empty_dirs(target.parent, docs_dir)
     for rel, content in rendered.items():
         target = docs_dir / rel
-        data = _bytes(content)
-        if target.is_file() and target.read_bytes() == data:
+        if _is_fresh(target, content):
             continue
         target.parent.mkdir(parents=True, exist_ok=True)
-        target.write_bytes(data)
+        target.write_bytes(_bytes(content))
         changed.append(rel)
     manifest = docs_dir / MANIFEST
     text = _manifest_text(list(rendered)).encode("utf-8")
@@ -116,8 +147,7 @@ def stale_docs(docs_dir: Path) -> list[str]:
     Empty list == docs are fresh."""
     docs_dir = Path(docs_dir)
     rendered = render_docs()
-    stale = [rel for rel, content in rendered.items()
-             if not (docs_dir / rel).is_file() or (docs_dir / rel).read_bytes() != _bytes(content)]
+    stale = [rel for rel, content in rendered.items() if not _is_fresh(docs_dir / rel, content)]
     listed = _read_manifest(docs_dir)
     if listed is None:
         stale.append(MANIFEST)
