@@ -1,4 +1,4 @@
-"""The `hivex` command: validate | compile | run | render | schema | docs | list."""
+"""The `hivex` command: validate | compile | run | render | schema | docs | preview | list."""
 
 from __future__ import annotations
 
@@ -66,6 +66,10 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--dir", default="docs", type=Path, help="docs directory (default ./docs)")
     p.add_argument("--check", action="store_true", help="only check; exit 1 if docs/ is stale")
     p.set_defaults(handler=cmd_docs)
+
+    p = sub.add_parser("preview", help="write the paper's sample figures (layouts, terrain, pollution) as PNG")
+    p.add_argument("-o", "--output", required=True, type=Path, metavar="DIR")
+    p.set_defaults(handler=cmd_preview)
 
     p = sub.add_parser("list", help="list the bundled scenarios")
     p.set_defaults(handler=cmd_list)
@@ -165,6 +169,18 @@ def cmd_docs(args) -> int:
         return EXIT_OK
     changed = write_docs(args.dir)
     print(f"{args.dir}: {len(changed)} file(s) written or removed")
+    return EXIT_OK
+
+
+def cmd_preview(args) -> int:
+    from .docsgen.figures import preview_figures
+    from .render.gif import save_png
+
+    args.output.mkdir(parents=True, exist_ok=True)
+    for rel, (caption, image) in preview_figures().items():
+        path = args.output / Path(rel).name
+        save_png(image, path)
+        print(f"wrote {path}: {caption}")
     return EXIT_OK
 
 

@@ -117,3 +117,11 @@ def test_console_script_exit_code_without_traceback(tmp_path):
     assert "Traceback" not in result.stderr
     assert result.stderr.startswith(f"{bad}:2:14: environment: unknown environment 'wind_farm_contol'; "
                                     "did you mean 'wind_farm_control'?")
+
+
+def test_preview_writes_the_sample_figures(tmp_path, capsys):
+    assert main(["preview", "-o", str(tmp_path / "figs")]) == 0
+    written = sorted(p.name for p in (tmp_path / "figs").glob("*.png"))
+    assert "wind_farm_control_layouts.png" in written
+    with Image.open(tmp_path / "figs" / "wind_farm_control_layouts.png") as image:
+        assert image.size[0] > 300
