@@ -122,6 +122,6 @@ def test_console_script_exit_code_without_traceback(tmp_path):
 def test_preview_writes_the_sample_figures(tmp_path, capsys):
     assert main(["preview", "-o", str(tmp_path / "figs")]) == 0
     written = sorted(p.name for p in (tmp_path / "figs").glob("*.png"))
-    assert "wind_farm_control_layouts.png" in written
+    assert written == ["ocean_pollution.png", "terrain_levels.png", "wind_farm_control_layouts.png"]
     with Image.open(tmp_path / "figs" / "wind_farm_control_layouts.png") as image:
         assert image.size[0] > 300

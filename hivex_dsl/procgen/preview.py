@@ -47,8 +47,53 @@ def _turbines(positions: np.ndarray, half_extent: float, size_px: int, color=(30
     return canvas.image()
 
 
-def heat_tile(values: np.ndarray, low: float, high: float, size_px: int) -> np.ndarray:
-    """A (R, R) field, row index increasing with y, as a (size_px, size_px, 3) picture with +y up."""
+def resample(values: np.ndarray, size_px: int) -> np.ndarray:
+    """Nearest-neighbour (size_px, size_px) view of an (R, R) field whose row index increases with y,
+    flipped so that row 0 is the top (+y up, as on a Canvas)."""
     rows = np.linspace(values.shape[0] - 1, 0, size_px).round().astype(int)
     cols = np.linspace(0, values.shape[1] - 1, size_px).round().astype(int)
-    return colormap(values[np.ix_(rows, cols)], low, high)
+    return values[np.ix_(rows, cols)]
+
+
+TERRAIN_STOPS = np.array([[70, 120, 60], [120, 150, 80], [170, 150, 100], [140, 110, 80], [245, 245, 245]], np.uint8)
+SEA = np.array([70, 130, 190], np.uint8)
+
+
+def terrain_figure(levels: Sequence[int] = tuple(range(1, 11)), seeds: Sequence[int] = tuple(range(8)),
+                   size_px: int = 72) -> np.ndarray:
+    """Terrain elevation levels (rows, top to bottom) x seeds (columns), the paper's figure.
+
+    One shared colour scale (0 m to the highest peak shown) so the levels compare; sea is blue,
+    the flattened village a red dot."""
+    from .terrain import generate_terrain, terrain_spec_for_level
+
+    terrains = [generate_terrain(np.random.default_rng(seed), terrain_spec_for_level(level))
+                for level in levels for seed in seeds]
+    top = max(float(t.heights.max()) for t in terrains)
+    return tile([_terrain_tile(t, top, size_px) for t in terrains], columns=len(seeds), gap=2)
+
+
+def _terrain_tile(terrain, top_m: float, size_px: int) -> np.ndarray:
+    heights = resample(terrain.heights, size_px)
+    canvas = Canvas(size_px, terrain.extent_m / 2)
+    canvas.fill(np.where((heights <= 0.0)[..., None], SEA, colormap(heights, 0.0, top_m, TERRAIN_STOPS)))
+    canvas.disks(terrain.village[None], terrain.extent_m / 40, (210, 40, 40))
+    return canvas.image()
+
+
+def pollution_figure(seeds: Sequence[int] = tuple(range(20)), agents: int = 3, size_px: int = 120) -> np.ndarray:
+    """Pollution heat maps for ``seeds`` with the vessels' spawn points (white), 5 per row."""
+    from .pollution import load_pollution_preset, pollution_map, spawn_vessels
+
+    preset = load_pollution_preset()
+    tiles = []
+    for seed in seeds:
+        rng = np.random.default_rng(seed)
+        heat = pollution_map(rng, preset.pollution)[0]
+        spawns, _ = spawn_vessels(rng, preset.spawn, 1, agents)
+        canvas = Canvas(size_px, preset.pollution.half_extent_m)
+        canvas.fill(colormap(resample(heat, size_px), 0.0, float(heat.max())))
+        canvas.disks(spawns[0], preset.pollution.half_extent_m / 14, (20, 20, 20))
+        canvas.disks(spawns[0], preset.pollution.half_extent_m / 22, (255, 255, 255))
+        tiles.append(canvas.image())
+    return tile(tiles, columns=5)
