@@ -106,20 +106,26 @@ def _perlin_unchecked(
 ) -> np.ndarray:
     """Perlin noise on validated inputs (see :func:`perlin2d`), values in [-1, 1]."""
     batch, period = grads.shape[:2]
-    row = np.arange(batch).reshape((batch,) + (1,) * (x.ndim - 1))
+    shape = (batch,) + (1,) * (x.ndim - 1)
+    # Flat tables with per-row offsets: one 1-D take per lookup is much cheaper than 2-D fancy indexing.
+    perm_offset = (np.arange(batch) * perm.shape[1]).reshape(shape)
+    grad_offset = (np.arange(batch) * period).reshape(shape)
+    flat_perm = perm.reshape(-1)
+    grad_x, grad_y = grads[..., 0].reshape(-1), grads[..., 1].reshape(-1)
     xi0, xi1, fx = _lattice_cell(x, period)
     yi0, yi1, fy = _lattice_cell(y, period)
-    grad_x, grad_y = grads[..., 0], grads[..., 1]
+    hashed_x0 = flat_perm.take(perm_offset + xi0)
+    hashed_x1 = flat_perm.take(perm_offset + xi1)
 
-    def corner_dot(xi: np.ndarray, yi: np.ndarray, dx: np.ndarray, dy: np.ndarray) -> np.ndarray:
+    def corner_dot(hashed_x: np.ndarray, yi: np.ndarray, dx: np.ndarray, dy: np.ndarray) -> np.ndarray:
         """Dot product of the corner's hashed gradient with the offset from that corner."""
-        gradient = perm[row, perm[row, xi] + yi]
-        return grad_x[row, gradient] * dx + grad_y[row, gradient] * dy
+        gradient = flat_perm.take(perm_offset + hashed_x + yi) + grad_offset
+        return grad_x.take(gradient) * dx + grad_y.take(gradient) * dy
 
-    n00 = corner_dot(xi0, yi0, fx, fy)
-    n10 = corner_dot(xi1, yi0, fx - 1.0, fy)
-    n01 = corner_dot(xi0, yi1, fx, fy - 1.0)
-    n11 = corner_dot(xi1, yi1, fx - 1.0, fy - 1.0)
+    n00 = corner_dot(hashed_x0, yi0, fx, fy)
+    n10 = corner_dot(hashed_x1, yi0, fx - 1.0, fy)
+    n01 = corner_dot(hashed_x0, yi1, fx, fy - 1.0)
+    n11 = corner_dot(hashed_x1, yi1, fx - 1.0, fy - 1.0)
     u, v = _fade(fx), _fade(fy)
     bottom = n00 + u * (n10 - n00)
     top = n01 + u * (n11 - n01)
