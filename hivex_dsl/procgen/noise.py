@@ -25,7 +25,7 @@ __all__ = ["draw_lattice", "perlin2d", "fractal2d"]
 _RANGE_SCALE = np.sqrt(2.0)
 
 
-def _require_int(name: str, value: object, minimum: int) -> int:
+def require_int(name: str, value: object, minimum: int) -> int:
     """``value`` as a Python int, or ValueError if it is not an integer >= ``minimum``."""
     if isinstance(value, bool) or not isinstance(value, numbers.Integral):
         raise ValueError(f"{name} must be an integer, got {value!r}")
@@ -50,8 +50,8 @@ def draw_lattice(
     """
     if not isinstance(rng, np.random.Generator):
         raise ValueError(f"rng must be a numpy.random.Generator, got {type(rng).__name__}")
-    batch = _require_int("batch", batch, 1)
-    period = _require_int("period", period, 2)
+    batch = require_int("batch", batch, 1)
+    period = require_int("period", period, 2)
     ordered = np.broadcast_to(np.arange(period, dtype=np.int64), (batch, period))
     perm = rng.permuted(ordered, axis=1)
     angles = rng.uniform(0.0, 2.0 * np.pi, size=(batch, period))
@@ -151,7 +151,7 @@ def perlin2d(perm: np.ndarray, grads: np.ndarray, x: np.ndarray, y: np.ndarray) 
 
 def _check_octave_args(octaves: int, persistence: float, lacunarity: float) -> int:
     """Validate the fractal parameters; return ``octaves`` as an int."""
-    octaves = _require_int("octaves", octaves, 1)
+    octaves = require_int("octaves", octaves, 1)
     if not (isinstance(persistence, numbers.Real) and 0.0 < persistence <= 1.0):
         raise ValueError(f"persistence must be in (0, 1], got {persistence!r}")
     if not (isinstance(lacunarity, numbers.Real) and 1.0 <= lacunarity < np.inf):

@@ -27,7 +27,7 @@ import numpy as np
 from pydantic import Field, model_validator
 
 from ..spec.common import SCHEMA_VERSION, StrictModel
-from .noise import draw_lattice, fractal2d
+from .noise import draw_lattice, fractal2d, require_int
 from .presets import load_preset
 
 __all__ = ["PollutionSpec", "SpawnSpec", "PollutionPreset", "load_pollution_preset", "cell_size_m",
@@ -112,13 +112,6 @@ def load_pollution_preset() -> PollutionPreset:
     return load_preset(PRESET_FILE, PollutionPreset)
 
 
-def _require_int(name: str, value: object, minimum: int) -> int:
-    """``value`` as an int, or ValueError unless it is an integer >= ``minimum``."""
-    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < minimum:
-        raise ValueError(f"{name} must be an integer >= {minimum}, got {value!r}")
-    return int(value)
-
-
 def _require(name: str, value: object, kind: type) -> None:
     """ValueError unless ``value`` is an instance of ``kind``."""
     if not isinstance(value, kind):
@@ -181,7 +174,7 @@ def pollution_map(rng: np.random.Generator, spec: PollutionSpec, batch: int = 1)
     """
     _require("rng", rng, np.random.Generator)
     _require("spec", spec, PollutionSpec)
-    batch = _require_int("batch", batch, 1)
+    batch = require_int("batch", batch, 1)
     heat = _background(rng, spec, batch) + _hotspots(rng, spec, batch)
     total = heat.sum(axis=(1, 2), keepdims=True)
     if not (total > 0.0).all():  # only with flat noise, contrast > 0 and no hotspots
@@ -221,7 +214,7 @@ def sample_pebbles(
     """
     _require("rng", rng, np.random.Generator)
     heat = _checked_heat(heat)
-    count = _require_int("count", count, 1)
+    count = require_int("count", count, 1)
     if not (isinstance(half_extent_m, numbers.Real) and 0.0 < half_extent_m < math.inf):
         raise ValueError(f"half_extent_m must be a finite number > 0 (metres), got {half_extent_m!r}")
     resolution = heat.shape[1]
@@ -244,7 +237,7 @@ def spawn_problem(spec: SpawnSpec, agents: int) -> str | None:
     Raises ValueError if ``spec`` is not a :class:`SpawnSpec` or ``agents`` not an integer >= 1.
     """
     _require("spec", spec, SpawnSpec)
-    agents = _require_int("agents", agents, 1)
+    agents = require_int("agents", agents, 1)
     reach = spec.half_extent_m - spec.border_margin_m
     claimed, allowed = agents * spec.min_spacing_m**2, _PACKING_FRACTION * (2.0 * reach) ** 2
     if agents > 1 and claimed > allowed:
@@ -298,7 +291,7 @@ def spawn_vessels(
     problem = spawn_problem(spec, agents)
     if problem is not None:
         raise ValueError(problem)
-    batch, agents = _require_int("batch", batch, 1), int(agents)
+    batch, agents = require_int("batch", batch, 1), int(agents)
     placed, filled = np.zeros((batch, agents, 2)), np.zeros(batch, dtype=np.int64)
     for _ in range(spec.max_rounds):  # bounded rounds; each round is whole-batch
         active = np.flatnonzero(filled < agents)
