@@ -7,6 +7,7 @@
 
 from __future__ import annotations
 
+import os
 from typing import Any, Mapping, Optional, Union
 
 from .compiler import CompiledScenario, compile, compile_all
@@ -14,7 +15,7 @@ from .errors import ActionError, HivexError, ScenarioError
 
 __version__ = "0.1.0"
 
-ScenarioLike = Union[CompiledScenario, str, "os.PathLike[str]", Mapping[str, Any]]
+ScenarioLike = Union[CompiledScenario, str, os.PathLike, Mapping[str, Any]]
 
 
 def _compiled(scenario: ScenarioLike) -> CompiledScenario:

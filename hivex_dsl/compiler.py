@@ -21,7 +21,7 @@ from .errors import Location, Problem, ScenarioError, did_you_mean, got, kind_of
 from .loader import Loaded, PathKey, load_file
 from .resources import resolve_scenario_path
 from .spec.common import SCHEMA_VERSION, StrictModel
-from .spec.scenario import SWEEPABLE_PREFIXES, ScenarioVocabulary, Seeds, sweepable_fields
+from .spec.scenario import SWEEPABLE_PREFIXES, Seeds, sweepable_fields
 from .spec.validate import dotted, validate_model
 
 MAX_SWEEP_POINTS = 10_000
@@ -195,11 +195,6 @@ def _environment(loaded: Loaded) -> "registry.EnvironmentEntry":
         _fail(loaded, ("environment",), f"environment: {exc.args[0]}")
 
 
-def _vocabulary(entry) -> ScenarioVocabulary:
-    return ScenarioVocabulary(entry.info, entry.params_model, entry.reward_table.task_names, entry.terms.names,
-                              entry.level_names)
-
-
 Assignment = tuple[tuple[PathKey, Any, PathKey], ...]  # (field path, value, where the value is written)
 
 
@@ -232,7 +227,7 @@ def _sweep_points(loaded: Loaded, entry) -> list[Assignment]:
 
 
 def _sweep_target(loaded: Loaded, entry, key: str) -> PathKey:
-    vocab = _vocabulary(entry)
+    vocab = entry.vocabulary
     fields = sweepable_fields(vocab)
     nested = {"params": tuple(entry.params_model.model_fields), "weights": entry.terms.names,
               "seeds": tuple(Seeds.model_fields)}

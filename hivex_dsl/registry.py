@@ -11,7 +11,7 @@ from dataclasses import dataclass, field
 from functools import cached_property
 from typing import TYPE_CHECKING, Any, Callable, Mapping
 
-from .errors import Location, Problem, ScenarioError, did_you_mean
+from .errors import Problem, ScenarioError, did_you_mean
 from .loader import load_file
 from .resources import data_dir
 from .reward.terms import TermRegistry
@@ -55,10 +55,15 @@ class EnvironmentEntry:
         return load_reward_table(self)
 
     @cached_property
+    def vocabulary(self) -> ScenarioVocabulary:
+        """The names and bounds a scenario of this environment may use."""
+        return ScenarioVocabulary(info=self.info, params_model=self.params_model,
+                                  task_names=self.reward_table.task_names, term_names=self.terms.names,
+                                  level_names=self.level_names)
+
+    @cached_property
     def scenario_model(self) -> type[StrictModel]:
-        return scenario_model(ScenarioVocabulary(
-            info=self.info, params_model=self.params_model, task_names=self.reward_table.task_names,
-            term_names=self.terms.names, level_names=self.level_names))
+        return scenario_model(self.vocabulary)
 
 
 def register(entry: EnvironmentEntry) -> EnvironmentEntry:
@@ -103,4 +108,4 @@ def load_reward_table(entry: EnvironmentEntry) -> RewardTable:
     return table
 
 
-__all__ = ["EnvironmentEntry", "Location", "register", "environments", "get"]
+__all__ = ["EnvironmentEntry", "register", "environments", "get"]

@@ -279,15 +279,18 @@ def put(d: dict, path: tuple[str, ...], value) -> None:
     target[path[-1]] = value
 
 
+def mutated(files, d: dict, path: tuple[str, ...], value) -> tuple[tuple, int, int, str]:
+    """Write ``value`` at ``path``, compile the YAML text; (problems, line, col, dotted path) of that value."""
+    put(d, path, value)
+    text = dump(d)
+    line, col = value_position(text, path)
+    return problems_of(files(text)), line, col, ".".join(path)
+
+
 @EXAMPLES
 @given(valid_scenarios(), numeric_fields())
 def test_a_numeric_field_out_of_its_bounds_is_a_located_error(files, d, field_value):
-    path, value = field_value
-    put(d, path, value)
-    text = dump(d)
-    problems = problems_of(files(text))
-    line, col = value_position(text, path)
-    dotted = ".".join(path)
+    problems, line, col, dotted = mutated(files, d, *field_value)
     assert any(p.location.line == line and p.location.col == col and p.message.startswith(f"{dotted}: ")
                and "out of range" in p.message for p in problems), problems
 
@@ -316,12 +319,7 @@ def wrong_types() -> st.SearchStrategy:
 @EXAMPLES
 @given(valid_scenarios(), wrong_types())
 def test_a_value_of_the_wrong_type_is_a_located_error(files, d, field_value):
-    path, value = field_value
-    put(d, path, value)
-    text = dump(d)
-    problems = problems_of(files(text))
-    line, col = value_position(text, path)
-    dotted = ".".join(path)
+    problems, line, col, dotted = mutated(files, d, *field_value)
     assert any(p.location.line == line and p.location.col == col and p.message.startswith(f"{dotted}")
                for p in problems), problems
 

@@ -10,7 +10,8 @@ Angles are radians, directions are where the wind blows *to*, lengths are metres
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, fields, replace
+from typing import Any
 
 import numpy as np
 
@@ -55,14 +56,19 @@ def wind_reset(rng: np.random.Generator, batch: int, spec: WindSpec) -> WindStat
                      drift=np.zeros((batch, 2)), perm=perm, grads=grads)
 
 
+def wind_worlds(state: WindState, index: Any) -> WindState:
+    """The wind of the worlds selected by ``index`` (a slice, mask or index array on the batch axis)."""
+    return WindState(**{f.name: getattr(state, f.name)[index] for f in fields(state)})
+
+
 def wind_reset_where(state: WindState, mask: np.ndarray, rng: np.random.Generator, spec: WindSpec) -> WindState:
     """Replace the wind of the worlds where ``mask`` (B,) is true by fresh draws."""
     fresh = wind_reset(rng, int(np.count_nonzero(mask)), spec)
     merged = {}
-    for name in ("main", "target", "drift", "perm", "grads"):
-        array = getattr(state, name).copy()
-        array[mask] = getattr(fresh, name)
-        merged[name] = array
+    for f in fields(state):
+        array = getattr(state, f.name).copy()
+        array[mask] = getattr(fresh, f.name)
+        merged[f.name] = array
     return WindState(**merged)
 
 

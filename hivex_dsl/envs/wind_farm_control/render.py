@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...procgen.wind import WindSpec, local_wind
+from ...procgen.wind import WindSpec, local_wind, wind_worlds
 from ...render.canvas import Canvas, colormap, hue_wheel, upscale
 from .params import WindFarmControlParams
 from .types import WindFarmState
@@ -23,9 +23,7 @@ def _grid(half_extent: float, cells: int) -> np.ndarray:
 
 def _world_wind(state: WindFarmState, index: int, points: np.ndarray, spec: WindSpec) -> np.ndarray:
     """Wind direction of world ``index`` at (N, 2) points -> (N,)."""
-    one = type(state.wind)(**{name: getattr(state.wind, name)[index:index + 1]
-                              for name in ("main", "target", "drift", "perm", "grads")})
-    return local_wind(one, points[None], spec)[0]
+    return local_wind(wind_worlds(state.wind, slice(index, index + 1)), points[None], spec)[0]
 
 
 def draw_wind_farm(state: WindFarmState, index: int, params: WindFarmControlParams, spec: WindSpec) -> np.ndarray:
