@@ -45,6 +45,7 @@ class CompiledScenario:
     weights: Mapping[str, float]
     ends_on: tuple[str, ...]
     sweep_point: Mapping[str, Any] = field(default_factory=dict)
+    generators: Mapping[str, StrictModel] = field(default_factory=dict)
 
     @property
     def environment(self) -> str:
@@ -89,6 +90,8 @@ class CompiledScenario:
         out |= {"agents": self.agents, "episode_length": self.episode_length,
                 "seeds": {"train": _plain(self.seeds.train), "test": _plain(self.seeds.test)},
                 "weights": dict(self.weights), "params": self.params.model_dump(mode="json")}
+        if self.generators:
+            out["generators"] = {name: spec.model_dump(mode="json") for name, spec in self.generators.items()}
         return out
 
     @cached_property
@@ -272,14 +275,14 @@ def _compile_point(loaded: Loaded, entry, assignment: Assignment) -> CompiledSce
         return loaded.locate(path, key=key)
 
     spec = validate_model(entry.scenario_model, data, locate)
-    compiled = _resolve(entry, spec, loaded.source, {".".join(t): v for t, v, _ in assignment})
+    compiled = _resolve(entry, spec, loaded.source, {".".join(t): v for t, v, _ in assignment}, locate)
     problems = [Problem(locate(path), message) for path, message in _semantic_problems(compiled)]
     if problems:
         raise ScenarioError(problems)
     return compiled
 
 
-def _resolve(entry, spec: StrictModel, source: str, point: dict[str, Any]) -> CompiledScenario:
+def _resolve(entry, spec: StrictModel, source: str, point: dict[str, Any], locate) -> CompiledScenario:
     table = entry.reward_table
     task = spec.task if isinstance(spec.task, int) else table.task_names.index(spec.task)
     weights = table.column(task)
@@ -291,7 +294,37 @@ def _resolve(entry, spec: StrictModel, source: str, point: dict[str, Any]) -> Co
         level = spec.terrain_level
     return CompiledScenario(entry=entry, spec=spec, source=source, task_index=task, level=level,
                             weights=MappingProxyType(weights), ends_on=table.tasks[task].ends_on,
-                            sweep_point=MappingProxyType(point))
+                            sweep_point=MappingProxyType(point),
+                            generators=MappingProxyType(_generator_specs(entry, spec, level, locate)))
+
+
+def _generator_specs(entry, spec: StrictModel, level: int | None, locate) -> dict[str, StrictModel]:
+    """Every generator slot's preset for ``level`` with the scenario's overrides merged and revalidated."""
+    overrides = getattr(spec, "generators", None)
+    merged, problems = {}, []
+    for name, slot in entry.generators.items():
+        override = getattr(overrides, name)
+        changes = override.model_dump(include=override.model_fields_set)
+        if not changes:
+            merged[name] = slot.preset(level)
+            continue
+        data = slot.preset(level).model_dump() | changes
+        prefix = ("generators", name)
+        try:
+            merged[name] = validate_model(slot.spec_model, data, lambda path, key=False: locate(prefix + tuple(path), key))
+        except ScenarioError as exc:
+            problems.extend(Problem(p.location, _prefixed(p.message, prefix)) for p in exc.problems)
+    if problems:
+        raise ScenarioError(problems)
+    return merged
+
+
+def _prefixed(message: str, prefix: PathKey) -> str:
+    """A nested model's message names its field from the top of the scenario ('generators.terrain.x: ...')."""
+    top = dotted(())
+    if message.startswith(f"{top}: "):
+        return f"{dotted(prefix)}: {message[len(top) + 2:]}"
+    return f"{dotted(prefix)}.{message}" if ":" in message.split(" ")[0] else f"{dotted(prefix)}: {message}"
 
 
 def _semantic_problems(compiled: CompiledScenario) -> list[tuple[PathKey, str]]:

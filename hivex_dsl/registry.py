@@ -1,12 +1,14 @@
 """Registered environments: catalogue entry + params + reward terms + simulator factory.
 
-Each environment package calls :func:`register` once on import; :func:`get` loads every
-environment package on first use so users never import them by hand.
+Each environment package (a folder hivex_dsl/envs/<catalogue id>/) calls :func:`register` once
+on import; :func:`get` finds and loads every such package on first use so users never import
+them by hand.
 """
 
 from __future__ import annotations
 
 import importlib
+import pkgutil
 from dataclasses import dataclass, field
 from functools import cached_property
 from typing import TYPE_CHECKING, Any, Callable, Mapping
@@ -24,11 +26,23 @@ from .spec.validate import validate_loaded
 if TYPE_CHECKING:
     from .compiler import CompiledScenario
 
-_ENV_PACKAGES = ("hivex_dsl.envs.wind_farm_control",)
 _REGISTRY: dict[str, "EnvironmentEntry"] = {}
 
 # A compile-time check: resolved scenario -> [(path in the file, message)].
 ScenarioCheck = Callable[["CompiledScenario"], list[tuple[tuple, str]]]
+
+
+@dataclass(frozen=True)
+class GeneratorSlot:
+    """A procedural generator an environment uses, overridable under a scenario's ``generators:``.
+
+    ``preset(level)`` gives the spec the environment uses at a difficulty level (``None`` for
+    environments without levels); a scenario's overrides are merged over it and revalidated.
+    """
+
+    spec_model: type[StrictModel]
+    preset: Callable[[int | None], StrictModel]
+    description: str
 
 
 @dataclass(frozen=True, eq=False)
@@ -45,6 +59,7 @@ class EnvironmentEntry:
     level_titles: tuple[str, ...] = ()
     checks: tuple[ScenarioCheck, ...] = ()
     notes: tuple[str, ...] = ()
+    generators: Mapping[str, GeneratorSlot] = field(default_factory=dict)
 
     @property
     def id(self) -> str:
@@ -59,7 +74,8 @@ class EnvironmentEntry:
         """The names and bounds a scenario of this environment may use."""
         return ScenarioVocabulary(info=self.info, params_model=self.params_model,
                                   task_names=self.reward_table.task_names, term_names=self.terms.names,
-                                  level_names=self.level_names)
+                                  level_names=self.level_names,
+                                  generators={name: slot.spec_model for name, slot in self.generators.items()})
 
     @cached_property
     def scenario_model(self) -> type[StrictModel]:
@@ -78,8 +94,12 @@ def register(entry: EnvironmentEntry) -> EnvironmentEntry:
 
 
 def _load_all() -> None:
-    for package in _ENV_PACKAGES:
-        importlib.import_module(package)
+    """Import every package under hivex_dsl/envs/ whose name is a catalogue id; each registers itself."""
+    from . import envs
+
+    for module in pkgutil.iter_modules(envs.__path__):
+        if module.ispkg and module.name in CATALOGUE:
+            importlib.import_module(f"{envs.__name__}.{module.name}")
 
 
 def environments() -> dict[str, EnvironmentEntry]:
@@ -108,4 +128,4 @@ def load_reward_table(entry: EnvironmentEntry) -> RewardTable:
     return table
 
 
-__all__ = ["EnvironmentEntry", "register", "environments", "get"]
+__all__ = ["EnvironmentEntry", "GeneratorSlot", "register", "environments", "get"]

@@ -10,8 +10,6 @@ from ..spaces import describe_space, flat_size
 from ..spec.catalogue import EnvironmentInfo
 from .fields import num
 
-# The paper's "Neighbour Count" row; not part of any simulator's interface yet.
-NEIGHBOUR_COUNTS = {"wind_farm_control": 0}
 VECTOR_COMPONENT_SUFFIXES = ("x", "y", "z")
 
 
@@ -57,19 +55,19 @@ def specification(info: EnvironmentInfo, compiled: Any, simulator: Any) -> list[
     visual = [s for s in obs_leaves if is_visual(s)]
     vector_size = sum(flat_size(s) for s in vector)
     labels = tuple(getattr(type(simulator), "observation_labels", ()))
-    if len(labels) != vector_size:
+    stacks = int(getattr(simulator, "observation_stacks", 1))
+    if len(labels) * stacks != vector_size:
         raise RuntimeError(
-            f"{info.id}: {type(simulator).__name__}.observation_labels names {len(labels)} components but the "
-            f"observation space {describe_space(observation)} has {vector_size}; update the labels")
+            f"{info.id}: {type(simulator).__name__}.observation_labels names {len(labels)} components x {stacks} "
+            f"stacks but the observation space {describe_space(observation)} has {vector_size}; update the labels")
     normalized = all(isinstance(s, spaces.Box) and float(s.low.min()) >= -1.0 and float(s.high.max()) <= 1.0
                      for s in vector)
-    neighbours = NEIGHBOUR_COUNTS.get(info.id)
     general = [
         ("Episode Length", num(compiled.episode_length)),
         ("Agent Count", f"{num(compiled.agents)} (a scenario may set {info.min_agents} to {info.max_agents})"),
-        ("Neighbour Count", num(neighbours) if neighbours is not None else "not documented"),
+        ("Neighbour Count", num(info.neighbour_count)),
     ]
-    vector_rows = [("Space", f"`{' + '.join(describe_space(s) for s in vector)}`"), ("Stacks", "1"),
+    vector_rows = [("Space", f"`{' + '.join(describe_space(s) for s in vector)}`"), ("Stacks", str(stacks)),
                    ("Normalized", "True" if normalized else "False")] + label_groups(labels)
     visual_rows = [("Space", f"`{describe_space(s)}`") for s in visual] or [("-", "-")]
 

@@ -25,16 +25,17 @@ class EnvironmentInfo:
     default_episode_length: int
     level_field: Optional[LevelField]
     level_count: int
+    neighbour_count: int  # the paper's "Neighbour Count" specification row
 
 
 CATALOGUE: dict[str, EnvironmentInfo] = {
     info.id: info
     for info in (
-        EnvironmentInfo("wind_farm_control", "Wind Farm Control", "WFC", "turbine", 8, 1, 16, 5000, "pattern", 9),
-        EnvironmentInfo("wildfire_resource_management", "Wildfire Resource Management", "WRM", "tower", 9, 9, 9, 500, "terrain_level", 10),
-        EnvironmentInfo("ocean_plastic_collection", "Ocean Plastic Collection", "OPC", "vessel", 3, 1, 12, 5000, None, 0),
-        EnvironmentInfo("drone_based_reforestation", "Drone-Based Reforestation", "DBR", "drone", 3, 1, 12, 2000, "terrain_level", 10),
-        EnvironmentInfo("aerial_wildfire_suppression", "Aerial Wildfire Suppression", "AWS", "plane", 3, 1, 12, 3000, "terrain_level", 10),
+        EnvironmentInfo("wind_farm_control", "Wind Farm Control", "WFC", "turbine", 8, 1, 16, 5000, "pattern", 9, 0),
+        EnvironmentInfo("wildfire_resource_management", "Wildfire Resource Management", "WRM", "tower", 9, 9, 9, 500, "terrain_level", 10, 3),
+        EnvironmentInfo("ocean_plastic_collection", "Ocean Plastic Collection", "OPC", "vessel", 3, 1, 12, 5000, None, 0, 1),
+        EnvironmentInfo("drone_based_reforestation", "Drone-Based Reforestation", "DBR", "drone", 3, 1, 12, 2000, "terrain_level", 10, 0),
+        EnvironmentInfo("aerial_wildfire_suppression", "Aerial Wildfire Suppression", "AWS", "plane", 3, 1, 12, 3000, "terrain_level", 10, 0),
     )
 }
 

@@ -7,8 +7,8 @@ language server uses for completion comes from the same models.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-from typing import Annotated, Any, Literal, Optional, Union
+from dataclasses import dataclass, field
+from typing import Annotated, Any, Literal, Mapping, Optional, Union
 
 from pydantic import Field, PlainValidator, WithJsonSchema, create_model
 
@@ -34,6 +34,7 @@ class ScenarioVocabulary:
     task_names: tuple[str, ...]
     term_names: tuple[str, ...]
     level_names: tuple[str, ...] = ()
+    generators: Mapping[str, type[StrictModel]] = field(default_factory=dict)
 
 
 def _is_int(value: Any) -> bool:
@@ -120,6 +121,31 @@ def weights_model(env_id: str, term_names: tuple[str, ...]) -> type[StrictModel]
     return model
 
 
+def partial_model(model: type[StrictModel], name: str) -> type[StrictModel]:
+    """``model`` with every field optional (default None) but keeping its type, bounds and description.
+
+    A scenario's ``generators.<slot>`` names only the fields it changes; the compiler merges
+    them over the preset and validates the whole spec again (cross-field rules included).
+    """
+    fields = {}
+    for key, info in model.model_fields.items():
+        kind = Annotated[tuple([Optional[info.annotation]] + list(info.metadata))] if info.metadata else Optional[info.annotation]
+        fields[key] = (kind, Field(None, description=info.description))
+    return create_model(name, __base__=StrictModel, __doc__=model.__doc__, **fields)
+
+
+def generators_model(env_id: str, slots: Mapping[str, type[StrictModel]]) -> type[StrictModel]:
+    """A closed mapping generator slot -> partial spec, so unknown slots and fields are located errors."""
+    fields = {}
+    for name, spec in slots.items():
+        partial = partial_model(spec, f"{_camel(env_id)}{_camel(name)}Override")
+        fields[name] = (partial, Field(default_factory=partial, description=(
+            f"Fields of the '{name}' generator to change; the rest keep the preset's value for the scenario's level.")))
+    model = create_model(f"{_camel(env_id)}Generators", __base__=StrictModel, **fields)
+    model.__hivex_key_noun__ = "generator"
+    return model
+
+
 def scenario_model(vocab: ScenarioVocabulary) -> type[StrictModel]:
     """The pydantic model of a scenario for one environment."""
     info = vocab.info
@@ -150,6 +176,12 @@ def scenario_model(vocab: ScenarioVocabulary) -> type[StrictModel]:
                     description="Overrides of single cells of the task's reward column.")),
         "params": (vocab.params_model, Field(default_factory=vocab.params_model,
                    description="Physical constants of the simulator; each is bounded and documented.")),
+    }
+    if vocab.generators:
+        generators = generators_model(info.id, vocab.generators)
+        fields["generators"] = (generators, Field(default_factory=generators, description=(
+            "Overrides of procedural generator fields (terrain, forest, weather ...); see the generators reference.")))
+    fields |= {
         "sweep": (Optional[dict[str, list[Union[int, float, str]]]], Field(None, description=(
             "A grid: each key names a scalar field (task, agents, params.<name>, weights.<term> ...) and lists "
             "its values; the file compiles to one scenario per combination."),
