@@ -235,15 +235,19 @@ def _sweep_target(loaded: Loaded, entry, key: str) -> PathKey:
     nested = {"params": tuple(entry.params_model.model_fields), "weights": entry.terms.names,
               "seeds": tuple(Seeds.model_fields)}
     options = list(fields) + [f"{p}.{n}" for p in SWEEPABLE_PREFIXES for n in nested[p]]
+    generator_fields = [f"generators.{name}.{f}" for name, slot in entry.generators.items()
+                        for f in slot.spec_model.model_fields]
+    options += generator_fields
     head, _, tail = key.partition(".")
-    if key in fields or (head in nested and tail in nested[head]):
+    if key in fields or (head in nested and tail in nested[head]) or key in generator_fields:
         target = tuple(key.split("."))
         if _get(loaded.data, target) is not _MISSING:
             _fail(loaded, ("sweep", key), f"'{key}' is both set in the file and swept; keep only one", key=True)
         return target
     hint = did_you_mean(key, options)
     _fail(loaded, ("sweep", key), f"cannot sweep over '{key}'{hint}; expected one of: {', '.join(fields)}, "
-          f"params.<name>, weights.<term>, seeds.train or seeds.test", key=True)
+          f"params.<name>, weights.<term>, seeds.train or seeds.test"
+          f"{', generators.<generator>.<field>' if generator_fields else ''}", key=True)
 
 
 _MISSING = object()

@@ -11,7 +11,7 @@ from ..spec import scenario as scenario_spec
 from ..spec.catalogue import CATALOGUE
 from ..spec.common import MAX_SEED, MAX_WEIGHT, SCHEMA_VERSION
 from ..spec.reward_table import RewardTable, TaskColumn
-from .fields import field_rows, num, source_tag
+from .fields import field_rows, num, show_value, source_tag
 from .spaces_table import specification
 
 SCHEMA_FILE = "hivex.schema.json"
@@ -75,6 +75,20 @@ def _params(entry: registry.EnvironmentEntry) -> list[dict[str, str]]:
     return rows
 
 
+def _generators(entry: registry.EnvironmentEntry) -> list[dict[str, Any]]:
+    """Each generator slot with its fields; defaults are the preset's at the first level."""
+    first = 1 if entry.info.level_field == "terrain_level" else (0 if entry.info.level_field else None)
+    out = []
+    for name, slot in entry.generators.items():
+        preset = slot.preset(first).model_dump()
+        rows = field_rows(slot.spec_model)
+        for row in rows:
+            row["source"], row["description"] = source_tag(row["description"])
+            row["default"] = show_value(preset[row["name"]])
+        out.append({"name": name, "description": slot.description, "rows": rows})
+    return out
+
+
 def _levels(entry: registry.EnvironmentEntry) -> dict[str, Any] | None:
     info = entry.info
     if info.level_field is None:
@@ -130,6 +144,7 @@ def environment_context(entry: registry.EnvironmentEntry) -> dict[str, Any]:
         "events": sorted(entry.events.items()),
         "contracts": _contracts(entry),
         "params": _params(entry),
+        "generators": _generators(entry),
         "levels": _levels(entry),
         "notes": list(entry.notes),
         "table_notes": list(entry.reward_table.notes),
