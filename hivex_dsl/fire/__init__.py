@@ -1,0 +1,37 @@
+"""The shared, batched wildfire engine of Aerial Wildfire Suppression and Wildfire Resource Management.
+
+Conventions (grid, cell coordinates, in-place ownership of ``trees``) are in :mod:`.engine`.
+"""
+
+from .engine import (
+    FireSpec,
+    FireState,
+    TreeState,
+    burning_count,
+    cell_coords,
+    cell_xy,
+    fire_copy,
+    fire_reset,
+    fire_reset_where,
+    length_in_cells,
+)
+from .search import closest_burning
+from .spread import Conditions, fire_step
+from .water import douse
+
+__all__ = [
+    "Conditions",
+    "FireSpec",
+    "FireState",
+    "TreeState",
+    "burning_count",
+    "cell_coords",
+    "cell_xy",
+    "closest_burning",
+    "douse",
+    "fire_copy",
+    "fire_reset",
+    "fire_reset_where",
+    "fire_step",
+    "length_in_cells",
+]

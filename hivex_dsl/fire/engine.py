@@ -1,0 +1,230 @@
+"""The fire engine's state, constants, resets and coordinate helpers (ENVIRONMENTS.md, AWS).
+
+Grid: the forest grid of :mod:`hivex_dsl.procgen.forest`, ``trees[b, row, col]`` with ``row``
+indexing y and ``col`` indexing x. Cell coordinates are fractional (row, col) with the centre of
+cell ``(row, col)`` at exactly ``(row, col)``; a point (x, y) in metres lies at
+``row = (y + half_extent_m) / spacing_m - 0.5``, ``col = (x + half_extent_m) / spacing_m - 0.5``
+(:func:`cell_coords`). Water drops and the closest-fire search measure distances between such
+points and cell *centres*: a tree's +/-1.5 m jitter is ignored, because the 30 m drop radius and
+the 150 m view square are 20 to 100 times larger, so at most a rim of trees shifts in or out.
+
+A flat index ``i`` addresses ``trees.reshape(-1)``: world ``i // C**2``, row ``i % C**2 // C``,
+col ``i % C``. ``burning`` lists the flat indices of every burning tree of every world.
+
+Ownership: ``fire_step``, ``douse`` and ``fire_reset_where`` write ``trees`` in place and return a
+new :class:`FireState` sharing it (copying a (256, 400, 400) grid costs more than a whole step);
+the state passed in is consumed: read nothing from it afterwards. :func:`fire_copy` snapshots.
+"""
+
+from __future__ import annotations
+
+import enum
+from dataclasses import dataclass
+
+import numpy as np
+from pydantic import Field
+
+from ..procgen.forest import ForestSpec
+from ..spec.common import StrictModel
+
+
+class TreeState(enum.IntEnum):
+    """Content of one forest cell (uint8 in ``FireState.trees``)."""
+
+    NONE = 0
+    EXISTING = 1
+    BURNING = 2
+    BURNT = 3
+    WET = 4
+
+
+class FireSpec(StrictModel):
+    """Constants of fire spread, burn-out and the end of the fire."""
+
+    spread_radius_cells: int = Field(2, ge=1, le=10, description=(
+        "[orig] A burning tree tries the trees of the (2r+1) x (2r+1) cells around it (r = 2: within 10 m on a 3 m grid)."))
+    spread_chance_per_factor: float = Field(0.2, ge=0.0, le=1.0, description=(
+        "[orig] Ignition chance of one try per true factor (downwind, uphill, hot, dry, low overcast), capped at 1."))
+    downwind_cone_deg: float = Field(45.0, ge=0.0, le=180.0, description=(
+        "[orig] A target counts as downwind when its direction from the source is within this angle of the "
+        "direction the wind blows to (inclusive)."))
+    hot_temperature: float = Field(0.5, ge=0.0, le=1.0, description=(
+        "[orig] Temperature at the burning tree above this counts as a factor."))
+    dry_humidity: float = Field(0.5, ge=0.0, le=1.0, description=(
+        "[orig] Humidity at the burning tree below this counts as a factor."))
+    low_overcast: float = Field(0.5, ge=0.0, le=1.0, description=(
+        "[ours] Overcast at the burning tree below this counts as a factor (the original says only 'overcast low')."))
+    burn_steps: int = Field(10, ge=1, le=1000, description=(
+        "[orig] Fire steps a tree burns (about 10 in the original) before it is burnt; it tries its neighbours in each."))
+    quiet_steps_out: int = Field(10, ge=1, le=10_000, description=(
+        "[orig] The fire of a world is out once nothing burns and this many fire steps passed without a new ignition."))
+
+
+@dataclass(frozen=True)
+class FireState:
+    """Fires of ``B`` worlds on a ``C x C`` grid with ``K`` burning trees in all.
+
+    trees (B, C, C) uint8 :class:`TreeState`; burning (K,) int64 flat indices of the burning cells in
+    ignition order; age (K,) int32 fire steps each has burnt; quiet (B,) int32 fire steps since the last
+    new ignition; out (B,) bool the fire is out (stays so until reset); ignited, burnt_out (B,) int64
+    trees set burning / burnt by the last fire step of the world (or by its reset). ``douse`` leaves
+    these two counters alone: it returns its own counts.
+    """
+
+    trees: np.ndarray
+    burning: np.ndarray
+    age: np.ndarray
+    quiet: np.ndarray
+    out: np.ndarray
+    ignited: np.ndarray
+    burnt_out: np.ndarray
+
+    def __post_init__(self) -> None:
+        trees = self.trees
+        if trees.dtype != np.uint8 or trees.ndim != 3 or trees.shape[1] != trees.shape[2]:
+            raise ValueError(f"trees must be a uint8 (B, C, C) array, got {trees.dtype} {trees.shape}")
+        if not trees.flags.c_contiguous:
+            raise ValueError("trees must be C-contiguous: the engine writes it in place through a flat view")
+        if self.burning.shape != self.age.shape or self.burning.ndim != 1:
+            raise ValueError(f"burning and age must be equal-length 1-D arrays, got {self.burning.shape} and {self.age.shape}")
+        for name in ("quiet", "out", "ignited", "burnt_out"):
+            if getattr(self, name).shape != trees.shape[:1]:
+                raise ValueError(f"{name} must have shape ({trees.shape[0]},), got {getattr(self, name).shape}")
+
+    @property
+    def batch(self) -> int:
+        """Number of worlds B."""
+        return int(self.trees.shape[0])
+
+    @property
+    def cells(self) -> int:
+        """Cells per grid side C."""
+        return int(self.trees.shape[1])
+
+
+def split_flat(flat: np.ndarray, cells: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(world, row, col) of flat indices ``flat`` (N,) on a ``cells x cells`` grid, in ``flat``'s dtype."""
+    world, inside = np.divmod(flat, cells * cells)
+    row, col = np.divmod(inside, cells)
+    return world, row, col
+
+
+def vector(name: str, array: object, length: int | None = None, integer: bool = False) -> np.ndarray:
+    """``array`` as a 1-D int64 (``integer``) or finite float64 array, of ``length`` when given."""
+    vec = np.asarray(array)
+    if vec.ndim != 1 or (length is not None and len(vec) != length):
+        wanted = "N" if length is None else str(length)
+        raise ValueError(f"{name} must have shape ({wanted},), got {vec.shape}")
+    if integer:
+        if not (np.issubdtype(vec.dtype, np.integer) or vec.size == 0):
+            raise ValueError(f"{name} must hold integers, got dtype {vec.dtype}")
+        return vec.astype(np.int64, copy=False)
+    if not (np.issubdtype(vec.dtype, np.integer) or np.issubdtype(vec.dtype, np.floating)) or not np.isfinite(vec).all():
+        raise ValueError(f"{name} must hold finite numbers, got dtype {vec.dtype}")
+    return vec.astype(np.float64, copy=False)
+
+
+def in_range(name: str, values: np.ndarray, stop: int) -> None:
+    """Raise unless every integer of ``values`` lies in [0, stop)."""
+    if values.size and (values.min() < 0 or values.max() >= stop):
+        raise ValueError(f"{name} must lie in [0, {stop}), got range [{values.min()}, {values.max()}]")
+
+
+def _grids(name: str, array: object, shape: tuple[int, ...] | None = None) -> np.ndarray:
+    """``array`` as a bool (N, C, C) array (of ``shape`` when given)."""
+    grid = np.asarray(array)
+    if grid.dtype != np.bool_ or grid.ndim != 3 or grid.shape[1] != grid.shape[2]:
+        raise ValueError(f"{name} must be a bool (worlds, C, C) array, got {grid.dtype} {grid.shape}")
+    if shape is not None and grid.shape != shape:
+        raise ValueError(f"{name} must have shape {shape}, got {grid.shape}")
+    return grid
+
+
+def _fresh_trees(exists: np.ndarray, ignite: np.ndarray) -> np.ndarray:
+    """(N, C, C) uint8 trees: EXISTING where ``exists``, BURNING where ``ignite`` (a subset of ``exists``)."""
+    exists = _grids("exists", exists)
+    ignite = _grids("ignite", ignite, exists.shape)
+    stray = ignite & ~exists
+    if stray.any():
+        world, row, col = (int(v[0]) for v in np.nonzero(stray))
+        raise ValueError(f"ignite marks {int(stray.sum())} cell(s) without a tree, first world {world} "
+                         f"row {row} col {col}: only trees can burn")
+    trees = exists.astype(np.uint8) * np.uint8(TreeState.EXISTING)
+    trees[ignite] = TreeState.BURNING
+    return trees
+
+
+def fire_reset(exists: np.ndarray, ignite: np.ndarray) -> FireState:
+    """New fires: trees where ``exists`` (B, C, C) bool, burning where ``ignite`` (B, C, C) bool.
+
+    The burning list is in flat-index order; every age, quiet counter and burnt_out count is 0.
+    """
+    trees = _fresh_trees(exists, ignite)
+    batch = trees.shape[0]
+    burning = np.flatnonzero(trees == TreeState.BURNING).astype(np.int64)
+    ignited = np.count_nonzero(trees == TreeState.BURNING, axis=(1, 2)).astype(np.int64)
+    return FireState(trees=trees, burning=burning, age=np.zeros(len(burning), np.int32),
+                     quiet=np.zeros(batch, np.int32), out=np.zeros(batch, bool), ignited=ignited,
+                     burnt_out=np.zeros(batch, np.int64))
+
+
+def fire_reset_where(state: FireState, mask: np.ndarray, exists: np.ndarray, ignite: np.ndarray) -> FireState:
+    """Replace the worlds where ``mask`` (B,) bool holds; ``exists``/``ignite`` (M, C, C) bool for those M worlds.
+
+    Writes ``state.trees`` in place. The other worlds keep everything, their burning trees keep their
+    order; the reset worlds' ignitions follow them in flat-index order.
+    """
+    mask = np.asarray(mask)
+    if mask.dtype != np.bool_ or mask.shape != (state.batch,):
+        raise ValueError(f"mask must be a bool array of shape ({state.batch},), got {mask.dtype} {mask.shape}")
+    worlds = np.flatnonzero(mask)
+    cells = state.cells
+    fresh = _fresh_trees(exists, ignite)
+    if fresh.shape != (len(worlds), cells, cells):
+        raise ValueError(f"exists and ignite must have shape ({len(worlds)}, {cells}, {cells}) for the "
+                         f"{len(worlds)} masked worlds, got {fresh.shape}")
+    state.trees[worlds] = fresh
+    local = np.flatnonzero(fresh == TreeState.BURNING)
+    new = worlds[local // (cells * cells)] * (cells * cells) + local % (cells * cells)
+    keep = ~mask[state.burning // (cells * cells)]
+    counts = np.count_nonzero(fresh == TreeState.BURNING, axis=(1, 2))
+    ignited, burnt_out = state.ignited.copy(), state.burnt_out.copy()
+    ignited[worlds], burnt_out[worlds] = counts, 0
+    return FireState(trees=state.trees, burning=np.concatenate([state.burning[keep], new.astype(np.int64)]),
+                     age=np.concatenate([state.age[keep], np.zeros(len(new), np.int32)]),
+                     quiet=np.where(mask, 0, state.quiet).astype(np.int32), out=state.out & ~mask,
+                     ignited=ignited, burnt_out=burnt_out)
+
+
+def fire_copy(state: FireState) -> FireState:
+    """An independent snapshot of ``state`` (every array copied)."""
+    return FireState(**{name: getattr(state, name).copy() for name in state.__dataclass_fields__})
+
+
+def burning_count(state: FireState) -> np.ndarray:
+    """(B,) int64 burning trees per world."""
+    cells = state.cells
+    return np.bincount(state.burning // (cells * cells), minlength=state.batch).astype(np.int64)
+
+
+def cell_coords(spec: ForestSpec, x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Fractional (row, col) float64 cell coordinates of points ``x``, ``y`` metres (any shape).
+
+    The centre of cell (row, col) maps to exactly (row, col); points off the grid give values
+    outside [-0.5, C - 0.5).
+    """
+    row = (np.asarray(y, dtype=np.float64) + spec.half_extent_m) / spec.spacing_m - 0.5
+    col = (np.asarray(x, dtype=np.float64) + spec.half_extent_m) / spec.spacing_m - 0.5
+    return row, col
+
+
+def cell_xy(spec: ForestSpec, row: np.ndarray, col: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Metres (x, y) of cell coordinates ``row``, ``col`` (any shape): the inverse of :func:`cell_coords`."""
+    x = (np.asarray(col, dtype=np.float64) + 0.5) * spec.spacing_m - spec.half_extent_m
+    y = (np.asarray(row, dtype=np.float64) + 0.5) * spec.spacing_m - spec.half_extent_m
+    return x, y
+
+
+def length_in_cells(spec: ForestSpec, metres: float) -> float:
+    """A distance of ``metres`` in cell units (e.g. a 30 m drop radius is 10 cells on a 3 m grid)."""
+    return float(metres) / spec.spacing_m
