@@ -18,6 +18,7 @@ import numpy as np
 from pydantic import Field, model_validator
 
 from ..spec.common import SCHEMA_VERSION, StrictModel
+from .presets import load_preset
 
 HeightAt = Callable[[np.ndarray], np.ndarray]
 
@@ -82,6 +83,14 @@ class ForestPreset(StrictModel):
     generator: Literal["forest"]
     forest: ForestSpec
     ignition: IgnitionSpec
+
+
+PRESET_FILE = "forest.yaml"
+
+
+def load_forest_preset() -> ForestPreset:
+    """generators/forest.yaml validated as a :class:`ForestPreset` (located errors)."""
+    return load_preset(PRESET_FILE, ForestPreset)
 
 
 class Neighbours(NamedTuple):

@@ -14,7 +14,9 @@ from dataclasses import dataclass, fields, replace
 from typing import Any
 
 import numpy as np
+from pydantic import Field
 
+from ..spec.common import StrictModel
 from .noise import draw_lattice, fractal2d
 
 TWO_PI = 2.0 * np.pi
@@ -31,6 +33,26 @@ class WindSpec:
     noise_scale_m: float  # size of one noise lattice cell
     noise_octaves: int
     drift_m: float  # distance the noise field moves with the wind per step
+
+
+class WindParams(StrictModel):
+    """The wind fields of an environment's params (Wind Farm Control, Aerial Wildfire Suppression)."""
+
+    wind_ease_rate: float = Field(0.01, gt=0.0, le=1.0, description=(
+        "[ours] Fraction of the remaining angle to the target that the main wind covers per step "
+        "(0.01: a 60 degree shift takes about 250 steps)."))
+    wind_target_shift_deg: float = Field(60.0, ge=0.0, le=180.0, description="[orig] How far the wind target turns once it is reached.")
+    wind_retarget_tolerance_deg: float = Field(5.0, gt=0.0, le=90.0, description="[orig] The target counts as reached within this angle.")
+    wind_deviation_max_deg: float = Field(90.0, ge=0.0, le=180.0, description="[orig] Local wind deviation at noise value +/-1.")
+    wind_noise_scale_m: float = Field(400.0, ge=10.0, le=100_000.0, description="[ours] Size of one cell of the wind noise lattice in metres.")
+    wind_noise_octaves: int = Field(2, ge=1, le=8, description="[ours] Octaves of the wind noise field.")
+    wind_drift_m: float = Field(1.0, ge=0.0, le=100.0, description="[ours] Metres the wind noise field moves with the main wind per step.")
+
+    def wind_spec(self) -> WindSpec:
+        return WindSpec(ease_rate=self.wind_ease_rate, target_shift_deg=self.wind_target_shift_deg,
+                        retarget_tolerance_deg=self.wind_retarget_tolerance_deg,
+                        deviation_max_deg=self.wind_deviation_max_deg, noise_scale_m=self.wind_noise_scale_m,
+                        noise_octaves=self.wind_noise_octaves, drift_m=self.wind_drift_m)
 
 
 @dataclass(frozen=True)

@@ -8,10 +8,10 @@ from __future__ import annotations
 
 from pydantic import Field
 
-from ...spec.common import StrictModel
+from ...procgen.wind import WindParams
 
 
-class WindFarmControlParams(StrictModel):
+class WindFarmControlParams(WindParams):
     farm_half_extent_m: float = Field(600.0, ge=50.0, le=10_000.0, description=(
         "[ours] Half the side of the square farm area in metres; turbine positions are normalised by it."))
     turbine_spacing_m: float = Field(70.0, ge=5.0, le=2_000.0, description=(
@@ -22,12 +22,3 @@ class WindFarmControlParams(StrictModel):
     drag: float = Field(0.1, ge=0.0, le=1.0, description="[paper] Drag: fraction of the performance P lost per step (d = -drag * P).")
     alignment_threshold: float = Field(0.5, ge=0.0, lt=1.0, description=(
         "[paper] Alignment below which the wind force W is 0; W rises linearly to 1 at perfect alignment."))
-    wind_ease_rate: float = Field(0.01, gt=0.0, le=1.0, description=(
-        "[ours] Fraction of the remaining angle to the target that the main wind covers per step "
-        "(0.01: a 60 degree shift takes about 250 steps)."))
-    wind_target_shift_deg: float = Field(60.0, ge=0.0, le=180.0, description="[orig] How far the wind target turns once it is reached.")
-    wind_retarget_tolerance_deg: float = Field(5.0, gt=0.0, le=90.0, description="[orig] The target counts as reached within this angle.")
-    wind_deviation_max_deg: float = Field(90.0, ge=0.0, le=180.0, description="[orig] Local wind deviation at noise value +/-1.")
-    wind_noise_scale_m: float = Field(400.0, ge=10.0, le=100_000.0, description="[ours] Size of one cell of the wind noise lattice in metres.")
-    wind_noise_octaves: int = Field(2, ge=1, le=8, description="[ours] Octaves of the wind noise field.")
-    wind_drift_m: float = Field(1.0, ge=0.0, le=100.0, description="[ours] Metres the wind noise field moves with the main wind per step.")

@@ -8,7 +8,7 @@ import numpy as np
 from gymnasium import spaces
 
 from ...procgen.layouts import turbine_layout
-from ...procgen.wind import WindSpec, local_wind, wind_reset, wind_reset_where, wind_step, wrap_angle
+from ...procgen.wind import local_wind, wind_reset, wind_reset_where, wind_step, wrap_angle
 from ...runtime import StepOutcome
 from .params import WindFarmControlParams
 from .types import WindFarmState
@@ -56,11 +56,7 @@ class WindFarmSimulator:
         self.pattern = compiled.level
         self.observation_space = spaces.Box(-1.0, 1.0, (6,), np.float32)
         self.action_space = spaces.Discrete(3)
-        self.wind_spec = WindSpec(
-            ease_rate=params.wind_ease_rate, target_shift_deg=params.wind_target_shift_deg,
-            retarget_tolerance_deg=params.wind_retarget_tolerance_deg,
-            deviation_max_deg=params.wind_deviation_max_deg, noise_scale_m=params.wind_noise_scale_m,
-            noise_octaves=params.wind_noise_octaves, drift_m=params.wind_drift_m)
+        self.wind_spec = params.wind_spec()
         self._rotation = np.radians(params.rotation_speed_deg)
         self._fixed_layout = None if self.pattern == RANDOM_PATTERN else self._layout(None)
 

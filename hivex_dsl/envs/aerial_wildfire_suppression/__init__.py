@@ -1,0 +1,75 @@
+"""Aerial Wildfire Suppression: planes fight a spreading wildfire on an island of terrain level 1-10."""
+
+from __future__ import annotations
+
+import math
+
+from ...procgen.forest import ForestSpec, IgnitionSpec, load_forest_preset
+from ...procgen.terrain import TerrainSpec, terrain_spec_for_level
+from ...procgen.weather import WeatherSpec, load_weather_preset
+from ...registry import EnvironmentEntry, GeneratorSlot, register
+from ...spec.catalogue import CATALOGUE
+from .params import AerialWildfireParams
+from .scripted import scripted_policy
+from .simulator import EVENTS, AerialWildfireSimulator
+from .terms import MAX_TREES_PER_DROP, TERMS
+
+FOREST_PRESET = load_forest_preset()
+WEATHER_PRESET = load_weather_preset()
+
+GENERATORS = {
+    "terrain": GeneratorSlot(TerrainSpec, lambda level: terrain_spec_for_level(level),
+                             "the island's height map (the level sets the height multiplier)"),
+    "forest": GeneratorSlot(ForestSpec, lambda level: FOREST_PRESET.forest, "where trees grow on the island"),
+    "ignition": GeneratorSlot(IgnitionSpec, lambda level: FOREST_PRESET.ignition, "where the fire starts"),
+    "weather": GeneratorSlot(WeatherSpec, lambda level: WEATHER_PRESET.defaults,
+                             "temperature, humidity and overcast fields drifting with the wind"),
+}
+
+
+def world_fits(compiled) -> list[tuple[tuple, str]]:
+    """The forest must be the island, inside the terrain map; a water drop must stay countable."""
+    p, forest, terrain = compiled.params, compiled.generators["forest"], compiled.generators["terrain"]
+    problems = []
+    if forest.half_extent_m != p.island_half_extent_m:
+        problems.append((("params", "island_half_extent_m"),
+                         f"{p.island_half_extent_m:g} m must equal generators.forest.half_extent_m "
+                         f"({forest.half_extent_m:g} m): the forest grid covers the island"))
+    if terrain.extent_m / 2.0 < forest.half_extent_m:
+        problems.append((("generators", "terrain"), f"the terrain map (extent_m {terrain.extent_m:g}) must cover the "
+                         f"forest (+/-{forest.half_extent_m:g} m)"))
+    radius_cells = p.drop_radius_m / forest.spacing_m + 1.0
+    bound = p.drop_points * math.ceil(math.pi * radius_cells ** 2)
+    if bound > MAX_TREES_PER_DROP:
+        problems.append((("params", "drop_radius_m"),
+                         f"a drop of {p.drop_points} points of {p.drop_radius_m:g} m over {forest.spacing_m:g} m cells "
+                         f"could wet up to {bound} trees; at most {MAX_TREES_PER_DROP} keep the tree terms bounded"))
+    return problems
+
+
+ENTRY = register(EnvironmentEntry(
+    info=CATALOGUE["aerial_wildfire_suppression"],
+    params_model=AerialWildfireParams,
+    terms=TERMS,
+    make_simulator=AerialWildfireSimulator,
+    scripted_policy=scripted_policy,
+    events=EVENTS,
+    checks=(world_fits,),
+    generators=GENERATORS,
+    notes=(
+        "Time Step Burning: the paper's equation reads 'for all trees, burning', its description 'while the fire is "
+        "burning'; the term follows the description (-0.01 while some tree burns).",
+        "Pick-up Water: the paper's first condition (p_x < eh or p_x > -eh ...) always holds; the term pays +1 when a "
+        "plane without water is inside the border and outside the island, which is when it refills (ENVIRONMENTS.md).",
+        "Find Fire, Find Village and Too Close to Village pay once per episode (the first time), Fire Out once when "
+        "the fire goes out; a task that ends on the event ends the plane's episode on that step.",
+        "The closest burning tree is observed in absolute coordinates scaled like the plane's position (/750 m); "
+        "(0, 0) with flag 0 when none burns within +/-150 m.",
+        "Fire spread, water drops and the fire view use forest cell centres; the +/-1.5 m jitter of a tree inside "
+        "its 3 m cell is small against the 10 m spread, 30 m drop and 150 m view radii.",
+        "The fire steps every fire_step_interval environment steps (5, ours): the original's fire timer is not "
+        "published, and a fire stepping every 5 m of flight would outrun every plane.",
+        "Camera: 42x42 RGB pixels of 5 m (ours), forward up, colours: ground shaded by height, sea and water ring blue, "
+        "village magenta, trees green/orange/dark/blue for existing/burning/burnt/wet.",
+    ),
+))

@@ -1,0 +1,57 @@
+"""Physical constants of Aerial Wildfire Suppression; every one bounded, documented and overridable.
+
+[paper] values come from the paper, [orig] from the original release (ENVIRONMENTS.md), [ours]
+are this project's defaults where neither says. The wind fields come from the shared wind model,
+the fire fields from the shared fire engine (hivex_dsl.fire); terrain, forest, ignition and
+weather are generators (a scenario overrides them under `generators:`).
+"""
+
+from __future__ import annotations
+
+from typing import Literal
+
+from pydantic import Field, model_validator
+
+from ...fire import FireSpec
+from ...procgen.wind import WindParams
+
+CAMERA_PIXELS = 42  # [paper] 42x42x3 downward camera
+
+
+class AerialWildfireParams(WindParams, FireSpec):
+    border_half_extent_m: float = Field(750.0, ge=100.0, le=10_000.0, description=(
+        "[paper] Half the side of the square border (1500 x 1500); crossing it ends that plane's episode."))
+    island_half_extent_m: float = Field(600.0, ge=50.0, le=10_000.0, description=(
+        "[paper] Half the side of the island square (1200 x 1200); beyond it, up to the border, is the water ring. "
+        "Must equal the forest generator's half extent."))
+    plane_speed_m: float = Field(5.0, gt=0.0, le=50.0, description="[orig] Metres a plane flies per step.")
+    turn_rate_deg: float = Field(5.0, gt=0.0, le=45.0, description="[orig] Degrees a plane turns per step at steer +/-1.")
+    spawn_radius_m: float = Field(750.0, ge=0.0, le=10_000.0, description=(
+        "[orig] Planes spawn uniformly within this distance of the centre (inside the border) with a random heading."))
+    spawn_holding_water: Literal["auto", "always", "never"] = Field("auto", description=(
+        "[orig] Whether planes start holding water; auto: they do, except in tasks that end on picking up water."))
+    drop_points: int = Field(4, ge=1, le=8, description="[orig] Points of the water swath, the first under the plane.")
+    drop_point_spacing_m: float = Field(20.0, ge=0.0, le=100.0, description="[orig] Metres between swath points, ahead of the plane.")
+    drop_radius_m: float = Field(30.0, gt=0.0, le=60.0, description=(
+        "[orig] Existing or burning trees within this distance of a swath point become wet."))
+    fire_view_half_m: float = Field(150.0, gt=0.0, le=1_000.0, description=(
+        "[orig] The closest burning tree is observed within +/- this many metres (a square) of the plane."))
+    village_radius_m: float = Field(150.0, gt=0.0, le=1_000.0, description=(
+        "[paper] Fire this close to the village centre costs 'too close to village'; a plane this close has found it."))
+    camera_pixel_m: float = Field(5.0, gt=0.0, le=50.0, description=(
+        "[ours] Ground metres per camera pixel; 42 pixels see 210 m, centred under the plane, forward up."))
+    fire_step_interval: int = Field(5, ge=1, le=1_000, description=(
+        "[ours] Environment steps per fire step; with 5, a tree burns for 50 steps and the front moves at most "
+        "about 1-2 m per step, slower than a plane (5 m per step)."))
+    weather_grid_cells: int = Field(16, ge=2, le=128, description=(
+        "[ours] The smooth weather fields are sampled on this many cells per side of the island for the fire and "
+        "ignition (nearest cell); the fields vary over hundreds of metres, a cell is 75 m."))
+    water_wait_penalty: float = Field(1.0 / 30.0, ge=0.0, le=1.0, description=(
+        "[orig] Per step without water, the 'time step without water' term costs this much (100 / 3000)."))
+
+    @model_validator(mode="after")
+    def _island_inside_border(self) -> "AerialWildfireParams":
+        if self.island_half_extent_m >= self.border_half_extent_m:
+            raise ValueError(f"island_half_extent_m ({self.island_half_extent_m:g}) must be smaller than "
+                             f"border_half_extent_m ({self.border_half_extent_m:g}): the water ring lies between them")
+        return self

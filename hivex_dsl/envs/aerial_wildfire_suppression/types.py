@@ -1,0 +1,66 @@
+"""The batched state of Aerial Wildfire Suppression."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ...fire import FireState
+from ...procgen.weather import WeatherState
+from ...procgen.wind import WindState
+
+
+@dataclass(frozen=True)
+class IslandMaps:
+    """What a world's generators drew, on the forest grid (C x C cells, row = y, col = x).
+
+    height: (B, C, C) float32 terrain height at cell centres (uphill spread).
+    ground: (B, C, C) uint8 palette index of the ground without trees (camera and render).
+    village: (B, 2) float64 village centre in metres.
+    """
+
+    height: np.ndarray
+    ground: np.ndarray
+    village: np.ndarray
+
+
+@dataclass(frozen=True)
+class Sighting:
+    """Nearest burning tree around each plane (B, A) and near each village (B,)."""
+
+    plane_found: np.ndarray  # (B, A) bool: a burning tree within the view square
+    plane_xy: np.ndarray  # (B, A, 2) metres of that tree (0 where none)
+    village_threat: np.ndarray  # (B,) bool: a burning tree within village_radius_m of the village
+
+
+@dataclass(frozen=True)
+class AerialWildfireState:
+    """B worlds of A planes. Angles in radians; positions in metres; per-step events describe the last step."""
+
+    maps: IslandMaps
+    fire: FireState
+    wind: WindState
+    weather: WeatherState
+    conditions: np.ndarray  # (B, G, G, 3) float32 temperature, humidity, overcast on the weather grid
+    tick: int  # steps since the batch was created; the fire steps every fire_step_interval ticks
+    position: np.ndarray  # (B, A, 2)
+    heading: np.ndarray  # (B, A)
+    water: np.ndarray  # (B, A) bool holding water
+    flying: np.ndarray  # (B, A) bool; false once a plane crossed the border
+    sighting: Sighting
+    # latches of one-off rewards within an episode
+    seen_fire: np.ndarray  # (B, A) bool
+    seen_village: np.ndarray  # (B, A) bool
+    village_hit: np.ndarray  # (B,) bool
+    # events of the last step
+    crossed: np.ndarray  # (B, A) bool
+    picked_up: np.ndarray  # (B, A) bool
+    dropped: np.ndarray  # (B, A) bool
+    found_fire: np.ndarray  # (B, A) bool
+    found_village: np.ndarray  # (B, A) bool
+    extinguished: np.ndarray  # (B, A) int32 trees burning -> wet by this plane's drop
+    prepared: np.ndarray  # (B, A) int32 trees existing -> wet by this plane's drop
+    fire_went_out: np.ndarray  # (B,) bool
+    village_threatened: np.ndarray  # (B,) bool: the first step fire came too close
+    burning: np.ndarray  # (B,) bool: some tree burns after the step

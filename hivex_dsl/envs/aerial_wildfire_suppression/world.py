@@ -1,0 +1,88 @@
+"""One island per world at reset: terrain, village, forest, ignition and the ground palette.
+
+The generators are per world (a Python loop over the worlds being reset, never in ``step``);
+everything they produce is resampled onto the forest grid so the simulator works on arrays.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ...procgen.forest import ForestSpec, IgnitionSpec, cell_centre_xy, place_forest, select_ignition
+from ...procgen.terrain import TerrainSpec, generate_terrain
+from ...procgen.weather import WeatherSpec, WeatherState, weather_at
+
+# Ground palette indices (uint8); tree states are drawn over them (see palette.py).
+LAND_SHADES = 32
+SEA = LAND_SHADES
+VILLAGE = SEA + 1
+SHADE_TOP_M = 220.0  # heights at or above this get the lightest land shade
+
+
+@dataclass(frozen=True)
+class Island:
+    """One world's maps: height (C, C) float32, ground (C, C) uint8, village (2,), exists (C, C) bool, ignite (C, C) bool."""
+
+    height: np.ndarray
+    ground: np.ndarray
+    village: np.ndarray
+    exists: np.ndarray
+    ignite: np.ndarray
+
+
+def weather_grid_points(half_extent_m: float, cells: int) -> np.ndarray:
+    """(cells * cells, 2) centres of the weather grid over the island, row-major (row = y)."""
+    centres = -half_extent_m + (np.arange(cells) + 0.5) * (2.0 * half_extent_m / cells)
+    x, y = np.meshgrid(centres, centres)
+    return np.stack([x.ravel(), y.ravel()], axis=-1)
+
+
+def sample_conditions(weather: WeatherState, spec: WeatherSpec, half_extent_m: float, cells: int) -> np.ndarray:
+    """(B, G, G, 3) float32 temperature, humidity, overcast at the weather grid centres of every world."""
+    points = weather_grid_points(half_extent_m, cells)
+    batch = weather.offsets.shape[0]
+    fields = weather_at(weather, np.broadcast_to(points, (batch,) + points.shape), spec)
+    stacked = np.stack([fields["temperature"], fields["humidity"], fields["overcast"]], axis=-1)
+    return stacked.reshape(batch, cells, cells, 3).astype(np.float32)
+
+
+def grid_lookup(cells_of_forest: int, weather_cells: int) -> np.ndarray:
+    """(C,) index of the weather grid cell holding each forest row (or column)."""
+    return (np.arange(cells_of_forest) * weather_cells) // cells_of_forest
+
+
+def build_island(rng: np.random.Generator, terrain_spec: TerrainSpec, forest_spec: ForestSpec,
+                 ignition_spec: IgnitionSpec, conditions: np.ndarray) -> Island:
+    """Draw one world. ``conditions`` (G, G, 3) is the world's weather grid (ignition prefers dry, hot cells)."""
+    terrain = generate_terrain(rng, terrain_spec)
+    centres = cell_centre_xy(forest_spec).reshape(-1, 2)
+    cells = forest_spec.cells
+    height = terrain.height_at(centres).reshape(cells, cells)
+    forest = place_forest(rng, forest_spec, terrain.height_at, terrain.village)
+    exists = forest.grid >= 0
+    lookup = grid_lookup(cells, conditions.shape[0])
+    full = conditions[lookup[:, None], lookup[None, :]]  # (C, C, 3) nearest weather cell
+    burning = select_ignition(forest, ignition_spec, terrain.village, full[..., 0], full[..., 1], full[..., 2])
+    ignite = np.zeros(cells * cells, bool)
+    rows, cols = forest.cell_index[burning, 0], forest.cell_index[burning, 1]
+    ignite[rows * cells + cols] = True
+    ground = ground_palette(height, centres.reshape(cells, cells, 2), terrain.village, terrain_spec)
+    return Island(height=height.astype(np.float32), ground=ground, village=np.asarray(terrain.village, float),
+                  exists=exists, ignite=ignite.reshape(cells, cells))
+
+
+def ground_palette(height: np.ndarray, centres: np.ndarray, village: np.ndarray, spec: TerrainSpec) -> np.ndarray:
+    """(C, C) uint8: land shade by height, SEA at or below sea level, VILLAGE on the flattened village site."""
+    shade = np.clip(height / SHADE_TOP_M * (LAND_SHADES - 1), 0, LAND_SHADES - 1).astype(np.uint8)
+    ground = np.where(height <= spec.sea_level_m, np.uint8(SEA), shade)
+    offset = centres - village
+    on_village = np.einsum("rcd,rcd->rc", offset, offset) <= spec.village_flat_radius_m ** 2
+    return np.where(on_village, np.uint8(VILLAGE), ground).astype(np.uint8)
+
+
+def stack_islands(islands: list[Island]) -> dict[str, np.ndarray]:
+    """The islands' arrays stacked on a leading world axis (empty list -> zero worlds)."""
+    names = ("height", "ground", "village", "exists", "ignite")
+    return {name: np.stack([getattr(i, name) for i in islands]) for name in names}

@@ -1,0 +1,204 @@
+"""Aerial Wildfire Suppression by hand: flight, border, water, drops, sightings and one-off rewards.
+
+Each test builds a world, places planes and trees exactly, steps once and compares with values
+worked out from the rules in ENVIRONMENTS.md and the paper.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+import hivex_dsl
+from hivex_dsl.envs.aerial_wildfire_suppression.simulator import AerialWildfireSimulator
+from hivex_dsl.fire import TreeState, fire_reset
+
+CELL = 3.0
+HALF = 600.0
+
+
+@pytest.fixture(scope="module")
+def compiled():
+    return hivex_dsl.compile({"hivex": 1, "environment": "aerial_wildfire_suppression", "agents": 2})
+
+
+@pytest.fixture(scope="module")
+def base(compiled):
+    sim = AerialWildfireSimulator(compiled)
+    return sim, sim.reset(np.random.default_rng(0), 1)
+
+
+def cell_of(x: float, y: float) -> tuple[int, int]:
+    return int((y + HALF) // CELL), int((x + HALF) // CELL)
+
+
+def centre_of(x: float, y: float) -> tuple[float, float]:
+    """The centre of the forest cell holding (x, y), where the engine places its tree."""
+    row, col = cell_of(x, y)
+    return (col + 0.5) * CELL - HALF, (row + 0.5) * CELL - HALF
+
+
+def world(base, planes, trees=(), water=True, village=(-400.0, -400.0)):
+    """State with planes [(x, y, heading_deg)], only ``trees`` [(x, y, TreeState)] and flat land everywhere."""
+    sim, state = base
+    exists = np.zeros((1, 400, 400), bool)
+    ignite = np.zeros((1, 400, 400), bool)
+    for x, y, kind in trees:
+        r, c = cell_of(x, y)
+        exists[0, r, c] = True
+        ignite[0, r, c] = kind == TreeState.BURNING
+    fire = fire_reset(exists, ignite)
+    n = len(planes)
+    maps = replace(state.maps, ground=np.zeros_like(state.maps.ground), height=np.zeros_like(state.maps.height),
+                   village=np.array([village]))
+    shape = (1, n)
+    new = replace(state, maps=maps, fire=fire,
+                  position=np.array([[[x, y] for x, y, _ in planes]], float),
+                  heading=np.radians(np.array([[h for _, _, h in planes]], float)),
+                  water=np.full(shape, water), flying=np.ones(shape, bool),
+                  seen_fire=np.zeros(shape, bool), seen_village=np.zeros(shape, bool), village_hit=np.zeros(1, bool))
+    return sim, replace(new, sighting=sim._sight(new))
+
+
+def act(steer, drop):
+    steer, drop = np.asarray(steer, np.float32), np.asarray(drop, np.int64)
+    return {"continuous": steer.reshape(1, -1, 1), "discrete": drop.reshape(1, -1, 1)}
+
+
+def term(compiled, name, prev, new):
+    return compiled.entry.terms[name](prev, new, None, compiled.params)
+
+
+def test_a_plane_turns_5_degrees_per_unit_of_steer_then_flies_5_m(base):
+    sim, state = world(base, [(0.0, 0.0, 0.0), (100.0, 100.0, 90.0)])
+    new, _ = sim.step(state, act([1.0, -0.5], [0, 0]), np.random.default_rng(1))
+    assert np.allclose(np.degrees(new.heading[0]), [5.0, 87.5])
+    expected = [[5 * np.cos(np.radians(5)), 5 * np.sin(np.radians(5))],
+                [100 + 5 * np.cos(np.radians(87.5)), 100 + 5 * np.sin(np.radians(87.5))]]
+    assert np.allclose(new.position[0], expected)
+
+
+def test_crossing_the_border_costs_100_ends_that_plane_and_freezes_it(compiled, base):
+    sim, state = world(base, [(747.0, 0.0, 0.0), (0.0, 0.0, 0.0)])
+    new, outcome = sim.step(state, act([0, 0], [0, 0]), np.random.default_rng(1))
+    assert outcome.terminated[0].tolist() == [True, False]
+    assert term(compiled, "crossed_border", state, new)[0].tolist() == [-100.0, 0.0]
+    later, outcome = sim.step(new, act([1, 0], [0, 0]), np.random.default_rng(2))
+    assert np.array_equal(later.position[0, 0], new.position[0, 0]) and not later.flying[0, 0]
+    assert not outcome.terminated[0, 0]  # the crossing is reported once
+
+
+def test_entering_the_water_ring_without_water_fills_up_once(compiled, base):
+    sim, state = world(base, [(597.0, 0.0, 0.0), (0.0, 0.0, 0.0)], water=False)
+    new, outcome = sim.step(state, act([0, 0], [0, 0]), np.random.default_rng(1))
+    assert new.water[0].tolist() == [True, False]
+    assert outcome.events["picked_up_water"][0].tolist() == [True, False]
+    assert term(compiled, "pick_up_water", state, new)[0].tolist() == [1.0, 0.0]
+    assert term(compiled, "time_step_without_water", state, new)[0].tolist() == [0.0, -100.0 / 3000.0]
+    again, outcome = sim.step(new, act([0, 0], [0, 0]), np.random.default_rng(2))
+    assert not outcome.events["picked_up_water"][0, 0]
+
+
+def test_a_drop_wets_existing_and_burning_trees_within_30_m_of_the_four_points(compiled, base):
+    # plane at the origin heading +x: swath points at x = 5, 25, 45, 65 after the move
+    trees = [(15.0, 0.0, TreeState.BURNING),    # 10 m past point 1: extinguished
+             (70.0, 20.0, TreeState.EXISTING),  # 20.6 m from point 4: prepared
+             (5.0, 28.0, TreeState.EXISTING),   # about 28 m from point 1: prepared
+             (100.0, 0.0, TreeState.EXISTING),  # 35 m beyond point 4: dry
+             (25.0, -40.0, TreeState.BURNING)]  # 40 m beside point 2: still burning
+    sim, state = world(base, [(0.0, 0.0, 0.0), (300.0, 300.0, 0.0)], trees)
+    new, outcome = sim.step(state, act([0, 0], [1, 0]), np.random.default_rng(1))
+    assert outcome.events["dropped_water"][0].tolist() == [True, False]
+    assert new.extinguished[0].tolist() == [1, 0] and new.prepared[0].tolist() == [2, 0]
+    assert term(compiled, "extinguishing_tree", state, new)[0].tolist() == [5.0, 0.0]
+    assert term(compiled, "preparing_tree", state, new)[0].tolist() == [2.0, 0.0]
+    assert new.water[0].tolist() == [False, True]
+    states = [int(new.fire.trees[0][cell_of(x, y)]) for x, y, _ in trees]
+    assert states == [TreeState.WET, TreeState.WET, TreeState.WET, TreeState.EXISTING, TreeState.BURNING]
+
+
+def test_no_drop_without_water_or_over_the_water_ring(base):
+    # plane 2 ends the move at x = 605 heading -x: over the ring, its swath would reach the tree at 590
+    trees = [(10.0, 0.0, TreeState.BURNING), (590.0, 100.0, TreeState.EXISTING)]
+    sim, state = world(base, [(0.0, 0.0, 0.0), (610.0, 100.0, 180.0)], trees, water=False)
+    state = replace(state, water=np.array([[False, True]]))
+    new, outcome = sim.step(state, act([0, 0], [1, 1]), np.random.default_rng(1))
+    assert not outcome.events["dropped_water"].any()
+    assert new.water[0].tolist() == [False, True]
+    assert new.extinguished.sum() == 0 and new.prepared.sum() == 0
+
+
+def test_the_closest_burning_tree_in_the_view_square_is_observed(base):
+    trees = [(100.0, 100.0, TreeState.BURNING), (-145.0, 10.0, TreeState.BURNING), (0.0, 170.0, TreeState.BURNING)]
+    sim, state = world(base, [(0.0, 0.0, 90.0), (0.0, 400.0, 0.0)], trees)
+    vector = sim.observe(state)["vector"][0]
+    cx, cy = centre_of(100.0, 100.0)
+    assert np.allclose(vector[0, 5:8], [cx / 750, cy / 750, 1.0], atol=1e-6)  # 141.4 m < 145.3 m
+    assert np.allclose(vector[1, 5:8], [0.0, 0.0, 0.0])  # (0, 170) is 230 m from (0, 400): outside +/-150
+    assert np.allclose(vector[0, :5], [0.0, 0.0, 0.0, 1.0, 1.0], atol=1e-6)
+
+
+def test_find_fire_and_find_village_pay_once_per_episode(compiled, base):
+    trees = [(0.0, 120.0, TreeState.BURNING)]
+    sim, state = world(base, [(0.0, 0.0, 0.0), (-400.0, -250.0, -90.0)], trees, village=(-400.0, -400.0))
+    first, outcome = sim.step(state, act([0, 0], [0, 0]), np.random.default_rng(1))
+    assert term(compiled, "find_fire", state, first)[0].tolist() == [100.0, 0.0]
+    assert term(compiled, "find_village", state, first)[0].tolist() == [0.0, 100.0]  # 150 m -> 145 m after the move
+    assert outcome.events["found_fire"][0].tolist() == [True, False]
+    second, outcome = sim.step(first, act([0, 0], [0, 0]), np.random.default_rng(2))
+    assert term(compiled, "find_fire", first, second).sum() == 0 and term(compiled, "find_village", first, second).sum() == 0
+
+
+def test_fire_near_the_village_costs_every_plane_50_once(compiled, base):
+    trees = [(-400.0, -290.0, TreeState.BURNING)]  # 110 m from the village centre
+    sim, state = world(base, [(0.0, 0.0, 0.0), (10.0, 0.0, 0.0)], trees)
+    first, _ = sim.step(state, act([0, 0], [0, 0]), np.random.default_rng(1))
+    assert term(compiled, "too_close_to_village", state, first)[0].tolist() == [-50.0, -50.0]
+    second, _ = sim.step(first, act([0, 0], [0, 0]), np.random.default_rng(2))
+    assert term(compiled, "too_close_to_village", first, second).sum() == 0.0
+    assert term(compiled, "time_step_burning", first, second)[0].tolist() == [-0.01, -0.01]
+
+
+def test_the_fire_going_out_pays_10_and_is_an_event_for_every_plane(compiled, base):
+    trees = [(200.0, 200.0, TreeState.BURNING)]
+    sim, state = world(base, [(0.0, 0.0, 0.0), (10.0, 0.0, 0.0)], trees)
+    state = replace(state, position=np.array([[[195.0, 200.0], [10.0, 0.0]]]))
+    new, outcome = sim.step(state, act([0, 0], [1, 0]), np.random.default_rng(1))
+    assert new.extinguished[0, 0] == 1 and not new.burning[0]
+    steps = 0
+    while not outcome.events["fire_out"].any():
+        new, outcome = sim.step(new, act([0, 0], [0, 0]), np.random.default_rng(steps))
+        steps += 1
+        assert steps <= 10 * compiled.params.fire_step_interval * compiled.params.quiet_steps_out
+    assert outcome.events["fire_out"][0].tolist() == [True, True]
+    assert term(compiled, "fire_out", new, new)[0].tolist() == [10.0, 10.0]
+
+
+@pytest.mark.parametrize("task, holding", [("main", True), ("pick_up_water", False), ("find_fire", True)])
+def test_planes_start_with_water_except_when_the_task_ends_on_picking_it_up(task, holding):
+    compiled = hivex_dsl.compile({"hivex": 1, "environment": "aerial_wildfire_suppression", "task": task})
+    state = AerialWildfireSimulator(compiled).reset(np.random.default_rng(3), 2)
+    assert state.water.all() == holding and state.water.any() == holding
+
+
+def test_planes_spawn_within_750_m_of_the_centre_and_inside_the_border(compiled):
+    state = AerialWildfireSimulator(compiled).reset(np.random.default_rng(4), 3)
+    assert (np.hypot(state.position[..., 0], state.position[..., 1]) <= 750.0 + 1e-9).all()
+    assert (np.abs(state.position) <= 750.0).all()
+
+
+def test_the_camera_looks_down_with_forward_up_and_right_to_the_right(base):
+    from hivex_dsl.envs.aerial_wildfire_suppression.camera import PALETTE_FLOAT, TREE_BASE
+
+    # heading north: pixel (row i, col j) sees forward (20.5 - i) * 5 m and right (j - 20.5) * 5 m
+    ahead, right = (-2.5, 52.5), (72.5, 2.5)  # what pixels (10, 20) and (20, 35) see
+    trees = [(*ahead, TreeState.BURNING), (*right, TreeState.EXISTING)]
+    sim, state = world(base, [(0.0, 0.0, 90.0)], trees)
+    visual = sim.observe(state)["visual"][0, 0]
+    assert visual.shape == (42, 42, 3) and visual.min() >= 0.0 and visual.max() <= 1.0
+    assert np.allclose(visual[10, 20], PALETTE_FLOAT[TREE_BASE + TreeState.BURNING])
+    assert np.allclose(visual[20, 35], PALETTE_FLOAT[TREE_BASE + TreeState.EXISTING])
+    assert np.allclose(visual[31, 20], PALETTE_FLOAT[0])  # behind the plane: bare flat ground (shade 0)
+    assert np.allclose(visual[20, 6], PALETTE_FLOAT[0])  # to the left: nothing
