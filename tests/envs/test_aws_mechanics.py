@@ -202,3 +202,16 @@ def test_the_camera_looks_down_with_forward_up_and_right_to_the_right(base):
     assert np.allclose(visual[20, 35], PALETTE_FLOAT[TREE_BASE + TreeState.EXISTING])
     assert np.allclose(visual[31, 20], PALETTE_FLOAT[0])  # behind the plane: bare flat ground (shade 0)
     assert np.allclose(visual[20, 6], PALETTE_FLOAT[0])  # to the left: nothing
+
+
+@pytest.mark.parametrize("override, message", [
+    ({"params": {"drop_radius_m": 60.0}}, "params.drop_radius_m: a drop of 4 points of 60 m over 3 m cells could wet up to"),
+    ({"params": {"island_half_extent_m": 500.0}}, "generators.forest.half_extent_m: 600 m must equal the island's half extent"),
+    ({"generators": {"terrain": {"extent_m": 1150.0}}}, "generators.terrain.extent_m: 1150 m does not cover the forest"),
+])
+def test_worlds_that_cannot_work_are_compile_errors(override, message):
+    from hivex_dsl.errors import ScenarioError
+
+    with pytest.raises(ScenarioError) as info:
+        hivex_dsl.compile({"hivex": 1, "environment": "aerial_wildfire_suppression", **override})
+    assert any(p.message.startswith(message) for p in info.value.problems), info.value.problems

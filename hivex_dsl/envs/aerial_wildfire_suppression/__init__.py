@@ -4,40 +4,19 @@ from __future__ import annotations
 
 import math
 
-from ...procgen.forest import ForestSpec, IgnitionSpec, load_forest_preset
-from ...procgen.terrain import TerrainSpec, terrain_spec_for_level
-from ...procgen.weather import WeatherSpec, load_weather_preset
-from ...registry import EnvironmentEntry, GeneratorSlot, register
+from ...registry import EnvironmentEntry, register
 from ...spec.catalogue import CATALOGUE
+from ..island import ISLAND_GENERATORS, island_problems
 from .params import AerialWildfireParams
 from .scripted import scripted_policy
 from .simulator import EVENTS, AerialWildfireSimulator
 from .terms import MAX_TREES_PER_DROP, TERMS
 
-FOREST_PRESET = load_forest_preset()
-WEATHER_PRESET = load_weather_preset()
-
-GENERATORS = {
-    "terrain": GeneratorSlot(TerrainSpec, lambda level: terrain_spec_for_level(level),
-                             "the island's height map (the level sets the height multiplier)"),
-    "forest": GeneratorSlot(ForestSpec, lambda level: FOREST_PRESET.forest, "where trees grow on the island"),
-    "ignition": GeneratorSlot(IgnitionSpec, lambda level: FOREST_PRESET.ignition, "where the fire starts"),
-    "weather": GeneratorSlot(WeatherSpec, lambda level: WEATHER_PRESET.defaults,
-                             "temperature, humidity and overcast fields drifting with the wind"),
-}
-
 
 def world_fits(compiled) -> list[tuple[tuple, str]]:
     """The forest must be the island, inside the terrain map; a water drop must stay countable."""
-    p, forest, terrain = compiled.params, compiled.generators["forest"], compiled.generators["terrain"]
-    problems = []
-    if forest.half_extent_m != p.island_half_extent_m:
-        problems.append((("params", "island_half_extent_m"),
-                         f"{p.island_half_extent_m:g} m must equal generators.forest.half_extent_m "
-                         f"({forest.half_extent_m:g} m): the forest grid covers the island"))
-    if terrain.extent_m / 2.0 < forest.half_extent_m:
-        problems.append((("generators", "terrain"), f"the terrain map (extent_m {terrain.extent_m:g}) must cover the "
-                         f"forest (+/-{forest.half_extent_m:g} m)"))
+    p, forest = compiled.params, compiled.generators["forest"]
+    problems = island_problems(compiled, p.island_half_extent_m)
     radius_cells = p.drop_radius_m / forest.spacing_m + 1.0
     bound = p.drop_points * math.ceil(math.pi * radius_cells ** 2)
     if bound > MAX_TREES_PER_DROP:
@@ -55,7 +34,7 @@ ENTRY = register(EnvironmentEntry(
     scripted_policy=scripted_policy,
     events=EVENTS,
     checks=(world_fits,),
-    generators=GENERATORS,
+    generators=ISLAND_GENERATORS,
     notes=(
         "Time Step Burning: the paper's equation reads 'for all trees, burning', its description 'while the fire is "
         "burning'; the term follows the description (-0.01 while some tree burns).",

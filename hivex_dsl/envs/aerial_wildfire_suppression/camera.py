@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from ...fire import TreeState
-from .world import LAND_SHADES, SEA, VILLAGE
+from ..island import LAND_SHADES, SEA, VILLAGE
 
 WATER_RING = VILLAGE + 1
 OUTSIDE = VILLAGE + 2

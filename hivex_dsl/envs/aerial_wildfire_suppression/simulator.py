@@ -14,7 +14,7 @@ from ...runtime import StepOutcome
 from .camera import cameras, pixel_offsets
 from .params import CAMERA_PIXELS, AerialWildfireParams
 from .types import AerialWildfireState, IslandMaps, Sighting
-from .world import SEA, build_island, grid_lookup, sample_conditions, stack_islands
+from ..island import SEA, build_island, grid_lookup, sample_conditions, stack_islands
 
 PICKUP_EVENT = "picked_up_water"
 EVENTS = {

@@ -1,7 +1,9 @@
-"""One island per world at reset: terrain, village, forest, ignition and the ground palette.
+"""The wildfire island shared by Aerial Wildfire Suppression and Wildfire Resource Management.
 
-The generators are per world (a Python loop over the worlds being reset, never in ``step``);
-everything they produce is resampled onto the forest grid so the simulator works on arrays.
+One island per world at reset: terrain, village, forest, ignition and the ground palette, plus
+the generator slots both environments declare. The generators are per world (a Python loop over
+the worlds being reset, never in ``step``); everything they produce is resampled onto the forest
+grid so the simulators work on arrays.
 """
 
 from __future__ import annotations
@@ -10,15 +12,42 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...procgen.forest import ForestSpec, IgnitionSpec, cell_centre_xy, place_forest, select_ignition
-from ...procgen.terrain import TerrainSpec, generate_terrain
-from ...procgen.weather import WeatherSpec, WeatherState, weather_at
+from ..procgen.forest import ForestSpec, IgnitionSpec, cell_centre_xy, load_forest_preset, place_forest, select_ignition
+from ..procgen.terrain import TerrainSpec, generate_terrain, terrain_spec_for_level
+from ..procgen.weather import WeatherSpec, WeatherState, load_weather_preset, weather_at
+from ..registry import GeneratorSlot
 
 # Ground palette indices (uint8); tree states are drawn over them (see palette.py).
 LAND_SHADES = 32
 SEA = LAND_SHADES
 VILLAGE = SEA + 1
 SHADE_TOP_M = 220.0  # heights at or above this get the lightest land shade
+
+FOREST_PRESET = load_forest_preset()
+WEATHER_PRESET = load_weather_preset()
+
+ISLAND_GENERATORS = {
+    "terrain": GeneratorSlot(TerrainSpec, lambda level: terrain_spec_for_level(level),
+                             "the island's height map (the level sets the height multiplier)"),
+    "forest": GeneratorSlot(ForestSpec, lambda level: FOREST_PRESET.forest, "where trees grow on the island"),
+    "ignition": GeneratorSlot(IgnitionSpec, lambda level: FOREST_PRESET.ignition, "where the fire starts"),
+    "weather": GeneratorSlot(WeatherSpec, lambda level: WEATHER_PRESET.defaults,
+                             "temperature, humidity and overcast fields drifting with the wind"),
+}
+
+
+def island_problems(compiled, island_half_extent_m: float) -> list[tuple[tuple, str]]:
+    """The forest grid must be the island and lie inside the terrain map (compile-time check)."""
+    forest, terrain = compiled.generators["forest"], compiled.generators["terrain"]
+    problems = []
+    if forest.half_extent_m != island_half_extent_m:
+        problems.append((("generators", "forest", "half_extent_m"),
+                         f"{forest.half_extent_m:g} m must equal the island's half extent "
+                         f"({island_half_extent_m:g} m): the forest grid covers the island"))
+    if terrain.extent_m / 2.0 < forest.half_extent_m:
+        problems.append((("generators", "terrain", "extent_m"), f"{terrain.extent_m:g} m does not cover the forest "
+                         f"(+/-{forest.half_extent_m:g} m)"))
+    return problems
 
 
 @dataclass(frozen=True)
