@@ -17,7 +17,7 @@ import numpy as np
 from pydantic import Field
 
 from ..spec.common import SCHEMA_VERSION, StrictModel
-from .noise import draw_lattice, fractal2d
+from .noise import draw_lattice, fractal_unchecked
 from .presets import load_preset
 
 PRESET_FILE = "weather.yaml"
@@ -139,7 +139,7 @@ def weather_at(state: WeatherState, points: np.ndarray, spec: WeatherSpec) -> di
     shape = (fields * batch, points.shape[1])
     x = np.broadcast_to(moved[None, ..., 0], (fields,) + moved.shape[:2]).reshape(shape)
     y = np.broadcast_to(moved[None, ..., 1], (fields,) + moved.shape[:2]).reshape(shape)
-    noise = fractal2d(state.perm.reshape(fields * batch, -1), state.grads.reshape(fields * batch, -1, 2),
+    noise = fractal_unchecked(state.perm.reshape(fields * batch, -1), state.grads.reshape(fields * batch, -1, 2),
                       x, y, spec.octaves, spec.persistence, spec.lacunarity).reshape((fields,) + moved.shape[:2])
     return {name: np.clip(getattr(spec, f"{name}_mean") + getattr(spec, f"{name}_contrast") * noise[k], 0.0, 1.0)
             for k, name in enumerate(FIELDS)}

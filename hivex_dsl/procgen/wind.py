@@ -17,7 +17,7 @@ import numpy as np
 from pydantic import Field
 
 from ..spec.common import StrictModel
-from .noise import draw_lattice, fractal2d
+from .noise import draw_lattice, fractal_unchecked
 
 TWO_PI = 2.0 * np.pi
 
@@ -108,5 +108,5 @@ def wind_step(state: WindState, rng: np.random.Generator, spec: WindSpec) -> Win
 def local_wind(state: WindState, points: np.ndarray, spec: WindSpec) -> np.ndarray:
     """Wind direction at ``points`` (B, N, 2) metres -> (B, N) radians."""
     moved = (points - state.drift[:, None, :]) / spec.noise_scale_m
-    noise = fractal2d(state.perm, state.grads, moved[..., 0], moved[..., 1], octaves=spec.noise_octaves)
+    noise = fractal_unchecked(state.perm, state.grads, moved[..., 0], moved[..., 1], spec.noise_octaves, 0.5, 2.0)
     return wrap_angle(state.main[:, None] + np.radians(spec.deviation_max_deg) * noise)

@@ -36,7 +36,9 @@ class RewardComposer:
         total = np.zeros(shape, dtype=np.float64)
         values: dict[str, np.ndarray] = {}
         for term, weight in zip(self._terms, self._weights):
-            value = np.broadcast_to(np.asarray(term(prev, state, actions, params), dtype=np.float64), shape)
+            value = np.asarray(term(prev, state, actions, params), dtype=np.float64)
+            if value.shape != shape:  # broadcast_to costs more than many terms do
+                value = np.broadcast_to(value, shape)
             values[term.name] = value
             total += weight * value
         return total, values
