@@ -43,25 +43,36 @@ PALETTE_FLOAT = PALETTE.astype(np.float32) / 255.0
 
 
 def pixel_offsets(pixels: int, pixel_m: float) -> tuple[np.ndarray, np.ndarray]:
-    """(P*P,) forward and rightward metres of each camera pixel centre from the plane, row 0 ahead."""
+    """(P*P,) float32 forward and rightward metres of each camera pixel centre from the plane, row 0 ahead."""
     centre = (pixels - 1) / 2.0
     rows, cols = np.meshgrid(np.arange(pixels), np.arange(pixels), indexing="ij")
-    return ((centre - rows) * pixel_m).ravel(), ((cols - centre) * pixel_m).ravel()
+    return (((centre - rows) * pixel_m).ravel().astype(np.float32),
+            ((cols - centre) * pixel_m).ravel().astype(np.float32))
 
 
 def palette_index_at(points: np.ndarray, world: np.ndarray, trees: np.ndarray, ground: np.ndarray,
                      island_half_m: float, border_half_m: float) -> np.ndarray:
-    """Palette index at ``points`` (..., 2) metres of worlds ``world`` (...) given trees/ground (B, C, C)."""
+    """uint8 palette index at ``points`` (..., 2) metres of worlds ``world`` (...) given trees/ground (B, C, C)."""
+    return _palette_index(points[..., 0], points[..., 1], world, trees, ground, island_half_m, border_half_m)
+
+
+def _palette_index(x: np.ndarray, y: np.ndarray, world: np.ndarray, trees: np.ndarray, ground: np.ndarray,
+                   island_half_m: float, border_half_m: float) -> np.ndarray:
     cells = trees.shape[-1]
-    spacing = 2.0 * island_half_m / cells
-    col = np.floor((points[..., 0] + island_half_m) / spacing).astype(np.int64)
-    row = np.floor((points[..., 1] + island_half_m) / spacing).astype(np.int64)
-    on_island = (row >= 0) & (row < cells) & (col >= 0) & (col < cells)
-    flat = (world * cells + np.clip(row, 0, cells - 1)) * cells + np.clip(col, 0, cells - 1)
-    state = trees.reshape(-1)[flat]
-    index = np.where(state > 0, TREE_BASE + state.astype(np.int64), ground.reshape(-1)[flat])
-    inside = (np.abs(points[..., 0]) <= border_half_m) & (np.abs(points[..., 1]) <= border_half_m)
-    return np.where(on_island, index, np.where(inside, WATER_RING, OUTSIDE))
+    per_m = cells / (2.0 * island_half_m)
+    col = np.floor((x + island_half_m) * per_m).astype(np.int32)
+    row = np.floor((y + island_half_m) * per_m).astype(np.int32)
+    # negative values wrap to huge unsigned ones, so one comparison per axis tests both bounds
+    on_island = (col.view(np.uint32) < cells) & (row.view(np.uint32) < cells)
+    np.clip(col, 0, cells - 1, out=col)
+    np.clip(row, 0, cells - 1, out=row)
+    flat = (world * cells + row).astype(np.int64) * cells + col
+    state = trees.reshape(-1).take(flat)
+    index = np.where(state > 0, state + np.uint8(TREE_BASE), ground.reshape(-1).take(flat))
+    if not on_island.all():
+        inside = (np.abs(x) <= border_half_m) & (np.abs(y) <= border_half_m)
+        index = np.where(on_island, index, np.where(inside, np.uint8(WATER_RING), np.uint8(OUTSIDE)))
+    return index
 
 
 def cameras(position: np.ndarray, heading: np.ndarray, trees: np.ndarray, ground: np.ndarray,
@@ -69,10 +80,11 @@ def cameras(position: np.ndarray, heading: np.ndarray, trees: np.ndarray, ground
     """(B, A, P, P, 3) float32 in [0, 1]: each plane's downward view, forward up, centred under it."""
     batch, agents = heading.shape
     forward, right = offsets
-    cos, sin = np.cos(heading)[..., None], np.sin(heading)[..., None]
-    x = position[..., 0:1] + forward * cos + right * sin
-    y = position[..., 1:2] + forward * sin - right * cos
-    world = np.broadcast_to(np.arange(batch)[:, None, None], x.shape)
-    index = palette_index_at(np.stack([x, y], axis=-1), world, trees, ground, island_half_m, border_half_m)
+    cos, sin = np.cos(heading).astype(np.float32)[..., None], np.sin(heading).astype(np.float32)[..., None]
+    px, py = position[..., 0:1].astype(np.float32), position[..., 1:2].astype(np.float32)
+    x = px + forward * cos + right * sin
+    y = py + forward * sin - right * cos
+    world = np.arange(batch, dtype=np.int32)[:, None, None]
+    index = _palette_index(x, y, world, trees, ground, island_half_m, border_half_m)
     pixels = int(round(np.sqrt(forward.size)))
-    return PALETTE_FLOAT[index].reshape(batch, agents, pixels, pixels, 3)
+    return PALETTE_FLOAT.take(index, axis=0).reshape(batch, agents, pixels, pixels, 3)
