@@ -1,4 +1,4 @@
-"""The `hivex` command: validate | compile | run | render | schema | docs | preview | list."""
+"""The `hivex` command: validate | compile | run | render | schema | docs | preview | bench | list."""
 
 from __future__ import annotations
 
@@ -70,6 +70,16 @@ def _parser() -> argparse.ArgumentParser:
     p = sub.add_parser("preview", help="write the paper's sample figures (layouts, terrain, pollution) as PNG")
     p.add_argument("-o", "--output", required=True, type=Path, metavar="DIR")
     p.set_defaults(handler=cmd_preview)
+
+    p = sub.add_parser("bench", help="measure steps per second of every environment on one core, against MPE")
+    p.add_argument("--env", action="append", metavar="ID", help="only this environment (repeatable; default all)")
+    p.add_argument("--seconds", type=float, default=3.0, help="timed seconds per run (default 3)")
+    p.add_argument("--repeats", type=_positive, default=3, help="runs per measurement; medians are reported (default 3)")
+    p.add_argument("--batch", type=_positive, default=256, help="worlds of the vector env (default 256)")
+    p.add_argument("--no-reference", action="store_true", help="skip PettingZoo's MPE simple_spread_v3")
+    p.add_argument("--json", action="store_true", help="print the report as JSON instead of a table")
+    p.add_argument("-o", "--output", type=Path, metavar="JSON", help="also write the JSON report to this file")
+    p.set_defaults(handler=cmd_bench)
 
     p = sub.add_parser("list", help="list the bundled scenarios")
     p.set_defaults(handler=cmd_list)
@@ -181,6 +191,28 @@ def cmd_preview(args) -> int:
         path = args.output / Path(rel).name
         save_png(image, path)
         print(f"wrote {path}: {caption}")
+    return EXIT_OK
+
+
+def cmd_bench(args) -> int:
+    from . import bench, registry
+
+    available = list(registry.environments())
+    unknown = [e for e in args.env or [] if e not in available]
+    if unknown:
+        raise HivexError(f"unknown environment {unknown[0]!r}; expected one of: {', '.join(available)}")
+    if not args.seconds > 0:
+        raise HivexError(f"--seconds must be positive, got {args.seconds}")
+    reference = not args.no_reference
+    if reference and not bench.reference_available():
+        raise HivexError("the reference needs the mpe2 package: pip install 'hivex-dsl[bench]' (or pass --no-reference)")
+    report = bench.run_benchmarks(args.env or available, args.seconds, args.repeats, args.batch, reference,
+                                  progress=lambda what: print(f"measuring {what} ...", file=sys.stderr))
+    text = json.dumps(report, indent=2) + "\n"
+    if args.output:
+        args.output.parent.mkdir(parents=True, exist_ok=True)
+        args.output.write_text(text, encoding="utf-8")
+    sys.stdout.write(text if args.json else bench.format_table(report) + "\n")
     return EXIT_OK
 
 

@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import importlib
+import json
+from pathlib import Path
 from typing import Any
 
 from .. import compiler, loader, registry
@@ -198,3 +200,23 @@ def _doc(model: type) -> str:
     """The first paragraph of a model's docstring, on one line."""
     text = (model.__doc__ or "").strip().split("\n\n")[0]
     return " ".join(text.split())
+
+
+def performance_context(results: Path) -> dict[str, Any]:
+    """The rows of a `hivex bench --json` report, formatted, with each environment's target."""
+    from ..bench import MEMORY_LIMIT_MB, REFERENCE
+
+    report = json.loads(Path(results).read_text(encoding="utf-8"))
+    rows = []
+    for r in report["results"]:
+        ratio = r.get("env_steps_vs_reference") if r["adapter"] == "parallel" else r.get("agent_steps_vs_reference")
+        goal = ""
+        if "target_rate" in r:
+            unit = "env-steps/s" if r["adapter"] == "parallel" else "agent-steps/s"
+            goal = f"{'met' if r['meets_target'] else 'missed'}: {num(r['target_rate'])} {unit}"
+        rows.append({"target": r["target"], "adapter": r["adapter"], "batch": r["batch"], "agents": r["agents"],
+                     "env_rate": f"{r['env_steps_per_s']:,.0f}", "agent_rate": f"{r['agent_steps_per_s']:,.0f}",
+                     "memory": f"{r['peak_memory_mb']:,.0f}", "ratio": "" if ratio is None else f"{ratio:.1f}",
+                     "goal": goal})
+    return {"machine": report["machine"], "seconds": report["seconds_per_run"], "repeats": report["repeats"],
+            "rows": rows, "reference": REFERENCE, "memory_limit": MEMORY_LIMIT_MB, "results_file": str(results.name)}
