@@ -98,7 +98,10 @@ def test_render_writes_an_animated_gif(short, tmp_path):
 def test_schema_is_json_with_the_environment_bounds(capsys):
     assert main(["schema"]) == 0
     schema = json.loads(capsys.readouterr().out)
-    assert schema["properties"]["agents"]["maximum"] == 16
+    variants = [schema["$defs"][o["$ref"].rsplit("/", 1)[-1]] for o in schema["oneOf"]]
+    by_env = {v["properties"]["environment"]["const"]: v for v in variants}
+    assert by_env["wind_farm_control"]["properties"]["agents"]["maximum"] == 16
+    assert by_env["ocean_plastic_collection"]["properties"]["agents"]["maximum"] == 12
 
 
 def test_bundled_scenarios_resolve_from_another_directory(tmp_path, monkeypatch, capsys):

@@ -195,6 +195,13 @@ def _check(schema: dict[str, Any], value: Any, root: dict[str, Any], path: str =
         schema = root["$defs"][schema["$ref"].rsplit("/", 1)[-1]]
     if "anyOf" in schema:
         return [] if any(not _check(s, value, root, path) for s in schema["anyOf"]) else [f"{path}: no option fits"]
+    if "oneOf" in schema and "discriminator" in schema:
+        key = schema["discriminator"]["propertyName"]
+        if not isinstance(value, dict) or key not in value:
+            return [f"{path}: missing {key}"]
+        options = [root["$defs"][o["$ref"].rsplit("/", 1)[-1]] for o in schema["oneOf"]]
+        chosen = [o for o in options if o["properties"][key].get("const") == value[key]]
+        return _check(chosen[0], value, root, path) if chosen else [f"{path}: unknown {key}"]
     problems = []
     if "const" in schema and value != schema["const"]:
         problems.append(f"{path}: not {schema['const']!r}")

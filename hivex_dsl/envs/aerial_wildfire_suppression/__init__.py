@@ -38,7 +38,7 @@ ENTRY = register(EnvironmentEntry(
     notes=(
         "Time Step Burning: the paper's equation reads 'for all trees, burning', its description 'while the fire is "
         "burning'; the term follows the description (-0.01 while some tree burns).",
-        "Pick-up Water: the paper's first condition (p_x < eh or p_x > -eh ...) always holds; the term pays +1 when a "
+        "Pick-up Water: the paper's first condition (`p_x < eh or p_x > -eh ...`) always holds; the term pays +1 when a "
         "plane without water is inside the border and outside the island, which is when it refills (ENVIRONMENTS.md).",
         "Find Fire, Find Village and Too Close to Village pay once per episode (the first time), Fire Out once when "
         "the fire goes out; a task that ends on the event ends the plane's episode on that step.",
