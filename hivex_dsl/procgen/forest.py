@@ -236,14 +236,19 @@ def rank_ignition_cells(forest: Forest, spec: IgnitionSpec, village_xy: np.ndarr
     (1 - temperature) + overcast, read from the (cells, cells) weather arrays at the cell; ties
     keep row-major cell order (lower row, then lower col, first). Raises ValueError if none qualifies.
     """
-    n = forest.spec.cells
+    return _rank_cells(forest.spec, spec, village_xy, temperature, humidity, overcast)
+
+
+def _rank_cells(forest_spec: ForestSpec, spec: IgnitionSpec, village_xy: np.ndarray, temperature: np.ndarray,
+                humidity: np.ndarray, overcast: np.ndarray) -> np.ndarray:
+    n = forest_spec.cells
     weather = {"temperature": temperature, "humidity": humidity, "overcast": overcast}
     for name, field in weather.items():
         if np.shape(field) != (n, n) or not np.all(np.isfinite(field)):
             raise ValueError(f"{name} must be a finite ({n}, {n}) array sampled at cell centres, got shape {np.shape(field)}")
     picks = np.arange(0, n, spec.candidate_stride)
     cells = np.stack(np.meshgrid(picks, picks, indexing="ij"), axis=-1).reshape(-1, 2)
-    centres = cell_centres(forest.spec)
+    centres = cell_centres(forest_spec)
     offset = np.stack([centres[cells[:, 1]], centres[cells[:, 0]]], axis=1) - _village(village_xy)
     cells = cells[np.hypot(offset[:, 0], offset[:, 1]) > spec.min_village_distance_m]
     if len(cells) == 0:
@@ -263,8 +268,29 @@ def select_ignition(forest: Forest, spec: IgnitionSpec, village_xy: np.ndarray, 
     block by block in rank order, row-major within a block. Raises ValueError if every
     candidate block together holds at most min_burning trees.
     """
-    ranked = rank_ignition_cells(forest, spec, village_xy, temperature, humidity, overcast)
-    ids = block_ids(forest.grid, ranked, spec.block // 2)
+    return _ignite(forest.grid, forest.spec, spec, village_xy, temperature, humidity, overcast)
+
+
+def ignition_mask(exists: np.ndarray, forest_spec: ForestSpec, spec: IgnitionSpec, village_xy: np.ndarray,
+                  temperature: np.ndarray, humidity: np.ndarray, overcast: np.ndarray) -> np.ndarray:
+    """(cells, cells) bool: the cells :func:`select_ignition` sets burning, from the tree grid alone.
+
+    For a forest kept between episodes as its ``exists`` (cells, cells) bool grid: the same
+    choice as select_ignition on the Forest it came from (tree ids are row-major cell order).
+    """
+    cells = np.flatnonzero(exists)
+    grid = np.full(exists.size, -1, np.int64)
+    grid[cells] = np.arange(len(cells))
+    ids = _ignite(grid.reshape(exists.shape), forest_spec, spec, village_xy, temperature, humidity, overcast)
+    mask = np.zeros(exists.size, bool)
+    mask[cells[ids]] = True
+    return mask.reshape(exists.shape)
+
+
+def _ignite(grid: np.ndarray, forest_spec: ForestSpec, spec: IgnitionSpec, village_xy: np.ndarray,
+            temperature: np.ndarray, humidity: np.ndarray, overcast: np.ndarray) -> np.ndarray:
+    ranked = _rank_cells(forest_spec, spec, village_xy, temperature, humidity, overcast)
+    ids = block_ids(grid, ranked, spec.block // 2)
     total = np.cumsum(np.count_nonzero(ids >= 0, axis=1))
     taken = int(np.searchsorted(total, spec.min_burning, side="right")) + 1
     if taken > len(ranked):

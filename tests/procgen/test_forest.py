@@ -13,7 +13,8 @@ import pytest
 from pydantic import ValidationError
 
 from hivex_dsl.procgen.forest import (
-    ForestPreset, ForestSpec, IgnitionSpec, place_forest, rank_ignition_cells, select_ignition,
+    ForestPreset, ForestSpec, IgnitionSpec, ignition_mask, load_forest_preset, place_forest, rank_ignition_cells,
+    select_ignition,
 )
 from hivex_dsl.procgen.presets import load_preset
 
@@ -265,3 +266,17 @@ def test_ignition_errors_are_clear():
         select_ignition(bare, IGNITION, np.zeros(2), *weather())
     with pytest.raises(ValueError, match="humidity must be a finite"):
         select_ignition(small, IGNITION, FAR_AWAY, calm[0], np.zeros((40, 41)), calm[0])
+
+
+def test_ignition_from_the_tree_grid_alone_matches_the_forest_choice():
+    rng = np.random.default_rng(12)
+    preset = load_forest_preset()
+    spec, ignition = preset.forest, preset.ignition
+    village = np.array([40.0, -30.0])
+    forest = place_forest(rng, spec, lambda p: np.full(len(p), 55.0), village)
+    weather = [rng.random((spec.cells, spec.cells)) for _ in range(3)]
+    ids = select_ignition(forest, ignition, village, *weather)
+    expected = np.zeros((spec.cells, spec.cells), bool)
+    expected[forest.cell_index[ids, 0], forest.cell_index[ids, 1]] = True
+    mask = ignition_mask(forest.grid >= 0, spec, ignition, village, *weather)
+    assert np.array_equal(mask, expected) and mask.sum() > ignition.min_burning
