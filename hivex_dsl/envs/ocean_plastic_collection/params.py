@@ -1,0 +1,44 @@
+"""Physical constants of Ocean Plastic Collection; every one bounded, documented and overridable.
+
+[paper] values come from the paper's specification table and reward equations, [orig] from the
+original release, [ours] are this project's defaults where neither says (ENVIRONMENTS.md). The
+world, its pollution heat map, the pebble count and the spawn rules are generator fields
+(``generators: pollution / spawn``), not params.
+"""
+
+from __future__ import annotations
+
+from typing import Literal
+
+from pydantic import Field
+
+from ...spec.common import StrictModel
+
+CrashOutcome = Literal["end", "respawn"]
+
+
+class OceanPlasticCollectionParams(StrictModel):
+    acceleration: float = Field(0.05, gt=0.0, le=1.0, description=(
+        "[ours] Metres per step added to the vessel's speed on each step it accelerates (throttle 1)."))
+    drag: float = Field(0.1, ge=0.05, le=1.0, description=(
+        "[ours] Fraction of its speed a vessel loses each step; top speed is acceleration / drag (0.5 m per step)."))
+    turn_rate_deg: float = Field(3.0, gt=0.0, le=45.0, description=(
+        "[ours] Degrees a vessel turns per step while steering right or left (it turns at any speed)."))
+    collector_reach_m: float = Field(3.0, gt=0.0, le=20.0, description=(
+        "[ours] The collector reaches this far ahead of the vessel's centre; a pebble it sweeps over is collected."))
+    collector_half_width_m: float = Field(1.5, gt=0.0, le=10.0, description=(
+        "[ours] Half the width of the collector across the vessel's heading."))
+    collision_distance_m: float = Field(5.0, gt=0.0, le=50.0, description=(
+        "[ours] Two vessels whose centres come closer than this collide (-100 each)."))
+    close_distance_m: float = Field(10.0, gt=0.0, le=200.0, description=(
+        "[paper] d_thresh of Close to Other Vessel: the reward is given while the closest vessel is nearer."))
+    nearby_radius_m: float = Field(25.0, gt=0.0, le=100.0, description=(
+        "[paper] d_threshold of Nearby Trash Count Delta: pebbles nearer than this count as nearby."))
+    camera_full_count: int = Field(2, ge=1, le=100, description=(
+        "[ours] Pebbles in one 2 m camera cell that read as trash density 1; fewer read proportionally less."))
+    crash_outcome: CrashOutcome = Field("end", description=(
+        "[ours] What follows a crash (crossing the border or colliding with another vessel) besides the paper's "
+        "-100, on which the paper is silent: 'end' ends that vessel's episode, as the original Aerial Wildfire "
+        "Suppression does at its border; 'respawn' moves it to a free spawn point at rest on the next step."))
+    respawn_candidates: int = Field(16, ge=1, le=256, description=(
+        "[ours] Random spawn points tried per respawn; the one farthest from the other vessels is taken."))

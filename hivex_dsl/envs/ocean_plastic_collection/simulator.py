@@ -1,0 +1,227 @@
+"""Ocean Plastic Collection as a batched NumPy simulator (no Python loop over worlds or vessels in step).
+
+Per step: vessels that crashed on the previous step respawn (``crash_outcome: respawn``); every
+active vessel turns and accelerates; crossings of the border and vessel-vessel collisions are
+detected; the collectors sweep up pebbles; cameras and nearby counts are read at the new
+positions. With ``crash_outcome: end`` a crashed vessel is terminated and frozen where it crashed.
+"""
+
+from __future__ import annotations
+
+from dataclasses import fields, is_dataclass, replace
+from functools import lru_cache
+
+import numpy as np
+from gymnasium import spaces
+
+from ...procgen.pollution import PollutionSpec, SpawnSpec, pollution_map, sample_pebbles, spawn_vessels
+from ...procgen.wind import wrap_angle
+from ...runtime import StepOutcome
+from .camera import CAMERA_CELLS, Geometry, Sensing, build_field, sense
+from .params import OceanPlasticCollectionParams
+from .types import OceanState
+
+# steer action -> heading change sign: 0 do nothing, 1 turn right (clockwise), 2 turn left
+STEER_SIGN = np.array([0.0, -1.0, 1.0])
+FRAME = 6  # vector components of one stack
+STACKS = 2  # [paper] two stacks of both observations
+
+
+@lru_cache(maxsize=16)
+def _others(agents: int) -> np.ndarray:
+    """(A, A) bool: True off the diagonal."""
+    return ~np.eye(agents, dtype=bool)
+
+
+def neighbour_distances(position: np.ndarray, active: np.ndarray) -> np.ndarray:
+    """(B, A, A) distances between active vessels; inf on the diagonal and for inactive vessels."""
+    dx = position[:, :, None, 0] - position[:, None, :, 0]
+    dy = position[:, :, None, 1] - position[:, None, :, 1]
+    valid = active[:, :, None] & active[:, None, :] & _others(position.shape[1])
+    return np.where(valid, np.sqrt(dx * dx + dy * dy), np.inf)
+
+
+def crossed_border(position: np.ndarray, active: np.ndarray, half_extent: float) -> np.ndarray:
+    """(B, A) the paper's test: p_x or p_y beyond +/- the half extent (strictly)."""
+    return active & (np.abs(position) > half_extent).any(axis=-1)
+
+
+def vessel_collisions(distances: np.ndarray, distance_m: float) -> np.ndarray:
+    """(B, A) vessels nearer than ``distance_m`` to another; ``distances`` from :func:`neighbour_distances`."""
+    return (distances < distance_m).any(axis=-1)
+
+
+def move(position: np.ndarray, heading: np.ndarray, speed: np.ndarray, actions: np.ndarray, active: np.ndarray,
+         params: OceanPlasticCollectionParams) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Turn, then speed <- speed * (1 - drag) + acceleration * throttle, then advance along the new heading.
+
+    actions (B, A, 2): throttle {0, 1}, steer {0 noop, 1 right, 2 left}. Inactive vessels stay put.
+    Returns position, heading, speed and ``facing`` = exp(i heading) (B, A) complex, the unit heading.
+    """
+    turned = wrap_angle(heading + np.radians(params.turn_rate_deg) * STEER_SIGN[actions[..., 1]])
+    speed = speed * (1.0 - params.drag) + params.acceleration * actions[..., 0]
+    if active.all():
+        heading = turned
+    else:
+        heading = np.where(active, turned, heading)
+        speed = np.where(active, speed, 0.0)
+    facing = np.exp(1j * heading)
+    step = speed * facing
+    moved = np.empty_like(position)
+    moved[..., 0] = position[..., 0] + step.real
+    moved[..., 1] = position[..., 1] + step.imag
+    return moved, heading, speed, facing
+
+
+class OceanPlasticSimulator:
+    """B worlds of one compiled Ocean Plastic Collection scenario."""
+
+    action_meanings = "throttle {0 do nothing, 1 accelerate}, steer {0 do nothing, 1 turn right, 2 turn left}"
+    observation_labels = ("local position x", "local position y", "direction x", "direction y",
+                          "closest neighbouring vessel x", "closest neighbouring vessel y")
+    observation_stacks = STACKS
+    render_fps = 30
+
+    def __init__(self, compiled):
+        params: OceanPlasticCollectionParams = compiled.params
+        self.params = params
+        self.agents = compiled.agents
+        self.pollution: PollutionSpec = compiled.generators["pollution"]
+        self.spawn: SpawnSpec = compiled.generators["spawn"]
+        self.half_extent = self.pollution.half_extent_m
+        self.geometry = Geometry(half_extent=self.half_extent, collector_reach=params.collector_reach_m,
+                                 collector_half_width=params.collector_half_width_m,
+                                 nearby_radius=params.nearby_radius_m, top_speed=params.acceleration / params.drag)
+        self.observation_space = spaces.Dict({
+            "vector": spaces.Box(-1.0, 1.0, (FRAME * STACKS,), np.float32),
+            "visual": spaces.Box(0.0, 1.0, (CAMERA_CELLS, CAMERA_CELLS, STACKS), np.float32),
+        })
+        self.action_space = spaces.MultiDiscrete([2, 3])
+
+    # -- reset ------------------------------------------------------------------------------------
+
+    def reset(self, rng: np.random.Generator, batch: int) -> OceanState:
+        """Heat maps, vessel spawns, then pebbles (in that order of draws, as the pollution preview)."""
+        heat = pollution_map(rng, self.pollution, batch)
+        position, heading = spawn_vessels(rng, self.spawn, batch, self.agents)
+        pebbles = sample_pebbles(rng, heat, self.pollution.pebble_count, self.half_extent)
+        field = build_field(pebbles, self.geometry)
+        shape = (batch, self.agents)
+        speed, active, no = np.zeros(shape), np.ones(shape, bool), np.zeros(shape, bool)
+        facing = np.exp(1j * heading)
+        sensing = sense(field, position, facing, speed, active, self.geometry, collect=False)
+        distances = neighbour_distances(position, active)
+        vector = self._vector(position, facing, distances, np.zeros(shape + (FRAME * STACKS,), np.float32))
+        visual = self._visual(sensing, np.zeros(shape + (CAMERA_CELLS, CAMERA_CELLS, STACKS), np.float32))
+        zeros = np.zeros(shape, np.int64)
+        return OceanState(position=position, heading=heading, speed=speed, active=active, crashed=no,
+                          crossed_border=no, collided_vessel=no, closest=distances.min(axis=-1),
+                          collected=zeros, collected_total=zeros,
+                          nearby=zeros, pebbles=field, heat=heat, vector=vector, visual=visual)
+
+    def reset_where(self, state: OceanState, mask: np.ndarray, rng: np.random.Generator) -> OceanState:
+        count = int(np.count_nonzero(mask))
+        if count == 0:
+            return state
+        return _merge(state, self.reset(rng, count), mask)
+
+    # -- step -------------------------------------------------------------------------------------
+
+    def step(self, state: OceanState, actions: np.ndarray, rng: np.random.Generator) -> tuple[OceanState, StepOutcome]:
+        p = self.params
+        position, heading, speed = state.position, state.heading, state.speed
+        if p.crash_outcome == "respawn" and state.crashed.any():
+            position, heading, speed = self._respawn(position, heading, speed, state.crashed, rng)
+        active = state.active
+        position, heading, speed, facing = move(position, heading, speed, np.asarray(actions), active, p)
+        border = crossed_border(position, active, self.half_extent)
+        distances = neighbour_distances(position, active)
+        collided = vessel_collisions(distances, p.collision_distance_m)
+        crashed = border | collided
+        sensing = sense(state.pebbles, position, facing, speed, active, self.geometry, collect=True)
+        terminated = np.zeros_like(crashed)
+        if p.crash_outcome == "end" and crashed.any():
+            terminated = crashed
+            active = active & ~crashed
+            speed = np.where(crashed, 0.0, speed)
+            distances = neighbour_distances(position, active)
+        new = OceanState(
+            position=position, heading=heading, speed=speed, active=active, crashed=crashed,
+            crossed_border=border, collided_vessel=collided, closest=distances.min(axis=-1),
+            collected=sensing.collected,
+            collected_total=state.collected_total + sensing.collected, nearby=sensing.nearby,
+            pebbles=replace(state.pebbles, alive=sensing.alive), heat=state.heat,
+            vector=self._vector(position, facing, distances, state.vector), visual=self._visual(sensing, state.visual))
+        events = {"crossed_border": border, "collided_with_other_vessel": collided,
+                  "collided_with_trash": sensing.collected > 0}
+        return new, StepOutcome(terminated=terminated, events=events)
+
+    def _respawn(self, position, heading, speed, crashed, rng):
+        """Crashed vessels restart at rest with a random heading at the best of a few random spawn
+        points: the one farthest from every other vessel."""
+        agents = self.agents
+        slots = np.flatnonzero(crashed.reshape(-1))
+        world, agent = np.divmod(slots, agents)
+        reach = self.spawn.half_extent_m - self.spawn.border_margin_m
+        trials = rng.uniform(-reach, reach, (slots.size, self.params.respawn_candidates, 2))
+        others = position[world]  # (n, A, 2)
+        gap = np.hypot(*np.moveaxis(trials[:, :, None, :] - others[:, None, :, :], -1, 0))  # (n, K, A)
+        gap = np.where((np.arange(agents) == agent[:, None])[:, None, :], np.inf, gap)
+        best = np.argmax(gap.min(axis=2), axis=1)
+        position, heading, speed = position.copy(), heading.copy(), speed.copy()
+        position[world, agent] = trials[np.arange(slots.size), best]
+        heading[world, agent] = rng.uniform(-np.pi, np.pi, slots.size)
+        speed[world, agent] = 0.0
+        return position, heading, speed
+
+    # -- observations ------------------------------------------------------------------------------
+
+    def _vector(self, position: np.ndarray, facing: np.ndarray, distances: np.ndarray, previous: np.ndarray
+                ) -> np.ndarray:
+        """(B, A, 12) float32: this step's frame (position / H, (cos, sin) heading, closest active
+        vessel's position / H or (0, 0) without one), then the previous step's frame."""
+        scale = 1.0 / self.half_extent
+        closest = np.argmin(distances, axis=-1)
+        found = np.isfinite(distances.min(axis=-1))
+        neighbour = position[np.arange(len(position))[:, None], closest]
+        out = np.empty(previous.shape, np.float32)
+        out[..., 0:2] = np.minimum(np.maximum(position * scale, -1.0), 1.0)
+        out[..., 2] = facing.real
+        out[..., 3] = facing.imag
+        out[..., 4:6] = np.minimum(np.maximum(neighbour * scale, -1.0), 1.0) * found[..., None]
+        out[..., FRAME:] = previous[..., :FRAME]
+        return out
+
+    def _visual(self, sensing: Sensing, previous: np.ndarray) -> np.ndarray:
+        """(B, A, 25, 25, 2) float32: trash density min(1, count / camera_full_count), newest first."""
+        full = self.params.camera_full_count
+        density = sensing.camera.astype(np.float32)
+        np.minimum(density, full, out=density)
+        density *= np.float32(1.0 / full)
+        out = np.empty(previous.shape, np.float32)
+        out[..., 0] = density
+        out[..., 1] = previous[..., 0]
+        return out
+
+    def observe(self, state: OceanState) -> dict[str, np.ndarray]:
+        """The state's own observation arrays (built once per step in ``step``); treat them as read-only."""
+        return {"vector": state.vector, "visual": state.visual}
+
+    def render(self, state: OceanState, index: int) -> np.ndarray:
+        from .render import draw_ocean
+
+        return draw_ocean(state, index, self.params, self.half_extent)
+
+
+def _merge(old, new, mask: np.ndarray):
+    """``old`` with the worlds where ``mask`` is true taken from ``new`` (which holds only those worlds)."""
+    changes = {}
+    for item in fields(old):
+        a, b = getattr(old, item.name), getattr(new, item.name)
+        if is_dataclass(a):
+            changes[item.name] = _merge(a, b, mask)
+        elif isinstance(a, np.ndarray):
+            merged = a.copy()
+            merged[mask] = b
+            changes[item.name] = merged
+    return replace(old, **changes)

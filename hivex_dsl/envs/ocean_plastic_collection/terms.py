@@ -1,0 +1,99 @@
+"""The seven reward terms of Ocean Plastic Collection, as the paper's equations (Appendix, Reward
+Description and Calculation: Ocean Plastic Collection). Where the paper's prose and its equation
+disagree, the equation's value is used; ``notes`` in rewards/ocean_plastic_collection.yaml lists them."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ...procgen.pollution import PollutionSpec
+from ...reward.terms import TermRegistry
+
+TERMS = TermRegistry("ocean_plastic_collection")
+
+LOWEST_COUNT_FACTOR = 0.01  # [paper] a
+CRASH_PENALTY = -100.0  # [paper] crossing the border, colliding with another vessel
+CLOSE_REWARD = 10.0  # [paper] equation (the prose says 1)
+TRASH_COLLISION_PENALTY = -100.0  # [paper] equation (the prose says -1)
+
+
+def _largest_pebble_count() -> int:
+    """The upper bound of PollutionSpec.pebble_count: no step can collect or see more pebbles."""
+    bounds = [m.le for m in PollutionSpec.model_fields["pebble_count"].metadata if getattr(m, "le", None) is not None]
+    return int(bounds[0])
+
+
+MAX_PEBBLES = _largest_pebble_count()
+
+
+@TERMS.term(
+    "collect_trash", title="Collect Trash", paper_row=1, low=0.0, high=float(MAX_PEBBLES), sign="bonus",
+    timing="event", scope="agent",
+    description="+1 for each floating plastic pebble the vessel's collector picked up this step.",
+    equation="r_t = sum_i I(p_i is collected)",
+)
+def collect_trash(prev, state, actions, params):
+    return state.collected.astype(np.float64)
+
+
+@TERMS.term(
+    "lowest_collected_trash_count", title="Global Lowest Trash Collected", paper_row=2, low=0.0,
+    high=LOWEST_COUNT_FACTOR * MAX_PEBBLES, sign="bonus", timing="dense", scope="global",
+    description="Every step, every vessel gets 0.01 times the lowest count of pebbles any vessel of the world "
+                "has collected so far this episode.",
+    equation="R(T) = a * min(t_1, ..., t_n),  a = 0.01",
+)
+def lowest_collected_trash_count(prev, state, actions, params):
+    counts = state.collected_total
+    return np.zeros(counts.shape) + LOWEST_COUNT_FACTOR * counts.min(axis=1, keepdims=True)
+
+
+@TERMS.term(
+    "crossed_border", title="Crossed Border", paper_row=3, low=CRASH_PENALTY, high=0.0, sign="penalty",
+    timing="event", scope="agent",
+    description="-100 on the step the vessel leaves the square world (half extent 200 m).",
+    equation="r_cb = -100 if p_x > eh or p_x < -eh or p_y > eh or p_y < -eh else 0,  eh = 200",
+)
+def crossed_border(prev, state, actions, params):
+    return np.where(state.crossed_border, CRASH_PENALTY, 0.0)
+
+
+@TERMS.term(
+    "collided_with_other_vessel", title="Collided with Other Vessel", paper_row=4, low=CRASH_PENALTY, high=0.0,
+    sign="penalty", timing="event", scope="agent",
+    description="-100 on the step the vessel collides with another vessel (both get it).",
+    equation="r_c = -100 if exists n in N_p with p colliding with n else 0",
+)
+def collided_with_other_vessel(prev, state, actions, params):
+    return np.where(state.collided_vessel, CRASH_PENALTY, 0.0)
+
+
+@TERMS.term(
+    "close_to_other_vessel", title="Close to Other Vessel", paper_row=5, low=0.0, high=CLOSE_REWARD, sign="bonus",
+    timing="dense", scope="agent",
+    description="10 every step the closest other vessel still in the world is nearer than close_distance_m (10 m).",
+    equation="r = 10 if d < d_thresh else 0,  d = distance to the closest other vessel, d_thresh = 10",
+)
+def close_to_other_vessel(prev, state, actions, params):
+    return np.where(state.closest < params.close_distance_m, CLOSE_REWARD, 0.0)
+
+
+@TERMS.term(
+    "nearby_trash_count_delta", title="Nearby Trash Count Delta", paper_row=6, low=0.0, high=float(MAX_PEBBLES),
+    sign="bonus", timing="dense", scope="agent",
+    description="The rise, if any, of the count of floating pebbles nearer than nearby_radius_m (25 m) since the "
+                "previous step; the count before the first step is 0.",
+    equation="ntc = sum_i [dist(p_i) < 25],  r = max(0, ntc_current - ntc_old),  ntc_old <- ntc_current",
+)
+def nearby_trash_count_delta(prev, state, actions, params):
+    return np.maximum(state.nearby - prev.nearby, 0).astype(np.float64)
+
+
+@TERMS.term(
+    "collide_with_trash", title="Collide with Trash", paper_row=7, low=TRASH_COLLISION_PENALTY, high=0.0,
+    sign="penalty", timing="event", scope="agent",
+    description="-100 on a step the vessel runs into (and so picks up) at least one floating pebble.",
+    equation="r_p = -100 if exists p_t in P_t with p colliding with p_t else 0",
+)
+def collide_with_trash(prev, state, actions, params):
+    return np.where(state.collected > 0, TRASH_COLLISION_PENALTY, 0.0)
