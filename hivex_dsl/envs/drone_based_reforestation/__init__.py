@@ -1,0 +1,72 @@
+"""Drone-Based Reforestation: drones carry seeds from a station and plant them near the forest edge."""
+
+from __future__ import annotations
+
+from ...procgen.forest import ForestSpec
+from ...procgen.terrain import TerrainSpec
+from ...registry import EnvironmentEntry, GeneratorSlot, register
+from ...spec.catalogue import CATALOGUE
+from .params import DroneBasedReforestationParams, forest_preset, terrain_preset
+from .scripted import scripted_policy
+from .simulator import DroneReforestationSimulator, world_problems
+from .terms import TERMS
+
+ENTRY = register(EnvironmentEntry(
+    info=CATALOGUE["drone_based_reforestation"],
+    params_model=DroneBasedReforestationParams,
+    terms=TERMS,
+    make_simulator=DroneReforestationSimulator,
+    scripted_policy=scripted_policy,
+    events={
+        "returned_to_station": "A drone came back within the charge radius of the station after a trip (and picked "
+                               "up a seed if it had none).",
+        "found_close_tree": "An existing tree is within close_tree_radius_m (20 m) of a drone.",
+        "planted_tree": "A drone released its seed, which is planted as a new tree at the ground below.",
+    },
+    checks=(world_problems,),
+    generators={
+        "terrain": GeneratorSlot(TerrainSpec, terrain_preset, (
+            "Height map of the 400 m world: the shared island recipe on 81 x 81 cells with noise scale 13.5 and 1 m "
+            "per height-multiplier unit (peaks 8 m at level 1, 30 m at level 10), the station on flattened ground at "
+            "the centre.")),
+        "forest": GeneratorSlot(ForestSpec, forest_preset, (
+            "The existing forest: the shared height rule on 100 x 100 cells of 4 m, trees between 3 m and 12 m "
+            "above the lowland (densest at 7 m), none within 40 m of the station.")),
+    },
+    notes=(
+        "Tasks are the configs' 0-based `task:` values; the paper's reward-scale columns 3 and 4 are swapped "
+        "relative to that order and it has no Group-up row (see the reward table's notes for the matching).",
+        "The visual observation is 16 x 16 x 1 as the spec table says (the process diagram's prose says 32 x 32). "
+        "It samples a per-world grayscale raster (2 m cells: ground shaded by height, existing trees, planted "
+        "trees, the station) on a north-up square footprint below the drone whose half width is the height above "
+        "ground x tan(45 degrees); north-up (a gimbal camera) is this project's choice.",
+        "Direction is the drone's forward vector; drones stay level, so its z component is always 0.",
+        "The world is the shared terrain and forest recipes scaled to the paper's 400 m square and 40 m height "
+        "bound (see the generator slots); the station sits at the centre. A drone flying into a slope is lifted "
+        "over it and never goes below min_clearance_m above the ground.",
+        "Distances to the station (charge radius, running-back increments) are 3D, to the station pad on the "
+        "ground; distances to trees, the seed drop distance and the explored distance are horizontal. The drop "
+        "distance reward and the explored distance are capped at the half extent (the paper bounds them by 200; "
+        "the square's corners lie 283 m away).",
+        "Every released seed is planted as a new tree at the ground below, as the paper's dnt (distance to seeds "
+        "dropped in the past) implies; its quality is r_s / 20, so a good tree is one dropped between 2.5 m and 75 m "
+        "from the nearest existing tree and at least 2.5 m from other planted trees. Seeds planted on the same step "
+        "by drones of lower index count as planted trees. Seeds cannot be dropped within the charge radius (the "
+        "station pad), nor once the world holds new_tree_capacity planted trees.",
+        "The hidden fertility field is Remap(det, 2.5, 75, 1, 0): for the dense terms (fertility delta, find close "
+        "tree) det is read bilinearly from a raster of distances between 4 m forest cell centres computed at reset; "
+        "the drop reward uses the exact distance to the jittered trees.",
+        "A visit counts as a return to the station (pick-up seed reward, reload, the return event) only after the "
+        "drone was at least return_min_distance_m (15 m) away; recharging to full happens whenever a drone is "
+        "within the charge radius.",
+        "Incremental Running Back reads d_-1 as the closest increment reached since the drop, so each increment pays "
+        "once; it pays nothing when the drop was within d_charge + s of the station (d_init - d_charge / s not positive).",
+        "Find Close Tree compares the distance in metres with 20 m (the paper's equation divides it by the half "
+        "extent first, which would make every distance qualify).",
+        "Energy drains by 1/1000 per step with a seed and 1/2000 without (the seed state at the start of the step, "
+        "as the depletion penalties); an empty battery terminates that drone (frozen, no longer a neighbour) while "
+        "the others fly on.",
+        "Drones start evenly spaced 6 m around the station holding a seed, except in Pick-up Seed, where they start "
+        "at random at least 20 m away without one.",
+    ),
+))

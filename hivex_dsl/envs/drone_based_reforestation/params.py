@@ -1,0 +1,107 @@
+"""Physical constants of Drone-Based Reforestation and the presets of its world generators.
+
+[paper] values come from the paper's spec table and reward equations, [ours] are this project's
+defaults where the paper and the original release are silent (ENVIRONMENTS.md). The world's size,
+terrain and forest are not params: they are the "terrain" and "forest" generator slots, whose
+presets (the shared AWS/WRM recipes scaled to the 400 m world) are at the end of this module.
+"""
+
+from __future__ import annotations
+
+from pydantic import Field, model_validator
+
+from ...procgen.forest import ForestSpec
+from ...procgen.terrain import TerrainSpec, terrain_spec_for_level
+from ...spec.common import StrictModel
+
+
+class DroneBasedReforestationParams(StrictModel):
+    height_bound_m: float = Field(40.0, ge=10.0, le=40.0, description=(
+        "[paper] Drones fly no higher than this; heights are normalised by it. At most the paper's 40 m, which "
+        "bounds the High Landscape Point Delta reward."))
+    drone_speed_m: float = Field(1.0, gt=0.0, le=2.0, description=(
+        "[ours] Horizontal metres flown per step at full throttle (at most 2 m so a step never crosses two "
+        "2.5 m running-back increments)."))
+    climb_speed_m: float = Field(0.5, gt=0.0, le=1.0, description="[ours] Metres climbed or sunk per step at up/down +/-1.")
+    turn_rate_deg: float = Field(6.0, gt=0.0, le=45.0, description="[ours] Degrees turned per step at steer +/-1.")
+    min_clearance_m: float = Field(1.0, ge=0.1, le=5.0, description=(
+        "[ours] Lowest flying height above the ground; a drone flying into a slope is lifted over it."))
+    charge_radius_m: float = Field(7.5, ge=1.0, le=50.0, description=(
+        "[paper] d_charge: within this 3D distance of the station a drone recharges and picks up a seed."))
+    return_min_distance_m: float = Field(15.0, ge=1.0, le=200.0, description=(
+        "[ours] A visit to the station counts as a return (seed pick-up and its reward) only if the drone was "
+        "at least this far from the station since its last return, so hovering across the charge radius pays nothing."))
+    spawn_radius_m: float = Field(6.0, ge=0.0, le=50.0, description=(
+        "[ours] Drones start evenly spaced on a circle of this radius around the station, inside the charge radius."))
+    spawn_altitude_m: float = Field(2.0, ge=0.1, le=20.0, description="[ours] Starting height above the station.")
+    random_spawn_min_distance_m: float = Field(20.0, ge=0.0, le=150.0, description=(
+        "[ours] In the Pick-up Seed sub-task drones start at random, at least this far from the station."))
+    energy_steps_with_seed: int = Field(1000, ge=10, le=1_000_000, description=(
+        "[paper] A full battery lasts this many steps carrying a seed (episode length / 2); the Deplete Energy "
+        "Holding Seed penalty is -1 / this."))
+    energy_steps_without_seed: int = Field(2000, ge=10, le=1_000_000, description=(
+        "[paper] A full battery lasts this many steps without a seed (episode length); the Deplete Energy No Seed "
+        "penalty is -1 / this."))
+    min_tree_distance_m: float = Field(2.5, ge=0.0, le=20.0, description=(
+        "[paper] dot_min: a seed earns its quality only at least this far from existing and from new trees."))
+    max_tree_distance_m: float = Field(75.0, ge=5.0, le=150.0, description=(
+        "[paper] dot_max: a seed earns its quality only within this distance of an existing tree; the quality falls "
+        "linearly from 1 at dot_min to 0 here."))
+    running_back_step_m: float = Field(2.5, ge=0.5, le=20.0, description=(
+        "[paper] s: the incremental running-back reward is paid per this many metres closer to the station."))
+    group_distance_m: float = Field(5.0, ge=0.5, le=50.0, description=(
+        "[paper] d_thresh: Group-up pays while a neighbour is closer than this."))
+    close_tree_radius_m: float = Field(20.0, ge=1.0, le=100.0, description=(
+        "[paper] Find Close Tree pays once an existing tree is within this horizontal distance."))
+    camera_fov_deg: float = Field(90.0, ge=10.0, le=160.0, description=(
+        "[ours] Field of view of the downward camera: its square footprint has half width "
+        "height-above-ground x tan(fov / 2)."))
+    camera_min_half_width_m: float = Field(2.0, ge=0.5, le=50.0, description=(
+        "[ours] Smallest camera footprint half width (when skimming the ground)."))
+    camera_cell_m: float = Field(2.0, ge=0.5, le=10.0, description=(
+        "[ours] Cell size of the per-world grayscale raster the camera samples (terrain shade, trees, station)."))
+    tree_crown_radius_m: float = Field(1.5, ge=0.1, le=10.0, description=(
+        "[ours] Radius of a tree as the camera and the renderer draw it."))
+    new_tree_capacity: int = Field(1024, ge=16, le=65_536, description=(
+        "[ours] Most trees planted per world and episode; once a world holds this many, its drones keep their seeds."))
+
+    @model_validator(mode="after")
+    def _consistent(self) -> "DroneBasedReforestationParams":
+        if (self.spawn_radius_m**2 + self.spawn_altitude_m**2) ** 0.5 >= self.charge_radius_m:
+            raise ValueError(f"the spawn point (radius {self.spawn_radius_m}, altitude {self.spawn_altitude_m}) must lie "
+                             f"within charge_radius_m ({self.charge_radius_m}) of the station so drones start there")
+        if self.min_tree_distance_m >= self.max_tree_distance_m:
+            raise ValueError(f"min_tree_distance_m ({self.min_tree_distance_m}) must be less than "
+                             f"max_tree_distance_m ({self.max_tree_distance_m})")
+        if self.return_min_distance_m <= self.charge_radius_m:
+            raise ValueError(f"return_min_distance_m ({self.return_min_distance_m}) must exceed charge_radius_m "
+                             f"({self.charge_radius_m}) or a drone could return without leaving")
+        return self
+
+
+# ---------------------------------------------------------------------------------------- world presets
+# [ours] The shared island recipe (241 cells over 1666 m, noise scale 40: about 6 noise lattice units
+# across) drawn on 81 x 81 cells over the paper's 400 m world (5 m cells) with noise scale 13.5, so
+# the same number of hills fit across; heights use 1 m per level multiplier unit instead of 7, so
+# peaks are 8 m at level 1 and 30 m at level 10, below the 40 m height bound, and the levels keep
+# their relative steepness (peak height grows linearly with the multiplier, as in the original).
+# The station stands at the centre on flattened ground (the recipe's village, pinned there).
+DBR_TERRAIN = dict(size=81, extent_m=400.0, noise_scale=13.5, metres_per_multiplier=1.0,
+                   village_half_range_m=0.0, village_flat_radius_m=10.0, village_blend_m=15.0)
+
+# [ours] The shared forest rule on a 100 x 100 grid of 4 m cells over the world, with the height
+# band scaled like the terrain: trees grow between 3 m and 12 m above the lowland, densest at 7 m,
+# so forests cover hillsides in patches with open, deforested ground between them; none within
+# 40 m of the station.
+DBR_FOREST = dict(cells=100, spacing_m=4.0, half_extent_m=200.0, jitter_m=1.0, min_height_m=3.0,
+                  ideal_height_m=7.0, max_height_m=12.0, density_falloff=0.05, village_clear_radius_m=40.0)
+
+
+def terrain_preset(level: int | None) -> TerrainSpec:
+    """The terrain of a terrain level (1-10) scaled to the Drone-Based Reforestation world."""
+    return terrain_spec_for_level(1 if level is None else level, **DBR_TERRAIN)
+
+
+def forest_preset(level: int | None) -> ForestSpec:
+    """The existing forest; the same rule at every level (the terrain's height makes the difference)."""
+    return ForestSpec(**DBR_FOREST)

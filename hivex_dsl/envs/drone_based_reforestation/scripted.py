@@ -1,0 +1,98 @@
+"""A scripted drone pilot a forester would write, from the observations alone.
+
+With a seed: cruise high (a wide camera view) until trees come into sight, sink toward the
+nearest one, and drop the seed a few metres outside the forest edge where no planted tree is
+close; over the forest, back out. Without a seed, or when the battery would not last the way
+home with a margin: fly back to the station and land on it to recharge and reload.
+"""
+
+from __future__ import annotations
+
+from typing import Callable
+
+import numpy as np
+
+from .camera import NEW_TREE_BELOW, TREE_BELOW, pixel_offsets
+from .simulator import wrap
+
+CRUISE_HEIGHT_M = 22.0  # above ground while searching: a ~44 m wide view at the default 90 degrees
+APPROACH_HEIGHT_M = 7.0  # above ground near the forest: ~1 m per camera pixel
+HOME_HEIGHT_M = 10.0  # above ground flying home
+LANDING_HEIGHT_M = 2.0  # above the station pad
+DROP_MIN_M, DROP_MAX_M = 2.5, 6.0  # nearest tree pixel distance at which to drop (crowns reach ~1.5 m further)
+NEW_TREE_CLEARANCE_M = 4.0
+ENERGY_MARGIN = 1.5
+BORDER = 0.8  # fraction of the half extent where a searching drone turns back
+
+
+def _pixel_grid() -> tuple[np.ndarray, np.ndarray]:
+    """(256,) east and north offsets of the camera pixels in units of the footprint half width."""
+    u = pixel_offsets()
+    east, north = np.meshgrid(u, -u)
+    return east.ravel(), north.ravel()
+
+
+def scripted_policy(compiled) -> Callable[[dict], dict]:
+    """observations {vector (B, A, 20), visual (B, A, 16, 16, 1)} -> actions {continuous, discrete}."""
+    p = compiled.params
+    half = compiled.generators["terrain"].extent_m / 2.0
+    bound = p.height_bound_m
+    view = np.tan(np.radians(p.camera_fov_deg) / 2.0)
+    turn = np.radians(p.turn_rate_deg)
+    east, north = _pixel_grid()
+    reach = np.hypot(east, north)
+    bearing = np.arctan2(north, east)
+
+    def steer_toward(heading: np.ndarray, target: np.ndarray, slow_within: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(throttle, steer) turning toward bearing ``target``; slow while turning or within ``slow_within`` m."""
+        error = wrap(target - heading)
+        steer = np.clip(error / turn, -1.0, 1.0)
+        throttle = np.where(np.abs(error) < np.radians(60.0), 1.0, 0.2) * np.clip(slow_within, 0.0, 1.0)
+        return throttle, steer
+
+    def act(observations: dict) -> dict:
+        v = observations["vector"][..., :10].astype(np.float64)
+        image = observations["visual"][..., 0].reshape(v.shape[:2] + (-1,))
+        above, x, y, z = v[..., 0] * bound, v[..., 1] * half, v[..., 2] * half, v[..., 3] * bound
+        heading = np.arctan2(v[..., 5], v[..., 4])
+        station_z, holding, energy = v[..., 7] * bound, v[..., 8] > 0.5, v[..., 9]
+        ground = z - above
+        home_distance = np.hypot(x, y)
+        steps_home = home_distance / p.drone_speed_m + (z - station_z) / p.climb_speed_m + 20.0
+        enough = energy > ENERGY_MARGIN * steps_home / p.energy_steps_with_seed + 0.02
+        seeking = holding & enough
+
+        hw = np.maximum(p.camera_min_half_width_m, above * view)
+        tree = image < TREE_BELOW
+        tree_distance = np.where(tree, reach, np.inf).min(axis=-1) * hw
+        tree_bearing = bearing[np.where(tree, reach, np.inf).argmin(axis=-1)]
+        planted = (image >= TREE_BELOW) & (image < NEW_TREE_BELOW)
+        planted_near = (np.where(planted, reach, np.inf).min(axis=-1) * hw) < NEW_TREE_CLEARANCE_M
+        sees_tree = np.isfinite(tree_distance)
+
+        # searching: straight on, turning back toward the centre near the border
+        outward = (np.abs(x) > BORDER * half) | (np.abs(y) > BORDER * half)
+        target = np.where(outward, np.arctan2(-y, -x), heading)
+        height = np.full(x.shape, CRUISE_HEIGHT_M)
+        # trees in sight: approach the nearest; too close (or a planted tree here): slide along the edge
+        target = np.where(sees_tree, tree_bearing, target)
+        height = np.where(sees_tree, APPROACH_HEIGHT_M, height)
+        over_forest = sees_tree & (tree_distance < DROP_MIN_M)
+        target = np.where(over_forest, tree_bearing + np.pi, target)
+        crowded = sees_tree & planted_near & ~over_forest
+        target = np.where(crowded, tree_bearing + np.pi / 2.0, target)
+        ready = sees_tree & (tree_distance <= DROP_MAX_M) & ~over_forest & ~planted_near
+        throttle, steer = steer_toward(heading, target, np.where(ready, 0.0, 1.0))
+
+        # home: straight to the station, then down onto the pad
+        home_throttle, home_steer = steer_toward(heading, np.arctan2(-y, -x), home_distance / 4.0)
+        throttle, steer = np.where(seeking, throttle, home_throttle), np.where(seeking, steer, home_steer)
+        home_z = np.where(home_distance < 6.0, station_z + LANDING_HEIGHT_M, ground + HOME_HEIGHT_M)
+        target_z = np.where(seeking, ground + height, home_z)
+        climb = np.clip((np.minimum(target_z, bound - 1.0) - z) / p.climb_speed_m, -1.0, 1.0)
+
+        drop = (seeking & ready).astype(np.int64)[..., None]
+        continuous = np.stack([throttle, steer, climb], axis=-1).astype(np.float32)
+        return {"continuous": continuous, "discrete": drop}
+
+    return act

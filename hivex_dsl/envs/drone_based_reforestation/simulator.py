@@ -1,0 +1,322 @@
+"""Drone-Based Reforestation as a batched NumPy simulator (no Python loop over worlds or drones in step).
+
+Each world: a terrain (procgen terrain, scaled to the 400 m world), an existing forest (procgen
+forest), the drone station at the centre on flattened ground, and the rasters derived from them
+at reset: distances to the forest (the hidden fertility field) and the camera's grayscale map.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from gymnasium import spaces
+
+from ...procgen.forest import ForestSpec, place_forest
+from ...procgen.terrain import TerrainSpec, generate_terrain
+from ...runtime import StepOutcome
+from .camera import NEW_TREE_GRAY, STATION_GRAY, TREE_GRAY, Raster, camera_images, ground_shade, stamp_disks, to_byte
+from .fertility import (FAR_M, Grid, distance_reward, fertility, interpolation_matrix, nearest_new_tree_distance,
+                        nearest_tree_distance, same_step_distance, sample_bilinear, seed_reward, storage_slots,
+                        tree_distance_raster)
+from .params import DroneBasedReforestationParams
+from .types import DroneState, replace_worlds
+
+SEED_REWARD_MULTIPLIER = 20.0  # [paper] sdrm
+DISTANCE_REWARD_MULTIPLIER = 10.0  # [paper] drm
+RUNNING_BACK_REWARD = 20.0  # [paper] r_p
+RANDOM_SPAWN_TASKS = ("pick_up_seed",)  # [paper] "the initial position of drones is random instead of at the station"
+STATION_PAD_M = 3.0  # radius of the pad the camera and renderer draw
+VECTOR_SIZE = 10
+
+
+def wrap(angle: np.ndarray) -> np.ndarray:
+    return (angle + np.pi) % (2.0 * np.pi) - np.pi
+
+
+class DroneReforestationSimulator:
+    """B worlds of one compiled Drone-Based Reforestation scenario."""
+
+    action_meanings = ("continuous: [0] throttle (-1 backward .. 1 forward), [1] steer (-1 right .. 1 left), "
+                       "[2] up/down (-1 down .. 1 up); discrete: [0] drop seed {0 do nothing, 1 drop seed}")
+    observation_labels = ("distance to ground", "local position x", "local position y", "local position z",
+                          "direction x", "direction y", "direction z", "drone station height", "holding seed",
+                          "energy level")
+    observation_stacks = 2
+    render_fps = 20
+
+    def __init__(self, compiled):
+        p: DroneBasedReforestationParams = compiled.params
+        self.params = p
+        self.agents = compiled.agents
+        self.terrain_spec: TerrainSpec = compiled.generators["terrain"]
+        self.forest_spec: ForestSpec = compiled.generators["forest"]
+        self.random_spawn = compiled.task_name in RANDOM_SPAWN_TASKS
+        t, f = self.terrain_spec, self.forest_spec
+        self.half = t.extent_m / 2.0
+        self.terrain_grid = Grid(-self.half, t.extent_m / (t.size - 1), t.size)
+        self.forest_grid = Grid(-f.half_extent_m + f.spacing_m / 2.0, f.spacing_m, f.cells)
+        self.raster = Raster.covering(self.half, p.camera_cell_m)
+        self._to_raster = interpolation_matrix(self.raster.centres(), self.terrain_grid)
+        self.tree_reach_m = max(p.max_tree_distance_m, p.close_tree_radius_m)
+        self._turn = np.radians(p.turn_rate_deg)
+        self._view = np.tan(np.radians(p.camera_fov_deg) / 2.0)
+        vector = spaces.Box(-1.0, 1.0, (VECTOR_SIZE * self.observation_stacks,), np.float32)
+        visual = spaces.Box(0.0, 1.0, (16, 16, 1), np.float32)
+        self.observation_space = spaces.Dict({"vector": vector, "visual": visual})
+        self.action_space = spaces.Dict({"continuous": spaces.Box(-1.0, 1.0, (3,), np.float32),
+                                         "discrete": spaces.MultiDiscrete([2])})
+
+    # ------------------------------------------------------------------ reset
+    def _world(self, rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """One world's terrain heights (n, n), existing trees per forest cell (m, m, 2) and station (3,)."""
+        terrain = generate_terrain(rng, self.terrain_spec)
+        forest = place_forest(rng, self.forest_spec, terrain.height_at, terrain.village)
+        m = self.forest_spec.cells
+        trees = np.full((m, m, 2), FAR_M, np.float32)
+        trees[forest.cell_index[:, 0], forest.cell_index[:, 1]] = forest.positions
+        station = np.append(terrain.village, terrain.height_at(terrain.village))
+        return terrain.heights, trees, station
+
+    def _cameras(self, heights: np.ndarray, trees: np.ndarray, station: np.ndarray) -> np.ndarray:
+        """(B, R, R) uint8 camera rasters: shaded ground, existing trees, station pad."""
+        batch, raster = len(heights), self.raster
+        ground = self._to_raster @ heights @ self._to_raster.T  # bilinear terrain height at every cell centre
+        rasters = to_byte(ground_shade(ground, self.params.height_bound_m))
+        world, row, col = np.nonzero(trees[..., 0] < FAR_M)
+        stamp_disks(rasters, raster, world, trees[world, row, col].astype(np.float64), self.params.tree_crown_radius_m,
+                    TREE_GRAY)
+        stamp_disks(rasters, raster, np.arange(batch), station[:, :2], STATION_PAD_M, STATION_GRAY)
+        return rasters
+
+    def _spawn(self, rng: np.random.Generator, heights: np.ndarray, station: np.ndarray):
+        """Positions (B, A, 3), headings (B, A) and whether the drones start with a seed."""
+        p, batch, count = self.params, len(heights), self.agents
+        if self.random_spawn:
+            margin = 0.9 * self.half
+            xy = rng.uniform(-margin, margin, (batch, count, 2))
+            offset = xy - station[:, None, :2]
+            radius = np.hypot(offset[..., 0], offset[..., 1])
+            push = np.maximum(p.random_spawn_min_distance_m, radius) / np.maximum(radius, 1e-9)
+            xy = np.clip(station[:, None, :2] + offset * push[..., None], -margin, margin)
+            low = sample_bilinear(heights, self.terrain_grid, xy) + p.min_clearance_m
+            z = low + rng.random((batch, count)) * (p.height_bound_m - low)
+        else:
+            angles = rng.uniform(0.0, 2.0 * np.pi, (batch, 1)) + 2.0 * np.pi * np.arange(count) / count
+            xy = station[:, None, :2] + p.spawn_radius_m * np.stack([np.cos(angles), np.sin(angles)], axis=-1)
+            z = np.broadcast_to(station[:, None, 2] + p.spawn_altitude_m, (batch, count))
+        ground = sample_bilinear(heights, self.terrain_grid, xy)
+        z = np.clip(z, ground + p.min_clearance_m, p.height_bound_m)
+        heading = rng.uniform(-np.pi, np.pi, (batch, count))
+        return np.concatenate([xy, z[..., None]], axis=-1), heading, ground, not self.random_spawn
+
+    def reset(self, rng: np.random.Generator, batch: int) -> DroneState:
+        n, m = self.terrain_grid.n, self.forest_grid.n
+        worlds = [self._world(rng) for _ in range(batch)]
+        heights, trees, station = (np.stack(parts) for parts in zip(*worlds)) if batch else (
+            np.zeros((0, n, n)), np.zeros((0, m, m, 2), np.float32), np.zeros((0, 3)))
+        occupied = trees[..., 0] < FAR_M
+        position, heading, ground, holding = self._spawn(rng, heights, station)
+        shape = (batch, self.agents)
+        zeros, false = np.zeros(shape), np.zeros(shape, bool)
+        state = DroneState(
+            heights=heights, tree_distance=tree_distance_raster(occupied, self.forest_grid.cell, self.tree_reach_m),
+            tree_xy=trees, station=station, camera=self._cameras(heights, trees, station),
+            new_trees=np.full((batch, self.params.new_tree_capacity, 2), FAR_M, np.float32),
+            new_quality=np.zeros((batch, self.params.new_tree_capacity), np.float32),
+            new_count=np.zeros(batch, np.int64), position=position, heading=heading, ground=ground,
+            energy=np.ones(shape), holding=np.full(shape, holding), alive=np.ones(shape, bool),
+            inside=self._station_distance(position, station) <= self.params.charge_radius_m,
+            away=self._station_distance(position, station) >= self.params.return_min_distance_m,
+            best_fertility=zeros, best_height=zeros, best_distance=zeros, back_active=false,
+            back_init=np.zeros(shape, np.int64), back_best=np.zeros(shape, np.int64), back_multiplier=zeros,
+            dropped=false, seed_reward=zeros, distance_reward=zeros, returned=false,
+            found_tree=false, running_back=zeros, frames=np.zeros(shape + (2 * VECTOR_SIZE,), np.float32))
+        direction = np.stack([np.cos(heading), np.sin(heading)], axis=-1)
+        frame = self._frames(state.frames, position, ground, direction, station, state.holding, state.energy)
+        return _with(state, frames=np.concatenate([frame[..., :VECTOR_SIZE]] * 2, axis=-1))
+
+    def reset_where(self, state: DroneState, mask: np.ndarray, rng: np.random.Generator) -> DroneState:
+        return replace_worlds(state, self.reset(rng, int(np.count_nonzero(mask))), mask)
+
+    # ------------------------------------------------------------------ step
+    @staticmethod
+    def _station_distance(position: np.ndarray, station: np.ndarray) -> np.ndarray:
+        gap = position - station[:, None, :]
+        return np.sqrt(np.einsum("bad,bad->ba", gap, gap))
+
+    def _frames(self, previous: np.ndarray, position: np.ndarray, ground: np.ndarray, direction: np.ndarray,
+                station: np.ndarray, holding: np.ndarray, energy: np.ndarray) -> np.ndarray:
+        """(B, A, 20) float32: this step's normalised vector observation, then the previous step's."""
+        bound, z = self.params.height_bound_m, position[..., 2]
+        frames = np.empty(previous.shape, np.float32)
+        frames[..., VECTOR_SIZE:] = previous[..., :VECTOR_SIZE]
+        frames[..., 0] = (z - ground) / bound  # in (0, 1]: the drone flies between the ground and the bound
+        frames[..., 1:3] = position[..., :2] / self.half
+        frames[..., 3] = z / bound
+        frames[..., 4:6] = direction
+        frames[..., 6] = 0.0  # a level drone's forward vector has no vertical part
+        frames[..., 7] = station[:, None, 2] / bound
+        frames[..., 8] = holding
+        frames[..., 9] = energy
+        return frames
+
+    def _fly(self, state: DroneState, actions) -> tuple[np.ndarray, ...]:
+        """New positions (B, A, 3), headings (B, A), unit directions (B, A, 2) and ground heights (B, A).
+        Frozen drones stay put; a drone never goes below min_clearance_m above the ground or above the bound."""
+        p = self.params
+        controls = np.asarray(actions["continuous"], np.float64) * state.alive[..., None]
+        heading = wrap(state.heading + self._turn * controls[..., 1])
+        direction = np.stack([np.cos(heading), np.sin(heading)], axis=-1)
+        xy = state.position[..., :2] + (p.drone_speed_m * controls[..., 0])[..., None] * direction
+        xy = np.minimum(np.maximum(xy, -self.half), self.half)
+        ground = sample_bilinear(state.heights, self.terrain_grid, xy)
+        z = np.maximum(state.position[..., 2] + p.climb_speed_m * controls[..., 2], ground + p.min_clearance_m)
+        position = np.concatenate([xy, np.minimum(z, p.height_bound_m)[..., None]], axis=-1)
+        return position, heading, direction, ground
+
+    def _drop(self, state: DroneState, points: np.ndarray, world: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Plant the seeds released at ``points`` (M, 2) of worlds ``world`` (M,, sorted): each becomes a new
+        tree, written into ``new_trees``, ``new_quality`` and the camera raster in place. Returns r_s, r_d (M,)."""
+        p = self.params
+        det = nearest_tree_distance(state.tree_xy, self.forest_grid, world, points, p.max_tree_distance_m)
+        dnt = nearest_new_tree_distance(state.new_trees[:, : int(state.new_count.max())], world, points)
+        dnt = np.minimum(dnt, same_step_distance(world, points))
+        seed = seed_reward(det, dnt, p.min_tree_distance_m, p.max_tree_distance_m, SEED_REWARD_MULTIPLIER)
+        sdd = np.hypot(*(points - state.station[world, :2]).T)
+        slot = storage_slots(state.new_count, world)
+        state.new_trees[world, slot] = points
+        state.new_quality[world, slot] = seed / SEED_REWARD_MULTIPLIER
+        stamp_disks(state.camera, self.raster, world, points, p.tree_crown_radius_m, NEW_TREE_GRAY)
+        return seed, distance_reward(seed, sdd, self.half, DISTANCE_REWARD_MULTIPLIER)
+
+    def _releases(self, state: DroneState, wants: np.ndarray) -> np.ndarray:
+        """(B, A) the drones whose wish to drop is granted: all, unless their world's store of planted trees
+        is full (the last in agent order keep their seeds)."""
+        world, agent = np.nonzero(wants)
+        full = storage_slots(state.new_count, world) >= self.params.new_tree_capacity
+        granted = wants.copy()
+        granted[world[full], agent[full]] = False
+        return granted
+
+    def _running_back(self, state: DroneState, increment: np.ndarray) -> np.ndarray:
+        """r_rb (B, A): paid when a drone running back reaches a closer increment than any since its drop."""
+        p = self.params
+        closer = state.back_active & state.alive & (increment < state.back_best)
+        span = state.back_init - p.charge_radius_m / p.running_back_step_m
+        reward = RUNNING_BACK_REWARD * state.back_multiplier / np.where(span > 0, span, 1.0)
+        return np.where(closer & (span > 0), np.minimum(np.maximum(reward, 0.0), RUNNING_BACK_REWARD), 0.0)
+
+    def _back(self, state: DroneState, drops: np.ndarray, increment: np.ndarray, inside: np.ndarray,
+              r_s: np.ndarray, r_d: np.ndarray) -> dict[str, np.ndarray]:
+        """The running-back bookkeeping after this step: a drop starts it, reaching the station ends it."""
+        best = np.where(state.back_active, np.minimum(state.back_best, increment), state.back_best)
+        return {"back_active": (state.back_active | drops) & ~inside,
+                "back_init": np.where(drops, increment, state.back_init),
+                "back_best": np.where(drops, increment, best),
+                "back_multiplier": np.where(drops, (r_s + r_d) / (SEED_REWARD_MULTIPLIER + DISTANCE_REWARD_MULTIPLIER),
+                                            state.back_multiplier)}
+
+    def step(self, state: DroneState, actions, rng: np.random.Generator) -> tuple[DroneState, StepOutcome]:
+        """actions: continuous (B, A, 3) throttle, steer, up/down; discrete (B, A, 1) drop seed."""
+        p, alive, shape = self.params, state.alive, state.alive.shape
+        position, heading, direction, ground = self._fly(state, actions)
+        distance = self._station_distance(position, state.station)
+        inside = distance <= p.charge_radius_m
+        drops = (np.asarray(actions["discrete"])[..., 0] == 1) & state.holding & alive & ~inside
+        r_s, r_d = np.zeros(shape), np.zeros(shape)
+        new_count, back, running_back = state.new_count, {}, np.zeros(shape)
+        if drops.any():
+            drops = self._releases(state, drops)
+            world, agent = np.nonzero(drops)
+            r_s[world, agent], r_d[world, agent] = self._drop(state, position[world, agent, :2], world)
+            new_count = new_count + np.bincount(world, minlength=len(new_count))
+        if (drops | state.back_active).any():
+            increment = (distance * (1.0 / p.running_back_step_m)).astype(np.int64)  # floor: distances are >= 0
+            running_back = self._running_back(state, increment)
+            back = self._back(state, drops, increment, inside, r_s, r_d)
+
+        returned = inside & state.away & alive
+        holding = (state.holding & ~drops) | returned
+        cost = np.where(state.holding, 1.0 / p.energy_steps_with_seed, 1.0 / p.energy_steps_without_seed)
+        energy = np.where(inside & alive, 1.0, state.energy - cost * alive)
+        energy = np.where(energy > 1e-9, energy, 0.0)
+        still = energy > 0.0
+
+        xy = position[..., :2]
+        det = sample_bilinear(state.tree_distance, self.forest_grid, xy)
+        gap = xy - state.station[:, None, :2]
+        reach = np.minimum(np.sqrt(np.einsum("bad,bad->ba", gap, gap)), self.half)
+        new = _with(
+            state, new_count=new_count, position=position, heading=heading,
+            ground=ground, energy=energy, holding=holding, alive=still, inside=inside,
+            away=(state.away | (distance >= p.return_min_distance_m)) & ~returned,
+            best_fertility=self._best_fertility(state, xy, det),
+            best_height=np.maximum(state.best_height, np.where(alive, ground, 0.0)),
+            best_distance=np.maximum(state.best_distance, np.where(alive, reach, 0.0)),
+            dropped=drops, seed_reward=r_s, distance_reward=r_d, returned=returned,
+            found_tree=alive & (det <= p.close_tree_radius_m), running_back=running_back,
+            frames=self._frames(state.frames, position, ground, direction, state.station, holding, energy), **back)
+        events = {"returned_to_station": returned, "found_close_tree": new.found_tree, "planted_tree": drops}
+        return new, StepOutcome(terminated=~still, events=events)
+
+    def _best_fertility(self, state: DroneState, xy: np.ndarray, det: np.ndarray) -> np.ndarray:
+        """pot_old after this step: the fertility here counts if it beats the best so far and no planted tree
+        is within dot_min."""
+        p = self.params
+        here = fertility(det, p.min_tree_distance_m, p.max_tree_distance_m)
+        better = state.alive & (here > state.best_fertility)
+        if not better.any():
+            return state.best_fertility
+        best = np.where(better, here, state.best_fertility)
+        count = int(state.new_count.max())
+        if count:
+            world, agent = np.nonzero(better)
+            crowded = nearest_new_tree_distance(state.new_trees[:, :count], world, xy[world, agent]) < p.min_tree_distance_m
+            best[world[crowded], agent[crowded]] = state.best_fertility[world[crowded], agent[crowded]]
+        return best
+
+    # ------------------------------------------------------------------ observe / render
+    def camera_half_width(self, state: DroneState) -> np.ndarray:
+        """(B, A) metres: half the side of each camera's square footprint on the ground."""
+        height = state.position[..., 2] - state.ground
+        return np.maximum(self.params.camera_min_half_width_m, height * self._view)
+
+    def observe(self, state: DroneState) -> dict[str, np.ndarray]:
+        """vector (B, A, 20) float32 (two stacks, newest first); visual (B, A, 16, 16, 1) float32."""
+        visual = camera_images(state.camera, self.raster, state.position[..., :2], self.camera_half_width(state))
+        return {"vector": state.frames, "visual": visual}
+
+    def render(self, state: DroneState, index: int) -> np.ndarray:
+        from .render import draw_reforestation
+
+        return draw_reforestation(state, index, self)
+
+
+def _with(state: DroneState, **changes) -> DroneState:
+    """``dataclasses.replace`` without re-running the frozen dataclass's __init__ (a step's hot path)."""
+    new = object.__new__(DroneState)
+    new.__dict__.update(state.__dict__)
+    new.__dict__.update(changes)
+    return new
+
+
+def world_problems(compiled) -> list[tuple[tuple, str]]:
+    """The terrain and forest must describe the paper's world the rewards are scaled to."""
+    t, f, p = compiled.generators["terrain"], compiled.generators["forest"], compiled.params
+    problems = []
+    if t.village_half_range_m != 0.0:
+        problems.append((("generators", "terrain", "village_half_range_m"),
+                         f"{t.village_half_range_m:g}: the drone station sits at the centre of the world; expected 0"))
+    if t.extent_m > 400.0:
+        problems.append((("generators", "terrain", "extent_m"),
+                         f"{t.extent_m:g} m: the world may be at most the paper's 400 m across (half extent 200 m), "
+                         "the scale of its distance rewards"))
+    if not np.isclose(t.extent_m, 2.0 * f.half_extent_m):
+        problems.append((("generators", "forest", "half_extent_m"),
+                         f"{f.half_extent_m:g} m: the forest grid must cover the terrain, half of extent_m "
+                         f"({t.extent_m / 2.0:g} m)"))
+    peak = t.height_multiplier * t.metres_per_multiplier
+    if peak + p.min_clearance_m >= p.height_bound_m:
+        problems.append((("generators", "terrain", "metres_per_multiplier"),
+                         f"peaks reach {peak:g} m at this terrain level; with min_clearance_m {p.min_clearance_m:g} "
+                         f"they must stay below the height bound {p.height_bound_m:g} m"))
+    return problems

@@ -1,0 +1,62 @@
+"""The batched state of Drone-Based Reforestation."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, fields
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class DroneState:
+    """B worlds of A drones. Metres, radians; (x, y) horizontal, z height; station at the centre.
+
+    The world arrays ``camera``, ``new_trees`` and ``new_quality`` only grow during an episode: a
+    planted tree is written into them in place, so a state and the one before it share them (no
+    reward term reads them). Every other array is fresh in each state.
+    """
+
+    # the world, fixed for an episode
+    heights: np.ndarray  # (B, n, n) terrain height grid (procgen Terrain convention)
+    tree_distance: np.ndarray  # (B, m, m) float32 distance from each forest cell centre to the nearest tree
+    tree_xy: np.ndarray  # (B, m, m, 2) float32 existing tree of each forest cell, FAR_M where empty
+    station: np.ndarray  # (B, 3) station pad position (x, y, ground height)
+    # the world, growing in place
+    camera: np.ndarray  # (B, R, R) uint8 grayscale raster the cameras see
+    new_trees: np.ndarray  # (B, C, 2) float32 planted trees (every released seed), FAR_M in empty slots
+    new_quality: np.ndarray  # (B, C) float32 each planted tree's seed quality r_s / 20 in [0, 1] (0: poor spot)
+    new_count: np.ndarray  # (B,) int64 planted trees so far
+    # the drones
+    position: np.ndarray  # (B, A, 3)
+    heading: np.ndarray  # (B, A) facing angle from +x, counter-clockwise
+    ground: np.ndarray  # (B, A) terrain height below each drone
+    energy: np.ndarray  # (B, A) battery in [0, 1]
+    holding: np.ndarray  # (B, A) bool, carrying a seed
+    alive: np.ndarray  # (B, A) bool, energy left (a drone with an empty battery is frozen)
+    inside: np.ndarray  # (B, A) bool, within the charge radius of the station
+    away: np.ndarray  # (B, A) bool, has been return_min_distance_m from the station since its last return
+    best_fertility: np.ndarray  # (B, A) pot_old: best seed-drop potential found so far
+    best_height: np.ndarray  # (B, A) h_old: highest ground found so far
+    best_distance: np.ndarray  # (B, A) d_old: furthest horizontal distance from the station so far
+    back_active: np.ndarray  # (B, A) bool, running back to the station after a drop
+    back_init: np.ndarray  # (B, A) int64 d_init: station distance increment at the drop
+    back_best: np.ndarray  # (B, A) int64 d_-1: closest increment reached since the drop
+    back_multiplier: np.ndarray  # (B, A) rbm of the last drop
+    # what happened in the last step (all zero / false after a reset)
+    dropped: np.ndarray  # (B, A) bool, released a seed (planted as a new tree at the ground below)
+    seed_reward: np.ndarray  # (B, A) r_s of the drop
+    distance_reward: np.ndarray  # (B, A) r_d of the drop
+    returned: np.ndarray  # (B, A) bool, arrived back at the station (and picked up a seed if it had none)
+    found_tree: np.ndarray  # (B, A) bool, an existing tree within close_tree_radius_m
+    running_back: np.ndarray  # (B, A) r_rb paid this step
+    frames: np.ndarray  # (B, A, 20) float32 vector observation, newest stack first
+
+
+def replace_worlds(state: DroneState, fresh: DroneState, mask: np.ndarray) -> DroneState:
+    """A copy of ``state`` whose worlds where ``mask`` (B,) is true come from ``fresh`` (one per such world)."""
+    merged = {}
+    for field in fields(DroneState):
+        array = getattr(state, field.name).copy()
+        array[mask] = getattr(fresh, field.name)
+        merged[field.name] = array
+    return DroneState(**merged)

@@ -1,0 +1,313 @@
+"""Drone-Based Reforestation reward equations and station rules on small hand-built worlds.
+
+Every world here is flat ground at 0 m with the station pad at the origin and trees placed by
+hand on forest cell centres (x, y = -198 + 4 k), so every distance is known exactly.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+import hivex_dsl
+from hivex_dsl.envs.drone_based_reforestation.camera import NEW_TREE_GRAY, to_byte
+from hivex_dsl.envs.drone_based_reforestation.fertility import (FAR_M, distance_reward, sample_bilinear, seed_reward,
+                                                                tree_distance_raster)
+
+ENV = "drone_based_reforestation"
+
+
+def simulator(agents: int = 1, **params):
+    compiled = hivex_dsl.compile({"hivex": 1, "environment": ENV, "agents": agents, "params": params})
+    return compiled, compiled.entry.make_simulator(compiled)
+
+
+def hand_world(sim, drones, trees=(), holding=True, energy=1.0, away=True, heading=0.0, heights=None):
+    """One world: flat ground (or ``heights``), trees at forest cell centres, drones at ``drones`` (A, 3)."""
+    state = sim.reset(np.random.default_rng(0), 1)
+    grid = sim.forest_grid
+    tree_xy = np.full((1, grid.n, grid.n, 2), FAR_M, np.float32)
+    for x, y in trees:
+        col, row = int(round((x - grid.origin) / grid.cell)), int(round((y - grid.origin) / grid.cell))
+        tree_xy[0, row, col] = (x, y)
+    heights = np.zeros_like(state.heights) if heights is None else np.array(heights)[None]
+    station = np.array([[0.0, 0.0, heights[0, sim.terrain_grid.n // 2, sim.terrain_grid.n // 2]]])
+    position = np.asarray(drones, np.float64)[None]
+    shape = position.shape[:2]
+    distance = np.linalg.norm(position - station[:, None], axis=-1)
+    state = replace(
+        state, heights=heights, tree_xy=tree_xy, station=station, camera=sim._cameras(heights, tree_xy, station),
+        tree_distance=tree_distance_raster(tree_xy[..., 0] < FAR_M, grid.cell, sim.tree_reach_m),
+        new_trees=np.full_like(state.new_trees, FAR_M), new_count=np.zeros(1, np.int64), position=position,
+        heading=np.full(shape, heading), ground=sample_bilinear(heights, sim.terrain_grid, position[..., :2]),
+        energy=np.full(shape, energy), holding=np.full(shape, holding), alive=np.ones(shape, bool),
+        inside=distance <= sim.params.charge_radius_m, away=np.full(shape, away),
+        back_active=np.zeros(shape, bool))
+    return state
+
+
+def act(agents: int = 1, throttle=0.0, steer=0.0, updown=0.0, drop=0):
+    continuous = np.zeros((1, agents, 3), np.float32)
+    continuous[..., 0], continuous[..., 1], continuous[..., 2] = throttle, steer, updown
+    return {"continuous": continuous, "discrete": np.full((1, agents, 1), drop, np.int64)}
+
+
+def term(compiled, name, prev, state, actions):
+    return compiled.entry.terms[name](prev, state, actions, compiled.params)
+
+
+# ------------------------------------------------------------------ the drop seed equations
+@pytest.mark.parametrize("det, dnt, expected", [
+    (2.5, 10.0, 20.0),  # right at dot_min: full quality
+    (38.75, 10.0, 10.0),  # halfway between 2.5 and 75
+    (75.0, 10.0, 0.0),  # at dot_max: quality 0
+    (10.0, 10.0, 20.0 * 65.0 / 72.5),
+    (2.4, 10.0, 0.0),  # under the canopy
+    (75.1, 10.0, 0.0),  # too far from the forest
+    (10.0, 2.4, 0.0),  # too close to a planted tree
+    (10.0, 2.5, 20.0 * 65.0 / 72.5),
+])
+def test_seed_reward_is_the_paper_remap_times_20(det, dnt, expected):
+    assert seed_reward(np.array([det]), np.array([dnt]), 2.5, 75.0, 20.0)[0] == pytest.approx(expected)
+
+
+@pytest.mark.parametrize("seed, sdd, expected", [(5.0, 50.0, 2.5), (5.0, 200.0, 10.0), (5.0, 283.0, 10.0), (0.0, 50.0, 0.0)])
+def test_distance_reward_is_sdd_over_200_times_10_only_for_a_good_seed(seed, sdd, expected):
+    assert distance_reward(np.array([seed]), np.array([sdd]), 200.0, 10.0)[0] == pytest.approx(expected)
+
+
+def test_a_drop_12_m_from_the_forest_and_50_m_from_the_station_plants_a_tree_worth_r_s_plus_r_d():
+    compiled, sim = simulator()
+    state = hand_world(sim, [(50.0, 2.0, 10.0)], trees=[(62.0, 2.0)])
+    new, outcome = sim.step(state, act(drop=1), np.random.default_rng(1))
+    r_s, r_d = 20.0 * (75.0 - 12.0) / 72.5, 10.0 * np.hypot(50.0, 2.0) / 200.0  # det 12 m, sdd 50.04 m
+    assert term(compiled, "drop_seed", state, new, act(drop=1))[0, 0] == pytest.approx(r_s + r_d)
+    assert new.dropped[0, 0] and outcome.events["planted_tree"][0, 0] and not new.holding[0, 0]
+    assert new.new_count[0] == 1 and np.allclose(new.new_trees[0, 0], (50.0, 2.0))
+    assert new.new_quality[0, 0] == pytest.approx(r_s / 20.0)
+    column, row = sim.raster.index(np.array([50.0, 2.0]))
+    assert new.camera[0, row, column] == to_byte(NEW_TREE_GRAY)
+
+
+@pytest.mark.parametrize("drone, trees, why", [
+    ((50.0, 2.0, 10.0), [(50.0, 2.0)], "over a tree"),
+    ((50.0, 2.0, 10.0), [(130.0, 2.0)], "80 m from the forest"),
+    ((50.0, 2.0, 10.0), [], "no forest at all"),
+])
+def test_a_drop_on_a_poor_spot_pays_nothing_and_plants_a_tree_of_quality_0(drone, trees, why):
+    compiled, sim = simulator()
+    state = hand_world(sim, [drone], trees=trees)
+    new, _ = sim.step(state, act(drop=1), np.random.default_rng(1))
+    assert term(compiled, "drop_seed", state, new, act(drop=1))[0, 0] == 0.0, why
+    assert new.dropped[0, 0] and not new.holding[0, 0]
+    assert new.new_count[0] == 1 and new.new_quality[0, 0] == 0.0
+
+
+def test_a_seed_within_2_5_m_of_a_planted_tree_has_no_quality_and_one_3_m_away_has():
+    compiled, sim = simulator()
+    state = hand_world(sim, [(50.0, 2.0, 10.0)], trees=[(62.0, 2.0)])
+    first, _ = sim.step(state, act(drop=1), np.random.default_rng(1))
+    moved = replace(first, holding=np.ones((1, 1), bool), position=np.array([[[50.0, 4.0, 10.0]]]))
+    second, _ = sim.step(moved, act(drop=1), np.random.default_rng(1))  # 2 m from the first
+    assert second.dropped[0, 0] and second.seed_reward[0, 0] == 0.0 and second.distance_reward[0, 0] == 0.0
+    further = replace(second, holding=np.ones((1, 1), bool), position=np.array([[[50.0, 7.0, 10.0]]]))
+    third, _ = sim.step(further, act(drop=1), np.random.default_rng(1))  # 3 m from the second, 5 m from the first
+    assert third.new_count[0] == 3 and third.new_quality[0, :3].tolist() == pytest.approx(
+        [63.0 / 72.5, 0.0, (75.0 - np.hypot(12.0, 5.0)) / 72.5])
+    assert third.seed_reward[0, 0] == pytest.approx(20.0 * (75.0 - np.hypot(12.0, 5.0)) / 72.5)
+
+
+def test_of_two_drones_dropping_side_by_side_on_one_step_the_later_one_gets_no_quality():
+    compiled, sim = simulator(agents=2)
+    state = hand_world(sim, [(50.0, 2.0, 10.0), (51.0, 2.0, 10.0)], trees=[(62.0, 2.0)])
+    new, _ = sim.step(state, act(agents=2, drop=1), np.random.default_rng(1))
+    assert new.new_count[0] == 2 and new.seed_reward[0, 0] > 0.0 and new.seed_reward[0, 1] == 0.0
+
+
+def test_no_seed_is_released_over_the_station_pad_or_without_a_seed():
+    compiled, sim = simulator()
+    at_pad = hand_world(sim, [(3.0, 0.0, 3.0)], trees=[(30.0, 2.0)], away=False)
+    new, _ = sim.step(at_pad, act(drop=1), np.random.default_rng(1))
+    assert not new.dropped[0, 0] and new.holding[0, 0]
+    empty = hand_world(sim, [(50.0, 2.0, 10.0)], trees=[(62.0, 2.0)], holding=False)
+    new, _ = sim.step(empty, act(drop=1), np.random.default_rng(1))
+    assert not new.dropped[0, 0] and new.new_count[0] == 0
+
+
+def test_once_the_store_of_planted_trees_is_full_drones_keep_their_seeds():
+    compiled, sim = simulator(agents=3, new_tree_capacity=16)
+    state = hand_world(sim, [(50.0, 2.0, 10.0), (60.0, 30.0, 10.0), (-50.0, 2.0, 10.0)], trees=[(62.0, 2.0)])
+    state = replace(state, new_count=np.array([14]))
+    new, _ = sim.step(state, act(agents=3, drop=1), np.random.default_rng(1))
+    assert new.dropped[0].tolist() == [True, True, False] and new.holding[0].tolist() == [False, False, True]
+    assert new.new_count[0] == 16
+
+
+# ------------------------------------------------------------------ incremental running back
+def increment(x: float, z: float = 10.0) -> int:
+    """The paper's d_0 = floor(|p - dp| / 2.5) for a drone at (x, 2, z) and the station at the origin."""
+    return int(np.floor(np.sqrt(x * x + 4.0 + z * z) / 2.5))
+
+
+def test_running_back_pays_20_rbm_over_d_init_minus_3_once_per_increment():
+    compiled, sim = simulator()
+    state = hand_world(sim, [(50.0, 2.0, 10.0)], trees=[(62.0, 2.0)], heading=np.pi)
+    state, _ = sim.step(state, act(drop=1), np.random.default_rng(1))
+    rbm = (20.0 * (75.0 - 12.0) / 72.5 + 10.0 * np.hypot(50.0, 2.0) / 200.0) / 30.0
+    d_init = increment(50.0)  # 20
+    assert d_init == 20
+    per_increment = 20.0 * rbm / (d_init - 7.5 / 2.5)
+    paid, x, best = [], 50.0, d_init
+    for _ in range(30):  # fly 30 m toward the station at 1 m per step
+        prev = state
+        state, _ = sim.step(state, act(throttle=1.0), np.random.default_rng(1))
+        x -= 1.0
+        expected = per_increment if increment(x) < best else 0.0
+        best = min(best, increment(x))
+        value = term(compiled, "incremental_running_back", prev, state, act(throttle=1.0))[0, 0]
+        assert value == pytest.approx(expected), f"at x = {x}"
+        paid.append(value)
+    assert sum(v > 0 for v in paid) == d_init - increment(20.0)
+    # turning around and coming back over the same increments pays nothing more
+    state = replace(state, heading=np.zeros((1, 1)))
+    for throttle in [1.0] * 6 + [-1.0] * 6:
+        prev = state
+        state, _ = sim.step(state, act(throttle=throttle), np.random.default_rng(1))
+        assert term(compiled, "incremental_running_back", prev, state, act(throttle=throttle))[0, 0] == 0.0
+
+
+def test_running_back_ends_at_the_station_and_pays_nothing_for_a_drop_near_it():
+    compiled, sim = simulator()
+    near = hand_world(sim, [(9.0, 2.0, 2.0)], trees=[(30.0, 2.0)], heading=np.pi)
+    state, _ = sim.step(near, act(drop=1), np.random.default_rng(1))
+    assert state.dropped[0, 0] and state.back_init[0, 0] == 3  # d_init - d_charge / s = 0
+    total = 0.0
+    for _ in range(8):
+        prev = state
+        state, _ = sim.step(state, act(throttle=1.0), np.random.default_rng(1))
+        total += term(compiled, "incremental_running_back", prev, state, act(throttle=1.0))[0, 0]
+    assert total == 0.0 and not state.back_active[0, 0]
+
+
+# ------------------------------------------------------------------ the station
+def test_returning_drone_recharges_picks_up_a_seed_and_earns_the_pick_up_reward():
+    compiled, sim = simulator()
+    state = hand_world(sim, [(8.5, 0.0, 2.0)], holding=False, energy=0.3, heading=np.pi)
+    state = replace(state, best_distance=np.array([[60.0]]))
+    new, outcome = sim.step(state, act(throttle=1.0), np.random.default_rng(1))  # to 7.5 m, 2 m up: 7.77 m
+    assert not new.inside[0, 0] and new.energy[0, 0] == pytest.approx(0.3 - 1 / 2000)
+    newer, outcome = sim.step(new, act(throttle=1.0), np.random.default_rng(1))  # 6.5 m, 2 m up: 6.80 m
+    assert newer.inside[0, 0] and newer.returned[0, 0] and outcome.events["returned_to_station"][0, 0]
+    assert newer.holding[0, 0] and newer.energy[0, 0] == 1.0
+    assert term(compiled, "pick_up_seed", new, newer, act())[0, 0] == 1.0
+    assert term(compiled, "pick_up_seed_explored", new, newer, act())[0, 0] == 60.0
+    after, _ = sim.step(newer, act(), np.random.default_rng(1))  # staying at the pad is no new return
+    assert not after.returned[0, 0] and term(compiled, "pick_up_seed", newer, after, act())[0, 0] == 0.0
+
+
+def test_hovering_across_the_charge_radius_recharges_but_is_no_return():
+    compiled, sim = simulator()
+    state = hand_world(sim, [(9.0, 0.0, 2.0)], holding=False, energy=0.5, away=False, heading=np.pi)
+    for throttle in (1.0, 1.0, 1.0, -1.0, -1.0, -1.0, 1.0, 1.0):
+        state, _ = sim.step(state, act(throttle=throttle), np.random.default_rng(1))
+        assert not state.returned[0, 0] and not state.holding[0, 0]
+    assert state.inside[0, 0] and state.energy[0, 0] == 1.0
+
+
+def test_drones_start_at_the_station_with_a_seed_and_a_full_battery():
+    compiled = hivex_dsl.compile(f"{ENV}/main")
+    sim = compiled.entry.make_simulator(compiled)
+    state = sim.reset(np.random.default_rng(4), 2)
+    assert state.inside.all() and state.holding.all() and (state.energy == 1.0).all() and not state.away.any()
+
+
+def test_pick_up_seed_task_starts_drones_away_without_a_seed():
+    compiled = hivex_dsl.compile(f"{ENV}/pick_up_seed")
+    sim = compiled.entry.make_simulator(compiled)
+    state = sim.reset(np.random.default_rng(4), 4)
+    horizontal = np.linalg.norm(state.position[..., :2] - state.station[:, None, :2], axis=-1)
+    assert (horizontal >= 20.0 - 1e-9).all() and not state.holding.any() and state.away.all()
+
+
+# ------------------------------------------------------------------ energy
+def test_energy_drains_1_1000_with_a_seed_and_1_2000_without_and_an_empty_battery_ends_only_that_drone():
+    compiled, sim = simulator(agents=2)
+    state = hand_world(sim, [(100.0, 0.0, 10.0), (-100.0, 0.0, 10.0)], energy=0.0105)
+    state = replace(state, holding=np.array([[True, False]]))
+    prev, (state, outcome) = state, sim.step(state, act(agents=2), np.random.default_rng(1))
+    assert state.energy[0].tolist() == pytest.approx([0.0095, 0.01])
+    assert term(compiled, "deplete_energy_holding_seed", prev, state, act(agents=2))[0].tolist() == [-0.001, 0.0]
+    assert term(compiled, "deplete_energy_no_seed", prev, state, act(agents=2))[0].tolist() == [0.0, -0.0005]
+    for _ in range(9):
+        state, outcome = sim.step(state, act(agents=2, throttle=1.0), np.random.default_rng(1))
+    assert outcome.terminated[0].tolist() == [False, False]
+    state, outcome = sim.step(state, act(agents=2, throttle=1.0), np.random.default_rng(1))
+    assert outcome.terminated[0].tolist() == [True, False] and state.energy[0, 0] == 0.0
+    frozen = state.position[0, 0].copy()
+    state, outcome = sim.step(state, act(agents=2, throttle=1.0, drop=1), np.random.default_rng(1))
+    assert np.array_equal(state.position[0, 0], frozen) and not state.dropped[0, 0] and state.energy[0, 0] == 0.0
+    assert not outcome.terminated[0, 1] and state.position[0, 1, 0] != -100.0
+
+
+# ------------------------------------------------------------------ the exploration terms
+def test_group_up_pays_10_while_another_live_drone_is_closer_than_5_m():
+    compiled, sim = simulator(agents=3)
+    state = hand_world(sim, [(50.0, 0.0, 10.0), (50.0, 4.0, 10.0), (50.0, 40.0, 10.0)])
+    new, _ = sim.step(state, act(agents=3), np.random.default_rng(1))
+    assert term(compiled, "group_up", state, new, act(agents=3))[0].tolist() == [10.0, 10.0, 0.0]
+    dead = replace(new, alive=np.array([[True, False, True]]))
+    assert term(compiled, "group_up", new, dead, act(agents=3))[0].tolist() == [0.0, 10.0, 0.0]
+    apart = hand_world(sim, [(50.0, 0.0, 10.0), (50.0, 5.5, 10.0), (50.0, 40.0, 10.0)])
+    new, _ = sim.step(apart, act(agents=3), np.random.default_rng(1))
+    assert term(compiled, "group_up", apart, new, act(agents=3))[0].tolist() == [0.0, 0.0, 0.0]
+
+
+def test_find_close_tree_pays_100_within_20_m():
+    compiled, sim = simulator()
+    for y, expected in ((18.0, 100.0), (26.0, 0.0)):  # drone over a forest cell centre 16 m / 24 m from the tree
+        state = hand_world(sim, [(2.0, y, 10.0)], trees=[(2.0, 2.0)])
+        new, outcome = sim.step(state, act(), np.random.default_rng(1))
+        assert term(compiled, "find_close_tree", state, new, act())[0, 0] == expected
+        assert outcome.events["found_close_tree"][0, 0] == (expected > 0)
+
+
+def test_high_fertility_delta_pays_the_gain_in_potential_and_ignores_spots_next_to_planted_trees():
+    compiled, sim = simulator()
+    state = hand_world(sim, [(2.0, 18.0, 10.0)], trees=[(2.0, 2.0)])  # det 16 m: potential 59 / 72.5
+    gains = []
+    for y in (18.0, 18.0, 10.0, 30.0):  # det 16, 16, 8 (potential 67 / 72.5), 28
+        moved = replace(state, position=np.array([[[2.0, y, 10.0]]]))
+        prev, (state, _) = moved, sim.step(moved, act(), np.random.default_rng(1))
+        gains.append(term(compiled, "high_fertility_location_delta", prev, state, act())[0, 0])
+    assert gains == pytest.approx([59.0 / 72.5, 0.0, 8.0 / 72.5, 0.0])
+    crowded = hand_world(sim, [(2.0, 10.0, 10.0)], trees=[(2.0, 2.0)])
+    crowded.new_trees[0, 0] = (3.0, 10.0)
+    crowded = replace(crowded, new_count=np.array([1]))
+    new, _ = sim.step(crowded, act(), np.random.default_rng(1))
+    assert term(compiled, "high_fertility_location_delta", crowded, new, act())[0, 0] == 0.0
+
+
+def test_high_landscape_delta_pays_each_new_highest_ground_below_the_drone():
+    compiled, sim = simulator()
+    coords = sim.terrain_grid.origin + sim.terrain_grid.cell * np.arange(sim.terrain_grid.n)
+    slope = np.broadcast_to(np.clip(coords / 10.0, 0.0, None)[None, :], (sim.terrain_grid.n,) * 2)  # h = x / 10
+    state = hand_world(sim, [(50.0, 30.0, 20.0)], heights=slope)
+    gains = []
+    for x in (50.0, 62.5, 40.0, 70.0):  # ground 5, 6.25, 4, 7
+        moved = replace(state, position=np.array([[[x, 30.0, 20.0]]]))
+        prev, (state, _) = moved, sim.step(moved, act(), np.random.default_rng(1))
+        gains.append(term(compiled, "high_landscape_point_delta", prev, state, act())[0, 0])
+    assert gains == pytest.approx([5.0, 1.25, 0.0, 0.75])
+
+
+def test_far_distance_delta_pays_each_new_furthest_distance_capped_at_the_half_extent():
+    compiled, sim = simulator()
+    state = hand_world(sim, [(30.0, 40.0, 10.0)])
+    gains = []
+    for x, y in ((30.0, 40.0), (0.0, 80.0), (10.0, 10.0), (190.0, 190.0)):  # 50, 80, 14, 269 -> 200
+        moved = replace(state, position=np.array([[[x, y, 10.0]]]))
+        prev, (state, _) = moved, sim.step(moved, act(), np.random.default_rng(1))
+        gains.append(term(compiled, "far_distance_explored_delta", prev, state, act())[0, 0])
+    assert gains == pytest.approx([50.0, 30.0, 0.0, 120.0])
