@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..procgen.forest import ForestSpec, IgnitionSpec, cell_centre_xy, load_forest_preset, place_forest, select_ignition
+from ..procgen.forest import ForestSpec, IgnitionSpec, cell_centre_xy, ignition_mask, load_forest_preset, place_forest
 from ..procgen.terrain import TerrainSpec, generate_terrain, terrain_spec_for_level
 from ..procgen.weather import WeatherSpec, WeatherState, load_weather_preset, weather_at
 from ..registry import GeneratorSlot
@@ -85,21 +85,37 @@ def grid_lookup(cells_of_forest: int, weather_cells: int) -> np.ndarray:
 def build_island(rng: np.random.Generator, terrain_spec: TerrainSpec, forest_spec: ForestSpec,
                  ignition_spec: IgnitionSpec, conditions: np.ndarray) -> Island:
     """Draw one world. ``conditions`` (G, G, 3) is the world's weather grid (ignition prefers dry, hot cells)."""
+    height, ground, village, exists = draw_island(rng, terrain_spec, forest_spec)
+    ignite = ignition_of(exists, village, conditions, forest_spec, ignition_spec)
+    return Island(height=height, ground=ground, village=village, exists=exists, ignite=ignite)
+
+
+def draw_island(rng: np.random.Generator, terrain_spec: TerrainSpec, forest_spec: ForestSpec
+                ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The lasting part of a world: height (C, C) float32, ground (C, C) uint8, village (2,), trees (C, C) bool."""
     terrain = generate_terrain(rng, terrain_spec)
     centres = cell_centre_xy(forest_spec).reshape(-1, 2)
     cells = forest_spec.cells
     height = terrain.height_at(centres).reshape(cells, cells)
     forest = place_forest(rng, forest_spec, terrain.height_at, terrain.village)
-    exists = forest.grid >= 0
-    lookup = grid_lookup(cells, conditions.shape[0])
-    full = conditions[lookup[:, None], lookup[None, :]]  # (C, C, 3) nearest weather cell
-    burning = select_ignition(forest, ignition_spec, terrain.village, full[..., 0], full[..., 1], full[..., 2])
-    ignite = np.zeros(cells * cells, bool)
-    rows, cols = forest.cell_index[burning, 0], forest.cell_index[burning, 1]
-    ignite[rows * cells + cols] = True
     ground = ground_palette(height, centres.reshape(cells, cells, 2), terrain.village, terrain_spec)
-    return Island(height=height.astype(np.float32), ground=ground, village=np.asarray(terrain.village, float),
-                  exists=exists, ignite=ignite.reshape(cells, cells))
+    return height.astype(np.float32), ground, np.asarray(terrain.village, float), forest.grid >= 0
+
+
+def ignition_of(exists: np.ndarray, village: np.ndarray, conditions: np.ndarray, forest_spec: ForestSpec,
+                ignition_spec: IgnitionSpec) -> np.ndarray:
+    """(C, C) bool cells set burning on a forest ``exists`` (C, C) under the weather grid ``conditions`` (G, G, 3)."""
+    lookup = grid_lookup(forest_spec.cells, conditions.shape[0])
+    full = conditions[lookup[:, None], lookup[None, :]]  # (C, C, 3) nearest weather cell
+    return ignition_mask(exists, forest_spec, ignition_spec, village, full[..., 0], full[..., 1], full[..., 2])
+
+
+def ignite_worlds(exists: np.ndarray, village: np.ndarray, conditions: np.ndarray, forest_spec: ForestSpec,
+                  ignition_spec: IgnitionSpec) -> np.ndarray:
+    """(M, C, C) bool ignition of M kept islands (exists (M, C, C), village (M, 2), conditions (M, G, G, 3))."""
+    if len(exists) == 0:
+        return np.zeros_like(exists)
+    return np.stack([ignition_of(e, v, c, forest_spec, ignition_spec) for e, v, c in zip(exists, village, conditions)])
 
 
 def ground_palette(height: np.ndarray, centres: np.ndarray, village: np.ndarray, spec: TerrainSpec) -> np.ndarray:

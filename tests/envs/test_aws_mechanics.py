@@ -215,3 +215,28 @@ def test_worlds_that_cannot_work_are_compile_errors(override, message):
     with pytest.raises(ScenarioError) as info:
         hivex_dsl.compile({"hivex": 1, "environment": "aerial_wildfire_suppression", **override})
     assert any(p.message.startswith(message) for p in info.value.problems), info.value.problems
+
+
+@pytest.mark.parametrize("redraw", ["reset", "episode"])
+def test_a_world_starting_a_new_episode_keeps_its_island_unless_told_otherwise(redraw):
+    compiled = hivex_dsl.compile({"hivex": 1, "environment": "aerial_wildfire_suppression",
+                                  "params": {"redraw_island": redraw}})
+    sim = AerialWildfireSimulator(compiled)
+    rng = np.random.default_rng(5)
+    state = sim.reset(rng, 2)
+    before_height, before_trees = state.maps.height.copy(), state.fire.trees.copy()
+    for _ in range(12):  # let the fire spread so world 0 has burnt and burning trees to clear
+        state, _ = sim.step(state, act_batch(2, 3), rng)
+    assert (state.fire.trees[0] != before_trees[0]).any()
+    other = state.fire.trees[1].copy()
+    new = sim.reset_where(state, np.array([True, False]), rng)
+    kept = np.array_equal(new.maps.height[0], before_height[0])
+    assert kept == (redraw == "reset")
+    assert np.array_equal(new.maps.height[1], before_height[1]) and np.array_equal(new.fire.trees[1], other)
+    fresh = new.fire.trees[0]
+    assert not np.isin(fresh, [TreeState.BURNT, TreeState.WET]).any()
+    assert np.array_equal(fresh != TreeState.NONE, new.maps.exists[0]) and (fresh == TreeState.BURNING).sum() > 15
+
+
+def act_batch(batch, agents):
+    return {"continuous": np.zeros((batch, agents, 1), np.float32), "discrete": np.zeros((batch, agents, 1), np.int64)}

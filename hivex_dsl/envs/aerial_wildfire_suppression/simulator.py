@@ -14,7 +14,7 @@ from ...runtime import StepOutcome
 from .camera import cameras, pixel_offsets
 from .params import CAMERA_PIXELS, AerialWildfireParams
 from .types import AerialWildfireState, IslandMaps, Sighting
-from ..island import SEA, build_island, grid_lookup, sample_conditions, stack_islands
+from ..island import SEA, draw_island, grid_lookup, ignite_worlds, sample_conditions
 
 PICKUP_EVENT = "picked_up_water"
 EVENTS = {
@@ -58,9 +58,13 @@ class AerialWildfireSimulator:
 
     # ---- reset -------------------------------------------------------------------------
 
-    def _islands(self, rng: np.random.Generator, conditions: np.ndarray) -> dict[str, np.ndarray]:
-        return stack_islands([build_island(rng, self.terrain_spec, self.forest_spec, self.ignition_spec, c)
-                              for c in conditions])
+    def _islands(self, rng: np.random.Generator, count: int) -> IslandMaps:
+        drawn = [draw_island(rng, self.terrain_spec, self.forest_spec) for _ in range(count)]
+        if not drawn:
+            cells = self.forest_spec.cells
+            return IslandMaps(np.zeros((0, cells, cells), np.float32), np.zeros((0, cells, cells), np.uint8),
+                              np.zeros((0, 2)), np.zeros((0, cells, cells), bool))
+        return IslandMaps(*(np.stack(part) for part in zip(*drawn)))
 
     def _spawn(self, rng: np.random.Generator, count: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Positions (count, A, 2) uniform in the spawn disk clipped to the border, headings, water."""
@@ -73,13 +77,17 @@ class AerialWildfireSimulator:
         return position, heading, np.full(shape, self.spawn_water)
 
     def reset(self, rng: np.random.Generator, batch: int) -> AerialWildfireState:
+        return self._fresh(rng, batch, None)
+
+    def _fresh(self, rng: np.random.Generator, batch: int, maps: IslandMaps | None) -> AerialWildfireState:
+        """``batch`` new episodes: on new islands, or on the given ``maps`` (kept islands) when not None."""
         p = self.params
         wind = wind_reset(rng, batch, self.wind_spec)
         weather = weather_reset(rng, batch, self.weather_spec)
         conditions = sample_conditions(weather, self.weather_spec, p.island_half_extent_m, p.weather_grid_cells)
-        isles = self._islands(rng, conditions)
-        maps = IslandMaps(height=isles["height"], ground=isles["ground"], village=isles["village"])
-        fire = fire_reset(isles["exists"], isles["ignite"])
+        maps = self._islands(rng, batch) if maps is None else maps
+        ignite = ignite_worlds(maps.exists, maps.village, conditions, self.forest_spec, self.ignition_spec)
+        fire = fire_reset(maps.exists, ignite)
         position, heading, water = self._spawn(rng, batch)
         shape, no = (batch, self.agents), np.zeros((batch, self.agents), bool)
         state = AerialWildfireState(
@@ -94,14 +102,19 @@ class AerialWildfireSimulator:
         return replace(state, sighting=self._sight(state))
 
     def reset_where(self, state: AerialWildfireState, mask: np.ndarray, rng: np.random.Generator) -> AerialWildfireState:
+        """New episodes in the worlds where ``mask`` (B,) is true; they keep their islands unless
+        params.redraw_island is "episode"."""
         count = int(np.count_nonzero(mask))
         if count == 0:
             return state
-        fresh = self.reset(rng, count)
+        kept = None if self.params.redraw_island == "episode" else IslandMaps(
+            *(getattr(state.maps, f.name)[mask] for f in fields(IslandMaps)))
+        fresh = self._fresh(rng, count, kept)
         trees = fresh.fire.trees
         fire = fire_reset_where(state.fire, mask, trees != TreeState.NONE, trees == TreeState.BURNING)
         merged = {name: _put(getattr(state, name), mask, getattr(fresh, name)) for name in _PER_WORLD}
-        maps = IslandMaps(*(_put(getattr(state.maps, n), mask, getattr(fresh.maps, n)) for n in ("height", "ground", "village")))
+        maps = state.maps if kept is not None else IslandMaps(
+            *(_put(getattr(state.maps, f.name), mask, getattr(fresh.maps, f.name)) for f in fields(IslandMaps)))
         wind = replace(state.wind, **{f.name: _put(getattr(state.wind, f.name), mask, getattr(fresh.wind, f.name))
                                       for f in fields(state.wind)})
         weather = replace(state.weather, offsets=_put(state.weather.offsets, mask, fresh.weather.offsets),

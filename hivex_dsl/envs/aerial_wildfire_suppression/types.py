@@ -18,11 +18,13 @@ class IslandMaps:
     height: (B, C, C) float32 terrain height at cell centres (uphill spread).
     ground: (B, C, C) uint8 palette index of the ground without trees (camera and render).
     village: (B, 2) float64 village centre in metres.
+    exists: (B, C, C) bool where a tree grows at the start of an episode.
     """
 
     height: np.ndarray
     ground: np.ndarray
     village: np.ndarray
+    exists: np.ndarray
 
 
 @dataclass(frozen=True)
