@@ -8,13 +8,17 @@ grid so the simulators work on arrays.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, fields, replace
+from typing import Any, Callable
 
 import numpy as np
 
 from ..procgen.forest import ForestSpec, IgnitionSpec, cell_centre_xy, ignition_mask, load_forest_preset, place_forest
 from ..procgen.terrain import TerrainSpec, generate_terrain, terrain_spec_for_level
 from ..procgen.weather import WeatherSpec, WeatherState, load_weather_preset, weather_at
+from ..fire import FireState, TreeState, fire_reset, fire_reset_where
+from ..procgen.weather import weather_reset
+from ..procgen.wind import WindSpec, WindState, wind_reset
 from ..registry import GeneratorSlot
 
 # Ground palette indices (uint8); tree states are drawn over them (see palette.py).
@@ -59,6 +63,116 @@ class Island:
     village: np.ndarray
     exists: np.ndarray
     ignite: np.ndarray
+
+
+@dataclass(frozen=True)
+class IslandMaps:
+    """What a world's generators drew, on the forest grid (C x C cells, row = y, col = x).
+
+    height: (B, C, C) float32 terrain height at cell centres (uphill spread).
+    ground: (B, C, C) uint8 palette index of the ground without trees (camera and render).
+    village: (B, 2) float64 village centre in metres.
+    exists: (B, C, C) bool where a tree grows at the start of an episode.
+    """
+
+    height: np.ndarray
+    ground: np.ndarray
+    village: np.ndarray
+    exists: np.ndarray
+
+
+@dataclass(frozen=True)
+class IslandStart:
+    """The island part of new episodes: maps, fire, wind, weather and the weather grid (B, G, G, 3)."""
+
+    maps: IslandMaps
+    fire: FireState
+    wind: WindState
+    weather: WeatherState
+    conditions: np.ndarray
+
+
+@dataclass(frozen=True)
+class IslandSpecs:
+    """The generator specs of one compiled scenario and the island's size."""
+
+    terrain: TerrainSpec
+    forest: ForestSpec
+    ignition: IgnitionSpec
+    weather: WeatherSpec
+    wind: WindSpec
+    half_extent_m: float
+    weather_cells: int
+
+    @classmethod
+    def of(cls, compiled) -> "IslandSpecs":
+        gens, p = compiled.generators, compiled.params
+        return cls(gens["terrain"], gens["forest"], gens["ignition"], gens["weather"], p.wind_spec(),
+                   p.island_half_extent_m, p.weather_grid_cells)
+
+
+def draw_maps(rng: np.random.Generator, count: int, specs: IslandSpecs) -> IslandMaps:
+    """``count`` new islands (the generators run once per world: resets only)."""
+    cells = specs.forest.cells
+    drawn = [draw_island(rng, specs.terrain, specs.forest) for _ in range(count)]
+    if not drawn:
+        return IslandMaps(np.zeros((0, cells, cells), np.float32), np.zeros((0, cells, cells), np.uint8),
+                          np.zeros((0, 2)), np.zeros((0, cells, cells), bool))
+    return IslandMaps(*(np.stack(part) for part in zip(*drawn)))
+
+
+def start_islands(rng: np.random.Generator, count: int, specs: IslandSpecs, maps: IslandMaps | None) -> IslandStart:
+    """New episodes for ``count`` worlds: wind, weather, then new islands (or the kept ``maps``), then the fire."""
+    wind = wind_reset(rng, count, specs.wind)
+    weather = weather_reset(rng, count, specs.weather)
+    conditions = sample_conditions(weather, specs.weather, specs.half_extent_m, specs.weather_cells)
+    maps = draw_maps(rng, count, specs) if maps is None else maps
+    ignite = ignite_worlds(maps.exists, maps.village, conditions, specs.forest, specs.ignition)
+    return IslandStart(maps, fire_reset(maps.exists, ignite), wind, weather, conditions)
+
+
+def kept_maps(maps: IslandMaps, mask: np.ndarray, redraw: str) -> IslandMaps | None:
+    """The islands of the masked worlds when they are kept for a new episode (redraw_island 'reset'), else None."""
+    if redraw == "episode":
+        return None
+    return IslandMaps(*(getattr(maps, f.name)[mask] for f in fields(IslandMaps)))
+
+
+def put_worlds(old: np.ndarray, mask: np.ndarray, fresh: np.ndarray, axis: int = 0) -> np.ndarray:
+    """``old`` with the worlds where ``mask`` is true (along ``axis``) replaced by ``fresh``."""
+    out = old.copy()
+    out[(slice(None),) * axis + (mask,)] = fresh
+    return out
+
+
+def put_dataclass(old: Any, mask: np.ndarray, fresh: Any) -> Any:
+    """A dataclass of world-first arrays with the masked worlds taken from ``fresh``."""
+    return replace(old, **{f.name: put_worlds(getattr(old, f.name), mask, getattr(fresh, f.name)) for f in fields(old)})
+
+
+def restart_islands(state: Any, mask: np.ndarray, fresh: Any, kept: IslandMaps | None) -> dict[str, Any]:
+    """maps, fire, wind, weather and conditions of ``state`` with the masked worlds from ``fresh``.
+
+    The fire's tree grid is updated in place (see hivex_dsl.fire), so ``state`` is used up.
+    """
+    trees = fresh.fire.trees
+    fire = fire_reset_where(state.fire, mask, trees != TreeState.NONE, trees == TreeState.BURNING)
+    weather = replace(state.weather, offsets=put_worlds(state.weather.offsets, mask, fresh.weather.offsets),
+                      perm=put_worlds(state.weather.perm, mask, fresh.weather.perm, axis=1),
+                      grads=put_worlds(state.weather.grads, mask, fresh.weather.grads, axis=1))
+    return {"maps": state.maps if kept is not None else put_dataclass(state.maps, mask, fresh.maps), "fire": fire,
+            "wind": put_dataclass(state.wind, mask, fresh.wind), "weather": weather,
+            "conditions": put_worlds(state.conditions, mask, fresh.conditions)}
+
+
+def conditions_reader(conditions: np.ndarray, lookup: np.ndarray) -> Callable:
+    """The fire engine's weather callback: the nearest weather-grid cell of each forest cell."""
+
+    def read(world: np.ndarray, rows: np.ndarray, cols: np.ndarray):
+        values = conditions[world, lookup[rows], lookup[cols]]
+        return values[:, 0], values[:, 1], values[:, 2]
+
+    return read
 
 
 def weather_grid_points(half_extent_m: float, cells: int) -> np.ndarray:

@@ -2,19 +2,20 @@
 
 from __future__ import annotations
 
-from dataclasses import fields, replace
+from dataclasses import replace
 
 import numpy as np
 from gymnasium import spaces
 
-from ...fire import TreeState, burning_count, closest_burning, douse, fire_reset, fire_reset_where, fire_step
-from ...procgen.weather import weather_reset, weather_step
-from ...procgen.wind import wind_reset, wind_step, wrap_angle
+from ...fire import burning_count, closest_burning, douse, fire_step
+from ...procgen.weather import weather_step
+from ...procgen.wind import wind_step, wrap_angle
 from ...runtime import StepOutcome
 from .camera import cameras, pixel_offsets
 from .params import CAMERA_PIXELS, AerialWildfireParams
-from .types import AerialWildfireState, IslandMaps, Sighting
-from ..island import SEA, draw_island, grid_lookup, ignite_worlds, sample_conditions
+from .types import AerialWildfireState, Sighting
+from ..island import (SEA, IslandMaps, IslandSpecs, conditions_reader, grid_lookup, kept_maps, put_worlds,
+                      restart_islands, sample_conditions, start_islands)
 
 PICKUP_EVENT = "picked_up_water"
 EVENTS = {
@@ -38,10 +39,8 @@ class AerialWildfireSimulator:
         p: AerialWildfireParams = compiled.params
         self.params = p
         self.agents = compiled.agents
-        gens = compiled.generators
-        self.terrain_spec, self.forest_spec = gens["terrain"], gens["forest"]
-        self.ignition_spec, self.weather_spec = gens["ignition"], gens["weather"]
-        self.wind_spec = p.wind_spec()
+        self.island = IslandSpecs.of(compiled)
+        self.forest_spec, self.weather_spec, self.wind_spec = self.island.forest, self.island.weather, self.island.wind
         self.observation_space = spaces.Dict({
             "vector": spaces.Box(-1.0, 1.0, (8,), np.float32),
             "visual": spaces.Box(0.0, 1.0, (CAMERA_PIXELS, CAMERA_PIXELS, 3), np.float32)})
@@ -58,14 +57,6 @@ class AerialWildfireSimulator:
 
     # ---- reset -------------------------------------------------------------------------
 
-    def _islands(self, rng: np.random.Generator, count: int) -> IslandMaps:
-        drawn = [draw_island(rng, self.terrain_spec, self.forest_spec) for _ in range(count)]
-        if not drawn:
-            cells = self.forest_spec.cells
-            return IslandMaps(np.zeros((0, cells, cells), np.float32), np.zeros((0, cells, cells), np.uint8),
-                              np.zeros((0, 2)), np.zeros((0, cells, cells), bool))
-        return IslandMaps(*(np.stack(part) for part in zip(*drawn)))
-
     def _spawn(self, rng: np.random.Generator, count: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Positions (count, A, 2) uniform in the spawn disk clipped to the border, headings, water."""
         p, shape = self.params, (count, self.agents)
@@ -81,24 +72,19 @@ class AerialWildfireSimulator:
 
     def _fresh(self, rng: np.random.Generator, batch: int, maps: IslandMaps | None) -> AerialWildfireState:
         """``batch`` new episodes: on new islands, or on the given ``maps`` (kept islands) when not None."""
-        p = self.params
-        wind = wind_reset(rng, batch, self.wind_spec)
-        weather = weather_reset(rng, batch, self.weather_spec)
-        conditions = sample_conditions(weather, self.weather_spec, p.island_half_extent_m, p.weather_grid_cells)
-        maps = self._islands(rng, batch) if maps is None else maps
-        ignite = ignite_worlds(maps.exists, maps.village, conditions, self.forest_spec, self.ignition_spec)
-        fire = fire_reset(maps.exists, ignite)
+        island = start_islands(rng, batch, self.island, maps)
         position, heading, water = self._spawn(rng, batch)
         shape, no = (batch, self.agents), np.zeros((batch, self.agents), bool)
         state = AerialWildfireState(
-            maps=maps, fire=fire, wind=wind, weather=weather, conditions=conditions, tick=0,
+            maps=island.maps, fire=island.fire, wind=island.wind, weather=island.weather,
+            conditions=island.conditions, tick=0,
             position=position, heading=heading, water=water, flying=np.ones(shape, bool),
             sighting=Sighting(no, np.zeros(shape + (2,)), np.zeros(batch, bool)),
             seen_fire=no, seen_village=no, village_hit=np.zeros(batch, bool),
             crossed=no, picked_up=no, dropped=no, found_fire=no, found_village=no,
             extinguished=np.zeros(shape, np.int32), prepared=np.zeros(shape, np.int32),
             fire_went_out=np.zeros(batch, bool), village_threatened=np.zeros(batch, bool),
-            burning=burning_count(fire) > 0)
+            burning=burning_count(island.fire) > 0)
         return replace(state, sighting=self._sight(state))
 
     def reset_where(self, state: AerialWildfireState, mask: np.ndarray, rng: np.random.Generator) -> AerialWildfireState:
@@ -107,20 +93,10 @@ class AerialWildfireSimulator:
         count = int(np.count_nonzero(mask))
         if count == 0:
             return state
-        kept = None if self.params.redraw_island == "episode" else IslandMaps(
-            *(getattr(state.maps, f.name)[mask] for f in fields(IslandMaps)))
+        kept = kept_maps(state.maps, mask, self.params.redraw_island)
         fresh = self._fresh(rng, count, kept)
-        trees = fresh.fire.trees
-        fire = fire_reset_where(state.fire, mask, trees != TreeState.NONE, trees == TreeState.BURNING)
-        merged = {name: _put(getattr(state, name), mask, getattr(fresh, name)) for name in _PER_WORLD}
-        maps = state.maps if kept is not None else IslandMaps(
-            *(_put(getattr(state.maps, f.name), mask, getattr(fresh.maps, f.name)) for f in fields(IslandMaps)))
-        wind = replace(state.wind, **{f.name: _put(getattr(state.wind, f.name), mask, getattr(fresh.wind, f.name))
-                                      for f in fields(state.wind)})
-        weather = replace(state.weather, offsets=_put(state.weather.offsets, mask, fresh.weather.offsets),
-                          perm=_put(state.weather.perm, mask, fresh.weather.perm, axis=1),
-                          grads=_put(state.weather.grads, mask, fresh.weather.grads, axis=1))
-        new = replace(state, maps=maps, fire=fire, wind=wind, weather=weather, **merged)
+        merged = {name: put_worlds(getattr(state, name), mask, getattr(fresh, name)) for name in _PER_WORLD}
+        new = replace(state, **restart_islands(state, mask, fresh, kept), **merged)
         return replace(new, sighting=self._sight(new))
 
     # ---- step --------------------------------------------------------------------------
@@ -148,7 +124,7 @@ class AerialWildfireSimulator:
         conditions = state.conditions
         if tick % p.fire_step_interval == 0:
             conditions = sample_conditions(weather, self.weather_spec, p.island_half_extent_m, p.weather_grid_cells)
-            fire = fire_step(fire, rng, p, wind.main, state.maps.height, self._conditions_reader(conditions))
+            fire = fire_step(fire, rng, p, wind.main, state.maps.height, conditions_reader(conditions, self.weather_lookup))
         new = replace(state, fire=fire, wind=wind, weather=weather, conditions=conditions, tick=tick,
                       position=position, heading=heading, water=water, flying=flying, crossed=crossed,
                       picked_up=picked, dropped=dropping, extinguished=extinguished, prepared=prepared)
@@ -184,15 +160,6 @@ class AerialWildfireSimulator:
         """Fractional (row, col) forest-cell coordinates of points (..., 2) metres."""
         half = self.params.island_half_extent_m
         return (points[..., 1] + half) / self.cell_m - 0.5, (points[..., 0] + half) / self.cell_m - 0.5
-
-    def _conditions_reader(self, conditions: np.ndarray):
-        lookup = self.weather_lookup
-
-        def read(world: np.ndarray, rows: np.ndarray, cols: np.ndarray):
-            values = conditions[world, lookup[rows], lookup[cols]]
-            return values[:, 0], values[:, 1], values[:, 2]
-
-        return read
 
     def _sight(self, state: AerialWildfireState) -> Sighting:
         """Closest burning tree in each plane's view square, and fire near each village, in one query."""
@@ -257,11 +224,4 @@ class AerialWildfireSimulator:
 # Per-world arrays of the state (world axis first) that a partial reset replaces.
 _PER_WORLD = ("position", "heading", "water", "flying", "seen_fire", "seen_village", "village_hit", "crossed",
               "picked_up", "dropped", "found_fire", "found_village", "extinguished", "prepared", "fire_went_out",
-              "village_threatened", "burning", "conditions")
-
-
-def _put(old: np.ndarray, mask: np.ndarray, fresh: np.ndarray, axis: int = 0) -> np.ndarray:
-    """``old`` with the worlds where ``mask`` is true (along ``axis``) replaced by ``fresh``."""
-    out = old.copy()
-    out[(slice(None),) * axis + (mask,)] = fresh
-    return out
+              "village_threatened", "burning")

@@ -7,24 +7,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...fire import FireState
+from ..island import IslandMaps
 from ...procgen.weather import WeatherState
 from ...procgen.wind import WindState
-
-
-@dataclass(frozen=True)
-class IslandMaps:
-    """What a world's generators drew, on the forest grid (C x C cells, row = y, col = x).
-
-    height: (B, C, C) float32 terrain height at cell centres (uphill spread).
-    ground: (B, C, C) uint8 palette index of the ground without trees (camera and render).
-    village: (B, 2) float64 village centre in metres.
-    exists: (B, C, C) bool where a tree grows at the start of an episode.
-    """
-
-    height: np.ndarray
-    ground: np.ndarray
-    village: np.ndarray
-    exists: np.ndarray
 
 
 @dataclass(frozen=True)
