@@ -41,6 +41,8 @@ class Simulator(Protocol):
     def step(self, state: Any, actions: Any, rng: np.random.Generator) -> tuple[Any, StepOutcome]: ...
     def observe(self, state: Any) -> Any: ...
     def render(self, state: Any, index: int) -> np.ndarray: ...
+    # Optional: ``step_info(state) -> {name: (batch, agents) array}``, extra per-agent facts of the
+    # last step that the adapters put in infos under "env" (e.g. WRM's impossible resource moves).
 
 
 class SeedSchedule:
@@ -73,6 +75,7 @@ class Transition:
     truncated: np.ndarray
     terms: dict[str, np.ndarray]
     ended: np.ndarray
+    env_info: dict[str, np.ndarray]
 
 
 class BatchedEnv:
@@ -149,7 +152,9 @@ class BatchedEnv:
             self.term_sums[name] += value
         ended = terminated | truncated
         self.alive = live & ~ended
-        return Transition(self.sim.observe(self.state), rewards, terminated, truncated, terms, ended)
+        step_info = getattr(self.sim, "step_info", None)
+        env_info = step_info(self.state) if step_info is not None else {}
+        return Transition(self.sim.observe(self.state), rewards, terminated, truncated, terms, ended, env_info)
 
     def episode_summary(self, world: int, agent: int) -> dict[str, Any]:
         """Return, length and per-term sums of one agent's current (or just ended) episode."""

@@ -92,6 +92,8 @@ class HivexVectorEnv(VectorEnv):
         ended = result.ended & ~self._pending_reset[:, None]
         core = self.core
         infos: dict[str, Any] = {"reward_terms": {k: v.reshape(-1) for k, v in result.terms.items()}}
+        if result.env_info:
+            infos["env"] = {k: np.asarray(v).reshape(-1) for k, v in result.env_info.items()}
         if ended.any():
             infos["episode"] = {
                 "return": np.where(ended, core.returns, 0.0).reshape(-1),

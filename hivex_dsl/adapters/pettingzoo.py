@@ -22,7 +22,7 @@ class HivexParallelEnv(ParallelEnv):
     """One world of a compiled scenario behind PettingZoo's parallel API.
 
     ``infos[agent]["reward_terms"]`` holds the unweighted value of every active reward term this
-    step; when an agent's episode ends, ``infos[agent]["episode"]`` holds its return, length and
+    step, ``infos[agent]["env"]`` the environment's own facts of the step (if it reports any); when an agent's episode ends, ``infos[agent]["episode"]`` holds its return, length and
     per-term sums. A reset without a seed follows the scenario's seeds for ``split``.
     """
 
@@ -69,6 +69,8 @@ class HivexParallelEnv(ParallelEnv):
             terminations[agent] = bool(result.terminated[0, i])
             truncations[agent] = bool(result.truncated[0, i])
             infos[agent] = {"reward_terms": {k: float(v[0, i]) for k, v in result.terms.items()}}
+            if result.env_info:
+                infos[agent]["env"] = {k: v[0, i].item() for k, v in result.env_info.items()}
             if result.ended[0, i]:
                 infos[agent]["episode"] = self.core.episode_summary(0, i)
         self.agents = [a for a in live if not result.ended[0, self._index[a]]]
