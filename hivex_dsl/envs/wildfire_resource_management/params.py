@@ -1,0 +1,60 @@
+"""Physical constants of Wildfire Resource Management; every one bounded, documented and overridable.
+
+[paper] values come from the paper, [orig] from the original release (ENVIRONMENTS.md), [ours]
+are this project's defaults where neither says. The wind fields come from the shared wind model,
+the fire fields from the shared fire engine (hivex_dsl.fire), exactly as in Aerial Wildfire
+Suppression; terrain, forest, ignition and weather are the island's generators (a scenario
+overrides them under `generators:`).
+"""
+
+from __future__ import annotations
+
+from typing import Literal
+
+from pydantic import Field, model_validator
+
+from ...fire import FireSpec
+from ...procgen.wind import WindParams
+
+
+class WildfireResourceParams(WindParams, FireSpec):
+    island_half_extent_m: float = Field(600.0, ge=50.0, le=10_000.0, description=(
+        "[paper] Half the side of the island square (1200 x 1200), shared with Aerial Wildfire Suppression. "
+        "Must equal the forest generator's half extent."))
+    tower_spacing_m: float = Field(450.0, gt=0.0, le=10_000.0, description=(
+        "[orig] The nine watchtowers stand on a 3 x 3 grid at -s, 0, +s metres in x and y (inferred from the "
+        "original's shared sample points); must lie inside the island."))
+    detection_radius_m: float = Field(600.0, gt=0.0, le=10_000.0, description=(
+        "[paper] A tower observes the closest burning tree within this horizontal distance."))
+    distance_threshold_m: float = Field(200.0, gt=0.0, le=10_000.0, description=(
+        "[paper] d_thresh: the fire distance is normalised by it (and clipped to [0, 1]) in the tower performance."))
+    power_law_s: float = Field(270.0, ge=1.0, le=100_000.0, description=(
+        "[paper] s of the broken power law P = (1 + (d' * 1000 / s)^a)^(-1/2)."))
+    power_law_a: float = Field(5.0, ge=0.5, le=20.0, description=(
+        "[paper] a of the broken power law P = (1 + (d' * 1000 / s)^a)^(-1/2)."))
+    idle_performance: float = Field(0.0, ge=0.0, le=1.0, description=(
+        "[ours] Performance P of a tower that sees no burning tree within the detection radius (the paper "
+        "defines P only for an observed fire)."))
+    initial_self_tenths: int = Field(0, ge=0, le=10, description=(
+        "[ours] Tenths of its 1.0 that each tower has allocated to itself at reset; the rest starts unallocated."))
+    redraw_island: Literal["reset", "episode"] = Field("reset", description=(
+        "[ours] When a world draws a new island (terrain, village, forest), as in Aerial Wildfire Suppression: "
+        "'reset' on every reset of the environment and kept across the episodes a world starts by itself; "
+        "'episode' for every episode. Fire, weather and wind are new every episode either way; an island costs "
+        "about 60 ms to draw, a new fire on a kept one a few ms."))
+    fire_step_interval: int = Field(1, ge=1, le=1_000, description=(
+        "[ours] Environment steps per fire step. With 1, a free-burning fire mostly goes out after 150-350 steps, "
+        "matching the original's logged mean episode lengths of 140-275 [orig]; towers cannot fight the fire."))
+    weather_grid_cells: int = Field(16, ge=2, le=128, description=(
+        "[ours] The smooth weather fields are sampled on this many cells per side of the island for the fire "
+        "(nearest cell), as in Aerial Wildfire Suppression; a cell is 75 m."))
+    weather_refresh_interval: int = Field(10, ge=1, le=1_000, description=(
+        "[ours] Steps between re-samplings of the weather grid and of the weather at the towers; the fields drift "
+        "about 1 m per step over fronts hundreds of metres across, so a sample stays current that long."))
+
+    @model_validator(mode="after")
+    def _towers_on_island(self) -> "WildfireResourceParams":
+        if self.tower_spacing_m >= self.island_half_extent_m:
+            raise ValueError(f"tower_spacing_m ({self.tower_spacing_m:g}) must be smaller than island_half_extent_m "
+                             f"({self.island_half_extent_m:g}): the outer towers stand on the island")
+        return self

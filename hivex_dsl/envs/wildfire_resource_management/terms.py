@@ -1,0 +1,77 @@
+"""The three reward terms of Wildfire Resource Management, as the paper's appendix equations.
+
+Appendix "Reward Description and Calculation: Wildfire Resource Management": each tower's
+performance P comes from the distance d1 to the closest observed fire and whether it approaches
+(m = d1 < d0), through a broken power law; the terms weight and sum the performances.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ...reward.terms import TermRegistry
+from .resources import NEIGHBOURS, NEIGHBOURS_PER_TOWER, TENTHS
+
+TERMS = TermRegistry("wildfire_resource_management")
+POWER_LAW_SCALE = 1000.0  # the paper's d' * 1000 / s
+POWER_LAW_EXPONENT = -0.5  # the paper's (...)^(-1/2)
+
+
+def remapped_distance(distance: np.ndarray, approaching: np.ndarray, threshold_m: float) -> np.ndarray:
+    """The paper's d1n': 0.5 - 0.5 d1n if m else 0.5 + 0.5 d1n, with d1n = d1 / d_thresh clipped to [0, 1].
+
+    Unclipped, a fire approaching from beyond d_thresh (towers see 3 d_thresh = 600 m) would give a
+    negative base for the power law; clipped, d1n' lies in [0, 1] and P in (0, 1].
+    """
+    normalised = np.clip(distance / threshold_m, 0.0, 1.0)
+    return np.where(approaching, 0.5 - 0.5 * normalised, 0.5 + 0.5 * normalised)
+
+
+def broken_power_law(remapped: np.ndarray, s: float, a: float) -> np.ndarray:
+    """The paper's d1n'' = P = (1 + (d1n' * 1000 / s)^a)^(-1/2), for d1n' >= 0."""
+    return (1.0 + (remapped * (POWER_LAW_SCALE / s)) ** a) ** POWER_LAW_EXPONENT
+
+
+def tower_performance(state, params) -> np.ndarray:
+    """(B, A) P of every tower; ``idle_performance`` where no burning tree is within the detection radius."""
+    sighting = state.sighting
+    seen = sighting.seen
+    distance = np.where(seen, sighting.distance, 0.0)
+    p = broken_power_law(remapped_distance(distance, sighting.approaching, params.distance_threshold_m),
+                         params.power_law_s, params.power_law_a)
+    return np.where(seen, p, params.idle_performance)
+
+
+@TERMS.term(
+    "watch_tower_performance", title="Watch Tower Performance", paper_row=1, low=0.0, high=1.0, sign="bonus",
+    timing="dense", scope="agent",
+    description="The own tower's performance P, weighted by the square of the resource the agent keeps for itself.",
+    equation=("R = P * r_supporting * r_supporting,  r_supporting = own allocation to itself in [0, 1];  "
+              "P = (1 + (d' * 1000 / s)^a)^(-1/2),  d' = 0.5 - 0.5 d1n if m else 0.5 + 0.5 d1n,  "
+              "d1n = min(1, d1 / d_thresh),  m = d1 < d0  (d_thresh = 200, s = 270, a = 5)"),
+)
+def watch_tower_performance(prev, state, actions, params):
+    own = state.allocation[..., 0] / TENTHS
+    return tower_performance(state, params) * own * own
+
+
+@TERMS.term(
+    "neighbour_performance", title="Neighbourhood Performance", paper_row=2, low=0.0,
+    high=float(NEIGHBOURS_PER_TOWER), sign="bonus", timing="dense", scope="team",
+    description="The sum of the performances P of the tower's three neighbouring towers.",
+    equation="R_neighbourhood = sum_{i=1..n} p_i over the n = 3 neighbouring towers",
+)
+def neighbour_performance(prev, state, actions, params):
+    return tower_performance(state, params)[:, NEIGHBOURS].sum(axis=-1)
+
+
+@TERMS.term(
+    "collective_performance", title="Collective Performance", paper_row=3, low=0.0, high=1.0, sign="bonus",
+    timing="dense", scope="global",
+    description="One minus how far the root mean square of all nine towers' performances is from 1.",
+    equation="R_collective = 1 - |1 - sqrt(MSE)|,  MSE = (1/n) sum_{i=1..n} p_i^2 over all n = 9 towers",
+)
+def collective_performance(prev, state, actions, params):
+    p = tower_performance(state, params)
+    value = 1.0 - np.abs(1.0 - np.sqrt(np.mean(p * p, axis=-1)))
+    return np.broadcast_to(value[:, None], p.shape).copy()

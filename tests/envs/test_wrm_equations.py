@@ -1,0 +1,136 @@
+"""Wildfire Resource Management: the paper's power law and reward equations on hand-built states,
+and the reward table's task order."""
+
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+from hypothesis import given, settings, strategies as st
+
+import hivex_dsl
+from hivex_dsl.envs.wildfire_resource_management.params import WildfireResourceParams
+from hivex_dsl.envs.wildfire_resource_management.terms import (
+    broken_power_law, collective_performance, neighbour_performance, remapped_distance, watch_tower_performance)
+from hivex_dsl.envs.wildfire_resource_management.types import Sighting
+
+PARAMS = WildfireResourceParams()
+
+# P = (1 + (d' * 1000 / 270)^5)^(-1/2) with d' = 0.5 -/+ 0.5 min(1, d / 200) (approaching / not), by hand:
+#   d = 0:              d' = 0.5,  (1.851852)^5 = 21.778662  -> 22.778662^-0.5 = 0.2095250
+#   d = 100, approach:  d' = 0.25, (0.925926)^5 = 0.680583   -> 1.680583^-0.5  = 0.7713829
+#   d = 100, not:       d' = 0.75, (2.777778)^5 = 165.38104  -> 166.38104^-0.5 = 0.0775260
+#   d = 200+, approach: d' = 0,                                 P = 1
+#   d = 600, not:       d' = 1,    (3.703704)^5 = 696.91722  -> 697.91722^-0.5 = 0.0378528
+HAND = [(0.0, True, 0.2095250), (0.0, False, 0.2095250), (100.0, True, 0.7713829), (100.0, False, 0.0775260),
+        (200.0, True, 1.0), (450.0, True, 1.0), (600.0, False, 0.0378528)]
+
+
+@pytest.mark.parametrize("distance, approaching, expected", HAND)
+def test_power_law_matches_hand_computed_values(distance, approaching, expected):
+    remapped = remapped_distance(np.array([distance]), np.array([approaching]), 200.0)
+    assert broken_power_law(remapped, 270.0, 5.0)[0] == pytest.approx(expected, abs=5e-7)
+
+
+def test_performance_falls_with_distance_for_a_receding_fire_and_rises_for_an_approaching_one():
+    distance = np.linspace(0.0, 200.0, 21)
+    near_to_far = broken_power_law(remapped_distance(distance, np.zeros(21, bool), 200.0), 270.0, 5.0)
+    approaching = broken_power_law(remapped_distance(distance, np.ones(21, bool), 200.0), 270.0, 5.0)
+    assert np.all(np.diff(near_to_far) < 0) and np.all(np.diff(approaching) > 0)
+    assert np.all((approaching > 0) & (approaching <= 1)) and np.all(near_to_far > 0)
+
+
+def hand_state(keep_centre: int = 5):
+    """One world: tower 4 sees a fire 100 m away that approaches, tower 1 one 100 m away that does not,
+    no other tower sees fire (P = idle = 0). The centre keeps ``keep_centre`` tenths for itself."""
+    distance = np.full((1, 9), np.inf)
+    distance[0, 4] = distance[0, 1] = 100.0
+    approaching = np.zeros((1, 9), bool)
+    approaching[0, 4] = True
+    sighting = Sighting(row=np.zeros((1, 9), np.int64), col=np.zeros((1, 9), np.int64),
+                        offset=np.zeros((1, 9, 3)), distance=distance, approaching=approaching)
+    allocation = np.zeros((1, 9, 4), np.int16)
+    allocation[0, 4, 0] = keep_centre
+    allocation[0, 1, 0] = 10
+    return SimpleNamespace(sighting=sighting, allocation=allocation)
+
+
+P_CENTRE, P_SOUTH = 0.7713829, 0.0775260  # towers 4 and 1 above
+
+
+def test_watch_tower_performance_is_p_times_own_share_squared():
+    value = watch_tower_performance(None, hand_state(keep_centre=5), None, PARAMS)[0]
+    assert value[4] == pytest.approx(P_CENTRE * 0.5 * 0.5, abs=1e-6)
+    assert value[1] == pytest.approx(P_SOUTH * 1.0 * 1.0, abs=1e-6)
+    assert np.all(value[[0, 2, 3, 5, 6, 7, 8]] == 0.0)
+
+
+def test_neighbour_performance_sums_the_three_neighbours():
+    value = neighbour_performance(None, hand_state(), None, PARAMS)[0]
+    # tower 0's neighbours 1, 3, 4; tower 4's are 1, 3, 5; tower 7's 4, 6, 8; tower 8's 5, 7, 4; tower 5's 2, 4, 8
+    assert value[0] == pytest.approx(P_SOUTH + P_CENTRE, abs=1e-6)
+    assert value[4] == pytest.approx(P_SOUTH, abs=1e-6)
+    assert value[7] == pytest.approx(P_CENTRE, abs=1e-6) and value[8] == pytest.approx(P_CENTRE, abs=1e-6)
+    assert value[1] == pytest.approx(P_CENTRE, abs=1e-6)  # tower 1's neighbours 0, 2, 4
+    assert value[6] == pytest.approx(P_CENTRE, abs=1e-6)  # tower 6's neighbours 3, 7, 4
+
+
+def test_collective_performance_is_the_root_mean_square_of_all_nine():
+    value = collective_performance(None, hand_state(), None, PARAMS)[0]
+    expected = np.sqrt((P_CENTRE ** 2 + P_SOUTH ** 2) / 9.0)  # 0.2584230, below 1 so 1 - |1 - x| = x
+    assert value == pytest.approx(np.full(9, expected), abs=1e-6)
+    assert expected == pytest.approx(0.2584230, abs=1e-6)
+
+
+def test_idle_performance_applies_to_towers_without_fire():
+    idle = PARAMS.model_copy(update={"idle_performance": 0.5})
+    value = collective_performance(None, hand_state(), None, idle)[0, 0]
+    assert value == pytest.approx(np.sqrt((P_CENTRE ** 2 + P_SOUTH ** 2 + 7 * 0.25) / 9.0), abs=1e-6)
+
+
+def compile_task(task):
+    return hivex_dsl.compile({"hivex": 1, "environment": "wildfire_resource_management", "task": task})
+
+
+def test_tasks_follow_the_papers_table_and_the_leaderboard_and_work_by_name():
+    """Paper table columns: 1. main, 2. keep all (own x10), 3. distribute all (neighbours x10)."""
+    expected = {"main": (0, [1, 1, 1]), "keep_all": (1, [10, 1, 1]), "distribute_all": (2, [1, 10, 1])}
+    for name, (index, weights) in expected.items():
+        by_name, by_index = compile_task(name), compile_task(index)
+        assert by_name.task_index == by_index.task_index == index and by_index.task_name == name
+        assert list(by_name.weights.values()) == weights
+        assert by_name.ends_on == ("fire_out",)
+
+
+def test_the_task_order_discrepancy_is_stated_in_the_notes():
+    entry = compile_task("main").entry
+    for notes in (entry.notes, entry.reward_table.notes):
+        text = " ".join(notes)
+        assert "Distribute All: 1" in text and "keep_all" in text and "distribute_all" in text
+    assert any("tower 4 (x 0, y 0): 1, 3, 5" in note for note in entry.notes)
+
+
+def test_bundled_scenarios_cover_the_three_tasks_and_the_paper_grid():
+    for name in ("main", "keep_all", "distribute_all"):
+        compiled = hivex_dsl.compile(f"wildfire_resource_management/{name}")
+        assert compiled.task_name == name and compiled.agents == 9 and compiled.episode_length == 500
+    suite = hivex_dsl.compile_all("wildfire_resource_management/paper_suite")
+    grid = [(level, task) for level in range(1, 11) for task in range(3)]
+    assert sorted((c.level, c.task_index) for c in suite) == grid
+
+
+@settings(max_examples=8, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), steps=st.integers(1, 80))
+def test_terms_keep_their_contracts_on_random_rollouts(seed, steps):
+    """The generic contract test draws 1 or 3 agents, which WRM (exactly 9 towers) cannot compile."""
+    compiled = compile_task("main")
+    sim = compiled.entry.make_simulator(compiled)
+    rng = np.random.default_rng(seed)
+    state = sim.reset(rng, 3)
+    for _ in range(steps):
+        prev, (state, _) = state, sim.step(state, rng.integers(0, 3, (3, 9, 4)), rng)
+    for term in compiled.entry.terms:
+        value = term(prev, state, None, compiled.params)
+        assert value.shape == (3, 9) and np.all(np.isfinite(value)), term.name
+        assert np.all((value >= term.contract.low) & (value <= term.contract.high)), term.name
