@@ -58,3 +58,16 @@ def test_compile_reports_the_same_first_problem(path: Path):
     text = f"{first.location.line}:{first.location.col}: {first.message}"
     if text != expected:
         assert "use compile_all()" in first.message
+
+
+def test_an_environment_of_the_catalogue_without_a_simulator_is_named_as_not_available(monkeypatch):
+    from hivex_dsl import registry
+
+    registry.environments()
+    monkeypatch.delitem(registry._REGISTRY, "ocean_plastic_collection")
+    with pytest.raises(ScenarioError) as caught:
+        hivex_dsl.compile({"hivex": 1, "environment": "ocean_plastic_collection"})
+    assert caught.value.problems[0].message == (
+        "environment: environment 'ocean_plastic_collection' is part of HIVEX but not available in this version yet; "
+        "available: wind_farm_control, wildfire_resource_management, drone_based_reforestation, "
+        "aerial_wildfire_suppression")

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from hypothesis import given, settings, strategies as st
+from hypothesis import assume, given, settings, strategies as st
 
 import hivex_dsl
 from hivex_dsl.policies import random_policy
@@ -35,6 +35,8 @@ def rollout_pairs(env_id: str, seed: int, steps: int, agents: int | None):
 @given(seed=st.integers(0, 2**32 - 1), steps=st.integers(1, 60), agents=st.sampled_from([None, 1, 3]))
 def test_terms_are_finite_in_range_shaped_and_deterministic(env_id, seed, steps, agents):
     """One rollout per example serves every term of the environment (resets dominate the cost)."""
+    info = environments()[env_id].info
+    assume(agents is None or info.min_agents <= agents <= info.max_agents)
     prev, state, actions, params, count = rollout_pairs(env_id, seed, steps, agents)
     for term in environments()[env_id].terms:
         value = np.asarray(term(prev, state, actions, params))
