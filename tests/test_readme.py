@@ -15,12 +15,22 @@ def blocks(language: str) -> list[str]:
 
 
 def test_the_language_example_compiles(tmp_path):
-    (example,) = blocks("yaml")
+    example, _ = blocks("yaml")
     path = tmp_path / "example.yaml"
     path.write_text(example)
     compiled = hivex_dsl.compile_all(path)
     assert [sc.agents for sc in compiled] == [1, 2, 4, 8, 12, 16]
     assert compiled[0].weights == {"generate_energy": 0.25, "avoid_damage": 1.0}
+
+
+def test_the_generators_example_changes_only_what_it_writes():
+    _, example = blocks("yaml")
+    compiled = hivex_dsl.compile(hivex_dsl.loader.load_text(example, "README.md").data)
+    plain = hivex_dsl.compile({"hivex": 1, "environment": "aerial_wildfire_suppression", "terrain_level": 7})
+    assert compiled.generators["forest"].ideal_height_m == 80.0
+    assert compiled.generators["weather"].humidity_mean == 0.3
+    assert compiled.generators["terrain"] == plain.generators["terrain"]
+    assert compiled.generators["forest"].model_copy(update={"ideal_height_m": 55.0}) == plain.generators["forest"]
 
 
 def test_the_python_example_runs(monkeypatch):

@@ -165,6 +165,22 @@ def restart_islands(state: Any, mask: np.ndarray, fresh: Any, kept: IslandMaps |
             "conditions": put_worlds(state.conditions, mask, fresh.conditions)}
 
 
+def restart_where(state: Any, mask: np.ndarray, rng: np.random.Generator, redraw: str,
+                  fresh_episodes: Callable[[np.random.Generator, int, IslandMaps | None], Any],
+                  per_world: tuple[str, ...]) -> tuple[Any, dict[str, Any]]:
+    """New episodes in the worlds where ``mask`` (B,) is true, for a simulator whose state has the
+    island fields (maps, fire, wind, weather, conditions) and the world-first arrays ``per_world``.
+
+    ``fresh_episodes(rng, count, kept_maps_or_None)`` builds the new worlds' state. Returns that
+    fresh state and the field values for ``dataclasses.replace(state, **changes)``.
+    """
+    kept = kept_maps(state.maps, mask, redraw)
+    fresh = fresh_episodes(rng, int(np.count_nonzero(mask)), kept)
+    changes = restart_islands(state, mask, fresh, kept)
+    changes.update({name: put_worlds(getattr(state, name), mask, getattr(fresh, name)) for name in per_world})
+    return fresh, changes
+
+
 def conditions_reader(conditions: np.ndarray, lookup: np.ndarray) -> Callable:
     """The fire engine's weather callback: the nearest weather-grid cell of each forest cell."""
 

@@ -14,8 +14,8 @@ from ...runtime import StepOutcome
 from .camera import cameras, pixel_offsets
 from .params import CAMERA_PIXELS, AerialWildfireParams
 from .types import AerialWildfireState, Sighting
-from ..island import (SEA, IslandMaps, IslandSpecs, conditions_reader, grid_lookup, kept_maps, put_worlds,
-                      restart_islands, sample_conditions, start_islands)
+from ..island import (SEA, IslandMaps, IslandSpecs, conditions_reader, grid_lookup, restart_where, sample_conditions,
+                      start_islands)
 
 PICKUP_EVENT = "picked_up_water"
 EVENTS = {
@@ -90,13 +90,10 @@ class AerialWildfireSimulator:
     def reset_where(self, state: AerialWildfireState, mask: np.ndarray, rng: np.random.Generator) -> AerialWildfireState:
         """New episodes in the worlds where ``mask`` (B,) is true; they keep their islands unless
         params.redraw_island is "episode"."""
-        count = int(np.count_nonzero(mask))
-        if count == 0:
+        if not mask.any():
             return state
-        kept = kept_maps(state.maps, mask, self.params.redraw_island)
-        fresh = self._fresh(rng, count, kept)
-        merged = {name: put_worlds(getattr(state, name), mask, getattr(fresh, name)) for name in _PER_WORLD}
-        new = replace(state, **restart_islands(state, mask, fresh, kept), **merged)
+        _, changes = restart_where(state, mask, rng, self.params.redraw_island, self._fresh, _PER_WORLD)
+        new = replace(state, **changes)
         return replace(new, sighting=self._sight(new))
 
     # ---- step --------------------------------------------------------------------------

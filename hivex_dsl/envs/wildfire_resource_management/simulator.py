@@ -16,8 +16,8 @@ from ...fire import TreeState, closest_burning, fire_step
 from ...procgen.weather import weather_at, weather_step
 from ...procgen.wind import wind_step
 from ...runtime import StepOutcome
-from ..island import (IslandMaps, IslandSpecs, conditions_reader, grid_lookup, kept_maps, put_dataclass, put_worlds,
-                      restart_islands, sample_conditions, start_islands)
+from ..island import (IslandMaps, IslandSpecs, conditions_reader, grid_lookup, put_dataclass, restart_where,
+                      sample_conditions, start_islands)
 from .params import WildfireResourceParams
 from .resources import (MAX_SUPPORT_TENTHS, TARGETS_PER_AGENT, TENTHS, TOWERS, apply_actions, grid_offsets,
                         initial_resources, total_support)
@@ -88,14 +88,10 @@ class WildfireResourceSimulator:
                     ) -> WildfireResourceState:
         """New episodes in the worlds where ``mask`` (B,) is true; they keep their islands unless
         params.redraw_island is "episode"."""
-        count = int(np.count_nonzero(mask))
-        if count == 0:
+        if not mask.any():
             return state
-        kept = kept_maps(state.maps, mask, self.params.redraw_island)
-        fresh = self._fresh(rng, count, kept)
-        merged = {name: put_worlds(getattr(state, name), mask, getattr(fresh, name)) for name in _PER_WORLD}
-        return replace(state, **restart_islands(state, mask, fresh, kept),
-                       sighting=put_dataclass(state.sighting, mask, fresh.sighting), **merged)
+        fresh, changes = restart_where(state, mask, rng, self.params.redraw_island, self._fresh, _PER_WORLD)
+        return replace(state, sighting=put_dataclass(state.sighting, mask, fresh.sighting), **changes)
 
     # ---- step --------------------------------------------------------------------------
 
