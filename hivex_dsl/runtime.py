@@ -138,8 +138,9 @@ class BatchedEnv:
         self.state, outcome = self.sim.step(prev, actions, self.rng)
         rewards, terms = self.composer(prev, self.state, actions, self.compiled.params, self.shape)
         live = self.alive
-        rewards = np.where(live, rewards, 0.0)
-        terms = {name: np.where(live, value, 0.0) for name, value in terms.items()}
+        if not live.all():  # ended agents earn nothing (skipped while everyone plays: most steps)
+            rewards = np.where(live, rewards, 0.0)
+            terms = {name: np.where(live, value, 0.0) for name, value in terms.items()}
         self.clock += 1
         self.lengths += live
         ending = outcome.terminated.copy()

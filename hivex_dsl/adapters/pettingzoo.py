@@ -62,18 +62,24 @@ class HivexParallelEnv(ParallelEnv):
         full = check_actions(space, full, self.possible_agents, self.core.sim.action_meanings)
         result = self.core.step(full)
         obs, rewards, terminations, truncations, infos = {}, {}, {}, {}, {}
+        # one tolist() per array instead of a NumPy scalar per agent: this loop runs every step
+        reward_list, terminated, truncated = (result.rewards[0].tolist(), result.terminated[0].tolist(),
+                                              result.truncated[0].tolist())
+        ended = result.ended[0].tolist()
+        term_lists = {k: v[0].tolist() for k, v in result.terms.items()}
+        env_lists = {k: np.asarray(v[0]).tolist() for k, v in result.env_info.items()}
         for agent in live:
             i = self._index[agent]
             obs[agent] = _unbatch(result.observations, 0, i)
-            rewards[agent] = float(result.rewards[0, i])
-            terminations[agent] = bool(result.terminated[0, i])
-            truncations[agent] = bool(result.truncated[0, i])
-            infos[agent] = {"reward_terms": {k: float(v[0, i]) for k, v in result.terms.items()}}
-            if result.env_info:
-                infos[agent]["env"] = {k: v[0, i].item() for k, v in result.env_info.items()}
-            if result.ended[0, i]:
+            rewards[agent] = reward_list[i]
+            terminations[agent] = terminated[i]
+            truncations[agent] = truncated[i]
+            infos[agent] = {"reward_terms": {k: values[i] for k, values in term_lists.items()}}
+            if env_lists:
+                infos[agent]["env"] = {k: values[i] for k, values in env_lists.items()}
+            if ended[i]:
                 infos[agent]["episode"] = self.core.episode_summary(0, i)
-        self.agents = [a for a in live if not result.ended[0, self._index[a]]]
+        self.agents = [a for a in live if not ended[self._index[a]]]
         return obs, rewards, terminations, truncations, infos
 
     def _fill_inactive(self, batched: Any, live: list[str]) -> Any:
