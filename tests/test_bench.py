@@ -62,6 +62,6 @@ def test_the_performance_page_shows_a_report(tmp_path):
     path.write_text(json.dumps(report))
     docs = render_docs(path)
     page = docs["performance.md"]
-    assert "| `wind_farm_control` | parallel | 1 | 8 | 12,346 | 98,765 | 55 | 3.5 | missed: 20000 env-steps/s |" in page
+    assert "| `wind_farm_control` | parallel | 1 | 8 | 12,346 | 98,765 | 55 | 3.5 | missed: 20,000 env-steps/s |" in page
     assert "[Performance](performance.md)" in docs["index.md"]
     assert "performance.md" not in render_docs(None)

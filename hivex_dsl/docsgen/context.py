@@ -213,7 +213,7 @@ def performance_context(results: Path) -> dict[str, Any]:
         goal = ""
         if "target_rate" in r:
             unit = "env-steps/s" if r["adapter"] == "parallel" else "agent-steps/s"
-            goal = f"{'met' if r['meets_target'] else 'missed'}: {num(r['target_rate'])} {unit}"
+            goal = f"{'met' if r['meets_target'] else 'missed'}: {r['target_rate']:,} {unit}"
         rows.append({"target": r["target"], "adapter": r["adapter"], "batch": r["batch"], "agents": r["agents"],
                      "env_rate": f"{r['env_steps_per_s']:,.0f}", "agent_rate": f"{r['agent_steps_per_s']:,.0f}",
                      "memory": f"{r['peak_memory_mb']:,.0f}", "ratio": "" if ratio is None else f"{ratio:.1f}",
