@@ -106,9 +106,19 @@ class BatchedEnv:
         return (self.batch, self.agents)
 
     def reset(self, seed: Optional[int] = None) -> Any:
-        """Reset every world; returns batched observations."""
+        """Start a new episode in every world; returns batched observations.
+
+        A seed starting a stream (the first reset, an explicit ``seed``, each seed of a list) builds
+        the worlds from scratch; a reset that continues an integer stream starts the new episodes
+        with ``reset_where`` like the worlds of the vector env do, so what a simulator keeps between
+        episodes of a stream (e.g. an island) is the same whichever adapter runs it.
+        """
+        continues = seed is None and self.state is not None and not isinstance(self.schedule.seeds, tuple)
         self.rng = self.schedule.next_rng(seed)
-        self.state = self.sim.reset(self.rng, self.batch)
+        if continues:
+            self.state = self.sim.reset_where(self.state, np.ones(self.batch, bool), self.rng)
+        else:
+            self.state = self.sim.reset(self.rng, self.batch)
         self._clear(np.ones(self.batch, bool))
         return self.sim.observe(self.state)
 

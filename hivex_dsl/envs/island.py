@@ -132,7 +132,7 @@ def start_islands(rng: np.random.Generator, count: int, specs: IslandSpecs, maps
 
 
 def kept_maps(maps: IslandMaps, mask: np.ndarray, redraw: str) -> IslandMaps | None:
-    """The islands of the masked worlds when they are kept for a new episode (redraw_island 'reset'), else None."""
+    """The islands of the masked worlds when they are kept for a new episode (redraw_island 'seed'), else None."""
     if redraw == "episode":
         return None
     return IslandMaps(*(getattr(maps, f.name)[mask] for f in fields(IslandMaps)))

@@ -217,7 +217,7 @@ def test_worlds_that_cannot_work_are_compile_errors(override, message):
     assert any(p.message.startswith(message) for p in info.value.problems), info.value.problems
 
 
-@pytest.mark.parametrize("redraw", ["reset", "episode"])
+@pytest.mark.parametrize("redraw", ["seed", "episode"])
 def test_a_world_starting_a_new_episode_keeps_its_island_unless_told_otherwise(redraw):
     compiled = hivex_dsl.compile({"hivex": 1, "environment": "aerial_wildfire_suppression",
                                   "params": {"redraw_island": redraw}})
@@ -231,7 +231,7 @@ def test_a_world_starting_a_new_episode_keeps_its_island_unless_told_otherwise(r
     other = state.fire.trees[1].copy()
     new = sim.reset_where(state, np.array([True, False]), rng)
     kept = np.array_equal(new.maps.height[0], before_height[0])
-    assert kept == (redraw == "reset")
+    assert kept == (redraw == "seed")
     assert np.array_equal(new.maps.height[1], before_height[1]) and np.array_equal(new.fire.trees[1], other)
     fresh = new.fire.trees[0]
     assert not np.isin(fresh, [TreeState.BURNT, TreeState.WET]).any()
@@ -240,3 +240,17 @@ def test_a_world_starting_a_new_episode_keeps_its_island_unless_told_otherwise(r
 
 def act_batch(batch, agents):
     return {"continuous": np.zeros((batch, agents, 1), np.float32), "discrete": np.zeros((batch, agents, 1), np.int64)}
+
+
+def test_the_parallel_env_keeps_the_island_while_episodes_continue_a_seed_stream():
+    env = hivex_dsl.parallel_env({"hivex": 1, "environment": "aerial_wildfire_suppression", "episode_length": 3})
+    env.reset(seed=1)
+    first = env.core.state.maps.height.copy()
+    env.reset()  # continues the stream: same island, a new fire
+    assert np.array_equal(env.core.state.maps.height, first)
+    env.reset(seed=2)  # a new seed starts a new stream: a new island
+    assert not np.array_equal(env.core.state.maps.height, first)
+    listed = hivex_dsl.parallel_env({"hivex": 1, "environment": "aerial_wildfire_suppression",
+                                     "seeds": {"train": [1, 2], "test": 3}})
+    listed.reset()
+    assert np.array_equal(listed.core.state.maps.height, first)  # the list's first seed is seed 1

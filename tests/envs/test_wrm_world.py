@@ -132,7 +132,7 @@ def test_a_free_burning_fire_ends_most_episodes_before_500_steps():
     assert (out_at > 0).sum() >= 3 and np.median(out_at[out_at > 0]) >= 100
 
 
-@pytest.mark.parametrize("redraw", ["reset", "episode"])
+@pytest.mark.parametrize("redraw", ["seed", "episode"])
 def test_a_partial_reset_starts_a_new_episode_in_the_masked_world_only(redraw):
     sim = simulator(redraw_island=redraw)
     rng = np.random.default_rng(8)
@@ -144,7 +144,7 @@ def test_a_partial_reset_starts_a_new_episode_in_the_masked_world_only(redraw):
     assert np.all(state.allocation[0] == 0) and np.all(state.budget[0] == 10) and np.all(state.frame[0, :, 8:] == 0)
     np.testing.assert_array_equal(state.allocation[1], allocation[1])
     np.testing.assert_array_equal(state.maps.height[1], height[1])
-    assert np.array_equal(state.maps.height[0], height[0]) == (redraw == "reset")
+    assert np.array_equal(state.maps.height[0], height[0]) == (redraw == "seed")
     assert not np.any(state.fire.trees[0] == TreeState.BURNT)  # a new fire on a whole forest
     for _ in range(20):  # the incremental sighting stays exact across the reset
         state, _ = sim.step(state, np.zeros((2, 9, 4), np.int64), rng)

@@ -37,9 +37,9 @@ class WildfireResourceParams(WindParams, FireSpec):
         "defines P only for an observed fire)."))
     initial_self_tenths: int = Field(0, ge=0, le=10, description=(
         "[ours] Tenths of its 1.0 that each tower has allocated to itself at reset; the rest starts unallocated."))
-    redraw_island: Literal["reset", "episode"] = Field("reset", description=(
+    redraw_island: Literal["seed", "episode"] = Field("seed", description=(
         "[ours] When a world draws a new island (terrain, village, forest), as in Aerial Wildfire Suppression: "
-        "'reset' on every reset of the environment and kept across the episodes a world starts by itself; "
+        "'seed' whenever a seed starts a stream, kept for the episodes that continue it; "
         "'episode' for every episode. Fire, weather and wind are new every episode either way; an island costs "
         "about 60 ms to draw, a new fire on a kept one a few ms."))
     fire_step_interval: int = Field(1, ge=1, le=1_000, description=(
