@@ -58,15 +58,16 @@ def _peak_memory_mb() -> float:
 def _timed(step, reset, seconds: float) -> tuple[int, float]:
     """(steps, elapsed seconds) of stepping for about ``seconds`` after one untimed warm-up step.
 
-    ``step`` returns False when the episode is over; the reset that follows is timed too.
+    ``reset(seed)`` is called once with seed 0 (untimed), then with None whenever ``step`` returns
+    False (the episode is over): those resets continue the seed stream, as in training, and are timed.
     """
-    reset()
+    reset(0)
     step()
     steps, start = 0, time.perf_counter()
     while time.perf_counter() - start < seconds:
         for _ in range(64):
             if not step():
-                reset()
+                reset(None)
             steps += 1
     return steps, time.perf_counter() - start
 
@@ -95,7 +96,7 @@ def measure_parallel(env_id: str, seconds: float) -> Measurement:
         env.step(next_actions())
         return bool(env.agents)
 
-    steps, elapsed = _timed(step, lambda: env.reset(seed=0), seconds)
+    steps, elapsed = _timed(step, lambda seed: env.reset(seed=seed), seconds)
     rate = steps / elapsed
     return Measurement(env_id, "parallel", 1, len(names), rate, rate * len(names), _peak_memory_mb())
 
@@ -113,7 +114,7 @@ def measure_vector(env_id: str, seconds: float, batch: int) -> Measurement:
         env.step(draw(None))
         return True
 
-    steps, elapsed = _timed(step, lambda: env.reset(seed=0), seconds)
+    steps, elapsed = _timed(step, lambda seed: env.reset(seed=seed), seconds)
     rate = steps / elapsed
     agents = compiled.agents
     return Measurement(env_id, "vector", batch, agents, rate, rate * batch * agents, _peak_memory_mb())
@@ -136,7 +137,7 @@ def measure_reference(seconds: float) -> Measurement:
         env.step({a: int(block["actions"][t, i]) for i, a in enumerate(names) if a in env.agents})
         return bool(env.agents)
 
-    steps, elapsed = _timed(step, lambda: env.reset(seed=0), seconds)
+    steps, elapsed = _timed(step, lambda seed: env.reset(seed=seed), seconds)
     rate = steps / elapsed
     return Measurement(REFERENCE, "parallel", 1, len(names), rate, rate * len(names), _peak_memory_mb())
 
