@@ -63,3 +63,9 @@ def test_bad_slot_action_names_agent_and_world():
         venv.step(actions)
     with pytest.raises(ValueError, match="expected \\(6,\\) slots"):
         venv.step(np.zeros(5, np.int64))
+
+
+def test_per_episode_seed_lists_are_refused_with_the_reason():
+    with pytest.raises(ValueError, match="per-episode list \\[7, 8\\].*use parallel_env"):
+        hivex_dsl.vector_env(SCENARIO | {"seeds": {"train": [7, 8], "test": 9}}, num_envs=2)
+    hivex_dsl.vector_env(SCENARIO | {"seeds": {"train": [7, 8], "test": 9}}, num_envs=2, split="test")

@@ -42,6 +42,12 @@ class HivexVectorEnv(VectorEnv):
                  split: Split = "train"):
         if render_mode not in (None, "rgb_array"):
             raise ValueError(f"render_mode must be None or 'rgb_array', got {render_mode!r}")
+        seeds = getattr(compiled.seeds, split, None)
+        if isinstance(seeds, tuple):
+            raise ValueError(
+                f"the scenario's {split} seeds are a per-episode list {list(seeds)[:5]}: the vector env's worlds start "
+                "their episodes on their own and continue one random stream, so they cannot play the listed seeds in "
+                "turn; use parallel_env for per-episode seeds, or give this split one integer seed")
         self.compiled = compiled
         self.core = BatchedEnv(compiled, batch=num_worlds, split=split)
         self.num_worlds = num_worlds

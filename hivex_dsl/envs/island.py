@@ -51,6 +51,24 @@ def island_problems(compiled, island_half_extent_m: float) -> list[tuple[tuple, 
     if terrain.extent_m / 2.0 < forest.half_extent_m:
         problems.append((("generators", "terrain", "extent_m"), f"{terrain.extent_m:g} m does not cover the forest "
                          f"(+/-{forest.half_extent_m:g} m)"))
+    return problems + ignition_problems(compiled)
+
+
+def ignition_problems(compiled) -> list[tuple[tuple, str]]:
+    """Ignition settings under which no world could ever start a fire as specified."""
+    forest, ignition, terrain = (compiled.generators[k] for k in ("forest", "ignition", "terrain"))
+    problems = []
+    # the farthest a candidate cell can be from the village: opposite corners of the village range and the grid
+    farthest = np.sqrt(2.0) * (forest.half_extent_m + min(terrain.village_half_range_m, forest.half_extent_m))
+    if ignition.min_village_distance_m >= farthest:
+        problems.append((("generators", "ignition", "min_village_distance_m"),
+                         f"{ignition.min_village_distance_m:g} m leaves no candidate cell: no cell of the forest lies "
+                         f"farther than {farthest:.0f} m from any village position"))
+    candidates = len(range(0, forest.cells, ignition.candidate_stride)) ** 2
+    if ignition.min_burning >= candidates * ignition.block ** 2:
+        problems.append((("generators", "ignition", "min_burning"),
+                         f"{ignition.min_burning} trees can never burn at the start: {candidates} candidate blocks of "
+                         f"{ignition.block}x{ignition.block} cells hold at most {candidates * ignition.block ** 2}"))
     return problems
 
 

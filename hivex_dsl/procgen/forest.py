@@ -277,23 +277,34 @@ def ignition_mask(exists: np.ndarray, forest_spec: ForestSpec, spec: IgnitionSpe
 
     For a forest kept between episodes as its ``exists`` (cells, cells) bool grid: the same
     choice as select_ignition on the Forest it came from (tree ids are row-major cell order).
+    Where select_ignition would raise (no candidate, or too few trees in all candidate blocks),
+    this lights every tree the candidate blocks hold, possibly none: a simulator's world then
+    starts without fire instead of failing at reset.
     """
     cells = np.flatnonzero(exists)
     grid = np.full(exists.size, -1, np.int64)
     grid[cells] = np.arange(len(cells))
-    ids = _ignite(grid.reshape(exists.shape), forest_spec, spec, village_xy, temperature, humidity, overcast)
+    ids = _ignite(grid.reshape(exists.shape), forest_spec, spec, village_xy, temperature, humidity, overcast,
+                  lenient=True)
     mask = np.zeros(exists.size, bool)
     mask[cells[ids]] = True
     return mask.reshape(exists.shape)
 
 
 def _ignite(grid: np.ndarray, forest_spec: ForestSpec, spec: IgnitionSpec, village_xy: np.ndarray,
-            temperature: np.ndarray, humidity: np.ndarray, overcast: np.ndarray) -> np.ndarray:
-    ranked = _rank_cells(forest_spec, spec, village_xy, temperature, humidity, overcast)
+            temperature: np.ndarray, humidity: np.ndarray, overcast: np.ndarray, lenient: bool = False) -> np.ndarray:
+    try:
+        ranked = _rank_cells(forest_spec, spec, village_xy, temperature, humidity, overcast)
+    except ValueError:
+        if lenient:
+            return np.zeros(0, np.int64)
+        raise
     ids = block_ids(grid, ranked, spec.block // 2)
     total = np.cumsum(np.count_nonzero(ids >= 0, axis=1))
     taken = int(np.searchsorted(total, spec.min_burning, side="right")) + 1
-    if taken > len(ranked):
+    if taken > len(ranked) and lenient:
+        taken = len(ranked)
+    elif taken > len(ranked):
         raise ValueError(f"cannot ignite more than {spec.min_burning} trees: the {len(ranked)} candidate blocks "
                          f"far enough from the village hold only {int(total[-1])} trees")
     chosen = ids[:taken]

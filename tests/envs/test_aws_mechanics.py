@@ -254,3 +254,42 @@ def test_the_parallel_env_keeps_the_island_while_episodes_continue_a_seed_stream
                                      "seeds": {"train": [1, 2], "test": 3}})
     listed.reset()
     assert np.array_equal(listed.core.state.maps.height, first)  # the list's first seed is seed 1
+
+
+def test_a_plane_whose_task_ended_stops_flying_and_changing_the_world():
+    compiled = hivex_dsl.compile({"hivex": 1, "environment": "aerial_wildfire_suppression", "task": "drop_water",
+                                  "agents": 2})
+    sim = AerialWildfireSimulator(compiled)
+    _, state = world((sim, sim.reset(np.random.default_rng(0), 1)),
+                     [(0.0, 0.0, 0.0), (300.0, 300.0, 0.0)], [(15.0, 0.0, TreeState.EXISTING)])
+    state = replace(state, water=np.array([[True, True]]))
+    new, outcome = sim.step(state, act([0, 0], [1, 0]), np.random.default_rng(1))
+    assert outcome.events["dropped_water"][0].tolist() == [True, False]
+    assert new.flying[0].tolist() == [False, True]
+    later, _ = sim.step(new, act([1, 1], [1, 1]), np.random.default_rng(2))
+    assert np.array_equal(later.position[0, 0], new.position[0, 0])  # frozen, no second drop
+    assert later.dropped[0].tolist() == [False, True]
+
+
+@pytest.mark.parametrize("generators, message", [
+    ({"ignition": {"min_village_distance_m": 2000.0}},
+     "generators.ignition.min_village_distance_m: 2000 m leaves no candidate cell"),
+    ({"ignition": {"min_burning": 100000}}, "generators.ignition.min_burning: 100000 trees can never burn"),
+])
+def test_ignition_that_can_never_work_is_a_compile_error(generators, message):
+    from hivex_dsl.errors import ScenarioError
+
+    with pytest.raises(ScenarioError) as info:
+        hivex_dsl.compile({"hivex": 1, "environment": "aerial_wildfire_suppression", "generators": generators})
+    assert any(p.message.startswith(message) for p in info.value.problems), info.value.problems
+
+
+def test_a_forest_too_sparse_to_light_as_asked_starts_with_what_it_has():
+    # trees only on a thin band of heights: the candidate blocks may hold fewer than min_burning trees, or none
+    compiled = hivex_dsl.compile({"hivex": 1, "environment": "aerial_wildfire_suppression",
+                                  "generators": {"forest": {"min_height_m": 90.0, "ideal_height_m": 95.0},
+                                                 "ignition": {"min_burning": 5000}}})
+    state = AerialWildfireSimulator(compiled).reset(np.random.default_rng(1), 2)
+    burning = (state.fire.trees == TreeState.BURNING).sum(axis=(1, 2))
+    assert (burning <= 5000).all()
+    assert np.array_equal(state.fire.trees != TreeState.NONE, state.maps.exists)

@@ -42,6 +42,11 @@ ENTRY = register(EnvironmentEntry(
         "plane without water is inside the border and outside the island, which is when it refills (ENVIRONMENTS.md).",
         "Find Fire, Find Village and Too Close to Village pay once per episode (the first time), Fire Out once when "
         "the fire goes out; a task that ends on the event ends the plane's episode on that step.",
+        "Find Fire pays when a burning tree is inside the plane's +/-150 m view square (the observation's square, "
+        "ENVIRONMENTS.md), where the paper's equation writes a distance under 150 m.",
+        "The paper's main text also mentions a time-step penalty of -1/MaxStep and +100 for reaching the water; "
+        "neither is in its reward table, which wins (ENVIRONMENTS.md), so the terms are the table's rows (+1 for a "
+        "pick-up, x100 only in the pick-up-water task).",
         "The closest burning tree is observed in absolute coordinates scaled like the plane's position (/750 m); "
         "(0, 0) with flag 0 when none burns within +/-150 m.",
         "Fire spread, water drops and the fire view use forest cell centres; the +/-1.5 m jitter of a tree inside "

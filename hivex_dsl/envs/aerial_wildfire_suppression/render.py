@@ -15,7 +15,7 @@ SIZE_PX = 500
 def draw_island(state: AerialWildfireState, index: int, params: AerialWildfireParams) -> np.ndarray:
     """(SIZE_PX, SIZE_PX, 3) uint8 of world ``index``: ground shaded by height, trees (green existing,
     orange burning, dark burnt, blue wet), the water ring, the village ring, and each plane as a
-    disk (white with water, grey without, red once crashed) with a heading pointer."""
+    disk (white with water, grey without, red once out of the game: crossed the border or finished its task) with a heading pointer."""
     half = params.border_half_extent_m
     canvas = Canvas(SIZE_PX, half, background=(0, 0, 0))
     x, y = canvas.pixel_centres()

@@ -18,6 +18,8 @@ from ..island import (SEA, IslandMaps, IslandSpecs, conditions_reader, grid_look
                       start_islands)
 
 PICKUP_EVENT = "picked_up_water"
+# Events of one plane; a task that ends on one of them takes that plane out of the game (see _sense).
+PLANE_EVENTS = (PICKUP_EVENT, "dropped_water", "found_fire", "found_village")
 EVENTS = {
     PICKUP_EVENT: "a plane without water entered the water ring and filled up",
     "dropped_water": "a plane dropped its water over land",
@@ -47,6 +49,7 @@ class AerialWildfireSimulator:
         self.action_space = spaces.Dict({
             "continuous": spaces.Box(-1.0, 1.0, (1,), np.float32),
             "discrete": spaces.MultiDiscrete([2])})
+        self.plane_endings = tuple(e for e in compiled.ends_on if e in PLANE_EVENTS)
         mode = p.spawn_holding_water
         self.spawn_water = mode == "always" or (mode == "auto" and PICKUP_EVENT not in compiled.ends_on)
         self.camera_offsets = pixel_offsets(CAMERA_PIXELS, p.camera_pixel_m)
@@ -192,6 +195,9 @@ class AerialWildfireSimulator:
         events = {PICKUP_EVENT: new.picked_up, "dropped_water": new.dropped, "found_fire": found_fire,
                   "found_village": found_village,
                   "fire_out": np.broadcast_to(went_out[:, None], new.flying.shape).copy()}
+        if self.plane_endings:  # a plane whose episode ends on its own event stops flying, dropping and refilling
+            finished = np.logical_or.reduce([events[e] for e in self.plane_endings])
+            new = replace(new, flying=new.flying & ~finished)
         return new, StepOutcome(terminated=new.crossed.copy(), events=events)
 
     # ---- observation and picture --------------------------------------------------------

@@ -39,8 +39,8 @@ ENTRY = register(EnvironmentEntry(
         "three neighbours, so the parts always sum to 1.0 and none is negative or above 1.0. The four action "
         "branches apply in order (self, neighbour 1, 2, 3): add moves 0.1 from the budget to the target, subtract "
         "moves 0.1 of the agent's own allocation to that target back to the budget; an add without budget or a "
-        "subtract from an empty allocation does nothing and is counted (state.impossible this step, "
-        "state.impossible_total this episode). At reset the whole 1.0 is unallocated (initial_self_tenths 0, ours).",
+        "subtract from an empty allocation does nothing and is counted in infos['env'] (impossible_actions this "
+        "step, impossible_actions_episode so far). At reset the whole 1.0 is unallocated (initial_self_tenths 0, ours).",
         "Observation (16) = 2 stacks (newest first; the older starts as zeros) of: the closest burning tree's "
         "offset from the tower x, y, z / detection_radius_m (z = its ground height minus the tower's; (0, 0, 0) "
         "when none is within 600 m), temperature, humidity and overcast at the tower (re-sampled every "
@@ -55,7 +55,9 @@ ENTRY = register(EnvironmentEntry(
         "(0, ours).",
         "The equations are implemented as printed: Watch Tower Performance is P r_s r_s (r_distributed, the total "
         "support, is named in R(p, r_distributed, r_supporting) but not used), and Neighbourhood Performance is the "
-        "plain sum of the neighbours' P although the prose says it is weighted by the resources given to them. So "
+        "plain sum of the neighbours' P although the prose says it is weighted by the resources given to them; "
+        "Collective Performance is the equation's 1 - |1 - RMS| over the nine towers, where the prose says the sum "
+        "of all towers' performance. So "
         "only the watch-tower term depends on the actions, and keeping everything for the own tower maximises "
         "every task's return.",
         "Fire, terrain, forest, ignition and weather are Aerial Wildfire Suppression's (an island is kept across the "

@@ -208,8 +208,8 @@ class WildfireResourceSimulator:
         return out
 
     def observe(self, state: WildfireResourceState) -> np.ndarray:
-        """(B, A, 16) float32 built in ``step``: 2 stacks (newest first) of the 8 labelled values; read-only."""
-        return state.frame
+        """(B, A, 16) float32 built in ``step``: 2 stacks (newest first) of the 8 labelled values (a copy)."""
+        return state.frame.copy()  # the state keeps its own frame: a caller may edit what it gets
 
     def render(self, state: WildfireResourceState, index: int) -> np.ndarray:
         from .render import draw_towers
