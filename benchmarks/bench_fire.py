@@ -1,4 +1,4 @@
-"""Time the fire engine: ``python benchmarks/bench_fire.py`` (about half a minute).
+"""Time the fire engine: ``python benchmarks/bench_fire.py`` (about a minute).
 
 Plain script, not collected by pytest. Prints the median wall time of each case in milliseconds.
 The engine writes the tree grid in place, so every timed call starts from a fresh copy of a
@@ -52,10 +52,16 @@ def as_state(rng: np.random.Generator, trees: np.ndarray, burn_steps: int) -> Fi
                      quiet=np.zeros(batch, np.int32), out=np.zeros(batch, bool), ignited=zeros, burnt_out=zeros)
 
 
-def ring_fire(rng: np.random.Generator, batch: int, radius: float, width: float, burn_steps: int) -> FireState:
-    """``batch`` worlds whose trees burn in a ring band [radius - width, radius) around a random centre."""
+def ring_fire(rng: np.random.Generator, batch: int, radius: float | np.ndarray, width: float | np.ndarray,
+              burn_steps: int) -> FireState:
+    """``batch`` worlds whose trees burn in a ring band [radius - width, radius) around a random centre.
+
+    radius and width are one number or one per world (B,).
+    """
     trees = forest(rng, batch)
-    centre = rng.uniform(radius + 10, CELLS - radius - 10, (batch, 1, 1, 2))
+    radius = np.broadcast_to(np.asarray(radius, dtype=np.float64), (batch,))[:, None, None]
+    width = np.broadcast_to(np.asarray(width, dtype=np.float64), (batch,))[:, None, None]
+    centre = rng.uniform(radius[..., None] + 10, CELLS - radius[..., None] - 10, (batch, 1, 1, 2))
     grid = np.stack(np.meshgrid(np.arange(CELLS), np.arange(CELLS), indexing="ij"), axis=-1)
     distance = np.sqrt(((grid[None] - centre) ** 2).sum(axis=-1))
     has_tree = trees == TreeState.EXISTING
@@ -118,7 +124,30 @@ def water_cases(rng: np.random.Generator, batch: int, agents: int, runs: int) ->
         cases.append((label, size, runs, median_ms(lambda: fire_copy(base), lambda s: douse(s, *args), runs)))
     one = np.arange(owners) // agents
     near_ms = median_ms(lambda: base, lambda s: closest_burning(s, one, plane[:, 0], plane[:, 1], 50.0), runs)
-    return cases + [("closest_burning (50 cells)", size, runs, near_ms)]
+    return cases + [("closest_burning (50 cells)", f"{size}, ~{int(burning_count(base).mean())} burning/world", runs,
+                     near_ms)]
+
+
+def search_cases(rng: np.random.Generator, runs: int) -> list[tuple[str, str, int, float]]:
+    """closest_burning with 50-cell half boxes on large fronts, as Aerial Wildfire Suppression asks it each step.
+
+    256 worlds whose rings of radius 100-140 cells and width 6-10 cells (2,000 to 5,000 burning trees)
+    span most of the island, queried by 3 planes and the village of each world; and one world with 5,000
+    scattered burning trees and 4 queries.
+    """
+    batch = 256
+    base = ring_fire(rng, batch, rng.uniform(100.0, 140.0, batch), rng.uniform(6.0, 10.0, batch), 10)
+    world = np.concatenate([np.repeat(np.arange(batch), 3), np.arange(batch)])
+    point = rng.uniform(0, CELLS, (len(world), 2))
+    counts = burning_count(base)
+    ring_ms = median_ms(lambda: base, lambda s: closest_burning(s, world, point[:, 0], point[:, 1], 50.0), runs)
+    one = scattered_fire(rng, 1, 5000, 10)
+    few = rng.uniform(0, CELLS, (4, 2))
+    one_ms = median_ms(lambda: one, lambda s: closest_burning(s, np.zeros(4, np.int64), few[:, 0], few[:, 1], 50.0),
+                       10 * runs)
+    return [("closest_burning (50 cells)", f"B={batch} x (3 planes + village), {counts.min()}-{counts.max()} "
+             "burning/world", runs, ring_ms),
+            ("closest_burning (50 cells)", "B=1 x 4 queries, 5000 burning", 10 * runs, one_ms)]
 
 
 def main() -> None:
@@ -129,10 +158,11 @@ def main() -> None:
         step_case(rng, "fire_step (scattered)", scattered_fire(rng, 1, 5000, burn), 30),
         step_case(rng, "fire_step (ring front)", ring_fire(rng, 256, 19.0, 3.0, burn), 15),
         *water_cases(rng, 256, 3, 15),
+        *search_cases(rng, 15),
     ]
-    print(f"{'case':<28} {'size':<30} {'runs':>4} {'median ms':>10}")
+    print(f"{'case':<28} {'size':<52} {'runs':>4} {'median ms':>10}")
     for name, size, runs, ms in rows:
-        print(f"{name:<28} {size:<30} {runs:>4} {ms:>10.3f}")
+        print(f"{name:<28} {size:<52} {runs:>4} {ms:>10.3f}")
 
 
 if __name__ == "__main__":

@@ -1,24 +1,79 @@
-"""The nearest burning tree around query points, by pairing each query with its world's burning list."""
+"""The nearest burning tree around query points.
+
+Each query is paired with candidate burning cells of its world, and the nearest candidate inside its box
+wins. Any candidate set holding every burning cell of the box gives the same answer, so the pairing is
+picked by cost: every burning cell of the query's world when that is little work (no index to build), or
+only the cells of the coarse blocks its box overlaps (:mod:`.blocks`) when fronts are large.
+"""
 
 from __future__ import annotations
 
+from typing import Callable
+
 import numpy as np
 
+from .blocks import block_pairs, block_side
 from .engine import FireState, in_range, split_flat, vector
 
-
-def _by_world(state: FireState) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The burning list grouped by world: (flat (K,) int64, start (B,), count (B,)) of each world's run."""
-    world = state.burning // (state.cells * state.cells)
-    small = np.uint16 if state.batch <= np.iinfo(np.uint16).max + 1 else np.int64  # uint16 sorts by radix
-    flat = state.burning[np.argsort(world.astype(small), kind="stable")]
-    count = np.bincount(world, minlength=state.batch)
-    return flat, np.cumsum(count) - count, count
+SMALL_WORK = 8000  # up to about this many pairs (plus K / 8) the plain pairing beats building the block index
+HUGE = 2.0**40  # beyond this, coordinates lose the precision that the one-cell margin of a span relies on
 
 
-def _segment_min(values: np.ndarray, starts: np.ndarray) -> np.ndarray:
-    """Minimum of each non-empty run ``values[starts[i]:starts[i + 1]]`` (last run to the end)."""
-    return np.minimum.reduceat(values, starts) if len(starts) else values[:0]
+def _world_pairs(flat: np.ndarray, burning_world: np.ndarray, count: np.ndarray, world: np.ndarray,
+                 cells: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, Callable]:
+    """Every query (M,) paired with every burning cell of its world, as :func:`.blocks.block_pairs` returns."""
+    radix = np.uint16 if len(count) <= np.iinfo(np.uint16).max + 1 else np.int64  # uint16 sorts by radix
+    grouped = flat[np.argsort(burning_world.astype(radix), kind="stable")]
+    per_query = count[world]
+    first = np.cumsum(per_query) - per_query
+    pair = np.repeat((np.cumsum(count) - count)[world] - first, per_query)
+    pair += np.arange(len(pair), dtype=pair.dtype)
+    _, row, col = split_flat(grouped[pair].astype(np.int64), cells)
+
+    def cell_of(pairs: np.ndarray) -> np.ndarray:
+        return row[pairs] * cells + col[pairs]
+
+    return np.repeat(np.arange(len(world)), per_query), row.astype(np.float64), col.astype(np.float64), cell_of
+
+
+def _spans(centre: np.ndarray, half: np.ndarray, cells: int) -> tuple[np.ndarray, np.ndarray]:
+    """(first, last) (M,) int64 cells within [0, C) of a span that holds every cell within ``half`` of ``centre``.
+
+    One cell wider on each side than the exact bounds, so the rounding of ``centre -/+ half`` can never
+    leave out a cell that the exact float test of :func:`_nearest` accepts.
+    """
+    huge = (np.abs(centre) > HUGE) | (half > HUGE)
+    with np.errstate(over="ignore"):  # huge spans may overflow to inf here; they take the whole grid
+        first = np.where(huge, 0.0, np.clip(np.floor(centre - half) - 1.0, 0.0, cells - 1.0))
+        last = np.where(huge, cells - 1.0, np.clip(np.floor(centre + half) + 1.0, 0.0, cells - 1.0))
+    return first.astype(np.int64), last.astype(np.int64)
+
+
+def _nearest(query: np.ndarray, row: np.ndarray, col: np.ndarray, cell_of: Callable, rows: np.ndarray,
+             cols: np.ndarray, half: float | np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(found (M,) bool, row * C + col (M,) int64 of the nearest cell) from candidate pairs query, row, col (P,).
+
+    ``half`` is one number or one per query (M,). Pairs outside their box are ignored; ties go to the
+    lowest row * C + col of ``cell_of(pairs)``, ordered as the flat index since a query's pairs share a
+    world. Consumes ``row`` and ``col`` (float64, so offsets round exactly as ``row - rows`` does): the
+    pair arrays are large and fresh pages are slow (the kernel zeroes each), so the work is in place.
+    """
+    d_row, d_col, scratch = row, col, np.take(rows, query)
+    d_row -= scratch
+    d_col -= np.take(cols, query, out=scratch)
+    half = half[query] if np.ndim(half) else half
+    outside = np.abs(d_row, out=scratch) > half
+    outside |= np.abs(d_col, out=scratch) > half
+    distance = np.multiply(d_row, d_row, out=d_row)
+    distance += np.multiply(d_col, d_col, out=d_col)
+    distance[outside] = np.inf
+    nearest = np.full(len(rows), np.inf)
+    np.minimum.at(nearest, query, distance)
+    found = np.isfinite(nearest)
+    tied = np.flatnonzero(distance == np.take(np.where(found, nearest, -1.0), query, out=scratch))
+    best = np.full(len(rows), np.iinfo(np.int64).max)
+    np.minimum.at(best, query[tied], cell_of(tied))
+    return found, best
 
 
 def closest_burning(state: FireState, world: np.ndarray, rows: np.ndarray, cols: np.ndarray,
@@ -30,33 +85,32 @@ def closest_burning(state: FireState, world: np.ndarray, rows: np.ndarray, cols:
     cells of the query's world with |row - rows| <= half_box_cells and |col - cols| <= half_box_cells,
     returns the one closest in Euclidean cell distance, ties to the lowest flat index, as
     (found (M,) bool, row (M,) int64, col (M,) int64); row = col = -1 where nothing burns in the box.
-    Work is the sum over queries of their world's burning count.
+    Work is a few passes over the burning list plus, per query, about the burning cells of the blocks
+    its box overlaps (or of its whole world, when that is less work than indexing the blocks).
     """
-    cells = state.cells
+    cells, batch = state.cells, state.batch
     world = vector("world", world, integer=True)
     queries = len(world)
     rows, cols = vector("rows", rows, queries), vector("cols", cols, queries)
     half = np.broadcast_to(np.asarray(half_box_cells, dtype=np.float64), (queries,))
     if not (np.isfinite(half).all() and (half >= 0.0).all()):
         raise ValueError(f"half_box_cells must be finite numbers >= 0, got {half_box_cells!r}")
-    in_range("world", world, state.batch)
-    flat, start, count = _by_world(state)
-    per_query = count[world]
-    total = int(per_query.sum())
-    first = np.cumsum(per_query) - per_query  # each query's run in the pair list
-    query = np.repeat(np.arange(queries), per_query)
-    pair = np.arange(total) - first[query] + start[world][query]
-    cell = flat[pair]
-    _, row, col = split_flat(cell, cells)
-    d_row, d_col = row - rows[query], col - cols[query]
-    inside = (np.abs(d_row) <= half[query]) & (np.abs(d_col) <= half[query])
-    distance = np.where(inside, d_row * d_row + d_col * d_col, np.inf)
-    asked = np.flatnonzero(per_query > 0)
-    nearest = np.full(queries, np.inf)
-    nearest[asked] = _segment_min(distance, first[asked])
-    found = np.isfinite(nearest)
-    tied = np.where(distance == nearest[query], cell, np.iinfo(np.int64).max)
-    best = np.full(queries, -1, np.int64)
-    best[asked] = _segment_min(tied, first[asked])
-    _, best_row, best_col = split_flat(best, cells)
-    return found, np.where(found, best_row, -1), np.where(found, best_col, -1)
+    in_range("world", world, batch)
+    index = np.int32 if batch * cells * cells <= np.iinfo(np.int32).max else np.int64
+    flat = state.burning.astype(index, copy=False)
+    burning_world = flat // index(cells * cells)
+    small = len(flat) // 8 <= SMALL_WORK  # then sorting the burning list by world is cheap
+    count = np.bincount(burning_world, minlength=batch) if small else None
+    if small and int(count[world].sum()) + len(flat) // 8 <= SMALL_WORK:
+        pairs = _world_pairs(flat, burning_world, count, world, cells)
+    else:
+        spans = (*_spans(rows, half, cells), *_spans(cols, half, cells))
+        side = block_side(cells, batch, len(flat), spans)
+        if small and side == cells:  # whole worlds: the plain pairing, without the index's overhead
+            pairs = _world_pairs(flat, burning_world, count, world, cells)
+        else:
+            pairs = block_pairs(flat, burning_world, cells, batch, world, spans, side)
+    box = float(half[0]) if np.ndim(half_box_cells) == 0 and queries else half
+    found, best = _nearest(*pairs, rows, cols, box)
+    best_row = best // cells
+    return found, np.where(found, best_row, -1), np.where(found, best - best_row * cells, -1)

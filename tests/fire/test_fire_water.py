@@ -4,10 +4,14 @@ ENVIRONMENTS.md, AWS "Drop water": every existing or burning tree within the rad
 becomes wet; prepared (existing -> wet) and extinguished (burning -> wet) trees are credited per
 plane. Distances are from the points to cell centres, in cell units (the centre of cell (r, c) is
 at (r, c)). Hand-built cases check the geometry and crediting; hypothesis checks both functions
-against brute force over every cell.
+against brute force over every cell, closest_burning under each of its two pairings (every burning
+cell of the world, or the block index) on small grids and on large, dense fronts.
 """
 
 from __future__ import annotations
+
+import contextlib
+from unittest import mock
 
 import numpy as np
 import pytest
@@ -15,6 +19,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from hivex_dsl.fire import FireSpec, FireState, TreeState, closest_burning, douse, fire_reset, fire_step
+from hivex_dsl.fire import blocks as blocks_module
+from hivex_dsl.fire import search as search_module
 
 SYMBOLS = {".": TreeState.NONE, "T": TreeState.EXISTING, "B": TreeState.BURNING, "X": TreeState.BURNT, "W": TreeState.WET}
 
@@ -144,22 +150,126 @@ def coordinate(cells_hint: int = 8):
     return st.one_of(st.integers(-6, 2 * cells_hint + 6).map(lambda v: v / 2.0), st.floats(-5.0, cells_hint + 5.0))
 
 
+HALF_BOX = st.one_of(st.sampled_from([0.0, 0.5, 1.0, 2.0, 100.0]), st.floats(0.0, 6.0))
+
+
+def each_pairing(state, world, rows, cols, half_box):
+    """closest_burning's answers as chosen by cost, forced to pair whole worlds, forced to use the block index
+    with the side it picks, and with the smallest side (most blocks)."""
+    answers = [closest_burning(state, world, rows, cols, half_box)]
+    smallest = mock.patch.object(search_module, "block_side", lambda *args: blocks_module.MIN_SIDE)
+    for small_work, side in ((10**18, None), (-1, None), (-1, smallest)):
+        with mock.patch.object(search_module, "SMALL_WORK", small_work), side or contextlib.nullcontext():
+            answers.append(closest_burning(state, world, rows, cols, half_box))
+    return answers
+
+
 @settings(max_examples=150, deadline=None)
-@given(fires(), st.lists(st.tuples(st.integers(0, 2), coordinate(), coordinate()), min_size=0, max_size=6),
-       st.one_of(st.sampled_from([0.0, 0.5, 1.0, 2.0, 100.0]), st.floats(0.0, 6.0)))
-def test_closest_burning_matches_brute_force(state, queries, half_box):
-    queries = [(w % state.batch, r, c) for w, r, c in queries]
+@given(fires(), st.lists(st.tuples(st.integers(0, 2), coordinate(), coordinate(), HALF_BOX), min_size=0, max_size=6),
+       st.one_of(st.none(), HALF_BOX))
+def test_closest_burning_matches_brute_force(state, queries, shared_half):
+    """One box for all queries (shared_half) or one per query."""
+    queries = [(w % state.batch, r, c, h if shared_half is None else shared_half) for w, r, c, h in queries]
     world = np.array([q[0] for q in queries], dtype=np.int64)
     rows, cols = np.array([q[1] for q in queries], float), np.array([q[2] for q in queries], float)
-    found, row, col = closest_burning(state, world, rows, cols, half_box)
-    for i, (w, qr, qc) in enumerate(queries):
-        best = None
-        for r, c in zip(*np.nonzero(state.trees[w] == TreeState.BURNING)):  # row-major: lowest flat index first
-            dr, dc = r - qr, c - qc
-            if abs(dr) <= half_box and abs(dc) <= half_box and (best is None or dr * dr + dc * dc < best[0]):
-                best = (dr * dr + dc * dc, r, c)
-        assert found[i] == (best is not None)
-        assert (row[i], col[i]) == ((best[1], best[2]) if best else (-1, -1))
+    half_box = shared_half if shared_half is not None else np.array([q[3] for q in queries], float)
+    expected = [brute_closest(state, *query) for query in queries]
+    for found, row, col in each_pairing(state, world, rows, cols, half_box):
+        assert list(zip(found.tolist(), row.tolist(), col.tolist())) == expected
+
+
+def brute_closest(state, w, qr, qc, half):
+    """(found, row, col) of the nearest burning cell of world w in the box, by trying every cell."""
+    best = None
+    for r, c in zip(*np.nonzero(state.trees[w] == TreeState.BURNING)):  # row-major: lowest flat index first
+        dr, dc = r - qr, c - qc
+        if abs(dr) <= half and abs(dc) <= half and (best is None or dr * dr + dc * dc < best[0]):
+            best = (dr * dr + dc * dc, r, c)
+    return (True, int(best[1]), int(best[2])) if best else (False, -1, -1)
+
+
+def test_closest_burning_with_far_points_and_huge_boxes_matches_brute_force():
+    """Points up to 1e17 cells away, where a float sum loses whole cells, with boxes reaching the grid."""
+    trees = np.where(np.random.default_rng(5).random((1, 9, 9)) < 0.5, TreeState.BURNING, TreeState.EXISTING)
+    state = state_of(trees)
+    queries = [(0, 2.0**41 + 3.0, 4.0, 2.0**41), (0, -1e17, 1e17, 1e17), (0, 4.5, -3e16, 3e16 + 2.0),
+               (0, 1e17, 1e17, 1e16), (0, 2.0**53, 5.0, 2.0**53 - 4.0)]
+    world, rows, cols, half = (np.array(v) for v in zip(*queries))
+    expected = [brute_closest(state, *query) for query in queries]
+    assert any(hit[0] for hit in expected) and not all(hit[0] for hit in expected)
+    for found, row, col in each_pairing(state, world.astype(np.int64), rows, cols, half):
+        assert list(zip(found.tolist(), row.tolist(), col.tolist())) == expected
+    # 2**60 + 256 - r rounds to 2**60 (inside the box) for rows r > 128, though 2**60 + 256 - 2**60 = 256
+    trees = np.full((1, 400, 400), TreeState.EXISTING, np.uint8)
+    trees[0, [200, 300], 3] = TreeState.BURNING
+    query = (0, 2.0**60 + 256.0, 3.0, 2.0**60)
+    assert brute_closest(state_of(trees), *query) == (True, 200, 3)  # equally far (float), lowest index
+    for found, row, col in each_pairing(state_of(trees), np.array([0]), np.array([query[1]]), np.array([3.0]), 2.0**60):
+        assert (found[0], row[0], col[0]) == (True, 200, 3)
+
+
+@pytest.mark.parametrize("half", [1, 4, 9, 17])
+@pytest.mark.parametrize("edge", [(-1, 0), (1, 0), (0, -1), (0, 1)], ids=["top", "bottom", "left", "right"])
+def test_closest_burning_reaches_each_edge_of_its_box_at_every_alignment(half, edge):
+    """World w of 48 burns only along one edge of the box around its query, which sweeps row w (col w for
+    the left and right edges) with the other coordinate 23.
+
+    The nearest burning cell is the edge's midpoint, exactly half_box_cells away, found while that edge
+    lies on the grid. The sweep moves the edge across every offset from the block edges of the block index.
+    """
+    cells, (d_row, d_col) = 48, edge
+    sweep, fixed = np.arange(cells), np.full(cells, 23)
+    q_row, q_col = (sweep, fixed) if d_row else (fixed, sweep)
+    r, c = np.meshgrid(np.arange(cells), np.arange(cells), indexing="ij")
+    off_row, off_col = r - q_row[:, None, None], c - q_col[:, None, None]
+    along = np.abs(off_col) <= half if d_row else np.abs(off_row) <= half
+    on_edge = along & ((off_row == d_row * half) if d_row else (off_col == d_col * half))
+    state = state_of(np.where(on_edge, TreeState.BURNING, TreeState.EXISTING))
+    middle_row, middle_col = q_row + d_row * half, q_col + d_col * half
+    on_grid = (middle_row >= 0) & (middle_row < cells) & (middle_col >= 0) & (middle_col < cells)
+    for found, row, col in each_pairing(state, sweep, q_row.astype(float), q_col.astype(float), float(half)):
+        assert found.tolist() == on_grid.tolist()
+        assert row.tolist() == np.where(on_grid, middle_row, -1).tolist()
+        assert col.tolist() == np.where(on_grid, middle_col, -1).tolist()
+
+
+@st.composite
+def large_fires(draw):
+    """Up to 3 worlds of up to 64 x 64 cells where a drawn share of the cells burns (sparse to nearly all)."""
+    batch, cells = draw(st.integers(1, 3)), draw(st.integers(9, 64))
+    share = draw(st.sampled_from([0.01, 0.05, 0.2, 0.6, 0.95]))
+    rng = np.random.default_rng(draw(st.integers(0, 2**32 - 1)))
+    trees = rng.choice(np.array([TreeState.NONE, TreeState.EXISTING, TreeState.BURNT, TreeState.WET], np.uint8),
+                       (batch, cells, cells))
+    trees[rng.random(trees.shape) < share] = TreeState.BURNING
+    state = state_of(trees)
+    order = rng.permutation(len(state.burning))
+    return FireState(trees=state.trees, burning=state.burning[order], age=state.age, quiet=state.quiet, out=state.out,
+                     ignited=state.ignited, burnt_out=state.burnt_out)
+
+
+@settings(max_examples=100, deadline=None)
+@given(large_fires(), st.data())
+def test_closest_burning_matches_brute_force_on_large_fronts(state, data):
+    """Thousands of burning cells and up to 40 queries: enough pairs for the block index to be chosen."""
+    cells = state.cells
+    spot = st.floats(-12.0, cells + 12.0)
+    box = st.one_of(st.floats(0.0, cells / 2.0), st.integers(0, cells).map(float), st.just(float(cells) * 3))
+    count = data.draw(st.integers(1, 40))
+    world = np.array(data.draw(st.lists(st.integers(0, state.batch - 1), min_size=count, max_size=count)))
+    rows, cols = (np.array(data.draw(st.lists(spot, min_size=count, max_size=count))) for _ in range(2))
+    half = np.array(data.draw(st.lists(box, min_size=count, max_size=count)))
+    half_box = data.draw(st.one_of(st.just(half), box))
+    half = np.broadcast_to(half_box, (count,))
+    expected = []
+    for w, qr, qc, h in zip(world, rows, cols, half):
+        r, c = np.nonzero(state.trees[w] == TreeState.BURNING)  # row-major: argmin takes the lowest flat index
+        dr, dc = r - qr, c - qc
+        distance = np.where((np.abs(dr) <= h) & (np.abs(dc) <= h), dr * dr + dc * dc, np.inf)
+        hit = int(np.argmin(distance)) if len(distance) and np.isfinite(distance.min()) else None
+        expected.append((True, r[hit], c[hit]) if hit is not None else (False, -1, -1))
+    for found, row, col in each_pairing(state, world, rows, cols, half_box):
+        assert list(zip(found.tolist(), row.tolist(), col.tolist())) == expected
 
 
 @settings(max_examples=150, deadline=None)
