@@ -143,6 +143,8 @@ def test_once_the_store_of_planted_trees_is_full_drones_keep_their_seeds():
     new, _ = sim.step(state, act(agents=3, drop=1), np.random.default_rng(1))
     assert new.dropped[0].tolist() == [True, True, False] and new.holding[0].tolist() == [False, False, True]
     assert new.new_count[0] == 16
+    again, _ = sim.step(new, act(agents=3, drop=1), np.random.default_rng(2))  # a full store refuses every wish
+    assert not again.dropped.any() and again.holding[0].tolist() == [False, False, True]
 
 
 # ------------------------------------------------------------------ incremental running back

@@ -12,6 +12,7 @@ grows with the height above ground.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 
@@ -40,6 +41,7 @@ def pixel_offsets() -> np.ndarray:
 
 
 _UNIT = pixel_offsets()
+_SIGNED_UNIT = np.stack([_UNIT, -_UNIT])  # (2, PIXELS): x offsets of the columns, y offsets of the rows
 
 
 @dataclass(frozen=True)
@@ -60,8 +62,10 @@ class Raster:
 
     def index(self, coordinate: np.ndarray) -> np.ndarray:
         """Cell index of coordinates, clamped to the raster."""
-        index = np.floor((coordinate + self.half) / self.cell).astype(np.int64)
-        return np.minimum(np.maximum(index, 0), self.n - 1)
+        # Truncation differs from floor only below 0, where the clamp gives 0 either way.
+        index = ((coordinate + self.half) / self.cell).astype(np.int64)
+        np.maximum(index, 0, out=index)
+        return np.minimum(index, self.n - 1, out=index)
 
 
 def ground_shade(heights: np.ndarray, height_bound: float) -> np.ndarray:
@@ -94,10 +98,16 @@ def stamp_disks(rasters: np.ndarray, raster: Raster, worlds: np.ndarray, centres
 def camera_images(rasters: np.ndarray, raster: Raster, xy: np.ndarray, half_width: np.ndarray) -> np.ndarray:
     """(B, A, 16, 16, 1) float32 in [0, 1]: the camera of each drone at ``xy`` (B, A, 2) with footprint
     half width ``half_width`` (B, A) metres, sampled (nearest cell) from ``rasters`` (B, n, n) uint8."""
-    batch = rasters.shape[0]
-    reach = half_width[..., None] * _UNIT
-    cols = raster.index(xy[..., 0, None] + reach)
-    rows = raster.index(xy[..., 1, None] - reach)
-    base = (np.arange(batch) * (raster.n * raster.n))[:, None, None]
-    flat = (rows * raster.n + base)[..., :, None] + cols[..., None, :]
-    return _TO_UNIT[rasters.reshape(-1)[flat]][..., None]
+    # Columns look at x + hw * offset, rows at y - hw * offset = y + hw * (-offset): both axes at once.
+    cells = raster.index(xy[..., None] + half_width[..., None, None] * _SIGNED_UNIT)  # (B, A, 2, 16)
+    rows = cells[..., 1, :] * raster.n + _world_starts(len(rasters), raster.n)  # (B, A, 16) flat row starts
+    flat = rows[..., :, None] + cells[..., 0, None, :]
+    return _TO_UNIT.take(rasters.reshape(-1)[flat])[..., None]
+
+
+@lru_cache(maxsize=32)
+def _world_starts(batch: int, n: int) -> np.ndarray:
+    """(B, 1, 1) read-only flat index of each world's first cell in (B, n, n) rasters."""
+    starts = (np.arange(batch) * (n * n))[:, None, None]
+    starts.setflags(write=False)
+    return starts

@@ -7,6 +7,8 @@ at reset: distances to the forest (the hidden fertility field) and the camera's 
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 from gymnasium import spaces
 
@@ -14,9 +16,9 @@ from ...procgen.forest import ForestSpec, place_forest
 from ...procgen.terrain import TerrainSpec, generate_terrain
 from ...runtime import StepOutcome
 from .camera import NEW_TREE_GRAY, STATION_GRAY, TREE_GRAY, Raster, camera_images, ground_shade, stamp_disks, to_byte
-from .fertility import (FAR_M, Grid, distance_reward, fertility, interpolation_matrix, nearest_new_tree_distance,
-                        nearest_tree_distance, same_step_distance, sample_bilinear, seed_reward, storage_slots,
-                        tree_distance_raster)
+from .fertility import (FAR_M, Grid, GridSet, distance_reward, fertility, interpolation_matrix,
+                        nearest_new_tree_distance, nearest_tree_distance, same_step_distance, sample_bilinear,
+                        seed_reward, storage_slots, tree_distance_raster)
 from .params import DroneBasedReforestationParams
 from .types import DroneState, replace_worlds
 
@@ -26,6 +28,18 @@ RUNNING_BACK_REWARD = 20.0  # [paper] r_p
 RANDOM_SPAWN_TASKS = ("pick_up_seed",)  # [paper] "the initial position of drones is random instead of at the station"
 STATION_PAD_M = 3.0  # radius of the pad the camera and renderer draw
 VECTOR_SIZE = 10
+
+
+class Flight(NamedTuple):
+    """The drones after one step of flight, B worlds of A drones."""
+
+    position: np.ndarray  # (B, A, 3)
+    xy: np.ndarray  # (B, A, 2) contiguous copy of position[..., :2]
+    z: np.ndarray  # (B, A) contiguous copy of position[..., 2]
+    heading: np.ndarray  # (B, A)
+    direction: np.ndarray  # (B, A, 2) cos and sin of the heading
+    ground: np.ndarray  # (B, A) terrain height below each drone
+    tree_distance: np.ndarray | None  # (B, A) sampled from the state's tree_distance raster (None at reset)
 
 
 def wrap(angle: np.ndarray) -> np.ndarray:
@@ -54,10 +68,15 @@ class DroneReforestationSimulator:
         self.half = t.extent_m / 2.0
         self.terrain_grid = Grid(-self.half, t.extent_m / (t.size - 1), t.size)
         self.forest_grid = Grid(-f.half_extent_m + f.spacing_m / 2.0, f.spacing_m, f.cells)
+        self._below = GridSet((self.terrain_grid, self.forest_grid))  # sampled under every drone each step
         self.raster = Raster.covering(self.half, p.camera_cell_m)
         self._to_raster = interpolation_matrix(self.raster.centres(), self.terrain_grid)
         self.tree_reach_m = max(p.max_tree_distance_m, p.close_tree_radius_m)
         self._turn = np.radians(p.turn_rate_deg)
+        self._control_scale = np.array([p.drone_speed_m, self._turn, p.climb_speed_m])  # per unit of each control
+        self._frame_scale = np.array([self.half, self.half, p.height_bound_m])
+        # battery share a step costs, indexed by holding a seed (0 no, 1 yes)
+        self._depletion = np.array([1.0 / p.energy_steps_without_seed, 1.0 / p.energy_steps_with_seed])
         self._view = np.tan(np.radians(p.camera_fov_deg) / 2.0)
         vector = spaces.Box(-1.0, 1.0, (VECTOR_SIZE * self.observation_stacks,), np.float32)
         visual = spaces.Box(0.0, 1.0, (16, 16, 1), np.float32)
@@ -130,8 +149,9 @@ class DroneReforestationSimulator:
             back_init=np.zeros(shape, np.int64), back_best=np.zeros(shape, np.int64), back_multiplier=zeros,
             dropped=false, seed_reward=zeros, distance_reward=zeros, returned=false,
             found_tree=false, running_back=zeros, frames=np.zeros(shape + (2 * VECTOR_SIZE,), np.float32))
-        direction = np.stack([np.cos(heading), np.sin(heading)], axis=-1)
-        frame = self._frames(state.frames, position, ground, direction, station, state.holding, state.energy)
+        flight = Flight(position, position[..., :2], position[..., 2], heading,
+                        np.stack([np.cos(heading), np.sin(heading)], axis=-1), ground, None)
+        frame = self._frames(state.frames, flight, station, state.holding, state.energy)
         return _with(state, frames=np.concatenate([frame[..., :VECTOR_SIZE]] * 2, axis=-1))
 
     def reset_where(self, state: DroneState, mask: np.ndarray, rng: np.random.Generator) -> DroneState:
@@ -143,35 +163,48 @@ class DroneReforestationSimulator:
         gap = position - station[:, None, :]
         return np.sqrt(np.einsum("bad,bad->ba", gap, gap))
 
-    def _frames(self, previous: np.ndarray, position: np.ndarray, ground: np.ndarray, direction: np.ndarray,
-                station: np.ndarray, holding: np.ndarray, energy: np.ndarray) -> np.ndarray:
+    @staticmethod
+    def _station_distances(position: np.ndarray, station: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(B, A) distance of each drone from its station in 3D, and horizontally."""
+        gap = position - station[:, None, :]
+        square = gap * gap  # the 3D sum stays einsum's (its order of summation); two squares sum alike in any order
+        return np.sqrt(np.einsum("bad,bad->ba", gap, gap)), np.sqrt(square[..., 0] + square[..., 1])
+
+    def _frames(self, previous: np.ndarray, flight: Flight, station: np.ndarray, holding: np.ndarray,
+                energy: np.ndarray) -> np.ndarray:
         """(B, A, 20) float32: this step's normalised vector observation, then the previous step's."""
-        bound, z = self.params.height_bound_m, position[..., 2]
+        bound = self.params.height_bound_m
         frames = np.empty(previous.shape, np.float32)
         frames[..., VECTOR_SIZE:] = previous[..., :VECTOR_SIZE]
-        frames[..., 0] = (z - ground) / bound  # in (0, 1]: the drone flies between the ground and the bound
-        frames[..., 1:3] = position[..., :2] / self.half
-        frames[..., 3] = z / bound
-        frames[..., 4:6] = direction
+        frames[..., 0] = (flight.z - flight.ground) / bound  # in (0, 1]: between the ground and the bound
+        frames[..., 1:4] = flight.position / self._frame_scale  # x / half, y / half, z / bound
+        frames[..., 4:6] = flight.direction
         frames[..., 6] = 0.0  # a level drone's forward vector has no vertical part
         frames[..., 7] = station[:, None, 2] / bound
         frames[..., 8] = holding
         frames[..., 9] = energy
         return frames
 
-    def _fly(self, state: DroneState, actions) -> tuple[np.ndarray, ...]:
-        """New positions (B, A, 3), headings (B, A), unit directions (B, A, 2) and ground heights (B, A).
-        Frozen drones stay put; a drone never goes below min_clearance_m above the ground or above the bound."""
+    def _fly(self, state: DroneState, actions, alive: np.ndarray | None) -> Flight:
+        """Where the drones are after this step's controls. Frozen drones (``alive`` (B, A) false; None: all
+        alive) stay put; a drone never goes below min_clearance_m above the ground or above the bound."""
         p = self.params
-        controls = np.asarray(actions["continuous"], np.float64) * state.alive[..., None]
-        heading = wrap(state.heading + self._turn * controls[..., 1])
-        direction = np.stack([np.cos(heading), np.sin(heading)], axis=-1)
-        xy = state.position[..., :2] + (p.drone_speed_m * controls[..., 0])[..., None] * direction
-        xy = np.minimum(np.maximum(xy, -self.half), self.half)
-        ground = sample_bilinear(state.heights, self.terrain_grid, xy)
-        z = np.maximum(state.position[..., 2] + p.climb_speed_m * controls[..., 2], ground + p.min_clearance_m)
-        position = np.concatenate([xy, np.minimum(z, p.height_bound_m)[..., None]], axis=-1)
-        return position, heading, direction, ground
+        controls = np.asarray(actions["continuous"], np.float64)
+        if alive is not None:
+            controls = controls * alive[..., None]
+        moves = controls * self._control_scale  # (B, A, 3) metres forward, radians turned, metres climbed
+        heading = wrap(state.heading + moves[..., 1])
+        direction = np.empty(heading.shape + (2,))
+        direction[..., 0] = np.cos(heading)
+        direction[..., 1] = np.sin(heading)
+        xy = np.minimum(np.maximum(state.position[..., :2] + moves[..., :1] * direction, -self.half), self.half)
+        ground, det = self._below.sample((state.heights, state.tree_distance), xy)
+        z = np.minimum(np.maximum(state.position[..., 2] + moves[..., 2], ground + p.min_clearance_m),
+                       p.height_bound_m)
+        position = np.empty(state.position.shape)
+        position[..., :2] = xy
+        position[..., 2] = z
+        return Flight(position, xy, z, heading, direction, ground, det)
 
     def _drop(self, state: DroneState, points: np.ndarray, world: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Plant the seeds released at ``points`` (M, 2) of worlds ``world`` (M,, sorted): each becomes a new
@@ -197,74 +230,103 @@ class DroneReforestationSimulator:
         granted[world[full], agent[full]] = False
         return granted
 
-    def _running_back(self, state: DroneState, increment: np.ndarray) -> np.ndarray:
+    def _running_back(self, state: DroneState, increment: np.ndarray, alive: np.ndarray | None) -> np.ndarray:
         """r_rb (B, A): paid when a drone running back reaches a closer increment than any since its drop."""
         p = self.params
-        closer = state.back_active & state.alive & (increment < state.back_best)
+        closer = _alive_only(state.back_active & (increment < state.back_best), alive)
+        if not np.count_nonzero(closer):  # (count_nonzero is the cheapest "any" on small arrays)
+            return np.zeros(closer.shape)
         span = state.back_init - p.charge_radius_m / p.running_back_step_m
         reward = RUNNING_BACK_REWARD * state.back_multiplier / np.where(span > 0, span, 1.0)
         return np.where(closer & (span > 0), np.minimum(np.maximum(reward, 0.0), RUNNING_BACK_REWARD), 0.0)
 
-    def _back(self, state: DroneState, drops: np.ndarray, increment: np.ndarray, inside: np.ndarray,
-              r_s: np.ndarray, r_d: np.ndarray) -> dict[str, np.ndarray]:
-        """The running-back bookkeeping after this step: a drop starts it, reaching the station ends it."""
+    def _back(self, state: DroneState, drops: np.ndarray, increment: np.ndarray, outside: np.ndarray,
+              r_s: np.ndarray, r_d: np.ndarray, dropping: bool) -> dict[str, np.ndarray]:
+        """The running-back bookkeeping after this step: a drop starts it, reaching the station ends it.
+        Without a drop (``dropping`` false) the drop-time fields stay as they are."""
         best = np.where(state.back_active, np.minimum(state.back_best, increment), state.back_best)
-        return {"back_active": (state.back_active | drops) & ~inside,
+        if not dropping:
+            return {"back_active": state.back_active & outside, "back_best": best}
+        return {"back_active": (state.back_active | drops) & outside,
                 "back_init": np.where(drops, increment, state.back_init),
                 "back_best": np.where(drops, increment, best),
                 "back_multiplier": np.where(drops, (r_s + r_d) / (SEED_REWARD_MULTIPLIER + DISTANCE_REWARD_MULTIPLIER),
                                             state.back_multiplier)}
 
+    def _energy(self, state: DroneState, docked: np.ndarray, alive: np.ndarray | None) -> np.ndarray:
+        """(B, A) battery after this step: full when ``docked`` (alive within the charge radius), else less the
+        step's cost (with or without a seed) for a living drone; 0 once (nearly) empty."""
+        cost = self._depletion[state.holding.astype(np.intp)]
+        energy = state.energy - (cost if alive is None else cost * alive)
+        np.putmask(energy, docked, 1.0)
+        np.putmask(energy, energy <= 1e-9, 0.0)
+        return energy
+
+    def _wanted_drops(self, state: DroneState, actions, outside: np.ndarray, alive: np.ndarray | None) -> np.ndarray:
+        """(B, A) living drones that hold a seed, are outside the charge radius and ask to drop it."""
+        if not np.count_nonzero(state.holding):  # nobody can drop a seed (skips the ops below)
+            return np.zeros(outside.shape, bool)
+        return _alive_only((np.asarray(actions["discrete"])[..., 0] == 1) & state.holding & outside, alive)
+
+    def _plant(self, state: DroneState, wants: np.ndarray, position: np.ndarray
+               ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """Release the seeds of the drones that ``wants`` (B, A) to drop one, as far as the stores allow, and plant
+        them. Returns the drops made (B, A), their r_s and r_d (B, A) and the planted-tree counts (B,)."""
+        r_s, r_d = np.zeros(wants.shape), np.zeros(wants.shape)
+        drops = self._releases(state, wants)
+        world, agent = np.nonzero(drops)
+        if len(world):  # every wish may be refused by full stores
+            r_s[world, agent], r_d[world, agent] = self._drop(state, position[world, agent, :2], world)
+        return drops, r_s, r_d, state.new_count + np.bincount(world, minlength=len(state.new_count))
+
     def step(self, state: DroneState, actions, rng: np.random.Generator) -> tuple[DroneState, StepOutcome]:
         """actions: continuous (B, A, 3) throttle, steer, up/down; discrete (B, A, 1) drop seed."""
-        p, alive, shape = self.params, state.alive, state.alive.shape
-        position, heading, direction, ground = self._fly(state, actions)
-        distance = self._station_distance(position, state.station)
+        p, shape = self.params, state.alive.shape
+        alive = None if np.count_nonzero(state.alive) == state.alive.size else state.alive  # None: all (most steps)
+        flight = self._fly(state, actions, alive)
+        distance, reach = self._station_distances(flight.position, state.station)
         inside = distance <= p.charge_radius_m
-        drops = (np.asarray(actions["discrete"])[..., 0] == 1) & state.holding & alive & ~inside
-        r_s, r_d = np.zeros(shape), np.zeros(shape)
-        new_count, back, running_back = state.new_count, {}, np.zeros(shape)
-        if drops.any():
-            drops = self._releases(state, drops)
-            world, agent = np.nonzero(drops)
-            r_s[world, agent], r_d[world, agent] = self._drop(state, position[world, agent, :2], world)
-            new_count = new_count + np.bincount(world, minlength=len(new_count))
-        if (drops | state.back_active).any():
+        outside = ~inside
+        drops = self._wanted_drops(state, actions, outside, alive)
+        dropping = np.count_nonzero(drops) > 0
+        if dropping:
+            drops, r_s, r_d, new_count = self._plant(state, drops, flight.position)
+        else:
+            r_s, r_d, new_count = np.zeros(shape), np.zeros(shape), state.new_count
+        back, running_back = {}, np.zeros(shape)
+        if dropping or np.count_nonzero(state.back_active):
             increment = (distance * (1.0 / p.running_back_step_m)).astype(np.int64)  # floor: distances are >= 0
-            running_back = self._running_back(state, increment)
-            back = self._back(state, drops, increment, inside, r_s, r_d)
+            running_back = self._running_back(state, increment, alive)
+            back = self._back(state, drops, increment, outside, r_s, r_d, dropping)
 
-        returned = inside & state.away & alive
-        holding = (state.holding & ~drops) | returned
-        cost = np.where(state.holding, 1.0 / p.energy_steps_with_seed, 1.0 / p.energy_steps_without_seed)
-        energy = np.where(inside & alive, 1.0, state.energy - cost * alive)
-        energy = np.where(energy > 1e-9, energy, 0.0)
-        still = energy > 0.0
-
-        xy = position[..., :2]
-        det = sample_bilinear(state.tree_distance, self.forest_grid, xy)
-        gap = xy - state.station[:, None, :2]
-        reach = np.minimum(np.sqrt(np.einsum("bad,bad->ba", gap, gap)), self.half)
+        docked = _alive_only(inside, alive)
+        returned = docked & state.away
+        returning = np.count_nonzero(returned) > 0  # rare: most steps skip the ops with it
+        holding = (state.holding & ~drops) if dropping else state.holding
+        holding = holding | returned if returning else holding
+        away = state.away | (distance >= p.return_min_distance_m)
+        energy = self._energy(state, docked, alive)
         new = _with(
-            state, new_count=new_count, position=position, heading=heading,
-            ground=ground, energy=energy, holding=holding, alive=still, inside=inside,
-            away=(state.away | (distance >= p.return_min_distance_m)) & ~returned,
-            best_fertility=self._best_fertility(state, xy, det),
-            best_height=np.maximum(state.best_height, np.where(alive, ground, 0.0)),
-            best_distance=np.maximum(state.best_distance, np.where(alive, reach, 0.0)),
+            state, new_count=new_count, position=flight.position, heading=flight.heading, ground=flight.ground,
+            energy=energy, holding=holding, alive=energy > 0.0, inside=inside,
+            away=away & ~returned if returning else away,
+            best_fertility=self._best_fertility(state, flight.xy, flight.tree_distance, alive),
+            best_height=np.maximum(state.best_height, _zero_unless_alive(flight.ground, alive)),
+            best_distance=np.maximum(state.best_distance, _zero_unless_alive(np.minimum(reach, self.half), alive)),
             dropped=drops, seed_reward=r_s, distance_reward=r_d, returned=returned,
-            found_tree=alive & (det <= p.close_tree_radius_m), running_back=running_back,
-            frames=self._frames(state.frames, position, ground, direction, state.station, holding, energy), **back)
+            found_tree=_alive_only(flight.tree_distance <= p.close_tree_radius_m, alive), running_back=running_back,
+            frames=self._frames(state.frames, flight, state.station, holding, energy), **back)
         events = {"returned_to_station": returned, "found_close_tree": new.found_tree, "planted_tree": drops}
-        return new, StepOutcome(terminated=~still, events=events)
+        return new, StepOutcome(terminated=~new.alive, events=events)
 
-    def _best_fertility(self, state: DroneState, xy: np.ndarray, det: np.ndarray) -> np.ndarray:
+    def _best_fertility(self, state: DroneState, xy: np.ndarray, det: np.ndarray, alive: np.ndarray | None
+                        ) -> np.ndarray:
         """pot_old after this step: the fertility here counts if it beats the best so far and no planted tree
         is within dot_min."""
         p = self.params
         here = fertility(det, p.min_tree_distance_m, p.max_tree_distance_m)
-        better = state.alive & (here > state.best_fertility)
-        if not better.any():
+        better = _alive_only(here > state.best_fertility, alive)
+        if not np.count_nonzero(better):
             return state.best_fertility
         best = np.where(better, here, state.best_fertility)
         count = int(state.new_count.max())
@@ -289,6 +351,16 @@ class DroneReforestationSimulator:
         from .render import draw_reforestation
 
         return draw_reforestation(state, index, self)
+
+
+def _alive_only(mask: np.ndarray, alive: np.ndarray | None) -> np.ndarray:
+    """``mask & alive`` (B, A); ``alive`` None stands for every drone alive, the common case, which needs no op."""
+    return mask if alive is None else mask & alive
+
+
+def _zero_unless_alive(values: np.ndarray, alive: np.ndarray | None) -> np.ndarray:
+    """``values`` (B, A) where the drone is alive, else 0; ``alive`` None stands for every drone alive."""
+    return values if alive is None else np.where(alive, values, 0.0)
 
 
 def _with(state: DroneState, **changes) -> DroneState:

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from dataclasses import fields, is_dataclass, replace
 from functools import lru_cache
+from typing import NamedTuple
 
 import numpy as np
 from gymnasium import spaces
@@ -17,7 +18,7 @@ from gymnasium import spaces
 from ...procgen.pollution import PollutionSpec, SpawnSpec, pollution_map, sample_pebbles, spawn_vessels
 from ...procgen.wind import wrap_angle
 from ...runtime import StepOutcome
-from .camera import CAMERA_CELLS, Geometry, Sensing, build_field, sense
+from .camera import CAMERA_CELLS, Geometry, Sensing, as_pairs, build_field, sense
 from .params import OceanPlasticCollectionParams
 from .types import OceanState
 
@@ -27,50 +28,75 @@ FRAME = 6  # vector components of one stack
 STACKS = 2  # [paper] two stacks of both observations
 
 
+class Motion(NamedTuple):
+    """The motion constants of a scenario, tabulated by action."""
+
+    turn: np.ndarray  # (3,) heading change (radians) per steer action
+    thrust: np.ndarray  # (2,) speed added (metres per step) per throttle action
+    keep: float  # fraction of its speed a vessel keeps each step
+
+    @classmethod
+    def of(cls, params: OceanPlasticCollectionParams) -> "Motion":
+        return cls(turn=np.radians(params.turn_rate_deg) * STEER_SIGN,
+                   thrust=params.acceleration * np.array([0.0, 1.0]), keep=1.0 - params.drag)
+
+
+def everyone(mask: np.ndarray) -> bool:
+    """``mask.all()``; np.count_nonzero is the cheapest test on the tiny arrays of a step."""
+    return np.count_nonzero(mask) == mask.size
+
+
 @lru_cache(maxsize=16)
-def _others(agents: int) -> np.ndarray:
-    """(A, A) bool: True off the diagonal."""
-    return ~np.eye(agents, dtype=bool)
+def _others(agents: int) -> tuple[np.ndarray, np.ndarray]:
+    """(A, A) read-only masks leaving each vessel out of its own distances: True off the diagonal,
+    and inf on the diagonal with 0 elsewhere (to add)."""
+    others = ~np.eye(agents, dtype=bool)
+    self_distance = np.where(others, 0.0, np.inf)
+    for array in (others, self_distance):
+        array.setflags(write=False)
+    return others, self_distance
+
+
+@lru_cache(maxsize=16)
+def _worlds(batch: int) -> np.ndarray:
+    """(B, 1) read-only world indices, to pick one agent per world with an index array (B, A)."""
+    worlds = np.arange(batch)[:, None]
+    worlds.setflags(write=False)
+    return worlds
 
 
 def neighbour_distances(position: np.ndarray, active: np.ndarray) -> np.ndarray:
     """(B, A, A) distances between active vessels; inf on the diagonal and for inactive vessels."""
-    dx = position[:, :, None, 0] - position[:, None, :, 0]
-    dy = position[:, :, None, 1] - position[:, None, :, 1]
-    valid = active[:, :, None] & active[:, None, :] & _others(position.shape[1])
-    return np.where(valid, np.sqrt(dx * dx + dy * dy), np.inf)
+    gap = position[:, :, None, :] - position[:, None, :, :]  # (B, A, A, 2)
+    square = gap * gap
+    distance = np.sqrt(square[..., 0] + square[..., 1])
+    others, self_distance = _others(position.shape[1])
+    if everyone(active):
+        return distance + self_distance
+    return np.where(active[:, :, None] & active[:, None, :] & others, distance, np.inf)
 
 
 def crossed_border(position: np.ndarray, active: np.ndarray, half_extent: float) -> np.ndarray:
     """(B, A) the paper's test: p_x or p_y beyond +/- the half extent (strictly)."""
-    return active & (np.abs(position) > half_extent).any(axis=-1)
-
-
-def vessel_collisions(distances: np.ndarray, distance_m: float) -> np.ndarray:
-    """(B, A) vessels nearer than ``distance_m`` to another; ``distances`` from :func:`neighbour_distances`."""
-    return (distances < distance_m).any(axis=-1)
+    return active & np.logical_or.reduce(np.abs(position) > half_extent, axis=-1)
 
 
 def move(position: np.ndarray, heading: np.ndarray, speed: np.ndarray, actions: np.ndarray, active: np.ndarray,
-         params: OceanPlasticCollectionParams) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+         motion: Motion) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Turn, then speed <- speed * (1 - drag) + acceleration * throttle, then advance along the new heading.
 
     actions (B, A, 2): throttle {0, 1}, steer {0 noop, 1 right, 2 left}. Inactive vessels stay put.
     Returns position, heading, speed and ``facing`` = exp(i heading) (B, A) complex, the unit heading.
     """
-    turned = wrap_angle(heading + np.radians(params.turn_rate_deg) * STEER_SIGN[actions[..., 1]])
-    speed = speed * (1.0 - params.drag) + params.acceleration * actions[..., 0]
-    if active.all():
+    turned = wrap_angle(heading + motion.turn[actions[..., 1]])
+    speed = speed * motion.keep + motion.thrust[actions[..., 0]]
+    if everyone(active):
         heading = turned
     else:
         heading = np.where(active, turned, heading)
         speed = np.where(active, speed, 0.0)
     facing = np.exp(1j * heading)
-    step = speed * facing
-    moved = np.empty_like(position)
-    moved[..., 0] = position[..., 0] + step.real
-    moved[..., 1] = position[..., 1] + step.imag
-    return moved, heading, speed, facing
+    return position + as_pairs(speed * facing), heading, speed, facing
 
 
 class OceanPlasticSimulator:
@@ -97,6 +123,7 @@ class OceanPlasticSimulator:
             "visual": spaces.Box(0.0, 1.0, (CAMERA_CELLS, CAMERA_CELLS, STACKS), np.float32),
         })
         self.action_space = spaces.MultiDiscrete([2, 3])
+        self.motion = Motion.of(params)
 
     # -- reset ------------------------------------------------------------------------------------
 
@@ -111,11 +138,12 @@ class OceanPlasticSimulator:
         facing = np.exp(1j * heading)
         sensing = sense(field, position, facing, speed, active, self.geometry, collect=False)
         distances = neighbour_distances(position, active)
-        vector = self._vector(position, facing, distances, np.zeros(shape + (FRAME * STACKS,), np.float32))
+        closest = distances.min(axis=-1)
+        vector = self._vector(position, facing, distances, closest, np.zeros(shape + (FRAME * STACKS,), np.float32))
         visual = self._visual(sensing, np.zeros(shape + (CAMERA_CELLS, CAMERA_CELLS, STACKS), np.float32))
         zeros = np.zeros(shape, np.int64)
         return OceanState(position=position, heading=heading, speed=speed, active=active, crashed=no,
-                          crossed_border=no, collided_vessel=no, closest=distances.min(axis=-1),
+                          crossed_border=no, collided_vessel=no, closest=closest,
                           collected=zeros, collected_total=zeros,
                           nearby=zeros, pebbles=field, heat=heat, vector=vector, visual=visual)
 
@@ -130,28 +158,32 @@ class OceanPlasticSimulator:
     def step(self, state: OceanState, actions: np.ndarray, rng: np.random.Generator) -> tuple[OceanState, StepOutcome]:
         p = self.params
         position, heading, speed = state.position, state.heading, state.speed
-        if p.crash_outcome == "respawn" and state.crashed.any():
+        if p.crash_outcome == "respawn" and np.count_nonzero(state.crashed):
             position, heading, speed = self._respawn(position, heading, speed, state.crashed, rng)
         active = state.active
-        position, heading, speed, facing = move(position, heading, speed, np.asarray(actions), active, p)
+        position, heading, speed, facing = move(position, heading, speed, np.asarray(actions), active, self.motion)
         border = crossed_border(position, active, self.half_extent)
         distances = neighbour_distances(position, active)
-        collided = vessel_collisions(distances, p.collision_distance_m)
+        closest = np.minimum.reduce(distances, axis=-1)
+        collided = closest < p.collision_distance_m
         crashed = border | collided
         sensing = sense(state.pebbles, position, facing, speed, active, self.geometry, collect=True)
-        terminated = np.zeros_like(crashed)
-        if p.crash_outcome == "end" and crashed.any():
+        terminated = np.zeros(crashed.shape, bool)
+        if p.crash_outcome == "end" and np.count_nonzero(crashed):
             terminated = crashed
             active = active & ~crashed
             speed = np.where(crashed, 0.0, speed)
             distances = neighbour_distances(position, active)
-        new = OceanState(
+            closest = np.minimum.reduce(distances, axis=-1)
+        pebbles = state.pebbles
+        if sensing.alive is not pebbles.alive:
+            pebbles = replace(pebbles, alive=sensing.alive)
+        new = _fast_state(
             position=position, heading=heading, speed=speed, active=active, crashed=crashed,
-            crossed_border=border, collided_vessel=collided, closest=distances.min(axis=-1),
-            collected=sensing.collected,
-            collected_total=state.collected_total + sensing.collected, nearby=sensing.nearby,
-            pebbles=replace(state.pebbles, alive=sensing.alive), heat=state.heat,
-            vector=self._vector(position, facing, distances, state.vector), visual=self._visual(sensing, state.visual))
+            crossed_border=border, collided_vessel=collided, closest=closest, collected=sensing.collected,
+            collected_total=state.collected_total + sensing.collected, nearby=sensing.nearby, pebbles=pebbles,
+            heat=state.heat, vector=self._vector(position, facing, distances, closest, state.vector),
+            visual=self._visual(sensing, state.visual))
         events = {"crossed_border": border, "collided_with_other_vessel": collided,
                   "collided_with_trash": sensing.collected > 0}
         return new, StepOutcome(terminated=terminated, events=events)
@@ -176,19 +208,17 @@ class OceanPlasticSimulator:
 
     # -- observations ------------------------------------------------------------------------------
 
-    def _vector(self, position: np.ndarray, facing: np.ndarray, distances: np.ndarray, previous: np.ndarray
-                ) -> np.ndarray:
+    def _vector(self, position: np.ndarray, facing: np.ndarray, distances: np.ndarray, closest: np.ndarray,
+                previous: np.ndarray) -> np.ndarray:
         """(B, A, 12) float32: this step's frame (position / H, (cos, sin) heading, closest active
-        vessel's position / H or (0, 0) without one), then the previous step's frame."""
-        scale = 1.0 / self.half_extent
-        closest = np.argmin(distances, axis=-1)
-        found = np.isfinite(distances.min(axis=-1))
-        neighbour = position[np.arange(len(position))[:, None], closest]
+        vessel's position / H or (0, 0) without one), then the previous step's frame. ``distances``
+        (B, A, A) from :func:`neighbour_distances`, ``closest`` (B, A) their minimum over the last axis."""
+        local = np.minimum(np.maximum(position * (1.0 / self.half_extent), -1.0), 1.0)
+        neighbour = local[_worlds(len(position)), distances.argmin(axis=-1)]
         out = np.empty(previous.shape, np.float32)
-        out[..., 0:2] = np.minimum(np.maximum(position * scale, -1.0), 1.0)
-        out[..., 2] = facing.real
-        out[..., 3] = facing.imag
-        out[..., 4:6] = np.minimum(np.maximum(neighbour * scale, -1.0), 1.0) * found[..., None]
+        out[..., 0:2] = local
+        out[..., 2:4] = as_pairs(facing)
+        out[..., 4:6] = neighbour * np.isfinite(closest)[..., None]
         out[..., FRAME:] = previous[..., :FRAME]
         return out
 
@@ -211,6 +241,14 @@ class OceanPlasticSimulator:
         from .render import draw_ocean
 
         return draw_ocean(state, index, self.params, self.half_extent)
+
+
+def _fast_state(**fields) -> OceanState:
+    """``OceanState(**fields)`` without the frozen dataclass's per-field ``__setattr__`` (a step's hot path);
+    every field must be given."""
+    state = object.__new__(OceanState)
+    state.__dict__.update(fields)
+    return state
 
 
 def _merge(old, new, mask: np.ndarray):

@@ -14,13 +14,13 @@ class PebbleField:
     Pebbles never move; they are stored sorted by the cell of a square grid (``cells`` x ``cells``
     cells of ``cell_m`` metres over the world, row-major with the row along y). The pebbles near
     grid cell ``k`` of world ``b`` -- its block of surrounding cells -- are the row slices
-    ``first[b, k, r] : first[b, k, r] + length[b, k, r]`` of ``z[b]``, one per block row.
+    ``first : first + length`` of ``z[b]``, one per block row ``r``, with
+    ``first, length = blocks[b, k, r]``.
     """
 
     z: np.ndarray  # (B, N) complex128 positions x + i y in metres (one gather fetches both coordinates)
     alive: np.ndarray  # (B, N) bool: still floating
-    first: np.ndarray  # (B, cells * cells, block rows) int64 index of a block row's first pebble
-    length: np.ndarray  # (B, cells * cells, block rows) int64 pebbles in that block row (0 off the grid)
+    blocks: np.ndarray  # (B, cells * cells, block rows, 2) int64 a block row's first pebble and length (0 off the grid)
     cells: int  # grid cells per side
     cell_m: float  # side of one grid cell in metres
 
