@@ -15,6 +15,7 @@ from gymnasium import spaces
 
 from .compiler import CompiledScenario
 from .reward.composer import RewardComposer
+from .spaces import hold_inactive
 
 Split = Literal["train", "test"]
 
@@ -144,6 +145,8 @@ class BatchedEnv:
     def step(self, actions: Any) -> Transition:
         """Advance every world one step with already validated (batch, agents, ...) actions."""
         self._require_reset()
+        if not self.alive.all():  # an agent whose episode ended does nothing until its world resets
+            actions = hold_inactive(self.sim.action_space, actions, self.alive)
         prev = self.state
         self.state, outcome = self.sim.step(prev, actions, self.rng)
         rewards, terms = self.composer(prev, self.state, actions, self.compiled.params, self.shape)

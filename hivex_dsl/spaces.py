@@ -43,6 +43,15 @@ def placeholder_action(space: spaces.Space) -> np.ndarray:
     raise TypeError(f"no placeholder action for {describe_space(space)}")
 
 
+def hold_inactive(space: spaces.Space, actions: Any, active: np.ndarray) -> Any:
+    """Batched actions (batch, agents, ...) with the placeholder action wherever ``active`` (batch, agents) is false."""
+    if isinstance(space, spaces.Dict):
+        return {key: hold_inactive(sub, actions[key], active) for key, sub in space.spaces.items()}
+    sample = placeholder_action(space)
+    mask = active.reshape(active.shape + (1,) * sample.ndim)
+    return np.where(mask, actions, sample).astype(np.asarray(actions).dtype, copy=False)
+
+
 def stack_agent_actions(space: spaces.Space, actions: dict[str, Any], agents: Sequence[str]) -> Any:
     """Per-agent actions (PettingZoo style) -> one batched array shaped (1, agents, ...)."""
     missing = [a for a in agents if a not in actions]
