@@ -8,7 +8,7 @@ grid so the simulators work on arrays.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, fields, replace
+from dataclasses import dataclass, replace
 from typing import Any, Callable
 
 import numpy as np
@@ -16,6 +16,7 @@ import numpy as np
 from ..procgen.forest import ForestSpec, IgnitionSpec, cell_centre_xy, ignition_mask, load_forest_preset, place_forest
 from ..procgen.terrain import TerrainSpec, generate_terrain, terrain_spec_for_level
 from ..procgen.weather import WeatherSpec, WeatherState, load_weather_preset, weather_at
+from ..batching import put_worlds, replace_worlds, select_worlds
 from ..fire import FireState, TreeState, fire_reset, fire_reset_where
 from ..procgen.weather import weather_reset
 from ..procgen.wind import WindSpec, WindState, wind_reset
@@ -153,19 +154,7 @@ def kept_maps(maps: IslandMaps, mask: np.ndarray, redraw: str) -> IslandMaps | N
     """The islands of the masked worlds when they are kept for a new episode (redraw_island 'seed'), else None."""
     if redraw == "episode":
         return None
-    return IslandMaps(*(getattr(maps, f.name)[mask] for f in fields(IslandMaps)))
-
-
-def put_worlds(old: np.ndarray, mask: np.ndarray, fresh: np.ndarray, axis: int = 0) -> np.ndarray:
-    """``old`` with the worlds where ``mask`` is true (along ``axis``) replaced by ``fresh``."""
-    out = old.copy()
-    out[(slice(None),) * axis + (mask,)] = fresh
-    return out
-
-
-def put_dataclass(old: Any, mask: np.ndarray, fresh: Any) -> Any:
-    """A dataclass of world-first arrays with the masked worlds taken from ``fresh``."""
-    return replace(old, **{f.name: put_worlds(getattr(old, f.name), mask, getattr(fresh, f.name)) for f in fields(old)})
+    return select_worlds(maps, mask)
 
 
 def restart_islands(state: Any, mask: np.ndarray, fresh: Any, kept: IslandMaps | None) -> dict[str, Any]:
@@ -178,8 +167,8 @@ def restart_islands(state: Any, mask: np.ndarray, fresh: Any, kept: IslandMaps |
     weather = replace(state.weather, offsets=put_worlds(state.weather.offsets, mask, fresh.weather.offsets),
                       perm=put_worlds(state.weather.perm, mask, fresh.weather.perm, axis=1),
                       grads=put_worlds(state.weather.grads, mask, fresh.weather.grads, axis=1))
-    return {"maps": state.maps if kept is not None else put_dataclass(state.maps, mask, fresh.maps), "fire": fire,
-            "wind": put_dataclass(state.wind, mask, fresh.wind), "weather": weather,
+    return {"maps": state.maps if kept is not None else replace_worlds(state.maps, mask, fresh.maps), "fire": fire,
+            "wind": replace_worlds(state.wind, mask, fresh.wind), "weather": weather,
             "conditions": put_worlds(state.conditions, mask, fresh.conditions)}
 
 

@@ -10,12 +10,13 @@ Angles are radians, directions are where the wind blows *to*, lengths are metres
 
 from __future__ import annotations
 
-from dataclasses import dataclass, fields, replace
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
 from pydantic import Field
 
+from ..batching import replace_worlds, select_worlds
 from ..spec.common import StrictModel
 from .noise import draw_lattice, fractal_unchecked
 
@@ -80,18 +81,12 @@ def wind_reset(rng: np.random.Generator, batch: int, spec: WindSpec) -> WindStat
 
 def wind_worlds(state: WindState, index: Any) -> WindState:
     """The wind of the worlds selected by ``index`` (a slice, mask or index array on the batch axis)."""
-    return WindState(**{f.name: getattr(state, f.name)[index] for f in fields(state)})
+    return select_worlds(state, index)
 
 
 def wind_reset_where(state: WindState, mask: np.ndarray, rng: np.random.Generator, spec: WindSpec) -> WindState:
     """Replace the wind of the worlds where ``mask`` (B,) is true by fresh draws."""
-    fresh = wind_reset(rng, int(np.count_nonzero(mask)), spec)
-    merged = {}
-    for f in fields(state):
-        array = getattr(state, f.name).copy()
-        array[mask] = getattr(fresh, f.name)
-        merged[f.name] = array
-    return WindState(**merged)
+    return replace_worlds(state, mask, wind_reset(rng, int(np.count_nonzero(mask)), spec))
 
 
 def wind_step(state: WindState, rng: np.random.Generator, spec: WindSpec) -> WindState:

@@ -12,6 +12,7 @@ from typing import NamedTuple
 import numpy as np
 from gymnasium import spaces
 
+from ...batching import read_only, replace_worlds
 from ...procgen.forest import ForestSpec, place_forest
 from ...procgen.terrain import TerrainSpec, generate_terrain
 from ...runtime import StepOutcome
@@ -20,7 +21,7 @@ from .fertility import (FAR_M, Grid, GridSet, distance_reward, fertility, interp
                         nearest_new_tree_distance, nearest_tree_distance, same_step_distance, sample_bilinear,
                         seed_reward, storage_slots, tree_distance_raster)
 from .params import DroneBasedReforestationParams
-from .types import DroneState, replace_worlds
+from .types import DroneState
 
 SEED_REWARD_MULTIPLIER = 20.0  # [paper] sdrm
 DISTANCE_REWARD_MULTIPLIER = 10.0  # [paper] drm
@@ -155,7 +156,7 @@ class DroneReforestationSimulator:
         return _with(state, frames=np.concatenate([frame[..., :VECTOR_SIZE]] * 2, axis=-1))
 
     def reset_where(self, state: DroneState, mask: np.ndarray, rng: np.random.Generator) -> DroneState:
-        return replace_worlds(state, self.reset(rng, int(np.count_nonzero(mask))), mask)
+        return replace_worlds(state, mask, self.reset(rng, int(np.count_nonzero(mask))))
 
     # ------------------------------------------------------------------ step
     @staticmethod
@@ -345,7 +346,7 @@ class DroneReforestationSimulator:
     def observe(self, state: DroneState) -> dict[str, np.ndarray]:
         """vector (B, A, 20) float32 (two stacks, newest first); visual (B, A, 16, 16, 1) float32."""
         visual = camera_images(state.camera, self.raster, state.position[..., :2], self.camera_half_width(state))
-        return {"vector": state.frames, "visual": visual}
+        return {"vector": read_only(state.frames), "visual": visual}
 
     def render(self, state: DroneState, index: int) -> np.ndarray:
         from .render import draw_reforestation

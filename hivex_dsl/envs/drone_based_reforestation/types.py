@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -50,13 +50,3 @@ class DroneState:
     found_tree: np.ndarray  # (B, A) bool, an existing tree within close_tree_radius_m
     running_back: np.ndarray  # (B, A) r_rb paid this step
     frames: np.ndarray  # (B, A, 20) float32 vector observation, newest stack first
-
-
-def replace_worlds(state: DroneState, fresh: DroneState, mask: np.ndarray) -> DroneState:
-    """A copy of ``state`` whose worlds where ``mask`` (B,) is true come from ``fresh`` (one per such world)."""
-    merged = {}
-    for field in fields(DroneState):
-        array = getattr(state, field.name).copy()
-        array[mask] = getattr(fresh, field.name)
-        merged[field.name] = array
-    return DroneState(**merged)

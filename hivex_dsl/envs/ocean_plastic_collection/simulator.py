@@ -8,13 +8,14 @@ positions. With ``crash_outcome: end`` a crashed vessel is terminated and frozen
 
 from __future__ import annotations
 
-from dataclasses import fields, is_dataclass, replace
+from dataclasses import replace
 from functools import lru_cache
 from typing import NamedTuple
 
 import numpy as np
 from gymnasium import spaces
 
+from ...batching import read_only, replace_worlds
 from ...procgen.pollution import PollutionSpec, SpawnSpec, pollution_map, sample_pebbles, spawn_vessels
 from ...procgen.wind import wrap_angle
 from ...runtime import StepOutcome
@@ -151,7 +152,7 @@ class OceanPlasticSimulator:
         count = int(np.count_nonzero(mask))
         if count == 0:
             return state
-        return _merge(state, self.reset(rng, count), mask)
+        return replace_worlds(state, mask, self.reset(rng, count))
 
     # -- step -------------------------------------------------------------------------------------
 
@@ -234,8 +235,9 @@ class OceanPlasticSimulator:
         return out
 
     def observe(self, state: OceanState) -> dict[str, np.ndarray]:
-        """The state's own observation arrays (built once per step in ``step``); treat them as read-only."""
-        return {"vector": state.vector, "visual": state.visual}
+        """The state's own observation arrays (built once per step in ``step``), read-only: an in-place edit
+        would change the older stack of the next observation, so it raises instead."""
+        return {"vector": read_only(state.vector), "visual": read_only(state.visual)}
 
     def render(self, state: OceanState, index: int) -> np.ndarray:
         from .render import draw_ocean
@@ -249,17 +251,3 @@ def _fast_state(**fields) -> OceanState:
     state = object.__new__(OceanState)
     state.__dict__.update(fields)
     return state
-
-
-def _merge(old, new, mask: np.ndarray):
-    """``old`` with the worlds where ``mask`` is true taken from ``new`` (which holds only those worlds)."""
-    changes = {}
-    for item in fields(old):
-        a, b = getattr(old, item.name), getattr(new, item.name)
-        if is_dataclass(a):
-            changes[item.name] = _merge(a, b, mask)
-        elif isinstance(a, np.ndarray):
-            merged = a.copy()
-            merged[mask] = b
-            changes[item.name] = merged
-    return replace(old, **changes)

@@ -16,7 +16,8 @@ from ...fire import TreeState, closest_burning, fire_step
 from ...procgen.weather import weather_at, weather_step
 from ...procgen.wind import wind_step
 from ...runtime import StepOutcome
-from ..island import (IslandMaps, IslandSpecs, conditions_reader, grid_lookup, put_dataclass, restart_where,
+from ...batching import read_only, replace_worlds
+from ..island import (IslandMaps, IslandSpecs, conditions_reader, grid_lookup, restart_where,
                       sample_conditions, start_islands)
 from .params import WildfireResourceParams
 from .resources import (MAX_SUPPORT_TENTHS, TARGETS_PER_AGENT, TENTHS, TOWERS, apply_actions, grid_offsets,
@@ -91,7 +92,7 @@ class WildfireResourceSimulator:
         if not mask.any():
             return state
         fresh, changes = restart_where(state, mask, rng, self.params.redraw_island, self._fresh, _PER_WORLD)
-        return replace(state, sighting=put_dataclass(state.sighting, mask, fresh.sighting), **changes)
+        return replace(state, sighting=replace_worlds(state.sighting, mask, fresh.sighting), **changes)
 
     # ---- step --------------------------------------------------------------------------
 
@@ -208,8 +209,8 @@ class WildfireResourceSimulator:
         return out
 
     def observe(self, state: WildfireResourceState) -> np.ndarray:
-        """(B, A, 16) float32 built in ``step``: 2 stacks (newest first) of the 8 labelled values (a copy)."""
-        return state.frame.copy()  # the state keeps its own frame: a caller may edit what it gets
+        """(B, A, 16) float32 built in ``step``: 2 stacks (newest first) of the 8 labelled values (read-only: the state keeps it)."""
+        return read_only(state.frame)
 
     def render(self, state: WildfireResourceState, index: int) -> np.ndarray:
         from .render import draw_towers

@@ -1,0 +1,47 @@
+"""Selecting and replacing worlds of batched states (dataclasses of arrays with a leading world axis).
+
+One place for what every simulator's partial reset does: build fresh worlds, then put them where
+the mask says. Nested dataclasses are handled field by field; fields that are not arrays (a step
+counter, say) belong to the batch, not to a world, and are kept.
+"""
+
+from __future__ import annotations
+
+from dataclasses import fields, is_dataclass, replace
+from typing import Any, TypeVar
+
+import numpy as np
+
+S = TypeVar("S")
+
+
+def put_worlds(old: np.ndarray, mask: np.ndarray, fresh: np.ndarray, axis: int = 0) -> np.ndarray:
+    """A copy of ``old`` whose worlds where ``mask`` is true (along ``axis``) come from ``fresh``."""
+    out = old.copy()
+    out[(slice(None),) * axis + (mask,)] = fresh
+    return out
+
+
+def replace_worlds(old: S, mask: np.ndarray, fresh: S) -> S:
+    """``old`` with the worlds where ``mask`` (B,) is true taken from ``fresh`` (which holds only those worlds)."""
+    changes = {}
+    for item in fields(old):
+        a, b = getattr(old, item.name), getattr(fresh, item.name)
+        if is_dataclass(a):
+            changes[item.name] = replace_worlds(a, mask, b)
+        elif isinstance(a, np.ndarray):
+            changes[item.name] = put_worlds(a, mask, b)
+    return replace(old, **changes)
+
+
+def select_worlds(state: S, index: Any) -> S:
+    """The worlds of ``state`` selected by ``index`` (a slice, mask or index array on the world axis)."""
+    return replace(state, **{f.name: getattr(state, f.name)[index] for f in fields(state)})
+
+
+def read_only(array: np.ndarray) -> np.ndarray:
+    """A read-only view of ``array``: for observations a simulator also keeps (e.g. as the older stack
+    of the next frame), so an in-place edit by a caller raises instead of corrupting the next step."""
+    view = array.view()
+    view.flags.writeable = False
+    return view
