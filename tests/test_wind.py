@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 from hypothesis import given, strategies as st
 
-from hivex_dsl.procgen.wind import WindSpec, local_wind, wind_reset, wind_reset_where, wind_step, wrap_angle
+from hivex_dsl.procgen.wind import (WindSpec, local_wind, probe_wind, wind_reset, wind_reset_where, wind_step,
+                                   wrap_angle)
 
 SPEC = WindSpec(ease_rate=0.01, target_shift_deg=60.0, retarget_tolerance_deg=5.0, deviation_max_deg=90.0,
                 noise_scale_m=400.0, noise_octaves=2, drift_m=1.0)
@@ -65,3 +66,24 @@ def test_reset_where_changes_only_masked_worlds():
 @pytest.mark.parametrize("angle, expected", [(np.pi, -np.pi), (3 * np.pi / 2, -np.pi / 2), (-0.1, -0.1)])
 def test_wrap_angle(angle, expected):
     assert wrap_angle(angle) == pytest.approx(expected)
+
+
+@given(seed=st.integers(0, 2**32 - 1), drift_m=st.sampled_from([1.0, 37.0, 100.0]))
+def test_a_kept_probe_gives_exactly_the_fresh_wind(seed, drift_m):
+    """Chained probes (cell lookups skipped while points stay in their cells) equal fresh evaluations,
+    also while points cross cells (large drift) and after a partial reset draws a new lattice."""
+    spec = WindSpec(**{**SPEC.__dict__, "drift_m": drift_m})
+    rng = np.random.default_rng(seed)
+    state = wind_reset(rng, 3, spec)
+    points = rng.uniform(-900.0, 900.0, (3, 5, 2))
+    wind, probe = probe_wind(state, points, spec)
+    reused = 0
+    for step in range(60):
+        state = wind_step(state, rng, spec)
+        if step == 30:
+            state = wind_reset_where(state, np.array([False, True, False]), rng, spec)
+        before = probe
+        wind, probe = probe_wind(state, points, spec, probe)
+        reused += probe is before
+        np.testing.assert_array_equal(wind, local_wind(state, points, spec))
+    assert drift_m > 1.0 or reused > 0  # with a metre of drift per step the probe is really reused

@@ -10,7 +10,8 @@ Angles are radians, directions are where the wind blows *to*, lengths are metres
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+import math
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -18,7 +19,7 @@ from pydantic import Field
 
 from ..batching import replace_worlds, select_worlds
 from ..spec.common import StrictModel
-from .noise import draw_lattice, fractal_unchecked
+from .noise import blend_corners, corner_gradients, draw_lattice, octave_points, sum_octaves
 
 TWO_PI = 2.0 * np.pi
 
@@ -93,15 +94,51 @@ def wind_step(state: WindState, rng: np.random.Generator, spec: WindSpec) -> Win
     """Advance every world's wind by one step (one uniform draw per world, always)."""
     remaining = wrap_angle(state.target - state.main)
     main = wrap_angle(state.main + spec.ease_rate * remaining)
-    reached = np.abs(wrap_angle(state.target - main)) < np.radians(spec.retarget_tolerance_deg)
+    reached = np.abs(wrap_angle(state.target - main)) < math.radians(spec.retarget_tolerance_deg)
     sign = np.where(rng.random(main.shape[0]) < 0.5, -1.0, 1.0)
-    target = np.where(reached, wrap_angle(state.target + sign * np.radians(spec.target_shift_deg)), state.target)
-    drift = state.drift + spec.drift_m * np.stack([np.cos(main), np.sin(main)], axis=-1)
-    return replace(state, main=main, target=target, drift=drift)
+    target = np.where(reached, wrap_angle(state.target + sign * math.radians(spec.target_shift_deg)), state.target)
+    heading = np.empty(state.drift.shape)
+    np.cos(main, out=heading[:, 0])
+    np.sin(main, out=heading[:, 1])
+    drift = state.drift + spec.drift_m * heading
+    return WindState(main=main, target=target, drift=drift, perm=state.perm, grads=state.grads)
+
+
+@dataclass(frozen=True)
+class WindProbe:
+    """The noise lattice cells around a set of points and their corner gradients.
+
+    The field drifts about a metre per step against lattice cells of hundreds of metres, so points
+    stay in their cells for hundreds of steps; a probe lets :func:`probe_wind` skip the gradient
+    lookups until one of them moves on. It is only reused for the very lattice arrays it was
+    built from (``perm``, by identity), so a world's new wind after a reset cannot meet a stale probe.
+    """
+
+    perm: np.ndarray  # the WindState.perm it was built from
+    lower: np.ndarray  # (B, N, octaves, 2) lower-left cell corners in lattice units
+    gx: np.ndarray  # (4, B, N, octaves) corner gradients, x component
+    gy: np.ndarray  # (4, B, N, octaves)
+
+    def fits(self, perm: np.ndarray, lower: np.ndarray) -> bool:
+        return self.perm is perm and self.lower.shape == lower.shape and not (self.lower != lower).any()
+
+
+def probe_wind(state: WindState, points: np.ndarray, spec: WindSpec,
+               probe: WindProbe | None = None) -> tuple[np.ndarray, WindProbe]:
+    """Wind direction at ``points`` (B, N, 2) metres -> ((B, N) radians, the probe to pass next time).
+
+    Identical to :func:`local_wind`; ``probe`` (from the previous call for the same points, or None)
+    only saves the gradient lookups while every point stays in its lattice cells.
+    """
+    moved = (points - state.drift[:, None, :]) / spec.noise_scale_m
+    octave_coords = octave_points(moved[..., 0], moved[..., 1], spec.noise_octaves, 2.0)
+    lower = np.floor(octave_coords)
+    if probe is None or not probe.fits(state.perm, lower):
+        probe = WindProbe(state.perm, lower, *corner_gradients(state.perm, state.grads, lower))
+    noise = sum_octaves(blend_corners(probe.gx, probe.gy, octave_coords - lower), 0.5)
+    return wrap_angle(state.main[:, None] + math.radians(spec.deviation_max_deg) * noise), probe
 
 
 def local_wind(state: WindState, points: np.ndarray, spec: WindSpec) -> np.ndarray:
     """Wind direction at ``points`` (B, N, 2) metres -> (B, N) radians."""
-    moved = (points - state.drift[:, None, :]) / spec.noise_scale_m
-    noise = fractal_unchecked(state.perm, state.grads, moved[..., 0], moved[..., 1], spec.noise_octaves, 0.5, 2.0)
-    return wrap_angle(state.main[:, None] + np.radians(spec.deviation_max_deg) * noise)
+    return probe_wind(state, points, spec)[0]

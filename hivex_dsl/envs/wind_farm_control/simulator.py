@@ -2,13 +2,12 @@
 
 from __future__ import annotations
 
-from dataclasses import replace
-
 import numpy as np
 from gymnasium import spaces
 
 from ...procgen.layouts import turbine_layout
-from ...procgen.wind import local_wind, wind_reset, wind_reset_where, wind_step, wrap_angle
+from ...procgen.noise import clamp
+from ...procgen.wind import probe_wind, wind_reset, wind_reset_where, wind_step, wrap_angle
 from ...runtime import StepOutcome
 from .params import WindFarmControlParams
 from .types import WindFarmState
@@ -34,7 +33,7 @@ def alignment(heading: np.ndarray, wind: np.ndarray) -> np.ndarray:
 
 def wind_force(align: np.ndarray, threshold: float) -> np.ndarray:
     """The paper's W(theta): 0 below the threshold, Map(theta, threshold, 1, 0, 1) above it."""
-    return np.clip((align - threshold) / (1.0 - threshold), 0.0, 1.0)
+    return clamp((align - threshold) / (1.0 - threshold), 0.0, 1.0)
 
 
 def next_performance(performance: np.ndarray, force: np.ndarray, acceleration: float, drag: float) -> np.ndarray:
@@ -74,8 +73,9 @@ class WindFarmSimulator:
         positions = self._layouts(rng, batch)
         heading = rng.uniform(-np.pi, np.pi, (batch, self.agents))
         wind = wind_reset(rng, batch, self.wind_spec)
+        wind_here, probe = probe_wind(wind, positions, self.wind_spec)
         return WindFarmState(positions=positions, heading=heading, performance=np.zeros((batch, self.agents)),
-                             local_wind=local_wind(wind, positions, self.wind_spec), wind=wind)
+                             local_wind=wind_here, wind=wind, wind_probe=probe)
 
     def reset_where(self, state: WindFarmState, mask: np.ndarray, rng: np.random.Generator) -> WindFarmState:
         count = int(np.count_nonzero(mask))
@@ -84,25 +84,30 @@ class WindFarmSimulator:
         heading[mask] = rng.uniform(-np.pi, np.pi, (count, self.agents))
         performance[mask] = 0.0
         wind = wind_reset_where(state.wind, mask, rng, self.wind_spec)
+        wind_here, probe = probe_wind(wind, positions, self.wind_spec)
         return WindFarmState(positions=positions, heading=heading, performance=performance,
-                             local_wind=local_wind(wind, positions, self.wind_spec), wind=wind)
+                             local_wind=wind_here, wind=wind, wind_probe=probe)
 
     def step(self, state: WindFarmState, actions: np.ndarray, rng: np.random.Generator) -> tuple[WindFarmState, StepOutcome]:
         """actions (B, A) ints in {0, 1, 2}: rotate, move the wind, then update each turbine's performance."""
         heading = wrap_angle(state.heading + self._rotation * ROTATION_SIGN[actions])
         wind = wind_step(state.wind, rng, self.wind_spec)
-        wind_here = local_wind(wind, state.positions, self.wind_spec)
+        wind_here, probe = probe_wind(wind, state.positions, self.wind_spec, state.wind_probe)
         force = wind_force(alignment(heading, wind_here), self.params.alignment_threshold)
         performance = next_performance(state.performance, force, self.params.motor_acceleration, self.params.drag)
-        new = replace(state, heading=heading, performance=performance, local_wind=wind_here, wind=wind)
+        new = WindFarmState(positions=state.positions, heading=heading, performance=performance,
+                            local_wind=wind_here, wind=wind, wind_probe=probe)
         return new, StepOutcome(terminated=np.zeros(heading.shape, bool), events={})
 
     def observe(self, state: WindFarmState) -> np.ndarray:
         """(B, A, 6) float32: position / half extent (2), heading (cos, sin), local wind (cos, sin)."""
-        position = np.clip(state.positions / self.params.farm_half_extent_m, -1.0, 1.0)
-        heading = np.stack([np.cos(state.heading), np.sin(state.heading)], axis=-1)
-        wind = np.stack([np.cos(state.local_wind), np.sin(state.local_wind)], axis=-1)
-        return np.concatenate([position, heading, wind], axis=-1).astype(np.float32)
+        out = np.empty(state.heading.shape + (6,), np.float32)
+        out[..., 0:2] = clamp(state.positions / self.params.farm_half_extent_m, -1.0, 1.0)
+        np.cos(state.heading, out=out[..., 2])
+        np.sin(state.heading, out=out[..., 3])
+        np.cos(state.local_wind, out=out[..., 4])
+        np.sin(state.local_wind, out=out[..., 5])
+        return out
 
     def render(self, state: WindFarmState, index: int) -> np.ndarray:
         from .render import draw_wind_farm

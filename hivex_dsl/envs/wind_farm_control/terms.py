@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ...procgen.noise import clamp
 from ...reward.terms import TermRegistry
 from .simulator import angle_between
 
@@ -17,7 +18,7 @@ TERMS = TermRegistry("wind_farm_control")
     equation="R = max(0, min(1, P)),  P <- P - drag*P + a*W(theta),  W = 0 if theta < 0.5 else Map(theta, 0.5, 1, 0, 1)",
 )
 def generate_energy(prev, state, actions, params):
-    return np.clip(state.performance, 0.0, 1.0)
+    return clamp(state.performance, 0.0, 1.0)
 
 
 @TERMS.term(

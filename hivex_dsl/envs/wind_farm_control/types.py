@@ -3,10 +3,11 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Optional
 
 import numpy as np
 
-from ...procgen.wind import WindState
+from ...procgen.wind import WindProbe, WindState
 
 
 @dataclass(frozen=True)
@@ -18,3 +19,4 @@ class WindFarmState:
     performance: np.ndarray  # (B, A) P of the paper's equation, before clamping
     local_wind: np.ndarray  # (B, A) wind direction at each turbine (where it blows to)
     wind: WindState
+    wind_probe: Optional[WindProbe] = None  # cached noise lookups at the turbines (see procgen.wind)
