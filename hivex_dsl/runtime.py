@@ -101,6 +101,8 @@ class BatchedEnv:
         self.returns = np.zeros(shape)
         self.term_sums = {name: np.zeros(shape) for name in self.composer.active}
         self.lengths = np.zeros(shape, np.int64)
+        self.everyone_playing = False  # == bool(self.alive.all()), kept so a step needs no reduction for it
+        self._step_info = getattr(self.sim, "step_info", None)
 
     @property
     def shape(self) -> tuple[int, int]:
@@ -137,6 +139,7 @@ class BatchedEnv:
         self.lengths[mask] = 0
         for sums in self.term_sums.values():
             sums[mask] = 0.0
+        self.everyone_playing = bool(self.alive.all())
 
     def _require_reset(self) -> None:
         if self.state is None:
@@ -145,20 +148,20 @@ class BatchedEnv:
     def step(self, actions: Any) -> Transition:
         """Advance every world one step with already validated (batch, agents, ...) actions."""
         self._require_reset()
-        if not self.alive.all():  # an agent whose episode ended does nothing until its world resets
-            actions = hold_inactive(self.sim.action_space, actions, self.alive)
+        live, everyone = self.alive, self.everyone_playing
+        if not everyone:  # an agent whose episode ended does nothing until its world resets
+            actions = hold_inactive(self.sim.action_space, actions, live)
         prev = self.state
         self.state, outcome = self.sim.step(prev, actions, self.rng)
         rewards, terms = self.composer(prev, self.state, actions, self.compiled.params, self.shape)
-        live = self.alive
-        if not live.all():  # ended agents earn nothing (skipped while everyone plays: most steps)
+        if not everyone:  # ended agents earn nothing (skipped while everyone plays: most steps)
             rewards = np.where(live, rewards, 0.0)
             terms = {name: np.where(live, value, 0.0) for name, value in terms.items()}
         self.clock += 1
         self.lengths += live
-        ending = outcome.terminated.copy()
+        ending = outcome.terminated
         for event in self.compiled.ends_on:
-            ending |= outcome.events[event]
+            ending = ending | outcome.events[event]
         terminated = live & ending
         truncated = live & ~terminated & (self.clock >= self.compiled.episode_length)[:, None]
         self.returns += rewards
@@ -166,8 +169,8 @@ class BatchedEnv:
             self.term_sums[name] += value
         ended = terminated | truncated
         self.alive = live & ~ended
-        step_info = getattr(self.sim, "step_info", None)
-        env_info = step_info(self.state) if step_info is not None else {}
+        self.everyone_playing = not ended.any() if everyone else bool(self.alive.all())
+        env_info = self._step_info(self.state) if self._step_info is not None else {}
         return Transition(self.sim.observe(self.state), rewards, terminated, truncated, terms, ended, env_info)
 
     def episode_summary(self, world: int, agent: int) -> dict[str, Any]:

@@ -18,6 +18,21 @@ def _unbatch(observations: Any, world: int, agent: int) -> Any:
     return observations[world, agent]
 
 
+def _per_agent(observations: Any) -> list:
+    """World 0's observation of every agent: (1, agents, ...) arrays (or a dict of them) -> a list of views."""
+    if isinstance(observations, dict):
+        keys = list(observations)
+        return [dict(zip(keys, parts)) for parts in zip(*(observations[k][0] for k in keys))]
+    return list(observations[0])
+
+
+def _per_agent_values(named: dict[str, np.ndarray], agents: int) -> list[dict[str, Any]]:
+    """{name: (1, agents) array} -> one {name: Python value} dict per agent."""
+    names = list(named)
+    columns = [np.asarray(named[k])[0].tolist() for k in names]
+    return [dict(zip(names, row)) for row in zip(*columns)] if names else [{} for _ in range(agents)]
+
+
 class HivexParallelEnv(ParallelEnv):
     """One world of a compiled scenario behind PettingZoo's parallel API.
 
@@ -61,25 +76,28 @@ class HivexParallelEnv(ParallelEnv):
         full = self._fill_inactive(batched, live)
         full = check_actions(space, full, self.possible_agents, self.core.sim.action_meanings)
         result = self.core.step(full)
-        obs, rewards, terminations, truncations, infos = {}, {}, {}, {}, {}
-        # one tolist() per array instead of a NumPy scalar per agent: this loop runs every step
-        reward_list, terminated, truncated = (result.rewards[0].tolist(), result.terminated[0].tolist(),
-                                              result.truncated[0].tolist())
-        ended = result.ended[0].tolist()
-        term_lists = {k: v[0].tolist() for k, v in result.terms.items()}
-        env_lists = {k: np.asarray(v[0]).tolist() for k, v in result.env_info.items()}
-        for agent in live:
-            i = self._index[agent]
-            obs[agent] = _unbatch(result.observations, 0, i)
-            rewards[agent] = reward_list[i]
-            terminations[agent] = terminated[i]
-            truncations[agent] = truncated[i]
-            infos[agent] = {"reward_terms": {k: values[i] for k, values in term_lists.items()}}
-            if env_lists:
-                infos[agent]["env"] = {k: values[i] for k, values in env_lists.items()}
-            if ended[i]:
-                infos[agent]["episode"] = self.core.episode_summary(0, i)
-        self.agents = [a for a in live if not ended[self._index[a]]]
+        everyone = len(live) == len(self.possible_agents)
+        rows = None if everyone else [self._index[a] for a in live]
+
+        def of_live(values: list) -> list:  # per-agent values (all agents) -> those of the live agents
+            return values if rows is None else [values[i] for i in rows]
+
+        # whole rows at once (tolist, zip) instead of NumPy scalars per agent: this runs every step
+        obs = dict(zip(live, of_live(_per_agent(result.observations))))
+        rewards = dict(zip(live, of_live(result.rewards[0].tolist())))
+        terminations = dict(zip(live, of_live(result.terminated[0].tolist())))
+        truncations = dict(zip(live, of_live(result.truncated[0].tolist())))
+        term_rows = of_live(_per_agent_values(result.terms, len(self.possible_agents)))
+        infos = {a: {"reward_terms": terms} for a, terms in zip(live, term_rows)}
+        if result.env_info:
+            for a, facts in zip(live, of_live(_per_agent_values(result.env_info, len(self.possible_agents)))):
+                infos[a]["env"] = facts
+        ended = result.ended[0]
+        if ended.any():
+            for a in live:
+                if ended[self._index[a]]:
+                    infos[a]["episode"] = self.core.episode_summary(0, self._index[a])
+            self.agents = [a for a in live if not ended[self._index[a]]]
         return obs, rewards, terminations, truncations, infos
 
     def _fill_inactive(self, batched: Any, live: list[str]) -> Any:
