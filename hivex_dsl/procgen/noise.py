@@ -15,6 +15,7 @@ dimensionless and lie in ``[-1, 1]``; callers scale them to physical units (m/s,
 
 from __future__ import annotations
 
+import functools
 import numbers
 
 import numpy as np
@@ -209,9 +210,17 @@ def fractal2d(
     return fractal_unchecked(*_checked_inputs(perm, grads, x, y), octaves, persistence, lacunarity)
 
 
+@functools.lru_cache(maxsize=64)
+def octave_frequencies(octaves: int, lacunarity: float) -> np.ndarray:
+    """``(octaves, 1)`` read-only frequencies ``lacunarity**k``, shaped to scale ``(..., octaves, 2)`` points."""
+    frequencies = np.array([lacunarity**k for k in range(octaves)]).reshape(octaves, 1)
+    frequencies.flags.writeable = False
+    return frequencies
+
+
 def octave_points(x: np.ndarray, y: np.ndarray, octaves: int, lacunarity: float) -> np.ndarray:
     """Sample points of every octave: ``(B, ...)`` x and y -> ``(B, ..., octaves, 2)`` lattice coordinates."""
-    frequencies = np.array([lacunarity**k for k in range(octaves)])
+    frequencies = octave_frequencies(octaves, lacunarity)[:, 0]
     points = np.empty(x.shape + (octaves, 2))
     np.multiply(x[..., None], frequencies, out=points[..., 0])
     np.multiply(y[..., None], frequencies, out=points[..., 1])

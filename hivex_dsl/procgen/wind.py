@@ -19,7 +19,7 @@ from pydantic import Field
 
 from ..batching import replace_worlds, select_worlds
 from ..spec.common import StrictModel
-from .noise import blend_corners, corner_gradients, draw_lattice, octave_points, sum_octaves
+from .noise import blend_corners, corner_gradients, draw_lattice, octave_frequencies, sum_octaves
 
 TWO_PI = 2.0 * np.pi
 
@@ -131,7 +131,7 @@ def probe_wind(state: WindState, points: np.ndarray, spec: WindSpec,
     only saves the gradient lookups while every point stays in its lattice cells.
     """
     moved = (points - state.drift[:, None, :]) / spec.noise_scale_m
-    octave_coords = octave_points(moved[..., 0], moved[..., 1], spec.noise_octaves, 2.0)
+    octave_coords = moved[..., None, :] * octave_frequencies(spec.noise_octaves, 2.0)  # (B, N, octaves, 2)
     lower = np.floor(octave_coords)
     if probe is None or not probe.fits(state.perm, lower):
         probe = WindProbe(state.perm, lower, *corner_gradients(state.perm, state.grads, lower))
