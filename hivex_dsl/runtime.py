@@ -145,8 +145,15 @@ class BatchedEnv:
         if self.state is None:
             raise RuntimeError("call reset() before step()")
 
-    def step(self, actions: Any) -> Transition:
-        """Advance every world one step with already validated (batch, agents, ...) actions."""
+    def step(self, actions: Any, restart: Optional[np.ndarray] = None) -> Transition:
+        """Advance every world one step with already validated (batch, agents, ...) actions.
+
+        ``restart`` (batch,) bool, if given, starts new episodes in those worlds right after the
+        step (continuing the random stream), so the returned observations are their first ones;
+        observing once after the restart spares a second observation of every world, which for
+        camera environments costs as much as the step. Their transition values (rewards, ended,
+        ...) are the step's, for the caller to discard.
+        """
         self._require_reset()
         live, everyone = self.alive, self.everyone_playing
         if not everyone:  # an agent whose episode ended does nothing until its world resets
@@ -171,6 +178,9 @@ class BatchedEnv:
         self.alive = live & ~ended
         self.everyone_playing = not ended.any() if everyone else bool(self.alive.all())
         env_info = self._step_info(self.state) if self._step_info is not None else {}
+        if restart is not None and restart.any():
+            self.state = self.sim.reset_where(self.state, restart, self.rng)
+            self._clear(restart)
         return Transition(self.sim.observe(self.state), rewards, terminated, truncated, terms, ended, env_info)
 
     def episode_summary(self, world: int, agent: int) -> dict[str, Any]:

@@ -100,3 +100,38 @@ def test_an_agent_whose_episode_ended_gets_the_placeholder_action_until_its_worl
     env.step(np.array([0, 1, 0]))  # agent 1 ends its episode
     env.step(np.array([2, 1, 2]))  # its action is replaced; the others act
     assert seen[-1].tolist() == [[2, 0, 2]]
+
+
+@pytest.mark.parametrize("environment", ["wind_farm_control", "ocean_plastic_collection", "aerial_wildfire_suppression"])
+def test_restarting_worlds_observe_as_a_separate_reset_would(environment):
+    """The vector env restarts pending worlds inside the step and observes once; that must give what
+    stepping, then resetting those worlds on their own, then observing gives."""
+    from hivex_dsl.policies import random_policy
+    from hivex_dsl.runtime import BatchedEnv
+
+    compiled = hivex_dsl.compile({"hivex": 1, "environment": environment, "episode_length": 6, "seeds": {"train": 4}})
+    venv = hivex_dsl.vector_env(compiled, num_envs=3)
+    manual = BatchedEnv(compiled, batch=3)
+    draw = random_policy(venv.single_action_space, (venv.num_envs,), np.random.default_rng(1))
+    obs, _ = venv.reset()
+    expected = manual.reset()
+    pending = np.zeros(3, bool)
+    restarts = 0
+    for _ in range(20):
+        actions = draw(None)
+        obs, *_ = venv.step(actions)
+        batched = {k: v.reshape((3, -1) + v.shape[1:]) for k, v in actions.items()} if isinstance(actions, dict) \
+            else actions.reshape((3, -1) + actions.shape[1:])
+        expected = manual.step(batched).observations
+        if pending.any():
+            expected = manual.reset_worlds(pending)
+            restarts += 1
+        pending = ~manual.alive.any(axis=1)
+        flat = {k: v.reshape((venv.num_envs,) + v.shape[2:]) for k, v in expected.items()} if isinstance(expected, dict) \
+            else expected.reshape((venv.num_envs,) + expected.shape[2:])
+        if isinstance(obs, dict):
+            for key in obs:
+                np.testing.assert_array_equal(obs[key], flat[key])
+        else:
+            np.testing.assert_array_equal(obs, flat)
+    assert restarts >= 2

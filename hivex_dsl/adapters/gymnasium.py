@@ -73,26 +73,21 @@ class HivexVectorEnv(VectorEnv):
         shape = self.core.shape
         batched = check_actions(self.single_action_space, _unflatten(actions, shape),
                                 self.compiled.agent_names, self.core.sim.action_meanings)
-        result = self.core.step(batched)
+        pending = self._pending_reset
+        restarting = pending.any()
+        # only worlds that ended a step ago restart, so the sums of episodes ending now stay for the infos
+        result = self.core.step(batched, restart=pending if restarting else None)
         observations, rewards = result.observations, result.rewards
         terminated, truncated = result.terminated, result.truncated
         infos = self._infos(result)
-        if self._pending_reset.any():
-            observations = self._reset_pending(observations)
-            resetting = self._pending_reset[:, None]
+        if restarting:  # those worlds return their first observation, reward 0 and no ending
+            resetting = pending[:, None]
             rewards = np.where(resetting, 0.0, rewards)
             terminated, truncated = terminated & ~resetting, truncated & ~resetting
         infos["active"] = self.core.alive.reshape(-1).copy()
         self._pending_reset = ~self.core.alive.any(axis=1)
         return (_flatten(observations, self.num_envs), rewards.reshape(-1), terminated.reshape(-1),
                 truncated.reshape(-1), infos)
-
-    def _reset_pending(self, observations: Any) -> Any:
-        fresh = self.core.reset_worlds(self._pending_reset)
-        mask = self._pending_reset
-        if isinstance(observations, dict):
-            return {k: np.where(mask.reshape((-1,) + (1,) * (v.ndim - 1)), fresh[k], v) for k, v in observations.items()}
-        return np.where(mask.reshape((-1,) + (1,) * (observations.ndim - 1)), fresh, observations)
 
     def _infos(self, result) -> dict[str, Any]:
         ended = result.ended & ~self._pending_reset[:, None]
