@@ -4,6 +4,10 @@ Plain script, not collected by pytest. Prints the median wall time of each case 
 The engine writes the tree grid in place, so every timed call starts from a fresh copy of a
 prepared state (the copy is not timed).
 
+A "steady" case times the step after one untimed step, when the engine knows which burning trees
+have nothing left to ignite (``FireState.spent``), as in a running simulation; "grid" passes the
+weather as a ``FactorGrid``, as Wildfire Resource Management does.
+
 Fronts are built, not grown, on a 400 x 400 forest of about 60 % density: a ring front burns the
 trees of a band around a world's fire centre (random ages), with burnt trees inside and existing
 ones outside, the shape of a fire that spread outwards; a scattered front burns random trees
@@ -19,7 +23,8 @@ from typing import Callable
 import numpy as np
 
 from hivex_dsl.fire import (
-    FireSpec, FireState, TreeState, burning_count, closest_burning, douse, fire_copy, fire_step,
+    FactorGrid, FireSpec, FireState, TreeState, burning_count, closest_burning, count_factors, douse, fire_copy,
+    fire_step, grid_cell_table,
 )
 
 CELLS = 400
@@ -97,13 +102,26 @@ def heights(rng: np.random.Generator, batch: int) -> np.ndarray:
     return (plane + rng.random((batch, CELLS, CELLS))).astype(np.float32)
 
 
-def step_case(rng: np.random.Generator, name: str, base: FireState, runs: int) -> tuple[str, str, int, float]:
+def step_case(rng: np.random.Generator, name: str, base: FireState, runs: int, steady: bool = False,
+              grid: bool = False) -> tuple[str, str, int, float]:
+    """fire_step on copies of ``base``; ``steady``: after one untimed step, so the spent trees are known
+    (as in a running simulation); ``grid``: the weather as a FactorGrid (as WRM passes it) instead of a callable."""
     spec, batch = FireSpec(), base.batch
     wind = rng.uniform(-np.pi, np.pi, batch)
     conditions, height = weather_lookup(rng, batch), heights(rng, batch)
+    if grid:
+        conditions = factor_grid(rng, batch, spec)
+    if steady:
+        base = fire_step(fire_copy(base), rng, spec, wind, height, conditions)
     size = f"B={batch}, ~{int(burning_count(base).mean())} burning/world"
     ms = median_ms(lambda: fire_copy(base), lambda s: fire_step(s, rng, spec, wind, height, conditions), runs)
     return name, size, runs, ms
+
+
+def factor_grid(rng: np.random.Generator, batch: int, spec: FireSpec, grid: int = 16) -> FactorGrid:
+    """The weather of :func:`weather_lookup` as a FactorGrid: factors counted once per grid cell."""
+    values = rng.random((batch, grid, grid, 3)).astype(np.float32)
+    return FactorGrid(count_factors(values, spec), grid_cell_table((np.arange(CELLS) * grid) // CELLS, grid))
 
 
 def water_cases(rng: np.random.Generator, batch: int, agents: int, runs: int) -> list[tuple[str, str, int, float]]:
@@ -157,6 +175,9 @@ def main() -> None:
         step_case(rng, "fire_step (ring front)", ring_fire(rng, 1, 138.0, 10.0, burn), 30),
         step_case(rng, "fire_step (scattered)", scattered_fire(rng, 1, 5000, burn), 30),
         step_case(rng, "fire_step (ring front)", ring_fire(rng, 256, 19.0, 3.0, burn), 15),
+        step_case(rng, "fire_step (ring, steady)", ring_fire(rng, 1, 138.0, 10.0, burn), 30, steady=True),
+        step_case(rng, "fire_step (ring, steady)", ring_fire(rng, 256, 19.0, 3.0, burn), 15, steady=True),
+        step_case(rng, "fire_step (steady, grid)", ring_fire(rng, 256, 19.0, 3.0, burn), 15, steady=True, grid=True),
         *water_cases(rng, 256, 3, 15),
         *search_cases(rng, 15),
     ]

@@ -15,12 +15,14 @@ from .engine import (
     fire_reset_where,
     length_in_cells,
 )
+from .factors import FactorGrid, count_factors, grid_cell_table
 from .search import closest_burning
 from .spread import Conditions, fire_step
 from .water import douse
 
 __all__ = [
     "Conditions",
+    "FactorGrid",
     "FireSpec",
     "FireState",
     "TreeState",
@@ -28,10 +30,12 @@ __all__ = [
     "cell_coords",
     "cell_xy",
     "closest_burning",
+    "count_factors",
     "douse",
     "fire_copy",
     "fire_reset",
     "fire_reset_where",
     "fire_step",
+    "grid_cell_table",
     "length_in_cells",
 ]

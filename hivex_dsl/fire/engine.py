@@ -14,6 +14,8 @@ col ``i % C``. ``burning`` lists the flat indices of every burning tree of every
 Ownership: ``fire_step``, ``douse`` and ``fire_reset_where`` write ``trees`` in place and return a
 new :class:`FireState` sharing it (copying a (256, 400, 400) grid costs more than a whole step);
 the state passed in is consumed: read nothing from it afterwards. :func:`fire_copy` snapshots.
+Editing ``trees`` by hand must not turn a cell back into an existing tree while its world burns
+(``FireState.spent`` relies on that): reset the world instead.
 """
 
 from __future__ import annotations
@@ -69,6 +71,10 @@ class FireState:
     new ignition; out (B,) bool the fire is out (stays so until reset); ignited, burnt_out (B,) int64
     trees set burning / burnt by the last fire step of the world (or by its reset). ``douse`` leaves
     these two counters alone: it returns its own counts.
+
+    spent (K,) uint8: 0, or a radius r such that the (2r+1) x (2r+1) block of the burning tree held no
+    existing tree at a fire step; it cannot hold one later (no cell turns back into an existing tree
+    while its world burns), so spread skips the tree for any radius <= r. Optional (None: all 0).
     """
 
     trees: np.ndarray
@@ -78,8 +84,14 @@ class FireState:
     out: np.ndarray
     ignited: np.ndarray
     burnt_out: np.ndarray
+    spent: np.ndarray | None = None
 
     def __post_init__(self) -> None:
+        if self.spent is None:
+            object.__setattr__(self, "spent", np.zeros(self.burning.shape, np.uint8))
+        elif self.spent.shape != self.burning.shape or self.spent.dtype != np.uint8:
+            raise ValueError(f"spent must be a uint8 array shaped like burning {self.burning.shape}, "
+                             f"got {self.spent.dtype} {self.spent.shape}")
         trees = self.trees
         if trees.dtype != np.uint8 or trees.ndim != 3 or trees.shape[1] != trees.shape[2]:
             raise ValueError(f"trees must be a uint8 (B, C, C) array, got {trees.dtype} {trees.shape}")
@@ -115,11 +127,12 @@ def vector(name: str, array: object, length: int | None = None, integer: bool = 
     if vec.ndim != 1 or (length is not None and len(vec) != length):
         wanted = "N" if length is None else str(length)
         raise ValueError(f"{name} must have shape ({wanted},), got {vec.shape}")
+    kind = vec.dtype.kind  # dtype kinds, not np.issubdtype: this runs on every step
     if integer:
-        if not (np.issubdtype(vec.dtype, np.integer) or vec.size == 0):
+        if not (kind in "iu" or vec.size == 0):
             raise ValueError(f"{name} must hold integers, got dtype {vec.dtype}")
         return vec.astype(np.int64, copy=False)
-    if not (np.issubdtype(vec.dtype, np.integer) or np.issubdtype(vec.dtype, np.floating)) or not np.isfinite(vec).all():
+    if kind not in "iuf" or not np.isfinite(vec).all():
         raise ValueError(f"{name} must hold finite numbers, got dtype {vec.dtype}")
     return vec.astype(np.float64, copy=False)
 
@@ -193,7 +206,8 @@ def fire_reset_where(state: FireState, mask: np.ndarray, exists: np.ndarray, ign
     return FireState(trees=state.trees, burning=np.concatenate([state.burning[keep], new.astype(np.int64)]),
                      age=np.concatenate([state.age[keep], np.zeros(len(new), np.int32)]),
                      quiet=np.where(mask, 0, state.quiet).astype(np.int32), out=state.out & ~mask,
-                     ignited=ignited, burnt_out=burnt_out)
+                     ignited=ignited, burnt_out=burnt_out,
+                     spent=np.concatenate([state.spent[keep], np.zeros(len(new), np.uint8)]))
 
 
 def fire_copy(state: FireState) -> FireState:

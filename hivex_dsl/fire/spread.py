@@ -6,7 +6,9 @@ inside the grid) once, an independent draw per (burning, target) pair, with prob
 of the wind direction seen from the source, the target higher than the source, and at the
 source temperature > hot, humidity < dry, overcast < low. A target tried by several burning trees
 thus ignites with probability ``1 - prod(1 - p)``. The work is proportional to the front: K
-burning trees x (2r+1)^2 cells, gathered from flat indices; nothing scans the grid.
+burning trees x (2r+1)^2 cells, gathered from flat indices; nothing scans the grid. A burning tree
+whose block held no existing tree is marked (``FireState.spent``) and skipped from then on: most of
+a fire's burning trees are behind its front, with nothing left to ignite.
 """
 
 from __future__ import annotations
@@ -17,12 +19,16 @@ from typing import Callable
 import numpy as np
 
 from ..procgen.wind import wrap_angle
-from .engine import FireSpec, FireState, TreeState, split_flat, vector
+from .engine import FireSpec, FireState, TreeState, vector
+from .factors import FactorGrid
 
 # conditions(world (N,), row (N,), col (N,)) int64 -> (temperature (N,), humidity (N,), overcast (N,)) in [0, 1]
 Conditions = Callable[[np.ndarray, np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray, np.ndarray]]
 FACTORS = 5
 CONE_TOLERANCE_RAD = 1e-9  # "within" is inclusive: a diagonal exactly 45 degrees off the wind counts
+SHORT_LIST = 4096  # burning trees up to which spread works in int64 (see spread)
+# The tree states as NumPy scalars: an IntEnum member costs a lookup and a conversion at every use.
+EXISTING, BURNING, BURNT = (np.uint8(value) for value in (TreeState.EXISTING, TreeState.BURNING, TreeState.BURNT))
 
 
 @lru_cache(maxsize=16)
@@ -36,14 +42,54 @@ def block_offsets(radius: int) -> tuple[np.ndarray, np.ndarray]:
     return rows, cols
 
 
+@lru_cache(maxsize=16)
+def _block_of(radius: int, cells: int, index: type) -> tuple[np.ndarray, np.ndarray]:
+    """Flat offsets (N,) ``index`` of the block's cells from its centre, and (C * C,) bool: a cell lies
+    within ``radius`` of the grid edge (its block may reach off the grid)."""
+    d_row, d_col = block_offsets(radius)
+    offsets = (d_row * cells + d_col).astype(index)
+    band = np.arange(cells)
+    near = (band < radius) | (band >= cells - radius)
+    edge = (near[:, None] | near[None, :]).reshape(-1)
+    offsets.flags.writeable = edge.flags.writeable = False
+    return offsets, edge
+
+
+@lru_cache(maxsize=16)
+def _offset_directions(radius: int) -> np.ndarray:
+    """(N,) float64 direction atan2(d_row, d_col) of each block offset."""
+    d_row, d_col = block_offsets(radius)
+    angle = np.arctan2(d_row, d_col)
+    angle.flags.writeable = False
+    return angle
+
+
+@lru_cache(maxsize=64)
+def _cone_limit(cone_deg: float) -> float:
+    return np.radians(cone_deg) + CONE_TOLERANCE_RAD
+
+
+@lru_cache(maxsize=64)
+def _chances(chance_per_factor: float) -> np.ndarray:
+    """(FACTORS + 1,) float32 ignition chance of one try by its number of true factors."""
+    chance = np.minimum(1.0, chance_per_factor * np.arange(FACTORS + 1)).astype(np.float32)
+    chance.flags.writeable = False
+    return chance
+
+
 def downwind_table(downwind_rad: np.ndarray, d_row: np.ndarray, d_col: np.ndarray, cone_deg: float) -> np.ndarray:
     """(B, N) bool: offset (d_row, d_col) lies within ``cone_deg`` of world b's downwind direction.
 
     ``downwind_rad`` (B,) is the direction the wind blows to, counter-clockwise from +x; an offset's
     direction is atan2(d_row, d_col) since rows run along y and columns along x.
     """
-    gap = np.abs(wrap_angle(np.arctan2(d_row, d_col)[None, :] - downwind_rad[:, None]))
-    return gap <= np.radians(cone_deg) + CONE_TOLERANCE_RAD
+    return _downwind(downwind_rad, np.arctan2(d_row, d_col), cone_deg)
+
+
+def _downwind(downwind_rad: np.ndarray, direction: np.ndarray, cone_deg: float) -> np.ndarray:
+    """:func:`downwind_table` from the offsets' directions (N,)."""
+    gap = np.abs(wrap_angle(direction[None, :] - downwind_rad[:, None]))
+    return gap <= _cone_limit(cone_deg)
 
 
 def weather_factors(spec: FireSpec, conditions: Conditions, world: np.ndarray, row: np.ndarray,
@@ -78,55 +124,118 @@ def _unique(values: np.ndarray) -> np.ndarray:
     ascending runs (one per burning tree and block row), which timsort (kind="stable") exploits."""
     ordered = np.sort(values, kind="stable")
     keep = np.ones(len(ordered), bool)
-    keep[1:] = ordered[1:] != ordered[:-1]
+    np.not_equal(ordered[1:], ordered[:-1], out=keep[1:])
     return ordered[keep]
 
 
+def _tries(state: FireState, radius: int, index: type) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The burning trees that may still ignite something and what each may try.
+
+    Returns (live (L,) positions in the burning list of the trees not known to be spent for ``radius``,
+    src (L,) ``index`` their flat cells, target (L, N) ``index`` the flat cells of their blocks, tried
+    (L, N) bool: the target is an existing tree on the grid).
+    """
+    cells = state.cells
+    offsets, edge_cell = _block_of(radius, cells, index)
+    live = (state.spent < radius).nonzero()[0]
+    src = state.burning.take(live).astype(index, copy=False)
+    target = src[:, None] + offsets
+    tried = state.trees.take(target, mode="clip") == EXISTING  # clip: off-grid targets are masked below
+    local = src if state.batch == 1 else src % index(cells * cells)
+    edge = edge_cell.take(local).nonzero()[0]
+    if edge.size:  # only sources near the border have blocks reaching off the grid
+        d_row, d_col = block_offsets(radius)
+        row, col = np.divmod(local[edge], index(cells))
+        tried[edge] &= _inside(row, col, d_row, d_col, radius, cells)
+    return live, src, target, tried
+
+
+def _spent(state: FireState, radius: int, live: np.ndarray, tries: np.ndarray) -> np.ndarray:
+    """(K,) uint8 ``state.spent`` with ``radius`` for the live trees (L,) but those at positions ``tries``
+    (P,) among them, which found something to try."""
+    found = np.zeros(len(live), bool)
+    found[tries] = True
+    spent = state.spent.copy()
+    spent[live[~found]] = radius
+    return spent
+
+
+def _source_weather(spec: FireSpec, conditions: Conditions | FactorGrid, k: np.ndarray, source: np.ndarray,
+                    area: int, cells: int) -> np.ndarray:
+    """(P,) int8 weather factors at the source of each pair: the source's position k (P,) among the live
+    trees, ascending, and its flat cell (P,). A callable is asked once per distinct source."""
+    if isinstance(conditions, FactorGrid):
+        return conditions.at(source, area)
+    first = np.ones(len(k), bool)  # k ascends: runs of one source each
+    np.not_equal(k[1:], k[:-1], out=first[1:])
+    world, local = np.divmod(source[first], area)  # only the burning trees that try something need weather
+    row, col = np.divmod(local, cells)
+    weather = weather_factors(spec, conditions, world.astype(np.int64), row.astype(np.int64), col.astype(np.int64))
+    return weather[np.cumsum(first) - 1]
+
+
+def _downwind_of_pairs(downwind_rad: np.ndarray, radius: int, cone_deg: float, source: np.ndarray, offset: np.ndarray,
+                       area: int) -> np.ndarray:
+    """(P,) bool: the pairs' offsets (P,) lie in their worlds' downwind cones (worlds of the source cells (P,))."""
+    downwind = _downwind(downwind_rad, _offset_directions(radius), cone_deg)
+    if len(downwind) == 1:  # one world: its row of the table
+        return downwind.take(offset)
+    return downwind.take((source // area) * downwind.shape[1] + offset)
+
+
 def spread(state: FireState, rng: np.random.Generator, spec: FireSpec, downwind_rad: np.ndarray,
-           height: np.ndarray, conditions: Conditions) -> np.ndarray:
-    """Sorted flat indices (I,) int64 of the existing trees the burning trees set alight this step.
+           height: np.ndarray, conditions: Conditions | FactorGrid) -> tuple[np.ndarray, np.ndarray]:
+    """Sorted flat indices (I,) int64 of the existing trees the burning trees set alight this step, and
+    the burning trees' ``spent`` (K,) uint8 updated with the blocks found without existing trees.
 
     ``height`` is the flat (B * C * C,) cell height. Draws one float32 uniform per (burning tree,
-    existing target) pair, in burning-list order, then row-major block order.
+    existing target) pair, in burning-list order, then row-major block order. Trees known to be spent
+    have no such pair, so skipping them changes no draw.
     """
     cells, radius = state.cells, spec.spread_radius_cells
-    trees = state.trees.reshape(-1)
+    area = cells * cells
     reach = radius * (cells + 1)  # the farthest a target's flat index lies from its source's
-    index = np.int32 if trees.size + reach < 2**31 else np.int64  # int32 halves the memory traffic of the pairs
-    src = state.burning.astype(index)
-    world, row, col = split_flat(src, cells)
-    d_row, d_col = block_offsets(radius)
-    target = src[:, None] + (d_row * cells + d_col).astype(index)[None, :]
-    tried = np.take(trees, target, mode="clip") == TreeState.EXISTING  # clip: off-grid targets are masked below
-    edge = np.flatnonzero((row < radius) | (row >= cells - radius) | (col < radius) | (col >= cells - radius))
-    if edge.size:  # only sources near the border have blocks reaching off the grid
-        tried[edge] &= _inside(row[edge], col[edge], d_row, d_col, radius, cells)
-    pick = np.flatnonzero(tried)
+    # int32 halves the memory traffic of many pairs; a short list skips the conversions instead
+    index = np.int32 if len(state.burning) > SHORT_LIST and state.trees.size + reach < 2**31 else np.int64
+    live, src, target, tried = _tries(state, radius, index)
+    pick = tried.reshape(-1).nonzero()[0]
+    k, o = np.divmod(pick.astype(index, copy=False), index(tried.shape[1]))
+    spent = _spent(state, radius, live, k)
     if pick.size == 0:
-        return np.zeros(0, np.int64)
-    k, o = np.divmod(pick.astype(index), index(len(d_row)))
-    t = target.reshape(-1)[pick]
-    first = np.ones(len(k), bool)  # k ascends with pick: runs of one source each
-    first[1:] = k[1:] != k[:-1]
-    sources = k[first]  # only the burning trees that try something need weather
-    at = (world[sources], row[sources], col[sources])
-    weather = weather_factors(spec, conditions, *(a.astype(np.int64) for a in at))
-    factors = weather[np.cumsum(first) - 1]
-    factors += downwind_table(downwind_rad, d_row, d_col, spec.downwind_cone_deg)[world[k], o]
-    factors += height[t] > height[src[k]]
-    chance = np.minimum(1.0, spec.spread_chance_per_factor * np.arange(FACTORS + 1)).astype(np.float32)
-    hit = rng.random(len(pick), dtype=np.float32) < chance[factors]
-    return _unique(t[hit]).astype(np.int64)
+        return np.zeros(0, np.int64), spent
+    t = target.take(pick)
+    source = src.take(k)
+    factors = _source_weather(spec, conditions, k, source, index(area), index(cells))
+    factors += _downwind_of_pairs(downwind_rad, radius, spec.downwind_cone_deg, source, o, index(area))
+    factors += height.take(t) > height.take(source)
+    hit = rng.random(len(pick), dtype=np.float32) < _chances(spec.spread_chance_per_factor).take(factors)
+    return _unique(t[hit]).astype(np.int64, copy=False), spent
+
+
+def _per_world(flat: np.ndarray, area: int, batch: int) -> np.ndarray:
+    """(B,) int64 count of the flat indices (N,) in each world."""
+    if batch == 1:
+        return np.array([len(flat)], np.int64)
+    return np.bincount(flat // area, minlength=batch).astype(np.int64)
+
+
+def _checked_height(cell_height: np.ndarray, shape: tuple[int, ...]) -> np.ndarray:
+    """``cell_height`` as a flat (B * C * C,) numeric array, after checking its shape (B, C, C)."""
+    height = np.asarray(cell_height)
+    if height.shape != shape or height.dtype.kind not in "iufc":
+        raise ValueError(f"cell_height must be a numeric {shape} array, got {height.dtype} {height.shape}")
+    return height.reshape(-1)
 
 
 def fire_step(state: FireState, rng: np.random.Generator, spec: FireSpec, downwind_rad: np.ndarray,
-              cell_height: np.ndarray, conditions: Conditions) -> FireState:
+              cell_height: np.ndarray, conditions: Conditions | FactorGrid) -> FireState:
     """Advance every world by one fire step; writes ``state.trees`` in place (``state`` is consumed).
 
     downwind_rad (B,) direction the wind blows to per world (radians from +x towards +y);
     cell_height (B, C, C) terrain height at cell centres (C-contiguous, else copied each call);
     ``conditions`` (see :data:`Conditions`) is called at most once, with the burning trees that have
-    an existing tree in their block. Spread (:func:`spread`) uses the trees burning at the start;
+    an existing tree in their block (or a :class:`.factors.FactorGrid` of the same weather, read per
+    pair). Spread (:func:`spread`) uses the trees burning at the start;
     then their ages grow by one, those reaching ``burn_steps`` become BURNT and leave the list, and
     the new ignitions join it with age 0 in flat-index order. ``quiet`` restarts at 0 in a world
     with a new ignition and grows by one otherwise; a world is out once ``quiet >= quiet_steps_out``
@@ -134,21 +243,30 @@ def fire_step(state: FireState, rng: np.random.Generator, spec: FireSpec, downwi
     """
     batch, cells = state.batch, state.cells
     downwind = vector("downwind_rad", downwind_rad, batch)
-    height = np.asarray(cell_height)
-    if height.shape != state.trees.shape or not np.issubdtype(height.dtype, np.number):
-        raise ValueError(f"cell_height must be a numeric {state.trees.shape} array, got {height.dtype} {height.shape}")
-    new = spread(state, rng, spec, downwind, height.reshape(-1), conditions)
-    age = state.age + np.int32(1)
-    done = age >= spec.burn_steps
+    new, spent = spread(state, rng, spec, downwind, _checked_height(cell_height, state.trees.shape), conditions)
+    ended, burning, age, spent = _burn_out(state, spent, spec.burn_steps)
     trees = state.trees.reshape(-1)
-    trees[state.burning[done]] = TreeState.BURNT
-    trees[new] = TreeState.BURNING
-    burning = np.concatenate([state.burning[~done], new])
+    trees[ended] = BURNT
+    trees[new] = BURNING
+    burning = np.concatenate([burning, new])
     area = cells * cells
-    ignited = np.bincount(new // area, minlength=batch).astype(np.int64)
-    burnt_out = np.bincount(state.burning[done] // area, minlength=batch).astype(np.int64)
-    alive = np.bincount(burning // area, minlength=batch)
-    quiet = np.where(state.out, state.quiet, np.where(ignited > 0, 0, state.quiet + 1)).astype(np.int32)
+    ignited = _per_world(new, area, batch)
+    alive = _per_world(burning, area, batch)
+    quiet = np.where(state.out, state.quiet, (state.quiet + np.int32(1)) * (ignited == 0)).astype(np.int32, copy=False)
     out = state.out | ((quiet >= spec.quiet_steps_out) & (alive == 0))
-    return FireState(trees=state.trees, burning=burning, age=np.concatenate([age[~done], np.zeros(len(new), np.int32)]),
-                     quiet=quiet, out=out, ignited=ignited, burnt_out=burnt_out)
+    return FireState(trees=state.trees, burning=burning, age=np.concatenate([age, np.zeros(len(new), np.int32)]),
+                     quiet=quiet, out=out, ignited=ignited, burnt_out=_per_world(ended, area, batch),
+                     spent=np.concatenate([spent, np.zeros(len(new), np.uint8)]))
+
+
+def _burn_out(state: FireState, spent: np.ndarray, burn_steps: int
+              ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """(ended (D,) flat cells of the trees whose age reaches ``burn_steps``, then burning, age (grown by
+    one) and ``spent`` (K,) of the others, in list order)."""
+    age = state.age + np.int32(1)
+    done = age >= burn_steps
+    count = int(np.count_nonzero(done))
+    if done[:count].all():  # the oldest lead a list kept in ignition order: slices, no gathers
+        return state.burning[:count], state.burning[count:], age[count:], spent[count:]
+    keep = ~done
+    return state.burning[done], state.burning[keep], age[keep], spent[keep]

@@ -82,5 +82,5 @@ def douse(state: FireState, world: np.ndarray, rows: np.ndarray, cols: np.ndarra
     if was_burning.any():
         still = trees[state.burning] == TreeState.BURNING
         state = FireState(trees=state.trees, burning=state.burning[still], age=state.age[still], quiet=state.quiet,
-                          out=state.out, ignited=state.ignited, burnt_out=state.burnt_out)
+                          out=state.out, ignited=state.ignited, burnt_out=state.burnt_out, spent=state.spent[still])
     return state, extinguished, prepared

@@ -8,7 +8,8 @@ from hypothesis.extra.numpy import arrays
 
 import hivex_dsl
 from hivex_dsl.envs.wildfire_resource_management.resources import (
-    ADD, NEIGHBOURS, NOOP, SUBTRACT, TARGETS, apply_actions, grid_offsets, initial_resources, total_support)
+    ADD, NEIGHBOURS, NOOP, SUBTRACT, TARGETS, apply_actions, apply_in_order, grid_offsets, initial_resources,
+    total_support)
 
 # Towers 3 * row + col on the 3 x 3 grid (row 0 south):   6 7 8 / 3 4 5 / 0 1 2.
 # Neighbours by distance, ties to the lower index. Corners: the two edge towers (distance s), then
@@ -117,6 +118,19 @@ def test_resources_are_conserved_under_any_action_sequence(steps, start):
         support = total_support(alloc)
         assert np.all(support.sum(axis=-1) == alloc.sum(axis=(1, 2)))
     assert counted.min() >= 0
+
+
+@settings(max_examples=100, deadline=None)
+@given(parts=arrays(np.int64, (3, 9, 5), elements=st.integers(0, 10)),
+       actions=arrays(np.int64, (3, 9, 4), elements=st.integers(0, 2)))
+def test_the_step_table_applies_the_actions_in_order(parts, actions):
+    """apply_actions looks each agent's case up; apply_in_order is the rule written out target by target."""
+    share = parts * 10 // np.maximum(parts.sum(axis=-1, keepdims=True), 1)  # holdings that sum to at most 10
+    alloc = share[..., :4].astype(np.int16)
+    budget = (10 - alloc.sum(axis=-1)).astype(np.int16)
+    for got, expected in zip(apply_actions(alloc, budget, actions), apply_in_order(alloc, budget, actions)):
+        assert got.dtype == expected.dtype and got.shape == expected.shape
+        np.testing.assert_array_equal(got, expected)
 
 
 def test_the_simulator_keeps_the_books_and_the_observation_shows_them():

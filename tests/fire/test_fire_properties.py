@@ -1,9 +1,10 @@
 """Invariants of ``hivex_dsl.fire`` over random sequences of fire steps, water drops and resets.
 
 After every call: the burning list is exactly the set of BURNING cells (no duplicates), ages are
-below burn_steps, trees only move forward (existing -> burning -> burnt, existing or burning ->
-wet), so the number of trees of each world is conserved; the counters match the changes; a world
-that is out has nothing burning and stays out until it is reset.
+below burn_steps, no tree marked spent has an existing tree in its block, trees only move forward
+(existing -> burning -> burnt, existing or burning -> wet), so the number of trees of each world is
+conserved; the counters match the changes; a world that is out has nothing burning and stays out
+until it is reset.
 """
 
 from __future__ import annotations
@@ -26,6 +27,13 @@ def check_consistent(state, spec, trees_per_world):
     assert state.trees.max() <= TreeState.WET
     assert np.count_nonzero(state.trees, axis=(1, 2)).tolist() == trees_per_world.tolist()
     assert np.all(burning_count(state)[state.out] == 0)
+    assert len(state.spent) == len(state.burning)
+    cells = state.cells
+    for flat, spent in zip(state.burning, state.spent):  # a tree marked spent has nothing left to try
+        if spent:
+            world, row, col = flat // (cells * cells), flat % (cells * cells) // cells, flat % cells
+            block = state.trees[world, max(row - spent, 0):row + spent + 1, max(col - spent, 0):col + spent + 1]
+            assert not np.any(block == E)
 
 
 def check_forward(before, after, worlds):

@@ -74,14 +74,9 @@ def initial_resources(batch: int, agents: int, self_tenths: int) -> tuple[np.nda
     return allocation, np.full((batch, agents), TENTHS - self_tenths, np.int16)
 
 
-def apply_actions(allocation: np.ndarray, budget: np.ndarray, actions: np.ndarray
-                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """One step of add/subtract actions (B, A, 4) in {0, 1, 2}, applied target by target in order
-    (self, neighbour 1, 2, 3), so a tenth freed by a subtraction can be added to a later target.
-
-    Returns (allocation (B, A, 4) int16, budget (B, A) int16, impossible (B, A) int16 count of
-    components that asked for an add without budget or a subtraction from an empty allocation).
-    """
+def apply_in_order(allocation: np.ndarray, budget: np.ndarray, actions: np.ndarray
+                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`apply_actions` written out target by target: the rule itself (it builds the step's table)."""
     allocation, budget = allocation.copy(), budget.copy()
     impossible = np.zeros(budget.shape, np.int16)
     for k in range(TARGETS_PER_AGENT):
@@ -93,6 +88,50 @@ def apply_actions(allocation: np.ndarray, budget: np.ndarray, actions: np.ndarra
         budget -= moved
         impossible += (wish != NOOP) & ~add & ~subtract
     return allocation, budget, impossible
+
+
+# An agent's step depends only on its wishes, which targets hold something (a subtraction there succeeds)
+# and its budget up to TARGETS_PER_AGENT (with that many tenths free every add succeeds): a key of
+# BUDGET_LEVELS * 2^4 * 3^4 cases, whose moves (4,), budget change and impossible count are tabled.
+BUDGET_LEVELS = TARGETS_PER_AGENT + 1
+WISH_KEY = 3 ** np.arange(TARGETS_PER_AGENT)[::-1]  # wishes (4,) in {0, 1, 2} -> 0..80
+HELD_KEY = 3**TARGETS_PER_AGENT * 2 ** np.arange(TARGETS_PER_AGENT)  # which targets hold something
+BUDGET_KEY = 3**TARGETS_PER_AGENT * 2**TARGETS_PER_AGENT
+BUDGET_KEYS = np.minimum(np.arange(TENTHS + 1), TARGETS_PER_AGENT) * BUDGET_KEY  # by budget 0..10
+BUDGET_KEYS.flags.writeable = False
+
+
+def _action_tables() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(moves (N, 4) int16, budget change (N,) int16, impossible (N,) int16) of every key case."""
+    key = np.arange(BUDGET_LEVELS * BUDGET_KEY)
+    level, rest = np.divmod(key, BUDGET_KEY)
+    held, wish = np.divmod(rest, 3**TARGETS_PER_AGENT)
+    digits = np.arange(TARGETS_PER_AGENT)
+    allocation = ((held[:, None] >> digits) & 1).astype(np.int16)
+    actions = wish[:, None] // WISH_KEY % 3
+    after, budget, impossible = apply_in_order(allocation, level.astype(np.int16), actions)
+    tables = (after - allocation, level.astype(np.int16) - budget, impossible)
+    for table in tables:
+        table.flags.writeable = False
+    return tables
+
+
+MOVES, SPENDS, IMPOSSIBLE = _action_tables()
+
+
+def apply_actions(allocation: np.ndarray, budget: np.ndarray, actions: np.ndarray
+                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """One step of add/subtract actions (B, A, 4) in {0, 1, 2}, applied target by target in order
+    (self, neighbour 1, 2, 3), so a tenth freed by a subtraction can be added to a later target.
+
+    Returns (allocation (B, A, 4) int16, budget (B, A) int16, impossible (B, A) int16 count of
+    components that asked for an add without budget or a subtraction from an empty allocation).
+    Looks each agent's case up in the tables :func:`apply_in_order` filled.
+    """
+    key = np.asarray(actions) @ WISH_KEY
+    key += (allocation > 0) @ HELD_KEY
+    key += BUDGET_KEYS.take(budget)
+    return allocation + MOVES.take(key, axis=0), budget - SPENDS.take(key), IMPOSSIBLE.take(key)
 
 
 def total_support(allocation: np.ndarray) -> np.ndarray:

@@ -2,7 +2,9 @@
 
 The island, forest, weather, wind and fire are those of Aerial Wildfire Suppression (hivex_dsl.envs.island
 and hivex_dsl.fire); nine watchtowers watch the fire burn and shift resources between each other. Trees
-change only on fire steps (nothing douses them), so the towers' sighting is recomputed only then.
+change only on fire steps (nothing douses them), so the towers' sighting is recomputed only then, and
+only this step's ignitions need searching (see .sight). The weather factors of spread are counted once
+per weather refresh on the coarse weather grid (hivex_dsl.fire.FactorGrid).
 """
 
 from __future__ import annotations
@@ -12,23 +14,23 @@ from dataclasses import replace
 import numpy as np
 from gymnasium import spaces
 
-from ...fire import TreeState, closest_burning, fire_step
+from ...fire import FactorGrid, count_factors, fire_step, grid_cell_table
 from ...procgen.weather import weather_at, weather_step
 from ...procgen.wind import wind_step
 from ...runtime import StepOutcome
 from ...batching import read_only, replace_worlds
-from ..island import (IslandMaps, IslandSpecs, conditions_reader, grid_lookup, restart_where,
-                      sample_conditions, start_islands)
+from ..island import IslandMaps, IslandSpecs, grid_lookup, restart_where, start_islands, weather_grid_points
 from .params import WildfireResourceParams
 from .resources import (MAX_SUPPORT_TENTHS, TARGETS_PER_AGENT, TENTHS, TOWERS, apply_actions, grid_offsets,
                         initial_resources, total_support)
+from .sight import age_cohorts, closest_of_cohorts, nearest_by_age, nearest_of_sorted, square_table
 from .types import Sighting, WildfireResourceState
 
 FRAME = 8  # values of one observation stack
 STACKS = 2
 EVENTS = {"fire_out": "the fire on the whole island went out (every tower of the world)"}
 # Per-world arrays of the state (world axis first) that a partial reset replaces.
-_PER_WORLD = ("tower_ground", "tower_weather", "allocation", "budget", "support", "impossible",
+_PER_WORLD = ("fire_factors", "tower_ground", "tower_weather", "allocation", "budget", "support", "impossible",
               "impossible_total", "frame", "fire_went_out")
 
 
@@ -53,13 +55,19 @@ class WildfireResourceSimulator:
         self.observation_space = spaces.Box(-1.0, 1.0, (FRAME * STACKS,), np.float32)
         self.action_space = spaces.MultiDiscrete([3] * TARGETS_PER_AGENT)
         self.cell_m = self.forest_spec.spacing_m
-        half = p.island_half_extent_m
+        half, cells = p.island_half_extent_m, self.forest_spec.cells
         self.towers = grid_offsets() * p.tower_spacing_m  # (9, 2) metres
         self.tower_rows = (self.towers[:, 1] + half) / self.cell_m - 0.5  # fractional forest-cell coordinates
         self.tower_cols = (self.towers[:, 0] + half) / self.cell_m - 0.5
-        cells = self.forest_spec.cells
+        self.tower_x, self.tower_y = self.towers[:, 0].copy(), self.towers[:, 1].copy()
+        box = p.detection_radius_m / self.cell_m  # half side of a tower's search square, in cells
+        self.search_tables = (square_table(self.tower_rows, box, cells), square_table(self.tower_cols, box, cells))
         self.tower_cells = np.clip(np.floor((self.towers + half) / self.cell_m).astype(np.int64), 0, cells - 1)
-        self.weather_lookup = grid_lookup(cells, p.weather_grid_cells)
+        self.weather_cells = grid_cell_table(grid_lookup(cells, p.weather_grid_cells), p.weather_grid_cells)
+        self._first_cell_cache: dict[int, np.ndarray] = {}
+        self.all_towers = np.ones((1, self.agents), bool)
+        # the weather grid's centres, then the towers: every point the weather is sampled at on a refresh
+        self.weather_points = np.concatenate([weather_grid_points(half, p.weather_grid_cells), self.towers])
 
     # ---- reset -------------------------------------------------------------------------
 
@@ -80,7 +88,8 @@ class WildfireResourceSimulator:
         frame = self._frame(sighting, tower_weather, support, budget,
                             np.zeros((batch, self.agents, FRAME * STACKS), np.float32))
         return WildfireResourceState(
-            maps=maps, fire=fire, wind=wind, weather=weather, conditions=conditions, tick=0,
+            maps=maps, fire=fire, wind=wind, weather=weather, conditions=conditions,
+            fire_factors=count_factors(conditions, p), tick=0,
             tower_ground=tower_ground, tower_weather=tower_weather, sighting=sighting, allocation=allocation,
             budget=budget, support=support, impossible=zeros, impossible_total=zeros.astype(np.int32), frame=frame,
             fire_went_out=np.zeros(batch, bool))
@@ -104,22 +113,23 @@ class WildfireResourceSimulator:
         wind = wind_step(state.wind, rng, self.wind_spec)
         weather = weather_step(state.weather, wind.main, self.weather_spec)
         tick = state.tick + 1
-        conditions, tower_weather = state.conditions, state.tower_weather
+        conditions, factors, tower_weather = state.conditions, state.fire_factors, state.tower_weather
         if tick % p.weather_refresh_interval == 0:
-            conditions = sample_conditions(weather, self.weather_spec, p.island_half_extent_m, p.weather_grid_cells)
-            tower_weather = self._tower_weather(weather)
+            conditions, tower_weather = self._sample_weather(weather)
+            factors = count_factors(conditions, p)
         fire, sighting, was_out = state.fire, state.sighting, state.fire.out
         if tick % p.fire_step_interval == 0:
-            fire = fire_step(fire, rng, p, wind.main, state.maps.height, conditions_reader(conditions, self.weather_lookup))
+            fire = fire_step(fire, rng, p, wind.main, state.maps.height, FactorGrid(factors, self.weather_cells))
             sighting = self._sight(fire, state.maps.height, state.tower_ground, state.sighting)
         went_out = fire.out & ~was_out
-        new = replace(state, fire=fire, wind=wind, weather=weather, conditions=conditions, tick=tick,
-                      tower_weather=tower_weather, sighting=sighting, allocation=allocation, budget=budget,
-                      support=support, impossible=impossible, impossible_total=state.impossible_total + impossible,
-                      frame=self._frame(sighting, tower_weather, support, budget, state.frame), fire_went_out=went_out)
-        shape = budget.shape
-        events = {"fire_out": np.broadcast_to(went_out[:, None], shape).copy()}
-        return new, StepOutcome(terminated=np.zeros(shape, bool), events=events)
+        new = WildfireResourceState(
+            maps=state.maps, fire=fire, wind=wind, weather=weather, conditions=conditions, fire_factors=factors,
+            tick=tick, tower_ground=state.tower_ground, tower_weather=tower_weather, sighting=sighting,
+            allocation=allocation, budget=budget, support=support, impossible=impossible,
+            impossible_total=state.impossible_total + impossible,
+            frame=self._frame(sighting, tower_weather, support, budget, state.frame), fire_went_out=went_out)
+        every_tower = went_out[:, None] & self.all_towers  # (B, A): the event concerns every tower of the world
+        return new, StepOutcome(terminated=np.zeros(budget.shape, bool), events={"fire_out": every_tower})
 
     def step_info(self, state: WildfireResourceState) -> dict[str, np.ndarray]:
         """(B, A) counts of impossible adds or subtracts (no-ops): this step and so far this episode."""
@@ -131,69 +141,53 @@ class WildfireResourceSimulator:
         at = weather_at(weather, np.broadcast_to(self.towers, (batch,) + self.towers.shape), self.weather_spec)
         return np.stack([at["temperature"], at["humidity"], at["overcast"]], axis=-1).astype(np.float32)
 
+    def _sample_weather(self, weather) -> tuple[np.ndarray, np.ndarray]:
+        """(conditions (B, G, G, 3), tower weather (B, A, 3)) float32, as island.sample_conditions and
+        _tower_weather give them, from one weather_at call (the fields are sampled point by point)."""
+        batch, grid = weather.offsets.shape[0], self.params.weather_grid_cells
+        points = np.broadcast_to(self.weather_points, (batch,) + self.weather_points.shape)
+        at = weather_at(weather, points, self.weather_spec)
+        fields = np.stack([at["temperature"], at["humidity"], at["overcast"]], axis=-1).astype(np.float32)
+        conditions = np.ascontiguousarray(fields[:, :grid * grid]).reshape(batch, grid, grid, 3)
+        return conditions, np.ascontiguousarray(fields[:, grid * grid:])
+
     def _sight(self, fire, height: np.ndarray, tower_ground: np.ndarray, before: Sighting | None) -> Sighting:
         """Each tower's horizontally closest burning tree within the detection radius, its 3-D offset and
         distance, and whether that distance shrank since ``before`` (the previous fire step; None at reset,
-        when every tower searches the whole burning list)."""
+        when every cohort of the burning list is searched; else only this step's ignitions are, see .sight)."""
         p = self.params
-        batch, agents = tower_ground.shape
-        world = np.repeat(np.arange(batch), agents)
-        if before is None:
-            found, rows, cols = self._search(fire, world, np.tile(np.arange(agents), batch))
-            rows, cols = np.where(found, rows, -1), np.where(found, cols, -1)
+        batch, cells = fire.batch, fire.cells
+        tables = self.search_tables
+        if before is None or before.cohort_distance is None:  # a reset (or a hand-made sighting): search all
+            cohort_distance, cohort_cell = nearest_by_age(fire.burning, fire.age, p.burn_steps, batch, cells, *tables)
         else:
-            rows, cols = self._track(fire, world, before.row.reshape(-1), before.col.reshape(-1))
+            ignitions = fire.burning[len(fire.burning) - int(np.add.reduce(fire.ignited)):]
+            cohort_distance, cohort_cell = age_cohorts(before.cohort_distance, before.cohort_cell,
+                                                       *nearest_of_sorted(ignitions, batch, cells, *tables))
+        cell = closest_of_cohorts(cohort_distance, cohort_cell)
+        found = cell >= 0
+        rows, cols = np.divmod(cell, cells)  # -1 // C is -1: only the columns of "none" need fixing
+        cols = np.where(found, cols, -1)
         half = p.island_half_extent_m
-        dx = (cols + 0.5) * self.cell_m - half - np.tile(self.towers[:, 0], batch)
-        dy = (rows + 0.5) * self.cell_m - half - np.tile(self.towers[:, 1], batch)
-        dz = height[world, np.maximum(rows, 0), np.maximum(cols, 0)] - tower_ground.reshape(-1)
-        seen = ((rows >= 0) & (np.hypot(dx, dy) <= p.detection_radius_m)).reshape(batch, agents)
-        offset = np.where(seen[..., None], np.stack([dx, dy, dz], axis=-1).reshape(batch, agents, 3), 0.0)
-        distance = np.where(seen, np.sqrt((offset * offset).sum(axis=-1)), np.inf)
+        dx = (cols + 0.5) * self.cell_m - half - self.tower_x
+        dy = (rows + 0.5) * self.cell_m - half - self.tower_y
+        dz = height.reshape(-1).take(self._first_cells(batch, cells) + np.maximum(cell, 0)) - tower_ground
+        seen = found & (np.hypot(dx, dy) <= p.detection_radius_m)
+        offset = np.empty(seen.shape + (3,))
+        offset[..., 0], offset[..., 1], offset[..., 2] = dx, dy, dz
+        offset[~seen] = 0.0
+        distance = np.where(seen, np.sqrt(np.add.reduce(offset * offset, axis=-1)), np.inf)
         approaching = np.zeros_like(seen) if before is None else seen & (distance < before.distance)
-        return Sighting(row=rows.reshape(batch, agents), col=cols.reshape(batch, agents), offset=offset,
-                        distance=distance, approaching=approaching)
+        return Sighting(row=rows, col=cols, offset=offset, distance=distance, approaching=approaching,
+                        cohort_distance=cohort_distance, cohort_cell=cohort_cell)
 
-    def _search(self, fire, world: np.ndarray, tower: np.ndarray):
-        """closest_burning for towers ``tower`` (Q,) of worlds ``world`` (Q,) in their search squares."""
-        return closest_burning(fire, world, self.tower_rows[tower], self.tower_cols[tower],
-                               self.params.detection_radius_m / self.cell_m)
-
-    def _track(self, fire, world: np.ndarray, rows: np.ndarray, cols: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """The closest burning cells (Q,) after one fire step, from the previous ones ``rows``/``cols`` (Q,).
-
-        Exactly closest_burning's answer at a fraction of its work: the trees burning now are the previous
-        ones still burning plus this step's ignitions (the tail of the burning list), so the answer is the
-        nearer of the previous closest (if it still burns) and the closest new ignition, ties to the lower
-        cell index as closest_burning breaks them. Only towers whose closest burnt out search the whole list.
-        """
-        agents, cells = self.agents, fire.cells
-        tower = np.tile(np.arange(agents), len(world) // agents)
-        had = rows >= 0
-        flat = (world * cells + rows) * cells + cols
-        still = had & (fire.trees.reshape(-1)[np.where(had, flat, 0)] == TreeState.BURNING)
-        fresh = len(fire.burning) - int(fire.ignited.sum())
-        if fresh < len(fire.burning):
-            ignitions = replace(fire, burning=fire.burning[fresh:], age=fire.age[fresh:])
-            new_found, new_rows, new_cols = self._search(ignitions, world, tower)
-        else:
-            new_found, new_rows, new_cols = np.zeros(len(world), bool), np.full(len(world), -1), np.full(len(world), -1)
-        q_rows, q_cols = self.tower_rows[tower], self.tower_cols[tower]
-
-        def squared(r: np.ndarray, c: np.ndarray) -> np.ndarray:  # closest_burning's distance, same float ops
-            return (r - q_rows) * (r - q_rows) + (c - q_cols) * (c - q_cols)
-
-        d_old = np.where(still, squared(rows, cols), np.inf)
-        d_new = np.where(new_found, squared(new_rows, new_cols), np.inf)
-        new_flat = (world * cells + new_rows) * cells + new_cols
-        take_new = new_found & ((d_new < d_old) | ((d_new == d_old) & (new_flat < flat)))
-        rows = np.where(take_new, new_rows, np.where(still, rows, -1))
-        cols = np.where(take_new, new_cols, np.where(still, cols, -1))
-        lost = np.flatnonzero(had & ~still)  # an older tree may now be the closest: search them all
-        if lost.size:
-            found, r, c = self._search(fire, world[lost], tower[lost])
-            rows[lost], cols[lost] = np.where(found, r, -1), np.where(found, c, -1)
-        return rows, cols
+    def _first_cells(self, batch: int, cells: int) -> np.ndarray:
+        """(B, 1) int64 flat index of the first cell of each world (a constant per batch size)."""
+        first = self._first_cell_cache.get(batch)
+        if first is None:
+            first = self._first_cell_cache[batch] = np.arange(batch)[:, None] * (cells * cells)
+            first.flags.writeable = False
+        return first
 
     # ---- observation and picture --------------------------------------------------------
 
@@ -201,7 +195,8 @@ class WildfireResourceSimulator:
                previous: np.ndarray) -> np.ndarray:
         """(B, A, 16) float32: this step's frame, then the previous step's first frame."""
         out = np.empty(previous.shape, np.float32)
-        out[..., 0:3] = np.clip(sighting.offset / self.params.detection_radius_m, -1.0, 1.0)
+        # minimum(maximum()), not np.clip: the same values (no NaN here) without np.clip's Python overhead
+        out[..., 0:3] = np.minimum(np.maximum(sighting.offset / self.params.detection_radius_m, -1.0), 1.0)
         out[..., 3:6] = tower_weather
         out[..., 6] = support / MAX_SUPPORT_TENTHS
         out[..., 7] = budget / TENTHS

@@ -17,12 +17,15 @@ class Sighting:
     """The closest burning tree each tower (B, A) observes within its detection radius.
 
     row, col: (B, A) int64 forest cell of the horizontally closest burning tree in the tower's search square
-    (half side = the detection radius), -1 when none burns there; kept so the next fire step only has to
-    compare it with the new ignitions.
+    (half side = the detection radius), -1 when none burns there.
     offset: (B, A, 3) metres from the tower to that tree (x, y, and z = ground height difference), 0 unless seen.
     distance: (B, A) float64 3-D distance C(x) to it, inf unless it lies within the detection radius.
     approaching: (B, A) bool m of the paper: the distance shrank at the last fire step (a fire that just came
     into range counts as approaching; it came from beyond the radius).
+    cohort_distance, cohort_cell: (B, A, S) float64 / int64 squared cell distance (inf: none) and cell
+    row * C + col (-1: none) of the closest tree in the search square among the trees of age j (slot j <
+    S = burn_steps), kept so the next fire step only has to search its ignitions (see .sight); None in
+    hand-made sightings.
     """
 
     row: np.ndarray
@@ -30,6 +33,8 @@ class Sighting:
     offset: np.ndarray
     distance: np.ndarray
     approaching: np.ndarray
+    cohort_distance: np.ndarray | None = None
+    cohort_cell: np.ndarray | None = None
 
     @property
     def seen(self) -> np.ndarray:
@@ -46,6 +51,7 @@ class WildfireResourceState:
     wind: WindState
     weather: WeatherState
     conditions: np.ndarray  # (B, G, G, 3) float32 temperature, humidity, overcast on the weather grid
+    fire_factors: np.ndarray  # (B, G * G) int8 weather factors of fire spread (hot, dry, low) on that grid
     tick: int  # steps since the batch was created; the fire and weather samples run on it
     tower_ground: np.ndarray  # (B, A) float32 ground height under each tower
     tower_weather: np.ndarray  # (B, A, 3) float32 temperature, humidity, overcast at each tower

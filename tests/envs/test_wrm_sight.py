@@ -1,0 +1,133 @@
+"""Wildfire Resource Management's fast paths give exactly the general answers.
+
+The towers' closest fire, kept per cohort of trees that ignited together (.sight), is closest_burning's
+answer after every step; its one-world path matches the many-world one; the weather sampled in one call
+matches island.sample_conditions and the towers' own sample; tower performance asked three times per step
+is computed once.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import hivex_dsl
+from hivex_dsl.envs.island import sample_conditions
+from hivex_dsl.envs.wildfire_resource_management.sight import nearest_of_sorted, square_table
+from hivex_dsl.envs.wildfire_resource_management.terms import broken_power_law, remapped_distance, tower_performance
+from hivex_dsl.fire import TreeState, closest_burning, fire_reset
+
+ENV = "wildfire_resource_management"
+
+
+def simulator(**params):
+    compiled = hivex_dsl.compile({"hivex": 1, "environment": ENV, "terrain_level": 1, "params": params})
+    return compiled.entry.make_simulator(compiled)
+
+
+def closest_by_search(sim, fire):
+    """(rows, cols) (B, A) of closest_burning over the whole burning list, -1 where none."""
+    batch, agents = fire.batch, sim.agents
+    world = np.repeat(np.arange(batch), agents)
+    tower = np.tile(np.arange(agents), batch)
+    found, rows, cols = closest_burning(fire, world, sim.tower_rows[tower], sim.tower_cols[tower],
+                                        sim.params.detection_radius_m / sim.cell_m)
+    return np.where(found, rows, -1).reshape(batch, agents), np.where(found, cols, -1).reshape(batch, agents)
+
+
+@pytest.mark.parametrize("params", [
+    {}, {"burn_steps": 3, "fire_step_interval": 2}, {"burn_steps": 1, "spread_chance_per_factor": 0.5},
+    {"detection_radius_m": 150.0, "tower_spacing_m": 300.0, "redraw_island": "episode"}])
+def test_the_cohort_tracker_is_closest_burning_after_every_step_and_reset(params):
+    sim = simulator(**params)
+    rng = np.random.default_rng(11)
+    state = sim.reset(rng, 3)
+    for step in range(60):
+        state, _ = sim.step(state, rng.integers(0, 3, (3, 9, 4)), rng)
+        rows, cols = closest_by_search(sim, state.fire)
+        np.testing.assert_array_equal(state.sighting.row, rows)
+        np.testing.assert_array_equal(state.sighting.col, cols)
+        if step % 20 == 10:
+            state = sim.reset_where(state, np.array([True, False, step > 20]), rng)
+            rows, cols = closest_by_search(sim, state.fire)
+            np.testing.assert_array_equal(state.sighting.row, rows)
+
+
+@st.composite
+def burning_lists(draw):
+    batch, cells = draw(st.integers(1, 4)), draw(st.integers(2, 30))
+    flat = draw(st.lists(st.integers(0, batch * cells * cells - 1), max_size=60, unique=True))
+    towers = draw(st.integers(1, 5))
+    centres = st.floats(-5.0, cells + 5.0, allow_nan=False)
+    rows = np.array(draw(st.lists(centres, min_size=towers, max_size=towers)))
+    cols = np.array(draw(st.lists(centres, min_size=towers, max_size=towers)))
+    half = draw(st.sampled_from([0.0, 0.5, 1.0, 2.5, 7.0, 100.0]))
+    return batch, cells, np.sort(np.array(flat, np.int64)), rows, cols, half
+
+
+@settings(max_examples=150, deadline=None)
+@given(burning_lists())
+def test_nearest_of_sorted_is_closest_burning(case):
+    batch, cells, flat, rows, cols, half = case
+    trees = np.zeros((batch, cells, cells), np.uint8)
+    trees.reshape(-1)[flat] = TreeState.BURNING
+    fire = fire_reset(trees > 0, trees > 0)
+    tables = square_table(rows, half, cells), square_table(cols, half, cells)
+    distance, best = nearest_of_sorted(flat, batch, cells, *tables)
+    towers = len(rows)
+    world = np.repeat(np.arange(batch), towers)
+    found, r, c = closest_burning(fire, world, np.tile(rows, batch), np.tile(cols, batch), half)
+    np.testing.assert_array_equal(best.reshape(-1), np.where(found, r * cells + c, -1))
+    assert np.array_equal(np.isfinite(distance).reshape(-1), found)
+
+
+@settings(max_examples=80, deadline=None)
+@given(burning_lists())
+def test_the_one_world_path_matches_the_many_world_path(case):
+    _, cells, flat, rows, cols, half = case
+    flat = flat[flat < cells * cells]  # one world's cells
+    other = np.arange(0, cells * cells, 3) + cells * cells  # a second world with its own fire
+    tables = square_table(rows, half, cells), square_table(cols, half, cells)
+    alone = nearest_of_sorted(flat, 1, cells, *tables)
+    together = nearest_of_sorted(np.concatenate([flat, other]), 2, cells, *tables)
+    for one, many in zip(alone, together):
+        np.testing.assert_array_equal(one[0], many[0])
+
+
+def test_weather_sampled_in_one_call_matches_the_separate_samples():
+    sim = simulator(weather_refresh_interval=3)
+    rng = np.random.default_rng(4)
+    state = sim.reset(rng, 4)
+    for _ in range(6):  # the last step refreshes the weather
+        state, _ = sim.step(state, np.zeros((4, 9, 4), np.int64), rng)
+    conditions, tower_weather = sim._sample_weather(state.weather)
+    p = sim.params
+    np.testing.assert_array_equal(conditions, sample_conditions(state.weather, sim.weather_spec,
+                                                                p.island_half_extent_m, p.weather_grid_cells))
+    np.testing.assert_array_equal(tower_weather, sim._tower_weather(state.weather))
+    np.testing.assert_array_equal(state.conditions, sample_conditions(state.weather, sim.weather_spec,
+                                                                      p.island_half_extent_m, p.weather_grid_cells))
+
+
+def test_tower_performance_is_computed_once_per_sighting_and_params():
+    sim = simulator()
+    rng = np.random.default_rng(7)
+    state = sim.reset(rng, 2)
+    for _ in range(40):
+        state, _ = sim.step(state, np.zeros((2, 9, 4), np.int64), rng)
+    p = sim.params
+    first = tower_performance(state, p)
+    assert tower_performance(state, p) is first and not first.flags.writeable
+    sighting = state.sighting
+    expected = np.where(sighting.seen, broken_power_law(
+        remapped_distance(np.where(sighting.seen, sighting.distance, 0.0), sighting.approaching,
+                          p.distance_threshold_m), p.power_law_s, p.power_law_a), p.idle_performance)
+    np.testing.assert_array_equal(first, expected)
+    other = p.model_copy(update={"idle_performance": 0.5})
+    assert tower_performance(state, other) is not first  # other params: computed again
+    moved = replace(state, sighting=replace(sighting, approaching=~sighting.approaching & sighting.seen))
+    assert tower_performance(moved, p) is not first
