@@ -10,14 +10,14 @@ moves with the wind. Lengths are metres, angles radians (the direction the wind 
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from typing import Any, Literal
 
 import numpy as np
 from pydantic import Field
 
 from ..spec.common import SCHEMA_VERSION, StrictModel
-from .noise import draw_lattice, fractal_unchecked
+from .noise import clamp, draw_lattice, fractal_unchecked
 from .presets import load_preset
 
 PRESET_FILE = "weather.yaml"
@@ -126,9 +126,13 @@ def weather_reset_where(state: WeatherState, mask: np.ndarray, rng: np.random.Ge
 
 def weather_step(state: WeatherState, wind_main: np.ndarray, spec: WeatherSpec) -> WeatherState:
     """Move every world's fields ``drift_m_per_step`` metres along its main wind ``wind_main`` (B,) radians."""
-    angle = _check_batch("wind_main", wind_main, state.offsets.shape[0], ())
-    step = spec.drift_m_per_step * np.stack([np.cos(angle), np.sin(angle)], axis=-1)
-    return replace(state, offsets=state.offsets + step)
+    angle = np.asarray(wind_main, dtype=np.float64)
+    if angle.shape != state.offsets.shape[:1]:
+        raise ValueError(f"wind_main must have shape (B,) with B = {state.offsets.shape[0]}, got {angle.shape}")
+    heading = np.empty(state.offsets.shape)
+    np.cos(angle, out=heading[:, 0])
+    np.sin(angle, out=heading[:, 1])
+    return WeatherState(perm=state.perm, grads=state.grads, offsets=state.offsets + spec.drift_m_per_step * heading)
 
 
 def weather_at(state: WeatherState, points: np.ndarray, spec: WeatherSpec) -> dict[str, np.ndarray]:
@@ -141,5 +145,5 @@ def weather_at(state: WeatherState, points: np.ndarray, spec: WeatherSpec) -> di
     y = np.broadcast_to(moved[None, ..., 1], (fields,) + moved.shape[:2]).reshape(shape)
     noise = fractal_unchecked(state.perm.reshape(fields * batch, -1), state.grads.reshape(fields * batch, -1, 2),
                       x, y, spec.octaves, spec.persistence, spec.lacunarity).reshape((fields,) + moved.shape[:2])
-    return {name: np.clip(getattr(spec, f"{name}_mean") + getattr(spec, f"{name}_contrast") * noise[k], 0.0, 1.0)
+    return {name: clamp(getattr(spec, f"{name}_mean") + getattr(spec, f"{name}_contrast") * noise[k], 0.0, 1.0)
             for k, name in enumerate(FIELDS)}
