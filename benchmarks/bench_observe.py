@@ -4,8 +4,9 @@
 Plain script, not collected by pytest. For each registered environment's main scenario it
 prints the median wall time of ``step`` and ``observe`` at batch 1 and batch 256 and of
 ``render`` of one world, after a few random steps so fires, pebbles and drones are in play.
-Some simulators draw their cameras in ``step`` (Ocean Plastic Collection bins pebbles there),
-others in ``observe`` (Aerial Wildfire Suppression), so read the two together.
+Some simulators draw their cameras in ``step`` (Ocean Plastic Collection bins pebbles there,
+Aerial Wildfire Suppression reads its kept palette image there), others in ``observe``, so read the
+two together.
 """
 
 from __future__ import annotations

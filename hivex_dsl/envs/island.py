@@ -158,7 +158,7 @@ def kept_maps(maps: IslandMaps, mask: np.ndarray, redraw: str) -> IslandMaps | N
 
 
 def restart_islands(state: Any, mask: np.ndarray, fresh: Any, kept: IslandMaps | None) -> dict[str, Any]:
-    """maps, fire, wind, weather and conditions of ``state`` with the masked worlds from ``fresh``.
+    """maps, fire, wind, weather (and conditions, if it keeps them) of ``state`` with the masked worlds from ``fresh``.
 
     The fire's tree grid is updated in place (see hivex_dsl.fire), so ``state`` is used up.
     """
@@ -167,16 +167,18 @@ def restart_islands(state: Any, mask: np.ndarray, fresh: Any, kept: IslandMaps |
     weather = replace(state.weather, offsets=put_worlds(state.weather.offsets, mask, fresh.weather.offsets),
                       perm=put_worlds(state.weather.perm, mask, fresh.weather.perm, axis=1),
                       grads=put_worlds(state.weather.grads, mask, fresh.weather.grads, axis=1))
-    return {"maps": state.maps if kept is not None else replace_worlds(state.maps, mask, fresh.maps), "fire": fire,
-            "wind": replace_worlds(state.wind, mask, fresh.wind), "weather": weather,
-            "conditions": put_worlds(state.conditions, mask, fresh.conditions)}
+    changes = {"maps": state.maps if kept is not None else replace_worlds(state.maps, mask, fresh.maps),
+               "fire": fire, "wind": replace_worlds(state.wind, mask, fresh.wind), "weather": weather}
+    if hasattr(state, "conditions"):  # simulators that keep the weather grid between fire steps
+        changes["conditions"] = put_worlds(state.conditions, mask, fresh.conditions)
+    return changes
 
 
 def restart_where(state: Any, mask: np.ndarray, rng: np.random.Generator, redraw: str,
                   fresh_episodes: Callable[[np.random.Generator, int, IslandMaps | None], Any],
                   per_world: tuple[str, ...]) -> tuple[Any, dict[str, Any]]:
     """New episodes in the worlds where ``mask`` (B,) is true, for a simulator whose state has the
-    island fields (maps, fire, wind, weather, conditions) and the world-first arrays ``per_world``.
+    island fields (maps, fire, wind, weather, and perhaps conditions) and the world-first arrays ``per_world``.
 
     ``fresh_episodes(rng, count, kept_maps_or_None)`` builds the new worlds' state. Returns that
     fresh state and the field values for ``dataclasses.replace(state, **changes)``.
@@ -193,6 +195,39 @@ def conditions_reader(conditions: np.ndarray, lookup: np.ndarray) -> Callable:
 
     def read(world: np.ndarray, rows: np.ndarray, cols: np.ndarray):
         values = conditions[world, lookup[rows], lookup[cols]]
+        return values[:, 0], values[:, 1], values[:, 2]
+
+    return read
+
+
+def weather_reader(weather: WeatherState, spec: WeatherSpec, half_extent_m: float, cells: int,
+                   lookup: np.ndarray) -> Callable:
+    """The fire engine's weather callback, sampling the weather grid only at the cells it asks for.
+
+    Reads what ``conditions_reader(sample_conditions(weather, ...), lookup)`` reads: a point's weather
+    does not depend on the other points sampled with it. A fire step asks for the cells holding
+    burning trees, a few dozen of the G x G per world, so this is several times less work.
+    """
+
+    def read(world: np.ndarray, rows: np.ndarray, cols: np.ndarray):
+        if world.size == 0:
+            return (np.zeros(0, np.float32),) * 3
+        batch, area = weather.offsets.shape[0], cells * cells
+        key = world * area + lookup[rows] * cells + lookup[cols]
+        asked = np.zeros(batch * area, bool)
+        asked[key] = True
+        wanted = np.flatnonzero(asked)  # (K,) distinct world * area + cell, ascending
+        owner, cell = np.divmod(wanted, area)
+        count = np.bincount(owner, minlength=batch)
+        slot = np.arange(len(wanted)) - (np.cumsum(count) - count)[owner]
+        centres = weather_grid_points(half_extent_m, cells)
+        points = np.broadcast_to(centres[0], (batch, int(count.max()), 2)).copy()  # unused slots: any point
+        points[owner, slot] = centres[cell]
+        fields = weather_at(weather, points, spec)
+        values = np.stack([fields[name][owner, slot] for name in ("temperature", "humidity", "overcast")],
+                          axis=-1).astype(np.float32)
+        at = (np.cumsum(asked) - 1)[key]  # position of each query's cell among the wanted ones
+        values = values[at]
         return values[:, 0], values[:, 1], values[:, 2]
 
     return read
@@ -242,9 +277,11 @@ def draw_island(rng: np.random.Generator, terrain_spec: TerrainSpec, forest_spec
 def ignition_of(exists: np.ndarray, village: np.ndarray, conditions: np.ndarray, forest_spec: ForestSpec,
                 ignition_spec: IgnitionSpec) -> np.ndarray:
     """(C, C) bool cells set burning on a forest ``exists`` (C, C) under the weather grid ``conditions`` (G, G, 3)."""
-    lookup = grid_lookup(forest_spec.cells, conditions.shape[0])
-    full = conditions[lookup[:, None], lookup[None, :]]  # (C, C, 3) nearest weather cell
-    return ignition_mask(exists, forest_spec, ignition_spec, village, full[..., 0], full[..., 1], full[..., 2])
+    # the nearest weather cell of each forest cell: grid_lookup ascends, so each weather cell covers a run of cells
+    runs = np.bincount(grid_lookup(forest_spec.cells, conditions.shape[0]), minlength=conditions.shape[0])
+    temperature, humidity, overcast = (np.repeat(np.repeat(conditions[..., k], runs, axis=0), runs, axis=1)
+                                       for k in range(3))
+    return ignition_mask(exists, forest_spec, ignition_spec, village, temperature, humidity, overcast)
 
 
 def ignite_worlds(exists: np.ndarray, village: np.ndarray, conditions: np.ndarray, forest_spec: ForestSpec,

@@ -59,7 +59,7 @@ def world(base, planes, trees=(), water=True, village=(-400.0, -400.0)):
                   heading=np.radians(np.array([[h for _, _, h in planes]], float)),
                   water=np.full(shape, water), flying=np.ones(shape, bool),
                   seen_fire=np.zeros(shape, bool), seen_village=np.zeros(shape, bool), village_hit=np.zeros(1, bool))
-    return sim, replace(new, sighting=sim._sight(new))
+    return sim, sim.derive(new)
 
 
 def act(steer, drop):

@@ -3,22 +3,25 @@
 from __future__ import annotations
 
 from dataclasses import replace
+from typing import NamedTuple
 
 import numpy as np
 from gymnasium import spaces
 
+from ...batching import read_only, replace_worlds
 from ...fire import burning_count, closest_burning, douse, fire_step
 from ...procgen.weather import weather_step
 from ...procgen.wind import wind_step, wrap_angle
 from ...runtime import StepOutcome
-from .camera import cameras, pixel_offsets
+from .camera import pixel_offsets
 from .params import CAMERA_PIXELS, AerialWildfireParams
 from .types import AerialWildfireState, Sighting
-from ..island import (SEA, IslandMaps, IslandSpecs, conditions_reader, grid_lookup, restart_where, sample_conditions,
-                      start_islands)
+from .view import (build_look, frame_template, plane_cameras, redraw_cells, redraw_fire_step, view_frame,
+                   window_cells)
+from ..island import SEA, IslandMaps, IslandSpecs, grid_lookup, restart_where, start_islands, weather_reader
 
 PICKUP_EVENT = "picked_up_water"
-# Events of one plane; a task that ends on one of them takes that plane out of the game (see _sense).
+# Events of one plane; a task that ends on one of them takes that plane out of the game (see step).
 PLANE_EVENTS = (PICKUP_EVENT, "dropped_water", "found_fire", "found_village")
 EVENTS = {
     PICKUP_EVENT: "a plane without water entered the water ring and filled up",
@@ -53,10 +56,16 @@ class AerialWildfireSimulator:
         mode = p.spawn_holding_water
         self.spawn_water = mode == "always" or (mode == "auto" and PICKUP_EVENT not in compiled.ends_on)
         self.camera_offsets = pixel_offsets(CAMERA_PIXELS, p.camera_pixel_m)
+        # a plane stays inside the border, or stops one step beyond it
+        self.frame = view_frame(self.camera_offsets, self.forest_spec.cells, p.island_half_extent_m,
+                                p.border_half_extent_m, p.border_half_extent_m + p.plane_speed_m)
+        self.frame_template = frame_template(self.frame)
         along = np.arange(p.drop_points) * p.drop_point_spacing_m
         self.drop_along = along  # (P,) metres ahead of the plane
         self.cell_m = self.forest_spec.spacing_m
         self.weather_lookup = grid_lookup(self.forest_spec.cells, p.weather_grid_cells)
+        self.turn_rad = np.radians(p.turn_rate_deg)
+        self._query_shapes: dict[tuple[int, int], tuple[np.ndarray, np.ndarray]] = {}
 
     # ---- reset -------------------------------------------------------------------------
 
@@ -78,70 +87,121 @@ class AerialWildfireSimulator:
         island = start_islands(rng, batch, self.island, maps)
         position, heading, water = self._spawn(rng, batch)
         shape, no = (batch, self.agents), np.zeros((batch, self.agents), bool)
-        state = AerialWildfireState(
-            maps=island.maps, fire=island.fire, wind=island.wind, weather=island.weather,
-            conditions=island.conditions, tick=0,
-            position=position, heading=heading, water=water, flying=np.ones(shape, bool),
-            sighting=Sighting(no, np.zeros(shape + (2,)), np.zeros(batch, bool)),
+        flying = np.ones(shape, bool)
+        look = build_look(island.fire.trees, island.maps.ground, self.frame_template, self.frame)
+        return AerialWildfireState(
+            maps=island.maps, fire=island.fire, wind=island.wind, weather=island.weather, tick=0,
+            position=position, heading=heading, water=water, flying=flying,
+            sighting=self._sight_of(island.fire, island.maps.village, position, flying),
             seen_fire=no, seen_village=no, village_hit=np.zeros(batch, bool),
             crossed=no, picked_up=no, dropped=no, found_fire=no, found_village=no,
             extinguished=np.zeros(shape, np.int32), prepared=np.zeros(shape, np.int32),
             fire_went_out=np.zeros(batch, bool), village_threatened=np.zeros(batch, bool),
-            burning=burning_count(island.fire) > 0)
-        return replace(state, sighting=self._sight(state))
+            burning=_any_burning(island.fire), look=look,
+            visual=self._cameras(position, heading, look, island.fire.trees, island.maps.ground))
 
     def reset_where(self, state: AerialWildfireState, mask: np.ndarray, rng: np.random.Generator) -> AerialWildfireState:
         """New episodes in the worlds where ``mask`` (B,) is true; they keep their islands unless
-        params.redraw_island is "episode"."""
+        params.redraw_island is "episode". ``state`` is used up: its fire and look are rewritten in place."""
         if not mask.any():
             return state
-        _, changes = restart_where(state, mask, rng, self.params.redraw_island, self._fresh, _PER_WORLD)
-        new = replace(state, **changes)
-        return replace(new, sighting=self._sight(new))
+        fresh, changes = restart_where(state, mask, rng, self.params.redraw_island, self._fresh, _PER_WORLD)
+        state.look[mask] = fresh.look
+        sighting = replace_worlds(state.sighting, mask, fresh.sighting)
+        # as a new sighting of every world would: planes whose task ended this step no longer see fire
+        sighting = replace(sighting, plane_found=sighting.plane_found & changes["flying"])
+        return replace(state, sighting=sighting, **changes)
+
+    def derive(self, state: AerialWildfireState) -> AerialWildfireState:
+        """``state`` with what it derives from its maps, fire and planes rebuilt (sighting, look, visual):
+        for states edited by hand."""
+        look = build_look(state.fire.trees, state.maps.ground, self.frame_template, self.frame)
+        return replace(state, look=look, sighting=self._sight(state),
+                       visual=self._cameras(state.position, state.heading, look, state.fire.trees, state.maps.ground))
+
+    def _cameras(self, position: np.ndarray, heading: np.ndarray, look: np.ndarray, trees: np.ndarray,
+                 ground: np.ndarray, facing: np.ndarray | None = None) -> np.ndarray:
+        return plane_cameras(position, heading, look, trees, ground, self.frame, self.camera_offsets, facing)
 
     # ---- step --------------------------------------------------------------------------
 
     def step(self, state: AerialWildfireState, actions: dict, rng: np.random.Generator):
-        """actions: continuous (B, A, 1) steer, discrete (B, A, 1) drop flag."""
+        """actions: continuous (B, A, 1) steer, discrete (B, A, 1) drop flag. ``state`` is used up: its fire
+        and look are written in place."""
         p = self.params
-        flying = state.flying
-        steer = np.clip(actions["continuous"][..., 0].astype(np.float64), -1.0, 1.0)
-        heading = np.where(flying, wrap_angle(state.heading + np.radians(p.turn_rate_deg) * steer), state.heading)
-        direction = np.stack([np.cos(heading), np.sin(heading)], axis=-1)
-        position = np.where(flying[..., None], state.position + p.plane_speed_m * direction, state.position)
-        outside = np.abs(position).max(axis=-1)
-        crossed = flying & (outside > p.border_half_extent_m)
-        flying = flying & ~crossed
-        picked = flying & (outside > p.island_half_extent_m) & ~state.water
-        water = state.water | picked
-        dropping = flying & water & (actions["discrete"][..., 0] == 1) & self._over_land(state, position)
-        fire, extinguished, prepared = self._drop(state.fire, position, direction, dropping)
-        water = water & ~dropping
-
+        flight = self._fly(state, actions)
+        fire, extinguished, prepared = self._drop(state.fire, state.look, flight.position, flight.facing,
+                                                  flight.dropping)
         wind = wind_step(state.wind, rng, self.wind_spec)
         weather = weather_step(state.weather, wind.main, self.weather_spec)
         tick = state.tick + 1
-        conditions = state.conditions
         if tick % p.fire_step_interval == 0:
-            conditions = sample_conditions(weather, self.weather_spec, p.island_half_extent_m, p.weather_grid_cells)
-            fire = fire_step(fire, rng, p, wind.main, state.maps.height, conditions_reader(conditions, self.weather_lookup))
-        new = replace(state, fire=fire, wind=wind, weather=weather, conditions=conditions, tick=tick,
-                      position=position, heading=heading, water=water, flying=flying, crossed=crossed,
-                      picked_up=picked, dropped=dropping, extinguished=extinguished, prepared=prepared)
-        return self._sense(state, new)
+            burning = fire.burning
+            conditions = weather_reader(weather, self.weather_spec, p.island_half_extent_m, p.weather_grid_cells,
+                                        self.weather_lookup)
+            fire = fire_step(fire, rng, p, wind.main, state.maps.height, conditions)
+            redraw_fire_step(state.look, burning, fire, self.frame)
+        new = replace(state, fire=fire, wind=wind, weather=weather, tick=tick, extinguished=extinguished,
+                      prepared=prepared)
+        return self._sense(state, new, flight)
 
-    def _over_land(self, state: AerialWildfireState, position: np.ndarray) -> np.ndarray:
-        """(B, A) bool: the ground under each plane is island land (not sea, not the water ring)."""
+    def _sense(self, prev: AerialWildfireState, moved: AerialWildfireState, flight: Flight):
+        """The state after the step and its outcome: sightings, one-off events, planes whose task ended, cameras.
+        ``moved`` is ``prev`` with the step's fire, wind, weather, tick and drop counts."""
+        p = self.params
+        sighting = self._sight_of(moved.fire, prev.maps.village, flight.position, flight.flying)
+        found_fire = sighting.plane_found & ~prev.seen_fire
+        gap = flight.position - prev.maps.village[:, None, :]
+        near_village = flight.flying & (np.hypot(gap[..., 0], gap[..., 1]) <= p.village_radius_m)
+        found_village = near_village & ~prev.seen_village
+        threatened = sighting.village_threat & ~prev.village_hit
+        went_out = moved.fire.out & ~prev.fire.out
+        events = {PICKUP_EVENT: flight.picked, "dropped_water": flight.dropping, "found_fire": found_fire,
+                  "found_village": found_village, "fire_out": np.repeat(went_out[:, None], found_fire.shape[1], axis=1)}
+        flying = flight.flying
+        if self.plane_endings:  # a plane whose episode ends on its own event stops flying, dropping and refilling
+            flying = flying & ~np.logical_or.reduce([events[e] for e in self.plane_endings])
+        visual = self._cameras(flight.position, flight.heading, prev.look, moved.fire.trees, prev.maps.ground,
+                               flight.facing)
+        new = replace(moved, position=flight.position, heading=flight.heading, water=flight.water, flying=flying,
+                      sighting=sighting, seen_fire=prev.seen_fire | found_fire,
+                      seen_village=prev.seen_village | found_village, village_hit=prev.village_hit | threatened,
+                      crossed=flight.crossed, picked_up=flight.picked, dropped=flight.dropping, found_fire=found_fire,
+                      found_village=found_village, fire_went_out=went_out, village_threatened=threatened,
+                      burning=_any_burning(moved.fire), visual=visual)
+        return new, StepOutcome(terminated=flight.crossed.copy(), events=events)
+
+    def _fly(self, state: AerialWildfireState, actions: dict) -> Flight:
+        """Turn and move the flying planes; border crossings, refills and who drops water this step."""
+        p = self.params
+        flying, water = state.flying, state.water
+        steer = np.minimum(np.maximum(actions["continuous"][..., 0].astype(np.float64), -1.0), 1.0)
+        heading = np.where(flying, wrap_angle(state.heading + self.turn_rad * steer), state.heading)
+        facing = np.stack([np.cos(heading), np.sin(heading)], axis=-1)
+        position = np.where(flying[..., None], state.position + p.plane_speed_m * facing, state.position)
+        outside = np.abs(position).max(axis=-1)
+        crossed = flying & (outside > p.border_half_extent_m)
+        flying = flying & ~crossed
+        picked = flying & (outside > p.island_half_extent_m) & ~water
+        water = water | picked
+        dropping = flying & water & (actions["discrete"][..., 0] == 1)
+        if dropping.any():
+            dropping &= self._over_land(state.maps.ground, position)
+        return Flight(heading, facing, position, flying, crossed, picked, water & ~dropping, dropping)
+
+    def _over_land(self, ground: np.ndarray, position: np.ndarray) -> np.ndarray:
+        """(B, A) bool: the ground (B, C, C) under each plane is island land (not sea, not the water ring)."""
         half, cells = self.params.island_half_extent_m, self.forest_spec.cells
-        col = np.floor((position[..., 0] + half) / self.cell_m).astype(np.int64)
-        row = np.floor((position[..., 1] + half) / self.cell_m).astype(np.int64)
-        inside = (row >= 0) & (row < cells) & (col >= 0) & (col < cells)
+        cell = np.floor((position + half) / self.cell_m)  # (B, A, 2): col, row
+        inside = ((cell >= 0) & (cell < cells)).all(axis=-1)
+        col, row = np.minimum(np.maximum(cell, 0), cells - 1).astype(np.int64).transpose(2, 0, 1)
         world = np.arange(position.shape[0])[:, None]
-        ground = state.maps.ground[world, np.clip(row, 0, cells - 1), np.clip(col, 0, cells - 1)]
-        return inside & (ground != SEA)
+        return inside & (ground.reshape(-1).take((world * cells + row) * cells + col) != SEA)
 
-    def _drop(self, fire, position: np.ndarray, direction: np.ndarray, dropping: np.ndarray):
-        """Wet the swath of every dropping plane; (fire, extinguished (B, A), prepared (B, A))."""
+    def _drop(self, fire, look: np.ndarray, position: np.ndarray, direction: np.ndarray, dropping: np.ndarray):
+        """Wet the swath of every dropping plane and redraw it in ``look``.
+
+        Returns (fire, extinguished (B, A), prepared (B, A))."""
         batch, agents = dropping.shape
         owners = np.flatnonzero(dropping.reshape(-1))
         zero = np.zeros((batch, agents), np.int32)
@@ -152,8 +212,10 @@ class AerialWildfireSimulator:
         points = pos[:, None, :] + self.drop_along[None, :, None] * dirs[:, None, :]  # (D, P, 2)
         rows, cols = self._cells(points)
         owner = np.repeat(owners, points.shape[1])
-        fire, out, wet = douse(fire, owner // agents, rows.ravel(), cols.ravel(), self.params.drop_radius_m / self.cell_m,
-                               owner, batch * agents)
+        radius = self.params.drop_radius_m / self.cell_m
+        fire, out, wet = douse(fire, owner // agents, rows.ravel(), cols.ravel(), radius, owner, batch * agents)
+        redraw_cells(look, fire.trees, window_cells(owner // agents, rows.ravel(), cols.ravel(), radius,
+                                                    self.forest_spec.cells), self.frame)
         return fire, out.reshape(batch, agents).astype(np.int32), wet.reshape(batch, agents).astype(np.int32)
 
     def _cells(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -163,60 +225,49 @@ class AerialWildfireSimulator:
 
     def _sight(self, state: AerialWildfireState) -> Sighting:
         """Closest burning tree in each plane's view square, and fire near each village, in one query."""
-        p = self.params
-        batch, agents = state.heading.shape
-        points = np.concatenate([state.position.reshape(-1, 2), state.maps.village], axis=0)
-        world = np.concatenate([np.repeat(np.arange(batch), agents), np.arange(batch)])
-        rows, cols = self._cells(points)
-        half = np.concatenate([np.full(batch * agents, p.fire_view_half_m), np.full(batch, p.village_radius_m)])
-        found, hit_rows, hit_cols = closest_burning(state.fire, world, rows, cols, half / self.cell_m)
-        xy = np.stack([(hit_cols + 0.5) * self.cell_m - p.island_half_extent_m,
-                       (hit_rows + 0.5) * self.cell_m - p.island_half_extent_m], axis=-1)
-        xy = np.where(found[:, None], xy, 0.0)
-        planes = slice(0, batch * agents)
-        village_gap = xy[batch * agents:] - state.maps.village
-        threat = found[batch * agents:] & (np.hypot(village_gap[:, 0], village_gap[:, 1]) <= p.village_radius_m)
-        return Sighting(plane_found=found[planes].reshape(batch, agents) & state.flying,
-                        plane_xy=xy[planes].reshape(batch, agents, 2), village_threat=threat)
+        return self._sight_of(state.fire, state.maps.village, state.position, state.flying)
 
-    def _sense(self, prev: AerialWildfireState, new: AerialWildfireState):
+    def _sight_of(self, fire, village: np.ndarray, position: np.ndarray, flying: np.ndarray) -> Sighting:
         p = self.params
-        sighting = self._sight(new)
-        found_fire = sighting.plane_found & ~prev.seen_fire
-        gap = new.position - new.maps.village[:, None, :]
-        near_village = new.flying & (np.hypot(gap[..., 0], gap[..., 1]) <= p.village_radius_m)
-        found_village = near_village & ~prev.seen_village
-        threatened = sighting.village_threat & ~prev.village_hit
-        went_out = new.fire.out & ~prev.fire.out
-        new = replace(new, sighting=sighting, seen_fire=prev.seen_fire | found_fire, found_fire=found_fire,
-                      seen_village=prev.seen_village | found_village, found_village=found_village,
-                      village_hit=prev.village_hit | threatened, village_threatened=threatened,
-                      fire_went_out=went_out, burning=burning_count(new.fire) > 0)
-        events = {PICKUP_EVENT: new.picked_up, "dropped_water": new.dropped, "found_fire": found_fire,
-                  "found_village": found_village,
-                  "fire_out": np.broadcast_to(went_out[:, None], new.flying.shape).copy()}
-        if self.plane_endings:  # a plane whose episode ends on its own event stops flying, dropping and refilling
-            finished = np.logical_or.reduce([events[e] for e in self.plane_endings])
-            new = replace(new, flying=new.flying & ~finished)
-        return new, StepOutcome(terminated=new.crossed.copy(), events=events)
+        batch, agents = flying.shape
+        world, half = self._queries(batch, agents)
+        points = np.concatenate([position.reshape(-1, 2), village], axis=0)
+        coords = (points[:, ::-1] + p.island_half_extent_m) / self.cell_m - 0.5  # (row, col) per point
+        found, hit_rows, hit_cols = closest_burning(fire, world, coords[:, 0], coords[:, 1], half)
+        xy = (np.stack([hit_cols, hit_rows], axis=-1) + 0.5) * self.cell_m - p.island_half_extent_m
+        xy = np.where(found[:, None], xy, 0.0)
+        planes = batch * agents
+        village_gap = xy[planes:] - village
+        threat = found[planes:] & (np.hypot(village_gap[:, 0], village_gap[:, 1]) <= p.village_radius_m)
+        return Sighting(plane_found=found[:planes].reshape(batch, agents) & flying,
+                        plane_xy=xy[:planes].reshape(batch, agents, 2), village_threat=threat)
+
+    def _queries(self, batch: int, agents: int) -> tuple[np.ndarray, np.ndarray]:
+        """World (B * A + B,) and half box in cells of the sighting queries: every plane, then every village."""
+        if (batch, agents) not in self._query_shapes:
+            p = self.params
+            world = np.concatenate([np.repeat(np.arange(batch), agents), np.arange(batch)])
+            half = np.concatenate([np.full(batch * agents, p.fire_view_half_m), np.full(batch, p.village_radius_m)])
+            for array in (world, half):
+                array.flags.writeable = False
+            self._query_shapes = {(batch, agents): (world, half / self.cell_m)}  # one shape at a time
+        return self._query_shapes[batch, agents]
 
     # ---- observation and picture --------------------------------------------------------
 
     def observe(self, state: AerialWildfireState) -> dict[str, np.ndarray]:
         """vector (B, A, 8) float32 in [-1, 1], visual (B, A, 42, 42, 3) float32 in [0, 1]."""
-        p = self.params
-        scale = p.border_half_extent_m
+        scale = self.params.border_half_extent_m
         sighting = state.sighting
-        vector = np.concatenate([
-            np.clip(state.position / scale, -1.0, 1.0),
-            np.stack([np.cos(state.heading), np.sin(state.heading)], axis=-1),
-            state.water[..., None].astype(np.float64),
-            np.clip(sighting.plane_xy / scale, -1.0, 1.0),
-            sighting.plane_found[..., None].astype(np.float64),
-        ], axis=-1).astype(np.float32)
-        visual = cameras(state.position, state.heading, state.fire.trees, state.maps.ground, self.camera_offsets,
-                         p.island_half_extent_m, p.border_half_extent_m)
-        return {"vector": vector, "visual": visual}
+        vector = np.empty(state.heading.shape + (8,), np.float32)  # float64 values, rounded once on assignment
+        vector[..., 0:2] = np.minimum(np.maximum(state.position / scale, -1.0), 1.0)
+        vector[..., 2] = np.cos(state.heading)
+        vector[..., 3] = np.sin(state.heading)
+        vector[..., 4] = state.water
+        vector[..., 5:7] = np.minimum(np.maximum(sighting.plane_xy / scale, -1.0), 1.0)
+        vector[..., 7] = sighting.plane_found
+        # the state's own camera array (drawn in step): read-only, so an in-place edit raises
+        return {"vector": vector, "visual": read_only(state.visual)}
 
     def render(self, state: AerialWildfireState, index: int) -> np.ndarray:
         from .render import draw_island
@@ -224,7 +275,28 @@ class AerialWildfireSimulator:
         return draw_island(state, index, self.params)
 
 
+class Flight(NamedTuple):
+    """The planes after their move: heading (B, A), facing (B, A, 2) its (cos, sin), position (B, A, 2), and
+    (B, A) bool flying, crossed the border, picked up water, holding water, dropping water."""
+
+    heading: np.ndarray
+    facing: np.ndarray
+    position: np.ndarray
+    flying: np.ndarray
+    crossed: np.ndarray
+    picked: np.ndarray
+    water: np.ndarray
+    dropping: np.ndarray
+
+
+def _any_burning(fire) -> np.ndarray:
+    """(B,) bool: some tree of the world burns."""
+    if fire.batch == 1:
+        return np.array([fire.burning.size > 0])
+    return burning_count(fire) > 0
+
+
 # Per-world arrays of the state (world axis first) that a partial reset replaces.
 _PER_WORLD = ("position", "heading", "water", "flying", "seen_fire", "seen_village", "village_hit", "crossed",
               "picked_up", "dropped", "found_fire", "found_village", "extinguished", "prepared", "fire_went_out",
-              "village_threatened", "burning")
+              "village_threatened", "burning", "visual")

@@ -29,7 +29,6 @@ class AerialWildfireState:
     fire: FireState
     wind: WindState
     weather: WeatherState
-    conditions: np.ndarray  # (B, G, G, 3) float32 temperature, humidity, overcast on the weather grid
     tick: int  # steps since the batch was created; the fire steps every fire_step_interval ticks
     position: np.ndarray  # (B, A, 2)
     heading: np.ndarray  # (B, A)
@@ -51,3 +50,6 @@ class AerialWildfireState:
     fire_went_out: np.ndarray  # (B,) bool
     village_threatened: np.ndarray  # (B,) bool: the first step fire came too close
     burning: np.ndarray  # (B,) bool: some tree burns after the step
+    # what the cameras see: the palette image of each world (see view.py), written in place like fire.trees
+    look: np.ndarray  # (B, S / 8, S / 8, 8, 8) uint8 tiles
+    visual: np.ndarray  # (B, A, P, P, 3) float32 the planes' cameras after the step
