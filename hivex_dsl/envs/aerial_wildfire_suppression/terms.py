@@ -17,7 +17,9 @@ MAX_TREES_PER_DROP = 2_000
 
 def _per_agent(state, world_values: np.ndarray) -> np.ndarray:
     """(B,) -> (B, A): a world-level quantity given to every plane of the world."""
-    return np.broadcast_to(world_values[:, None], state.flying.shape).astype(np.float64)
+    every_plane = np.empty(state.flying.shape)
+    every_plane[:] = world_values[:, None]  # not broadcast_to(...).astype: same values, a few us less per call
+    return every_plane
 
 
 @TERMS.term(
