@@ -16,7 +16,8 @@ from .blocks import block_pairs, block_side
 from .engine import FireState, in_range, split_flat, vector
 
 SMALL_WORK = 8000  # up to about this many pairs (plus K / 8) the plain pairing beats building the block index
-HUGE = 2.0**40  # beyond this, coordinates lose the precision that the one-cell margin of a span relies on
+HUGE = 2.0**40
+ONE_WORLD_PAIRS = 65_536  # a single world's queries x burning cells up to this go through one dense matrix  # beyond this, coordinates lose the precision that the one-cell margin of a span relies on
 
 
 def _world_pairs(flat: np.ndarray, burning_world: np.ndarray, count: np.ndarray, world: np.ndarray,
@@ -76,6 +77,27 @@ def _nearest(query: np.ndarray, row: np.ndarray, col: np.ndarray, cell_of: Calla
     return found, best
 
 
+def _closest_in_one_world(flat: np.ndarray, cells: int, rows: np.ndarray, cols: np.ndarray, half: np.ndarray
+                          ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`closest_burning` of one world as one (M, K) query x burning-cell matrix: the few calls of a
+    dense pass beat pairing and indexing when a single world asks. The same float operations as
+    :func:`_nearest` (int cells converted exactly), so the answers are identical."""
+    if len(flat) == 0:
+        none = np.full(len(rows), -1, np.int64)
+        return np.zeros(len(rows), bool), none, none.copy()
+    row, col = np.divmod(flat, cells)
+    d_row = row - rows[:, None]
+    d_col = col - cols[:, None]
+    box = half[:, None]
+    inside = (np.abs(d_row) <= box) & (np.abs(d_col) <= box)
+    distance = np.where(inside, d_row * d_row + d_col * d_col, np.inf)
+    nearest = np.minimum.reduce(distance, axis=1)
+    found = nearest < np.inf
+    best = np.minimum.reduce(np.where(distance == nearest[:, None], flat, np.iinfo(np.int64).max), axis=1)
+    best_row = best // cells
+    return found, np.where(found, best_row, -1), np.where(found, best - best_row * cells, -1)
+
+
 def closest_burning(state: FireState, world: np.ndarray, rows: np.ndarray, cols: np.ndarray,
                     half_box_cells: float | np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The nearest burning cell to each of M query points within a square box around it.
@@ -96,6 +118,8 @@ def closest_burning(state: FireState, world: np.ndarray, rows: np.ndarray, cols:
     if not (np.isfinite(half).all() and (half >= 0.0).all()):
         raise ValueError(f"half_box_cells must be finite numbers >= 0, got {half_box_cells!r}")
     in_range("world", world, batch)
+    if batch == 1 and queries * len(state.burning) <= ONE_WORLD_PAIRS:
+        return _closest_in_one_world(state.burning, cells, rows, cols, half)
     index = np.int32 if batch * cells * cells <= np.iinfo(np.int32).max else np.int64
     flat = state.burning.astype(index, copy=False)
     burning_world = flat // index(cells * cells)

@@ -154,12 +154,14 @@ HALF_BOX = st.one_of(st.sampled_from([0.0, 0.5, 1.0, 2.0, 100.0]), st.floats(0.0
 
 
 def each_pairing(state, world, rows, cols, half_box):
-    """closest_burning's answers as chosen by cost, forced to pair whole worlds, forced to use the block index
-    with the side it picks, and with the smallest side (most blocks)."""
+    """closest_burning's answers as chosen by cost (a single world: its dense one-world matrix), then with
+    the dense path off: forced to pair whole worlds, forced to use the block index with the side it picks,
+    and with the smallest side (most blocks)."""
     answers = [closest_burning(state, world, rows, cols, half_box)]
     smallest = mock.patch.object(search_module, "block_side", lambda *args: blocks_module.MIN_SIDE)
     for small_work, side in ((10**18, None), (-1, None), (-1, smallest)):
-        with mock.patch.object(search_module, "SMALL_WORK", small_work), side or contextlib.nullcontext():
+        with mock.patch.object(search_module, "SMALL_WORK", small_work), side or contextlib.nullcontext(), \
+                mock.patch.object(search_module, "ONE_WORLD_PAIRS", -1):
             answers.append(closest_burning(state, world, rows, cols, half_box))
     return answers
 
