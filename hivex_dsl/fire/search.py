@@ -114,8 +114,9 @@ def closest_burning(state: FireState, world: np.ndarray, rows: np.ndarray, cols:
     world = vector("world", world, integer=True)
     queries = len(world)
     rows, cols = vector("rows", rows, queries), vector("cols", cols, queries)
-    half = np.broadcast_to(np.asarray(half_box_cells, dtype=np.float64), (queries,))
-    if not (np.isfinite(half).all() and (half >= 0.0).all()):
+    half = np.asarray(half_box_cells, dtype=np.float64)
+    half = np.full(queries, half) if half.ndim == 0 else np.broadcast_to(half, (queries,))
+    if not np.logical_and.reduce((half >= 0.0) & (half < np.inf), axis=None):  # NaN fails both
         raise ValueError(f"half_box_cells must be finite numbers >= 0, got {half_box_cells!r}")
     in_range("world", world, batch)
     if batch == 1 and queries * len(state.burning) <= ONE_WORLD_PAIRS:

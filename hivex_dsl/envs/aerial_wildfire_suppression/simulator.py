@@ -141,34 +141,35 @@ class AerialWildfireSimulator:
                                         self.weather_lookup)
             fire = fire_step(fire, rng, p, wind.main, state.maps.height, conditions)
             redraw_fire_step(state.look, burning, fire, self.frame)
-        new = replace(state, fire=fire, wind=wind, weather=weather, tick=tick, extinguished=extinguished,
-                      prepared=prepared)
-        return self._sense(state, new, flight)
+        moved = {"fire": fire, "wind": wind, "weather": weather, "tick": tick, "extinguished": extinguished,
+                 "prepared": prepared}
+        return self._sense(state, moved, flight)
 
-    def _sense(self, prev: AerialWildfireState, moved: AerialWildfireState, flight: Flight):
+    def _sense(self, prev: AerialWildfireState, moved: dict, flight: Flight):
         """The state after the step and its outcome: sightings, one-off events, planes whose task ended, cameras.
-        ``moved`` is ``prev`` with the step's fire, wind, weather, tick and drop counts."""
+        ``moved`` holds the step's new fire, wind, weather, tick and drop counts (state fields)."""
         p = self.params
-        sighting = self._sight_of(moved.fire, prev.maps.village, flight.position, flight.flying)
+        fire = moved["fire"]
+        sighting = self._sight_of(fire, prev.maps.village, flight.position, flight.flying)
         found_fire = sighting.plane_found & ~prev.seen_fire
         gap = flight.position - prev.maps.village[:, None, :]
         near_village = flight.flying & (np.hypot(gap[..., 0], gap[..., 1]) <= p.village_radius_m)
         found_village = near_village & ~prev.seen_village
         threatened = sighting.village_threat & ~prev.village_hit
-        went_out = moved.fire.out & ~prev.fire.out
+        went_out = fire.out & ~prev.fire.out
         events = {PICKUP_EVENT: flight.picked, "dropped_water": flight.dropping, "found_fire": found_fire,
                   "found_village": found_village, "fire_out": np.repeat(went_out[:, None], found_fire.shape[1], axis=1)}
         flying = flight.flying
         if self.plane_endings:  # a plane whose episode ends on its own event stops flying, dropping and refilling
             flying = flying & ~np.logical_or.reduce([events[e] for e in self.plane_endings])
-        visual = self._cameras(flight.position, flight.heading, prev.look, moved.fire.trees, prev.maps.ground,
+        visual = self._cameras(flight.position, flight.heading, prev.look, fire.trees, prev.maps.ground,
                                flight.facing)
-        new = replace(moved, position=flight.position, heading=flight.heading, water=flight.water, flying=flying,
+        new = replace(prev, **moved, position=flight.position, heading=flight.heading, water=flight.water, flying=flying,
                       sighting=sighting, seen_fire=prev.seen_fire | found_fire,
                       seen_village=prev.seen_village | found_village, village_hit=prev.village_hit | threatened,
                       crossed=flight.crossed, picked_up=flight.picked, dropped=flight.dropping, found_fire=found_fire,
                       found_village=found_village, fire_went_out=went_out, village_threatened=threatened,
-                      burning=_any_burning(moved.fire), visual=visual)
+                      burning=_any_burning(fire), visual=visual)
         return new, StepOutcome(terminated=flight.crossed.copy(), events=events)
 
     def _fly(self, state: AerialWildfireState, actions: dict) -> Flight:
@@ -177,7 +178,9 @@ class AerialWildfireSimulator:
         flying, water = state.flying, state.water
         steer = np.minimum(np.maximum(actions["continuous"][..., 0].astype(np.float64), -1.0), 1.0)
         heading = np.where(flying, wrap_angle(state.heading + self.turn_rad * steer), state.heading)
-        facing = np.stack([np.cos(heading), np.sin(heading)], axis=-1)
+        facing = np.empty(heading.shape + (2,))
+        np.cos(heading, out=facing[..., 0])
+        np.sin(heading, out=facing[..., 1])
         position = np.where(flying[..., None], state.position + p.plane_speed_m * facing, state.position)
         outside = np.abs(position).max(axis=-1)
         crossed = flying & (outside > p.border_half_extent_m)
