@@ -237,7 +237,11 @@ class AerialWildfireSimulator:
         points = np.concatenate([position.reshape(-1, 2), village], axis=0)
         coords = (points[:, ::-1] + p.island_half_extent_m) / self.cell_m - 0.5  # (row, col) per point
         found, hit_rows, hit_cols = closest_burning(fire, world, coords[:, 0], coords[:, 1], half)
-        xy = (np.stack([hit_cols, hit_rows], axis=-1) + 0.5) * self.cell_m - p.island_half_extent_m
+        xy = np.empty((len(found), 2))  # (x, y) = (col, row) cell centres in metres, 0 where nothing was found
+        xy[:, 0], xy[:, 1] = hit_cols, hit_rows
+        xy += 0.5
+        xy *= self.cell_m
+        xy -= p.island_half_extent_m
         xy = np.where(found[:, None], xy, 0.0)
         planes = batch * agents
         village_gap = xy[planes:] - village
