@@ -18,17 +18,16 @@ from typing import Callable
 
 import numpy as np
 
-from ..procgen.wind import wrap_angle
-from .engine import FireSpec, FireState, TreeState, vector
+from ..procgen.wind import TWO_PI
+from .engine import BURNING, BURNT, EXISTING, FireSpec, FireState, built, vector
 from .factors import FactorGrid
 
 # conditions(world (N,), row (N,), col (N,)) int64 -> (temperature (N,), humidity (N,), overcast (N,)) in [0, 1]
 Conditions = Callable[[np.ndarray, np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray, np.ndarray]]
 FACTORS = 5
 CONE_TOLERANCE_RAD = 1e-9  # "within" is inclusive: a diagonal exactly 45 degrees off the wind counts
+FLOAT64 = np.dtype(np.float64)
 SHORT_LIST = 4096  # burning trees up to which spread works in int64 (see spread)
-# The tree states as NumPy scalars: an IntEnum member costs a lookup and a conversion at every use.
-EXISTING, BURNING, BURNT = (np.uint8(value) for value in (TreeState.EXISTING, TreeState.BURNING, TreeState.BURNT))
 
 
 @lru_cache(maxsize=16)
@@ -87,9 +86,12 @@ def downwind_table(downwind_rad: np.ndarray, d_row: np.ndarray, d_col: np.ndarra
 
 
 def _downwind(downwind_rad: np.ndarray, direction: np.ndarray, cone_deg: float) -> np.ndarray:
-    """:func:`downwind_table` from the offsets' directions (N,)."""
-    gap = np.abs(wrap_angle(direction[None, :] - downwind_rad[:, None]))
-    return gap <= _cone_limit(cone_deg)
+    """:func:`downwind_table` from the offsets' directions (N,): wrap_angle's operations, done in place."""
+    gap = direction - downwind_rad[:, None]
+    gap += np.pi
+    gap %= TWO_PI
+    gap -= np.pi
+    return np.abs(gap, out=gap) <= _cone_limit(cone_deg)
 
 
 def weather_factors(spec: FireSpec, conditions: Conditions, world: np.ndarray, row: np.ndarray,
@@ -120,10 +122,13 @@ def _inside(row: np.ndarray, col: np.ndarray, d_row: np.ndarray, d_col: np.ndarr
 
 
 def _unique(values: np.ndarray) -> np.ndarray:
-    """Sorted distinct values of ``values`` (N,). np.unique is far slower; the values come in
-    ascending runs (one per burning tree and block row), which timsort (kind="stable") exploits."""
-    ordered = np.sort(values, kind="stable")
-    keep = np.ones(len(ordered), bool)
+    """Sorted distinct values of ``values`` (N,), which it sorts in place (pass a fresh array). np.unique is
+    far slower; the values come in ascending runs (one per burning tree and block row), which timsort
+    (kind="stable") exploits."""
+    ordered = values
+    ordered.sort(kind="stable")
+    keep = np.empty(len(ordered), bool)
+    keep[:1] = True
     np.not_equal(ordered[1:], ordered[:-1], out=keep[1:])
     return ordered[keep]
 
@@ -135,17 +140,19 @@ def _tries(state: FireState, radius: int, index: type) -> tuple[np.ndarray, np.n
     src (L,) ``index`` their flat cells, target (L, N) ``index`` the flat cells of their blocks, tried
     (L, N) bool: the target is an existing tree on the grid).
     """
-    cells = state.cells
+    cells = state.trees.shape[1]
     offsets, edge_cell = _block_of(radius, cells, index)
     live = (state.spent < radius).nonzero()[0]
-    src = state.burning.take(live).astype(index, copy=False)
+    src = state.burning.take(live)
+    if index is not np.int64:
+        src = src.astype(index)
     target = src[:, None] + offsets
     tried = state.trees.take(target, mode="clip") == EXISTING  # clip: off-grid targets are masked below
-    local = src if state.batch == 1 else src % index(cells * cells)
+    local = src if state.trees.shape[0] == 1 else src % (cells * cells)
     edge = edge_cell.take(local).nonzero()[0]
     if edge.size:  # only sources near the border have blocks reaching off the grid
         d_row, d_col = block_offsets(radius)
-        row, col = np.divmod(local[edge], index(cells))
+        row, col = np.divmod(local[edge], cells)
         tried[edge] &= _inside(row, col, d_row, d_col, radius, cells)
     return live, src, target, tried
 
@@ -153,10 +160,8 @@ def _tries(state: FireState, radius: int, index: type) -> tuple[np.ndarray, np.n
 def _spent(state: FireState, radius: int, live: np.ndarray, tries: np.ndarray) -> np.ndarray:
     """(K,) uint8 ``state.spent`` with ``radius`` for the live trees (L,) but those at positions ``tries``
     (P,) among them, which found something to try."""
-    found = np.zeros(len(live), bool)
-    found[tries] = True
     spent = state.spent.copy()
-    spent[live[~found]] = radius
+    spent[live[np.bincount(tries, minlength=len(live)) == 0]] = radius
     return spent
 
 
@@ -174,15 +179,6 @@ def _source_weather(spec: FireSpec, conditions: Conditions | FactorGrid, k: np.n
     return weather[np.cumsum(first) - 1]
 
 
-def _downwind_of_pairs(downwind_rad: np.ndarray, radius: int, cone_deg: float, source: np.ndarray, offset: np.ndarray,
-                       area: int) -> np.ndarray:
-    """(P,) bool: the pairs' offsets (P,) lie in their worlds' downwind cones (worlds of the source cells (P,))."""
-    downwind = _downwind(downwind_rad, _offset_directions(radius), cone_deg)
-    if len(downwind) == 1:  # one world: its row of the table
-        return downwind.take(offset)
-    return downwind.take((source // area) * downwind.shape[1] + offset)
-
-
 def spread(state: FireState, rng: np.random.Generator, spec: FireSpec, downwind_rad: np.ndarray,
            height: np.ndarray, conditions: Conditions | FactorGrid) -> tuple[np.ndarray, np.ndarray]:
     """Sorted flat indices (I,) int64 of the existing trees the burning trees set alight this step, and
@@ -192,31 +188,29 @@ def spread(state: FireState, rng: np.random.Generator, spec: FireSpec, downwind_
     existing target) pair, in burning-list order, then row-major block order. Trees known to be spent
     have no such pair, so skipping them changes no draw.
     """
-    cells, radius = state.cells, spec.spread_radius_cells
+    batch, cells = state.trees.shape[:2]
+    radius = spec.spread_radius_cells
     area = cells * cells
     reach = radius * (cells + 1)  # the farthest a target's flat index lies from its source's
     # int32 halves the memory traffic of many pairs; a short list skips the conversions instead
     index = np.int32 if len(state.burning) > SHORT_LIST and state.trees.size + reach < 2**31 else np.int64
     live, src, target, tried = _tries(state, radius, index)
     pick = tried.reshape(-1).nonzero()[0]
-    k, o = np.divmod(pick.astype(index, copy=False), index(tried.shape[1]))
+    if index is not np.int64:
+        pick = pick.astype(index)
+    k, o = np.divmod(pick, tried.shape[1])  # a Python int keeps the dtype of pick (NEP 50)
     spent = _spent(state, radius, live, k)
     if pick.size == 0:
         return np.zeros(0, np.int64), spent
     t = target.take(pick)
     source = src.take(k)
-    factors = _source_weather(spec, conditions, k, source, index(area), index(cells))
-    factors += _downwind_of_pairs(downwind_rad, radius, spec.downwind_cone_deg, source, o, index(area))
+    factors = _source_weather(spec, conditions, k, source, area, cells)
+    downwind = _downwind(downwind_rad, _offset_directions(radius), spec.downwind_cone_deg)
+    factors += downwind.take(o if batch == 1 else (source // area) * downwind.shape[1] + o)
     factors += height.take(t) > height.take(source)
     hit = rng.random(len(pick), dtype=np.float32) < _chances(spec.spread_chance_per_factor).take(factors)
-    return _unique(t[hit]).astype(np.int64, copy=False), spent
-
-
-def _per_world(flat: np.ndarray, area: int, batch: int) -> np.ndarray:
-    """(B,) int64 count of the flat indices (N,) in each world."""
-    if batch == 1:
-        return np.array([len(flat)], np.int64)
-    return np.bincount(flat // area, minlength=batch).astype(np.int64)
+    new = _unique(t[hit])
+    return (new if index is np.int64 else new.astype(np.int64)), spent
 
 
 def _checked_height(cell_height: np.ndarray, shape: tuple[int, ...]) -> np.ndarray:
@@ -225,6 +219,16 @@ def _checked_height(cell_height: np.ndarray, shape: tuple[int, ...]) -> np.ndarr
     if height.shape != shape or height.dtype.kind not in "iufc":
         raise ValueError(f"cell_height must be a numeric {shape} array, got {height.dtype} {height.shape}")
     return height.reshape(-1)
+
+
+def _checked_wind(downwind_rad: np.ndarray, batch: int) -> np.ndarray:
+    """``downwind_rad`` as a finite (B,) float64 array: :func:`.engine.vector`'s checks, with two ufunc calls
+    for the array the simulators pass (anything else takes the general checks and conversion)."""
+    wind = downwind_rad
+    if (type(wind) is np.ndarray and wind.dtype is FLOAT64 and wind.shape == (batch,)
+            and np.logical_and.reduce(np.isfinite(wind))):
+        return wind
+    return vector("downwind_rad", wind, batch)
 
 
 def fire_step(state: FireState, rng: np.random.Generator, spec: FireSpec, downwind_rad: np.ndarray,
@@ -241,32 +245,53 @@ def fire_step(state: FireState, rng: np.random.Generator, spec: FireSpec, downwi
     with a new ignition and grows by one otherwise; a world is out once ``quiet >= quiet_steps_out``
     and nothing burns there. Worlds already out have nothing burning, so nothing changes there.
     """
-    batch, cells = state.batch, state.cells
-    downwind = vector("downwind_rad", downwind_rad, batch)
-    new, spent = spread(state, rng, spec, downwind, _checked_height(cell_height, state.trees.shape), conditions)
+    trees = state.trees
+    downwind = _checked_wind(downwind_rad, trees.shape[0])
+    new, spent = spread(state, rng, spec, downwind, _checked_height(cell_height, trees.shape), conditions)
     ended, burning, age, spent = _burn_out(state, spent, spec.burn_steps)
-    trees = state.trees.reshape(-1)
-    trees[ended] = BURNT
-    trees[new] = BURNING
+    flat = trees.reshape(-1)
+    flat[ended] = BURNT
+    flat[new] = BURNING
     burning = np.concatenate([burning, new])
-    area = cells * cells
-    ignited = _per_world(new, area, batch)
-    alive = _per_world(burning, area, batch)
-    quiet = np.where(state.out, state.quiet, (state.quiet + np.int32(1)) * (ignited == 0)).astype(np.int32, copy=False)
-    out = state.out | ((quiet >= spec.quiet_steps_out) & (alive == 0))
-    return FireState(trees=state.trees, burning=burning, age=np.concatenate([age, np.zeros(len(new), np.int32)]),
-                     quiet=quiet, out=out, ignited=ignited, burnt_out=_per_world(ended, area, batch),
-                     spent=np.concatenate([spent, np.zeros(len(new), np.uint8)]))
+    tally = _tally_one if trees.shape[0] == 1 else _tally
+    quiet, out, ignited, burnt_out = tally(state, len(new), len(ended), burning, spec.quiet_steps_out, new, ended)
+    return built(trees=trees, burning=burning, age=np.concatenate([age, np.zeros(len(new), np.int32)]),
+                 quiet=quiet, out=out, ignited=ignited, burnt_out=burnt_out,
+                 spent=np.concatenate([spent, np.zeros(len(new), np.uint8)]))
+
+
+def _tally(state: FireState, ignitions: int, burnt: int, burning: np.ndarray, quiet_steps_out: int,
+           new: np.ndarray, ended: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """(quiet (B,) int32, out (B,) bool, ignited (B,) int64, burnt_out (B,) int64) after a fire step that
+    set the flat cells ``new`` alight and burnt out ``ended`` (``ignitions`` and ``burnt`` of them), with
+    ``burning`` (K,) the list afterwards."""
+    batch, area = state.trees.shape[0], state.trees.shape[1] ** 2
+    ignited = np.bincount(new // area, minlength=batch).astype(np.int64)
+    alive = np.bincount(burning // area, minlength=batch)
+    quiet = np.where(state.out, state.quiet, (state.quiet + 1) * (ignited == 0)).astype(np.int32, copy=False)
+    out = state.out | ((quiet >= quiet_steps_out) & (alive == 0))
+    return quiet, out, ignited, np.bincount(ended // area, minlength=batch).astype(np.int64)
+
+
+def _tally_one(state: FireState, ignitions: int, burnt: int, burning: np.ndarray, quiet_steps_out: int,
+               new: np.ndarray, ended: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`_tally` of one world, in Python numbers (tests/fire/test_fire_fast_paths.py compares them)."""
+    was_out, quiet = bool(state.out[0]), int(state.quiet[0])
+    if not was_out:
+        quiet = 0 if ignitions else quiet + 1
+    out = was_out or (quiet >= quiet_steps_out and len(burning) == 0)
+    return (np.array([quiet], np.int32), np.array([out]), np.array([ignitions], np.int64),
+            np.array([burnt], np.int64))
 
 
 def _burn_out(state: FireState, spent: np.ndarray, burn_steps: int
               ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """(ended (D,) flat cells of the trees whose age reaches ``burn_steps``, then burning, age (grown by
     one) and ``spent`` (K,) of the others, in list order)."""
-    age = state.age + np.int32(1)
+    age = state.age + 1  # int32: NEP 50
     done = age >= burn_steps
     count = int(np.count_nonzero(done))
-    if done[:count].all():  # the oldest lead a list kept in ignition order: slices, no gathers
+    if np.logical_and.reduce(done[:count]):  # the oldest lead a list kept in ignition order: slices, no gathers
         return state.burning[:count], state.burning[count:], age[count:], spent[count:]
     keep = ~done
     return state.burning[done], state.burning[keep], age[keep], spent[keep]

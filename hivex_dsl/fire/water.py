@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .engine import FireState, TreeState, in_range, vector
+from .engine import BURNING, EXISTING, WET, FireState, in_range, vector
 
 
 def _window(centre: np.ndarray, half: int, cells: int) -> tuple[np.ndarray, int]:
@@ -73,14 +73,14 @@ def douse(state: FireState, world: np.ndarray, rows: np.ndarray, cols: np.ndarra
     point, flat = covered_cells(world, rows, cols, float(radius_cells), cells, batch)
     trees = state.trees.reshape(-1)
     before = trees[flat]
-    wettable = np.flatnonzero((before == TreeState.EXISTING) | (before == TreeState.BURNING))
+    wettable = np.flatnonzero((before == EXISTING) | (before == BURNING))
     cell, who = _lowest_owner(flat[wettable], owner[point[wettable]], int(owners))
-    was_burning = trees[cell] == TreeState.BURNING
+    was_burning = trees[cell] == BURNING
     extinguished = np.bincount(who[was_burning], minlength=owners).astype(np.int64)
     prepared = np.bincount(who[~was_burning], minlength=owners).astype(np.int64)
-    trees[cell] = TreeState.WET
+    trees[cell] = WET
     if was_burning.any():
-        still = trees[state.burning] == TreeState.BURNING
+        still = trees[state.burning] == BURNING
         state = FireState(trees=state.trees, burning=state.burning[still], age=state.age[still], quiet=state.quiet,
                           out=state.out, ignited=state.ignited, burnt_out=state.burnt_out, spent=state.spent[still])
     return state, extinguished, prepared

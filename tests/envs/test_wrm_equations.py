@@ -48,7 +48,7 @@ def hand_state(keep_centre: int = 5):
     distance[0, 4] = distance[0, 1] = 100.0
     approaching = np.zeros((1, 9), bool)
     approaching[0, 4] = True
-    sighting = Sighting(row=np.zeros((1, 9), np.int64), col=np.zeros((1, 9), np.int64),
+    sighting = Sighting(cell=np.zeros((1, 9), np.int64), cells=400,
                         offset=np.zeros((1, 9, 3)), distance=distance, approaching=approaching)
     allocation = np.zeros((1, 9, 4), np.int16)
     allocation[0, 4, 0] = keep_centre

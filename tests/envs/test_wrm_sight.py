@@ -3,12 +3,13 @@
 The towers' closest fire, kept per cohort of trees that ignited together (.sight), is closest_burning's
 answer after every step; its one-world path matches the many-world one; the weather sampled in one call
 matches island.sample_conditions and the towers' own sample; tower performance asked three times per step
-is computed once.
+is computed once, with fewer operations than the paper's formula but the same floats.
 """
 
 from __future__ import annotations
 
 from dataclasses import replace
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -17,8 +18,11 @@ from hypothesis import strategies as st
 
 import hivex_dsl
 from hivex_dsl.envs.island import sample_conditions
-from hivex_dsl.envs.wildfire_resource_management.sight import nearest_of_sorted, square_table
+from hivex_dsl.envs.wildfire_resource_management.params import WildfireResourceParams
+from hivex_dsl.envs.wildfire_resource_management.sight import (key_cells, key_tables, nearest_keys, nearest_of_sorted,
+                                                                square_table)
 from hivex_dsl.envs.wildfire_resource_management.terms import broken_power_law, remapped_distance, tower_performance
+from hivex_dsl.envs.wildfire_resource_management.types import Sighting
 from hivex_dsl.fire import TreeState, closest_burning, fire_reset
 
 ENV = "wildfire_resource_management"
@@ -131,3 +135,35 @@ def test_tower_performance_is_computed_once_per_sighting_and_params():
     assert tower_performance(state, other) is not first  # other params: computed again
     moved = replace(state, sighting=replace(sighting, approaching=~sighting.approaching & sighting.seen))
     assert tower_performance(moved, p) is not first
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.lists(st.tuples(st.one_of(st.floats(0.0, 1000.0), st.just(np.inf)), st.booleans()), min_size=1, max_size=9),
+       st.floats(1.0, 500.0), st.floats(1.0, 1000.0), st.floats(0.5, 20.0), st.floats(0.0, 1.0))
+def test_the_fused_performance_is_the_papers_formula(towers, threshold, s, a, idle):
+    """tower_performance's fewer operations give exactly broken_power_law(remapped_distance(...)) where a
+    fire is seen, and the collective term's root mean square needs no absolute value (every P is in [0, 1])."""
+    distance = np.array([[d for d, _ in towers]])
+    approaching = np.array([[m for _, m in towers]]) & np.isfinite(distance)
+    params = WildfireResourceParams(distance_threshold_m=threshold, power_law_s=s, power_law_a=a, idle_performance=idle)
+    seen = np.isfinite(distance)
+    expected = np.where(seen, broken_power_law(remapped_distance(np.where(seen, distance, 0.0), approaching, threshold),
+                                               s, a), idle)
+    sighting = Sighting(cell=np.zeros(distance.shape, np.int64), cells=400, offset=np.zeros(distance.shape + (3,)),
+                        distance=distance, approaching=approaching)
+    got = tower_performance(SimpleNamespace(sighting=sighting), params)
+    np.testing.assert_array_equal(got, expected)
+    assert np.all((got >= 0.0) & (got <= 1.0))
+    rms = np.sqrt(np.add.reduce(got * got, axis=-1) / got.shape[-1])
+    assert np.all(1.0 - np.abs(1.0 - rms) == 1.0 - (1.0 - rms))
+
+
+def test_keys_outside_the_box_and_empty_answers_read_as_no_cell():
+    tables = square_table(np.array([5.0, 50.0]), 2.0, 20), square_table(np.array([5.0, 5.0]), 2.0, 20)
+    keys = key_tables(*tables)
+    flat = np.array([5 * 20 + 5, 19 * 20 + 19])  # (5, 5) in the first tower's box; nothing in the second's
+    nearest = nearest_keys(flat, 1, 20, *keys)
+    assert key_cells(nearest).tolist() == [[105, -1]]
+    assert key_cells(nearest_keys(flat[1:], 1, 20, *keys)).tolist() == [[-1, -1]]  # outside every box
+    assert key_cells(nearest_keys(flat[:0], 1, 20, *keys)).tolist() == [[-1, -1]]  # no burning tree at all
+    assert np.all(keys[0].imag[np.isinf(keys[0].real)] < 0) and np.all(keys[1].imag[np.isinf(keys[1].real)] < 0)

@@ -2,7 +2,8 @@
 
 Shortcuts: skipping burning trees whose block is known to hold no existing tree (``FireState.spent``),
 weather factors read from a :class:`FactorGrid` instead of a ``conditions`` callable, int64 pairs for
-short burning lists, and burn-out by slicing when the oldest trees lead the list.
+short burning lists, burn-out by slicing when the oldest trees lead the list, the one-world tally in
+Python numbers and the one-sum check of the wind.
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ from hypothesis import strategies as st
 
 from hivex_dsl.fire import (FactorGrid, FireSpec, FireState, TreeState, count_factors, douse, fire_copy, fire_reset,
                             fire_reset_where, fire_step, grid_cell_table)
+from hivex_dsl.fire import engine as engine_module
 from hivex_dsl.fire import spread as spread_module
 from hivex_dsl.fire.spread import block_offsets
 
@@ -183,3 +185,32 @@ def test_spent_must_follow_the_burning_list():
         FireState(trees=state.trees, burning=state.burning, age=state.age, quiet=state.quiet, out=state.out,
                   ignited=state.ignited, burnt_out=state.burnt_out, spent=np.zeros(2, np.uint8))
     assert state.spent.tolist() == [0, 0, 0] and len(block_offsets(1)[0]) == 8
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.integers(0, 30), st.booleans(), st.integers(0, 3), st.integers(0, 3), st.integers(0, 4), st.integers(1, 6))
+def test_the_one_world_tally_matches_the_general_one(quiet, out, ignitions, burnt, older, quiet_steps_out):
+    if out:  # a world that is out has nothing burning, so nothing ignites there
+        ignitions, older = 0, 0
+    new, ended = np.arange(ignitions, dtype=np.int64), np.arange(burnt, dtype=np.int64) + 8
+    burning = np.arange(older + ignitions, dtype=np.int64)
+    state = FireState(trees=np.zeros((1, 4, 4), np.uint8), burning=np.zeros(0, np.int64), age=np.zeros(0, np.int32),
+                      quiet=np.array([quiet], np.int32), out=np.array([out]), ignited=np.zeros(1, np.int64),
+                      burnt_out=np.zeros(1, np.int64))
+    args = (state, ignitions, burnt, burning, quiet_steps_out, new, ended)
+    for one, general in zip(spread_module._tally_one(*args), spread_module._tally(*args)):
+        assert one.dtype == general.dtype and one.shape == general.shape
+        np.testing.assert_array_equal(one, general)
+
+
+@pytest.mark.parametrize("wind, batch", [
+    (np.array([0.5]), 1), (np.array([0.5, -3.0]), 2), (np.zeros(2, np.float32), 2), ([0.25], 1), (np.array([0.5]), 2),
+    (np.array([np.nan]), 1), (np.array([0.0, np.inf]), 2), (np.array([1e308, 1e308]), 2), (np.zeros((1, 1)), 1)])
+def test_the_wind_check_accepts_what_the_general_check_accepts(wind, batch):
+    try:
+        expected = engine_module.vector("downwind_rad", wind, batch)
+    except ValueError:
+        with pytest.raises(ValueError):
+            spread_module._checked_wind(wind, batch)
+        return
+    np.testing.assert_array_equal(spread_module._checked_wind(wind, batch), expected)

@@ -10,13 +10,19 @@ axis holds the trees of age ``j``.
 Distances are squared cell distances between a tree's cell centre and the tower's fractional cell
 coordinates, inside the tower's square search box, with ties to the lower flat index: exactly
 :func:`hivex_dsl.fire.closest_burning`'s answer (tests/envs/test_wrm_sight.py checks it).
+
+An answer is one complex128 *key*: the squared distance (inf: no tree in the box) as the real part,
+the cell row * C + col (exact in a float64) as the imaginary part, negative for a key outside the box.
+NumPy orders complex numbers lexicographically, so one ``np.minimum`` picks the nearer cell and,
+between equally near ones, the lower: the distance and the tie-break in a single pass.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-NONE = np.iinfo(np.int64).max  # cell index of an empty answer while comparing; -1 once stored
+NONE = complex(np.inf, -1.0)  # the key of "no tree in the box"
+OUTSIDE = -(2.0**40)  # the imaginary part of a row or column outside the box: sums stay exact and negative
 
 
 def square_table(centres: np.ndarray, half: float, cells: int) -> np.ndarray:
@@ -28,73 +34,69 @@ def square_table(centres: np.ndarray, half: float, cells: int) -> np.ndarray:
     return table
 
 
-def _candidate_distances(cell: np.ndarray, cells: int, row_table: np.ndarray, col_table: np.ndarray) -> np.ndarray:
-    """(N, A) float64 squared distance of cells row * C + col (N,) to the A towers of the
-    :func:`square_table` tables, inf outside the tower's box."""
+def key_tables(row_table: np.ndarray, col_table: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(C, A) complex128 tables whose sum for row r and column c is the key of cell r * C + c: the
+    :func:`square_table` terms as real parts, r * C and c as imaginary parts (:data:`OUTSIDE` where the
+    term is inf, so every key outside the box has a negative imaginary part)."""
+    cells = len(row_table)
+    band = np.arange(cells, dtype=np.float64)[:, None]
+    rows = row_table + 1j * np.where(row_table < np.inf, band * cells, OUTSIDE)
+    cols = col_table + 1j * np.where(col_table < np.inf, band, OUTSIDE)
+    rows.flags.writeable = cols.flags.writeable = False
+    return rows, cols
+
+
+def _keys(cell: np.ndarray, cells: int, row_keys: np.ndarray, col_keys: np.ndarray) -> np.ndarray:
+    """(N, A) complex128 keys of cells row * C + col (N,) for the A towers of :func:`key_tables`."""
     row, col = np.divmod(cell, cells)
-    distance = row_table.take(row, axis=0)
-    distance += col_table.take(col, axis=0)
-    return distance
+    keys = row_keys.take(row, axis=0)
+    keys += col_keys.take(col, axis=0)
+    return keys
+
+
+def nearest_keys(flat: np.ndarray, batch: int, cells: int, row_keys: np.ndarray, col_keys: np.ndarray
+                 ) -> np.ndarray:
+    """(B, A) complex128 key of each tower's nearest cell among burning cells ``flat`` (N,), given in
+    ascending flat order; :data:`NONE` where no cell lies in the box. ``row_keys``/``col_keys`` (C, A)
+    from :func:`key_tables` (the same towers in every world)."""
+    towers = row_keys.shape[1]
+    if len(flat) == 0:
+        return np.full((batch, towers), NONE)
+    if batch == 1:  # one world: flat indices are its cells
+        return np.minimum.reduce(_keys(flat, cells, row_keys, col_keys), axis=0)[None]
+    world, cell = np.divmod(flat, cells * cells)
+    count = np.bincount(world, minlength=batch)
+    worlds = np.flatnonzero(count)
+    keys = np.full((batch, towers), NONE)
+    keys[worlds] = np.minimum.reduceat(_keys(cell, cells, row_keys, col_keys), (np.cumsum(count) - count)[worlds],
+                                       axis=0)
+    return keys
+
+
+def key_cells(keys: np.ndarray) -> np.ndarray:
+    """The cells (...) int64 of keys (...), -1 for a key without a tree in the box (a negative imaginary part)."""
+    return np.maximum(keys.imag, -1.0).astype(np.int64)
 
 
 def nearest_of_sorted(flat: np.ndarray, batch: int, cells: int, row_table: np.ndarray, col_table: np.ndarray
                       ) -> tuple[np.ndarray, np.ndarray]:
-    """Each tower's nearest cell among burning cells ``flat`` (N,) given in ascending flat order.
-
-    row_table/col_table (C, A) from :func:`square_table` for the towers' fractional cell coordinates and
-    the half side of their square boxes (the same towers in every world). Returns (squared distance (B, A)
-    float64, inf when no cell lies in the box; cell (B, A) int64 row * C + col, -1 when none); ties go to
-    the lower cell.
-    """
-    towers = row_table.shape[1]
-    if len(flat) == 0:
-        return np.full((batch, towers), np.inf), np.full((batch, towers), -1, np.int64)
-    if batch == 1:  # one world: the first minimum along the ascending list is the lowest cell
-        pair = _candidate_distances(flat, cells, row_table, col_table)
-        nearest = np.minimum.reduce(pair, axis=0)
-        return nearest[None], np.where(nearest < np.inf, flat.take(pair.argmin(axis=0)), -1)[None]
-    world, cell = np.divmod(flat, cells * cells)
-    pair = _candidate_distances(cell, cells, row_table, col_table)
-    count = np.bincount(world, minlength=batch)
-    worlds = np.flatnonzero(count)
-    starts = (np.cumsum(count) - count)[worlds]
-    nearest = np.minimum.reduceat(pair, starts, axis=0)  # (W, A) per world that has candidates
-    group = np.repeat(np.arange(len(worlds)), count[worlds])
-    tied = np.where(pair == nearest[group], cell[:, None], NONE)
-    lowest = np.minimum.reduceat(tied, starts, axis=0)
-    distance = np.full((batch, towers), np.inf)
-    best = np.full((batch, towers), -1, np.int64)
-    distance[worlds] = nearest
-    best[worlds] = np.where(nearest < np.inf, lowest, -1)
-    return distance, best
+    """:func:`nearest_keys` from the :func:`square_table` tables, split: (squared distance (B, A) float64,
+    inf when no cell lies in the box; cell (B, A) int64 row * C + col, -1 when none)."""
+    keys = nearest_keys(flat, batch, cells, *key_tables(row_table, col_table))
+    return keys.real.copy(), key_cells(keys)
 
 
-def nearest_by_age(burning: np.ndarray, age: np.ndarray, slots: int, batch: int, cells: int, row_table: np.ndarray,
-                   col_table: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Cohort answers (distance (B, A, S) float64, cell (B, A, S) int64) of a whole burning list (K,)
-    with ages (K,) in [0, S): slot j holds the nearest tree of age j (:func:`nearest_of_sorted`)."""
-    towers = row_table.shape[1]
-    distance = np.full((batch, towers, slots), np.inf)
-    best = np.full((batch, towers, slots), -1, np.int64)
+def nearest_by_age(burning: np.ndarray, age: np.ndarray, slots: int, batch: int, cells: int, row_keys: np.ndarray,
+                   col_keys: np.ndarray) -> np.ndarray:
+    """Cohort keys (B, A, S) complex128 of a whole burning list (K,) with ages (K,) in [0, S): slot j
+    holds the key of the nearest tree of age j (:func:`nearest_keys`)."""
+    keys = np.full((batch, row_keys.shape[1], slots), NONE)
     for years in np.unique(age):  # one cohort at a reset
-        slot = int(years)
-        distance[..., slot], best[..., slot] = nearest_of_sorted(
-            np.sort(burning[age == years]), batch, cells, row_table, col_table)
-    return distance, best
+        keys[..., int(years)] = nearest_keys(np.sort(burning[age == years]), batch, cells, row_keys, col_keys)
+    return keys
 
 
-def age_cohorts(distance: np.ndarray, best: np.ndarray, new_distance: np.ndarray, new_best: np.ndarray
-                ) -> tuple[np.ndarray, np.ndarray]:
-    """Cohort answers (B, A, S) one fire step later: the ignitions' (B, A) in slot 0, the others one slot
+def age_cohorts(cohorts: np.ndarray, ignitions: np.ndarray) -> np.ndarray:
+    """Cohort keys (B, A, S) one fire step later: the ignitions' (B, A) in slot 0, the others one slot
     older; the oldest cohort burnt out."""
-    distance = np.concatenate([new_distance[..., None], distance[..., :-1]], axis=-1)
-    best = np.concatenate([new_best[..., None], best[..., :-1]], axis=-1)
-    return distance, best
-
-
-def closest_of_cohorts(distance: np.ndarray, best: np.ndarray) -> np.ndarray:
-    """(B, A) int64 cell row * C + col of each tower's closest burning tree over its cohorts (B, A, S),
-    ties to the lower cell; -1 when no cohort has one."""
-    nearest = np.minimum.reduce(distance, axis=-1)
-    lowest = np.minimum.reduce(np.where(distance == nearest[..., None], best, NONE), axis=-1)
-    return np.where(nearest < np.inf, lowest, -1)
+    return np.concatenate([ignitions[..., None], cohorts[..., :-1]], axis=-1)

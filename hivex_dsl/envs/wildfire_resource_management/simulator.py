@@ -23,8 +23,8 @@ from ..island import IslandMaps, IslandSpecs, grid_lookup, restart_where, start_
 from .params import WildfireResourceParams
 from .resources import (MAX_SUPPORT_TENTHS, TARGETS_PER_AGENT, TENTHS, TOWERS, apply_actions, grid_offsets,
                         initial_resources, total_support)
-from .sight import age_cohorts, closest_of_cohorts, nearest_by_age, nearest_of_sorted, square_table
-from .types import Sighting, WildfireResourceState
+from .sight import age_cohorts, key_cells, key_tables, nearest_by_age, nearest_keys, square_table
+from .types import Sighting, WildfireResourceState, built_state
 
 FRAME = 8  # values of one observation stack
 STACKS = 2
@@ -59,12 +59,19 @@ class WildfireResourceSimulator:
         self.towers = grid_offsets() * p.tower_spacing_m  # (9, 2) metres
         self.tower_rows = (self.towers[:, 1] + half) / self.cell_m - 0.5  # fractional forest-cell coordinates
         self.tower_cols = (self.towers[:, 0] + half) / self.cell_m - 0.5
-        self.tower_x, self.tower_y = self.towers[:, 0].copy(), self.towers[:, 1].copy()
         box = p.detection_radius_m / self.cell_m  # half side of a tower's search square, in cells
-        self.search_tables = (square_table(self.tower_rows, box, cells), square_table(self.tower_cols, box, cells))
+        self.search_keys = key_tables(square_table(self.tower_rows, box, cells),
+                                      square_table(self.tower_cols, box, cells))
+        # (C * C + 1, 3) metres (x, y, 0) of every cell centre, then an infinitely far sentinel for cell -1, and
+        # (A, 3) (x, y, 0) of the towers: offsets in one gather and one subtraction, as fire.cell_xy computes them
+        centre = (np.arange(cells) + 0.5) * self.cell_m - half  # of a column (x) or a row (y)
+        centres = np.stack(np.broadcast_arrays(centre, centre[:, None], 0.0), axis=-1).reshape(-1, 3)
+        self.cell_xy0 = np.concatenate([centres, [[np.inf, np.inf, 0.0]]])
+        self.tower_xy0 = np.concatenate([self.towers, np.zeros((TOWERS, 1))], axis=1).astype(np.float64)
         self.tower_cells = np.clip(np.floor((self.towers + half) / self.cell_m).astype(np.int64), 0, cells - 1)
         self.weather_cells = grid_cell_table(grid_lookup(cells, p.weather_grid_cells), p.weather_grid_cells)
         self._first_cell_cache: dict[int, np.ndarray] = {}
+        self._last_grid: FactorGrid | None = None
         self.all_towers = np.ones((1, self.agents), bool)
         # the weather grid's centres, then the towers: every point the weather is sampled at on a refresh
         self.weather_points = np.concatenate([weather_grid_points(half, p.weather_grid_cells), self.towers])
@@ -119,10 +126,10 @@ class WildfireResourceSimulator:
             factors = count_factors(conditions, p)
         fire, sighting, was_out = state.fire, state.sighting, state.fire.out
         if tick % p.fire_step_interval == 0:
-            fire = fire_step(fire, rng, p, wind.main, state.maps.height, FactorGrid(factors, self.weather_cells))
+            fire = fire_step(fire, rng, p, wind.main, state.maps.height, self._factor_grid(factors))
             sighting = self._sight(fire, state.maps.height, state.tower_ground, state.sighting)
         went_out = fire.out & ~was_out
-        new = WildfireResourceState(
+        new = built_state(
             maps=state.maps, fire=fire, wind=wind, weather=weather, conditions=conditions, fire_factors=factors,
             tick=tick, tower_ground=state.tower_ground, tower_weather=tower_weather, sighting=sighting,
             allocation=allocation, budget=budget, support=support, impossible=impossible,
@@ -134,6 +141,13 @@ class WildfireResourceSimulator:
     def step_info(self, state: WildfireResourceState) -> dict[str, np.ndarray]:
         """(B, A) counts of impossible adds or subtracts (no-ops): this step and so far this episode."""
         return {"impossible_actions": state.impossible, "impossible_actions_episode": state.impossible_total}
+
+    def _factor_grid(self, factors: np.ndarray) -> FactorGrid:
+        """The FactorGrid of the weather factors (B, G * G): rebuilt only for a new array (a refresh or a
+        reset makes one); it holds the array itself, so it can never read other counts than ``factors``."""
+        if self._last_grid is None or self._last_grid.counts is not factors:
+            self._last_grid = FactorGrid(factors, self.weather_cells)
+        return self._last_grid
 
     def _tower_weather(self, weather) -> np.ndarray:
         """(B, A, 3) float32 temperature, humidity, overcast at the towers."""
@@ -155,31 +169,25 @@ class WildfireResourceSimulator:
         """Each tower's horizontally closest burning tree within the detection radius, its 3-D offset and
         distance, and whether that distance shrank since ``before`` (the previous fire step; None at reset,
         when every cohort of the burning list is searched; else only this step's ignitions are, see .sight)."""
-        p = self.params
-        batch, cells = fire.batch, fire.cells
-        tables = self.search_tables
-        if before is None or before.cohort_distance is None:  # a reset (or a hand-made sighting): search all
-            cohort_distance, cohort_cell = nearest_by_age(fire.burning, fire.age, p.burn_steps, batch, cells, *tables)
+        batch, cells = fire.trees.shape[:2]
+        if before is None or before.cohorts is None:  # a reset (or a hand-made sighting): search all
+            cohorts = nearest_by_age(fire.burning, fire.age, self.params.burn_steps, batch, cells, *self.search_keys)
         else:
             ignitions = fire.burning[len(fire.burning) - int(np.add.reduce(fire.ignited)):]
-            cohort_distance, cohort_cell = age_cohorts(before.cohort_distance, before.cohort_cell,
-                                                       *nearest_of_sorted(ignitions, batch, cells, *tables))
-        cell = closest_of_cohorts(cohort_distance, cohort_cell)
-        found = cell >= 0
-        rows, cols = np.divmod(cell, cells)  # -1 // C is -1: only the columns of "none" need fixing
-        cols = np.where(found, cols, -1)
-        half = p.island_half_extent_m
-        dx = (cols + 0.5) * self.cell_m - half - self.tower_x
-        dy = (rows + 0.5) * self.cell_m - half - self.tower_y
-        dz = height.reshape(-1).take(self._first_cells(batch, cells) + np.maximum(cell, 0)) - tower_ground
-        seen = found & (np.hypot(dx, dy) <= p.detection_radius_m)
-        offset = np.empty(seen.shape + (3,))
-        offset[..., 0], offset[..., 1], offset[..., 2] = dx, dy, dz
+            cohorts = age_cohorts(before.cohorts, nearest_keys(ignitions, batch, cells, *self.search_keys))
+        cell = key_cells(np.minimum.reduce(cohorts, axis=-1))
+        # cell -1 (none) reads the sentinel row of cell_xy0, infinitely far; the ground under it is any cell's
+        offset = self.cell_xy0.take(cell, axis=0)
+        offset -= self.tower_xy0
+        ground = height.reshape(-1).take(cell if batch == 1 else self._first_cells(batch, cells) + cell)
+        offset[..., 2] = ground - tower_ground
+        seen = np.hypot(offset[..., 0], offset[..., 1]) <= self.params.detection_radius_m
         offset[~seen] = 0.0
         distance = np.where(seen, np.sqrt(np.add.reduce(offset * offset, axis=-1)), np.inf)
-        approaching = np.zeros_like(seen) if before is None else seen & (distance < before.distance)
-        return Sighting(row=rows, col=cols, offset=offset, distance=distance, approaching=approaching,
-                        cohort_distance=cohort_distance, cohort_cell=cohort_cell)
+        # an unseen distance is inf, never below the last one
+        approaching = np.zeros_like(seen) if before is None else distance < before.distance
+        return Sighting(cell=cell, cells=cells, offset=offset, distance=distance, approaching=approaching,
+                        cohorts=cohorts)
 
     def _first_cells(self, batch: int, cells: int) -> np.ndarray:
         """(B, 1) int64 flat index of the first cell of each world (a constant per batch size)."""
@@ -194,14 +202,11 @@ class WildfireResourceSimulator:
     def _frame(self, sighting: Sighting, tower_weather: np.ndarray, support: np.ndarray, budget: np.ndarray,
                previous: np.ndarray) -> np.ndarray:
         """(B, A, 16) float32: this step's frame, then the previous step's first frame."""
-        out = np.empty(previous.shape, np.float32)
-        # minimum(maximum()), not np.clip: the same values (no NaN here) without np.clip's Python overhead
-        out[..., 0:3] = np.minimum(np.maximum(sighting.offset / self.params.detection_radius_m, -1.0), 1.0)
-        out[..., 3:6] = tower_weather
-        out[..., 6] = support / MAX_SUPPORT_TENTHS
-        out[..., 7] = budget / TENTHS
-        out[..., FRAME:] = previous[..., :FRAME]
-        return out
+        # minimum(maximum()), not np.clip: the same values (no NaN here) without np.clip's Python overhead;
+        # one concatenate casts every part to float32 as assigning it into a float32 frame would
+        direction = np.minimum(np.maximum(sighting.offset / self.params.detection_radius_m, -1.0), 1.0)
+        return np.concatenate([direction, tower_weather, support[..., None] / MAX_SUPPORT_TENTHS,
+                               budget[..., None] / TENTHS, previous[..., :FRAME]], axis=-1, dtype=np.float32)
 
     def observe(self, state: WildfireResourceState) -> np.ndarray:
         """(B, A, 16) float32 built in ``step``: 2 stacks (newest first) of the 8 labelled values (read-only: the state keeps it)."""

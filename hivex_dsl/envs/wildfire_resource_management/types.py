@@ -16,25 +16,33 @@ from ..island import IslandMaps
 class Sighting:
     """The closest burning tree each tower (B, A) observes within its detection radius.
 
-    row, col: (B, A) int64 forest cell of the horizontally closest burning tree in the tower's search square
-    (half side = the detection radius), -1 when none burns there.
+    cell: (B, A) int64 forest cell row * C + col of the horizontally closest burning tree in the tower's search
+    square (half side = the detection radius), -1 when none burns there; ``cells`` is C (see ``row``, ``col``).
     offset: (B, A, 3) metres from the tower to that tree (x, y, and z = ground height difference), 0 unless seen.
     distance: (B, A) float64 3-D distance C(x) to it, inf unless it lies within the detection radius.
     approaching: (B, A) bool m of the paper: the distance shrank at the last fire step (a fire that just came
     into range counts as approaching; it came from beyond the radius).
-    cohort_distance, cohort_cell: (B, A, S) float64 / int64 squared cell distance (inf: none) and cell
-    row * C + col (-1: none) of the closest tree in the search square among the trees of age j (slot j <
-    S = burn_steps), kept so the next fire step only has to search its ignitions (see .sight); None in
-    hand-made sightings.
+    cohorts: (B, A, S) complex128 key (see .sight: squared cell distance + 1j * cell row * C + col; inf + 1j * a
+    negative number for none) of the closest tree in the search square among the trees of age j (slot j <
+    S = burn_steps), kept so the next fire step only has to search its ignitions; None in hand-made sightings.
     """
 
-    row: np.ndarray
-    col: np.ndarray
+    cell: np.ndarray
+    cells: int
     offset: np.ndarray
     distance: np.ndarray
     approaching: np.ndarray
-    cohort_distance: np.ndarray | None = None
-    cohort_cell: np.ndarray | None = None
+    cohorts: np.ndarray | None = None
+
+    @property
+    def row(self) -> np.ndarray:
+        """(B, A) int64 forest row of ``cell``, -1 when none (-1 // C is -1)."""
+        return self.cell // self.cells
+
+    @property
+    def col(self) -> np.ndarray:
+        """(B, A) int64 forest column of ``cell``, -1 when none."""
+        return np.where(self.cell >= 0, self.cell % self.cells, -1)
 
     @property
     def seen(self) -> np.ndarray:
@@ -63,3 +71,12 @@ class WildfireResourceState:
     impossible_total: np.ndarray  # (B, A) int32 the same, summed over the episode
     frame: np.ndarray  # (B, A, 16) float32 the stacked observation, newest frame first
     fire_went_out: np.ndarray  # (B,) bool: the fire went out on the last step
+
+
+def built_state(**fields) -> WildfireResourceState:
+    """``WildfireResourceState(**fields)`` for the step, which passes every field: the frozen dataclass's
+    ``__init__`` sets each of the 18 fields through ``object.__setattr__``, three times the cost of filling
+    the instance's ``__dict__`` at once."""
+    state = object.__new__(WildfireResourceState)
+    state.__dict__.update(fields)
+    return state
