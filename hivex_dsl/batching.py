@@ -39,6 +39,23 @@ def select_worlds(state: S, index: Any) -> S:
     return replace(state, **{f.name: getattr(state, f.name)[index] for f in fields(state)})
 
 
+def assemble(cls: type[S], **fields: Any) -> S:
+    """``cls(**fields)`` for a frozen dataclass that a step builds from values valid by construction.
+
+    Every field must be given. The instance's ``__dict__`` is filled at once, without the frozen
+    ``__init__``'s ``object.__setattr__`` per field or ``__post_init__``'s checks: on a one-world batch
+    those cost more than much of the step. Hand-made states go through the normal constructor.
+    """
+    state = object.__new__(cls)
+    state.__dict__.update(fields)
+    return state
+
+
+def evolve(state: S, **changes: Any) -> S:
+    """``dataclasses.replace(state, **changes)`` by :func:`assemble`: the same result, without the checks."""
+    return assemble(type(state), **{**state.__dict__, **changes})
+
+
 def read_only(array: np.ndarray) -> np.ndarray:
     """A read-only view of ``array``: for observations a simulator also keeps (e.g. as the older stack
     of the next frame), so an in-place edit by a caller raises instead of corrupting the next step."""

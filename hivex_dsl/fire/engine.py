@@ -120,14 +120,6 @@ class FireState:
         return int(self.trees.shape[1])
 
 
-def built(**fields: np.ndarray) -> FireState:
-    """A :class:`FireState` of the engine's own making, valid by construction: the fields are set without
-    ``__post_init__``'s checks, which cost a few microseconds on every fire step of a one-world batch."""
-    state = object.__new__(FireState)
-    state.__dict__.update(fields)
-    return state
-
-
 def split_flat(flat: np.ndarray, cells: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(world, row, col) of flat indices ``flat`` (N,) on a ``cells x cells`` grid, in ``flat``'s dtype."""
     world, inside = np.divmod(flat, cells * cells)

@@ -19,7 +19,8 @@ from typing import Callable
 import numpy as np
 
 from ..procgen.wind import TWO_PI
-from .engine import BURNING, BURNT, EXISTING, FireSpec, FireState, built, vector
+from ..batching import assemble
+from .engine import BURNING, BURNT, EXISTING, FireSpec, FireState, vector
 from .factors import FactorGrid
 
 # conditions(world (N,), row (N,), col (N,)) int64 -> (temperature (N,), humidity (N,), overcast (N,)) in [0, 1]
@@ -255,9 +256,9 @@ def fire_step(state: FireState, rng: np.random.Generator, spec: FireSpec, downwi
     burning = np.concatenate([burning, new])
     tally = _tally_one if trees.shape[0] == 1 else _tally
     quiet, out, ignited, burnt_out = tally(state, len(new), len(ended), burning, spec.quiet_steps_out, new, ended)
-    return built(trees=trees, burning=burning, age=np.concatenate([age, np.zeros(len(new), np.int32)]),
-                 quiet=quiet, out=out, ignited=ignited, burnt_out=burnt_out,
-                 spent=np.concatenate([spent, np.zeros(len(new), np.uint8)]))
+    return assemble(FireState, trees=trees, burning=burning, age=np.concatenate([age, np.zeros(len(new), np.int32)]),
+                    quiet=quiet, out=out, ignited=ignited, burnt_out=burnt_out,
+                    spent=np.concatenate([spent, np.zeros(len(new), np.uint8)]))
 
 
 def _tally(state: FireState, ignitions: int, burnt: int, burning: np.ndarray, quiet_steps_out: int,

@@ -12,6 +12,7 @@ from ...batching import read_only, replace_worlds
 from ...fire import burning_count, closest_burning, douse, fire_step
 from ...procgen.weather import weather_step
 from ...procgen.wind import wind_step, wrap_angle
+from ...procgen.noise import clamp
 from ...runtime import StepOutcome
 from .camera import pixel_offsets
 from .params import CAMERA_PIXELS, AerialWildfireParams
@@ -176,7 +177,7 @@ class AerialWildfireSimulator:
         """Turn and move the flying planes; border crossings, refills and who drops water this step."""
         p = self.params
         flying, water = state.flying, state.water
-        steer = np.minimum(np.maximum(actions["continuous"][..., 0].astype(np.float64), -1.0), 1.0)
+        steer = clamp(actions["continuous"][..., 0].astype(np.float64), -1.0, 1.0)
         heading = np.where(flying, wrap_angle(state.heading + self.turn_rad * steer), state.heading)
         facing = np.empty(heading.shape + (2,))
         np.cos(heading, out=facing[..., 0])
@@ -267,11 +268,11 @@ class AerialWildfireSimulator:
         scale = self.params.border_half_extent_m
         sighting = state.sighting
         vector = np.empty(state.heading.shape + (8,), np.float32)  # float64 values, rounded once on assignment
-        vector[..., 0:2] = np.minimum(np.maximum(state.position / scale, -1.0), 1.0)
+        vector[..., 0:2] = clamp(state.position / scale, -1.0, 1.0)
         vector[..., 2] = np.cos(state.heading)
         vector[..., 3] = np.sin(state.heading)
         vector[..., 4] = state.water
-        vector[..., 5:7] = np.minimum(np.maximum(sighting.plane_xy / scale, -1.0), 1.0)
+        vector[..., 5:7] = clamp(sighting.plane_xy / scale, -1.0, 1.0)
         vector[..., 7] = sighting.plane_found
         # the state's own camera array (drawn in step): read-only, so an in-place edit raises
         return {"vector": vector, "visual": read_only(state.visual)}

@@ -12,8 +12,9 @@ from typing import NamedTuple
 import numpy as np
 from gymnasium import spaces
 
-from ...batching import read_only, replace_worlds
+from ...batching import evolve, read_only, replace_worlds
 from ...procgen.forest import ForestSpec, place_forest
+from ...procgen.noise import clamp
 from ...procgen.terrain import TerrainSpec, generate_terrain
 from ...runtime import StepOutcome
 from .camera import NEW_TREE_GRAY, STATION_GRAY, TREE_GRAY, Raster, camera_images, ground_shade, stamp_disks, to_byte
@@ -153,7 +154,7 @@ class DroneReforestationSimulator:
         flight = Flight(position, position[..., :2], position[..., 2], heading,
                         np.stack([np.cos(heading), np.sin(heading)], axis=-1), ground, None)
         frame = self._frames(state.frames, flight, station, state.holding, state.energy)
-        return _with(state, frames=np.concatenate([frame[..., :VECTOR_SIZE]] * 2, axis=-1))
+        return evolve(state, frames=np.concatenate([frame[..., :VECTOR_SIZE]] * 2, axis=-1))
 
     def reset_where(self, state: DroneState, mask: np.ndarray, rng: np.random.Generator) -> DroneState:
         return replace_worlds(state, mask, self.reset(rng, int(np.count_nonzero(mask))))
@@ -198,7 +199,7 @@ class DroneReforestationSimulator:
         direction = np.empty(heading.shape + (2,))
         direction[..., 0] = np.cos(heading)
         direction[..., 1] = np.sin(heading)
-        xy = np.minimum(np.maximum(state.position[..., :2] + moves[..., :1] * direction, -self.half), self.half)
+        xy = clamp(state.position[..., :2] + moves[..., :1] * direction, -self.half, self.half)
         ground, det = self._below.sample((state.heights, state.tree_distance), xy)
         z = np.minimum(np.maximum(state.position[..., 2] + moves[..., 2], ground + p.min_clearance_m),
                        p.height_bound_m)
@@ -239,7 +240,7 @@ class DroneReforestationSimulator:
             return np.zeros(closer.shape)
         span = state.back_init - p.charge_radius_m / p.running_back_step_m
         reward = RUNNING_BACK_REWARD * state.back_multiplier / np.where(span > 0, span, 1.0)
-        return np.where(closer & (span > 0), np.minimum(np.maximum(reward, 0.0), RUNNING_BACK_REWARD), 0.0)
+        return np.where(closer & (span > 0), clamp(reward, 0.0, RUNNING_BACK_REWARD), 0.0)
 
     def _back(self, state: DroneState, drops: np.ndarray, increment: np.ndarray, outside: np.ndarray,
               r_s: np.ndarray, r_d: np.ndarray, dropping: bool) -> dict[str, np.ndarray]:
@@ -307,7 +308,7 @@ class DroneReforestationSimulator:
         holding = holding | returned if returning else holding
         away = state.away | (distance >= p.return_min_distance_m)
         energy = self._energy(state, docked, alive)
-        new = _with(
+        new = evolve(
             state, new_count=new_count, position=flight.position, heading=flight.heading, ground=flight.ground,
             energy=energy, holding=holding, alive=energy > 0.0, inside=inside,
             away=away & ~returned if returning else away,
@@ -362,14 +363,6 @@ def _alive_only(mask: np.ndarray, alive: np.ndarray | None) -> np.ndarray:
 def _zero_unless_alive(values: np.ndarray, alive: np.ndarray | None) -> np.ndarray:
     """``values`` (B, A) where the drone is alive, else 0; ``alive`` None stands for every drone alive."""
     return values if alive is None else np.where(alive, values, 0.0)
-
-
-def _with(state: DroneState, **changes) -> DroneState:
-    """``dataclasses.replace`` without re-running the frozen dataclass's __init__ (a step's hot path)."""
-    new = object.__new__(DroneState)
-    new.__dict__.update(state.__dict__)
-    new.__dict__.update(changes)
-    return new
 
 
 def world_problems(compiled) -> list[tuple[tuple, str]]:

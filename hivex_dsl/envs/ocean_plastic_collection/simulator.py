@@ -15,9 +15,10 @@ from typing import NamedTuple
 import numpy as np
 from gymnasium import spaces
 
-from ...batching import read_only, replace_worlds
+from ...batching import assemble, read_only, replace_worlds
 from ...procgen.pollution import PollutionSpec, SpawnSpec, pollution_map, sample_pebbles, spawn_vessels
 from ...procgen.wind import wrap_angle
+from ...procgen.noise import clamp
 from ...runtime import StepOutcome
 from .camera import CAMERA_CELLS, Geometry, Sensing, as_pairs, build_field, sense
 from .params import OceanPlasticCollectionParams
@@ -179,7 +180,7 @@ class OceanPlasticSimulator:
         pebbles = state.pebbles
         if sensing.alive is not pebbles.alive:
             pebbles = replace(pebbles, alive=sensing.alive)
-        new = _fast_state(
+        new = assemble(OceanState,
             position=position, heading=heading, speed=speed, active=active, crashed=crashed,
             crossed_border=border, collided_vessel=collided, closest=closest, collected=sensing.collected,
             collected_total=state.collected_total + sensing.collected, nearby=sensing.nearby, pebbles=pebbles,
@@ -214,7 +215,7 @@ class OceanPlasticSimulator:
         """(B, A, 12) float32: this step's frame (position / H, (cos, sin) heading, closest active
         vessel's position / H or (0, 0) without one), then the previous step's frame. ``distances``
         (B, A, A) from :func:`neighbour_distances`, ``closest`` (B, A) their minimum over the last axis."""
-        local = np.minimum(np.maximum(position * (1.0 / self.half_extent), -1.0), 1.0)
+        local = clamp(position * (1.0 / self.half_extent), -1.0, 1.0)
         neighbour = local[_worlds(len(position)), distances.argmin(axis=-1)]
         out = np.empty(previous.shape, np.float32)
         out[..., 0:2] = local
@@ -243,11 +244,3 @@ class OceanPlasticSimulator:
         from .render import draw_ocean
 
         return draw_ocean(state, index, self.params, self.half_extent)
-
-
-def _fast_state(**fields) -> OceanState:
-    """``OceanState(**fields)`` without the frozen dataclass's per-field ``__setattr__`` (a step's hot path);
-    every field must be given."""
-    state = object.__new__(OceanState)
-    state.__dict__.update(fields)
-    return state

@@ -17,14 +17,15 @@ from gymnasium import spaces
 from ...fire import FactorGrid, count_factors, fire_step, grid_cell_table
 from ...procgen.weather import weather_at, weather_step
 from ...procgen.wind import wind_step
+from ...procgen.noise import clamp
 from ...runtime import StepOutcome
-from ...batching import read_only, replace_worlds
+from ...batching import assemble, read_only, replace_worlds
 from ..island import IslandMaps, IslandSpecs, grid_lookup, restart_where, start_islands, weather_grid_points
 from .params import WildfireResourceParams
 from .resources import (MAX_SUPPORT_TENTHS, TARGETS_PER_AGENT, TENTHS, TOWERS, apply_actions, grid_offsets,
                         initial_resources, total_support)
 from .sight import age_cohorts, key_cells, key_tables, nearest_by_age, nearest_keys, square_table
-from .types import Sighting, WildfireResourceState, built_state
+from .types import Sighting, WildfireResourceState
 
 FRAME = 8  # values of one observation stack
 STACKS = 2
@@ -129,7 +130,7 @@ class WildfireResourceSimulator:
             fire = fire_step(fire, rng, p, wind.main, state.maps.height, self._factor_grid(factors))
             sighting = self._sight(fire, state.maps.height, state.tower_ground, state.sighting)
         went_out = fire.out & ~was_out
-        new = built_state(
+        new = assemble(WildfireResourceState,
             maps=state.maps, fire=fire, wind=wind, weather=weather, conditions=conditions, fire_factors=factors,
             tick=tick, tower_ground=state.tower_ground, tower_weather=tower_weather, sighting=sighting,
             allocation=allocation, budget=budget, support=support, impossible=impossible,
@@ -204,7 +205,7 @@ class WildfireResourceSimulator:
         """(B, A, 16) float32: this step's frame, then the previous step's first frame."""
         # minimum(maximum()), not np.clip: the same values (no NaN here) without np.clip's Python overhead;
         # one concatenate casts every part to float32 as assigning it into a float32 frame would
-        direction = np.minimum(np.maximum(sighting.offset / self.params.detection_radius_m, -1.0), 1.0)
+        direction = clamp(sighting.offset / self.params.detection_radius_m, -1.0, 1.0)
         return np.concatenate([direction, tower_weather, support[..., None] / MAX_SUPPORT_TENTHS,
                                budget[..., None] / TENTHS, previous[..., :FRAME]], axis=-1, dtype=np.float32)
 

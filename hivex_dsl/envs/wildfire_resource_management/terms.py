@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ...procgen.noise import clamp
 from ...reward.terms import TermRegistry
 from .resources import NEIGHBOURS, NEIGHBOURS_PER_TOWER, TENTHS
 
@@ -23,7 +24,7 @@ def remapped_distance(distance: np.ndarray, approaching: np.ndarray, threshold_m
     Unclipped, a fire approaching from beyond d_thresh (towers see 3 d_thresh = 600 m) would give a
     negative base for the power law; clipped, d1n' lies in [0, 1] and P in (0, 1].
     """
-    normalised = np.minimum(np.maximum(distance / threshold_m, 0.0), 1.0)  # np.clip's values, less overhead
+    normalised = clamp(distance / threshold_m, 0.0, 1.0)
     return np.where(approaching, 0.5 - 0.5 * normalised, 0.5 + 0.5 * normalised)
 
 

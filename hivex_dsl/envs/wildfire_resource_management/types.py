@@ -71,12 +71,3 @@ class WildfireResourceState:
     impossible_total: np.ndarray  # (B, A) int32 the same, summed over the episode
     frame: np.ndarray  # (B, A, 16) float32 the stacked observation, newest frame first
     fire_went_out: np.ndarray  # (B,) bool: the fire went out on the last step
-
-
-def built_state(**fields) -> WildfireResourceState:
-    """``WildfireResourceState(**fields)`` for the step, which passes every field: the frozen dataclass's
-    ``__init__`` sets each of the 18 fields through ``object.__setattr__``, three times the cost of filling
-    the instance's ``__dict__`` at once."""
-    state = object.__new__(WildfireResourceState)
-    state.__dict__.update(fields)
-    return state
