@@ -7,8 +7,7 @@ per-agent episode sums of every active term, and the seed schedule of the train/
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-from typing import Any, Literal, Optional, Protocol
+from typing import Any, Literal, NamedTuple, Optional, Protocol
 
 import numpy as np
 from gymnasium import spaces
@@ -20,9 +19,12 @@ from .spaces import hold_inactive
 Split = Literal["train", "test"]
 
 
-@dataclass(frozen=True)
-class StepOutcome:
-    """What a simulator reports besides its new state: (batch, agents) bool arrays."""
+class StepOutcome(NamedTuple):
+    """What a simulator reports besides its new state: (batch, agents) bool arrays.
+
+    A named tuple rather than a frozen dataclass: it is built every step, and a frozen dataclass's
+    ``__init__`` (one ``object.__setattr__`` per field) costs a visible share of a one-world step.
+    """
 
     terminated: np.ndarray
     events: dict[str, np.ndarray]
@@ -66,9 +68,11 @@ class SeedSchedule:
         return self.rng
 
 
-@dataclass(frozen=True)
-class Transition:
-    """One batched step. Arrays are (batch, agents); ``ended`` marks agents whose episode ended now."""
+class Transition(NamedTuple):
+    """One batched step. Arrays are (batch, agents); ``ended`` marks agents whose episode ended now.
+
+    A named tuple for the same reason as :class:`StepOutcome`.
+    """
 
     observations: Any
     rewards: np.ndarray
@@ -102,6 +106,7 @@ class BatchedEnv:
         self.term_sums = {name: np.zeros(shape) for name in self.composer.active}
         self.lengths = np.zeros(shape, np.int64)
         self.everyone_playing = False  # == bool(self.alive.all()), kept so a step needs no reduction for it
+        self.oldest_clock = 0  # == int(self.clock.max()), kept so a step knows without a reduction whether any world truncates
         self._step_info = getattr(self.sim, "step_info", None)
 
     @property
@@ -140,6 +145,7 @@ class BatchedEnv:
         for sums in self.term_sums.values():
             sums[mask] = 0.0
         self.everyone_playing = bool(self.alive.all())
+        self.oldest_clock = int(self.clock.max())
 
     def _require_reset(self) -> None:
         if self.state is None:
@@ -165,23 +171,38 @@ class BatchedEnv:
             rewards = np.where(live, rewards, 0.0)
             terms = {name: np.where(live, value, 0.0) for name, value in terms.items()}
         self.clock += 1
+        self.oldest_clock += 1
         self.lengths += live
+        self.returns += rewards
+        for name, value in terms.items():
+            self.term_sums[name] += value
+        terminated, truncated, ended = self._endings(live, outcome)
+        env_info = self._step_info(self.state) if self._step_info is not None else {}
+        if restart is not None and np.count_nonzero(restart):
+            self.state = self.sim.reset_where(self.state, restart, self.rng)
+            self._clear(restart)
+        return Transition(self.sim.observe(self.state), rewards, terminated, truncated, terms, ended, env_info)
+
+    def _endings(self, live: np.ndarray, outcome: StepOutcome) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(terminated, truncated, ended) of the step just taken, each (batch, agents); updates who is alive.
+
+        Most steps nobody ends: while every agent plays and no world reaches the episode length,
+        truncation is known to be all false and the alive mask stays as it is.
+        """
         ending = outcome.terminated
         for event in self.compiled.ends_on:
             ending = ending | outcome.events[event]
         terminated = live & ending
-        truncated = live & ~terminated & (self.clock >= self.compiled.episode_length)[:, None]
-        self.returns += rewards
-        for name, value in terms.items():
-            self.term_sums[name] += value
+        if self.everyone_playing and self.oldest_clock < self.compiled.episode_length:
+            if not np.count_nonzero(terminated):
+                return terminated, np.zeros(terminated.shape, bool), terminated.copy()
+            truncated = np.zeros(terminated.shape, bool)
+        else:
+            truncated = live & ~terminated & (self.clock >= self.compiled.episode_length)[:, None]
         ended = terminated | truncated
         self.alive = live & ~ended
-        self.everyone_playing = not ended.any() if everyone else bool(self.alive.all())
-        env_info = self._step_info(self.state) if self._step_info is not None else {}
-        if restart is not None and restart.any():
-            self.state = self.sim.reset_where(self.state, restart, self.rng)
-            self._clear(restart)
-        return Transition(self.sim.observe(self.state), rewards, terminated, truncated, terms, ended, env_info)
+        self.everyone_playing = not np.count_nonzero(~self.alive)
+        return terminated, truncated, ended
 
     def episode_summary(self, world: int, agent: int) -> dict[str, Any]:
         """Return, length and per-term sums of one agent's current (or just ended) episode."""

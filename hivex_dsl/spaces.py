@@ -54,19 +54,29 @@ def hold_inactive(space: spaces.Space, actions: Any, active: np.ndarray) -> Any:
 
 def stack_agent_actions(space: spaces.Space, actions: dict[str, Any], agents: Sequence[str]) -> Any:
     """Per-agent actions (PettingZoo style) -> one batched array shaped (1, agents, ...)."""
-    missing = [a for a in agents if a not in actions]
-    if missing:
-        raise ActionError(f"no action for {', '.join(missing)}; every live agent needs one")
-    extra = [a for a in actions if a not in agents]
-    if extra:
-        raise ActionError(f"action for {extra[0]!r}, which is not a live agent; live agents: {', '.join(agents)}")
+    try:
+        values = [actions[a] for a in agents]
+    except (KeyError, TypeError):
+        values = None
+    if values is None or len(actions) != len(agents):  # equal sizes and every agent found: no extra keys
+        _raise_not_one_per_agent(actions, agents)
     if isinstance(space, spaces.Dict):
         return {key: stack_agent_actions(sub, {a: _part(actions[a], key, a, space) for a in agents}, agents)
                 for key, sub in space.spaces.items()}
     try:
-        return np.asarray([actions[a] for a in agents])[None]
+        return np.asarray(values)[None]
     except ValueError as exc:
         raise ActionError(f"actions do not fit {describe_space(space)}: {exc}") from None
+
+
+def _raise_not_one_per_agent(actions: Any, agents: Sequence[str]) -> None:
+    if not isinstance(actions, dict):
+        raise ActionError(f"actions must be a dict {{agent: action}}, got {type(actions).__name__}")
+    missing = [a for a in agents if a not in actions]
+    if missing:
+        raise ActionError(f"no action for {', '.join(missing)}; every live agent needs one")
+    extra = [a for a in actions if a not in agents]
+    raise ActionError(f"action for {extra[0]!r}, which is not a live agent; live agents: {', '.join(agents)}")
 
 
 def _part(action: Any, key: str, agent: str, space: spaces.Dict) -> Any:
@@ -90,9 +100,10 @@ def check_actions(space: spaces.Space, actions: Any, agent_names: Sequence[str],
     if array.ndim != 2 + len(space.shape) or array.shape[2:] != space.shape or batch_agents[1] != len(agent_names):
         raise ActionError(f"actions have shape {array.shape}; expected (batch, {len(agent_names)}) + {space.shape} "
                           f"for {describe_space(space)}")
-    bad = _out_of_space(space, array)
-    if bad.any():
-        b, a = np.argwhere(bad)[0]
+    outside = _outside_space(space, array)
+    if np.count_nonzero(outside):  # not .any(): a quarter of the cost on the few values of a step
+        reduce_axes = tuple(range(2, outside.ndim))
+        b, a = np.argwhere(outside.any(axis=reduce_axes) if reduce_axes else outside)[0]
         where = f" in env {b}" if batch_agents[0] > 1 else ""
         value = array[b, a]
         hint = f" ({meanings})" if meanings else ""
@@ -100,23 +111,20 @@ def check_actions(space: spaces.Space, actions: Any, agent_names: Sequence[str],
     return array.astype(space.dtype, copy=False)
 
 
-def _out_of_space(space: spaces.Space, array: np.ndarray) -> np.ndarray:
-    """(batch, agents) bool: which agents' actions are outside the space."""
-    reduce_axes = tuple(range(2, array.ndim))
+def _outside_space(space: spaces.Space, array: np.ndarray) -> np.ndarray:
+    """Bool array shaped like ``array`` (batch, agents, ...): which values lie outside the space."""
     if isinstance(space, (spaces.Discrete, spaces.MultiDiscrete)):
         if array.dtype.kind not in "iu":
             integral = np.isfinite(array) & (array == np.round(array)) if array.dtype.kind == "f" else np.zeros(array.shape, bool)
-            if array.dtype.kind == "f" and integral.all():
-                array = array.astype(np.int64)
-            else:
-                return ~integral.all(axis=reduce_axes) if reduce_axes else ~integral
-        low = space.start if isinstance(space, spaces.Discrete) else space.start
+            if array.dtype.kind != "f" or not integral.all():
+                return ~integral
+            array = array.astype(np.int64)
+        low = space.start
         high = low + (space.n if isinstance(space, spaces.Discrete) else space.nvec)
-        outside = (array < low) | (array >= high)
-    elif isinstance(space, spaces.Box):
+        return (array < low) | (array >= high)
+    if isinstance(space, spaces.Box):
         if array.dtype.kind not in "fiu":
-            return np.ones(array.shape[:2], bool)
-        outside = ~np.isfinite(array) | (array < space.low) | (array > space.high)
-    else:
-        raise TypeError(f"unsupported action space {describe_space(space)}")
-    return outside.any(axis=reduce_axes) if reduce_axes else outside
+            return np.ones(array.shape, bool)
+        return ~np.isfinite(array) | (array < space.low) | (array > space.high)
+    raise TypeError(f"unsupported action space {describe_space(space)}")
+

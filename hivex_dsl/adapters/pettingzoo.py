@@ -88,12 +88,13 @@ class HivexParallelEnv(ParallelEnv):
         terminations = dict(zip(live, of_live(result.terminated[0].tolist())))
         truncations = dict(zip(live, of_live(result.truncated[0].tolist())))
         term_rows = of_live(_per_agent_values(result.terms, len(self.possible_agents)))
-        infos = {a: {"reward_terms": terms} for a, terms in zip(live, term_rows)}
         if result.env_info:
-            for a, facts in zip(live, of_live(_per_agent_values(result.env_info, len(self.possible_agents)))):
-                infos[a]["env"] = facts
+            fact_rows = of_live(_per_agent_values(result.env_info, len(self.possible_agents)))
+            infos = {a: {"reward_terms": terms, "env": facts} for a, terms, facts in zip(live, term_rows, fact_rows)}
+        else:
+            infos = {a: {"reward_terms": terms} for a, terms in zip(live, term_rows)}
         ended = result.ended[0]
-        if ended.any():
+        if np.count_nonzero(ended):
             for a in live:
                 if ended[self._index[a]]:
                     infos[a]["episode"] = self.core.episode_summary(0, self._index[a])

@@ -1,0 +1,93 @@
+"""BatchedEnv's episode bookkeeping against a plain reference: who ends, how, and when.
+
+The runtime skips work on steps where nobody can end (every agent plays and no world reaches the
+episode length); this drives it through random terminations, truncations and partial restarts and
+checks every step against the textbook rules computed here from scratch.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import hivex_dsl
+from hivex_dsl.runtime import BatchedEnv, StepOutcome
+
+
+class _RandomEndings:
+    """Wraps the WFC simulator: each step, each agent terminates with probability ``chance``."""
+
+    def __init__(self, sim, chance: float, seed: int):
+        self.sim, self.chance, self.draws = sim, chance, np.random.default_rng(seed)
+
+    def __getattr__(self, name):
+        return getattr(self.sim, name)
+
+    def step(self, state, actions, rng):
+        new, outcome = self.sim.step(state, actions, rng)
+        return new, StepOutcome(self.draws.random(outcome.terminated.shape) < self.chance, {})
+
+
+def _env(batch: int, length: int, chance: float, seed: int) -> BatchedEnv:
+    sc = hivex_dsl.compile({"hivex": 1, "environment": "wind_farm_control", "agents": 3, "episode_length": length})
+    entry = dataclasses.replace(sc.entry, make_simulator=lambda c: _RandomEndings(sc.entry.make_simulator(c), chance, seed))
+    return BatchedEnv(dataclasses.replace(sc, entry=entry), batch=batch)
+
+
+@settings(max_examples=25, deadline=None)
+@given(batch=st.integers(1, 4), length=st.integers(1, 9), chance=st.sampled_from([0.0, 0.02, 0.2, 1.0]),
+       seed=st.integers(0, 2**16), restart_via_step=st.booleans())
+def test_endings_follow_the_rules_step_by_step(batch, length, chance, seed, restart_via_step):
+    env = _env(batch, length, chance, seed)
+    env.reset(seed=seed)
+    clock = np.zeros(batch, np.int64)
+    alive = np.ones((batch, 3), bool)
+    lengths = np.zeros((batch, 3), np.int64)
+    restart = np.zeros(batch, bool)
+    for _ in range(40):
+        actions = np.zeros((batch, 3), np.int64)
+        if restart_via_step and restart.any():
+            result = env.step(actions, restart=restart)
+        else:
+            result = env.step(actions)
+        clock += 1
+        lengths += alive
+        terminated = result.terminated
+        assert not (terminated & ~alive).any(), "only playing agents terminate"
+        expected_truncated = alive & ~terminated & (clock >= length)[:, None]
+        np.testing.assert_array_equal(result.truncated, expected_truncated)
+        np.testing.assert_array_equal(result.ended, terminated | expected_truncated)
+        alive = alive & ~result.ended
+        if restart_via_step and restart.any():
+            clock[restart], lengths[restart], alive[restart] = 0, 0, True
+        np.testing.assert_array_equal(env.lengths, lengths)
+        np.testing.assert_array_equal(env.alive, alive)
+        assert env.everyone_playing == bool(alive.all())
+        assert env.oldest_clock == clock.max()
+        restart = ~alive.any(axis=1)
+        if not restart_via_step and restart.any():
+            env.reset_worlds(restart)
+            clock[restart], lengths[restart], alive[restart] = 0, 0, True
+            restart = np.zeros(batch, bool)
+
+
+def test_terminations_are_those_the_simulator_reports_for_playing_agents():
+    env = _env(batch=2, length=100, chance=0.3, seed=7)
+    env.reset(seed=7)
+    reported = []
+    real_step = env.sim.step
+
+    def spy(state, actions, rng):
+        new, outcome = real_step(state, actions, rng)
+        reported.append(outcome.terminated.copy())
+        return new, outcome
+
+    env.sim.step = spy
+    alive = np.ones((2, 3), bool)
+    for _ in range(10):
+        result = env.step(np.zeros((2, 3), np.int64))
+        np.testing.assert_array_equal(result.terminated, reported[-1] & alive)
+        alive &= ~result.ended
