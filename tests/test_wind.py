@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 from hypothesis import given, strategies as st
@@ -72,7 +74,7 @@ def test_wrap_angle(angle, expected):
 def test_a_kept_probe_gives_exactly_the_fresh_wind(seed, drift_m):
     """Chained probes (cell lookups skipped while points stay in their cells) equal fresh evaluations,
     also while points cross cells (large drift) and after a partial reset draws a new lattice."""
-    spec = WindSpec(**{**SPEC.__dict__, "drift_m": drift_m})
+    spec = dataclasses.replace(SPEC, drift_m=drift_m)
     rng = np.random.default_rng(seed)
     state = wind_reset(rng, 3, spec)
     points = rng.uniform(-900.0, 900.0, (3, 5, 2))

@@ -20,6 +20,8 @@ import numbers
 
 import numpy as np
 
+from ..numeric import clamp, constant  # clamp is also re-exported: callers imported it from here first
+
 __all__ = ["draw_lattice", "perlin2d", "fractal2d"]
 
 # Unit-gradient 2D Perlin noise peaks at sqrt(2)/2 in magnitude; this factor maps it onto [-1, 1].
@@ -90,13 +92,13 @@ def _checked_inputs(
 
 
 def _fade(t: np.ndarray) -> np.ndarray:
-    """Quintic smoothstep 6t^5 - 15t^4 + 10t^3 (zero first and second derivative at 0 and 1)."""
-    return t * t * t * (t * (t * 6.0 - 15.0) + 10.0)
+    """Quintic smoothstep 6t^5 - 15t^4 + 10t^3 (zero first and second derivative at 0 and 1), t float64."""
+    return t * t * t * (t * (t * _SIX - _FIFTEEN) + _TEN)
 
 
-def clamp(values: np.ndarray, low: float, high: float) -> np.ndarray:
-    """``np.clip`` for arrays, without its Python-level dispatch (several times faster on small arrays)."""
-    return np.minimum(np.maximum(values, low), high)
+# Operands of the float64 hot paths below, as 0-d arrays (see hivex_dsl.numeric).
+_SIX, _FIFTEEN, _TEN = constant(6.0), constant(15.0), constant(10.0)
+_ONE, _MINUS_ONE, _RANGE_SCALE_0D = constant(1.0), constant(-1.0), constant(_RANGE_SCALE)
 
 
 # The four corners of a lattice cell, in the order (0, 0), (1, 0), (0, 1), (1, 1).
@@ -104,7 +106,7 @@ _CORNER_X = np.array([0.0, 1.0, 0.0, 1.0])
 _CORNER_Y = np.array([0.0, 0.0, 1.0, 1.0])
 
 
-def corner_gradients(perm: np.ndarray, grads: np.ndarray, lower: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def corner_gradients(perm: np.ndarray, grads: np.ndarray, lower: np.ndarray) -> np.ndarray:
     """Hashed gradients at the four corners of lattice cells.
 
     Args:
@@ -112,9 +114,9 @@ def corner_gradients(perm: np.ndarray, grads: np.ndarray, lower: np.ndarray) -> 
         lower: ``(B, ..., 2)`` float lower-left corners (``floor`` of x and of y) of the cells.
 
     Returns:
-        ``(gx, gy)``, each ``(4, B, ...)``: the gradient components at the corners (0, 0), (1, 0),
-        (0, 1), (1, 1). They depend on the cell only, so a caller whose points stay in their
-        cells may keep them between evaluations (see :func:`blend_corners`).
+        ``(4, B, ..., 2)``: the gradient (x, y) at the corners (0, 0), (1, 0), (0, 1), (1, 1). It
+        depends on the cell only, so a caller whose points stay in their cells may keep it between
+        evaluations (see :func:`blend_corners`).
     """
     batch, period = grads.shape[:2]
     shape = (batch,) + (1,) * (lower.ndim - 2)
@@ -128,31 +130,38 @@ def corner_gradients(perm: np.ndarray, grads: np.ndarray, lower: np.ndarray) -> 
     y_index = np.stack([index0[..., 1], index1[..., 1]])
     hashed_x = flat_perm.take(perm_offset + x_index)
     gradient = flat_perm.take(perm_offset + hashed_x[[0, 1, 0, 1]] + y_index[[0, 0, 1, 1]]) + grad_offset
-    return grads[..., 0].reshape(-1).take(gradient), grads[..., 1].reshape(-1).take(gradient)
+    return grads.reshape(-1, 2).take(gradient, axis=0)
 
 
-def blend_corners(gx: np.ndarray, gy: np.ndarray, offset: np.ndarray) -> np.ndarray:
-    """Perlin noise from corner gradients ``(4, B, ...)`` and offsets ``(B, ..., 2)`` in [0, 1) within the cells.
+def blend_corners(gradients: np.ndarray, offset: np.ndarray) -> np.ndarray:
+    """Perlin noise from corner gradients ``(4, B, ..., 2)`` and float64 offsets ``(B, ..., 2)`` in [0, 1) within the cells.
 
     Returns ``(B, ...)`` values in [-1, 1]: each corner's gradient dotted with the offset from that
-    corner, blended with the quintic fade (the two x-blends in one pass, then the y-blend).
+    corner, blended with the quintic fade along x (per pair of corners), then along y.
     """
-    corner_shape = (4,) + (1,) * (offset.ndim - 1)
-    dx = offset[..., 0] - _CORNER_X.reshape(corner_shape)
-    dy = offset[..., 1] - _CORNER_Y.reshape(corner_shape)
-    dots = gx * dx + gy * dy
+    products = gradients * (offset - _corners(offset.ndim))  # (4, B, ..., 2): gx * dx and gy * dy
+    dots = products[..., 0] + products[..., 1]
     fade = _fade(offset)
-    left, right = dots[0::2], dots[1::2]  # corners (0, y) and (1, y) for y = 0, 1
-    across = left + fade[..., 0] * (right - left)
-    blended = across[0] + fade[..., 1] * (across[1] - across[0])
-    return clamp(_RANGE_SCALE * blended, -1.0, 1.0)
+    fade_x, fade_y = fade[..., 0], fade[..., 1]
+    bottom = dots[0] + fade_x * (dots[1] - dots[0])  # corners (0, 0) and (1, 0)
+    top = dots[2] + fade_x * (dots[3] - dots[2])  # corners (0, 1) and (1, 1)
+    blended = bottom + fade_y * (top - bottom)
+    return clamp(_RANGE_SCALE_0D * blended, _MINUS_ONE, _ONE)
+
+
+@functools.lru_cache(maxsize=8)
+def _corners(ndim: int) -> np.ndarray:
+    """The corners' (x, y) offsets shaped (4, 1, ..., 2) to broadcast against ``(B, ..., 2)`` of ``ndim`` axes."""
+    corners = np.stack([_CORNER_X, _CORNER_Y], axis=-1).reshape((4,) + (1,) * (ndim - 1) + (2,))
+    corners.flags.writeable = False
+    return corners
 
 
 def _perlin_unchecked(perm: np.ndarray, grads: np.ndarray, x: np.ndarray, y: np.ndarray) -> np.ndarray:
     """Perlin noise on validated inputs (see :func:`perlin2d`), values in [-1, 1]."""
     points = np.stack([x, y], axis=-1)
     lower = np.floor(points)
-    return blend_corners(*corner_gradients(perm, grads, lower), points - lower)
+    return blend_corners(corner_gradients(perm, grads, lower), points - lower)
 
 
 def perlin2d(perm: np.ndarray, grads: np.ndarray, x: np.ndarray, y: np.ndarray) -> np.ndarray:
@@ -229,13 +238,21 @@ def octave_points(x: np.ndarray, y: np.ndarray, octaves: int, lacunarity: float)
 
 def sum_octaves(layered: np.ndarray, persistence: float) -> np.ndarray:
     """``(B, ..., octaves)`` per-octave noise -> ``(B, ...)`` their amplitude-weighted mean, in [-1, 1]."""
-    total = layered[..., 0].copy()  # amplitude 1
-    amplitude_sum = 1.0
+    amplitudes, amplitude_sum = _octave_amplitudes(layered.shape[-1], persistence)
+    total = layered[..., 0]  # amplitude 1
     for k in range(1, layered.shape[-1]):  # loop over octaves only, in order
-        amplitude = persistence**k
-        total += amplitude * layered[..., k]
+        total = total + amplitudes[k] * layered[..., k]
+    return clamp(total / amplitude_sum, _MINUS_ONE, _ONE)
+
+
+@functools.lru_cache(maxsize=64)
+def _octave_amplitudes(octaves: int, persistence: float) -> tuple[tuple[np.ndarray, ...], np.ndarray]:
+    """Each octave's amplitude ``persistence**k`` and their running sum, as 0-d float64 operands."""
+    amplitudes = [persistence**k for k in range(octaves)]
+    amplitude_sum = 1.0
+    for amplitude in amplitudes[1:]:  # summed in the order sum_octaves always used
         amplitude_sum += amplitude
-    return clamp(total / amplitude_sum, -1.0, 1.0)
+    return tuple(constant(a) for a in amplitudes), constant(amplitude_sum)
 
 
 def fractal_unchecked(perm: np.ndarray, grads: np.ndarray, x: np.ndarray, y: np.ndarray, octaves: int,
@@ -248,4 +265,4 @@ def fractal_unchecked(perm: np.ndarray, grads: np.ndarray, x: np.ndarray, y: np.
     """
     points = octave_points(x, y, octaves, lacunarity)
     lower = np.floor(points)
-    return sum_octaves(blend_corners(*corner_gradients(perm, grads, lower), points - lower), persistence)
+    return sum_octaves(blend_corners(corner_gradients(perm, grads, lower), points - lower), persistence)

@@ -11,17 +11,19 @@ Angles are radians, directions are where the wind blows *to*, lengths are metres
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 from pydantic import Field
 
-from ..batching import replace_worlds, select_worlds
+from ..batching import assemble, replace_worlds, select_worlds
+from ..numeric import constant
 from ..spec.common import StrictModel
 from .noise import blend_corners, corner_gradients, draw_lattice, octave_frequencies, sum_octaves
 
 TWO_PI = 2.0 * np.pi
+_PI, _TWO_PI = constant(np.pi), constant(TWO_PI)
 
 
 @dataclass(frozen=True)
@@ -35,6 +37,22 @@ class WindSpec:
     noise_scale_m: float  # size of one noise lattice cell
     noise_octaves: int
     drift_m: float  # distance the noise field moves with the wind per step
+    operands: "_WindOperands" = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self):
+        object.__setattr__(self, "operands", _WindOperands(self))
+
+
+class _WindOperands:
+    """The spec's numbers as 0-d float64 arrays, the cheap operands of a step (see :mod:`hivex_dsl.numeric`)."""
+
+    def __init__(self, spec: WindSpec):
+        self.ease_rate = constant(spec.ease_rate)
+        self.tolerance = constant(math.radians(spec.retarget_tolerance_deg))
+        self.shift = math.radians(spec.target_shift_deg)
+        self.deviation = constant(math.radians(spec.deviation_max_deg))
+        self.noise_scale = constant(spec.noise_scale_m)
+        self.drift = constant(spec.drift_m)
 
 
 class WindParams(StrictModel):
@@ -68,7 +86,10 @@ class WindState:
 
 def wrap_angle(angle: np.ndarray) -> np.ndarray:
     """Angles mapped into [-pi, pi)."""
-    return (np.asarray(angle) + np.pi) % TWO_PI - np.pi
+    angle = np.asarray(angle)
+    if angle.dtype.type is np.float64:  # 0-d float64 operands: the same result, cheaper (see hivex_dsl.numeric)
+        return (angle + _PI) % _TWO_PI - _PI
+    return (angle + np.pi) % TWO_PI - np.pi
 
 
 def wind_reset(rng: np.random.Generator, batch: int, spec: WindSpec) -> WindState:
@@ -92,17 +113,20 @@ def wind_reset_where(state: WindState, mask: np.ndarray, rng: np.random.Generato
 
 def wind_step(state: WindState, rng: np.random.Generator, spec: WindSpec) -> WindState:
     """Advance every world's wind by one step (one uniform draw per world, always)."""
+    constants = spec.operands
     remaining = wrap_angle(state.target - state.main)
-    main = wrap_angle(state.main + spec.ease_rate * remaining)
-    reached = np.abs(wrap_angle(state.target - main)) < math.radians(spec.retarget_tolerance_deg)
-    shift = math.radians(spec.target_shift_deg)
-    signed_shift = np.where(rng.random(main.shape[0]) < 0.5, -shift, shift)
-    target = np.where(reached, wrap_angle(state.target + signed_shift), state.target)
+    main = wrap_angle(state.main + constants.ease_rate * remaining)
+    reached = np.abs(wrap_angle(state.target - main)) < constants.tolerance
+    draws = rng.random(main.shape[0])
+    target = state.target
+    if np.count_nonzero(reached):  # a target is reached once every few hundred steps
+        signed_shift = np.where(draws < 0.5, -constants.shift, constants.shift)
+        target = np.where(reached, wrap_angle(target + signed_shift), target)
     heading = np.empty(state.drift.shape)
     np.cos(main, out=heading[:, 0])
     np.sin(main, out=heading[:, 1])
-    drift = state.drift + spec.drift_m * heading
-    return WindState(main=main, target=target, drift=drift, perm=state.perm, grads=state.grads)
+    drift = state.drift + constants.drift * heading
+    return assemble(WindState, main=main, target=target, drift=drift, perm=state.perm, grads=state.grads)
 
 
 @dataclass(frozen=True)
@@ -117,11 +141,10 @@ class WindProbe:
 
     perm: np.ndarray  # the WindState.perm it was built from
     lower: np.ndarray  # (B, N, octaves, 2) lower-left cell corners in lattice units
-    gx: np.ndarray  # (4, B, N, octaves) corner gradients, x component
-    gy: np.ndarray  # (4, B, N, octaves)
+    gradients: np.ndarray  # (4, B, N, octaves, 2) gradients at the cells' corners
 
     def fits(self, perm: np.ndarray, lower: np.ndarray) -> bool:
-        return self.perm is perm and self.lower.shape == lower.shape and not (self.lower != lower).any()
+        return self.perm is perm and self.lower.shape == lower.shape and not np.count_nonzero(self.lower != lower)
 
 
 def probe_wind(state: WindState, points: np.ndarray, spec: WindSpec,
@@ -131,13 +154,14 @@ def probe_wind(state: WindState, points: np.ndarray, spec: WindSpec,
     Identical to :func:`local_wind`; ``probe`` (from the previous call for the same points, or None)
     only saves the gradient lookups while every point stays in its lattice cells.
     """
-    moved = (points - state.drift[:, None, :]) / spec.noise_scale_m
+    constants = spec.operands
+    moved = (points - state.drift[:, None, :]) / constants.noise_scale
     octave_coords = moved[..., None, :] * octave_frequencies(spec.noise_octaves, 2.0)  # (B, N, octaves, 2)
     lower = np.floor(octave_coords)
     if probe is None or not probe.fits(state.perm, lower):
-        probe = WindProbe(state.perm, lower, *corner_gradients(state.perm, state.grads, lower))
-    noise = sum_octaves(blend_corners(probe.gx, probe.gy, octave_coords - lower), 0.5)
-    return wrap_angle(state.main[:, None] + math.radians(spec.deviation_max_deg) * noise), probe
+        probe = WindProbe(state.perm, lower, corner_gradients(state.perm, state.grads, lower))
+    noise = sum_octaves(blend_corners(probe.gradients, octave_coords - lower), 0.5)
+    return wrap_angle(state.main[:, None] + constants.deviation * noise), probe
 
 
 def local_wind(state: WindState, points: np.ndarray, spec: WindSpec) -> np.ndarray:

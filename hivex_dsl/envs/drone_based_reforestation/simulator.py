@@ -14,7 +14,7 @@ from gymnasium import spaces
 
 from ...batching import evolve, read_only, replace_worlds
 from ...procgen.forest import ForestSpec, place_forest
-from ...procgen.noise import clamp
+from ...numeric import clamp
 from ...procgen.terrain import TerrainSpec, generate_terrain
 from ...runtime import StepOutcome
 from .camera import NEW_TREE_GRAY, STATION_GRAY, TREE_GRAY, Raster, camera_images, ground_shade, stamp_disks, to_byte

@@ -18,7 +18,7 @@ from gymnasium import spaces
 from ...batching import assemble, read_only, replace_worlds
 from ...procgen.pollution import PollutionSpec, SpawnSpec, pollution_map, sample_pebbles, spawn_vessels
 from ...procgen.wind import wrap_angle
-from ...procgen.noise import clamp
+from ...numeric import clamp
 from ...runtime import StepOutcome
 from .camera import CAMERA_CELLS, Geometry, Sensing, as_pairs, build_field, sense
 from .params import OceanPlasticCollectionParams

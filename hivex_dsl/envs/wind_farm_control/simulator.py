@@ -5,8 +5,9 @@ from __future__ import annotations
 import numpy as np
 from gymnasium import spaces
 
+from ...batching import assemble
+from ...numeric import clamp, constant
 from ...procgen.layouts import turbine_layout
-from ...procgen.noise import clamp
 from ...procgen.wind import probe_wind, wind_reset, wind_reset_where, wind_step, wrap_angle
 from ...runtime import StepOutcome
 from .params import WindFarmControlParams
@@ -15,6 +16,7 @@ from .types import WindFarmState
 RANDOM_PATTERN = 8
 # action -> rotation sign: 0 do nothing, 1 rotate left (counter-clockwise), 2 rotate right
 ROTATION_SIGN = np.array([0.0, 1.0, -1.0])
+_ZERO, _ONE, _MINUS_ONE, _PI = constant(0.0), constant(1.0), constant(-1.0), constant(np.pi)  # float64 operands (see hivex_dsl.numeric)
 
 
 def angle_between(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -28,12 +30,12 @@ def alignment(heading: np.ndarray, wind: np.ndarray) -> np.ndarray:
     The paper's theta: the angle between the rotor's facing and the upwind direction, mapped
     linearly from [0, 180] degrees to [1, 0].
     """
-    return 1.0 - angle_between(heading, wind + np.pi) / np.pi
+    return _ONE - angle_between(heading, wind + _PI) / _PI
 
 
 def wind_force(align: np.ndarray, threshold: float) -> np.ndarray:
     """The paper's W(theta): 0 below the threshold, Map(theta, threshold, 1, 0, 1) above it."""
-    return clamp((align - threshold) / (1.0 - threshold), 0.0, 1.0)
+    return clamp((align - threshold) / (1.0 - threshold), _ZERO, _ONE)
 
 
 def next_performance(performance: np.ndarray, force: np.ndarray, acceleration: float, drag: float) -> np.ndarray:
@@ -56,7 +58,11 @@ class WindFarmSimulator:
         self.observation_space = spaces.Box(-1.0, 1.0, (6,), np.float32)
         self.action_space = spaces.Discrete(3)
         self.wind_spec = params.wind_spec()
-        self._rotation = np.radians(params.rotation_speed_deg)
+        self._turn_by_action = np.radians(params.rotation_speed_deg) * ROTATION_SIGN  # (3,) radians per step
+        self._threshold = constant(params.alignment_threshold)
+        self._threshold_span = constant(1.0 - params.alignment_threshold)
+        self._drag, self._acceleration = constant(params.drag), constant(params.motor_acceleration)
+        self._half_extent = constant(params.farm_half_extent_m)
         self._fixed_layout = None if self.pattern == RANDOM_PATTERN else self._layout(None)
 
     def _layout(self, rng: np.random.Generator | None) -> np.ndarray:
@@ -90,19 +96,20 @@ class WindFarmSimulator:
 
     def step(self, state: WindFarmState, actions: np.ndarray, rng: np.random.Generator) -> tuple[WindFarmState, StepOutcome]:
         """actions (B, A) ints in {0, 1, 2}: rotate, move the wind, then update each turbine's performance."""
-        heading = wrap_angle(state.heading + self._rotation * ROTATION_SIGN[actions])
+        heading = wrap_angle(state.heading + self._turn_by_action[actions])
         wind = wind_step(state.wind, rng, self.wind_spec)
         wind_here, probe = probe_wind(wind, state.positions, self.wind_spec, state.wind_probe)
-        force = wind_force(alignment(heading, wind_here), self.params.alignment_threshold)
-        performance = next_performance(state.performance, force, self.params.motor_acceleration, self.params.drag)
-        new = WindFarmState(positions=state.positions, heading=heading, performance=performance,
-                            local_wind=wind_here, wind=wind, wind_probe=probe)
-        return new, StepOutcome(terminated=np.zeros(heading.shape, bool), events={})
+        # wind_force and next_performance, with the parameters as 0-d operands
+        force = clamp((alignment(heading, wind_here) - self._threshold) / self._threshold_span, _ZERO, _ONE)
+        performance = next_performance(state.performance, force, self._acceleration, self._drag)
+        new = assemble(WindFarmState, positions=state.positions, heading=heading, performance=performance,
+                       local_wind=wind_here, wind=wind, wind_probe=probe)
+        return new, StepOutcome(np.zeros(heading.shape, bool), {})
 
     def observe(self, state: WindFarmState) -> np.ndarray:
         """(B, A, 6) float32: position / half extent (2), heading (cos, sin), local wind (cos, sin)."""
         out = np.empty(state.heading.shape + (6,), np.float32)
-        out[..., 0:2] = clamp(state.positions / self.params.farm_half_extent_m, -1.0, 1.0)
+        out[..., 0:2] = clamp(state.positions / self._half_extent, _MINUS_ONE, _ONE)
         np.cos(state.heading, out=out[..., 2])
         np.sin(state.heading, out=out[..., 3])
         np.cos(state.local_wind, out=out[..., 4])

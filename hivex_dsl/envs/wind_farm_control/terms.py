@@ -4,11 +4,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...procgen.noise import clamp
+from ...numeric import clamp, constant
 from ...reward.terms import TermRegistry
 from .simulator import angle_between
 
 TERMS = TermRegistry("wind_farm_control")
+_ZERO, _ONE, _TWO, _NINETY = constant(0.0), constant(1.0), constant(2.0), constant(90.0)  # float64 operands
 
 
 @TERMS.term(
@@ -18,7 +19,7 @@ TERMS = TermRegistry("wind_farm_control")
     equation="R = max(0, min(1, P)),  P <- P - drag*P + a*W(theta),  W = 0 if theta < 0.5 else Map(theta, 0.5, 1, 0, 1)",
 )
 def generate_energy(prev, state, actions, params):
-    return clamp(state.performance, 0.0, 1.0)
+    return clamp(state.performance, _ZERO, _ONE)
 
 
 @TERMS.term(
@@ -29,4 +30,5 @@ def generate_energy(prev, state, actions, params):
 )
 def avoid_damage(prev, state, actions, params):
     theta = np.degrees(angle_between(state.heading, state.local_wind))
-    return np.where(theta <= 90.0, theta / 90.0, 2.0 - theta / 90.0)
+    share = theta / _NINETY
+    return np.where(theta <= _NINETY, share, _TWO - share)
