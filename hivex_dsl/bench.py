@@ -72,6 +72,14 @@ def _timed(step, reset, seconds: float) -> tuple[int, float]:
     return steps, time.perf_counter() - start
 
 
+def _live_only(actions: dict, live: list) -> dict:
+    """The actions of the agents still playing (all of them on most steps: then the dict as it is)."""
+    if len(live) == len(actions):
+        return actions
+    playing = set(live)
+    return {a: x for a, x in actions.items() if a in playing}
+
+
 def measure_parallel(env_id: str, seconds: float) -> Measurement:
     """PettingZoo ParallelEnv (batch 1) of the environment's bundled main scenario, random actions."""
     import hivex_dsl
@@ -89,8 +97,10 @@ def measure_parallel(env_id: str, seconds: float) -> Measurement:
         t, block["at"] = block["at"], block["at"] + 1
         acts = block["actions"]
         if isinstance(acts, dict):
-            return {a: {k: v[t, i] for k, v in acts.items()} for i, a in enumerate(names) if a in env.agents}
-        return {a: acts[t, i] for i, a in enumerate(names) if a in env.agents}
+            rows = [{k: v[t, i] for k, v in acts.items()} for i in range(len(names))]
+        else:
+            rows = list(acts[t])
+        return _live_only(dict(zip(names, rows)), env.agents)
 
     def step() -> bool:
         env.step(next_actions())
@@ -134,7 +144,7 @@ def measure_reference(seconds: float) -> Measurement:
         if block["at"] == ACTION_BLOCK:
             block["actions"], block["at"] = rng.integers(0, 5, (ACTION_BLOCK, len(names))), 0
         t, block["at"] = block["at"], block["at"] + 1
-        env.step({a: int(block["actions"][t, i]) for i, a in enumerate(names) if a in env.agents})
+        env.step(_live_only(dict(zip(names, block["actions"][t].tolist())), env.agents))
         return bool(env.agents)
 
     steps, elapsed = _timed(step, lambda seed: env.reset(seed=seed), seconds)
