@@ -7,7 +7,11 @@ from typing import Any, Mapping
 import numpy as np
 
 from ..errors import did_you_mean
+from ..numeric import constant
 from .terms import TermRegistry
+
+
+_ZERO = constant(0.0)
 
 
 class RewardComposer:
@@ -26,19 +30,24 @@ class RewardComposer:
         self.registry = registry
         self.weights = {name: float(w) for name, w in weights.items()}
         self.active = tuple(name for name in registry.names if self.weights.get(name, 0.0) != 0.0)
-        self._terms = tuple(registry[name] for name in self.active)
-        self._weights = tuple(self.weights[name] for name in self.active)
+        # (name, function, weight as a 0-d operand or None for 1.0), resolved once: this runs every step
+        self._plan = tuple((name, registry[name].fn, None if self.weights[name] == 1.0 else constant(self.weights[name]))
+                           for name in self.active)
 
     def __call__(
         self, prev: Any, state: Any, actions: Any, params: Any, shape: tuple[int, int]
     ) -> tuple[np.ndarray, dict[str, np.ndarray]]:
         """Returns the (batch, agents) reward and each active term's unweighted (batch, agents) value."""
-        total = np.zeros(shape, dtype=np.float64)
+        total = None
         values: dict[str, np.ndarray] = {}
-        for term, weight in zip(self._terms, self._weights):
+        for name, term, weight in self._plan:
             value = np.asarray(term(prev, state, actions, params), dtype=np.float64)
             if value.shape != shape:  # broadcast_to costs more than many terms do
                 value = np.broadcast_to(value, shape)
-            values[term.name] = value
-            total += value if weight == 1.0 else weight * value  # 1.0 * x == x: one NumPy call fewer
-        return total, values
+            values[name] = value
+            weighted = value if weight is None else weight * value  # 1.0 * x == x: one NumPy call fewer
+            if total is None:
+                total = _ZERO + weighted  # a new array, with 0.0 + x's signed zeros like summing from zeros
+            else:
+                total += weighted
+        return (np.zeros(shape) if total is None else total), values
