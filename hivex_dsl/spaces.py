@@ -61,8 +61,15 @@ def stack_agent_actions(space: spaces.Space, actions: dict[str, Any], agents: Se
     if values is None or len(actions) != len(agents):  # equal sizes and every agent found: no extra keys
         _raise_not_one_per_agent(actions, agents)
     if isinstance(space, spaces.Dict):
-        return {key: stack_agent_actions(sub, {a: _part(actions[a], key, a, space) for a in agents}, agents)
-                for key, sub in space.spaces.items()}
+        try:
+            return {key: _stacked([action[key] for action in values], sub) for key, sub in space.spaces.items()}
+        except (KeyError, TypeError, IndexError):
+            _raise_not_a_dict_action(values, agents, space)
+    return _stacked(values, space)
+
+
+def _stacked(values: list, space: spaces.Space) -> np.ndarray:
+    """One part's per-agent values -> a (1, agents, ...) array."""
     try:
         return np.asarray(values)[None]
     except ValueError as exc:
@@ -79,10 +86,11 @@ def _raise_not_one_per_agent(actions: Any, agents: Sequence[str]) -> None:
     raise ActionError(f"action for {extra[0]!r}, which is not a live agent; live agents: {', '.join(agents)}")
 
 
-def _part(action: Any, key: str, agent: str, space: spaces.Dict) -> Any:
-    if not isinstance(action, dict) or key not in action:
-        raise ActionError(f"action for {agent} must be a dict with keys {list(space.spaces)}, got {action!r}")
-    return action[key]
+def _raise_not_a_dict_action(values: list, agents: Sequence[str], space: spaces.Dict) -> None:
+    for agent, action in zip(agents, values):
+        if not isinstance(action, dict) or any(key not in action for key in space.spaces):
+            raise ActionError(f"action for {agent} must be a dict with keys {list(space.spaces)}, got {action!r}")
+    raise ActionError(f"actions do not fit {describe_space(space)}")
 
 
 def check_actions(space: spaces.Space, actions: Any, agent_names: Sequence[str], meanings: str = "") -> Any:
