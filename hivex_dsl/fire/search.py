@@ -16,8 +16,9 @@ from .blocks import block_pairs, block_side
 from .engine import FireState, in_range, split_flat, vector
 
 SMALL_WORK = 8000  # up to about this many pairs (plus K / 8) the plain pairing beats building the block index
-HUGE = 2.0**40
-ONE_WORLD_PAIRS = 65_536  # a single world's queries x burning cells up to this go through one dense matrix  # beyond this, coordinates lose the precision that the one-cell margin of a span relies on
+HUGE = 2.0**40  # beyond this, coordinates lose the precision that the one-cell margin of a span relies on
+ONE_WORLD_PAIRS = 65_536  # a single world's queries x burning cells up to this go through one (M, K) box test
+_BOTH = np.uint16(0x0101)  # two adjacent True bytes read as one uint16, on either byte order
 
 
 def _world_pairs(flat: np.ndarray, burning_world: np.ndarray, count: np.ndarray, world: np.ndarray,
@@ -77,25 +78,44 @@ def _nearest(query: np.ndarray, row: np.ndarray, col: np.ndarray, cell_of: Calla
     return found, best
 
 
-def _closest_in_one_world(flat: np.ndarray, cells: int, rows: np.ndarray, cols: np.ndarray, half: np.ndarray
+def _closest_in_one_world(flat: np.ndarray, cells: int, at: np.ndarray, half: float | np.ndarray
                           ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """:func:`closest_burning` of one world as one (M, K) query x burning-cell matrix: the few calls of a
-    dense pass beat pairing and indexing when a single world asks. The same float operations as
-    :func:`_nearest` (int cells converted exactly), so the answers are identical."""
-    if len(flat) == 0:
-        none = np.full(len(rows), -1, np.int64)
-        return np.zeros(len(rows), bool), none, none.copy()
-    row, col = np.divmod(flat, cells)
-    d_row = row - rows[:, None]
-    d_col = col - cols[:, None]
-    box = half[:, None]
-    inside = (np.abs(d_row) <= box) & (np.abs(d_col) <= box)
-    distance = np.where(inside, d_row * d_row + d_col * d_col, np.inf)
-    nearest = np.minimum.reduce(distance, axis=1)
+    """:func:`closest_burning` of one world: every query against every burning cell in one (M, K) box
+    test, then the nearest among the few pairs inside. ``at`` (M, 1) complex128 holds each query as
+    cols + i rows; ``half`` is one number or (M,).
+
+    Each entry of the box test is the complex gap (col - cols) + i (row - rows): one subtraction forms
+    both float64 offsets exactly as :func:`_nearest` does (int cells convert exactly), and the distances
+    and ties follow it, so the answers are identical. Most queries see no fire: four passes answer them.
+    """
+    queries, burning = len(at), len(flat)
+    if burning == 0:
+        return _nothing_found(queries)
+    cell = np.empty(burning, np.complex128)
+    np.divmod(flat, cells, out=(cell.imag, cell.real), casting="unsafe")
+    gap = np.subtract(cell, at)  # (M, K)
+    box = half[:, None] if np.ndim(half) else half
+    near = np.abs(gap.view(np.float64)) <= box  # (M, 2K): |d_col|, |d_row| within the box, side by side
+    hit = np.flatnonzero(near.view(np.uint16) == _BOTH)  # query-major pairs inside their box
+    if hit.size == 0:
+        return _nothing_found(queries)
+    query, tree = np.divmod(hit, burning)
+    offset = gap.reshape(-1).take(hit).view(np.float64)
+    square = np.multiply(offset, offset, out=offset)
+    distance = np.add(square[1::2], square[0::2])  # d_row^2 + d_col^2
+    nearest = np.full(queries, np.inf)
+    np.minimum.at(nearest, query, distance)
+    tied = distance == nearest.take(query)
+    best = np.full(queries, np.iinfo(np.int64).max)
+    np.minimum.at(best, query[tied], flat.take(tree[tied]))
     found = nearest < np.inf
-    best = np.minimum.reduce(np.where(distance == nearest[:, None], flat, np.iinfo(np.int64).max), axis=1)
     best_row = best // cells
     return found, np.where(found, best_row, -1), np.where(found, best - best_row * cells, -1)
+
+
+def _nothing_found(queries: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    none = np.full(queries, -1, np.int64)
+    return np.zeros(queries, bool), none, none.copy()
 
 
 def closest_burning(state: FireState, world: np.ndarray, rows: np.ndarray, cols: np.ndarray,
@@ -110,7 +130,6 @@ def closest_burning(state: FireState, world: np.ndarray, rows: np.ndarray, cols:
     Work is a few passes over the burning list plus, per query, about the burning cells of the blocks
     its box overlaps (or of its whole world, when that is less work than indexing the blocks).
     """
-    cells, batch = state.cells, state.batch
     world = vector("world", world, integer=True)
     queries = len(world)
     rows, cols = vector("rows", rows, queries), vector("cols", cols, queries)
@@ -118,9 +137,22 @@ def closest_burning(state: FireState, world: np.ndarray, rows: np.ndarray, cols:
     half = np.full(queries, half) if half.ndim == 0 else np.broadcast_to(half, (queries,))
     if not np.logical_and.reduce((half >= 0.0) & (half < np.inf), axis=None):  # NaN fails both
         raise ValueError(f"half_box_cells must be finite numbers >= 0, got {half_box_cells!r}")
-    in_range("world", world, batch)
+    in_range("world", world, state.batch)
+    box = float(half[0]) if np.ndim(half_box_cells) == 0 and queries else half
+    return closest_burning_unchecked(state, world, rows, cols, box)
+
+
+def closest_burning_unchecked(state: FireState, world: np.ndarray, rows: np.ndarray, cols: np.ndarray,
+                              half_box_cells: float | np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`closest_burning` without its argument checks, for callers whose queries are valid by
+    construction: world (M,) int64 in [0, B), rows/cols (M,) finite float64, half_box_cells one finite
+    float >= 0 or (M,) float64 of them."""
+    cells, batch = state.cells, state.batch
+    queries, half = len(world), half_box_cells
     if batch == 1 and queries * len(state.burning) <= ONE_WORLD_PAIRS:
-        return _closest_in_one_world(state.burning, cells, rows, cols, half)
+        at = np.empty((queries, 1), np.complex128)
+        at.real[:, 0], at.imag[:, 0] = cols, rows
+        return _closest_in_one_world(state.burning, cells, at, half)
     index = np.int32 if batch * cells * cells <= np.iinfo(np.int32).max else np.int64
     flat = state.burning.astype(index, copy=False)
     burning_world = flat // index(cells * cells)
@@ -129,13 +161,22 @@ def closest_burning(state: FireState, world: np.ndarray, rows: np.ndarray, cols:
     if small and int(count[world].sum()) + len(flat) // 8 <= SMALL_WORK:
         pairs = _world_pairs(flat, burning_world, count, world, cells)
     else:
-        spans = (*_spans(rows, half, cells), *_spans(cols, half, cells))
+        per_query = np.broadcast_to(half, (queries,))
+        spans = (*_spans(rows, per_query, cells), *_spans(cols, per_query, cells))
         side = block_side(cells, batch, len(flat), spans)
         if small and side == cells:  # whole worlds: the plain pairing, without the index's overhead
             pairs = _world_pairs(flat, burning_world, count, world, cells)
         else:
             pairs = block_pairs(flat, burning_world, cells, batch, world, spans, side)
-    box = float(half[0]) if np.ndim(half_box_cells) == 0 and queries else half
-    found, best = _nearest(*pairs, rows, cols, box)
+    found, best = _nearest(*pairs, rows, cols, half)
     best_row = best // cells
     return found, np.where(found, best_row, -1), np.where(found, best - best_row * cells, -1)
+
+
+def closest_burning_at(state: FireState, world: np.ndarray, points: np.ndarray, half_box_cells: float | np.ndarray
+                       ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`closest_burning_unchecked` of query ``points`` (M, 2) C-contiguous float64 (col, row) cell
+    coordinates: a single world reads them in place, as the complex numbers cols + i rows."""
+    if state.batch == 1 and len(points) * len(state.burning) <= ONE_WORLD_PAIRS:
+        return _closest_in_one_world(state.burning, state.cells, points.view(np.complex128), half_box_cells)
+    return closest_burning_unchecked(state, world, points[:, 1], points[:, 0], half_box_cells)

@@ -3,21 +3,23 @@
 from __future__ import annotations
 
 from dataclasses import replace
+from functools import partial
 from typing import NamedTuple
 
 import numpy as np
 from gymnasium import spaces
 
-from ...batching import read_only, replace_worlds
-from ...fire import burning_count, closest_burning, douse, fire_step
+from ...batching import assemble, read_only, replace_worlds
+from ...fire import burning_count, douse, fire_step
+from ...fire.search import closest_burning_at
+from ...numeric import clamp, constant
 from ...procgen.weather import weather_step
 from ...procgen.wind import wind_step, wrap_angle
-from ...procgen.noise import clamp
 from ...runtime import StepOutcome
 from .camera import pixel_offsets
 from .params import CAMERA_PIXELS, AerialWildfireParams
 from .types import AerialWildfireState, Sighting
-from .view import (build_look, frame_template, plane_cameras, redraw_cells, redraw_fire_step, view_frame,
+from .view import (build_look, frame_template, is_tiled, plane_cameras, redraw_cells, redraw_fire_step, view_frame,
                    window_cells)
 from ..island import SEA, IslandMaps, IslandSpecs, grid_lookup, restart_where, start_islands, weather_reader
 
@@ -66,6 +68,7 @@ class AerialWildfireSimulator:
         self.cell_m = self.forest_spec.spacing_m
         self.weather_lookup = grid_lookup(self.forest_spec.cells, p.weather_grid_cells)
         self.turn_rad = np.radians(p.turn_rate_deg)
+        self.operands = _Operands.of(p, self.cell_m)
         self._query_shapes: dict[tuple[int, int], tuple[np.ndarray, np.ndarray]] = {}
 
     # ---- reset -------------------------------------------------------------------------
@@ -83,13 +86,15 @@ class AerialWildfireSimulator:
     def reset(self, rng: np.random.Generator, batch: int) -> AerialWildfireState:
         return self._fresh(rng, batch, None)
 
-    def _fresh(self, rng: np.random.Generator, batch: int, maps: IslandMaps | None) -> AerialWildfireState:
-        """``batch`` new episodes: on new islands, or on the given ``maps`` (kept islands) when not None."""
+    def _fresh(self, rng: np.random.Generator, batch: int, maps: IslandMaps | None,
+               tiled: bool | None = None) -> AerialWildfireState:
+        """``batch`` new episodes: on new islands, or on the given ``maps`` (kept islands) when not None.
+        Their look is ``tiled`` or not (see view.build_look; by default as suits ``batch`` worlds)."""
         island = start_islands(rng, batch, self.island, maps)
         position, heading, water = self._spawn(rng, batch)
         shape, no = (batch, self.agents), np.zeros((batch, self.agents), bool)
         flying = np.ones(shape, bool)
-        look = build_look(island.fire.trees, island.maps.ground, self.frame_template, self.frame)
+        look = build_look(island.fire.trees, island.maps.ground, self.frame_template, self.frame, tiled)
         return AerialWildfireState(
             maps=island.maps, fire=island.fire, wind=island.wind, weather=island.weather, tick=0,
             position=position, heading=heading, water=water, flying=flying,
@@ -106,7 +111,8 @@ class AerialWildfireSimulator:
         params.redraw_island is "episode". ``state`` is used up: its fire and look are rewritten in place."""
         if not mask.any():
             return state
-        fresh, changes = restart_where(state, mask, rng, self.params.redraw_island, self._fresh, _PER_WORLD)
+        fresh_episodes = partial(self._fresh, tiled=is_tiled(state.look))  # the new worlds' look in the batch's layout
+        fresh, changes = restart_where(state, mask, rng, self.params.redraw_island, fresh_episodes, _PER_WORLD)
         state.look[mask] = fresh.look
         sighting = replace_worlds(state.sighting, mask, fresh.sighting)
         # as a new sighting of every world would: planes whose task ended this step no longer see fire
@@ -116,7 +122,7 @@ class AerialWildfireSimulator:
     def derive(self, state: AerialWildfireState) -> AerialWildfireState:
         """``state`` with what it derives from its maps, fire and planes rebuilt (sighting, look, visual):
         for states edited by hand."""
-        look = build_look(state.fire.trees, state.maps.ground, self.frame_template, self.frame)
+        look = build_look(state.fire.trees, state.maps.ground, self.frame_template, self.frame, is_tiled(state.look))
         return replace(state, look=look, sighting=self._sight(state),
                        visual=self._cameras(state.position, state.heading, look, state.fire.trees, state.maps.ground))
 
@@ -149,49 +155,63 @@ class AerialWildfireSimulator:
     def _sense(self, prev: AerialWildfireState, moved: dict, flight: Flight):
         """The state after the step and its outcome: sightings, one-off events, planes whose task ended, cameras.
         ``moved`` holds the step's new fire, wind, weather, tick and drop counts (state fields)."""
-        p = self.params
         fire = moved["fire"]
         sighting = self._sight_of(fire, prev.maps.village, flight.position, flight.flying)
-        found_fire = sighting.plane_found & ~prev.seen_fire
+        found_fire = _and_not(sighting.plane_found, prev.seen_fire)
         gap = flight.position - prev.maps.village[:, None, :]
-        near_village = flight.flying & (np.hypot(gap[..., 0], gap[..., 1]) <= p.village_radius_m)
-        found_village = near_village & ~prev.seen_village
-        threatened = sighting.village_threat & ~prev.village_hit
-        went_out = fire.out & ~prev.fire.out
+        near_village = flight.flying & (np.hypot(gap[..., 0], gap[..., 1]) <= self.operands.village_radius)
+        found_village = _and_not(near_village, prev.seen_village)
+        threatened = _and_not(sighting.village_threat, prev.village_hit)
+        went_out = _and_not(fire.out, prev.fire.out)
         events = {PICKUP_EVENT: flight.picked, "dropped_water": flight.dropping, "found_fire": found_fire,
                   "found_village": found_village, "fire_out": np.repeat(went_out[:, None], found_fire.shape[1], axis=1)}
         flying = flight.flying
         if self.plane_endings:  # a plane whose episode ends on its own event stops flying, dropping and refilling
-            flying = flying & ~np.logical_or.reduce([events[e] for e in self.plane_endings])
-        visual = self._cameras(flight.position, flight.heading, prev.look, fire.trees, prev.maps.ground,
-                               flight.facing)
-        new = replace(prev, **moved, position=flight.position, heading=flight.heading, water=flight.water, flying=flying,
-                      sighting=sighting, seen_fire=prev.seen_fire | found_fire,
-                      seen_village=prev.seen_village | found_village, village_hit=prev.village_hit | threatened,
-                      crossed=flight.crossed, picked_up=flight.picked, dropped=flight.dropping, found_fire=found_fire,
-                      found_village=found_village, fire_went_out=went_out, village_threatened=threatened,
-                      burning=_any_burning(fire), visual=visual)
+            flying = _and_not(flying, np.logical_or.reduce([events[e] for e in self.plane_endings]))
+        visual = self._cameras_after(prev, flight, fire.trees)
+        new = assemble(AerialWildfireState, maps=prev.maps, **moved, position=flight.position, heading=flight.heading,
+                       water=flight.water, flying=flying, sighting=sighting, seen_fire=prev.seen_fire | found_fire,
+                       seen_village=prev.seen_village | found_village, village_hit=prev.village_hit | threatened,
+                       crossed=flight.crossed, picked_up=flight.picked, dropped=flight.dropping, found_fire=found_fire,
+                       found_village=found_village, fire_went_out=went_out, village_threatened=threatened,
+                       burning=_any_burning(fire), look=prev.look, visual=visual)
         return new, StepOutcome(terminated=flight.crossed.copy(), events=events)
+
+    def _cameras_after(self, prev: AerialWildfireState, flight: Flight, trees: np.ndarray) -> np.ndarray:
+        """(B, A, P, P, 3) cameras after the step. In a one-world batch, a plane that was out of the game
+        before the step and is beyond the island's sight keeps its picture: it has not moved, and the
+        water ring and outside it sees never change (a reset draws its world's pictures afresh)."""
+        parked = _and_not(flight.outside > self.frame.blind_m, prev.flying)
+        if len(parked) != 1 or not np.count_nonzero(parked):
+            return self._cameras(flight.position, flight.heading, prev.look, trees, prev.maps.ground, flight.facing)
+        parked, watched = parked[0], ~parked[0]
+        visual = np.empty_like(prev.visual)
+        visual[0, parked] = prev.visual[0, parked]
+        if np.count_nonzero(watched):
+            visual[0, watched] = self._cameras(flight.position[:, watched], flight.heading[:, watched], prev.look,
+                                               trees, prev.maps.ground, flight.facing[:, watched])[0]
+        return visual
 
     def _fly(self, state: AerialWildfireState, actions: dict) -> Flight:
         """Turn and move the flying planes; border crossings, refills and who drops water this step."""
-        p = self.params
+        k = self.operands
         flying, water = state.flying, state.water
-        steer = clamp(actions["continuous"][..., 0].astype(np.float64), -1.0, 1.0)
-        heading = np.where(flying, wrap_angle(state.heading + self.turn_rad * steer), state.heading)
+        steer = clamp(actions["continuous"][..., 0].astype(np.float64), k.minus_one, k.one)
+        heading = np.where(flying, wrap_angle(state.heading + k.turn_rad * steer), state.heading)
         facing = np.empty(heading.shape + (2,))
         np.cos(heading, out=facing[..., 0])
         np.sin(heading, out=facing[..., 1])
-        position = np.where(flying[..., None], state.position + p.plane_speed_m * facing, state.position)
-        outside = np.abs(position).max(axis=-1)
-        crossed = flying & (outside > p.border_half_extent_m)
-        flying = flying & ~crossed
-        picked = flying & (outside > p.island_half_extent_m) & ~water
+        position = np.where(flying[..., None], state.position + k.speed * facing, state.position)
+        reach = np.abs(position)
+        outside = np.maximum(reach[..., 0], reach[..., 1])
+        crossed = flying & (outside > k.border)
+        still = flying ^ crossed  # flying & ~crossed
+        picked = _and_not(still & (outside > k.island), water)
         water = water | picked
-        dropping = flying & water & (actions["discrete"][..., 0] == 1)
-        if dropping.any():
+        dropping = still & water & (actions["discrete"][..., 0] == 1)
+        if np.count_nonzero(dropping):
             dropping &= self._over_land(state.maps.ground, position)
-        return Flight(heading, facing, position, flying, crossed, picked, water & ~dropping, dropping)
+        return Flight(heading, facing, position, outside, still, crossed, picked, _and_not(water, dropping), dropping)
 
     def _over_land(self, ground: np.ndarray, position: np.ndarray) -> np.ndarray:
         """(B, A) bool: the ground (B, C, C) under each plane is island land (not sea, not the water ring)."""
@@ -207,10 +227,10 @@ class AerialWildfireSimulator:
 
         Returns (fire, extinguished (B, A), prepared (B, A))."""
         batch, agents = dropping.shape
-        owners = np.flatnonzero(dropping.reshape(-1))
-        zero = np.zeros((batch, agents), np.int32)
-        if owners.size == 0:
+        if not np.count_nonzero(dropping):
+            zero = np.zeros((batch, agents), np.int32)
             return fire, zero, zero
+        owners = np.flatnonzero(dropping.reshape(-1))
         pos = position.reshape(-1, 2)[owners]
         dirs = direction.reshape(-1, 2)[owners]
         points = pos[:, None, :] + self.drop_along[None, :, None] * dirs[:, None, :]  # (D, P, 2)
@@ -232,12 +252,15 @@ class AerialWildfireSimulator:
         return self._sight_of(state.fire, state.maps.village, state.position, state.flying)
 
     def _sight_of(self, fire, village: np.ndarray, position: np.ndarray, flying: np.ndarray) -> Sighting:
-        p = self.params
+        p, k = self.params, self.operands
         batch, agents = flying.shape
         world, half = self._queries(batch, agents)
         points = np.concatenate([position.reshape(-1, 2), village], axis=0)
-        coords = (points[:, ::-1] + p.island_half_extent_m) / self.cell_m - 0.5  # (row, col) per point
-        found, hit_rows, hit_cols = closest_burning(fire, world, coords[:, 0], coords[:, 1], half)
+        cell_points = (points + k.island_half) / k.cell_m - k.half  # (col, row) per point
+        found, hit_rows, hit_cols = closest_burning_at(fire, world, cell_points, half)
+        if not np.count_nonzero(found):  # most steps: no plane and no village sees fire
+            return assemble(Sighting, plane_found=np.zeros((batch, agents), bool),
+                            plane_xy=np.zeros((batch, agents, 2)), village_threat=np.zeros(batch, bool))
         xy = np.empty((len(found), 2))  # (x, y) = (col, row) cell centres in metres, 0 where nothing was found
         xy[:, 0], xy[:, 1] = hit_cols, hit_rows
         xy += 0.5
@@ -246,8 +269,8 @@ class AerialWildfireSimulator:
         xy = np.where(found[:, None], xy, 0.0)
         planes = batch * agents
         village_gap = xy[planes:] - village
-        threat = found[planes:] & (np.hypot(village_gap[:, 0], village_gap[:, 1]) <= p.village_radius_m)
-        return Sighting(plane_found=found[:planes].reshape(batch, agents) & flying,
+        threat = found[planes:] & (np.hypot(village_gap[:, 0], village_gap[:, 1]) <= k.village_radius)
+        return assemble(Sighting, plane_found=found[:planes].reshape(batch, agents) & flying,
                         plane_xy=xy[:planes].reshape(batch, agents, 2), village_threat=threat)
 
     def _queries(self, batch: int, agents: int) -> tuple[np.ndarray, np.ndarray]:
@@ -265,14 +288,14 @@ class AerialWildfireSimulator:
 
     def observe(self, state: AerialWildfireState) -> dict[str, np.ndarray]:
         """vector (B, A, 8) float32 in [-1, 1], visual (B, A, 42, 42, 3) float32 in [0, 1]."""
-        scale = self.params.border_half_extent_m
+        k = self.operands
         sighting = state.sighting
         vector = np.empty(state.heading.shape + (8,), np.float32)  # float64 values, rounded once on assignment
-        vector[..., 0:2] = clamp(state.position / scale, -1.0, 1.0)
+        vector[..., 0:2] = clamp(state.position / k.scale, k.minus_one, k.one)
         vector[..., 2] = np.cos(state.heading)
         vector[..., 3] = np.sin(state.heading)
         vector[..., 4] = state.water
-        vector[..., 5:7] = clamp(sighting.plane_xy / scale, -1.0, 1.0)
+        vector[..., 5:7] = clamp(sighting.plane_xy / k.scale, k.minus_one, k.one)
         vector[..., 7] = sighting.plane_found
         # the state's own camera array (drawn in step): read-only, so an in-place edit raises
         return {"vector": vector, "visual": read_only(state.visual)}
@@ -283,18 +306,49 @@ class AerialWildfireSimulator:
         return draw_island(state, index, self.params)
 
 
+class _Operands(NamedTuple):
+    """The float64 constants of the step as 0-d arrays: cheaper operands than Python floats on the few
+    values of a one-world step (NumPy resolves a Python scalar's type on every call), with the same
+    results on float64, int and bool arrays."""
+
+    one: np.ndarray
+    minus_one: np.ndarray
+    half: np.ndarray
+    turn_rad: np.ndarray
+    speed: np.ndarray
+    border: np.ndarray
+    island: np.ndarray
+    scale: np.ndarray  # observed positions are metres / scale (the border's half extent)
+    village_radius: np.ndarray
+    island_half: np.ndarray
+    cell_m: np.ndarray
+
+    @classmethod
+    def of(cls, p: AerialWildfireParams, cell_m: float) -> "_Operands":
+        values = (1.0, -1.0, 0.5, np.radians(p.turn_rate_deg), p.plane_speed_m, p.border_half_extent_m,
+                  p.island_half_extent_m, p.border_half_extent_m, p.village_radius_m, p.island_half_extent_m, cell_m)
+        return cls(*(constant(value) for value in values))
+
+
 class Flight(NamedTuple):
-    """The planes after their move: heading (B, A), facing (B, A, 2) its (cos, sin), position (B, A, 2), and
-    (B, A) bool flying, crossed the border, picked up water, holding water, dropping water."""
+    """The planes after their move: heading (B, A), facing (B, A, 2) its (cos, sin), position (B, A, 2),
+    outside (B, A) max(|x|, |y|) of the position, and (B, A) bool flying, crossed the border, picked up water,
+    holding water, dropping water."""
 
     heading: np.ndarray
     facing: np.ndarray
     position: np.ndarray
+    outside: np.ndarray
     flying: np.ndarray
     crossed: np.ndarray
     picked: np.ndarray
     water: np.ndarray
     dropping: np.ndarray
+
+
+def _and_not(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """``a & ~b`` of bool arrays in one NumPy call (True > False is the only true comparison)."""
+    return np.greater(a, b)
 
 
 def _any_burning(fire) -> np.ndarray:

@@ -6,8 +6,10 @@ outside, classified exactly as :func:`.camera.palette_index_at` classifies point
 then needs no bounds test and no second gather. The frame cells that the border line crosses hold
 ``MIXED``: the few pixels that land there are classified from their coordinates.
 
-The image is stored in tiles of 8 x 8 cells (64 bytes, one cache line): a camera's rotated footprint
-then touches about half as many memory lines as in row-major order, and the gather is bound by them.
+Large batches store the image in tiles of 8 x 8 cells (64 bytes, one cache line): a camera's rotated
+footprint then touches about half as many memory lines as in row-major order, and the gather is bound by
+them. A look that fits in cache (one or two worlds) stays row-major, where a cell's offset costs two
+operations instead of nine; every reader and writer follows the layout of the array it is given.
 
 ``look`` is part of the state and, like the fire's ``trees``, written in place: the simulator redraws
 the cells whose trees changed after every drop and fire step, and whole worlds on a reset.
@@ -28,6 +30,8 @@ MIXED = TREE_BASE  # palette index of tree state NONE: never drawn (a cell witho
 TILE = 8  # cells per tile side; the frame's padding and side are multiples of it
 EDGE_CELLS = 2  # spare frame cells beyond the farthest pixel of a plane inside ViewFrame.safe_m
 TRIPLES_FROM = 100_000  # pixels from which colour triples pay
+ROW_MAJOR_BYTES = 1 << 20  # looks up to this size stay row-major (B, S, S); larger ones are tiled
+KEEP_METRES_UP_TO = 100_000  # pixel coordinates kept for the border test up to this size (in cache)
 MAX_GROWTH = 9  # a frame holds at most this many times the island's cells; planes beyond take the exact path
 
 
@@ -36,21 +40,27 @@ class ViewFrame:
     """The geometry shared by ``look`` and the cameras.
 
     forward (P,) / right (P,) float32: metres ahead of the plane of each pixel row / to its right of
-    each pixel column; cells: forest cells C per island side; pad: frame cells before the island on
-    each axis; side: frame cells S per side (C + 2 pad rounded up to whole tiles); island_half_m,
-    border_half_m: the scenario's extents; island_half, per_m, border_half: the float32 constants of
-    the pixel -> cell mapping, rounded as the exact path rounds them; safe_m: every pixel of a plane
-    within +/- safe_m of the centre lies in the frame.
+    each pixel column; right_left (2, 1, 1, P) float32: right and its negative; cells: forest cells C
+    per island side; pad: frame cells before the island on each axis; side: frame cells S per side
+    (C + 2 pad rounded up to whole tiles); island_half_m, border_half_m: the scenario's extents;
+    island_half, per_m, border_half: the float32 constants of the pixel -> cell mapping, rounded as the
+    exact path rounds them; safe_m: every pixel of a plane within +/- safe_m of the centre lies in the
+    frame; clear_m: no pixel of a plane within +/- clear_m of the centre lies on a MIXED cell (it may be
+    negative: then any plane may see one); blind_m: no pixel of a plane farther than blind_m from the
+    centre on either axis lies on the island.
     """
 
     forward: np.ndarray
     right: np.ndarray
+    right_left: np.ndarray
     cells: int
     pad: int
     side: int
     island_half_m: float
     border_half_m: float
     safe_m: float
+    clear_m: float
+    blind_m: float
     island_half: np.float32
     per_m: np.float32
     border_half: np.float32
@@ -72,20 +82,50 @@ def view_frame(offsets: tuple[np.ndarray, np.ndarray], cells: int, island_half_m
     widest = int((math.sqrt(MAX_GROWTH) - 1.0) * cells / 2.0)
     pad = _whole_tiles(max(EDGE_CELLS + 1, min(needed, widest)))
     safe = island_half_m + (pad - EDGE_CELLS) / per_m - reach
-    return ViewFrame(forward, right, cells, pad, _whole_tiles(cells + 2 * pad), island_half_m, border_half_m, safe,
-                     np.float32(island_half_m), np.float32(per_m), np.float32(border_half_m))
+    constants = (np.float32(island_half_m), np.float32(per_m), np.float32(border_half_m))
+    clear = _clear_of_border(*constants, per_m) - reach
+    blind = _beyond_island(constants[0], constants[1], cells, per_m) + reach
+    right_left = np.stack([right, -right]).reshape(2, 1, 1, -1)
+    return ViewFrame(forward, right, right_left, cells, pad, _whole_tiles(cells + 2 * pad), island_half_m,
+                     border_half_m, safe, clear, blind, *constants)
+
+
+def _beyond_island(island_half: np.float32, per_m: np.float32, cells: int, cells_per_m: float) -> float:
+    """Metres b such that every float32 coordinate beyond +/- b maps to a cell off the island: a cell
+    beyond its edge, checked with the mapping."""
+    def cell(metres: float) -> int:
+        return int(np.floor((np.float32(metres) + island_half) * per_m))
+
+    beyond = float(island_half) + 1.0 / cells_per_m
+    while not (cell(beyond) >= cells and cell(-beyond) < 0):  # the mapping is monotone
+        beyond += 1.0 / cells_per_m
+    return beyond
+
+
+def _clear_of_border(island_half: np.float32, per_m: np.float32, border_half: np.float32, cells_per_m: float) -> float:
+    """Metres b such that every float32 coordinate within +/- b maps to a cell strictly between the
+    cells of the border lines (the MIXED ones): two cells inside the border, checked with the mapping."""
+    def cell(metres: float) -> int:
+        return int(np.floor((np.float32(metres) + island_half) * per_m))
+
+    edge = float(border_half)
+    low, high = cell(-edge), cell(edge)
+    clear = edge - 2.0 / cells_per_m
+    while clear > 0.0 and not low < cell(-clear) <= cell(clear) < high:  # the mapping is monotone
+        clear -= 1.0 / cells_per_m
+    return clear
 
 
 def _whole_tiles(count: int) -> int:
     return -(-count // TILE) * TILE
 
 
-def cell_of(metres: np.ndarray, frame: ViewFrame) -> np.ndarray:
+def cell_of(metres: np.ndarray, frame: ViewFrame, keep: bool = False) -> np.ndarray:
     """int32 island cell index (row of y, col of x) of float32 ``metres``, rounded as the exact path;
-    ``metres`` is used up (it holds the scaled coordinate afterwards)."""
-    np.add(metres, frame.island_half, out=metres)
-    np.multiply(metres, frame.per_m, out=metres)
-    return np.floor(metres, out=np.empty(metres.shape, np.int32), casting="unsafe")
+    ``metres`` is used up (it holds the scaled coordinate afterwards) unless ``keep``."""
+    scaled = np.add(metres, frame.island_half, out=None if keep else metres)
+    np.multiply(scaled, frame.per_m, out=scaled)
+    return np.floor(scaled, out=np.empty(scaled.shape, np.int32), casting="unsafe")
 
 
 def tiled_offset(row: np.ndarray, col: np.ndarray, frame: ViewFrame) -> np.ndarray:
@@ -112,6 +152,28 @@ def tiled_offset(row: np.ndarray, col: np.ndarray, frame: ViewFrame) -> np.ndarr
 def _pad_offset(frame: ViewFrame) -> int:
     tiles = frame.pad // TILE
     return TILE * frame.pad + tiles * (TILE * frame.side - TILE * TILE) + frame.pad + tiles * (TILE * TILE - TILE)
+
+
+def cell_offsets(row: np.ndarray, col: np.ndarray, look: np.ndarray, frame: ViewFrame) -> np.ndarray:
+    """Offsets in one world of ``look`` (either layout) of island cells ``row``, ``col`` (int arrays, frame
+    pad included here); ``row`` and ``col`` are used up, the result is ``row``'s array."""
+    if is_tiled(look):
+        return tiled_offset(row, col, frame)
+    kind = row.dtype.type
+    row *= kind(frame.side)
+    row += col
+    row += kind(frame.pad * (frame.side + 1))
+    return row
+
+
+def is_tiled(look: np.ndarray) -> bool:
+    """Whether ``look`` is tiled (B, S / 8, S / 8, 8, 8) rather than row-major (B, S, S)."""
+    return look.ndim != 3
+
+
+def tiled_for(batch: int, frame: ViewFrame) -> bool:
+    """Whether a new look of ``batch`` worlds is tiled (B, S / 8, S / 8, 8, 8) or row-major (B, S, S)."""
+    return batch * frame.side * frame.side > ROW_MAJOR_BYTES
 
 
 def to_tiles(image: np.ndarray) -> np.ndarray:
@@ -141,14 +203,15 @@ def tree_or_ground(trees: np.ndarray, ground: np.ndarray) -> np.ndarray:
     return np.where(trees > 0, trees + np.uint8(TREE_BASE), ground)
 
 
-def build_look(trees: np.ndarray, ground: np.ndarray, template: np.ndarray, frame: ViewFrame) -> np.ndarray:
-    """(M, S / 8, S / 8, 8, 8) uint8 tiled ``look`` of M worlds from their trees and ground (M, C, C)
-    and the frame template (S, S)."""
+def build_look(trees: np.ndarray, ground: np.ndarray, template: np.ndarray, frame: ViewFrame,
+               tiled: bool | None = None) -> np.ndarray:
+    """uint8 ``look`` of M worlds from their trees and ground (M, C, C) and the frame template (S, S):
+    tiled (M, S / 8, S / 8, 8, 8) or row-major (M, S, S), by default as :func:`tiled_for` M worlds."""
     image = np.empty((len(trees),) + template.shape, np.uint8)
     image[:] = template
     island = slice(frame.pad, frame.pad + frame.cells)
     image[:, island, island] = tree_or_ground(trees, ground)
-    return to_tiles(image)
+    return to_tiles(image) if (tiled_for(len(trees), frame) if tiled is None else tiled) else image
 
 
 def redraw_cells(look: np.ndarray, trees: np.ndarray, flat: np.ndarray, frame: ViewFrame) -> None:
@@ -166,10 +229,10 @@ def redraw_cells(look: np.ndarray, trees: np.ndarray, flat: np.ndarray, frame: V
 def redraw_fire_step(look: np.ndarray, burning_before: np.ndarray, fire: FireState, frame: ViewFrame) -> None:
     """Redraw in ``look`` what a fire step changed: the trees of ``burning_before`` (K,) that burnt out, and
     the new ignitions of ``fire`` (the state after the step: age 0)."""
-    burnt = np.uint8(TreeState.BURNT)
-    ended = burning_before[fire.trees.reshape(-1).take(burning_before) == burnt]
-    paint_cells(look, ended, burnt, frame)
-    paint_cells(look, fire.burning[fire.age == 0], np.uint8(TreeState.BURNING), frame)
+    trees = fire.trees.reshape(-1)
+    ended = burning_before[trees.take(burning_before) == np.uint8(TreeState.BURNT)]
+    changed = np.concatenate([ended, fire.burning[fire.age == 0]])
+    paint_cells(look, changed, trees.take(changed), frame)
 
 
 def paint_cells(look: np.ndarray, flat: np.ndarray, state: np.ndarray | np.uint8, frame: ViewFrame) -> None:
@@ -177,9 +240,9 @@ def paint_cells(look: np.ndarray, flat: np.ndarray, state: np.ndarray | np.uint8
     if flat.size == 0:
         return
     cells = frame.cells
-    world, inside = np.divmod(flat.astype(np.int64), cells * cells)
+    world, inside = np.divmod(flat.astype(np.int64, copy=False), cells * cells)
     row, col = np.divmod(inside, cells)
-    target = tiled_offset(row, col, frame)
+    target = cell_offsets(row, col, look, frame)
     target += world * (frame.side * frame.side)
     look.reshape(-1)[target] = state + np.uint8(TREE_BASE)
 
@@ -197,21 +260,25 @@ def window_cells(world: np.ndarray, rows: np.ndarray, cols: np.ndarray, radius: 
 
 
 def look_cameras(position: np.ndarray, heading: np.ndarray, look: np.ndarray, frame: ViewFrame,
-                 facing: np.ndarray | None = None) -> np.ndarray:
+                 facing: np.ndarray | None = None, mixed: bool = True) -> np.ndarray:
     """(B, A, P, P, 3) float32 downward views of planes at ``position`` (B, A, 2) / ``heading`` (B, A) over
-    ``look`` (B, S / 8, S / 8, 8, 8), identical to :func:`.camera.cameras` over the trees and ground.
-    ``facing`` (B, A, 2) may give (cos, sin) of the headings when the caller has them."""
+    ``look`` (B worlds, either layout), identical to :func:`.camera.cameras` over the trees and ground.
+    ``facing`` (B, A, 2) may give (cos, sin) of the headings when the caller has them; ``mixed`` False
+    says that no pixel lies on a MIXED cell (every plane within ``frame.clear_m``), so none is looked for."""
     batch, agents = heading.shape
     pixels, area = frame.pixels, frame.side * frame.side
     rows, cols = _pixel_axes(position, heading, frame, facing)
-    cells = cell_of(np.add(rows[..., :, None], cols[..., None, :]), frame)  # (2, B, A, P, P): col, row
+    metres = np.add(rows[..., :, None], cols[..., None, :])  # (2, B, A, P, P): x, y
+    keep = mixed and metres.size <= KEEP_METRES_UP_TO  # else the mixed pixels' coordinates are formed again
+    cells = cell_of(metres, frame, keep=keep)  # col, row
     if batch * area >= 2**31:
         cells = cells.astype(np.int64)
-    flat = tiled_offset(cells[1], cells[0], frame)
+    flat = cell_offsets(cells[1], cells[0], look, frame)
     if batch > 1:
         flat += (np.arange(batch, dtype=flat.dtype) * flat.dtype.type(area))[:, None, None, None]
     index = look.reshape(-1).take(flat)
-    _classify_mixed(index, rows, cols, frame)
+    if mixed:
+        _classify_mixed(index, metres if keep else None, rows, cols, frame)
     return colours(index).reshape(batch, agents, pixels, pixels, 3)
 
 
@@ -221,33 +288,35 @@ def _pixel_axes(position: np.ndarray, heading: np.ndarray, frame: ViewFrame,
     y = rows[1, ..., r] + cols[1, ..., c].
 
     These are the exact path's float32 operations in its order, x = (px + forward * cos) + right * sin
-    and y = (py + forward * sin) - right * cos (adding -(right * cos) is subtracting it): the bracketed
-    part depends on the pixel row only, the rest on the column only, so one broadcast pass forms both.
+    and y = (py + forward * sin) - right * cos (adding -(right * cos) = (-right) * cos is subtracting it):
+    the bracketed part depends on the pixel row only, the rest on the column only, so one broadcast pass
+    forms both.
     """
     if facing is None:
         trig = np.stack([np.cos(heading), np.sin(heading)]).astype(np.float32)[..., None]  # (2, B, A, 1)
     else:
         trig = facing.transpose(2, 0, 1).astype(np.float32)[..., None]
     rows = position.transpose(2, 0, 1).astype(np.float32)[..., None] + frame.forward * trig
-    cols = frame.right * (trig[::-1] * _SIN_MINUS_COS)
+    cols = np.multiply(trig[::-1], frame.right_left)
     return rows, cols
 
 
-_SIN_MINUS_COS = np.array([1.0, -1.0], np.float32).reshape(2, 1, 1, 1)  # (sin, cos) -> (sin, -cos)
-
-
-def _classify_mixed(index: np.ndarray, rows: np.ndarray, cols: np.ndarray, frame: ViewFrame) -> None:
-    """Water ring or outside, by the exact test, for the pixels of ``index`` (B, A, P, P) on MIXED cells."""
+def _classify_mixed(index: np.ndarray, metres: np.ndarray | None, rows: np.ndarray, cols: np.ndarray,
+                    frame: ViewFrame) -> None:
+    """Water ring or outside, by the exact test, for the pixels of ``index`` (B, A, P, P) on MIXED cells:
+    on their coordinates ``metres`` (2, B, A, P, P) when given, else formed again from ``rows`` and ``cols``
+    as :func:`look_cameras` formed them."""
     (mixed,) = np.nonzero(index.reshape(-1) == MIXED)
     if mixed.size == 0:
         return
-    pixels = frame.pixels
-    camera, pixel = np.divmod(mixed, pixels * pixels)
-    row, col = np.divmod(pixel, pixels)
-    rows, cols = rows.reshape(2, -1, pixels), cols.reshape(2, -1, pixels)
-    x = rows[0, camera, row] + cols[0, camera, col]
-    y = rows[1, camera, row] + cols[1, camera, col]
-    inside = (np.abs(x) <= frame.border_half) & (np.abs(y) <= frame.border_half)
+    if metres is not None:
+        xy = np.take(metres.reshape(2, -1), mixed, axis=1)
+    else:
+        pixels = frame.pixels
+        row_of, col = np.divmod(mixed, pixels)  # row_of: camera * P + row
+        col_of = row_of - row_of % pixels + col  # camera * P + col
+        xy = np.take(rows.reshape(2, -1), row_of, axis=1) + np.take(cols.reshape(2, -1), col_of, axis=1)
+    inside = np.logical_and.reduce(np.abs(xy) <= frame.border_half, axis=0)
     index.reshape(-1)[mixed] = np.where(inside, np.uint8(WATER_RING), np.uint8(OUTSIDE))
 
 
@@ -286,6 +355,7 @@ def plane_cameras(position: np.ndarray, heading: np.ndarray, look: np.ndarray, t
     """(B, A, P, P, 3) float32 cameras: through ``look`` when every plane is within the frame's reach (planes
     stay within a step of the border, which the frame covers unless the border is very wide, see
     MAX_GROWTH), else by the exact path over trees and ground."""
-    if position.size == 0 or np.abs(position).max() <= frame.safe_m:
-        return look_cameras(position, heading, look, frame, facing)
+    far = np.abs(position).max() if position.size else 0.0
+    if far <= frame.safe_m:
+        return look_cameras(position, heading, look, frame, facing, mixed=far > frame.clear_m)
     return cameras(position, heading, trees, ground, offsets, frame.island_half_m, frame.border_half_m)
