@@ -15,9 +15,9 @@ import numpy as np
 
 from ..procgen.forest import ForestSpec, IgnitionSpec, cell_centre_xy, ignition_mask, load_forest_preset, place_forest
 from ..procgen.terrain import TerrainSpec, generate_terrain, terrain_spec_for_level
-from ..procgen.weather import WeatherSpec, WeatherState, load_weather_preset, weather_at
+from ..procgen.weather import WeatherSpec, WeatherState, load_weather_preset, weather_fields
 from ..batching import put_worlds, replace_worlds, select_worlds
-from ..fire import FireState, TreeState, fire_reset, fire_reset_where
+from ..fire import FireState, fire_put_worlds, fire_reset
 from ..procgen.weather import weather_reset
 from ..procgen.wind import WindSpec, WindState, wind_reset
 from ..registry import GeneratorSlot
@@ -102,13 +102,15 @@ class IslandMaps:
 
 @dataclass(frozen=True)
 class IslandStart:
-    """The island part of new episodes: maps, fire, wind, weather and the weather grid (B, G, G, 3)."""
+    """The island part of new episodes: maps, fire, wind, weather and the weather grid (B, G, G, 3), and the
+    weather (B, N, 3) float32 at the N probe points :func:`start_islands` was asked for (None without)."""
 
     maps: IslandMaps
     fire: FireState
     wind: WindState
     weather: WeatherState
     conditions: np.ndarray
+    probe_weather: np.ndarray | None = None
 
 
 @dataclass(frozen=True)
@@ -140,14 +142,21 @@ def draw_maps(rng: np.random.Generator, count: int, specs: IslandSpecs) -> Islan
     return IslandMaps(*(np.stack(part) for part in zip(*drawn)))
 
 
-def start_islands(rng: np.random.Generator, count: int, specs: IslandSpecs, maps: IslandMaps | None) -> IslandStart:
-    """New episodes for ``count`` worlds: wind, weather, then new islands (or the kept ``maps``), then the fire."""
+def start_islands(rng: np.random.Generator, count: int, specs: IslandSpecs, maps: IslandMaps | None,
+                  probes: np.ndarray | None = None) -> IslandStart:
+    """New episodes for ``count`` worlds: wind, weather, then new islands (or the kept ``maps``), then the fire.
+
+    ``probes`` (N, 2) metres: points whose weather is sampled with the weather grid's (one evaluation).
+    """
     wind = wind_reset(rng, count, specs.wind)
     weather = weather_reset(rng, count, specs.weather)
-    conditions = sample_conditions(weather, specs.weather, specs.half_extent_m, specs.weather_cells)
+    grid = weather_grid_points(specs.half_extent_m, specs.weather_cells)
+    fields = sample_points(weather, specs.weather, grid if probes is None else np.concatenate([grid, probes]))
+    conditions = fields[:, :len(grid)].reshape(count, specs.weather_cells, specs.weather_cells, 3)
     maps = draw_maps(rng, count, specs) if maps is None else maps
     ignite = ignite_worlds(maps.exists, maps.village, conditions, specs.forest, specs.ignition)
-    return IslandStart(maps, fire_reset(maps.exists, ignite), wind, weather, conditions)
+    return IslandStart(maps, fire_reset(maps.exists, ignite), wind, weather, conditions,
+                       None if probes is None else fields[:, len(grid):])
 
 
 def kept_maps(maps: IslandMaps, mask: np.ndarray, redraw: str) -> IslandMaps | None:
@@ -162,8 +171,7 @@ def restart_islands(state: Any, mask: np.ndarray, fresh: Any, kept: IslandMaps |
 
     The fire's tree grid is updated in place (see hivex_dsl.fire), so ``state`` is used up.
     """
-    trees = fresh.fire.trees
-    fire = fire_reset_where(state.fire, mask, trees != TreeState.NONE, trees == TreeState.BURNING)
+    fire = fire_put_worlds(state.fire, mask, fresh.fire)
     weather = replace(state.weather, offsets=put_worlds(state.weather.offsets, mask, fresh.weather.offsets),
                       perm=put_worlds(state.weather.perm, mask, fresh.weather.perm, axis=1),
                       grads=put_worlds(state.weather.grads, mask, fresh.weather.grads, axis=1))
@@ -223,12 +231,10 @@ def weather_reader(weather: WeatherState, spec: WeatherSpec, half_extent_m: floa
         centres = weather_grid_points(half_extent_m, cells)
         points = np.broadcast_to(centres[0], (batch, int(count.max()), 2)).copy()  # unused slots: any point
         points[owner, slot] = centres[cell]
-        fields = weather_at(weather, points, spec)
-        values = np.stack([fields[name][owner, slot] for name in ("temperature", "humidity", "overcast")],
-                          axis=-1).astype(np.float32)
+        values = weather_fields(weather, points, spec)[:, owner, slot].astype(np.float32)  # (3, K)
         at = (np.cumsum(asked) - 1)[key]  # position of each query's cell among the wanted ones
-        values = values[at]
-        return values[:, 0], values[:, 1], values[:, 2]
+        values = values[:, at]
+        return values[0], values[1], values[2]
 
     return read
 
@@ -242,11 +248,14 @@ def weather_grid_points(half_extent_m: float, cells: int) -> np.ndarray:
 
 def sample_conditions(weather: WeatherState, spec: WeatherSpec, half_extent_m: float, cells: int) -> np.ndarray:
     """(B, G, G, 3) float32 temperature, humidity, overcast at the weather grid centres of every world."""
-    points = weather_grid_points(half_extent_m, cells)
+    return sample_points(weather, spec, weather_grid_points(half_extent_m, cells)).reshape(-1, cells, cells, 3)
+
+
+def sample_points(weather: WeatherState, spec: WeatherSpec, points: np.ndarray) -> np.ndarray:
+    """(B, N, 3) float32 temperature, humidity, overcast at the same finite ``points`` (N, 2) metres of every world."""
     batch = weather.offsets.shape[0]
-    fields = weather_at(weather, np.broadcast_to(points, (batch,) + points.shape), spec)
-    stacked = np.stack([fields["temperature"], fields["humidity"], fields["overcast"]], axis=-1)
-    return stacked.reshape(batch, cells, cells, 3).astype(np.float32)
+    fields = weather_fields(weather, np.broadcast_to(points, (batch,) + points.shape), spec)  # (3, B, N) float64
+    return fields.transpose(1, 2, 0).astype(np.float32, order="C")
 
 
 def grid_lookup(cells_of_forest: int, weather_cells: int) -> np.ndarray:

@@ -11,13 +11,14 @@ from .engine import (
     cell_coords,
     cell_xy,
     fire_copy,
+    fire_put_worlds,
     fire_reset,
     fire_reset_where,
     length_in_cells,
 )
 from .factors import FactorGrid, count_factors, grid_cell_table
 from .search import closest_burning
-from .spread import Conditions, fire_step
+from .spread import Conditions, fire_step, fire_step_unchecked
 from .water import douse
 
 __all__ = [
@@ -33,9 +34,11 @@ __all__ = [
     "count_factors",
     "douse",
     "fire_copy",
+    "fire_put_worlds",
     "fire_reset",
     "fire_reset_where",
     "fire_step",
+    "fire_step_unchecked",
     "grid_cell_table",
     "length_in_cells",
 ]

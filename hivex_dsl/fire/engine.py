@@ -26,6 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 from pydantic import Field
 
+from ..batching import put_worlds
 from ..procgen.forest import ForestSpec
 from ..spec.common import StrictModel
 
@@ -214,6 +215,32 @@ def fire_reset_where(state: FireState, mask: np.ndarray, exists: np.ndarray, ign
                      quiet=np.where(mask, 0, state.quiet).astype(np.int32), out=state.out & ~mask,
                      ignited=ignited, burnt_out=burnt_out,
                      spent=np.concatenate([state.spent[keep], np.zeros(len(new), np.uint8)]))
+
+
+def fire_put_worlds(state: FireState, mask: np.ndarray, fresh: FireState) -> FireState:
+    """``state`` with the worlds where ``mask`` (B,) bool holds taken from ``fresh`` (their M fires, in order).
+
+    Writes ``state.trees`` in place. The other worlds keep everything, their burning trees keep their
+    order; the fresh worlds' burning trees follow them in ``fresh``'s order. For a ``fresh`` from
+    :func:`fire_reset` this is ``fire_reset_where(state, mask, exists, ignite)`` with that reset's grids,
+    without building the tree grids a second time.
+    """
+    mask = np.asarray(mask)
+    if mask.dtype != np.bool_ or mask.shape != (state.batch,):
+        raise ValueError(f"mask must be a bool array of shape ({state.batch},), got {mask.dtype} {mask.shape}")
+    worlds = np.flatnonzero(mask)
+    if fresh.trees.shape != (len(worlds),) + state.trees.shape[1:]:
+        raise ValueError(f"fresh must hold the {len(worlds)} masked worlds of shape {state.trees.shape[1:]}, "
+                         f"got trees {fresh.trees.shape}")
+    area = state.cells * state.cells
+    state.trees[worlds] = fresh.trees
+    keep = ~mask[state.burning // area]
+    fresh_world, cell = np.divmod(fresh.burning, area)
+    return FireState(trees=state.trees, burning=np.concatenate([state.burning[keep], worlds[fresh_world] * area + cell]),
+                     age=np.concatenate([state.age[keep], fresh.age]), quiet=put_worlds(state.quiet, mask, fresh.quiet),
+                     out=put_worlds(state.out, mask, fresh.out), ignited=put_worlds(state.ignited, mask, fresh.ignited),
+                     burnt_out=put_worlds(state.burnt_out, mask, fresh.burnt_out),
+                     spent=np.concatenate([state.spent[keep], fresh.spent]))
 
 
 def fire_copy(state: FireState) -> FireState:

@@ -46,6 +46,6 @@ class FactorGrid:
     def at(self, flat: np.ndarray, area: int) -> np.ndarray:
         """(N,) int8 factor count at the flat forest cells ``flat`` (N,) of worlds with ``area`` cells each."""
         if len(self.counts) == 1:  # one world: flat indices are its cells
-            return self.counts[0].take(self.cell_table.take(flat))
+            return self.counts.take(self.cell_table.take(flat))
         world, cell = np.divmod(flat, area)
         return self.counts.take(world * self.counts.shape[1] + self.cell_table.take(cell))

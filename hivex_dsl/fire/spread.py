@@ -27,7 +27,7 @@ from .factors import FactorGrid
 Conditions = Callable[[np.ndarray, np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray, np.ndarray]]
 FACTORS = 5
 CONE_TOLERANCE_RAD = 1e-9  # "within" is inclusive: a diagonal exactly 45 degrees off the wind counts
-FLOAT64 = np.dtype(np.float64)
+FLOAT64, INT32, BOOL = np.dtype(np.float64), np.dtype(np.int32), np.dtype(np.bool_)
 SHORT_LIST = 4096  # burning trees up to which spread works in int64 (see spread)
 
 
@@ -185,9 +185,9 @@ def spread(state: FireState, rng: np.random.Generator, spec: FireSpec, downwind_
     """Sorted flat indices (I,) int64 of the existing trees the burning trees set alight this step, and
     the burning trees' ``spent`` (K,) uint8 updated with the blocks found without existing trees.
 
-    ``height`` is the flat (B * C * C,) cell height. Draws one float32 uniform per (burning tree,
-    existing target) pair, in burning-list order, then row-major block order. Trees known to be spent
-    have no such pair, so skipping them changes no draw.
+    ``height`` holds the cell heights, (B, C, C) or flat, read by flat index. Draws one float32 uniform
+    per (burning tree, existing target) pair, in burning-list order, then row-major block order. Trees
+    known to be spent have no such pair, so skipping them changes no draw.
     """
     batch, cells = state.trees.shape[:2]
     radius = spec.spread_radius_cells
@@ -248,7 +248,16 @@ def fire_step(state: FireState, rng: np.random.Generator, spec: FireSpec, downwi
     """
     trees = state.trees
     downwind = _checked_wind(downwind_rad, trees.shape[0])
-    new, spent = spread(state, rng, spec, downwind, _checked_height(cell_height, trees.shape), conditions)
+    return fire_step_unchecked(state, rng, spec, downwind, _checked_height(cell_height, trees.shape), conditions)
+
+
+def fire_step_unchecked(state: FireState, rng: np.random.Generator, spec: FireSpec, downwind_rad: np.ndarray,
+                        cell_height: np.ndarray, conditions: Conditions | FactorGrid) -> FireState:
+    """:func:`fire_step` without its argument checks, for a simulator whose arguments are valid by
+    construction: ``downwind_rad`` a finite (B,) float64 array, ``cell_height`` a numeric (B, C, C) array
+    (C-contiguous, else copied each call) of the fire's shape. Other arguments are undefined behaviour."""
+    trees = state.trees
+    new, spent = spread(state, rng, spec, downwind_rad, cell_height, conditions)
     ended, burning, age, spent = _burn_out(state, spent, spec.burn_steps)
     flat = trees.reshape(-1)
     flat[ended] = BURNT
@@ -277,11 +286,13 @@ def _tally(state: FireState, ignitions: int, burnt: int, burning: np.ndarray, qu
 def _tally_one(state: FireState, ignitions: int, burnt: int, burning: np.ndarray, quiet_steps_out: int,
                new: np.ndarray, ended: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """:func:`_tally` of one world, in Python numbers (tests/fire/test_fire_fast_paths.py compares them)."""
-    was_out, quiet = bool(state.out[0]), int(state.quiet[0])
-    if not was_out:
-        quiet = 0 if ignitions else quiet + 1
+    was_out, was_quiet = bool(state.out[0]), int(state.quiet[0])
+    quiet = was_quiet if was_out else 0 if ignitions else was_quiet + 1
     out = was_out or (quiet >= quiet_steps_out and len(burning) == 0)
-    return (np.array([quiet], np.int32), np.array([out]), np.array([ignitions], np.int64),
+    # an unchanged counter or flag keeps its array (the state passed in is consumed)
+    return (state.quiet if quiet == was_quiet and state.quiet.dtype == INT32 else np.array([quiet], np.int32),
+            state.out if out == was_out and state.out.dtype == BOOL else np.array([out]),
+            np.array([ignitions], np.int64),
             np.array([burnt], np.int64))
 
 
@@ -291,8 +302,8 @@ def _burn_out(state: FireState, spent: np.ndarray, burn_steps: int
     one) and ``spent`` (K,) of the others, in list order)."""
     age = state.age + 1  # int32: NEP 50
     done = age >= burn_steps
-    count = int(np.count_nonzero(done))
-    if np.logical_and.reduce(done[:count]):  # the oldest lead a list kept in ignition order: slices, no gathers
+    count = np.count_nonzero(done)
+    if np.count_nonzero(done[:count]) == count:  # the oldest lead a list kept in ignition order: slices, no gathers
         return state.burning[:count], state.burning[count:], age[count:], spent[count:]
     keep = ~done
     return state.burning[done], state.burning[keep], age[keep], spent[keep]

@@ -11,13 +11,16 @@ moves with the wind. Lengths are metres, angles radians (the direction the wind 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 from typing import Any, Literal
 
 import numpy as np
 from pydantic import Field
 
+from ..batching import assemble
+from ..numeric import clamp
 from ..spec.common import SCHEMA_VERSION, StrictModel
-from .noise import clamp, draw_lattice, fractal_unchecked
+from .noise import _CORNER_X, _CORNER_Y, _RANGE_SCALE, _fade, draw_lattice, octave_frequencies
 from .presets import load_preset
 
 PRESET_FILE = "weather.yaml"
@@ -132,18 +135,123 @@ def weather_step(state: WeatherState, wind_main: np.ndarray, spec: WeatherSpec) 
     heading = np.empty(state.offsets.shape)
     np.cos(angle, out=heading[:, 0])
     np.sin(angle, out=heading[:, 1])
-    return WeatherState(perm=state.perm, grads=state.grads, offsets=state.offsets + spec.drift_m_per_step * heading)
+    heading *= spec.drift_m_per_step
+    heading += state.offsets
+    # the lattice is the valid state's and the offsets keep their shape: no checks to repeat
+    return assemble(WeatherState, perm=state.perm, grads=state.grads, offsets=heading)
 
 
 def weather_at(state: WeatherState, points: np.ndarray, spec: WeatherSpec) -> dict[str, np.ndarray]:
     """Weather at ``points`` (B, N, 2) metres: {temperature, humidity, overcast} -> (B, N) in [0, 1]."""
-    fields, batch = len(FIELDS), state.offsets.shape[0]
-    points = _check_batch("points", points, batch, (-1, 2))
+    points = _check_batch("points", points, state.offsets.shape[0], (-1, 2))
+    return dict(zip(FIELDS, weather_fields(state, points, spec)))
+
+
+def weather_fields(state: WeatherState, points: np.ndarray, spec: WeatherSpec) -> np.ndarray:
+    """(F, B, N) float64 fields in :data:`FIELDS` order at finite ``points`` (B, N, 2) metres (unchecked).
+
+    Each field is the fractal Perlin noise of :func:`~hivex_dsl.procgen.noise.fractal_unchecked` on its own
+    lattice, with the same floating-point operations; the fields share their sample points, so where the
+    points fall in the lattice (cells, offsets, fades) is worked out once for all three. Arrays keep the x/y
+    and octave axes first, so every operation runs along the long (B, N) axes.
+    """
     moved = (points - state.offsets[:, None, :]) / spec.noise_scale_m
-    shape = (fields * batch, points.shape[1])
-    x = np.broadcast_to(moved[None, ..., 0], (fields,) + moved.shape[:2]).reshape(shape)
-    y = np.broadcast_to(moved[None, ..., 1], (fields,) + moved.shape[:2]).reshape(shape)
-    noise = fractal_unchecked(state.perm.reshape(fields * batch, -1), state.grads.reshape(fields * batch, -1, 2),
-                      x, y, spec.octaves, spec.persistence, spec.lacunarity).reshape((fields,) + moved.shape[:2])
-    return {name: clamp(getattr(spec, f"{name}_mean") + getattr(spec, f"{name}_contrast") * noise[k], 0.0, 1.0)
-            for k, name in enumerate(FIELDS)}
+    frequencies = octave_frequencies(spec.octaves, spec.lacunarity)  # (K, 1)
+    lattice = moved.transpose(2, 0, 1)[:, None] * frequencies[..., None]  # (2, K, B, N): x, y of every octave
+    lower = np.floor(lattice)
+    gx, gy = _corner_gradients(state.perm, state.grads, lower)  # (4, F, K, B, N) each
+    noise = _sum_octaves(_blend(gx, gy, lattice - lower), spec.persistence)  # (F, B, N)
+    means, contrasts = _field_constants(*(getattr(spec, f"{name}_{part}") for part in ("mean", "contrast")
+                                          for name in FIELDS))
+    return clamp(means + contrasts * noise, 0.0, 1.0)
+
+
+@lru_cache(maxsize=64)
+def _field_constants(*values: float) -> tuple[np.ndarray, np.ndarray]:
+    """(F, 1, 1) float64 means and contrasts of the fields (``values``: the F means, then the F contrasts),
+    shaped to scale (F, B, N) noise; read-only."""
+    means, contrasts = np.array(values).reshape(2, -1, 1, 1)
+    means.flags.writeable = contrasts.flags.writeable = False
+    return means, contrasts
+
+
+@lru_cache(maxsize=64)
+def _lattice_rows(fields: int, batch: int, period: int) -> tuple[np.ndarray, np.ndarray]:
+    """(F, 1, B, 1) int64 offsets of each field and world's rows in the flat perm (2P per row) and grads
+    (P per row) tables, shaped for (F, K, B, N) lookups; read-only."""
+    rows = np.arange(fields * batch).reshape(fields, 1, batch, 1) * period
+    perm_rows, grad_rows = 2 * rows, rows
+    perm_rows.flags.writeable = grad_rows.flags.writeable = False
+    return perm_rows, grad_rows
+
+
+_CORNERS_X = _CORNER_X.reshape(4, 1, 1, 1, 1)  # x, y of the corners (0, 0), (1, 0), (0, 1), (1, 1)
+_CORNERS_Y = _CORNER_Y.reshape(4, 1, 1, 1, 1)
+
+
+def _corner_gradients(perm: np.ndarray, grads: np.ndarray, lower: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Gradient components (4, F, K, B, N) at the corners (0, 0), (1, 0), (0, 1), (1, 1) of the lattice cells
+    with lower-left corners ``lower`` (2, K, B, N), from every field's lattice perm (F, B, 2P), grads
+    (F, B, P, 2): :func:`~hivex_dsl.procgen.noise.corner_gradients` with the cell indices computed once."""
+    fields, batch, period = grads.shape[:3]
+    perm_rows, grad_rows = _lattice_rows(fields, batch, period)
+    cell = _cell_indices(lower, period)  # (2 lower/next, 2 x/y, K, B, N)
+    flat_perm = perm.reshape(-1)
+    hashed_x = flat_perm.take(perm_rows + cell[:, None, 0])  # (2 x, F, K, B, N)
+    hashed_x += perm_rows
+    # (2 y, 2 x, F, K, B, N) -> (4, ...): corner 2 * y + x, the order (0, 0), (1, 0), (0, 1), (1, 1)
+    corner = (hashed_x[None] + cell[:, None, None, 1]).reshape((4,) + hashed_x.shape[1:])
+    gradient = flat_perm.take(corner)
+    gradient += grad_rows
+    both = grads.reshape(-1, 2).take(gradient, axis=0)
+    return both[..., 0], both[..., 1]
+
+
+def _cell_indices(lower: np.ndarray, period: int) -> np.ndarray:
+    """(2, ...) int64 lattice indices mod ``period`` of the lower corners ``lower`` (...) (integral floats),
+    then of the next cells: ``np.mod(lower, period).astype(np.int64)`` and that plus one, mod ``period``.
+
+    Integral floats within +/-2^62 convert to int64 exactly, and integer remainders (a mask for a power of
+    two) are the float ones, only much cheaper on many points; beyond that the float remainder is taken.
+    """
+    cell = np.empty((2,) + lower.shape, np.int64)
+    if np.maximum.reduce(lower, axis=None) < 2.0**62 and np.minimum.reduce(lower, axis=None) > -(2.0**62):
+        cell[0] = lower  # exact: an integral float of this size
+        _remainder(cell[0], period)
+    else:
+        cell[0] = np.mod(lower, period)
+    np.add(cell[0], 1, out=cell[1])
+    _remainder(cell[1], period)
+    return cell
+
+
+def _remainder(values: np.ndarray, period: int) -> None:
+    """``values %= period`` in place for int64 ``values`` (>= 0 for either sign, as NumPy's %): a mask when
+    ``period`` is a power of two (two's complement makes it the same), far cheaper than a division."""
+    if period & (period - 1) == 0:
+        np.bitwise_and(values, period - 1, out=values)
+    else:
+        np.remainder(values, period, out=values)
+
+
+def _blend(gx: np.ndarray, gy: np.ndarray, offset: np.ndarray) -> np.ndarray:
+    """(F, K, B, N) Perlin noise from corner gradients (4, F, K, B, N) and offsets (2, K, B, N) within the
+    cells: :func:`~hivex_dsl.procgen.noise.blend_corners`' operations."""
+    dots = gx * (offset[0] - _CORNERS_X)
+    dots += gy * (offset[1] - _CORNERS_Y)
+    fade = _fade(offset)
+    left, right = dots[0::2], dots[1::2]  # corners (0, y) and (1, y) for y = 0, 1
+    across = left + fade[0] * (right - left)
+    blended = across[0] + fade[1] * (across[1] - across[0])
+    return clamp(_RANGE_SCALE * blended, -1.0, 1.0)
+
+
+def _sum_octaves(layered: np.ndarray, persistence: float) -> np.ndarray:
+    """(F, K, ...) octaves -> (F, ...) amplitude-weighted mean: :func:`~hivex_dsl.procgen.noise.sum_octaves`."""
+    total = layered[:, 0]
+    amplitude_sum = 1.0
+    for k in range(1, layered.shape[1]):  # octaves only, in order
+        amplitude = persistence**k
+        total = total + amplitude * layered[:, k]
+        amplitude_sum += amplitude
+    return clamp(total / amplitude_sum, -1.0, 1.0)

@@ -2,8 +2,8 @@
 
 The towers' closest fire, kept per cohort of trees that ignited together (.sight), is closest_burning's
 answer after every step; its one-world path matches the many-world one; the weather sampled in one call
-matches island.sample_conditions and the towers' own sample; tower performance asked three times per step
-is computed once, with fewer operations than the paper's formula but the same floats.
+matches island.sample_conditions and the towers' own sample; tower performance, which all three terms read,
+is computed once per sighting and kept with it, with fewer operations than the paper's formula but the same floats.
 """
 
 from __future__ import annotations
@@ -117,24 +117,30 @@ def test_weather_sampled_in_one_call_matches_the_separate_samples():
                                                                       p.island_half_extent_m, p.weather_grid_cells))
 
 
-def test_tower_performance_is_computed_once_per_sighting_and_params():
+def paper_performance(sighting, p) -> np.ndarray:
+    """P by the paper's two functions, idle where no fire is seen."""
+    seen = sighting.seen
+    return np.where(seen, broken_power_law(remapped_distance(np.where(seen, sighting.distance, 0.0),
+                                                             sighting.approaching, p.distance_threshold_m),
+                                           p.power_law_s, p.power_law_a), p.idle_performance)
+
+
+def test_tower_performance_is_computed_once_per_sighting_and_kept_with_it():
     sim = simulator()
     rng = np.random.default_rng(7)
-    state = sim.reset(rng, 2)
-    for _ in range(40):
-        state, _ = sim.step(state, np.zeros((2, 9, 4), np.int64), rng)
+    state = sim.reset(rng, 3)
     p = sim.params
-    first = tower_performance(state, p)
-    assert tower_performance(state, p) is first and not first.flags.writeable
-    sighting = state.sighting
-    expected = np.where(sighting.seen, broken_power_law(
-        remapped_distance(np.where(sighting.seen, sighting.distance, 0.0), sighting.approaching,
-                          p.distance_threshold_m), p.power_law_s, p.power_law_a), p.idle_performance)
-    np.testing.assert_array_equal(first, expected)
+    for step in range(40):
+        state, _ = sim.step(state, np.zeros((3, 9, 4), np.int64), rng)
+        if step == 25:  # the reset worlds' sighting brings its own P
+            state = sim.reset_where(state, np.array([True, False, True]), rng)
+        sighting = state.sighting
+        assert tower_performance(state, p) is sighting.performance  # the three terms read what the step computed
+        np.testing.assert_array_equal(sighting.performance, paper_performance(sighting, p))
+    bare = replace(state, sighting=replace(sighting, performance=None))  # as a hand-made sighting: computed here
+    np.testing.assert_array_equal(tower_performance(bare, p), sighting.performance)
     other = p.model_copy(update={"idle_performance": 0.5})
-    assert tower_performance(state, other) is not first  # other params: computed again
-    moved = replace(state, sighting=replace(sighting, approaching=~sighting.approaching & sighting.seen))
-    assert tower_performance(moved, p) is not first
+    np.testing.assert_array_equal(tower_performance(bare, other), paper_performance(sighting, other))
 
 
 @settings(max_examples=200, deadline=None)

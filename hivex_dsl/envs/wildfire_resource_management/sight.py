@@ -35,41 +35,43 @@ def square_table(centres: np.ndarray, half: float, cells: int) -> np.ndarray:
 
 
 def key_tables(row_table: np.ndarray, col_table: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(C, A) complex128 tables whose sum for row r and column c is the key of cell r * C + c: the
-    :func:`square_table` terms as real parts, r * C and c as imaginary parts (:data:`OUTSIDE` where the
-    term is inf, so every key outside the box has a negative imaginary part)."""
+    """(A, C) complex128 tables (tower-major) whose sum for row r and column c is the key of cell r * C + c:
+    the :func:`square_table` (C, A) terms as real parts, r * C and c as imaginary parts (:data:`OUTSIDE`
+    where the term is inf, so every key outside the box has a negative imaginary part). Tower-major, a
+    gather of N cells gives (A, N) keys whose minimum runs along contiguous memory."""
     cells = len(row_table)
     band = np.arange(cells, dtype=np.float64)[:, None]
     rows = row_table + 1j * np.where(row_table < np.inf, band * cells, OUTSIDE)
     cols = col_table + 1j * np.where(col_table < np.inf, band, OUTSIDE)
+    rows, cols = np.ascontiguousarray(rows.T), np.ascontiguousarray(cols.T)
     rows.flags.writeable = cols.flags.writeable = False
     return rows, cols
 
 
 def _keys(cell: np.ndarray, cells: int, row_keys: np.ndarray, col_keys: np.ndarray) -> np.ndarray:
-    """(N, A) complex128 keys of cells row * C + col (N,) for the A towers of :func:`key_tables`."""
+    """(A, N) complex128 keys of cells row * C + col (N,) for the A towers of :func:`key_tables`."""
     row, col = np.divmod(cell, cells)
-    keys = row_keys.take(row, axis=0)
-    keys += col_keys.take(col, axis=0)
+    keys = row_keys.take(row, axis=1)
+    keys += col_keys.take(col, axis=1)
     return keys
 
 
 def nearest_keys(flat: np.ndarray, batch: int, cells: int, row_keys: np.ndarray, col_keys: np.ndarray
                  ) -> np.ndarray:
     """(B, A) complex128 key of each tower's nearest cell among burning cells ``flat`` (N,), given in
-    ascending flat order; :data:`NONE` where no cell lies in the box. ``row_keys``/``col_keys`` (C, A)
+    ascending flat order; :data:`NONE` where no cell lies in the box. ``row_keys``/``col_keys`` (A, C)
     from :func:`key_tables` (the same towers in every world)."""
-    towers = row_keys.shape[1]
+    towers = row_keys.shape[0]
     if len(flat) == 0:
         return np.full((batch, towers), NONE)
     if batch == 1:  # one world: flat indices are its cells
-        return np.minimum.reduce(_keys(flat, cells, row_keys, col_keys), axis=0)[None]
+        return np.minimum.reduce(_keys(flat, cells, row_keys, col_keys), axis=1)[None]
     world, cell = np.divmod(flat, cells * cells)
     count = np.bincount(world, minlength=batch)
     worlds = np.flatnonzero(count)
     keys = np.full((batch, towers), NONE)
     keys[worlds] = np.minimum.reduceat(_keys(cell, cells, row_keys, col_keys), (np.cumsum(count) - count)[worlds],
-                                       axis=0)
+                                       axis=1).T
     return keys
 
 
@@ -90,7 +92,7 @@ def nearest_by_age(burning: np.ndarray, age: np.ndarray, slots: int, batch: int,
                    col_keys: np.ndarray) -> np.ndarray:
     """Cohort keys (B, A, S) complex128 of a whole burning list (K,) with ages (K,) in [0, S): slot j
     holds the key of the nearest tree of age j (:func:`nearest_keys`)."""
-    keys = np.full((batch, row_keys.shape[1], slots), NONE)
+    keys = np.full((batch, row_keys.shape[0], slots), NONE)
     for years in np.unique(age):  # one cohort at a reset
         keys[..., int(years)] = nearest_keys(np.sort(burning[age == years]), batch, cells, row_keys, col_keys)
     return keys

@@ -14,17 +14,19 @@ from dataclasses import replace
 import numpy as np
 from gymnasium import spaces
 
-from ...fire import FactorGrid, count_factors, fire_step, grid_cell_table
-from ...procgen.weather import weather_at, weather_step
-from ...procgen.wind import wind_step
-from ...procgen.noise import clamp
-from ...runtime import StepOutcome
 from ...batching import assemble, read_only, replace_worlds
-from ..island import IslandMaps, IslandSpecs, grid_lookup, restart_where, start_islands, weather_grid_points
+from ...fire import FactorGrid, count_factors, fire_step_unchecked, grid_cell_table
+from ...numeric import clamp
+from ...procgen.weather import weather_step
+from ...procgen.wind import wind_step
+from ...runtime import StepOutcome
+from ..island import (IslandMaps, IslandSpecs, grid_lookup, restart_where, sample_points, start_islands,
+                      weather_grid_points)
 from .params import WildfireResourceParams
 from .resources import (MAX_SUPPORT_TENTHS, TARGETS_PER_AGENT, TENTHS, TOWERS, apply_actions, grid_offsets,
                         initial_resources, total_support)
 from .sight import age_cohorts, key_cells, key_tables, nearest_by_age, nearest_keys, square_table
+from .terms import performance_of
 from .types import Sighting, WildfireResourceState
 
 FRAME = 8  # values of one observation stack
@@ -72,6 +74,7 @@ class WildfireResourceSimulator:
         self.tower_cells = np.clip(np.floor((self.towers + half) / self.cell_m).astype(np.int64), 0, cells - 1)
         self.weather_cells = grid_cell_table(grid_lookup(cells, p.weather_grid_cells), p.weather_grid_cells)
         self._first_cell_cache: dict[int, np.ndarray] = {}
+        self._nothing_cache: dict[int, tuple[np.ndarray, np.ndarray]] = {}
         self._last_grid: FactorGrid | None = None
         self.all_towers = np.ones((1, self.agents), bool)
         # the weather grid's centres, then the towers: every point the weather is sampled at on a refresh
@@ -85,10 +88,10 @@ class WildfireResourceSimulator:
     def _fresh(self, rng: np.random.Generator, batch: int, maps: IslandMaps | None) -> WildfireResourceState:
         """``batch`` new episodes: on new islands, or on the given ``maps`` (kept islands) when not None."""
         p = self.params
-        island = start_islands(rng, batch, self.island, maps)
+        island = start_islands(rng, batch, self.island, maps, probes=self.towers)
         maps, fire, wind, weather, conditions = island.maps, island.fire, island.wind, island.weather, island.conditions
         tower_ground = maps.height[:, self.tower_cells[:, 1], self.tower_cells[:, 0]]
-        tower_weather = self._tower_weather(weather)
+        tower_weather = island.probe_weather
         sighting = self._sight(fire, maps.height, tower_ground, None)
         allocation, budget = initial_resources(batch, self.agents, p.initial_self_tenths)
         support = total_support(allocation)
@@ -127,17 +130,20 @@ class WildfireResourceSimulator:
             factors = count_factors(conditions, p)
         fire, sighting, was_out = state.fire, state.sighting, state.fire.out
         if tick % p.fire_step_interval == 0:
-            fire = fire_step(fire, rng, p, wind.main, state.maps.height, self._factor_grid(factors))
+            fire = fire_step_unchecked(fire, rng, p, wind.main, state.maps.height, self._factor_grid(factors))
             sighting = self._sight(fire, state.maps.height, state.tower_ground, state.sighting)
-        went_out = fire.out & ~was_out
+        if fire.out is was_out:  # no world's fire changed state (the one-world fire step keeps the array)
+            went_out, every_tower = self._nothing(len(budget))
+        else:
+            went_out = fire.out & ~was_out
+            every_tower = went_out[:, None] & self.all_towers  # (B, A): the event concerns every tower of the world
         new = assemble(WildfireResourceState,
             maps=state.maps, fire=fire, wind=wind, weather=weather, conditions=conditions, fire_factors=factors,
             tick=tick, tower_ground=state.tower_ground, tower_weather=tower_weather, sighting=sighting,
             allocation=allocation, budget=budget, support=support, impossible=impossible,
             impossible_total=state.impossible_total + impossible,
             frame=self._frame(sighting, tower_weather, support, budget, state.frame), fire_went_out=went_out)
-        every_tower = went_out[:, None] & self.all_towers  # (B, A): the event concerns every tower of the world
-        return new, StepOutcome(terminated=np.zeros(budget.shape, bool), events={"fire_out": every_tower})
+        return new, StepOutcome(terminated=self._nothing(len(budget))[1], events={"fire_out": every_tower})
 
     def step_info(self, state: WildfireResourceState) -> dict[str, np.ndarray]:
         """(B, A) counts of impossible adds or subtracts (no-ops): this step and so far this episode."""
@@ -152,43 +158,49 @@ class WildfireResourceSimulator:
 
     def _tower_weather(self, weather) -> np.ndarray:
         """(B, A, 3) float32 temperature, humidity, overcast at the towers."""
-        batch = weather.offsets.shape[0]
-        at = weather_at(weather, np.broadcast_to(self.towers, (batch,) + self.towers.shape), self.weather_spec)
-        return np.stack([at["temperature"], at["humidity"], at["overcast"]], axis=-1).astype(np.float32)
+        return sample_points(weather, self.weather_spec, self.towers)
 
     def _sample_weather(self, weather) -> tuple[np.ndarray, np.ndarray]:
         """(conditions (B, G, G, 3), tower weather (B, A, 3)) float32, as island.sample_conditions and
-        _tower_weather give them, from one weather_at call (the fields are sampled point by point)."""
+        _tower_weather give them, from one weather evaluation (the fields are sampled point by point)."""
         batch, grid = weather.offsets.shape[0], self.params.weather_grid_cells
-        points = np.broadcast_to(self.weather_points, (batch,) + self.weather_points.shape)
-        at = weather_at(weather, points, self.weather_spec)
-        fields = np.stack([at["temperature"], at["humidity"], at["overcast"]], axis=-1).astype(np.float32)
-        conditions = np.ascontiguousarray(fields[:, :grid * grid]).reshape(batch, grid, grid, 3)
-        return conditions, np.ascontiguousarray(fields[:, grid * grid:])
+        fields = sample_points(weather, self.weather_spec, self.weather_points)
+        return fields[:, :grid * grid].reshape(batch, grid, grid, 3), fields[:, grid * grid:]
 
     def _sight(self, fire, height: np.ndarray, tower_ground: np.ndarray, before: Sighting | None) -> Sighting:
         """Each tower's horizontally closest burning tree within the detection radius, its 3-D offset and
-        distance, and whether that distance shrank since ``before`` (the previous fire step; None at reset,
-        when every cohort of the burning list is searched; else only this step's ignitions are, see .sight)."""
+        distance, whether that distance shrank since ``before`` (the previous fire step; None at reset,
+        when every cohort of the burning list is searched; else only this step's ignitions are, see .sight),
+        and the towers' performance P."""
         batch, cells = fire.trees.shape[:2]
         if before is None or before.cohorts is None:  # a reset (or a hand-made sighting): search all
             cohorts = nearest_by_age(fire.burning, fire.age, self.params.burn_steps, batch, cells, *self.search_keys)
         else:
-            ignitions = fire.burning[len(fire.burning) - int(np.add.reduce(fire.ignited)):]
+            count = int(fire.ignited[0]) if batch == 1 else int(np.add.reduce(fire.ignited))
+            ignitions = fire.burning[len(fire.burning) - count:]  # they end the list
             cohorts = age_cohorts(before.cohorts, nearest_keys(ignitions, batch, cells, *self.search_keys))
         cell = key_cells(np.minimum.reduce(cohorts, axis=-1))
         # cell -1 (none) reads the sentinel row of cell_xy0, infinitely far; the ground under it is any cell's
         offset = self.cell_xy0.take(cell, axis=0)
         offset -= self.tower_xy0
-        ground = height.reshape(-1).take(cell if batch == 1 else self._first_cells(batch, cells) + cell)
-        offset[..., 2] = ground - tower_ground
+        ground = height.take(cell if batch == 1 else self._first_cells(batch, cells) + cell)  # flat indices
+        np.subtract(ground, tower_ground, out=offset[..., 2])
         seen = np.hypot(offset[..., 0], offset[..., 1]) <= self.params.detection_radius_m
-        offset[~seen] = 0.0
+        np.copyto(offset, 0.0, where=~seen[..., None])
         distance = np.where(seen, np.sqrt(np.add.reduce(offset * offset, axis=-1)), np.inf)
         # an unseen distance is inf, never below the last one
         approaching = np.zeros_like(seen) if before is None else distance < before.distance
-        return Sighting(cell=cell, cells=cells, offset=offset, distance=distance, approaching=approaching,
-                        cohorts=cohorts)
+        return assemble(Sighting, cell=cell, cells=cells, offset=offset, distance=distance, approaching=approaching,
+                        cohorts=cohorts, performance=performance_of(distance, approaching, seen, self.params))
+
+    def _nothing(self, batch: int) -> tuple[np.ndarray, np.ndarray]:
+        """Read-only all-false (B,) and (B, A) bool arrays (constants per batch size): no world, no tower."""
+        nothing = self._nothing_cache.get(batch)
+        if nothing is None:
+            nothing = self._nothing_cache[batch] = (np.zeros(batch, bool), np.zeros((batch, self.agents), bool))
+            for array in nothing:
+                array.flags.writeable = False
+        return nothing
 
     def _first_cells(self, batch: int, cells: int) -> np.ndarray:
         """(B, 1) int64 flat index of the first cell of each world (a constant per batch size)."""

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...procgen.noise import clamp
+from ...numeric import clamp
 from ...reward.terms import TermRegistry
 from .resources import NEIGHBOURS, NEIGHBOURS_PER_TOWER, TENTHS
 
@@ -36,34 +36,28 @@ def broken_power_law(remapped: np.ndarray, s: float, a: float) -> np.ndarray:
 def tower_performance(state, params) -> np.ndarray:
     """(B, A) P of every tower; ``idle_performance`` where no burning tree is within the detection radius.
 
-    The three terms ask for the P of the same state in a row: the last answer is kept with the sighting
-    and params it was computed from (both immutable, held by the memo, compared by identity) and
-    returned read-only. The memo is one tuple swapped in a single assignment, so a reader never sees
-    one call's sighting with another's P.
+    The simulator computes P once per sighting, under its own params, and keeps it with the sighting
+    (``Sighting.performance``): the three terms read it. A hand-made sighting without it is computed here.
     """
     sighting = state.sighting
-    memo = _LAST_PERFORMANCE[0]
-    if memo[0] is sighting and memo[1] is params:
-        return memo[2]
-    seen = sighting.seen
-    performance = np.where(seen, _performance_of(sighting.distance, sighting.approaching, params),
-                           params.idle_performance)
-    performance.flags.writeable = False
-    _LAST_PERFORMANCE[0] = (sighting, params, performance)
-    return performance
+    if sighting.performance is not None:
+        return sighting.performance
+    return performance_of(sighting.distance, sighting.approaching, sighting.seen, params)
 
 
-def _performance_of(distance: np.ndarray, approaching: np.ndarray, params) -> np.ndarray:
-    """broken_power_law(remapped_distance(...)) with fewer array operations and the same floats where the
-    distance is finite (elsewhere any value): a distance is >= 0, so clipping it below is a no-op; an
-    unseen tower's inf stays finite through the clip; and n * -0.5 is exactly -(0.5 * n)."""
+def performance_of(distance: np.ndarray, approaching: np.ndarray, seen: np.ndarray, params) -> np.ndarray:
+    """(B, A) P from the distances (B, A) to the closest seen fires (inf where none is ``seen``) and whether
+    they approach: broken_power_law(remapped_distance(...)) where seen, else ``idle_performance``.
+
+    Fewer array operations than the two functions, the same floats where the distance is finite
+    (elsewhere any value, replaced): a distance is >= 0, so clipping it below is a no-op; an unseen
+    tower's inf stays finite through the clip; and n * -0.5 is exactly -(0.5 * n).
+    """
     normalised = np.minimum(distance / params.distance_threshold_m, 1.0)
     remapped = normalised * np.where(approaching, -0.5, 0.5)
     remapped += 0.5
-    return (1.0 + (remapped * (POWER_LAW_SCALE / params.power_law_s)) ** params.power_law_a) ** POWER_LAW_EXPONENT
-
-
-_LAST_PERFORMANCE: list[tuple] = [(None, None, None)]  # [(sighting, params, P)] of the last computation
+    scaled = remapped * (POWER_LAW_SCALE / params.power_law_s)
+    return np.where(seen, (1.0 + scaled ** params.power_law_a) ** POWER_LAW_EXPONENT, params.idle_performance)
 
 
 @TERMS.term(

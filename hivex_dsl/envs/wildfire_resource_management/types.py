@@ -25,6 +25,9 @@ class Sighting:
     cohorts: (B, A, S) complex128 key (see .sight: squared cell distance + 1j * cell row * C + col; inf + 1j * a
     negative number for none) of the closest tree in the search square among the trees of age j (slot j <
     S = burn_steps), kept so the next fire step only has to search its ignitions; None in hand-made sightings.
+    performance: (B, A) float64 tower performance P of the paper under the simulator's params
+    (terms.performance_of), computed once per sighting for the three reward terms; None in hand-made
+    sightings (the terms then compute it).
     """
 
     cell: np.ndarray
@@ -33,6 +36,7 @@ class Sighting:
     distance: np.ndarray
     approaching: np.ndarray
     cohorts: np.ndarray | None = None
+    performance: np.ndarray | None = None
 
     @property
     def row(self) -> np.ndarray:
