@@ -10,7 +10,7 @@ import numpy as np
 from gymnasium import spaces
 
 from ...batching import assemble, read_only, replace_worlds
-from ...fire import burning_count, douse, fire_step
+from ...fire import burning_count, douse, fire_step_unchecked
 from ...fire.search import closest_burning_at
 from ...numeric import clamp, constant
 from ...procgen.weather import weather_step
@@ -146,7 +146,7 @@ class AerialWildfireSimulator:
             burning = fire.burning
             conditions = weather_reader(weather, self.weather_spec, p.island_half_extent_m, p.weather_grid_cells,
                                         self.weather_lookup)
-            fire = fire_step(fire, rng, p, wind.main, state.maps.height, conditions)
+            fire = fire_step_unchecked(fire, rng, p, wind.main, state.maps.height, conditions)
             redraw_fire_step(state.look, burning, fire, self.frame)
         moved = {"fire": fire, "wind": wind, "weather": weather, "tick": tick, "extinguished": extinguished,
                  "prepared": prepared}
