@@ -13,7 +13,8 @@ from typing import Any, Callable
 
 import numpy as np
 
-from ..procgen.forest import ForestSpec, IgnitionSpec, cell_centre_xy, ignition_mask, load_forest_preset, place_forest
+from ..procgen.forest import (ForestSpec, IgnitionSpec, cell_centre_xy, ignition_candidates, load_forest_preset,
+                              place_forest, rank_by_weather, ranked_ignition_mask)
 from ..procgen.terrain import TerrainSpec, generate_terrain, terrain_spec_for_level
 from ..procgen.weather import WeatherSpec, WeatherState, load_weather_preset, weather_fields
 from ..batching import put_worlds, replace_worlds, select_worlds
@@ -285,12 +286,16 @@ def draw_island(rng: np.random.Generator, terrain_spec: TerrainSpec, forest_spec
 
 def ignition_of(exists: np.ndarray, village: np.ndarray, conditions: np.ndarray, forest_spec: ForestSpec,
                 ignition_spec: IgnitionSpec) -> np.ndarray:
-    """(C, C) bool cells set burning on a forest ``exists`` (C, C) under the weather grid ``conditions`` (G, G, 3)."""
-    # the nearest weather cell of each forest cell: grid_lookup ascends, so each weather cell covers a run of cells
-    runs = np.bincount(grid_lookup(forest_spec.cells, conditions.shape[0]), minlength=conditions.shape[0])
-    temperature, humidity, overcast = (np.repeat(np.repeat(conditions[..., k], runs, axis=0), runs, axis=1)
-                                       for k in range(3))
-    return ignition_mask(exists, forest_spec, ignition_spec, village, temperature, humidity, overcast)
+    """(C, C) bool cells set burning on a forest ``exists`` (C, C) under the weather grid ``conditions`` (G, G, 3).
+
+    :func:`~hivex_dsl.procgen.forest.ignition_mask` with each forest cell's weather read from the weather
+    cell holding it (the grid is not upsampled to the forest's: only the candidate cells are read).
+    """
+    cells = ignition_candidates(forest_spec, ignition_spec, village)
+    lookup = grid_lookup(forest_spec.cells, conditions.shape[0])
+    weather = conditions[lookup[cells[:, 0]], lookup[cells[:, 1]]]  # (M, 3)
+    ranked = rank_by_weather(cells, weather[:, 0], weather[:, 1], weather[:, 2])
+    return ranked_ignition_mask(exists, ignition_spec, ranked)
 
 
 def ignite_worlds(exists: np.ndarray, village: np.ndarray, conditions: np.ndarray, forest_spec: ForestSpec,

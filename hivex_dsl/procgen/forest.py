@@ -167,13 +167,21 @@ def block_ids(grid: np.ndarray, cells: np.ndarray, half: int) -> np.ndarray:
 
     Returns (M, (2 half + 1)^2) int64 in row-major block order, -1 for empty or off-grid cells.
     """
+    rows, cols, inside = _block_cells(grid.shape, cells, half)
+    return np.where(inside, grid[rows, cols], -1).astype(np.int64)
+
+
+def _block_cells(shape: tuple[int, int], cells: np.ndarray, half: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Rows and cols (M, (2 half + 1)^2), clipped onto a grid of ``shape``, of the blocks around ``cells``
+    (M, 2) in row-major block order, and whether each lies on the grid before clipping."""
     offsets = np.arange(-half, half + 1)
     rows = cells[:, 0, None, None] + offsets[None, :, None]
     cols = cells[:, 1, None, None] + offsets[None, None, :]
     rows, cols = np.broadcast_arrays(rows, cols)
-    inside = (rows >= 0) & (rows < grid.shape[0]) & (cols >= 0) & (cols < grid.shape[1])
-    found = grid[np.clip(rows, 0, grid.shape[0] - 1), np.clip(cols, 0, grid.shape[1] - 1)]
-    return np.where(inside, found, -1).astype(np.int64).reshape(len(cells), (2 * half + 1) ** 2)
+    inside = (rows >= 0) & (rows < shape[0]) & (cols >= 0) & (cols < shape[1])
+    side = (2 * half + 1) ** 2
+    return (np.clip(rows, 0, shape[0] - 1).reshape(-1, side), np.clip(cols, 0, shape[1] - 1).reshape(-1, side),
+            inside.reshape(-1, side))
 
 
 def cell_centres(spec: ForestSpec) -> np.ndarray:
@@ -246,16 +254,29 @@ def _rank_cells(forest_spec: ForestSpec, spec: IgnitionSpec, village_xy: np.ndar
     for name, field in weather.items():
         if np.shape(field) != (n, n) or not np.all(np.isfinite(field)):
             raise ValueError(f"{name} must be a finite ({n}, {n}) array sampled at cell centres, got shape {np.shape(field)}")
-    picks = np.arange(0, n, spec.candidate_stride)
-    cells = np.stack(np.meshgrid(picks, picks, indexing="ij"), axis=-1).reshape(-1, 2)
-    centres = cell_centres(forest_spec)
-    offset = np.stack([centres[cells[:, 1]], centres[cells[:, 0]]], axis=1) - _village(village_xy)
-    cells = cells[np.hypot(offset[:, 0], offset[:, 1]) > spec.min_village_distance_m]
+    cells = ignition_candidates(forest_spec, spec, village_xy)
     if len(cells) == 0:
         raise ValueError(f"no ignition candidate: no cell of stride {spec.candidate_stride} lies more than "
                          f"{spec.min_village_distance_m} m from the village at {tuple(np.asarray(village_xy))}")
     r, c = cells[:, 0], cells[:, 1]
-    score = np.asarray(humidity)[r, c] + (1.0 - np.asarray(temperature)[r, c]) + np.asarray(overcast)[r, c]
+    return rank_by_weather(cells, np.asarray(temperature)[r, c], np.asarray(humidity)[r, c], np.asarray(overcast)[r, c])
+
+
+def ignition_candidates(forest_spec: ForestSpec, spec: IgnitionSpec, village_xy: np.ndarray) -> np.ndarray:
+    """(M, 2) int64 (row, col) cells on the candidate stride farther than min_village_distance_m from
+    the village, in row-major order; possibly none."""
+    picks = np.arange(0, forest_spec.cells, spec.candidate_stride)
+    cells = np.stack(np.meshgrid(picks, picks, indexing="ij"), axis=-1).reshape(-1, 2)
+    centres = cell_centres(forest_spec)
+    offset = np.stack([centres[cells[:, 1]], centres[cells[:, 0]]], axis=1) - _village(village_xy)
+    return cells[np.hypot(offset[:, 0], offset[:, 1]) > spec.min_village_distance_m]
+
+
+def rank_by_weather(cells: np.ndarray, temperature: np.ndarray, humidity: np.ndarray, overcast: np.ndarray
+                    ) -> np.ndarray:
+    """``cells`` (M, 2) best first by score = humidity + (1 - temperature) + overcast, each (M,) read at
+    the cells; ties keep the given order."""
+    score = humidity + (1.0 - temperature) + overcast
     return cells[np.argsort(score, kind="stable")]
 
 
@@ -268,7 +289,14 @@ def select_ignition(forest: Forest, spec: IgnitionSpec, village_xy: np.ndarray, 
     block by block in rank order, row-major within a block. Raises ValueError if every
     candidate block together holds at most min_burning trees.
     """
-    return _ignite(forest.grid, forest.spec, spec, village_xy, temperature, humidity, overcast)
+    ranked = _rank_cells(forest.spec, spec, village_xy, temperature, humidity, overcast)
+    half = spec.block // 2
+    taken, total = _first_blocks(lambda cells: block_ids(forest.grid, cells, half) >= 0, ranked, spec)
+    if total[-1] <= spec.min_burning:
+        raise ValueError(f"cannot ignite more than {spec.min_burning} trees: the {len(ranked)} candidate blocks "
+                         f"far enough from the village hold only {int(total[-1])} trees")
+    ids = block_ids(forest.grid, ranked[:taken], half)
+    return ids[ids >= 0]
 
 
 def ignition_mask(exists: np.ndarray, forest_spec: ForestSpec, spec: IgnitionSpec, village_xy: np.ndarray,
@@ -276,36 +304,47 @@ def ignition_mask(exists: np.ndarray, forest_spec: ForestSpec, spec: IgnitionSpe
     """(cells, cells) bool: the cells :func:`select_ignition` sets burning, from the tree grid alone.
 
     For a forest kept between episodes as its ``exists`` (cells, cells) bool grid: the same
-    choice as select_ignition on the Forest it came from (tree ids are row-major cell order).
-    Where select_ignition would raise (no candidate, or too few trees in all candidate blocks),
-    this lights every tree the candidate blocks hold, possibly none: a simulator's world then
-    starts without fire instead of failing at reset.
+    choice as select_ignition on the Forest it came from. Where select_ignition would raise (no
+    candidate, or too few trees in all candidate blocks), this lights every tree the candidate
+    blocks hold, possibly none: a simulator's world then starts without fire instead of failing at reset.
     """
-    cells = np.flatnonzero(exists)
-    grid = np.full(exists.size, -1, np.int64)
-    grid[cells] = np.arange(len(cells))
-    ids = _ignite(grid.reshape(exists.shape), forest_spec, spec, village_xy, temperature, humidity, overcast,
-                  lenient=True)
-    mask = np.zeros(exists.size, bool)
-    mask[cells[ids]] = True
-    return mask.reshape(exists.shape)
-
-
-def _ignite(grid: np.ndarray, forest_spec: ForestSpec, spec: IgnitionSpec, village_xy: np.ndarray,
-            temperature: np.ndarray, humidity: np.ndarray, overcast: np.ndarray, lenient: bool = False) -> np.ndarray:
     try:
         ranked = _rank_cells(forest_spec, spec, village_xy, temperature, humidity, overcast)
     except ValueError:
-        if lenient:
-            return np.zeros(0, np.int64)
-        raise
-    ids = block_ids(grid, ranked, spec.block // 2)
-    total = np.cumsum(np.count_nonzero(ids >= 0, axis=1))
-    taken = int(np.searchsorted(total, spec.min_burning, side="right")) + 1
-    if taken > len(ranked) and lenient:
-        taken = len(ranked)
-    elif taken > len(ranked):
-        raise ValueError(f"cannot ignite more than {spec.min_burning} trees: the {len(ranked)} candidate blocks "
-                         f"far enough from the village hold only {int(total[-1])} trees")
-    chosen = ids[:taken]
-    return chosen[chosen >= 0]
+        ranked = np.zeros((0, 2), np.int64)
+    return ranked_ignition_mask(exists, spec, ranked)
+
+
+def ranked_ignition_mask(exists: np.ndarray, spec: IgnitionSpec, ranked: np.ndarray) -> np.ndarray:
+    """(cells, cells) bool: the trees of ``exists`` in the blocks of the ``ranked`` (M, 2) candidates taken
+    in order until more than min_burning trees burn (every candidate's if they never do)."""
+    mask = np.zeros(exists.shape, bool)
+    if len(ranked) == 0:
+        return mask
+    half = spec.block // 2
+
+    def trees_in_blocks(cells: np.ndarray) -> np.ndarray:  # (K, block^2) bool
+        rows, cols, inside = _block_cells(exists.shape, cells, half)
+        return inside & exists[rows, cols]
+
+    taken, _ = _first_blocks(trees_in_blocks, ranked, spec)
+    rows, cols, inside = _block_cells(exists.shape, ranked[:taken], half)
+    burning = inside & exists[rows, cols]
+    mask[rows[burning], cols[burning]] = True
+    return mask
+
+
+def _first_blocks(trees_in_blocks: Callable[[np.ndarray], np.ndarray], ranked: np.ndarray, spec: IgnitionSpec
+                  ) -> tuple[int, np.ndarray]:
+    """How many of the ``ranked`` (M >= 1, 2) candidates to take: the first whose blocks' running tree count
+    exceeds min_burning (all M if none does), and the running counts of the blocks looked at.
+
+    ``trees_in_blocks(cells)`` (K, block^2) bool marks the trees of the blocks around ``cells`` (K, 2). It is
+    asked for a growing prefix of the candidates, since the first few blocks nearly always suffice.
+    """
+    looked = min(len(ranked), 16)
+    while True:
+        total = np.cumsum(np.count_nonzero(trees_in_blocks(ranked[:looked]), axis=1))
+        if total[-1] > spec.min_burning or looked == len(ranked):
+            return min(int(np.searchsorted(total, spec.min_burning, side="right")) + 1, looked), total
+        looked = min(len(ranked), looked * 4)

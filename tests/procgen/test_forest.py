@@ -10,7 +10,11 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from pydantic import ValidationError
+
+from hivex_dsl.envs.island import grid_lookup, ignition_of
 
 from hivex_dsl.procgen.forest import (
     ForestPreset, ForestSpec, IgnitionSpec, ignition_mask, load_forest_preset, place_forest, rank_ignition_cells,
@@ -280,3 +284,42 @@ def test_ignition_from_the_tree_grid_alone_matches_the_forest_choice():
     expected[forest.cell_index[ids, 0], forest.cell_index[ids, 1]] = True
     mask = ignition_mask(forest.grid >= 0, spec, ignition, village, *weather)
     assert np.array_equal(mask, expected) and mask.sum() > ignition.min_burning
+
+
+def _plain_ignition_mask(exists, ignition, village, temperature, humidity, overcast):
+    """The rule over the small forest in plain Python: candidates by score (ties row-major), blocks in
+    turn until more than min_burning trees burn, or every candidate block's trees if that never happens."""
+    n = exists.shape[0]
+    centres = SMALL.half_extent_m * -1 + SMALL.spacing_m * (np.arange(n) + 0.5)
+    stride, half = ignition.candidate_stride, ignition.block // 2
+    candidates = [(r, c) for r in range(0, n, stride) for c in range(0, n, stride)
+                  if np.hypot(centres[c] - village[0], centres[r] - village[1]) > ignition.min_village_distance_m]
+    candidates.sort(key=lambda rc: (humidity[rc] + (1.0 - temperature[rc]) + overcast[rc], rc))
+    mask = np.zeros_like(exists)
+    for r, c in candidates:
+        mask[max(r - half, 0):r + half + 1, max(c - half, 0):c + half + 1] |= \
+            exists[max(r - half, 0):r + half + 1, max(c - half, 0):c + half + 1]
+        if mask.sum() > ignition.min_burning:
+            break
+    return mask
+
+
+@settings(max_examples=60, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), density=st.sampled_from([0.0, 0.02, 0.3, 0.9]),
+       stride=st.sampled_from([3, 5, 10]), block=st.sampled_from([1, 3]), min_burning=st.sampled_from([0, 4, 15, 400]),
+       distance=st.sampled_from([0.0, 30.0, 200.0]), weather_cells=st.sampled_from([1, 4, 7, 40, 60]))
+def test_kept_forests_ignite_by_the_rule_and_the_islands_read_their_weather_cells(
+        seed, density, stride, block, min_burning, distance, weather_cells):
+    """ignition_mask and the islands' weather-grid path (no upsampling) agree with the plain rule, also
+    where it cannot light enough trees (then every candidate block's trees burn, possibly none)."""
+    rng = np.random.default_rng(seed)
+    exists = rng.random((40, 40)) < density
+    village = rng.uniform(-60.0, 60.0, 2)
+    ignition = IgnitionSpec(candidate_stride=stride, block=block, min_burning=min_burning, min_village_distance_m=distance)
+    conditions = rng.random((weather_cells, weather_cells, 3)).round(1)  # coarse values: many ties
+    lookup = grid_lookup(40, weather_cells)
+    temperature, humidity, overcast = (conditions[lookup][:, lookup][..., k] for k in range(3))
+    expected = _plain_ignition_mask(exists, ignition, village, temperature, humidity, overcast)
+    np.testing.assert_array_equal(ignition_mask(exists, SMALL, ignition, village, temperature, humidity, overcast),
+                                  expected)
+    np.testing.assert_array_equal(ignition_of(exists, village, conditions, SMALL, ignition), expected)
