@@ -54,6 +54,19 @@ def assert_same_fire(a: FireState, b: FireState, fields: tuple[str, ...] = FIRE_
         assert getattr(a, name).dtype == getattr(b, name).dtype, name
 
 
+def assert_lockstep(step_a, step_b, fire: FireState, rng: np.random.Generator, seed: int, steps: int,
+                    fields: tuple[str, ...] = FIRE_FIELDS) -> None:
+    """Step two copies of ``fire`` with ``step_a`` and ``step_b`` ((fire, draws, wind) -> fire), under twin
+    random streams and the same wind, and check after every step that the fires and the draws agree."""
+    a, b = fire, fire_copy(fire)
+    draws_a, draws_b = np.random.default_rng(seed + 1), np.random.default_rng(seed + 1)
+    for _ in range(steps):
+        wind = rng.uniform(-np.pi, np.pi, fire.batch)
+        a, b = step_a(a, draws_a, wind), step_b(b, draws_b, wind)
+        assert_same_fire(a, b, fields)
+        assert draws_a.bit_generator.state == draws_b.bit_generator.state
+
+
 def assert_spent_is_true(state: FireState, radius: int) -> None:
     """Every burning tree marked spent for a radius >= ``radius`` has no existing tree in its block."""
     cells = state.cells
@@ -129,19 +142,13 @@ def grid_conditions(rng, batch, cells, grid):
 def test_a_factor_grid_gives_the_fire_of_the_conditions_callable(fire, grid):
     batch, cells, spec, seed = fire
     rng = np.random.default_rng(seed)
-    exists, ignite = random_forest(rng, batch, cells)
-    with_callable = fire_reset(exists, ignite)
-    with_grid = fire_copy(with_callable)
+    fire = fire_reset(*random_forest(rng, batch, cells))
     heights = rng.normal(size=(batch, cells, cells)).astype(np.float32)
     values, lookup, read = grid_conditions(rng, batch, cells, min(grid, cells))
     factors = FactorGrid(count_factors(values, spec), grid_cell_table(lookup, min(grid, cells)))
-    draws_a, draws_b = np.random.default_rng(seed + 1), np.random.default_rng(seed + 1)
-    for _ in range(8):
-        wind = rng.uniform(-np.pi, np.pi, batch)
-        with_callable = fire_step(with_callable, draws_a, spec, wind, heights, read)
-        with_grid = fire_step(with_grid, draws_b, spec, wind, heights, factors)
-        assert_same_fire(with_callable, with_grid)
-        assert draws_a.bit_generator.state == draws_b.bit_generator.state
+    assert_lockstep(lambda f, draws, wind: fire_step(f, draws, spec, wind, heights, read),
+                    lambda f, draws, wind: fire_step(f, draws, spec, wind, heights, factors),
+                    fire, rng, seed, steps=8)
 
 
 @settings(max_examples=30, deadline=None)
@@ -228,8 +235,7 @@ def test_the_wind_check_accepts_what_the_general_check_accepts(wind, batch):
 def test_the_unchecked_step_is_the_checked_step(fire, factor_grid):
     batch, cells, spec, seed = fire
     rng = np.random.default_rng(seed)
-    checked = fire_reset(*random_forest(rng, batch, cells))
-    unchecked = fire_copy(checked)
+    fire = fire_reset(*random_forest(rng, batch, cells))
     height = rng.normal(size=(batch, cells, cells)).astype(np.float32)
     if factor_grid:
         conditions = FactorGrid(count_factors(rng.random((batch, 4, 4, 3)).astype(np.float32), spec),
@@ -237,13 +243,9 @@ def test_the_unchecked_step_is_the_checked_step(fire, factor_grid):
     else:
         fields = rng.random((3, batch, cells, cells))
         conditions = lambda w, r, c: tuple(f[w, r, c] for f in fields)  # noqa: E731
-    draws_a, draws_b = np.random.default_rng(seed + 1), np.random.default_rng(seed + 1)
-    for _ in range(15):
-        wind = rng.uniform(-np.pi, np.pi, batch)
-        checked = fire_step(checked, draws_a, spec, wind, height, conditions)
-        unchecked = fire_step_unchecked(unchecked, draws_b, spec, wind, height, conditions)
-        assert_same_fire(checked, unchecked, tuple(FireState.__dataclass_fields__))
-        assert draws_a.bit_generator.state == draws_b.bit_generator.state
+    assert_lockstep(lambda f, draws, wind: fire_step(f, draws, spec, wind, height, conditions),
+                    lambda f, draws, wind: fire_step_unchecked(f, draws, spec, wind, height, conditions),
+                    fire, rng, seed, steps=15, fields=tuple(FireState.__dataclass_fields__))
 
 
 def test_the_one_world_tally_keeps_unchanged_arrays_with_their_dtypes():
