@@ -14,7 +14,7 @@ from gymnasium import spaces
 
 from .compiler import CompiledScenario
 from .reward.composer import RewardComposer
-from .spaces import hold_inactive
+from .spaces import hold_inactive, placeholder_actions
 
 Split = Literal["train", "test"]
 
@@ -108,6 +108,7 @@ class BatchedEnv:
         self.everyone_playing = False  # == bool(self.alive.all()), kept so a step needs no reduction for it
         self.oldest_clock = 0  # == int(self.clock.max()), kept so a step knows without a reduction whether any world truncates
         self._step_info = getattr(self.sim, "step_info", None)
+        self.placeholder = placeholder_actions(self.sim.action_space)  # what an agent out of its episode does
 
     @property
     def shape(self) -> tuple[int, int]:
@@ -163,7 +164,7 @@ class BatchedEnv:
         self._require_reset()
         live, everyone = self.alive, self.everyone_playing
         if not everyone:  # an agent whose episode ended does nothing until its world resets
-            actions = hold_inactive(self.sim.action_space, actions, live)
+            actions = hold_inactive(actions, live, self.placeholder)
         prev = self.state
         self.state, outcome = self.sim.step(prev, actions, self.rng)
         rewards, terms = self.composer(prev, self.state, actions, self.compiled.params, self.shape)

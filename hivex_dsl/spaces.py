@@ -43,13 +43,23 @@ def placeholder_action(space: spaces.Space) -> np.ndarray:
     raise TypeError(f"no placeholder action for {describe_space(space)}")
 
 
-def hold_inactive(space: spaces.Space, actions: Any, active: np.ndarray) -> Any:
-    """Batched actions (batch, agents, ...) with the placeholder action wherever ``active`` (batch, agents) is false."""
+def placeholder_actions(space: spaces.Space) -> Any:
+    """:func:`placeholder_action` of the space, or of each part of a Dict space ({part: action}), as
+    read-only copies (a caller keeps them for every step)."""
     if isinstance(space, spaces.Dict):
-        return {key: hold_inactive(sub, actions[key], active) for key, sub in space.spaces.items()}
-    sample = placeholder_action(space)
-    mask = active.reshape(active.shape + (1,) * sample.ndim)
-    return np.where(mask, actions, sample).astype(np.asarray(actions).dtype, copy=False)
+        return {key: placeholder_actions(sub) for key, sub in space.spaces.items()}
+    placeholder = np.array(placeholder_action(space))
+    placeholder.flags.writeable = False
+    return placeholder
+
+
+def hold_inactive(actions: Any, active: np.ndarray, placeholder: Any) -> Any:
+    """Batched actions (batch, agents, ...) with ``placeholder`` (from :func:`placeholder_actions`, computed
+    once per space) wherever ``active`` (batch, agents) is false."""
+    if isinstance(placeholder, dict):
+        return {key: hold_inactive(actions[key], active, sample) for key, sample in placeholder.items()}
+    mask = active.reshape(active.shape + (1,) * placeholder.ndim)
+    return np.where(mask, actions, placeholder).astype(np.asarray(actions).dtype, copy=False)
 
 
 def stack_agent_actions(space: spaces.Space, actions: dict[str, Any], agents: Sequence[str]) -> Any:

@@ -9,7 +9,7 @@ from pettingzoo import ParallelEnv
 
 from ..compiler import CompiledScenario
 from ..runtime import BatchedEnv, Split
-from ..spaces import check_actions, placeholder_action, stack_agent_actions
+from ..spaces import check_actions, stack_agent_actions
 
 
 def _unbatch(observations: Any, world: int, agent: int) -> Any:
@@ -106,12 +106,12 @@ class HivexParallelEnv(ParallelEnv):
         if len(live) == len(self.possible_agents):
             return batched
         rows = [self._index[a] for a in live]
+        placeholder = self.core.placeholder
         if isinstance(batched, dict):
-            return {k: self._fill_part(v, rows, self.core.sim.action_space[k]) for k, v in batched.items()}
-        return self._fill_part(batched, rows, self.core.sim.action_space)
+            return {k: self._fill_part(v, rows, placeholder[k]) for k, v in batched.items()}
+        return self._fill_part(batched, rows, placeholder)
 
-    def _fill_part(self, part: np.ndarray, rows: list[int], space) -> np.ndarray:
-        sample = placeholder_action(space)
+    def _fill_part(self, part: np.ndarray, rows: list[int], sample: np.ndarray) -> np.ndarray:
         full = np.broadcast_to(sample, (1, len(self.possible_agents)) + sample.shape).copy()
         full[0, rows] = part[0]
         return full
