@@ -1,9 +1,10 @@
-"""Time every environment's step, observation (cameras included) and top-down render:
+"""Time every environment's step, observation (cameras included), one world's restart and top-down render:
 ``python benchmarks/bench_observe.py`` (about a minute; island generation dominates the setup).
 
 Plain script, not collected by pytest. For each registered environment's main scenario it
-prints the median wall time of ``step`` and ``observe`` at batch 1 and batch 256 and of
-``render`` of one world, after a few random steps so fires, pebbles and drones are in play.
+prints the median wall time of ``step``, ``observe`` and ``reset_where`` of one world (a new episode
+continuing the seed stream, on a kept island where the environment keeps one) at batch 1 and batch 256,
+and of ``render`` of one world, after a few random steps so fires, pebbles and drones are in play.
 Some simulators draw their cameras in ``step`` (Ocean Plastic Collection bins pebbles there,
 Aerial Wildfire Suppression reads its kept palette image there), others in ``observe``, so read the
 two together.
@@ -41,6 +42,9 @@ def main() -> None:
             sim, state, actions, rng = stepped_state(env_id, batch)
             print(f"{env_id:<32} {f'step, batch {batch}':<22} {median_ms(lambda: sim.step(state, actions, rng), 10):>10.2f}")
             print(f"{env_id:<32} {f'observe, batch {batch}':<22} {median_ms(lambda: sim.observe(state), 10):>10.2f}")
+            first = np.arange(batch) == 0
+            print(f"{env_id:<32} {f'restart 1, batch {batch}':<22} "
+                  f"{median_ms(lambda: sim.reset_where(state, first, rng), 10):>10.2f}")
         print(f"{env_id:<32} {'render one world':<22} {median_ms(lambda: sim.render(state, 0), 5):>10.2f}")
 
 
