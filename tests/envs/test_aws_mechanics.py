@@ -14,6 +14,7 @@ import pytest
 import hivex_dsl
 from hivex_dsl.envs.aerial_wildfire_suppression.simulator import AerialWildfireSimulator
 from hivex_dsl.fire import TreeState, fire_reset
+from hivex_dsl.runtime import BatchedEnv
 
 CELL = 3.0
 HALF = 600.0
@@ -293,3 +294,22 @@ def test_a_forest_too_sparse_to_light_as_asked_starts_with_what_it_has():
     burning = (state.fire.trees == TreeState.BURNING).sum(axis=(1, 2))
     assert (burning <= 5000).all()
     assert np.array_equal(state.fire.trees != TreeState.NONE, state.maps.exists)
+
+
+def test_what_a_plane_saw_when_its_task_ended_does_not_depend_on_other_worlds_resetting():
+    """A plane that finds fire ends its find-fire episode with that sighting in its last observation,
+    whether or not another world of the batch starts a new episode in the same step."""
+    sc = hivex_dsl.compile("aerial_wildfire_suppression/find_fire")
+    env = BatchedEnv(sc, 2)
+    observations = env.reset(seed=4)
+    pilot = sc.entry.scripted_policy(sc)
+    for _ in range(500):
+        result = env.step(pilot(observations))
+        observations = result.observations
+        if result.terminated[0].any():
+            break
+    ended = result.terminated[0]
+    assert ended.any() and (observations["vector"][0, ended, 7] == 1.0).all()
+    after = env.reset_worlds(np.array([False, True]))
+    for key in observations:
+        np.testing.assert_array_equal(after[key][0], observations[key][0], err_msg=key)

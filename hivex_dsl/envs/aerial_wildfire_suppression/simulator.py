@@ -114,9 +114,8 @@ class AerialWildfireSimulator:
         fresh_episodes = partial(self._fresh, tiled=is_tiled(state.look))  # the new worlds' look in the batch's layout
         fresh, changes = restart_where(state, mask, rng, self.params.redraw_island, fresh_episodes, _PER_WORLD)
         state.look[mask] = fresh.look
+        # the other worlds keep the sighting of their step: what a plane sees never depends on another world
         sighting = replace_worlds(state.sighting, mask, fresh.sighting)
-        # as a new sighting of every world would: planes whose task ended this step no longer see fire
-        sighting = replace(sighting, plane_found=sighting.plane_found & changes["flying"])
         return replace(state, sighting=sighting, **changes)
 
     def derive(self, state: AerialWildfireState) -> AerialWildfireState:
