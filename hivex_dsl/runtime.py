@@ -13,10 +13,12 @@ import numpy as np
 from gymnasium import spaces
 
 from .compiler import CompiledScenario
+from .numeric import constant
 from .reward.composer import RewardComposer
 from .spaces import hold_inactive, placeholder_actions
 
 Split = Literal["train", "test"]
+_ZERO = constant(0.0)  # rewards and terms are float64 (see hivex_dsl.numeric)
 
 
 class StepOutcome(NamedTuple):
@@ -169,8 +171,8 @@ class BatchedEnv:
         self.state, outcome = self.sim.step(prev, actions, self.rng)
         rewards, terms = self.composer(prev, self.state, actions, self.compiled.params, self.shape)
         if not everyone:  # ended agents earn nothing (skipped while everyone plays: most steps)
-            rewards = np.where(live, rewards, 0.0)
-            terms = {name: np.where(live, value, 0.0) for name, value in terms.items()}
+            rewards = np.where(live, rewards, _ZERO)
+            terms = {name: np.where(live, value, _ZERO) for name, value in terms.items()}
         self.clock += 1
         self.oldest_clock += 1
         self.lengths += live
@@ -187,22 +189,23 @@ class BatchedEnv:
     def _endings(self, live: np.ndarray, outcome: StepOutcome) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(terminated, truncated, ended) of the step just taken, each (batch, agents); updates who is alive.
 
-        Most steps nobody ends: while every agent plays and no world reaches the episode length,
-        truncation is known to be all false and the alive mask stays as it is.
+        Most steps nobody ends: while no world reaches the episode length truncation is known to be all
+        false, and while moreover every agent plays and none terminates the alive mask stays as it is.
         """
         ending = outcome.terminated
         for event in self.compiled.ends_on:
             ending = ending | outcome.events[event]
         terminated = live & ending
-        if self.everyone_playing and self.oldest_clock < self.compiled.episode_length:
-            if not np.count_nonzero(terminated):
-                return terminated, np.zeros(terminated.shape, bool), terminated.copy()
+        if self.oldest_clock < self.compiled.episode_length:  # no world truncates
             truncated = np.zeros(terminated.shape, bool)
+            if self.everyone_playing and not np.count_nonzero(terminated):
+                return terminated, truncated, terminated.copy()
+            ended = terminated.copy()
         else:
             truncated = live & ~terminated & (self.clock >= self.compiled.episode_length)[:, None]
-        ended = terminated | truncated
+            ended = terminated | truncated
         self.alive = live & ~ended
-        self.everyone_playing = not np.count_nonzero(~self.alive)
+        self.everyone_playing = np.count_nonzero(self.alive) == self.alive.size
         return terminated, truncated, ended
 
     def episode_summary(self, world: int, agent: int) -> dict[str, Any]:
