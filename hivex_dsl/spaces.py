@@ -110,7 +110,7 @@ def check_actions(space: spaces.Space, actions: Any, agent_names: Sequence[str],
     first offending agent, its value and the space.
     """
     if isinstance(space, spaces.Dict):
-        if not isinstance(actions, dict) or set(actions) != set(space.spaces):
+        if not isinstance(actions, dict) or actions.keys() != space.spaces.keys():
             raise ActionError(f"actions must be a dict with keys {list(space.spaces)} for {describe_space(space)}")
         return {k: check_actions(s, actions[k], agent_names, meanings) for k, s in space.spaces.items()}
     array = np.asarray(actions)
