@@ -108,7 +108,7 @@ class BatchedEnv:
         self.term_sums = {name: np.zeros(shape) for name in self.composer.active}
         self.lengths = np.zeros(shape, np.int64)
         self.everyone_playing = False  # == bool(self.alive.all()), kept so a step needs no reduction for it
-        self.oldest_clock = 0  # == int(self.clock.max()), kept so a step knows without a reduction whether any world truncates
+        self.oldest_clock = 0  # == int(self.clock.max()): a step knows without a reduction whether a world truncates
         self._step_info = getattr(self.sim, "step_info", None)
         self.placeholder = placeholder_actions(self.sim.action_space)  # what an agent out of its episode does
 

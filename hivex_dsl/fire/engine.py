@@ -236,7 +236,8 @@ def fire_put_worlds(state: FireState, mask: np.ndarray, fresh: FireState) -> Fir
     state.trees[worlds] = fresh.trees
     keep = ~mask[state.burning // area]
     fresh_world, cell = np.divmod(fresh.burning, area)
-    return FireState(trees=state.trees, burning=np.concatenate([state.burning[keep], worlds[fresh_world] * area + cell]),
+    burning = np.concatenate([state.burning[keep], worlds[fresh_world] * area + cell])
+    return FireState(trees=state.trees, burning=burning,
                      age=np.concatenate([state.age[keep], fresh.age]), quiet=put_worlds(state.quiet, mask, fresh.quiet),
                      out=put_worlds(state.out, mask, fresh.out), ignited=put_worlds(state.ignited, mask, fresh.ignited),
                      burnt_out=put_worlds(state.burnt_out, mask, fresh.burnt_out),

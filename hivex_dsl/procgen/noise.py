@@ -134,7 +134,8 @@ def corner_gradients(perm: np.ndarray, grads: np.ndarray, lower: np.ndarray) -> 
 
 
 def blend_corners(gradients: np.ndarray, offset: np.ndarray) -> np.ndarray:
-    """Perlin noise from corner gradients ``(4, B, ..., 2)`` and float64 offsets ``(B, ..., 2)`` in [0, 1) within the cells.
+    """Perlin noise from corner gradients ``(4, B, ..., 2)`` and float64 offsets ``(B, ..., 2)`` in [0, 1)
+    within the cells.
 
     Returns ``(B, ...)`` values in [-1, 1]: each corner's gradient dotted with the offset from that
     corner, blended with the quintic fade along x (per pair of corners), then along y.

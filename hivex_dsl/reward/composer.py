@@ -31,8 +31,7 @@ class RewardComposer:
         self.weights = {name: float(w) for name, w in weights.items()}
         self.active = tuple(name for name in registry.names if self.weights.get(name, 0.0) != 0.0)
         # (name, function, weight as a 0-d operand or None for 1.0), resolved once: this runs every step
-        self._plan = tuple((name, registry[name].fn, None if self.weights[name] == 1.0 else constant(self.weights[name]))
-                           for name in self.active)
+        self._plan = tuple((name, registry[name].fn, _operand(self.weights[name])) for name in self.active)
 
     def __call__(
         self, prev: Any, state: Any, actions: Any, params: Any, shape: tuple[int, int]
@@ -51,3 +50,8 @@ class RewardComposer:
             else:
                 total += weighted
         return (np.zeros(shape) if total is None else total), values
+
+
+def _operand(weight: float):
+    """A weight as a 0-d float64 operand, or None for 1.0 (the term's value is used as it is)."""
+    return None if weight == 1.0 else constant(weight)

@@ -16,7 +16,8 @@ from .types import WindFarmState
 RANDOM_PATTERN = 8
 # action -> rotation sign: 0 do nothing, 1 rotate left (counter-clockwise), 2 rotate right
 ROTATION_SIGN = np.array([0.0, 1.0, -1.0])
-_ZERO, _ONE, _MINUS_ONE, _PI = constant(0.0), constant(1.0), constant(-1.0), constant(np.pi)  # float64 operands (see hivex_dsl.numeric)
+# float64 operands as 0-d arrays (see hivex_dsl.numeric)
+_ZERO, _ONE, _MINUS_ONE, _PI = constant(0.0), constant(1.0), constant(-1.0), constant(np.pi)
 
 
 def angle_between(a: np.ndarray, b: np.ndarray) -> np.ndarray:
