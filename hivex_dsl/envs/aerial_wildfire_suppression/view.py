@@ -94,7 +94,7 @@ def _beyond_island(island_half: np.float32, per_m: np.float32, cells: int, cells
     """Metres b such that every float32 coordinate beyond +/- b maps to a cell off the island: a cell
     beyond its edge, checked with the mapping."""
     def cell(metres: float) -> int:
-        return int(np.floor((np.float32(metres) + island_half) * per_m))
+        return _mapped_cell(metres, island_half, per_m)
 
     beyond = float(island_half) + 1.0 / cells_per_m
     while not (cell(beyond) >= cells and cell(-beyond) < 0):  # the mapping is monotone
@@ -106,7 +106,7 @@ def _clear_of_border(island_half: np.float32, per_m: np.float32, border_half: np
     """Metres b such that every float32 coordinate within +/- b maps to a cell strictly between the
     cells of the border lines (the MIXED ones): two cells inside the border, checked with the mapping."""
     def cell(metres: float) -> int:
-        return int(np.floor((np.float32(metres) + island_half) * per_m))
+        return _mapped_cell(metres, island_half, per_m)
 
     edge = float(border_half)
     low, high = cell(-edge), cell(edge)
@@ -114,6 +114,11 @@ def _clear_of_border(island_half: np.float32, per_m: np.float32, border_half: np
     while clear > 0.0 and not low < cell(-clear) <= cell(clear) < high:  # the mapping is monotone
         clear -= 1.0 / cells_per_m
     return clear
+
+
+def _mapped_cell(metres: float, island_half: np.float32, per_m: np.float32) -> int:
+    """The island cell index of one coordinate, by :func:`cell_of`'s float32 mapping."""
+    return int(np.floor((np.float32(metres) + island_half) * per_m))
 
 
 def _whole_tiles(count: int) -> int:
