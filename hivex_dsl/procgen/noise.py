@@ -106,17 +106,17 @@ _CORNER_X = np.array([0.0, 1.0, 0.0, 1.0])
 _CORNER_Y = np.array([0.0, 0.0, 1.0, 1.0])
 
 
-def corner_gradients(perm: np.ndarray, grads: np.ndarray, lower: np.ndarray) -> np.ndarray:
+def corner_gradients(perm: np.ndarray, grads: np.ndarray, lower: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Hashed gradients at the four corners of lattice cells.
 
     Args:
         perm, grads: a validated lattice, ``(B, 2P)`` and ``(B, P, 2)``.
-        lower: ``(B, ..., 2)`` float lower-left corners (``floor`` of x and of y) of the cells.
+        lower: ``(2, B, ...)`` float lower-left corners (``floor`` of x, then of y) of the cells.
 
     Returns:
-        ``(4, B, ..., 2)``: the gradient (x, y) at the corners (0, 0), (1, 0), (0, 1), (1, 1). It
-        depends on the cell only, so a caller whose points stay in their cells may keep it between
-        evaluations (see :func:`blend_corners`).
+        ``(gx, gy)``, each ``(4, B, ...)``: the gradient components at the corners (0, 0), (1, 0),
+        (0, 1), (1, 1). They depend on the cell only, so a caller whose points stay in their cells
+        may keep them between evaluations (see :func:`blend_corners`).
     """
     batch, period = grads.shape[:2]
     shape = (batch,) + (1,) * (lower.ndim - 2)
@@ -125,44 +125,44 @@ def corner_gradients(perm: np.ndarray, grads: np.ndarray, lower: np.ndarray) -> 
     grad_offset = (np.arange(batch) * period).reshape(shape)
     flat_perm = perm.reshape(-1)
     index0 = np.mod(lower, period).astype(np.int64)
-    index1 = (index0 + 1) % period
-    x_index = np.stack([index0[..., 0], index1[..., 0]])  # (2, B, ...)
-    y_index = np.stack([index0[..., 1], index1[..., 1]])
-    hashed_x = flat_perm.take(perm_offset + x_index)
-    gradient = flat_perm.take(perm_offset + hashed_x[[0, 1, 0, 1]] + y_index[[0, 0, 1, 1]]) + grad_offset
-    return grads.reshape(-1, 2).take(gradient, axis=0)
+    index = np.stack([index0, (index0 + 1) % period])  # (2 lower/next, 2 x/y, B, ...)
+    hashed_x = flat_perm.take(perm_offset + index[:, 0])
+    gradient = flat_perm.take(perm_offset + hashed_x[[0, 1, 0, 1]] + index[[0, 0, 1, 1], 1]) + grad_offset
+    both = grads.reshape(-1, 2).take(gradient, axis=0)
+    return both[..., 0], both[..., 1]
 
 
-def blend_corners(gradients: np.ndarray, offset: np.ndarray) -> np.ndarray:
-    """Perlin noise from corner gradients ``(4, B, ..., 2)`` and float64 offsets ``(B, ..., 2)`` in [0, 1)
-    within the cells.
+def blend_corners(gx: np.ndarray, gy: np.ndarray, offset: np.ndarray) -> np.ndarray:
+    """Perlin noise from the corner gradients' components ``gx``, ``gy`` (4, ...) and float64 offsets
+    ``offset`` (2, ...) (x, then y) in [0, 1) within the cells.
 
-    Returns ``(B, ...)`` values in [-1, 1]: each corner's gradient dotted with the offset from that
-    corner, blended with the quintic fade along x (per pair of corners), then along y.
+    Returns values in [-1, 1] shaped like ``gx[0]``: each corner's gradient dotted with the offset from
+    that corner, blended with the quintic fade along x (per pair of corners), then along y. Every
+    operation is elementwise, so any layout works where ``offset[0]`` broadcasts against ``gx[0]``
+    (the weather's fields share their offsets, for instance); keep the long axes last.
     """
-    products = gradients * (offset - _corners(offset.ndim))  # (4, B, ..., 2): gx * dx and gy * dy
-    dots = products[..., 0] + products[..., 1]
+    corner_x, corner_y = _corner_columns(gx.ndim)
+    dots = gx * (offset[0] - corner_x)
+    dots += gy * (offset[1] - corner_y)
     fade = _fade(offset)
-    fade_x, fade_y = fade[..., 0], fade[..., 1]
-    bottom = dots[0] + fade_x * (dots[1] - dots[0])  # corners (0, 0) and (1, 0)
-    top = dots[2] + fade_x * (dots[3] - dots[2])  # corners (0, 1) and (1, 1)
-    blended = bottom + fade_y * (top - bottom)
+    bottom = dots[0] + fade[0] * (dots[1] - dots[0])  # corners (0, 0) and (1, 0)
+    top = dots[2] + fade[0] * (dots[3] - dots[2])  # corners (0, 1) and (1, 1)
+    blended = bottom + fade[1] * (top - bottom)
     return clamp(_RANGE_SCALE_0D * blended, _MINUS_ONE, _ONE)
 
 
 @functools.lru_cache(maxsize=8)
-def _corners(ndim: int) -> np.ndarray:
-    """The corners' (x, y) offsets shaped (4, 1, ..., 2) to broadcast against ``(B, ..., 2)`` of ``ndim`` axes."""
-    corners = np.stack([_CORNER_X, _CORNER_Y], axis=-1).reshape((4,) + (1,) * (ndim - 1) + (2,))
-    corners.flags.writeable = False
-    return corners
+def _corner_columns(ndim: int) -> tuple[np.ndarray, np.ndarray]:
+    """The corners' x and y offsets shaped (4, 1, ...) to broadcast against gradients of ``ndim`` axes."""
+    corner_shape = (4,) + (1,) * (ndim - 1)
+    return _CORNER_X.reshape(corner_shape), _CORNER_Y.reshape(corner_shape)
 
 
 def _perlin_unchecked(perm: np.ndarray, grads: np.ndarray, x: np.ndarray, y: np.ndarray) -> np.ndarray:
     """Perlin noise on validated inputs (see :func:`perlin2d`), values in [-1, 1]."""
-    points = np.stack([x, y], axis=-1)
+    points = np.stack([x, y])
     lower = np.floor(points)
-    return blend_corners(corner_gradients(perm, grads, lower), points - lower)
+    return blend_corners(*corner_gradients(perm, grads, lower), points - lower)
 
 
 def perlin2d(perm: np.ndarray, grads: np.ndarray, x: np.ndarray, y: np.ndarray) -> np.ndarray:
@@ -229,20 +229,23 @@ def octave_frequencies(octaves: int, lacunarity: float) -> np.ndarray:
 
 
 def octave_points(x: np.ndarray, y: np.ndarray, octaves: int, lacunarity: float) -> np.ndarray:
-    """Sample points of every octave: ``(B, ...)`` x and y -> ``(B, ..., octaves, 2)`` lattice coordinates."""
+    """Sample points of every octave: ``(B, ...)`` x and y -> ``(2, B, ..., octaves)`` lattice coordinates."""
     frequencies = octave_frequencies(octaves, lacunarity)[:, 0]
-    points = np.empty(x.shape + (octaves, 2))
-    np.multiply(x[..., None], frequencies, out=points[..., 0])
-    np.multiply(y[..., None], frequencies, out=points[..., 1])
+    points = np.empty((2,) + x.shape + (octaves,))
+    np.multiply(x[..., None], frequencies, out=points[0])
+    np.multiply(y[..., None], frequencies, out=points[1])
     return points
 
 
-def sum_octaves(layered: np.ndarray, persistence: float) -> np.ndarray:
-    """``(B, ..., octaves)`` per-octave noise -> ``(B, ...)`` their amplitude-weighted mean, in [-1, 1]."""
-    amplitudes, amplitude_sum = _octave_amplitudes(layered.shape[-1], persistence)
-    total = layered[..., 0]  # amplitude 1
-    for k in range(1, layered.shape[-1]):  # loop over octaves only, in order
-        total = total + amplitudes[k] * layered[..., k]
+def sum_octaves(layered: np.ndarray, persistence: float, axis: int = -1) -> np.ndarray:
+    """Per-octave noise with the octaves along ``axis`` -> their amplitude-weighted mean (that axis gone),
+    in [-1, 1]; octave k has amplitude ``persistence**k``, summed in order."""
+    octaves = layered.shape[axis]
+    amplitudes, amplitude_sum = _octave_amplitudes(octaves, persistence)
+    before = (slice(None),) * (axis % layered.ndim)
+    total = layered[before + (0,)]  # amplitude 1
+    for k in range(1, octaves):  # loop over octaves only, in order
+        total = total + amplitudes[k] * layered[before + (k,)]
     return clamp(total / amplitude_sum, _MINUS_ONE, _ONE)
 
 
@@ -266,4 +269,4 @@ def fractal_unchecked(perm: np.ndarray, grads: np.ndarray, x: np.ndarray, y: np.
     """
     points = octave_points(x, y, octaves, lacunarity)
     lower = np.floor(points)
-    return sum_octaves(blend_corners(corner_gradients(perm, grads, lower), points - lower), persistence)
+    return sum_octaves(blend_corners(*corner_gradients(perm, grads, lower), points - lower), persistence)

@@ -20,7 +20,7 @@ from pydantic import Field
 from ..batching import assemble
 from ..numeric import clamp
 from ..spec.common import SCHEMA_VERSION, StrictModel
-from .noise import _CORNER_X, _CORNER_Y, _RANGE_SCALE, _fade, draw_lattice, octave_frequencies
+from .noise import blend_corners, draw_lattice, octave_frequencies, sum_octaves
 from .presets import load_preset
 
 PRESET_FILE = "weather.yaml"
@@ -157,10 +157,10 @@ def weather_fields(state: WeatherState, points: np.ndarray, spec: WeatherSpec) -
     """
     moved = (points - state.offsets[:, None, :]) / spec.noise_scale_m
     frequencies = octave_frequencies(spec.octaves, spec.lacunarity)  # (K, 1)
-    lattice = moved.transpose(2, 0, 1)[:, None] * frequencies[..., None]  # (2, K, B, N): x, y of every octave
+    lattice = np.multiply(moved.transpose(2, 0, 1)[:, None], frequencies[..., None], order="C")  # (2, K, B, N)
     lower = np.floor(lattice)
     gx, gy = _corner_gradients(state.perm, state.grads, lower)  # (4, F, K, B, N) each
-    noise = _sum_octaves(_blend(gx, gy, lattice - lower), spec.persistence)  # (F, B, N)
+    noise = sum_octaves(blend_corners(gx, gy, lattice - lower), spec.persistence, axis=1)  # (F, B, N)
     means, contrasts = _field_constants(*(getattr(spec, f"{name}_{part}") for part in ("mean", "contrast")
                                           for name in FIELDS))
     return clamp(means + contrasts * noise, 0.0, 1.0)
@@ -183,10 +183,6 @@ def _lattice_rows(fields: int, batch: int, period: int) -> tuple[np.ndarray, np.
     perm_rows, grad_rows = 2 * rows, rows
     perm_rows.flags.writeable = grad_rows.flags.writeable = False
     return perm_rows, grad_rows
-
-
-_CORNERS_X = _CORNER_X.reshape(4, 1, 1, 1, 1)  # x, y of the corners (0, 0), (1, 0), (0, 1), (1, 1)
-_CORNERS_Y = _CORNER_Y.reshape(4, 1, 1, 1, 1)
 
 
 def _corner_gradients(perm: np.ndarray, grads: np.ndarray, lower: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -232,26 +228,3 @@ def _remainder(values: np.ndarray, period: int) -> None:
         np.bitwise_and(values, period - 1, out=values)
     else:
         np.remainder(values, period, out=values)
-
-
-def _blend(gx: np.ndarray, gy: np.ndarray, offset: np.ndarray) -> np.ndarray:
-    """(F, K, B, N) Perlin noise from corner gradients (4, F, K, B, N) and offsets (2, K, B, N) within the
-    cells: :func:`~hivex_dsl.procgen.noise.blend_corners`' operations."""
-    dots = gx * (offset[0] - _CORNERS_X)
-    dots += gy * (offset[1] - _CORNERS_Y)
-    fade = _fade(offset)
-    left, right = dots[0::2], dots[1::2]  # corners (0, y) and (1, y) for y = 0, 1
-    across = left + fade[0] * (right - left)
-    blended = across[0] + fade[1] * (across[1] - across[0])
-    return clamp(_RANGE_SCALE * blended, -1.0, 1.0)
-
-
-def _sum_octaves(layered: np.ndarray, persistence: float) -> np.ndarray:
-    """(F, K, ...) octaves -> (F, ...) amplitude-weighted mean: :func:`~hivex_dsl.procgen.noise.sum_octaves`."""
-    total = layered[:, 0]
-    amplitude_sum = 1.0
-    for k in range(1, layered.shape[1]):  # octaves only, in order
-        amplitude = persistence**k
-        total = total + amplitude * layered[:, k]
-        amplitude_sum += amplitude
-    return clamp(total / amplitude_sum, -1.0, 1.0)

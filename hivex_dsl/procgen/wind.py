@@ -140,8 +140,9 @@ class WindProbe:
     """
 
     perm: np.ndarray  # the WindState.perm it was built from
-    lower: np.ndarray  # (B, N, octaves, 2) lower-left cell corners in lattice units
-    gradients: np.ndarray  # (4, B, N, octaves, 2) gradients at the cells' corners
+    lower: np.ndarray  # (2, B, N, octaves) x and y of the cells' lower-left corners in lattice units
+    gx: np.ndarray  # (4, B, N, octaves) gradients at the cells' corners, x component
+    gy: np.ndarray  # (4, B, N, octaves)
 
     def fits(self, perm: np.ndarray, lower: np.ndarray) -> bool:
         return self.perm is perm and self.lower.shape == lower.shape and not np.count_nonzero(self.lower != lower)
@@ -156,11 +157,13 @@ def probe_wind(state: WindState, points: np.ndarray, spec: WindSpec,
     """
     constants = spec.operands
     moved = (points - state.drift[:, None, :]) / constants.noise_scale
-    octave_coords = moved[..., None, :] * octave_frequencies(spec.noise_octaves, 2.0)  # (B, N, octaves, 2)
+    frequencies = octave_frequencies(spec.noise_octaves, 2.0)[:, 0]
+    # (2, B, N, octaves), C-contiguous: a product keeps its operand's transposed layout, which slows every op after
+    octave_coords = np.multiply(moved.transpose(2, 0, 1)[..., None], frequencies, order="C")
     lower = np.floor(octave_coords)
     if probe is None or not probe.fits(state.perm, lower):
-        probe = WindProbe(state.perm, lower, corner_gradients(state.perm, state.grads, lower))
-    noise = sum_octaves(blend_corners(probe.gradients, octave_coords - lower), 0.5)
+        probe = WindProbe(state.perm, lower, *corner_gradients(state.perm, state.grads, lower))
+    noise = sum_octaves(blend_corners(probe.gx, probe.gy, octave_coords - lower), 0.5)
     return wrap_angle(state.main[:, None] + constants.deviation * noise), probe
 
 
