@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import os
 
 import pytest
@@ -16,3 +17,33 @@ settings.load_profile("ci" if os.environ.get("CI") else "dev")
 def wfc_dict():
     """A minimal valid Wind Farm Control scenario as a plain dict."""
     return {"hivex": 1, "environment": "wind_farm_control"}
+
+
+class _SteppedBy:
+    """A simulator like ``sim`` in everything but its step, which ``step(sim, state, actions, rng)`` takes."""
+
+    def __init__(self, sim, step):
+        self.sim, self._step = sim, step
+
+    def __getattr__(self, name):
+        return getattr(self.sim, name)
+
+    def step(self, state, actions, rng):
+        return self._step(self.sim, state, actions, rng)
+
+
+@pytest.fixture(scope="session")
+def restepped():
+    """``restepped(compiled, step, events=None, ends_on=None)``: the compiled scenario with its simulator's
+    step replaced by ``step(sim, state, actions, rng)``, declaring ``events`` {name: meaning} and ending
+    agents on ``ends_on`` if given. For tests that need an environment to end agents on cue."""
+
+    def rewire(compiled, step, events=None, ends_on=None):
+        def make_simulator(c):
+            return _SteppedBy(compiled.entry.make_simulator(c), step)
+
+        entry = dataclasses.replace(compiled.entry, make_simulator=make_simulator,
+                                    **({} if events is None else {"events": events}))
+        return dataclasses.replace(compiled, entry=entry, **({} if ends_on is None else {"ends_on": ends_on}))
+
+    return rewire

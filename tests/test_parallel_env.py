@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import dataclasses
-
 import numpy as np
 import pytest
 from pettingzoo.test import api_test, parallel_api_test
@@ -141,25 +139,15 @@ def test_render_gives_an_rgb_picture():
     assert len(np.unique(frame.reshape(-1, 3), axis=0)) > 10
 
 
-class _SpinEvent:
-    """Wraps the WFC simulator so an agent 'spins' (an event) when it rotates left."""
-
-    def __init__(self, sim):
-        self.sim = sim
-
-    def __getattr__(self, name):
-        return getattr(self.sim, name)
-
-    def step(self, state, actions, rng):
-        new, outcome = self.sim.step(state, actions, rng)
-        return new, StepOutcome(outcome.terminated, {"spun": np.asarray(actions) == 1})
+def spin_when_rotating_left(sim, state, actions, rng):
+    """WFC's step, with an event 'spun' for every agent that rotates left."""
+    new, outcome = sim.step(state, actions, rng)
+    return new, StepOutcome(outcome.terminated, {"spun": np.asarray(actions) == 1})
 
 
-def test_task_events_end_single_agents_and_the_others_go_on():
+def test_task_events_end_single_agents_and_the_others_go_on(restepped):
     sc = hivex_dsl.compile({"hivex": 1, "environment": "wind_farm_control", "agents": 3, "episode_length": 10})
-    entry = dataclasses.replace(sc.entry, make_simulator=lambda c: _SpinEvent(sc.entry.make_simulator(c)),
-                                events={"spun": "rotated left"})
-    env = hivex_dsl.parallel_env(dataclasses.replace(sc, entry=entry, ends_on=("spun",)))
+    env = hivex_dsl.parallel_env(restepped(sc, spin_when_rotating_left, {"spun": "rotated left"}, ("spun",)))
     env.reset(seed=0)
     _, _, terms, truncs, infos = env.step({"turbine_0": 0, "turbine_1": 1, "turbine_2": 0})
     assert terms == {"turbine_0": False, "turbine_1": True, "turbine_2": False}

@@ -7,8 +7,6 @@ checks every step against the textbook rules computed here from scratch.
 
 from __future__ import annotations
 
-import dataclasses
-
 import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -17,31 +15,27 @@ import hivex_dsl
 from hivex_dsl.runtime import BatchedEnv, StepOutcome
 
 
-class _RandomEndings:
-    """Wraps the WFC simulator: each step, each agent terminates with probability ``chance``."""
+def random_endings(chance: float, seed: int):
+    """A WFC step after which each agent terminates with probability ``chance`` (own seeded draws)."""
+    draws = np.random.default_rng(seed)
 
-    def __init__(self, sim, chance: float, seed: int):
-        self.sim, self.chance, self.draws = sim, chance, np.random.default_rng(seed)
+    def step(sim, state, actions, rng):
+        new, outcome = sim.step(state, actions, rng)
+        return new, StepOutcome(draws.random(outcome.terminated.shape) < chance, {})
 
-    def __getattr__(self, name):
-        return getattr(self.sim, name)
-
-    def step(self, state, actions, rng):
-        new, outcome = self.sim.step(state, actions, rng)
-        return new, StepOutcome(self.draws.random(outcome.terminated.shape) < self.chance, {})
+    return step
 
 
-def _env(batch: int, length: int, chance: float, seed: int) -> BatchedEnv:
+def _env(restepped, batch: int, length: int, chance: float, seed: int) -> BatchedEnv:
     sc = hivex_dsl.compile({"hivex": 1, "environment": "wind_farm_control", "agents": 3, "episode_length": length})
-    entry = dataclasses.replace(sc.entry, make_simulator=lambda c: _RandomEndings(sc.entry.make_simulator(c), chance, seed))
-    return BatchedEnv(dataclasses.replace(sc, entry=entry), batch=batch)
+    return BatchedEnv(restepped(sc, random_endings(chance, seed)), batch=batch)
 
 
 @settings(max_examples=25, deadline=None)
 @given(batch=st.integers(1, 4), length=st.integers(1, 9), chance=st.sampled_from([0.0, 0.02, 0.2, 1.0]),
        seed=st.integers(0, 2**16), restart_via_step=st.booleans())
-def test_endings_follow_the_rules_step_by_step(batch, length, chance, seed, restart_via_step):
-    env = _env(batch, length, chance, seed)
+def test_endings_follow_the_rules_step_by_step(restepped, batch, length, chance, seed, restart_via_step):
+    env = _env(restepped, batch, length, chance, seed)
     env.reset(seed=seed)
     clock = np.zeros(batch, np.int64)
     alive = np.ones((batch, 3), bool)
@@ -74,8 +68,8 @@ def test_endings_follow_the_rules_step_by_step(batch, length, chance, seed, rest
             restart = np.zeros(batch, bool)
 
 
-def test_terminations_are_those_the_simulator_reports_for_playing_agents():
-    env = _env(batch=2, length=100, chance=0.3, seed=7)
+def test_terminations_are_those_the_simulator_reports_for_playing_agents(restepped):
+    env = _env(restepped, batch=2, length=100, chance=0.3, seed=7)
     env.reset(seed=7)
     reported = []
     real_step = env.sim.step

@@ -71,31 +71,19 @@ def test_per_episode_seed_lists_are_refused_with_the_reason():
     hivex_dsl.vector_env(SCENARIO | {"seeds": {"train": [7, 8], "test": 9}}, num_envs=2, split="test")
 
 
-def test_an_agent_whose_episode_ended_gets_the_placeholder_action_until_its_world_resets():
-    import dataclasses
-
+def test_an_agent_whose_episode_ended_gets_the_placeholder_action_until_its_world_resets(restepped):
     from hivex_dsl.runtime import StepOutcome
 
     seen = []
 
-    class Recording:
+    def recording_spins(sim, state, actions, rng):
         """WFC whose agents end their episode ('spun') when they rotate left; records the actions it gets."""
-
-        def __init__(self, sim):
-            self.sim = sim
-
-        def __getattr__(self, name):
-            return getattr(self.sim, name)
-
-        def step(self, state, actions, rng):
-            seen.append(np.array(actions))
-            new, outcome = self.sim.step(state, actions, rng)
-            return new, StepOutcome(outcome.terminated, {"spun": np.asarray(actions) == 1})
+        seen.append(np.array(actions))
+        new, outcome = sim.step(state, actions, rng)
+        return new, StepOutcome(outcome.terminated, {"spun": np.asarray(actions) == 1})
 
     sc = hivex_dsl.compile(SCENARIO | {"episode_length": 10})
-    entry = dataclasses.replace(sc.entry, make_simulator=lambda c: Recording(sc.entry.make_simulator(c)),
-                                events={"spun": "rotated left"})
-    env = hivex_dsl.vector_env(dataclasses.replace(sc, entry=entry, ends_on=("spun",)), num_envs=1)
+    env = hivex_dsl.vector_env(restepped(sc, recording_spins, {"spun": "rotated left"}, ("spun",)), num_envs=1)
     env.reset(seed=0)
     env.step(np.array([0, 1, 0]))  # agent 1 ends its episode
     env.step(np.array([2, 1, 2]))  # its action is replaced; the others act

@@ -34,6 +34,13 @@ def fires(draw):
     return batch, cells, spec, draw(st.integers(0, 2**32 - 1))
 
 
+def heights_and_weather(rng, worlds, cells):
+    """Random float32 cell heights (worlds, cells, cells) and a conditions callable reading three random fields."""
+    heights = rng.normal(size=(worlds, cells, cells)).astype(np.float32)
+    fields = rng.random((3, worlds, cells, cells))
+    return heights, lambda w, r, c: tuple(f[w, r, c] for f in fields)
+
+
 def random_forest(rng, worlds, cells):
     exists = rng.random((worlds, cells, cells)) < rng.uniform(0.3, 1.0)
     return exists, exists & (rng.random(exists.shape) < 0.1)
@@ -86,9 +93,7 @@ def test_skipping_spent_trees_changes_nothing(fire):
     exists, ignite = random_forest(rng, batch, cells)
     tracked = fire_reset(exists, ignite)
     fresh = fire_copy(tracked)
-    heights = rng.normal(size=(batch, cells, cells)).astype(np.float32)
-    fields = rng.random((3, batch, cells, cells))
-    conditions = lambda w, r, c: tuple(f[w, r, c] for f in fields)  # noqa: E731
+    heights, conditions = heights_and_weather(rng, batch, cells)
     draws_a, draws_b = np.random.default_rng(seed + 1), np.random.default_rng(seed + 1)
     for step in range(12):
         wind = rng.uniform(-np.pi, np.pi, batch)
@@ -158,9 +163,7 @@ def test_int64_pairs_of_short_lists_match_int32_pairs(fire):
     rng = np.random.default_rng(seed)
     exists, ignite = random_forest(rng, batch, cells)
     states = [fire_reset(exists, ignite) for _ in range(2)]
-    heights = rng.normal(size=(batch, cells, cells)).astype(np.float32)
-    fields = rng.random((3, batch, cells, cells))
-    conditions = lambda w, r, c: tuple(f[w, r, c] for f in fields)  # noqa: E731
+    heights, conditions = heights_and_weather(rng, batch, cells)
     draws = [np.random.default_rng(seed + 1) for _ in range(2)]
     saved = spread_module.SHORT_LIST
     try:
