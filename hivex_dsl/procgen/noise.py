@@ -20,7 +20,7 @@ import numbers
 
 import numpy as np
 
-from ..numeric import clamp, constant  # clamp is also re-exported: callers imported it from here first
+from ..numeric import clamp, constant
 
 __all__ = ["draw_lattice", "perlin2d", "fractal2d"]
 
