@@ -13,7 +13,7 @@ import numpy as np
 from gymnasium import spaces
 
 from .compiler import CompiledScenario
-from .numeric import constant
+from .numeric import all_true, constant
 from .reward.composer import RewardComposer
 from .spaces import hold_inactive, placeholder_actions
 
@@ -205,7 +205,7 @@ class BatchedEnv:
             truncated = live & ~terminated & (self.clock >= self.compiled.episode_length)[:, None]
             ended = terminated | truncated
         self.alive = live & ~ended
-        self.everyone_playing = np.count_nonzero(self.alive) == self.alive.size
+        self.everyone_playing = all_true(self.alive)
         return terminated, truncated, ended
 
     def episode_summary(self, world: int, agent: int) -> dict[str, Any]:

@@ -13,8 +13,8 @@ import numpy as np
 from gymnasium import spaces
 
 from ...batching import evolve, read_only, replace_worlds
+from ...numeric import all_true, clamp
 from ...procgen.forest import ForestSpec, place_forest
-from ...numeric import clamp
 from ...procgen.terrain import TerrainSpec, generate_terrain
 from ...runtime import StepOutcome
 from .camera import NEW_TREE_GRAY, STATION_GRAY, TREE_GRAY, Raster, camera_images, ground_shade, stamp_disks, to_byte
@@ -284,7 +284,7 @@ class DroneReforestationSimulator:
     def step(self, state: DroneState, actions, rng: np.random.Generator) -> tuple[DroneState, StepOutcome]:
         """actions: continuous (B, A, 3) throttle, steer, up/down; discrete (B, A, 1) drop seed."""
         p, shape = self.params, state.alive.shape
-        alive = None if np.count_nonzero(state.alive) == state.alive.size else state.alive  # None: all (most steps)
+        alive = None if all_true(state.alive) else state.alive  # None: all (most steps)
         flight = self._fly(state, actions, alive)
         distance, reach = self._station_distances(flight.position, state.station)
         inside = distance <= p.charge_radius_m

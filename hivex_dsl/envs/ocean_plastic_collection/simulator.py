@@ -18,7 +18,7 @@ from gymnasium import spaces
 from ...batching import assemble, read_only, replace_worlds
 from ...procgen.pollution import PollutionSpec, SpawnSpec, pollution_map, sample_pebbles, spawn_vessels
 from ...procgen.wind import wrap_angle
-from ...numeric import clamp
+from ...numeric import all_true, clamp
 from ...runtime import StepOutcome
 from .camera import CAMERA_CELLS, Geometry, Sensing, as_pairs, build_field, sense
 from .params import OceanPlasticCollectionParams
@@ -41,11 +41,6 @@ class Motion(NamedTuple):
     def of(cls, params: OceanPlasticCollectionParams) -> "Motion":
         return cls(turn=np.radians(params.turn_rate_deg) * STEER_SIGN,
                    thrust=params.acceleration * np.array([0.0, 1.0]), keep=1.0 - params.drag)
-
-
-def everyone(mask: np.ndarray) -> bool:
-    """``mask.all()``; np.count_nonzero is the cheapest test on the tiny arrays of a step."""
-    return np.count_nonzero(mask) == mask.size
 
 
 @lru_cache(maxsize=16)
@@ -73,7 +68,7 @@ def neighbour_distances(position: np.ndarray, active: np.ndarray) -> np.ndarray:
     square = gap * gap
     distance = np.sqrt(square[..., 0] + square[..., 1])
     others, self_distance = _others(position.shape[1])
-    if everyone(active):
+    if all_true(active):
         return distance + self_distance
     return np.where(active[:, :, None] & active[:, None, :] & others, distance, np.inf)
 
@@ -92,7 +87,7 @@ def move(position: np.ndarray, heading: np.ndarray, speed: np.ndarray, actions: 
     """
     turned = wrap_angle(heading + motion.turn[actions[..., 1]])
     speed = speed * motion.keep + motion.thrust[actions[..., 0]]
-    if everyone(active):
+    if all_true(active):
         heading = turned
     else:
         heading = np.where(active, turned, heading)
