@@ -48,6 +48,9 @@ class Measurement:
     env_steps_per_s: float
     agent_steps_per_s: float
     peak_memory_mb: float
+    # parallel only: microseconds per step of the same loop with the environment's own work replayed
+    # (see replay_one_step): the environment's own work costs the step time minus this
+    api_floor_us: Optional[float] = None
 
 
 def _peak_memory_mb() -> float:
@@ -81,9 +84,11 @@ def _live_only(actions: dict, live: list) -> dict:
 
 
 def measure_parallel(env_id: str, seconds: float) -> Measurement:
-    """PettingZoo ParallelEnv (batch 1) of the environment's bundled main scenario, random actions."""
+    """PettingZoo ParallelEnv (batch 1) of the environment's bundled main scenario, random actions; then
+    the same loop with the environment's work replayed (:func:`replay_one_step`) for ``api_floor_us``."""
     import hivex_dsl
     from hivex_dsl.policies import random_policy
+    from hivex_dsl.spaces import stack_agent_actions
 
     compiled = hivex_dsl.compile(f"{env_id}/main")
     env = hivex_dsl.parallel_env(compiled)
@@ -106,9 +111,52 @@ def measure_parallel(env_id: str, seconds: float) -> Measurement:
         env.step(next_actions())
         return bool(env.agents)
 
-    steps, elapsed = _timed(step, lambda seed: env.reset(seed=seed), seconds)
+    reset = lambda seed: env.reset(seed=seed)  # noqa: E731
+    steps, elapsed = _timed(step, reset, seconds)
     rate = steps / elapsed
-    return Measurement(env_id, "parallel", 1, len(names), rate, rate * len(names), _peak_memory_mb())
+    memory = _peak_memory_mb()
+    env.reset(seed=0)
+    replay_one_step(env, stack_agent_actions(env.core.sim.action_space, next_actions(), names))
+    floor_steps, floor_elapsed = _timed(step, reset, seconds)
+    return Measurement(env_id, "parallel", 1, len(names), rate, rate * len(names), memory,
+                       api_floor_us=floor_elapsed / floor_steps * 1e6)
+
+
+class _ReplayedSimulator:
+    """A simulator that returns one recorded step's state, outcome and observations whatever it is asked."""
+
+    def __init__(self, sim: Any, state: Any, outcome: Any, observations: Any):
+        self.agents, self.action_meanings, self.render_fps = sim.agents, sim.action_meanings, sim.render_fps
+        self.observation_space, self.action_space = sim.observation_space, sim.action_space
+        self.state, self.outcome, self.observations = state, outcome, observations
+
+    def reset(self, rng: np.random.Generator, batch: int) -> Any:
+        return self.state
+
+    def reset_where(self, state: Any, mask: np.ndarray, rng: np.random.Generator) -> Any:
+        return self.state
+
+    def step(self, state: Any, actions: Any, rng: np.random.Generator) -> tuple[Any, Any]:
+        return self.state, self.outcome
+
+    def observe(self, state: Any) -> Any:
+        return self.observations
+
+
+def replay_one_step(env: Any, actions: Any) -> None:
+    """Make a ParallelEnv's engine replay one real step with (1, agents, ...) ``actions`` from now on.
+
+    Its simulator and reward composer are replaced by stand-ins returning that step's state, outcome,
+    observations, rewards and term values (same shapes, names and dtypes), so timing the env measures the
+    API layer alone: action checks, the runtime's bookkeeping (clocks, returns, term sums, endings) and
+    the per-agent dicts of the parallel API. ``env`` is only good for that afterwards.
+    """
+    core = env.core
+    state, outcome = core.sim.step(core.state, actions, core.rng)
+    rewards, terms = core.composer(core.state, state, actions, core.compiled.params, core.shape)
+    core.sim = _ReplayedSimulator(core.sim, state, outcome, core.sim.observe(state))
+    core.composer = lambda prev, new, acts, params, shape: (rewards, terms)
+    core.state = state
 
 
 def measure_vector(env_id: str, seconds: float, batch: int) -> Measurement:
@@ -183,8 +231,9 @@ def reference_available() -> bool:
 def median_of(runs: list[dict[str, Any]]) -> dict[str, Any]:
     """Median rates and peak memory of repeated runs of one measurement."""
     out = dict(runs[0])
-    for key in ("env_steps_per_s", "agent_steps_per_s", "peak_memory_mb"):
-        out[key] = statistics.median(r[key] for r in runs)
+    for key in ("env_steps_per_s", "agent_steps_per_s", "peak_memory_mb", "api_floor_us"):
+        if out.get(key) is not None:
+            out[key] = statistics.median(r[key] for r in runs)
     out["runs"] = len(runs)
     return out
 
@@ -228,11 +277,18 @@ def _goal(result: dict[str, Any]) -> str:
 def format_table(report: dict[str, Any]) -> str:
     """A fixed-width table of the report's medians."""
     head = f"{'target':<32} {'adapter':<8} {'batch':>5} {'agents':>6} {'env-steps/s':>12} {'agent-steps/s':>14} " \
-           f"{'peak MB':>8} {'x MPE':>7} {'goal':>10}"
+           f"{'us/step':>8} {'API us':>7} {'peak MB':>8} {'x MPE':>7} {'goal':>10}"
     lines = [head, "-" * len(head)]
     for r in report["results"]:
         ratio = r.get("env_steps_vs_reference") if r["adapter"] == "parallel" else r.get("agent_steps_vs_reference")
+        floor = r.get("api_floor_us")
         lines.append(f"{r['target']:<32} {r['adapter']:<8} {r['batch']:>5} {r['agents']:>6} "
-                     f"{r['env_steps_per_s']:>12,.0f} {r['agent_steps_per_s']:>14,.0f} {r['peak_memory_mb']:>8,.0f} "
+                     f"{r['env_steps_per_s']:>12,.0f} {r['agent_steps_per_s']:>14,.0f} {step_us(r):>8,.1f} "
+                     f"{'' if floor is None else f'{floor:.1f}':>7} {r['peak_memory_mb']:>8,.0f} "
                      f"{'' if ratio is None else f'{ratio:.1f}':>7} {_goal(r):>10}")
     return "\n".join(lines)
+
+
+def step_us(result: dict[str, Any]) -> float:
+    """Microseconds per (batched) step of a measurement."""
+    return 1e6 / result["env_steps_per_s"]

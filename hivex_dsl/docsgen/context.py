@@ -204,7 +204,7 @@ def _doc(model: type) -> str:
 
 def performance_context(results: Path) -> dict[str, Any]:
     """The rows of a `hivex bench --json` report, formatted, with each environment's target."""
-    from ..bench import MEMORY_LIMIT_MB, REFERENCE
+    from ..bench import MEMORY_LIMIT_MB, REFERENCE, step_us
 
     report = json.loads(Path(results).read_text(encoding="utf-8"))
     rows = []
@@ -217,6 +217,7 @@ def performance_context(results: Path) -> dict[str, Any]:
         rows.append({"target": r["target"], "adapter": r["adapter"], "batch": r["batch"], "agents": r["agents"],
                      "env_rate": f"{r['env_steps_per_s']:,.0f}", "agent_rate": f"{r['agent_steps_per_s']:,.0f}",
                      "memory": f"{r['peak_memory_mb']:,.0f}", "ratio": "" if ratio is None else f"{ratio:.1f}",
-                     "goal": goal})
+                     "goal": goal, "step_us": f"{step_us(r):,.1f}",
+                     "floor_us": "" if r.get("api_floor_us") is None else f"{r['api_floor_us']:,.1f}"})
     return {"machine": report["machine"], "seconds": report["seconds_per_run"], "repeats": report["repeats"],
             "rows": rows, "reference": REFERENCE, "memory_limit": MEMORY_LIMIT_MB, "results_file": str(results.name)}
