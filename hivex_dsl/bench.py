@@ -3,7 +3,8 @@
 Each measurement runs in a fresh Python process with the BLAS/OpenMP thread counts set to 1
 (they must be set before NumPy loads), so the figures are one core's and the peak resident
 memory is that measurement's own. Random actions are drawn in blocks with NumPy for us and for
-the reference alike, so action sampling costs the same on both sides; resets are included.
+the reference alike, so action sampling costs the same on both sides; resets are included. A
+ParallelEnv run then times its API floor for as long again (see :func:`replay_one_step`).
 """
 
 from __future__ import annotations
