@@ -25,6 +25,11 @@ def clamp(values: np.ndarray, low, high) -> np.ndarray:
     return np.minimum(np.maximum(values, low), high)
 
 
+def and_not(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """``a & ~b`` of bool arrays in one NumPy call (True > False is the only true comparison)."""
+    return np.greater(a, b)
+
+
 def all_true(mask: np.ndarray) -> bool:
     """``mask.all()`` for a bool array; np.count_nonzero is the cheapest test on the few values of a step."""
     return np.count_nonzero(mask) == mask.size

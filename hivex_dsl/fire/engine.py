@@ -194,40 +194,31 @@ def fire_reset_where(state: FireState, mask: np.ndarray, exists: np.ndarray, ign
     Writes ``state.trees`` in place. The other worlds keep everything, their burning trees keep their
     order; the reset worlds' ignitions follow them in flat-index order.
     """
+    worlds = int(np.count_nonzero(_checked_mask(state, mask)))
+    cells = state.cells
+    fresh = fire_reset(exists, ignite)
+    if fresh.trees.shape != (worlds, cells, cells):
+        raise ValueError(f"exists and ignite must have shape ({worlds}, {cells}, {cells}) for the "
+                         f"{worlds} masked worlds, got {fresh.trees.shape}")
+    return fire_put_worlds(state, mask, fresh)
+
+
+def _checked_mask(state: FireState, mask: np.ndarray) -> np.ndarray:
+    """``mask`` as a (B,) bool array, or ValueError."""
     mask = np.asarray(mask)
     if mask.dtype != np.bool_ or mask.shape != (state.batch,):
         raise ValueError(f"mask must be a bool array of shape ({state.batch},), got {mask.dtype} {mask.shape}")
-    worlds = np.flatnonzero(mask)
-    cells = state.cells
-    fresh = _fresh_trees(exists, ignite)
-    if fresh.shape != (len(worlds), cells, cells):
-        raise ValueError(f"exists and ignite must have shape ({len(worlds)}, {cells}, {cells}) for the "
-                         f"{len(worlds)} masked worlds, got {fresh.shape}")
-    state.trees[worlds] = fresh
-    local = np.flatnonzero(fresh == BURNING)
-    new = worlds[local // (cells * cells)] * (cells * cells) + local % (cells * cells)
-    keep = ~mask[state.burning // (cells * cells)]
-    counts = np.bincount(local // (cells * cells), minlength=len(worlds))
-    ignited, burnt_out = state.ignited.copy(), state.burnt_out.copy()
-    ignited[worlds], burnt_out[worlds] = counts, 0
-    return FireState(trees=state.trees, burning=np.concatenate([state.burning[keep], new.astype(np.int64)]),
-                     age=np.concatenate([state.age[keep], np.zeros(len(new), np.int32)]),
-                     quiet=np.where(mask, 0, state.quiet).astype(np.int32), out=state.out & ~mask,
-                     ignited=ignited, burnt_out=burnt_out,
-                     spent=np.concatenate([state.spent[keep], np.zeros(len(new), np.uint8)]))
+    return mask
 
 
 def fire_put_worlds(state: FireState, mask: np.ndarray, fresh: FireState) -> FireState:
     """``state`` with the worlds where ``mask`` (B,) bool holds taken from ``fresh`` (their M fires, in order).
 
     Writes ``state.trees`` in place. The other worlds keep everything, their burning trees keep their
-    order; the fresh worlds' burning trees follow them in ``fresh``'s order. For a ``fresh`` from
-    :func:`fire_reset` this is ``fire_reset_where(state, mask, exists, ignite)`` with that reset's grids,
-    without building the tree grids a second time.
+    order; the fresh worlds' burning trees follow them in ``fresh``'s order. :func:`fire_reset_where` is
+    this with ``fresh = fire_reset(exists, ignite)``; a caller that has that reset already passes it here.
     """
-    mask = np.asarray(mask)
-    if mask.dtype != np.bool_ or mask.shape != (state.batch,):
-        raise ValueError(f"mask must be a bool array of shape ({state.batch},), got {mask.dtype} {mask.shape}")
+    mask = _checked_mask(state, mask)
     worlds = np.flatnonzero(mask)
     if fresh.trees.shape != (len(worlds),) + state.trees.shape[1:]:
         raise ValueError(f"fresh must hold the {len(worlds)} masked worlds of shape {state.trees.shape[1:]}, "
@@ -253,6 +244,13 @@ def burning_count(state: FireState) -> np.ndarray:
     """(B,) int64 burning trees per world."""
     cells = state.cells
     return np.bincount(state.burning // (cells * cells), minlength=state.batch).astype(np.int64)
+
+
+def any_burning(state: FireState) -> np.ndarray:
+    """(B,) bool: some tree of the world burns (one world: no count needed)."""
+    if state.batch == 1:
+        return np.array([state.burning.size > 0])
+    return burning_count(state) > 0
 
 
 def cell_coords(spec: ForestSpec, x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -4,7 +4,7 @@ A simulator that samples its weather on a coarse (G x G) grid per world and read
 nearest grid cell (as :func:`hivex_dsl.envs.island.conditions_reader` does) can count the factors hot,
 dry and low overcast once per grid cell when it samples, then pass a :class:`FactorGrid` to
 ``fire_step`` instead of the ``conditions`` callable: each pair then looks its count up instead of
-calling back, with exactly the comparisons of :func:`.spread.weather_factors`.
+calling back; both paths compare with :func:`factor_count`.
 """
 
 from __future__ import annotations
@@ -14,13 +14,20 @@ import numpy as np
 from .engine import FireSpec
 
 
+def factor_count(temperature: np.ndarray, humidity: np.ndarray, overcast: np.ndarray, spec: FireSpec) -> np.ndarray:
+    """int8 number of the weather factors of spread that hold (hot, dry, low overcast), shaped like the fields:
+    the one place these thresholds are compared, for the callable and the FactorGrid paths alike."""
+    hot = temperature > spec.hot_temperature
+    dry = humidity < spec.dry_humidity
+    low = overcast < spec.low_overcast
+    return hot.astype(np.int8) + dry + low
+
+
 def count_factors(conditions: np.ndarray, spec: FireSpec) -> np.ndarray:
     """(B, G * G) int8 number of true weather factors at each cell of ``conditions`` (B, G, G, 3)
-    (temperature, humidity, overcast), compared as :func:`.spread.weather_factors` compares them."""
-    hot = conditions[..., 0] > spec.hot_temperature
-    dry = conditions[..., 1] < spec.dry_humidity
-    low = conditions[..., 2] < spec.low_overcast
-    return (hot.astype(np.int8) + dry + low).reshape(len(conditions), -1)
+    (temperature, humidity, overcast)."""
+    counts = factor_count(conditions[..., 0], conditions[..., 1], conditions[..., 2], spec)
+    return counts.reshape(len(conditions), -1)
 
 
 def grid_cell_table(lookup: np.ndarray, grid_cells: int) -> np.ndarray:

@@ -21,7 +21,7 @@ import numpy as np
 from ..procgen.wind import TWO_PI
 from ..batching import assemble
 from .engine import BURNING, BURNT, EXISTING, FireSpec, FireState, vector
-from .factors import FactorGrid
+from .factors import FactorGrid, factor_count
 
 # conditions(world (N,), row (N,), col (N,)) int64 -> (temperature (N,), humidity (N,), overcast (N,)) in [0, 1]
 Conditions = Callable[[np.ndarray, np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray, np.ndarray]]
@@ -77,17 +77,9 @@ def _chances(chance_per_factor: float) -> np.ndarray:
     return chance
 
 
-def downwind_table(downwind_rad: np.ndarray, d_row: np.ndarray, d_col: np.ndarray, cone_deg: float) -> np.ndarray:
-    """(B, N) bool: offset (d_row, d_col) lies within ``cone_deg`` of world b's downwind direction.
-
-    ``downwind_rad`` (B,) is the direction the wind blows to, counter-clockwise from +x; an offset's
-    direction is atan2(d_row, d_col) since rows run along y and columns along x.
-    """
-    return _downwind(downwind_rad, np.arctan2(d_row, d_col), cone_deg)
-
-
 def _downwind(downwind_rad: np.ndarray, direction: np.ndarray, cone_deg: float) -> np.ndarray:
-    """:func:`downwind_table` from the offsets' directions (N,): wrap_angle's operations, done in place."""
+    """(B, N) bool: the offsets' directions (N,) lie within ``cone_deg`` of each world's downwind direction
+    ``downwind_rad`` (B,); :func:`hivex_dsl.procgen.wind.wrap_angle`'s operations, done in place."""
     gap = direction - downwind_rad[:, None]
     gap += np.pi
     gap %= TWO_PI
@@ -105,10 +97,7 @@ def weather_factors(spec: FireSpec, conditions: Conditions, world: np.ndarray, r
     for name, field in zip(("temperature", "humidity", "overcast"), (temperature, humidity, overcast)):
         if field.shape != world.shape:
             raise ValueError(f"conditions returned {name} of shape {field.shape}, expected {world.shape}")
-    hot = temperature > spec.hot_temperature
-    dry = humidity < spec.dry_humidity
-    low = overcast < spec.low_overcast
-    return hot.astype(np.int8) + dry + low
+    return factor_count(temperature, humidity, overcast, spec)
 
 
 def _inside(row: np.ndarray, col: np.ndarray, d_row: np.ndarray, d_col: np.ndarray, radius: int,

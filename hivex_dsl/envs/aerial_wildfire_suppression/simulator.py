@@ -10,9 +10,9 @@ import numpy as np
 from gymnasium import spaces
 
 from ...batching import assemble, read_only, replace_worlds
-from ...fire import burning_count, douse, fire_step_unchecked
+from ...fire import any_burning, douse, fire_step_unchecked
 from ...fire.search import closest_burning_at
-from ...numeric import clamp, constant
+from ...numeric import and_not, clamp, constant
 from ...procgen.weather import weather_step
 from ...procgen.wind import wind_step, wrap_angle
 from ...runtime import StepOutcome
@@ -24,7 +24,7 @@ from .view import (build_look, frame_template, is_tiled, plane_cameras, redraw_c
 from ..island import SEA, IslandMaps, IslandSpecs, grid_lookup, restart_where, start_islands, weather_reader
 
 PICKUP_EVENT = "picked_up_water"
-# Events of one plane; a task that ends on one of them takes that plane out of the game (see step).
+# Events of one plane; a task that ends on one of them takes that plane out of the game (see _sense).
 PLANE_EVENTS = (PICKUP_EVENT, "dropped_water", "found_fire", "found_village")
 EVENTS = {
     PICKUP_EVENT: "a plane without water entered the water ring and filled up",
@@ -67,7 +67,6 @@ class AerialWildfireSimulator:
         self.drop_along = along  # (P,) metres ahead of the plane
         self.cell_m = self.forest_spec.spacing_m
         self.weather_lookup = grid_lookup(self.forest_spec.cells, p.weather_grid_cells)
-        self.turn_rad = np.radians(p.turn_rate_deg)
         self.operands = _Operands.of(p, self.cell_m)
         self._query_shapes: dict[tuple[int, int], tuple[np.ndarray, np.ndarray]] = {}
 
@@ -103,7 +102,7 @@ class AerialWildfireSimulator:
             crossed=no, picked_up=no, dropped=no, found_fire=no, found_village=no,
             extinguished=np.zeros(shape, np.int32), prepared=np.zeros(shape, np.int32),
             fire_went_out=np.zeros(batch, bool), village_threatened=np.zeros(batch, bool),
-            burning=_any_burning(island.fire), look=look,
+            burning=any_burning(island.fire), look=look,
             visual=self._cameras(position, heading, look, island.fire.trees, island.maps.ground))
 
     def reset_where(self, state: AerialWildfireState, mask: np.ndarray, rng: np.random.Generator) -> AerialWildfireState:
@@ -156,31 +155,31 @@ class AerialWildfireSimulator:
         ``moved`` holds the step's new fire, wind, weather, tick and drop counts (state fields)."""
         fire = moved["fire"]
         sighting = self._sight_of(fire, prev.maps.village, flight.position, flight.flying)
-        found_fire = _and_not(sighting.plane_found, prev.seen_fire)
+        found_fire = and_not(sighting.plane_found, prev.seen_fire)
         gap = flight.position - prev.maps.village[:, None, :]
         near_village = flight.flying & (np.hypot(gap[..., 0], gap[..., 1]) <= self.operands.village_radius)
-        found_village = _and_not(near_village, prev.seen_village)
-        threatened = _and_not(sighting.village_threat, prev.village_hit)
-        went_out = _and_not(fire.out, prev.fire.out)
+        found_village = and_not(near_village, prev.seen_village)
+        threatened = and_not(sighting.village_threat, prev.village_hit)
+        went_out = and_not(fire.out, prev.fire.out)
         events = {PICKUP_EVENT: flight.picked, "dropped_water": flight.dropping, "found_fire": found_fire,
                   "found_village": found_village, "fire_out": np.repeat(went_out[:, None], found_fire.shape[1], axis=1)}
         flying = flight.flying
         if self.plane_endings:  # a plane whose episode ends on its own event stops flying, dropping and refilling
-            flying = _and_not(flying, np.logical_or.reduce([events[e] for e in self.plane_endings]))
+            flying = and_not(flying, np.logical_or.reduce([events[e] for e in self.plane_endings]))
         visual = self._cameras_after(prev, flight, fire.trees)
         new = assemble(AerialWildfireState, maps=prev.maps, **moved, position=flight.position, heading=flight.heading,
                        water=flight.water, flying=flying, sighting=sighting, seen_fire=prev.seen_fire | found_fire,
                        seen_village=prev.seen_village | found_village, village_hit=prev.village_hit | threatened,
                        crossed=flight.crossed, picked_up=flight.picked, dropped=flight.dropping, found_fire=found_fire,
                        found_village=found_village, fire_went_out=went_out, village_threatened=threatened,
-                       burning=_any_burning(fire), look=prev.look, visual=visual)
+                       burning=any_burning(fire), look=prev.look, visual=visual)
         return new, StepOutcome(terminated=flight.crossed.copy(), events=events)
 
     def _cameras_after(self, prev: AerialWildfireState, flight: Flight, trees: np.ndarray) -> np.ndarray:
         """(B, A, P, P, 3) cameras after the step. In a one-world batch, a plane that was out of the game
         before the step and is beyond the island's sight keeps its picture: it has not moved, and the
         water ring and outside it sees never change (a reset draws its world's pictures afresh)."""
-        parked = _and_not(flight.outside > self.frame.blind_m, prev.flying)
+        parked = and_not(flight.outside > self.frame.blind_m, prev.flying)
         if len(parked) != 1 or not np.count_nonzero(parked):
             return self._cameras(flight.position, flight.heading, prev.look, trees, prev.maps.ground, flight.facing)
         parked, watched = parked[0], ~parked[0]
@@ -205,19 +204,19 @@ class AerialWildfireSimulator:
         outside = np.maximum(reach[..., 0], reach[..., 1])
         crossed = flying & (outside > k.border)
         still = flying ^ crossed  # flying & ~crossed
-        picked = _and_not(still & (outside > k.island), water)
+        picked = and_not(still & (outside > k.island_half), water)
         water = water | picked
         dropping = still & water & (actions["discrete"][..., 0] == 1)
         if np.count_nonzero(dropping):
             dropping &= self._over_land(state.maps.ground, position)
-        return Flight(heading, facing, position, outside, still, crossed, picked, _and_not(water, dropping), dropping)
+        return Flight(heading, facing, position, outside, still, crossed, picked, and_not(water, dropping), dropping)
 
     def _over_land(self, ground: np.ndarray, position: np.ndarray) -> np.ndarray:
         """(B, A) bool: the ground (B, C, C) under each plane is island land (not sea, not the water ring)."""
         half, cells = self.params.island_half_extent_m, self.forest_spec.cells
         cell = np.floor((position + half) / self.cell_m)  # (B, A, 2): col, row
         inside = ((cell >= 0) & (cell < cells)).all(axis=-1)
-        col, row = np.minimum(np.maximum(cell, 0), cells - 1).astype(np.int64).transpose(2, 0, 1)
+        col, row = clamp(cell, 0, cells - 1).astype(np.int64).transpose(2, 0, 1)
         world = np.arange(position.shape[0])[:, None]
         return inside & (ground.reshape(-1).take((world * cells + row) * cells + col) != SEA)
 
@@ -278,9 +277,10 @@ class AerialWildfireSimulator:
             p = self.params
             world = np.concatenate([np.repeat(np.arange(batch), agents), np.arange(batch)])
             half = np.concatenate([np.full(batch * agents, p.fire_view_half_m), np.full(batch, p.village_radius_m)])
-            for array in (world, half):
+            half_cells = half / self.cell_m
+            for array in (world, half_cells):
                 array.flags.writeable = False
-            self._query_shapes = {(batch, agents): (world, half / self.cell_m)}  # one shape at a time
+            self._query_shapes = {(batch, agents): (world, half_cells)}  # one shape at a time
         return self._query_shapes[batch, agents]
 
     # ---- observation and picture --------------------------------------------------------
@@ -290,11 +290,11 @@ class AerialWildfireSimulator:
         k = self.operands
         sighting = state.sighting
         vector = np.empty(state.heading.shape + (8,), np.float32)  # float64 values, rounded once on assignment
-        vector[..., 0:2] = clamp(state.position / k.scale, k.minus_one, k.one)
+        vector[..., 0:2] = clamp(state.position / k.border, k.minus_one, k.one)
         vector[..., 2] = np.cos(state.heading)
         vector[..., 3] = np.sin(state.heading)
         vector[..., 4] = state.water
-        vector[..., 5:7] = clamp(sighting.plane_xy / k.scale, k.minus_one, k.one)
+        vector[..., 5:7] = clamp(sighting.plane_xy / k.border, k.minus_one, k.one)
         vector[..., 7] = sighting.plane_found
         # the state's own camera array (drawn in step): read-only, so an in-place edit raises
         return {"vector": vector, "visual": read_only(state.visual)}
@@ -315,17 +315,15 @@ class _Operands(NamedTuple):
     half: np.ndarray
     turn_rad: np.ndarray
     speed: np.ndarray
-    border: np.ndarray
-    island: np.ndarray
-    scale: np.ndarray  # observed positions are metres / scale (the border's half extent)
+    border: np.ndarray  # the border's half extent; observed positions are metres / border
     village_radius: np.ndarray
-    island_half: np.ndarray
+    island_half: np.ndarray  # the island's half extent
     cell_m: np.ndarray
 
     @classmethod
     def of(cls, p: AerialWildfireParams, cell_m: float) -> "_Operands":
         values = (1.0, -1.0, 0.5, np.radians(p.turn_rate_deg), p.plane_speed_m, p.border_half_extent_m,
-                  p.island_half_extent_m, p.border_half_extent_m, p.village_radius_m, p.island_half_extent_m, cell_m)
+                  p.village_radius_m, p.island_half_extent_m, cell_m)
         return cls(*(constant(value) for value in values))
 
 
@@ -343,18 +341,6 @@ class Flight(NamedTuple):
     picked: np.ndarray
     water: np.ndarray
     dropping: np.ndarray
-
-
-def _and_not(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """``a & ~b`` of bool arrays in one NumPy call (True > False is the only true comparison)."""
-    return np.greater(a, b)
-
-
-def _any_burning(fire) -> np.ndarray:
-    """(B,) bool: some tree of the world burns."""
-    if fire.batch == 1:
-        return np.array([fire.burning.size > 0])
-    return burning_count(fire) > 0
 
 
 # Per-world arrays of the state (world axis first) that a partial reset replaces.

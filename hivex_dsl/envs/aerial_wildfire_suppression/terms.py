@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...numeric import constant
+from ...numeric import and_not, constant
 from ...reward.terms import TermRegistry
 
 TERMS = TermRegistry("aerial_wildfire_suppression")
@@ -116,4 +116,4 @@ def preparing_tree(prev, state, actions, params):
     equation="r_w = -water_wait_penalty (100 / 3000) while the plane holds no water else 0",
 )
 def time_step_without_water(prev, state, actions, params):
-    return -params.water_wait_penalty * np.greater(state.flying, state.water)  # flying & ~water
+    return -params.water_wait_penalty * and_not(state.flying, state.water)
