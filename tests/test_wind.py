@@ -89,3 +89,20 @@ def test_a_kept_probe_gives_exactly_the_fresh_wind(seed, drift_m):
         reused += probe is before
         np.testing.assert_array_equal(wind, local_wind(state, points, spec))
     assert drift_m > 1.0 or reused > 0  # with a metre of drift per step the probe is really reused
+
+
+@given(st.integers(0, 2**31 - 1), st.integers(1, 4))
+def test_local_wind_is_the_main_direction_turned_by_the_shared_fractal_noise(seed, octaves):
+    """The wind's own octave layout against noise.fractal_unchecked, the field it stands for."""
+    from hivex_dsl.procgen.noise import fractal_unchecked
+
+    rng = np.random.default_rng(seed)
+    spec = dataclasses.replace(SPEC, noise_octaves=octaves)
+    state = wind_reset(rng, 3, spec)
+    for _ in range(5):
+        state = wind_step(state, rng, spec)
+    points = rng.uniform(-900.0, 900.0, (3, 5, 2))
+    moved = (points - state.drift[:, None, :]) / spec.noise_scale_m
+    noise = fractal_unchecked(state.perm, state.grads, moved[..., 0], moved[..., 1], octaves, 0.5, 2.0)
+    expected = wrap_angle(state.main[:, None] + np.radians(spec.deviation_max_deg) * noise)
+    np.testing.assert_array_equal(local_wind(state, points, spec), expected)

@@ -2,8 +2,9 @@
 
 Each query is paired with candidate burning cells of its world, and the nearest candidate inside its box
 wins. Any candidate set holding every burning cell of the box gives the same answer, so the pairing is
-picked by cost: every burning cell of the query's world when that is little work (no index to build), or
-only the cells of the coarse blocks its box overlaps (:mod:`.blocks`) when fronts are large.
+picked by cost: every burning cell of the query's world when that is little work (no index to build; one
+world with few pairs tests them all as one dense (queries, burning) box test), or only the cells of the
+coarse blocks its box overlaps (:mod:`.blocks`) when fronts are large.
 """
 
 from __future__ import annotations

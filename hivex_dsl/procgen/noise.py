@@ -1,12 +1,15 @@
 """Batched 2D Perlin gradient noise, shared by every environment's procedural content.
 
-Wind fields use it now; terrain height maps and weather will use it later. All functions work on a
-batch of ``B`` independent noise fields at once, each with its own random lattice:
+Wind, weather and terrain use it. All functions work on a batch of ``B`` independent noise fields
+at once, each with its own random lattice:
 
 * :func:`draw_lattice` draws the lattice (a permutation table and unit gradient vectors) from an
   ``np.random.Generator`` -- the only source of randomness in this module.
 * :func:`perlin2d` evaluates classic Perlin noise (quintic fade) at arbitrary points.
 * :func:`fractal2d` sums several octaves of it ("fractal Brownian motion").
+* Callers that keep a lattice in their state evaluate it in parts: :func:`octave_points`,
+  :func:`corner_gradients` (which a caller whose points stay in their cells may keep),
+  :func:`blend_corners` and :func:`sum_octaves`; :func:`fractal_unchecked` chains them.
 
 Coordinates are in *lattice units*: one unit is the distance between neighbouring lattice points,
 and a field with period ``P`` repeats every ``P`` units in x and in y. Noise values are
@@ -22,7 +25,8 @@ import numpy as np
 
 from ..numeric import clamp, constant
 
-__all__ = ["draw_lattice", "perlin2d", "fractal2d"]
+__all__ = ["draw_lattice", "perlin2d", "fractal2d", "fractal_unchecked", "octave_frequencies", "octave_points",
+           "corner_gradients", "blend_corners", "sum_octaves"]
 
 # Unit-gradient 2D Perlin noise peaks at sqrt(2)/2 in magnitude; this factor maps it onto [-1, 1].
 _RANGE_SCALE = np.sqrt(2.0)
@@ -222,7 +226,7 @@ def fractal2d(
 
 @functools.lru_cache(maxsize=64)
 def octave_frequencies(octaves: int, lacunarity: float) -> np.ndarray:
-    """``(octaves, 1)`` read-only frequencies ``lacunarity**k``, shaped to scale ``(..., octaves, 2)`` points."""
+    """``(octaves, 1)`` read-only frequencies ``lacunarity**k`` (callers take ``[:, 0]`` or add the axes they need)."""
     frequencies = np.array([lacunarity**k for k in range(octaves)]).reshape(octaves, 1)
     frequencies.flags.writeable = False
     return frequencies

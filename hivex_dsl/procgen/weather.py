@@ -18,7 +18,7 @@ import numpy as np
 from pydantic import Field
 
 from ..batching import assemble
-from ..numeric import clamp
+from ..numeric import all_true, clamp
 from ..spec.common import SCHEMA_VERSION, StrictModel
 from .noise import blend_corners, draw_lattice, octave_frequencies, sum_octaves
 from .presets import load_preset
@@ -132,6 +132,8 @@ def weather_step(state: WeatherState, wind_main: np.ndarray, spec: WeatherSpec) 
     angle = np.asarray(wind_main, dtype=np.float64)
     if angle.shape != state.offsets.shape[:1]:
         raise ValueError(f"wind_main must have shape (B,) with B = {state.offsets.shape[0]}, got {angle.shape}")
+    if not all_true(np.isfinite(angle)):
+        raise ValueError("wind_main must be finite")
     heading = np.empty(state.offsets.shape)
     np.cos(angle, out=heading[:, 0])
     np.sin(angle, out=heading[:, 1])

@@ -21,7 +21,8 @@ from hivex_dsl.envs.island import sample_conditions
 from hivex_dsl.envs.wildfire_resource_management.params import WildfireResourceParams
 from hivex_dsl.envs.wildfire_resource_management.sight import (key_cells, key_tables, nearest_keys, nearest_of_sorted,
                                                                 square_table)
-from hivex_dsl.envs.wildfire_resource_management.terms import broken_power_law, remapped_distance, tower_performance
+from hivex_dsl.envs.wildfire_resource_management.terms import (broken_power_law, collective_performance, remapped_distance,
+                                                               tower_performance)
 from hivex_dsl.envs.wildfire_resource_management.types import Sighting
 from hivex_dsl.fire import TreeState, closest_burning, fire_reset
 
@@ -160,8 +161,9 @@ def test_the_fused_performance_is_the_papers_formula(towers, threshold, s, a, id
     got = tower_performance(SimpleNamespace(sighting=sighting), params)
     np.testing.assert_array_equal(got, expected)
     assert np.all((got >= 0.0) & (got <= 1.0))
-    rms = np.sqrt(np.add.reduce(got * got, axis=-1) / got.shape[-1])
-    assert np.all(1.0 - np.abs(1.0 - rms) == 1.0 - (1.0 - rms))
+    paper = 1.0 - np.abs(1.0 - np.sqrt(np.mean(got * got, axis=-1)))  # R = 1 - |1 - sqrt(MSE)|, every tower
+    collective = collective_performance(None, SimpleNamespace(sighting=sighting), None, params)
+    np.testing.assert_array_equal(collective, np.broadcast_to(paper[:, None], got.shape))
 
 
 def test_keys_outside_the_box_and_empty_answers_read_as_no_cell():

@@ -119,3 +119,10 @@ def test_bad_arguments_are_value_errors():
 
 def test_preset_matches_the_code():
     assert load_weather_preset().defaults == WeatherSpec()
+
+
+@pytest.mark.parametrize("bad", [np.nan, np.inf])
+def test_a_wind_that_is_not_finite_is_refused(bad):
+    state = weather_reset(np.random.default_rng(3), 2, SPEC)
+    with pytest.raises(ValueError, match="wind_main must be finite"):
+        weather_step(state, np.array([0.0, bad]), SPEC)

@@ -12,8 +12,8 @@ from typing import Callable
 
 import numpy as np
 
+from ...procgen.wind import wrap_angle
 from .camera import NEW_TREE_BELOW, TREE_BELOW, pixel_offsets
-from .simulator import wrap
 
 CRUISE_HEIGHT_M = 22.0  # above ground while searching: a ~44 m wide view at the default 90 degrees
 APPROACH_HEIGHT_M = 7.0  # above ground near the forest: ~1 m per camera pixel
@@ -45,7 +45,7 @@ def scripted_policy(compiled) -> Callable[[dict], dict]:
 
     def steer_toward(heading: np.ndarray, target: np.ndarray, slow_within: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(throttle, steer) turning toward bearing ``target``; slow while turning or within ``slow_within`` m."""
-        error = wrap(target - heading)
+        error = wrap_angle(target - heading)
         steer = np.clip(error / turn, -1.0, 1.0)
         throttle = np.where(np.abs(error) < np.radians(60.0), 1.0, 0.2) * np.clip(slow_within, 0.0, 1.0)
         return throttle, steer

@@ -16,6 +16,7 @@ from ...batching import evolve, read_only, replace_worlds
 from ...numeric import all_true, clamp
 from ...procgen.forest import ForestSpec, place_forest
 from ...procgen.terrain import TerrainSpec, generate_terrain
+from ...procgen.wind import wrap_angle
 from ...runtime import StepOutcome
 from .camera import NEW_TREE_GRAY, STATION_GRAY, TREE_GRAY, Raster, camera_images, ground_shade, stamp_disks, to_byte
 from .fertility import (FAR_M, Grid, GridSet, distance_reward, fertility, interpolation_matrix,
@@ -36,16 +37,12 @@ class Flight(NamedTuple):
     """The drones after one step of flight, B worlds of A drones."""
 
     position: np.ndarray  # (B, A, 3)
-    xy: np.ndarray  # (B, A, 2) contiguous copy of position[..., :2]
-    z: np.ndarray  # (B, A) contiguous copy of position[..., 2]
+    xy: np.ndarray  # (B, A, 2) the horizontal position (position[..., :2], a view or the array it was built from)
+    z: np.ndarray  # (B, A) the height (position[..., 2], likewise)
     heading: np.ndarray  # (B, A)
     direction: np.ndarray  # (B, A, 2) cos and sin of the heading
     ground: np.ndarray  # (B, A) terrain height below each drone
     tree_distance: np.ndarray | None  # (B, A) sampled from the state's tree_distance raster (None at reset)
-
-
-def wrap(angle: np.ndarray) -> np.ndarray:
-    return (angle + np.pi) % (2.0 * np.pi) - np.pi
 
 
 class DroneReforestationSimulator:
@@ -138,6 +135,7 @@ class DroneReforestationSimulator:
         position, heading, ground, holding = self._spawn(rng, heights, station)
         shape = (batch, self.agents)
         zeros, false = np.zeros(shape), np.zeros(shape, bool)
+        distance, _ = self._station_distances(position, station)
         state = DroneState(
             heights=heights, tree_distance=tree_distance_raster(occupied, self.forest_grid.cell, self.tree_reach_m),
             tree_xy=trees, station=station, camera=self._cameras(heights, trees, station),
@@ -145,8 +143,7 @@ class DroneReforestationSimulator:
             new_quality=np.zeros((batch, self.params.new_tree_capacity), np.float32),
             new_count=np.zeros(batch, np.int64), position=position, heading=heading, ground=ground,
             energy=np.ones(shape), holding=np.full(shape, holding), alive=np.ones(shape, bool),
-            inside=self._station_distance(position, station) <= self.params.charge_radius_m,
-            away=self._station_distance(position, station) >= self.params.return_min_distance_m,
+            inside=distance <= self.params.charge_radius_m, away=distance >= self.params.return_min_distance_m,
             best_fertility=zeros, best_height=zeros, best_distance=zeros, back_active=false,
             back_init=np.zeros(shape, np.int64), back_best=np.zeros(shape, np.int64), back_multiplier=zeros,
             dropped=false, seed_reward=zeros, distance_reward=zeros, returned=false,
@@ -160,11 +157,6 @@ class DroneReforestationSimulator:
         return replace_worlds(state, mask, self.reset(rng, int(np.count_nonzero(mask))))
 
     # ------------------------------------------------------------------ step
-    @staticmethod
-    def _station_distance(position: np.ndarray, station: np.ndarray) -> np.ndarray:
-        gap = position - station[:, None, :]
-        return np.sqrt(np.einsum("bad,bad->ba", gap, gap))
-
     @staticmethod
     def _station_distances(position: np.ndarray, station: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(B, A) distance of each drone from its station in 3D, and horizontally."""
@@ -195,14 +187,13 @@ class DroneReforestationSimulator:
         if alive is not None:
             controls = controls * alive[..., None]
         moves = controls * self._control_scale  # (B, A, 3) metres forward, radians turned, metres climbed
-        heading = wrap(state.heading + moves[..., 1])
+        heading = wrap_angle(state.heading + moves[..., 1])
         direction = np.empty(heading.shape + (2,))
         direction[..., 0] = np.cos(heading)
         direction[..., 1] = np.sin(heading)
         xy = clamp(state.position[..., :2] + moves[..., :1] * direction, -self.half, self.half)
         ground, det = self._below.sample((state.heights, state.tree_distance), xy)
-        z = np.minimum(np.maximum(state.position[..., 2] + moves[..., 2], ground + p.min_clearance_m),
-                       p.height_bound_m)
+        z = clamp(state.position[..., 2] + moves[..., 2], ground + p.min_clearance_m, p.height_bound_m)
         position = np.empty(state.position.shape)
         position[..., :2] = xy
         position[..., 2] = z

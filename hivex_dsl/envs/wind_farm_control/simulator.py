@@ -34,9 +34,11 @@ def alignment(heading: np.ndarray, wind: np.ndarray) -> np.ndarray:
     return _ONE - angle_between(heading, wind + _PI) / _PI
 
 
-def wind_force(align: np.ndarray, threshold: float) -> np.ndarray:
-    """The paper's W(theta): 0 below the threshold, Map(theta, threshold, 1, 0, 1) above it."""
-    return clamp((align - threshold) / (1.0 - threshold), _ZERO, _ONE)
+def wind_force(align: np.ndarray, threshold: float, span: float | None = None) -> np.ndarray:
+    """The paper's W(theta): 0 below the threshold, Map(theta, threshold, 1, 0, 1) above it.
+
+    ``span`` is 1 - threshold, for a caller that keeps both as 0-d operands (see hivex_dsl.numeric)."""
+    return clamp((align - threshold) / (1.0 - threshold if span is None else span), _ZERO, _ONE)
 
 
 def next_performance(performance: np.ndarray, force: np.ndarray, acceleration: float, drag: float) -> np.ndarray:
@@ -100,8 +102,7 @@ class WindFarmSimulator:
         heading = wrap_angle(state.heading + self._turn_by_action[actions])
         wind = wind_step(state.wind, rng, self.wind_spec)
         wind_here, probe = probe_wind(wind, state.positions, self.wind_spec, state.wind_probe)
-        # wind_force and next_performance, with the parameters as 0-d operands
-        force = clamp((alignment(heading, wind_here) - self._threshold) / self._threshold_span, _ZERO, _ONE)
+        force = wind_force(alignment(heading, wind_here), self._threshold, self._threshold_span)
         performance = next_performance(state.performance, force, self._acceleration, self._drag)
         new = assemble(WindFarmState, positions=state.positions, heading=heading, performance=performance,
                        local_wind=wind_here, wind=wind, wind_probe=probe)
