@@ -143,3 +143,9 @@ def test_the_command_prints_json_and_strict_fails_on_flags(tmp_path, capsys):
     assert "[2/2]" in err and "policy scripted" in err
     strict = main(["audit", str(scenario), "--episodes", "1", "--strict"])
     assert strict == (1 if any(a["flags"] for a in audits) else 0)
+
+
+def test_the_command_wants_a_file_or_the_suite(capsys):
+    assert main(["audit"]) == 2
+    assert main(["audit", "wind_farm_control/main", "--suite"]) == 2
+    assert "give a scenario FILE or --suite" in capsys.readouterr().err
