@@ -89,6 +89,16 @@ def test_a_dominant_term_is_flagged():
     assert _kinds(audit, "energy") == {"dominant"}
 
 
+def test_the_one_bonus_of_a_task_dominates_nothing():
+    def cost(prev, state, actions, params):
+        return -(np.asarray(actions) == 2).astype(np.float64)
+
+    penalty = dict(DENSE, sign="penalty", low=-1.0, high=0.0)
+    audit = audit_scenario(_compiled(_terms(("energy", energy, DENSE), ("cost", cost, penalty)),
+                                     {"energy": 1.0, "cost": 0.001}))
+    assert "dominant" not in _kinds(audit)
+
+
 @pytest.mark.parametrize("value, contract, kind", [
     (2.0, DENSE, "contract_range"),
     (-1.0, DENSE, "contract_sign"),
