@@ -26,8 +26,8 @@ POWER_LAW_EXPONENT = -0.5  # the paper's (...)^(-1/2)
 def remapped_distance(distance: np.ndarray, approaching: np.ndarray, threshold_m: float) -> np.ndarray:
     """The paper's d1n': 0.5 - 0.5 d1n if m else 0.5 + 0.5 d1n, with d1n = d1 / d_thresh clipped to [0, 1].
 
-    The terms use it only for d1 <= d_thresh (:func:`performance_of`), where the clip does nothing;
-    beyond d_thresh an approaching fire's d1n' would be negative and the power law undefined.
+    P is defined only for d1 <= d_thresh (:func:`performance_of`), where the clip does nothing; beyond
+    d_thresh an approaching fire's d1n' would be negative and the power law undefined.
     """
     normalised = clamp(distance / threshold_m, 0.0, 1.0)
     return np.where(approaching, 0.5 - 0.5 * normalised, 0.5 + 0.5 * normalised)
