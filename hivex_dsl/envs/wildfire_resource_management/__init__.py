@@ -9,6 +9,7 @@ from .params import WildfireResourceParams
 from .resources import neighbour_rows
 from .scripted import scripted_policy
 from .simulator import EVENTS, WildfireResourceSimulator
+from .statistics import STATISTICS
 from .terms import TERMS
 
 
@@ -21,6 +22,7 @@ ENTRY = register(EnvironmentEntry(
     info=CATALOGUE["wildfire_resource_management"],
     params_model=WildfireResourceParams,
     terms=TERMS,
+    statistics=STATISTICS,
     make_simulator=WildfireResourceSimulator,
     scripted_policy=scripted_policy,
     events=EVENTS,
