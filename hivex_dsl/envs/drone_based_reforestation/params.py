@@ -41,7 +41,7 @@ class DroneBasedReforestationParams(StrictModel):
         "drones do not start grouped."))
     spawn_altitude_m: float = Field(2.0, ge=0.1, le=20.0, description="[ours] Starting height above the station.")
     random_spawn_min_distance_m: float = Field(20.0, ge=0.0, le=150.0, description=(
-        "[ours] In the Pick-up Seed sub-task drones start at random, at least this far from the station."))
+        "[ours] In the Pick-up Seed and Group Up sub-tasks drones start at random, at least this far from the station."))
     energy_steps_with_seed: int = Field(1000, ge=10, le=1_000_000, description=(
         "[paper] A full battery lasts this many steps carrying a seed (episode length / 2); the Deplete Energy "
         "Holding Seed penalty is -1 / this."))
