@@ -243,8 +243,22 @@ def act_batch(batch, agents):
     return {"continuous": np.zeros((batch, agents, 1), np.float32), "discrete": np.zeros((batch, agents, 1), np.int64)}
 
 
-def test_the_parallel_env_keeps_the_island_while_episodes_continue_a_seed_stream():
-    env = hivex_dsl.parallel_env({"hivex": 1, "environment": "aerial_wildfire_suppression", "episode_length": 3})
+@pytest.mark.parametrize("environment", ["aerial_wildfire_suppression", "wildfire_resource_management",
+                                         "drone_based_reforestation"])
+def test_by_default_every_episode_of_a_seed_stream_draws_a_new_world(environment):
+    def height_map(state):  # DBR keeps its terrain in ``heights``, the island environments in ``maps``
+        return (state.heights if environment == "drone_based_reforestation" else state.maps.height).copy()
+
+    env = hivex_dsl.parallel_env({"hivex": 1, "environment": environment, "episode_length": 3})
+    env.reset(seed=1)
+    first = height_map(env.core.state)
+    env.reset()  # continues the stream: a new world
+    assert not np.array_equal(height_map(env.core.state), first)
+
+
+def test_the_parallel_env_keeps_the_island_while_episodes_continue_a_seed_stream_when_told_to():
+    env = hivex_dsl.parallel_env({"hivex": 1, "environment": "aerial_wildfire_suppression", "episode_length": 3,
+                                  "params": {"redraw_island": "seed"}})
     env.reset(seed=1)
     first = env.core.state.maps.height.copy()
     env.reset()  # continues the stream: same island, a new fire
@@ -252,7 +266,7 @@ def test_the_parallel_env_keeps_the_island_while_episodes_continue_a_seed_stream
     env.reset(seed=2)  # a new seed starts a new stream: a new island
     assert not np.array_equal(env.core.state.maps.height, first)
     listed = hivex_dsl.parallel_env({"hivex": 1, "environment": "aerial_wildfire_suppression",
-                                     "seeds": {"train": [1, 2], "test": 3}})
+                                     "seeds": {"train": [1, 2], "test": 3}, "params": {"redraw_island": "seed"}})
     listed.reset()
     assert np.array_equal(listed.core.state.maps.height, first)  # the list's first seed is seed 1
 
