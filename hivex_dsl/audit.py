@@ -5,7 +5,8 @@ per policy and per active term, what the term paid per agent and episode (mean, 
 return). It raises a :class:`Flag` for what usually means a reward bug:
 
 - ``action_independent``: a term pays the same episode sums under all three policies (and is at least 5%
-  of what the random or the scripted policy earns);
+  of what the random or the scripted policy earns); for a global-scope term (a property of the whole world,
+  which a task may mean the agents to be unable to change) this is a note, not a flag;
 - ``first_step``: an event or terminal term pays on the first step after reset under the all-zeros policy;
 - ``dominant``: one term pays at least 90% of what the scripted policy earns from the terms that can
   reward it (where at least two can);
@@ -13,7 +14,10 @@ return). It raises a :class:`Flag` for what usually means a reward bug:
   declared range or sign, a terminal term paid before the end, an event term paid on most steps;
 - ``beats_published``: where the scenario is a published cell with a PPO return above 0.5, the all-zeros
   or random policy earns more than that return plus 10%;
-- ``published_scale``: some policy's mean return is more than 10 times the published one in size.
+- ``published_scale``: the all-zeros or random policy's mean return is more than 10 times the published one
+  in size (a scripted policy may well outdo the paper's PPO).
+
+Notes are findings that are not flags: they are printed and stored but do not fail ``--strict``.
 """
 
 from __future__ import annotations
@@ -49,6 +53,7 @@ class Flag:
     message: str
     term: Optional[str] = None
     policy: Optional[str] = None
+    note: bool = False  # a finding to read, not a flag (see the module doc)
 
     def as_dict(self) -> dict[str, Any]:
         return {"kind": self.kind, "term": self.term, "policy": self.policy, "message": self.message}
@@ -67,6 +72,7 @@ class ScenarioAudit:
     rollouts: dict[str, Rollout]
     cell: Optional[published.PublishedCell]
     flags: list[Flag] = field(default_factory=list)
+    notes: list[Flag] = field(default_factory=list)
 
     def shares(self, policy: str) -> dict[str, float]:
         """Each active term's mean weighted episode sum over the sum of their sizes (signed; sizes add to 1)."""
@@ -82,6 +88,7 @@ class ScenarioAudit:
             "task_index": c.entry.reward_table.tasks[c.task_index].index, "level": c.level,
             "episodes": int(next(iter(self.rollouts.values())).returns.shape[0]), "policies": {},
             "published": None, "flags": [f.as_dict() for f in self.flags],
+            "notes": [f.as_dict() for f in self.notes],
         }
         for policy, done in self.rollouts.items():
             shares = self.shares(policy)
@@ -110,7 +117,8 @@ def audit_scenario(compiled: CompiledScenario, episodes: int = 2, stream: Option
         if stream is not None:
             stream.write(f"  done in {time.monotonic() - started:.1f} s\n")
     result = ScenarioAudit(compiled, rollouts, published.cell_for(compiled))
-    result.flags = find_flags(result)
+    found = find_flags(result)
+    result.flags, result.notes = [f for f in found if not f.note], [f for f in found if f.note]
     return result
 
 
@@ -129,9 +137,11 @@ def _action_independent(audit: ScenarioAudit) -> list[Flag]:
         same = all(s.shape == sums[0].shape and np.allclose(s, sums[0], rtol=TOLERANCE, atol=TOLERANCE) for s in sums)
         matters = max(abs(audit.shares(p)[term]) for p in ACTING) >= MATTERS_SHARE
         if same and matters:
-            flags.append(Flag("action_independent", term=term, message=(
+            world = audit.compiled.entry.terms[term].contract.scope == "global"
+            flags.append(Flag("action_independent", term=term, note=world, message=(
                 f"{term} pays the same per-episode sums under the all-zeros, random and scripted policies "
-                f"(mean {float(sums[0].mean()):.4g}): its value does not depend on the actions")))
+                f"(mean {float(sums[0].mean()):.4g}): its value does not depend on the actions"
+                + (" (a global-scope term: a property of the world)" if world else ""))))
     return flags
 
 
@@ -213,7 +223,7 @@ def _against_published(audit: ScenarioAudit) -> list[Flag]:
             flags.append(Flag("beats_published", policy=policy, message=(
                 f"the {policy} policy earns {ours:.4g} per agent and episode, more than the paper's trained PPO "
                 f"({target:.4g}): a reward bug until proven otherwise")))
-        if abs(target) >= PUBLISHED_MIN and abs(ours) > SCALE_FACTOR * abs(target):
+        if policy != "scripted" and abs(target) >= PUBLISHED_MIN and abs(ours) > SCALE_FACTOR * abs(target):
             flags.append(Flag("published_scale", policy=policy, message=(
                 f"the {policy} policy's return {ours:.4g} is {abs(ours / target):.0f} times the published "
                 f"{target:.4g} in size: the reward scale differs from the paper's")))
@@ -269,6 +279,7 @@ def describe(audit: dict[str, Any]) -> str:
     else:
         lines.append("  no published result for this environment, task and level")
     flags = audit["flags"]
+    lines += [f"  note {f['kind']}: {f['message']}" for f in audit.get("notes", [])]
     lines += [f"  FLAG {f['kind']}: {f['message']}" + (f" [{f['policy']}]" if f["policy"] else "") for f in flags]
     lines.append(f"  {len(flags)} flag(s)")
     return "\n".join(lines)

@@ -37,7 +37,7 @@ def _task_row(audit: dict[str, Any]) -> dict[str, Any]:
         "ppo_mean": _num(mean["return"] if mean else None),
         "returns": [_num(ours[p]["return"]["mean"]) for p in AUDIT_POLICIES],
         "half": "-" if ppo is None or ppo <= 0.5 else ("yes" if scripted >= 0.5 * ppo else "**no**"),
-        "flags": audit["flags"], "statistics": stats,
+        "flags": audit["flags"], "notes": audit.get("notes", []), "statistics": stats,
     }
 
 

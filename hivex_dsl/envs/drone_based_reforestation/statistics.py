@@ -1,7 +1,9 @@
 """The statistics Drone-Based Reforestation logs ("DroneBasedReforestation/<name>"), read from the drone state.
 
-The best-so-far statistics (highest fertility, point, distance) are summed as per-step increases, so an
-episode's sum is the best value reached, which is what the original logs at the episode's end.
+The best-so-far statistics (highest potential, point, distance) are summed as per-step increases of the
+drone's best value, so an episode's sum is how far the best rose above where the drone started: what the
+matching delta term pays, unweighted (the published values of these statistics are close to their tasks'
+returns, e.g. 46.8 against 45.9 in Find High Terrain).
 """
 
 from __future__ import annotations
@@ -53,17 +55,17 @@ def normalized_distance_until_tree_drop(prev, state, actions, params):
     return state.distance_reward * (1.0 / DISTANCE_REWARD_MULTIPLIER)
 
 
-@STATISTICS.counter("Highest Potential Soild Found", "The best seed-drop potential found (the logged name's typo kept).")
+@STATISTICS.counter("Highest Potential Soild Found", "The rise of the best seed-drop potential found (the logged name's typo kept).")
 def highest_potential_found(prev, state, actions, params):
     return state.best_fertility - prev.best_fertility
 
 
-@STATISTICS.counter("Highest Point on Terrain Found", "The highest ground (metres) the drone flew over.")
+@STATISTICS.counter("Highest Point on Terrain Found", "The rise of the highest point (metres) the drone reached.")
 def highest_point_found(prev, state, actions, params):
     return state.best_height - prev.best_height
 
 
-@STATISTICS.counter("Furthest Distance Explored", "The furthest horizontal distance (metres) from the station.")
+@STATISTICS.counter("Furthest Distance Explored", "The rise of the furthest horizontal distance (metres) from the station.")
 def furthest_distance_explored(prev, state, actions, params):
     return state.best_distance - prev.best_distance
 
