@@ -9,7 +9,6 @@ from .params import WildfireResourceParams
 from .resources import neighbour_rows
 from .scripted import scripted_policy
 from .simulator import EVENTS, WildfireResourceSimulator
-from .statistics import STATISTICS
 from .terms import TERMS
 
 
@@ -22,7 +21,6 @@ ENTRY = register(EnvironmentEntry(
     info=CATALOGUE["wildfire_resource_management"],
     params_model=WildfireResourceParams,
     terms=TERMS,
-    statistics=STATISTICS,
     make_simulator=WildfireResourceSimulator,
     scripted_policy=scripted_policy,
     events=EVENTS,
@@ -62,8 +60,8 @@ ENTRY = register(EnvironmentEntry(
         "of all towers' performance. So "
         "only the watch-tower term depends on the actions, and keeping everything for the own tower maximises "
         "every task's return.",
-        "Fire, terrain, forest, ignition and weather are Aerial Wildfire Suppression's (a new island every episode "
-        "unless redraw_island is 'seed', which keeps it across a seed stream; the fire is new every episode). Towers "
+        "Fire, terrain, forest, ignition and weather are Aerial Wildfire Suppression's (an island is kept across the "
+        "episodes of a seed stream unless redraw_island is 'episode'; the fire is new every episode). Towers "
         "cannot fight the fire; with one fire step per environment step (fire_step_interval 1, ours) it mostly goes "
         "out after 150-350 steps, near the original's logged mean episode lengths of 140-275, and every task ends "
         "then (event fire_out) or after 500 steps.",
