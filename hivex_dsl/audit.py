@@ -7,7 +7,8 @@ return). It raises a :class:`Flag` for what usually means a reward bug:
 - ``action_independent``: a term pays the same episode sums under all three policies (and is at least 5%
   of what the random or the scripted policy earns);
 - ``first_step``: an event or terminal term pays on the first step after reset under the all-zeros policy;
-- ``dominant``: one term makes up at least 90% of what the scripted policy earns;
+- ``dominant``: one term pays at least 90% of what the scripted policy earns from the terms that can
+  reward it (where at least two can);
 - ``contract_range`` / ``contract_sign`` / ``contract_timing``: a per-step value outside the term's
   declared range or sign, a terminal term paid before the end, an event term paid on most steps;
 - ``beats_published``: where the scenario is a published cell with a PPO return above 0.5, the all-zeros
@@ -149,13 +150,26 @@ def _first_step(audit: ScenarioAudit) -> list[Flag]:
 
 
 def _dominant(audit: ScenarioAudit) -> list[Flag]:
-    shares = audit.shares("scripted")
-    paying = [term for term, share in shares.items() if share != 0]
-    if len(audit.rollouts["scripted"].terms) < 2 or not paying:
+    """A term paying at least 90% of what the scripted policy earns from the terms that can pay it something.
+
+    Only rewards count (positive weighted sums): a task whose one bonus is the task (Find Fire) has nothing
+    to dominate, and penalties dominating a run that earns nothing say nothing about the reward's design.
+    """
+    done, entry = audit.rollouts["scripted"], audit.compiled.entry
+    can_pay = [t for t in done.terms if _can_pay(entry.terms[t].contract, audit.compiled.weights[t])]
+    earned = {t: float(done.weighted(t).mean()) for t in can_pay}
+    total = sum(v for v in earned.values() if v > 0)
+    if len(can_pay) < 2 or total <= 0:
         return []
     return [Flag("dominant", term=term, policy="scripted", message=(
-        f"{term} makes up {abs(share):.0%} of what the scripted policy earns (the other terms hardly matter)"))
-        for term, share in shares.items() if abs(share) >= DOMINANT_SHARE]
+        f"{term} pays {value / total:.0%} of what the scripted policy earns from the {len(can_pay)} terms "
+        "that reward it (the others hardly matter)"))
+        for term, value in earned.items() if value >= DOMINANT_SHARE * total]
+
+
+def _can_pay(contract, weight: float) -> bool:
+    """Whether a term with this contract and weight can add to the return."""
+    return contract.sign == "mixed" or (contract.sign == "bonus") == (weight > 0)
 
 
 def _contracts(audit: ScenarioAudit) -> list[Flag]:

@@ -91,18 +91,34 @@ def _parser() -> argparse.ArgumentParser:
 def _audit_parser(sub) -> None:
     p = sub.add_parser("audit", help="property-test a scenario's reward terms with all-zeros, random and scripted "
                                      "policies; compare with the published results")
-    p.add_argument("file", help="scenario file (every point of a sweep is audited)")
+    p.add_argument("file", nargs="?", help="scenario file (every point of a sweep is audited)")
     p.add_argument("--episodes", type=_positive, default=2, help="test episodes per policy (default 2)")
     p.add_argument("--json", action="store_true", help="print the audit as JSON")
     p.add_argument("--strict", action="store_true", help="exit 1 when a flag is raised")
+    p.add_argument("--suite", action="store_true", help="audit every task of every environment at level 1 "
+                                                        "(the fidelity page's numbers) instead of FILE")
+    p.add_argument("-o", "--output", type=Path, help="with --suite: write the report as JSON to this file")
     p.set_defaults(handler=cmd_audit)
 
 
 def cmd_audit(args) -> int:
     from .audit import audit_all, describe
-    from .compiler import compile_all
 
-    audits = [a.as_dict() for a in audit_all(compile_all(args.file), args.episodes)]
+    if args.suite == bool(args.file):
+        print("hivex audit: give a scenario FILE or --suite (not both)", file=sys.stderr)
+        return EXIT_USAGE
+    if args.suite:
+        from .fidelity import measure_suite, write_suite
+
+        report = measure_suite(args.episodes)
+        audits = report["scenarios"]
+        if args.output:
+            write_suite(report, args.output)
+            print(f"wrote {args.output}", file=sys.stderr)
+    else:
+        from .compiler import compile_all
+
+        audits = [a.as_dict() for a in audit_all(compile_all(args.file), args.episodes)]
     print(json.dumps(audits, indent=2) if args.json else "\n\n".join(describe(a) for a in audits))
     flagged = any(a["flags"] for a in audits)
     return EXIT_FAIL if args.strict and flagged else EXIT_OK

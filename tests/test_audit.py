@@ -89,6 +89,16 @@ def test_a_dominant_term_is_flagged():
     assert _kinds(audit, "energy") == {"dominant"}
 
 
+def test_the_one_bonus_of_a_task_dominates_nothing():
+    def cost(prev, state, actions, params):
+        return -(np.asarray(actions) == 2).astype(np.float64)
+
+    penalty = dict(DENSE, sign="penalty", low=-1.0, high=0.0)
+    audit = audit_scenario(_compiled(_terms(("energy", energy, DENSE), ("cost", cost, penalty)),
+                                     {"energy": 1.0, "cost": 0.001}))
+    assert "dominant" not in _kinds(audit)
+
+
 @pytest.mark.parametrize("value, contract, kind", [
     (2.0, DENSE, "contract_range"),
     (-1.0, DENSE, "contract_sign"),
@@ -143,3 +153,9 @@ def test_the_command_prints_json_and_strict_fails_on_flags(tmp_path, capsys):
     assert "[2/2]" in err and "policy scripted" in err
     strict = main(["audit", str(scenario), "--episodes", "1", "--strict"])
     assert strict == (1 if any(a["flags"] for a in audits) else 0)
+
+
+def test_the_command_wants_a_file_or_the_suite(capsys):
+    assert main(["audit"]) == 2
+    assert main(["audit", "wind_farm_control/main", "--suite"]) == 2
+    assert "give a scenario FILE or --suite" in capsys.readouterr().err
