@@ -15,6 +15,7 @@ import hivex_dsl
 from hivex_dsl.envs.drone_based_reforestation.camera import NEW_TREE_GRAY, to_byte
 from hivex_dsl.envs.drone_based_reforestation.fertility import (FAR_M, distance_reward, sample_bilinear, seed_reward,
                                                                 tree_distance_raster)
+from hivex_dsl.reward.composer import RewardComposer
 
 ENV = "drone_based_reforestation"
 
@@ -403,6 +404,11 @@ def test_a_seed_dropped_just_outside_the_pad_is_worth_at_most_about_1():
 
 def test_explore_furthest_pays_the_explored_distance_over_the_half_extent():
     # published: "Furthest Distance Explored" 152 m but a return of 8.0, so the metres cannot be paid 1:1
-    compiled = hivex_dsl.compile(f"{ENV}/explore_furthest")
-    assert compiled.weights["far_distance_explored_delta"] == 1.0 / 200.0
-    assert compiled.weights["pick_up_seed_explored"] == 1.0 / 200.0
+    compiled = hivex_dsl.compile({"hivex": 1, "environment": ENV, "task": "explore_furthest", "agents": 1})
+    sim = compiled.entry.make_simulator(compiled)
+    composer = RewardComposer(compiled.entry.terms, compiled.weights)
+    state = replace(hand_world(sim, [(80.0, 0.0, 10.0)]), best_distance=np.array([[50.0]]))
+    new, _ = sim.step(state, act(), np.random.default_rng(1))  # hovering 80 m out, 50 m the furthest before
+    rewards, terms = composer(state, new, act(), compiled.params, (1, 1))
+    assert terms["far_distance_explored_delta"][0, 0] == pytest.approx(30.0)  # the term stays in metres
+    assert rewards[0, 0] == pytest.approx(30.0 / 200.0 - 1.0 / 1000.0)  # holding a seed: -1/1000 a step
