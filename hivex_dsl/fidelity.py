@@ -2,8 +2,9 @@
 
 Rolling all 26 tasks for the three audit policies takes minutes, too long for `hivex docs --check`
 in CI, so the measured numbers are stored: ``hivex audit --suite -o benchmarks/results/fidelity.json``
-writes them (:func:`measure_suite`), docs/fidelity.md is rendered from that file, and a test
-recomputes a cheap subset and checks every scenario's fingerprint to prove the file is not stale.
+writes them (:func:`measure_suite`), docs/fidelity.md is rendered from that file, and
+tests/test_fidelity.py re-measures the cheap tasks (WFC, WRM, DBR Pick-up Seed) and checks every
+scenario's fingerprint to prove the file is not stale.
 """
 
 from __future__ import annotations
