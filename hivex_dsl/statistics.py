@@ -5,8 +5,8 @@ The original environments log, besides the return, statistics such as Aerial Wil
 (:mod:`hivex_dsl.published`) give each as the per-agent sum over a test episode. Each environment
 declares here, in its ``statistics.py``, how it computes every name it logs:
 
-- a **counter**: ``fn(prev, state, actions, params) -> (batch, agents)`` read from the simulator's state
-  each step (like a reward term), summed per agent over the episode, optionally multiplied by the task's
+- a **counter**: ``fn(prev, state, actions, params) -> (batch, agents)`` numbers or bools (an event
+  counts 1) read from the simulator's state each step (like a reward term), summed per agent over the episode, optionally multiplied by the task's
   weight of a reward term (a logged "... Reward" is what the task paid);
 - a **mirror**: the weighted sum of some reward terms' episode sums (no per-step cost);
 - **not computed**: a logged name this toolkit cannot compute, with the reason.

@@ -10,33 +10,33 @@ STATISTICS = StatisticSet("aerial_wildfire_suppression", "AerialWildfireSuppress
 
 
 def _every_plane(state, world_events: np.ndarray) -> np.ndarray:
-    """(B,) -> (B, A) float64: a world's event counted for each of its planes."""
-    return np.broadcast_to(world_events[:, None], state.flying.shape).astype(np.float64)
+    """(B,) -> (B, A): a world's event counted for each of its planes (a read-only view)."""
+    return np.broadcast_to(world_events[:, None], state.flying.shape)
 
 
 @STATISTICS.counter("Crash Count", "Times the plane crossed the border (its episode ends).")
 def crash_count(prev, state, actions, params):
-    return state.crossed.astype(np.float64)
+    return state.crossed
 
 
 @STATISTICS.counter("Water Pickup", "Times the plane filled up with water in the ring around the island.")
 def water_pickup(prev, state, actions, params):
-    return state.picked_up.astype(np.float64)
+    return state.picked_up
 
 
 @STATISTICS.counter("Water Drop", "Times the plane dropped its water.")
 def water_drop(prev, state, actions, params):
-    return state.dropped.astype(np.float64)
+    return state.dropped
 
 
 @STATISTICS.counter("Extinguishing Trees", "Burning trees this plane's drops turned wet.")
 def extinguishing_trees(prev, state, actions, params):
-    return state.extinguished.astype(np.float64)
+    return state.extinguished
 
 
 @STATISTICS.counter("Preparing Trees", "Existing (not burning) trees this plane's drops turned wet.")
 def preparing_trees(prev, state, actions, params):
-    return state.prepared.astype(np.float64)
+    return state.prepared
 
 
 @STATISTICS.counter("Fire Out", "Times the fire on the island went out (counted for every plane of the world).")

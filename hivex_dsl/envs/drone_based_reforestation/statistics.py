@@ -18,17 +18,17 @@ STATISTICS = StatisticSet("drone_based_reforestation", "DroneBasedReforestation"
 
 @STATISTICS.counter("Tree Drop Count", "Seeds the drone released (each planted as a new tree).")
 def tree_drop_count(prev, state, actions, params):
-    return state.dropped.astype(np.float64)
+    return state.dropped
 
 
 @STATISTICS.counter("Recharge Energy Count", "Steps the drone's battery was recharged at the drone station.")
 def recharge_energy_count(prev, state, actions, params):
-    return (state.energy > prev.energy).astype(np.float64)
+    return state.energy > prev.energy
 
 
 @STATISTICS.counter("Out of Energy Count", "Times the drone's battery ran empty (its episode ends).")
 def out_of_energy_count(prev, state, actions, params):
-    return (prev.alive & ~state.alive).astype(np.float64)
+    return prev.alive & ~state.alive
 
 
 @STATISTICS.counter("Cumulative Tree Drop Reward", "The seed-quality part r_s of what drops paid (weighted).",
@@ -45,6 +45,8 @@ def distance_reward(prev, state, actions, params):
 
 @STATISTICS.counter("Cumulative Distance Until Tree Drop", "Metres from the station to each drop point.")
 def distance_until_tree_drop(prev, state, actions, params):
+    if not np.count_nonzero(state.dropped):  # most steps: nobody dropped (counts 0 for everyone)
+        return state.dropped
     offset = state.position[..., :2] - state.station[:, None, :2]
     return np.where(state.dropped, np.hypot(offset[..., 0], offset[..., 1]), 0.0)
 
