@@ -144,3 +144,16 @@ def test_a_statistic_of_an_unknown_term_is_refused():
         stats.mirror("Energy", "again", "generate_energy")
     with pytest.raises(TypeError, match="must take"):
         stats.counter("Bad", "x")(lambda state: state)
+
+
+def test_wrm_moving_resources_statistics_follow_the_task_weights():
+    compiled = hivex_dsl.compile({"hivex": 1, "environment": "wildfire_resource_management", "task": "keep_all",
+                                  "episode_length": 60})
+    env, records = _roll(compiled)
+    stats = env.statistic_sums()
+    assert compiled.weights["watch_tower_performance"] == 10.0  # Keep All: the own tower x10
+    np.testing.assert_allclose(stats["Reward for Moving Resources to Self"],
+                               10.0 * env.term_sums["watch_tower_performance"])
+    np.testing.assert_allclose(stats["Reward for Moving Resources to Neighbours"], env.term_sums["neighbour_performance"])
+    performance = sum(np.where(live, state.sighting.performance, 0.0) for _, state, _, live in records)
+    np.testing.assert_allclose(stats["Individual Performance"], performance)
