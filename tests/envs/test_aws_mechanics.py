@@ -327,3 +327,19 @@ def test_what_a_plane_saw_when_its_task_ended_does_not_depend_on_other_worlds_re
     after = env.reset_worlds(np.array([False, True]))
     for key in observations:
         np.testing.assert_array_equal(after[key][0], observations[key][0], err_msg=key)
+
+
+@pytest.mark.parametrize("task", ["pick_up_water", "find_village"])
+def test_nothing_is_paid_on_the_first_step_for_where_a_plane_happens_to_start(task):
+    # issue 15: a plane without water spawning over the water ring filled up (+1, x100 in Pick Up Water) and one
+    # spawning within 150 m of the village found it (+100) on the first step, whatever it did
+    compiled = hivex_dsl.compile({"hivex": 1, "environment": "aerial_wildfire_suppression", "task": task})
+    sim = AerialWildfireSimulator(compiled)
+    state = sim.reset(np.random.default_rng(7), 64)
+    gap = state.position - state.maps.village[:, None, :]
+    assert (np.hypot(gap[..., 0], gap[..., 1]) > 150.0).all()
+    if task == "pick_up_water":
+        assert (np.abs(state.position) < 600.0).all() and not state.water.any()
+    new, _ = sim.step(state, act_batch(64, 3), np.random.default_rng(1))  # one step straight on: 5 m
+    assert not new.picked_up.any() or (np.abs(state.position).max(axis=-1)[new.picked_up] > 595.0).all()
+    assert not new.found_village.any() or (np.hypot(gap[..., 0], gap[..., 1])[new.found_village] <= 155.0).all()
