@@ -21,7 +21,7 @@ from typing import Any
 
 import numpy as np
 from gymnasium import spaces
-from gymnasium.vector import VectorActionWrapper, VectorObservationWrapper, VectorEnv
+from gymnasium.vector import VectorActionWrapper, VectorEnv, VectorWrapper
 from gymnasium.vector.utils import batch_space
 from pettingzoo.utils.wrappers import BaseParallelWrapper
 
@@ -68,7 +68,9 @@ def unflatten_action(space: spaces.Space, action: Any) -> Any:
             "discrete": np.minimum(bins, nvec - 1)}
 
 
-class _FlatObservations(VectorObservationWrapper):
+class _FlatObservations(VectorWrapper):
+    """Not a VectorObservationWrapper: that refuses SAME_STEP, whose ``final_obs`` this one flattens too."""
+
     def __init__(self, env: VectorEnv):
         super().__init__(env)
         self._dict_space = env.single_observation_space
@@ -78,8 +80,13 @@ class _FlatObservations(VectorObservationWrapper):
     def observations(self, observations: Any) -> Any:
         return flatten_observation(self._dict_space, observations, lead=1)
 
+    def reset(self, **kwargs: Any):
+        obs, infos = self.env.reset(**kwargs)
+        return self.observations(obs), infos
+
     def step(self, actions: Any):
-        obs, rewards, terminated, truncated, infos = super().step(actions)
+        obs, rewards, terminated, truncated, infos = self.env.step(actions)
+        obs = self.observations(obs)
         if "final_obs" in infos:  # SAME_STEP: the last observations of ended slots, flat as well
             final = infos["final_obs"].copy()
             for slot in np.flatnonzero(infos["_final_obs"]):
