@@ -29,37 +29,40 @@ def camel(name: str) -> str:
     return "".join(part.capitalize() for part in name.split("_"))
 
 
-def make_scenario(environment: str, scenario: Any = None, task: Optional[str] = None, level: Any = None,
+def make_scenario(environment: Optional[str], scenario: Any = None, task: Optional[str] = None, level: Any = None,
                   max_cycles: Optional[int] = None, **fields: Any) -> CompiledScenario:
-    """A compiled scenario of ``environment``: ``scenario`` (a bundled scenario's name such as
-    ``"main"`` -- the default --, a path, a dict or a CompiledScenario) with ``task``, ``level`` (the
-    environment's level field: ``pattern`` or ``terrain_level``), ``max_cycles`` (the episode
-    length) and other top-level ``fields`` put over it."""
+    """A compiled scenario: ``scenario`` (a bundled scenario's name such as ``"main"`` -- the
+    default --, ``"<env>/<name>"``, a path, a dict or a CompiledScenario) with ``task``, ``level``
+    (the environment's level field: ``pattern`` or ``terrain_level``), ``max_cycles`` (the episode
+    length) and other top-level ``fields`` put over it. ``environment`` may be None when the
+    scenario names it."""
     overrides = dict(fields)
     if task is not None:
         overrides["task"] = task
-    if level is not None:
-        level_field = CATALOGUE[environment].level_field
-        if level_field is None:
-            raise ValueError(f"{environment} has no difficulty levels; leave level out")
-        overrides[level_field] = level
     if max_cycles is not None:
         overrides["episode_length"] = max_cycles
     if isinstance(scenario, CompiledScenario):
-        if overrides:
+        if overrides or level is not None:
             raise ValueError(f"a compiled scenario cannot take {sorted(overrides)}: change its source instead")
         return scenario
-    if scenario is None or (isinstance(scenario, str) and "/" not in scenario and not scenario.endswith(".yaml")):
+    if environment is not None and (scenario is None or (isinstance(scenario, str) and "/" not in scenario
+                                                         and not scenario.endswith(".yaml"))):
         scenario = f"{environment}/{scenario or 'main'}"
     if isinstance(scenario, dict):
         data = dict(scenario)
-    elif overrides:
+    elif overrides or level is not None:
         data = load_file(resolve_scenario_path(str(scenario))).data
     else:
         return compile(scenario)
+    environment = environment or data.get("environment")
     data.setdefault("environment", environment)
     if data.get("environment") != environment:
         raise ValueError(f"the scenario is of {data.get('environment')!r}, not {environment!r}")
+    if level is not None:
+        level_field = CATALOGUE[environment].level_field if environment in CATALOGUE else None
+        if level_field is None:
+            raise ValueError(f"{environment} has no difficulty levels; leave level out")
+        overrides[level_field] = level
     return compile({**data, **overrides})
 
 
