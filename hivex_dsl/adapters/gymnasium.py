@@ -15,9 +15,18 @@ Gymnasium's autoreset modes are offered (``autoreset_mode``):
 - SAME_STEP: a slot that ended returns its first observation at once; the last one is in
   ``infos["final_obs"]`` (an object array, ``None`` elsewhere) under the mask ``infos["_final_obs"]``.
 
+A slot that restarts (NEXT_STEP) on the very step its world ends is reported truncated with an
+empty episode (return 0, length 0), as ``RecordEpisodeStatistics`` counts it too. When every world
+restarts at once, NEXT_STEP resets them without stepping the simulator, so a one-world vector env
+follows the parallel env episode after episode as long as no agent ends alone (the parallel env
+then lets the agent leave, the vector env respawns it).
+
 ``infos["hivex_episode"]`` (mask ``infos["_hivex_episode"]``) holds each ended slot's return,
-length and per-term sums, never colliding with the wrappers' ``episode`` key. Observations are
-fresh writable arrays every step.
+length and per-term sums, never colliding with the wrappers' ``episode`` key; there is no
+``infos["active"]``: every slot is always live. Observations are fresh writable arrays every
+step. A reset without a seed follows the scenario's seed (the first copy of a scenario in a
+process plays its stream, later copies child streams of it: copies are different worlds unless
+seeded, and a seeded reset is deterministic).
 """
 
 from __future__ import annotations
