@@ -116,3 +116,19 @@ def test_one_world_follows_the_parallel_env_across_episodes(env_id):
             for key in (p_obs[agent] if isinstance(p_obs[agent], dict) else [None]):
                 mine = v_obs[i] if key is None else v_obs[key][i]
                 np.testing.assert_array_equal(mine, p_obs[agent] if key is None else p_obs[agent][key])
+
+
+def test_human_rendering_opens_a_window_or_is_skipped_cleanly(monkeypatch):
+    pytest.importorskip("pygame")
+    monkeypatch.setenv("SDL_VIDEODRIVER", "dummy")
+    venv = hivex_dsl.vector_env(WFC, render_mode="human")
+    venv.reset(seed=0)
+    venv.step(np.zeros(3, np.int64))
+    assert venv.render() is None and venv._window.screen is not None
+    venv.close()
+    monkeypatch.setenv("SDL_VIDEODRIVER", "no-such-driver")
+    venv = hivex_dsl.vector_env(WFC, render_mode="human")
+    with pytest.warns(UserWarning, match="no window"):
+        venv.reset(seed=0)
+    venv.step(np.zeros(3, np.int64))  # runs on
+    venv.close()

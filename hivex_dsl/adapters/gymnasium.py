@@ -191,10 +191,9 @@ class HivexVectorEnv(VectorEnv):
 
     def _show(self) -> None:
         if self.render_mode == "human":
-            from .human import Window
+            from .human import show_world
 
-            self._window = self._window or Window(f"hivex {self.compiled.environment}", self.core.sim.render_fps)
-            self._window.show(self.core.render(0))
+            self._window = show_world(self._window, self.core, self.compiled.environment)
 
     def close_extras(self, **kwargs: Any) -> None:
         """Closes the window of human rendering, if any; the worlds are only NumPy arrays."""

@@ -1,7 +1,13 @@
-"""``render_mode="human"``: a pygame window showing world 0 (pygame is the optional extra ``window``)."""
+"""``render_mode="human"``: a pygame window showing world 0 (pygame is the optional extra ``window``).
+
+Without a display (a server, CI without ``SDL_VIDEODRIVER=dummy``) the window is skipped with one
+warning and the environment runs on; ``render()`` returns None in human mode, as Gymnasium and
+PettingZoo expect.
+"""
 
 from __future__ import annotations
 
+import warnings
 from typing import Optional
 
 import numpy as np
@@ -25,19 +31,27 @@ class Window:
     def __init__(self, title: str, fps: int):
         import pygame
 
-        pygame.init()
-        pygame.display.init()
         self.pygame = pygame
         self.title = title
         self.fps = fps
         self.screen = None
+        self.skipped = False
         self.clock = pygame.time.Clock()
 
     def show(self, frame: np.ndarray) -> None:
         pygame = self.pygame
         height, width = frame.shape[:2]
+        if self.skipped:
+            return
         if self.screen is None:
-            self.screen = pygame.display.set_mode((width, height))
+            try:
+                pygame.display.init()
+                self.screen = pygame.display.set_mode((width, height))
+            except pygame.error as exc:
+                warnings.warn(f'render_mode="human": no window ({exc}); the environment runs on without one',
+                              stacklevel=3)
+                self.skipped = True
+                return
             pygame.display.set_caption(self.title)
         pygame.event.pump()  # keeps the window responsive
         surface = pygame.surfarray.make_surface(np.ascontiguousarray(frame[..., :3].swapaxes(0, 1)))
@@ -49,4 +63,10 @@ class Window:
         if self.screen is not None:
             self.pygame.display.quit()
             self.screen = None
-        self.pygame.quit()
+
+
+def show_world(window: Optional[Window], core, environment: str) -> Window:
+    """Show world 0 of ``core`` (a BatchedEnv) in ``window``, opening one first if None; returns it."""
+    window = window or Window(f"hivex {environment}", core.sim.render_fps)
+    window.show(core.render(0))
+    return window

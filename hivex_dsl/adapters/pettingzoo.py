@@ -154,10 +154,9 @@ class HivexParallelEnv(ParallelEnv):
 
     def _show(self) -> None:
         if self.render_mode == "human":
-            from .human import Window
+            from .human import show_world
 
-            self._window = self._window or Window(f"hivex {self.compiled.environment}", self.core.sim.render_fps)
-            self._window.show(self.core.render(0))
+            self._window = show_world(self._window, self.core, self.compiled.environment)
 
     def close(self) -> None:
         """Closes the window of human rendering, if any; a world is only NumPy arrays."""
