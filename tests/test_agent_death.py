@@ -146,3 +146,28 @@ def test_the_parallel_env_keeps_pettingzoo_semantics_by_default(environment):
             left = gone[0]
             break
     assert left is not None and left not in env.agents and "hivex_episode" in infos[left]
+
+
+@pytest.mark.parametrize("environment", list(LENGTH))
+def test_sb3_vec_monitor_counts_per_agent_returns_including_deaths(environment):
+    pytest.importorskip("stable_baselines3")
+    from stable_baselines3.common.vec_env import VecMonitor
+
+    from hivex_dsl.adapters.sb3 import SB3VecEnv
+
+    venv = VecMonitor(SB3VecEnv(scenario(environment), num_worlds=2))
+    venv.seed(3)
+    venv.reset()
+    actions = straight_ahead(environment, venv.num_envs, flat=True)
+    deaths = episodes = 0
+    for _ in range(LENGTH[environment] + 3):
+        obs, reward, dones, infos = venv.step(actions)
+        assert all(venv.observation_space.contains(o) for o in obs)  # SB3 spaces are one slot's
+        for slot in np.flatnonzero(dones):
+            mine, monitor = infos[slot]["hivex_episode"], infos[slot]["episode"]
+            assert monitor["l"] == mine["length"]
+            assert monitor["r"] == pytest.approx(mine["return"], rel=1e-5, abs=1e-4)  # VecMonitor sums float32
+            assert venv.observation_space.contains(infos[slot]["terminal_observation"])
+            deaths += not infos[slot]["TimeLimit.truncated"]
+            episodes += 1
+    assert deaths >= 2 and episodes > deaths
