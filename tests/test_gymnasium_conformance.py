@@ -132,3 +132,13 @@ def test_human_rendering_opens_a_window_or_is_skipped_cleanly(monkeypatch):
         venv.reset(seed=0)
     venv.step(np.zeros(3, np.int64))  # runs on
     venv.close()
+
+
+def test_supersuit_concatenated_copies_are_different_worlds():
+    supersuit = pytest.importorskip("supersuit")
+    env = hivex_dsl.parallel_env(WFC | {"seeds": {"train": 21, "test": 22}})
+    copies = supersuit.concat_vec_envs_v1(supersuit.pettingzoo_env_to_vec_env_v1(env), 3, base_class="gymnasium")
+    for seed in (None, 4):
+        obs, _ = copies.reset(seed=seed)
+        worlds = obs.reshape(3, 3, -1)
+        assert not np.array_equal(worlds[0], worlds[1]) and not np.array_equal(worlds[1], worlds[2])
