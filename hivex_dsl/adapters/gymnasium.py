@@ -133,7 +133,8 @@ class HivexVectorEnv(VectorEnv):
             self._pending_worlds = np.zeros(self.num_worlds, bool)
             self._pending_agents = np.zeros(shape, bool)
             zeros = np.zeros(self.num_envs, bool)
-            return _flatten(observations, self.num_envs), np.zeros(self.num_envs), zeros, zeros.copy(), {}
+            infos = {"reward_terms": {name: np.zeros(self.num_envs) for name in core.term_sums}}
+            return _flatten(observations, self.num_envs), np.zeros(self.num_envs), zeros, zeros.copy(), infos
         respawning = self._pending_agents & ~restart[:, None]
         restarting = restart if restart.any() else None
         result = core.step(batched, restart=restarting, respawn=respawning if respawning.any() else None)
