@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from gymnasium import spaces
 from gymnasium.vector import AutoresetMode
 from gymnasium.wrappers.vector import RecordEpisodeStatistics
 
@@ -171,3 +172,34 @@ def test_sb3_vec_monitor_counts_per_agent_returns_including_deaths(environment):
             deaths += not infos[slot]["TimeLimit.truncated"]
             episodes += 1
     assert deaths >= 2 and episodes > deaths
+
+
+@pytest.mark.parametrize("environment", ["ocean_plastic_collection", "aerial_wildfire_suppression",
+                                         "drone_based_reforestation"])
+def test_respawn_where_restarts_only_the_masked_agents(environment):
+    from hivex_dsl.runtime import BatchedEnv
+
+    core = BatchedEnv(hivex_dsl.compile({"hivex": 1, "environment": environment, "episode_length": 50}), batch=2)
+    core.reset(seed=0)
+    space = core.sim.action_space
+    space.seed(0)
+    for _ in range(5):
+        sample = [space.sample() for _ in range(2 * core.agents)]
+        actions = ({k: np.stack([s[k] for s in sample]).reshape((2, core.agents) + space[k].shape) for k in space.spaces}
+                   if isinstance(space, spaces.Dict) else np.stack(sample).reshape((2, core.agents) + space.shape))
+        core.step(actions)
+    before = core.observe()
+    mask = np.zeros((2, core.agents), bool)
+    mask[1, 0] = True
+    state = core.sim.respawn_where(core.state, mask, np.random.default_rng(1))
+    after = core.sim.observe(state)
+    for key in before:
+        np.testing.assert_array_equal(after[key][~mask], before[key][~mask])  # the others are untouched
+        assert core.sim.observation_space[key].contains(np.asarray(after[key][1, 0]))
+    if environment == "drone_based_reforestation":
+        assert state.energy[1, 0] == 1.0 and state.alive[1, 0]
+        np.testing.assert_array_equal(after["vector"][1, 0, :10], after["vector"][1, 0, 10:])  # a first observation
+    if environment == "ocean_plastic_collection":
+        assert state.active[1, 0] and state.speed[1, 0] == 0.0 and state.collected_total[1, 0] == 0
+    if environment == "aerial_wildfire_suppression":
+        assert state.flying[1, 0] and not state.seen_fire[1, 0]
