@@ -40,6 +40,7 @@ from gymnasium.vector.utils import batch_space
 from ..compiler import CompiledScenario
 from ..runtime import BatchedEnv, Split, Transition
 from ..spaces import check_actions
+from .human import Rendering, check_render_mode
 
 _MODES = {"next_step": AutoresetMode.NEXT_STEP, "same_step": AutoresetMode.SAME_STEP}
 
@@ -74,13 +75,11 @@ def as_autoreset_mode(mode: Any) -> AutoresetMode:
                      f"got {mode!r}")
 
 
-class HivexVectorEnv(VectorEnv):
+class HivexVectorEnv(Rendering, VectorEnv):
     """Slots are (world, agent) pairs in world-major order: slot = world * agents + agent."""
 
     def __init__(self, compiled: CompiledScenario, num_worlds: int = 1, render_mode: Optional[str] = None,
                  split: Split = "train", autoreset_mode: Any = AutoresetMode.NEXT_STEP):
-        from .human import check_render_mode
-
         check_render_mode(render_mode)
         mode = as_autoreset_mode(autoreset_mode)
         seeds = getattr(compiled.seeds, split, None)
@@ -102,7 +101,6 @@ class HivexVectorEnv(VectorEnv):
         self.autoreset_mode = mode
         self.metadata = {"autoreset_mode": mode, "render_modes": ["rgb_array", "human"],
                          "render_fps": self.core.sim.render_fps}
-        self._window = None
         self._pending_worlds = np.zeros(num_worlds, bool)  # NEXT_STEP: worlds that restart on the next step
         self._pending_agents = np.zeros(self.core.shape, bool)  # NEXT_STEP: agents that respawn on the next step
 
@@ -185,19 +183,6 @@ class HivexVectorEnv(VectorEnv):
             infos["_hivex_episode"] = ended.reshape(-1)
         return infos
 
-    def render(self):
-        if self.render_mode == "rgb_array":
-            return self.core.render(0)
-        return None
-
-    def _show(self) -> None:
-        if self.render_mode == "human":
-            from .human import show_world
-
-            self._window = show_world(self._window, self.core, self.compiled.environment)
-
     def close_extras(self, **kwargs: Any) -> None:
         """Closes the window of human rendering, if any; the worlds are only NumPy arrays."""
-        if self._window is not None:
-            self._window.close()
-            self._window = None
+        self._close_window()

@@ -65,8 +65,26 @@ class Window:
             self.screen = None
 
 
-def show_world(window: Optional[Window], core, environment: str) -> Window:
-    """Show world 0 of ``core`` (a BatchedEnv) in ``window``, opening one first if None; returns it."""
-    window = window or Window(f"hivex {environment}", core.sim.render_fps)
-    window.show(core.render(0))
-    return window
+class Rendering:
+    """``render()`` and the human window of an adapter that has ``render_mode``, ``core`` and ``compiled``.
+
+    rgb_array: ``render()`` returns world 0's frame; human: every reset and step shows it in a window
+    and ``render()`` returns None.
+    """
+
+    _window: Optional[Window] = None
+
+    def render(self):
+        if self.render_mode == "rgb_array":
+            return self.core.render(0)
+        return None
+
+    def _show(self) -> None:
+        if self.render_mode == "human":
+            self._window = self._window or Window(f"hivex {self.compiled.environment}", self.core.sim.render_fps)
+            self._window.show(self.core.render(0))
+
+    def _close_window(self) -> None:
+        if self._window is not None:
+            self._window.close()
+            self._window = None

@@ -10,6 +10,7 @@ from pettingzoo import ParallelEnv
 from ..compiler import CompiledScenario
 from ..runtime import BatchedEnv, Split
 from ..spaces import check_actions, stack_agent_actions
+from .human import Rendering, check_render_mode
 
 
 def _unbatch(observations: Any, world: int, agent: int) -> Any:
@@ -35,7 +36,7 @@ def _per_agent_values(named: dict[str, np.ndarray], agents: int) -> list[dict[st
     return [dict(zip(names, row)) for row in zip(*columns)] if names else [{} for _ in range(agents)]
 
 
-class HivexParallelEnv(ParallelEnv):
+class HivexParallelEnv(Rendering, ParallelEnv):
     """One world of a compiled scenario behind PettingZoo's parallel API.
 
     ``infos[agent]["reward_terms"]`` holds the unweighted value of every active reward term this
@@ -55,14 +56,11 @@ class HivexParallelEnv(ParallelEnv):
 
     def __init__(self, compiled: CompiledScenario, render_mode: Optional[str] = None, split: Split = "train",
                  respawn: bool = False):
-        from .human import check_render_mode
-
         check_render_mode(render_mode)
         self.compiled = compiled
         self.core = BatchedEnv(compiled, batch=1, split=split, distinct_copies=True)
         self.render_mode = render_mode
         self.respawn = respawn
-        self._window = None
         self.possible_agents = list(compiled.agent_names)
         self.agents: list[str] = []
         self.metadata = {"name": f"hivex_{compiled.environment}_v0", "render_modes": ["rgb_array", "human"],
@@ -147,19 +145,6 @@ class HivexParallelEnv(ParallelEnv):
         full[0, rows] = part[0]
         return full
 
-    def render(self):
-        if self.render_mode == "rgb_array":
-            return self.core.render(0)
-        return None
-
-    def _show(self) -> None:
-        if self.render_mode == "human":
-            from .human import show_world
-
-            self._window = show_world(self._window, self.core, self.compiled.environment)
-
     def close(self) -> None:
         """Closes the window of human rendering, if any; a world is only NumPy arrays."""
-        if self._window is not None:
-            self._window.close()
-            self._window = None
+        self._close_window()
