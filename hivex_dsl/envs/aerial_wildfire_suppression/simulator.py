@@ -75,18 +75,22 @@ class AerialWildfireSimulator:
 
     def _spawn(self, rng: np.random.Generator, count: int, village: np.ndarray
                ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Positions (count, A, 2) uniform in the spawn disk clipped to the border (over the island for planes
-        without water, which would otherwise fill up on the first step), pushed out of the village radius (the
-        village is found by flying to it), headings, water. ``village`` (count, 2)."""
+        """Positions (count, A, 2) uniform in the spawn disk clipped to the border, or, for planes without water
+        (which would fill up on the first step over the ring), uniform over the island at least two steps from the
+        ring; pushed two steps beyond the village radius (the village is found by flying to it); headings; water.
+        ``village`` (count, 2)."""
         p, shape = self.params, (count, self.agents)
-        radius = p.spawn_radius_m * np.sqrt(rng.random(shape))
-        angle = rng.uniform(-np.pi, np.pi, shape)
-        position = np.stack([radius * np.cos(angle), radius * np.sin(angle)], axis=-1)
-        limit = p.border_half_extent_m if self.spawn_water else p.island_half_extent_m - 1.0
-        position = np.clip(position, -limit, limit)
+        if self.spawn_water:
+            limit = p.border_half_extent_m
+            radius = p.spawn_radius_m * np.sqrt(rng.random(shape))
+            angle = rng.uniform(-np.pi, np.pi, shape)
+            position = np.clip(np.stack([radius * np.cos(angle), radius * np.sin(angle)], axis=-1), -limit, limit)
+        else:
+            limit = p.island_half_extent_m - 2.0 * p.plane_speed_m
+            position = rng.uniform(-limit, limit, shape + (2,))
         gap = position - village[:, None, :]
         distance = np.hypot(gap[..., 0], gap[..., 1])
-        push = np.maximum(p.village_radius_m + 1.0, distance) / np.maximum(distance, 1e-9)
+        push = np.maximum(p.village_radius_m + 2.0 * p.plane_speed_m, distance) / np.maximum(distance, 1e-9)
         position = np.clip(village[:, None, :] + gap * push[..., None], -limit, limit)
         heading = rng.uniform(-np.pi, np.pi, shape)
         return position, heading, np.full(shape, self.spawn_water)
