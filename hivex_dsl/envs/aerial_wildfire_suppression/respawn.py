@@ -19,7 +19,7 @@ def respawn_where(sim, state: AerialWildfireState, mask: np.ndarray, rng: np.ran
     """``state`` with the planes where ``mask`` (B, A) is true respawned; the rest untouched."""
     if not np.count_nonzero(mask):
         return state
-    spawn_position, spawn_heading, spawn_water = sim._spawn(rng, len(mask))
+    spawn_position, spawn_heading, spawn_water = sim._spawn(rng, len(mask), state.maps.village)
     position = np.where(mask[..., None], spawn_position, state.position)
     heading = np.where(mask, spawn_heading, state.heading)
     flying = state.flying | mask
