@@ -108,8 +108,8 @@ def test_quoted_keys_are_names():
                                "(no tags that construct objects)"),
     ("a: !!str [1]\n", "1:4: YAML tag '!!str' cannot be put on a list"),
     ("a: !!seq x\n", "1:4: YAML tag '!!seq' cannot be put on a single value"),
-    ("a: !!int 0.5\n", "1:4: '0.5' cannot be read as an integer"),
-    ("a: !!bool maybe\n", "1:4: 'maybe' cannot be read as true or false"),
+    ("a: !!int 0.5\n", "1:4: a: '0.5' cannot be read as an integer"),
+    ("a: !!bool maybe\n", "1:4: a: 'maybe' cannot be read as true or false"),
 ])
 def test_object_constructing_and_mismatched_tags_are_refused(text, expected):
     assert first_problem(text) == expected
@@ -197,7 +197,8 @@ def test_empty_and_comment_only_files():
 
 
 def test_syntax_errors_are_located():
-    assert first_problem("a: [1, 2\n") == "2:1: not valid YAML: expected ',' or ']', but got '<stream end>'"
+    assert first_problem("a: [1, 2\n") == ("1:4: not valid YAML: the '[' opened here is never closed: "
+                                            "expected ',' or ']', but got '<stream end>' at line 2, column 1")
     assert first_problem("a:\n\tb: 1\n") == "2:1: not valid YAML: found character '\\t' that cannot start any token"
 
 
