@@ -70,6 +70,10 @@ class ActionError(HivexError, ValueError):
     """An action handed to an environment is outside its space."""
 
 
+class ResetNeeded(HivexError, RuntimeError):
+    """An environment was stepped before its first ``reset()``, or after every agent's episode ended."""
+
+
 def did_you_mean(word: str, choices: Iterable[str]) -> str:
     """`` (did you mean 'x'?)`` for the closest of ``choices``, or an empty string."""
     close = difflib.get_close_matches(str(word), list(choices), n=1, cutoff=0.6)
