@@ -301,13 +301,16 @@ def _validated(entry, data: dict, source: str, point: dict, locate) -> CompiledS
 
 
 def _blame(loaded: Loaded, entry, data: dict, assignment: Assignment, locate, path: PathKey) -> Location:
-    """Where the user wrote what makes the semantic problem at ``path``: the value at ``path`` when the
-    file sets (or sweeps) it; else the first written value whose removal makes the problem go away
-    (a params value that makes a layout impossible); else this point's first sweep value."""
+    """Where the user wrote what makes the semantic problem at ``path``: the first written value whose
+    removal makes the problem go away (``path`` itself first, then sweep values, then the file's
+    values in order: a params value that makes a layout impossible); else the value at ``path``
+    when the file sets (or sweeps) it; else this point's first sweep value."""
     swept = {target: where for target, _, where in assignment}
-    if path in loaded.marks or any(path[: len(t)] == t for t in swept):
-        return locate(path)
-    for leaf in _written_leaves(data, swept):
+    written = path in loaded.marks or any(path[: len(t)] == t for t in swept)
+    candidates = [] if path[:1] == ("seeds",) else ([path] if written else []) + _written_leaves(data, swept)
+    for leaf in candidates:
+        if _get(data, leaf) is _MISSING:
+            continue
         variant = copy.deepcopy(data)
         parent = _get(variant, leaf[:-1])
         del parent[leaf[-1]]
@@ -317,7 +320,7 @@ def _blame(loaded: Loaded, entry, data: dict, assignment: Assignment, locate, pa
             continue
         if all(p != path for p, _ in remaining):
             return locate(leaf)
-    return loaded.locate(next(iter(swept.values()))) if swept else locate(path)
+    return locate(path) if written or not swept else loaded.locate(next(iter(swept.values())))
 
 
 _NOT_CAUSES = ("hivex", "environment", "name", "description", "seeds")

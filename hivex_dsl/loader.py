@@ -11,6 +11,7 @@ from __future__ import annotations
 import os
 import re
 import stat
+import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Union
@@ -330,9 +331,10 @@ class _Builder:
             kind = {"tag:yaml.org,2002:int": "an integer", "tag:yaml.org,2002:float": "a number",
                     "tag:yaml.org,2002:bool": "true or false"}.get(node.tag, f"'{_tag(node.tag)}'")
             digits = sum(c.isdigit() for c in node.value)
-            if node.tag == "tag:yaml.org,2002:int" and digits > 100:  # past Python's int-from-text limit
+            limit = sys.get_int_max_str_digits()
+            if node.tag == "tag:yaml.org,2002:int" and limit and digits > limit:
                 self.fail(node, f"{field}a {digits:,}-digit integer is too long to read: expected a number "
-                                "of a sensible size")
+                                f"of at most {limit:,} digits")
             self.fail(node, f"{field}{show(node.value)} cannot be read as {kind}")
         reason = refusal(node.tag, node.value, value) if node.style is None else None
         if reason:
