@@ -46,10 +46,12 @@ def _reader_gone() -> int:
     """stdout's reader closed the pipe: stop quietly, as `yes | head -1` does; point stdout at /dev/null so
     Python's own flush at exit does not report the broken pipe again."""
     try:
-        devnull = os.open(os.devnull, os.O_WRONLY)
-        os.dup2(devnull, sys.stdout.fileno())
-    except (OSError, ValueError):  # stdout without a file descriptor (captured): nothing more will be written
-        pass
+        target = sys.stdout.fileno()
+    except (AttributeError, OSError, ValueError):  # stdout without a file descriptor: nothing more is written
+        return EXIT_PIPE
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    os.dup2(devnull, target)
+    os.close(devnull)
     return EXIT_PIPE
 
 
