@@ -56,3 +56,78 @@ def test_missing_and_extra_agents_are_named():
         stack_agent_actions(spaces.Discrete(3), {"a": 0, "c": 1}, AGENTS)
     with pytest.raises(ActionError, match="action for 'd', which is not a live agent"):
         stack_agent_actions(spaces.Discrete(3), {"a": 0, "b": 0, "c": 1, "d": 2}, AGENTS)
+
+
+# --- bad values are blamed on their own agent, named with the space -------------------------------------
+
+DISCRETE = spaces.Discrete(3)
+
+
+@pytest.mark.parametrize("value, message", [
+    (None, "action for c is None; expected an action of Discrete(3)"),
+    ("1", "action for c is '1' (a string); expected an action of Discrete(3)"),
+    (np.str_("1"), "action for c is '1' (a string); expected an action of Discrete(3)"),
+    (True, "action for c is True (a boolean); expected an action of Discrete(3) (a boolean is not read as 0 or 1)"),
+    (np.bool_(False), "action for c is False (a boolean); expected an action of Discrete(3) "
+                      "(a boolean is not read as 0 or 1)"),
+    ([1], "action for c has shape (1,), but Discrete(3) takes shape ()"),
+    (np.array([1, 2]), "action for c has shape (2,), but Discrete(3) takes shape ()"),
+    (1.5, "action for c is 1.5, not in Discrete(3)"),
+    (2 ** 70, f"action for c is {2 ** 70}, not in Discrete(3)"),
+    (object, "action for c is <class 'object'> (holding object values); expected an action of Discrete(3)"),
+])
+def test_a_bad_discrete_action_names_its_own_agent(value, message):
+    with pytest.raises(ActionError) as caught:
+        stack_agent_actions(DISCRETE, {"a": 0, "b": 1, "c": value}, AGENTS)
+    assert str(caught.value) == message
+
+
+@pytest.mark.parametrize("value", [1.0, np.float32(2.0), np.int8(1), np.uint64(0)])
+def test_integral_floats_and_every_integer_type_are_discrete_actions(value):
+    stacked = stack_agent_actions(DISCRETE, {"a": 0, "b": 1, "c": value}, AGENTS)
+    assert check_actions(DISCRETE, stacked, AGENTS).tolist() == [[0, 1, int(value)]]
+
+
+def test_a_ragged_box_action_and_booleans_for_a_box_name_the_agent():
+    box = spaces.Box(-1.0, 1.0, (2,), np.float32)
+    good = np.zeros(2, np.float32)
+    with pytest.raises(ActionError, match=r"^action for b has shape \(3,\), but Box\(-1.0, 1.0, \(2,\), float32\) "
+                                          r"takes shape \(2,\)$"):
+        stack_agent_actions(box, {"a": good, "b": [0.0, 0.0, 0.0], "c": good}, AGENTS)
+    with pytest.raises(ActionError, match=r"^action for b is ragged \(\[\[0.0\], 0.0\]\)"):
+        stack_agent_actions(box, {"a": good, "b": [[0.0], 0.0], "c": good}, AGENTS)
+    with pytest.raises(ActionError, match=r"^action for a is \[True, False\] \(booleans\)"):
+        stack_agent_actions(box, {"a": [True, False], "b": good, "c": good}, AGENTS)
+
+
+def test_an_extra_key_in_a_dict_action_is_refused():
+    good = {"continuous": np.array([0.0]), "discrete": np.array([1])}
+    with pytest.raises(ActionError, match=r"^action for b has key 'speed', which Dict\(.*\) does not have; "
+                                          r"expected exactly the keys \['continuous', 'discrete'\]"):
+        stack_agent_actions(PLANE, {"a": good, "b": {**good, "speed": 1.0}, "c": good}, AGENTS)
+    with pytest.raises(ActionError, match=r"exactly the keys \['continuous', 'discrete'\] .*, got "
+                                          r"\['continuous', 'discrete', 'speed'\]"):
+        check_actions(PLANE, {"continuous": np.zeros((1, 3, 1)), "discrete": np.zeros((1, 3, 1), int),
+                              "speed": np.zeros((1, 3))}, AGENTS)
+
+
+@pytest.mark.parametrize("batched, message", [
+    (np.array([[0, 1, None]], dtype=object), "action for c is None; expected an action of Discrete(3)"),
+    (np.array([[0, 1], [2, "x"]], dtype=object)[:, :, None].reshape(2, 2),
+     None),  # shape (2, 2): wrong agent count, reported as a shape
+    (np.array([[True, False, True]]), "action for a is True (a boolean)"),
+    (np.array([["0", "1", "2"]]), "action for a is '0' (a string)"),
+])
+def test_batched_actions_that_are_not_numbers_name_the_first_agent(batched, message):
+    with pytest.raises(ActionError) as caught:
+        check_actions(DISCRETE, batched, AGENTS)
+    if message:
+        assert str(caught.value).startswith(message)
+    else:
+        assert str(caught.value).startswith("actions have shape (2, 2); expected (batch, 3)")
+
+
+def test_batched_values_are_named_with_their_env():
+    batched = np.array([[0, 1, 2], [0, None, 2]], dtype=object)
+    with pytest.raises(ActionError, match=r"^action for b in env 1 is None"):
+        check_actions(DISCRETE, batched, AGENTS)
