@@ -251,3 +251,31 @@ def test_stepping_before_reset_says_so():
     with pytest.raises(ResetNeeded, match="has not been reset yet"):
         venv.step(np.zeros(venv.num_envs, np.int64))
     assert issubclass(ResetNeeded, hivex_dsl.HivexError) and issubclass(ResetNeeded, RuntimeError)
+
+
+# --- the README's promises ---------------------------------------------------------------------------
+
+
+def test_the_readme_error_examples_are_what_validate_prints(tmp_path, capsys):
+    readme = (ROOT / "README.md").read_text()
+    shown = [line.strip() for line in readme.splitlines() if line.strip().startswith("scenario.yaml:")]
+    assert len(shown) == 2
+    path = tmp_path / "scenario.yaml"
+    path.write_text("hivex: 1\nname: x\nenvironment: wind_farm_control\ntask: 0\npattern: 0\nagents: 40\n"
+                    "episode_length: 100\nparams:\n  rotaton_speed_deg: 2\n")
+    assert main(["validate", str(path)]) == 2
+    printed = [line.replace(str(path), "scenario.yaml") for line in capsys.readouterr().err.splitlines()]
+    assert printed[0] == shown[0]
+    assert shown[1].endswith(" ...") and printed[1].startswith(shown[1][:-4])
+
+
+@pytest.mark.parametrize("written, reading", [("0123", "octal number 83"), ("1:30", "base-60 number (90)"),
+                                               ("yes", "boolean true"), ("off", "boolean false"),
+                                               ("1_000_", "1000")])
+def test_the_readme_yaml_1_1_readings_are_refused_as_it_says(written, reading):
+    assert f"`{written}`" in (ROOT / "README.md").read_text()
+    with pytest.raises(ScenarioError) as caught:
+        hivex_dsl.compile_all(hivex_dsl.loader.load_text(f"hivex: 1\nenvironment: wind_farm_control\n"
+                                                         f"episode_length: {written}\n", "s.yaml").data)
+    assert f"{written} is read by YAML 1.1 as" in str(caught.value) or "leading zero" in str(caught.value)
+    assert reading in str(caught.value)
