@@ -66,8 +66,8 @@ def hold_inactive(actions: Any, active: np.ndarray, placeholder: Any) -> Any:
 def stack_agent_actions(space: spaces.Space, actions: dict[str, Any], agents: Sequence[str]) -> Any:
     """Per-agent actions (PettingZoo style) -> one batched array shaped (1, agents, ...).
 
-    Valid actions cost one ``np.asarray`` and a dtype and shape comparison per part; only when
-    those fail does a per-agent pass find and name the culprit.
+    Valid actions cost a set of their types, one ``np.asarray`` and a dtype and shape comparison per
+    part; only when those fail (or the types are mixed) does a per-agent pass look for the culprit.
     """
     try:
         values = [actions[a] for a in agents]
