@@ -14,7 +14,7 @@ import json
 from types import MappingProxyType
 from typing import Any
 
-from .compiler import LOCK_VERSION, CompiledScenario, compile_loaded
+from .compiler import _MISSING, LOCK_VERSION, CompiledScenario, _get, compile_loaded
 from .errors import Problem, ScenarioError, did_you_mean, show
 from .loader import Loaded, PathKey, load_text
 
@@ -115,17 +115,6 @@ def _typed(value: Any) -> Any:
 def _compact(value: Any) -> str:
     text = json.dumps(value, separators=(",", ":"))
     return text if len(text) <= 80 else text[:77] + "..."
-
-
-_MISSING = object()
-
-
-def _get(data: Any, path: PathKey) -> Any:
-    for part in path:
-        if not isinstance(data, dict) or part not in data:
-            return _MISSING
-        data = data[part]
-    return data
 
 
 def _fail(loaded: Loaded, path: PathKey, message: str, key: bool = False):
