@@ -136,18 +136,27 @@ def load_text(text: str, source: str = "<string>") -> Loaded:
     return Loaded(source, data, builder.marks, builder.key_marks)
 
 
-_OPENERS = {"while scanning a quoted scalar": "the quoted string opened here is never closed",
-            "while parsing a flow mapping": "the '{' opened here is never closed",
-            "while parsing a flow sequence": "the '[' opened here is never closed"}
+_OPENERS = {"while scanning a quoted scalar": "quoted string", "while parsing a flow mapping": "'{'",
+            "while parsing a flow sequence": "'['"}
+_CLOSERS = {"'{'": "'}'", "'['": "']'"}
 
 
 def _syntax_error(exc: yaml.MarkedYAMLError) -> tuple[int, int, str]:
-    """(line, col, message) of a PyYAML syntax error; an unclosed quote or bracket is located where it opens."""
+    """(line, col, message) of a PyYAML syntax error. An unclosed quote or bracket is located where it
+    opens; a bracket whose trouble lies on its own line, where the trouble is."""
     problem, context = exc.problem_mark, exc.context_mark
     what = exc.problem or exc.context or "malformed input"
-    if exc.context in _OPENERS and context is not None and problem is not None:
-        return (context.line + 1, context.column + 1,
-                f"not valid YAML: {_OPENERS[exc.context]}: {what} at line {problem.line + 1}, column {problem.column + 1}")
+    opener = _OPENERS.get(exc.context)
+    if opener and context is not None and problem is not None:
+        at = f"at line {problem.line + 1}, column {problem.column + 1}"
+        if opener == "quoted string" or "<stream end>" in what:
+            return (context.line + 1, context.column + 1,
+                    f"not valid YAML: the {opener} opened here is never closed: {what} {at}")
+        if problem.line > context.line:
+            return (context.line + 1, context.column + 1,
+                    f"not valid YAML: the {opener} opened here is not closed in time: {what} {at} "
+                    f"(a missing {_CLOSERS[opener]} or ',')")
+        what = f"{what} (inside the {opener} at column {context.column + 1})"
     mark = problem or context
     line, col = (mark.line + 1, mark.column + 1) if mark else (1, 1)
     return line, col, f"not valid YAML: {what}"

@@ -301,5 +301,9 @@ def test_a_too_long_integer_names_its_field():
 def test_unclosed_quotes_and_brackets_are_located_where_they_open():
     assert first_problem("a: 1\nb: 'x\nc: 2\n") == ("2:4: not valid YAML: the quoted string opened here is never closed: "
                                                     "found unexpected end of stream at line 4, column 1")
-    assert first_problem("a: {x: 1\nb: 2\n") == ("1:4: not valid YAML: the '{' opened here is never closed: "
-                                                 "expected ',' or '}', but got ':' at line 2, column 2")
+    assert first_problem("a: {x: 1\nb: 2\n") == ("1:4: not valid YAML: the '{' opened here is not closed in time: "
+                                                 "expected ',' or '}', but got ':' at line 2, column 2 (a missing '}' or ',')")
+    assert first_problem("a: {x: 1\n") == ("1:4: not valid YAML: the '{' opened here is never closed: "
+                                          "expected ',' or '}', but got '<stream end>' at line 2, column 1")
+    # closed on its own line: the trouble is where it stands
+    assert first_problem("a: [1: 2: 3]\n") == "1:9: not valid YAML: expected ',' or ']', but got ':' (inside the '[' at column 4)"
