@@ -279,3 +279,10 @@ def test_the_readme_yaml_1_1_readings_are_refused_as_it_says(written, reading):
                                                          f"episode_length: {written}\n", "s.yaml").data)
     assert f"{written} is read by YAML 1.1 as" in str(caught.value) or "leading zero" in str(caught.value)
     assert reading in str(caught.value)
+
+
+@pytest.mark.parametrize("source", [None, "", 12, b"main.yaml"])
+def test_a_source_that_is_neither_a_path_nor_a_dict_is_named(source):
+    with pytest.raises(ScenarioError) as caught:
+        hivex_dsl.compile_all(source)
+    assert str(caught.value) == f"<input>:1:1: expected a scenario file path or dict, got {source!r}"
