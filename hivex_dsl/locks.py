@@ -3,7 +3,9 @@
 The fingerprint covers the resolved scenario (its name aside), the ending events and the term
 contracts; every other field of the lock (task index, ending events, term contracts, spaces,
 sweep point) is recomputed from the scenario and must match what is stored, so no edit of a
-lock goes unnoticed. A lock holds exactly one scenario: a ``sweep`` inside it is an error.
+lock goes unnoticed. The one exception is the scenario's name, a label left out of the
+fingerprint so that equal content has one fingerprint; a sweep point's name must still end
+with its ``[field=value,...]``. A lock holds exactly one scenario: a ``sweep`` inside it is an error.
 """
 
 from __future__ import annotations

@@ -286,3 +286,12 @@ def test_a_source_that_is_neither_a_path_nor_a_dict_is_named(source):
     with pytest.raises(ScenarioError) as caught:
         hivex_dsl.compile_all(source)
     assert str(caught.value) == f"<input>:1:1: expected a scenario file path or dict, got {source!r}"
+
+
+def test_a_lock_may_be_renamed_since_the_name_is_a_label(tmp_path):
+    lock = hivex_dsl.compile(MAIN).to_lock()
+    lock["scenario"]["name"] = "renamed"
+    path = tmp_path / "renamed.lock.json"
+    path.write_text(json.dumps(lock))
+    [again] = hivex_dsl.compile_all(path)
+    assert again.name == "renamed" and again.fingerprint == lock["fingerprint"]
