@@ -12,6 +12,7 @@ import os
 import re
 import stat
 import sys
+import unicodedata
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Union
@@ -19,7 +20,7 @@ from typing import Any, Union
 import yaml
 
 from .errors import Location, Problem, ScenarioError, show
-from .yaml11 import line_and_column, refusal, refused_character
+from .yaml11 import character_name, line_and_column, refusal, refused_character
 
 PathKey = tuple[Union[str, int], ...]
 
@@ -320,6 +321,10 @@ class _Builder:
             if key_node.tag != "tag:yaml.org,2002:str":
                 self.fail(key_node, f"a key must be a plain name, not a value tagged '{_tag(key_node.tag)}'")
             key = key_node.value
+            hidden = next((c for c in key if c != " " and unicodedata.category(c) in ("Zs", "Cf")), None)  # look-alikes
+            if hidden is not None:
+                self.fail(key_node, f"the key {show(key)} holds {character_name(ord(hidden))}, which YAML does not "
+                                    "read as a space: keys and indentation are written with plain characters and spaces")
             if key in first_seen:
                 first = first_seen[key]
                 place = f" in '{_dotted(path)}'" if path else ""
