@@ -295,3 +295,10 @@ def test_a_lock_may_be_renamed_since_the_name_is_a_label(tmp_path):
     path.write_text(json.dumps(lock))
     [again] = hivex_dsl.compile_all(path)
     assert again.name == "renamed" and again.fingerprint == lock["fingerprint"]
+
+
+def test_a_message_never_hides_a_character():
+    with pytest.raises(ScenarioError) as caught:
+        hivex_dsl.compile({"hivex": 1, "environment": "wind_farm_control", "a\u200bgents": 4})
+    message = caught.value.problems[0].message
+    assert message.startswith("unknown key 'a\\u200bgents'; did you mean 'agents'?") and message.isprintable()
