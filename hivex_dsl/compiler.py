@@ -26,6 +26,7 @@ from .spec.validate import dotted, validate_model
 
 MAX_SWEEP_POINTS = 10_000
 MAX_SWEEP_VALUES = 1_000
+MAX_BLAME_TRIALS = 1_000  # recompilations a sweep may spend finding which written value causes a problem
 LOCK_VERSION = 1
 
 Source = Union[str, Path, Mapping[str, Any]]
@@ -167,10 +168,10 @@ def compile_loaded(loaded: Loaded) -> list[CompiledScenario]:
         return [compile_lock(loaded)]
     entry = _environment(loaded)
     points = _sweep_points(loaded, entry)
-    compiled, problems = [], []
+    compiled, problems, budget = [], [], [MAX_BLAME_TRIALS]
     for assignment in points:
         try:
-            compiled.append(_compile_point(loaded, entry, assignment))
+            compiled.append(_compile_point(loaded, entry, assignment, budget))
         except ScenarioError as exc:
             problems.extend(p for p in exc.problems if p not in problems)
     if problems:
@@ -270,7 +271,7 @@ def _get(data: Any, path: PathKey) -> Any:
     return data
 
 
-def _compile_point(loaded: Loaded, entry, assignment: Assignment) -> CompiledScenario:
+def _compile_point(loaded: Loaded, entry, assignment: Assignment, budget: list[int]) -> CompiledScenario:
     data = {k: v for k, v in copy.deepcopy(loaded.data).items() if k != "sweep"}
     redirects = {}
     for target, value, where in assignment:
@@ -292,7 +293,7 @@ def _compile_point(loaded: Loaded, entry, assignment: Assignment) -> CompiledSce
     swept = [target for target, _, _ in assignment]
     found = _semantic_problems(compiled, swept)
     if found:
-        raise ScenarioError([Problem(_blame(loaded, entry, data, assignment, locate, path), message)
+        raise ScenarioError([Problem(_blame(loaded, entry, data, assignment, locate, path, budget), message)
                              for path, message in found])
     return compiled
 
@@ -302,17 +303,20 @@ def _validated(entry, data: dict, source: str, point: dict, locate) -> CompiledS
     return _resolve(entry, spec, source, point, locate)
 
 
-def _blame(loaded: Loaded, entry, data: dict, assignment: Assignment, locate, path: PathKey) -> Location:
+def _blame(loaded: Loaded, entry, data: dict, assignment: Assignment, locate, path: PathKey,
+           budget: list[int]) -> Location:
     """Where the user wrote what makes the semantic problem at ``path``: the first written value whose
     removal makes the problem go away (``path`` itself first, then sweep values, then the file's
     values in order: a params value that makes a layout impossible); else the value at ``path``
-    when the file sets (or sweeps) it; else this point's first sweep value."""
+    when the file sets (or sweeps) it; else this point's first sweep value. ``budget`` ([trials left])
+    bounds the recompilations of a whole sweep."""
     swept = {target: where for target, _, where in assignment}
     written = path in loaded.marks or any(path[: len(t)] == t for t in swept)
     candidates = [] if path[:1] == ("seeds",) else ([path] if written else []) + _written_leaves(data, swept)
     for leaf in candidates:
-        if _get(data, leaf) is _MISSING:
+        if _get(data, leaf) is _MISSING or budget[0] <= 0:
             continue
+        budget[0] -= 1
         variant = copy.deepcopy(data)
         parent = _get(variant, leaf[:-1])
         del parent[leaf[-1]]

@@ -302,3 +302,18 @@ def test_a_message_never_hides_a_character():
         hivex_dsl.compile({"hivex": 1, "environment": "wind_farm_control", "a\u200bgents": 4})
     message = caught.value.problems[0].message
     assert message.startswith("unknown key 'a\\u200bgents'; did you mean 'agents'?") and message.isprintable()
+
+
+def test_finding_the_cause_of_a_problem_is_bounded_over_a_whole_sweep(monkeypatch):
+    from hivex_dsl import compiler
+
+    calls = []
+    validated = compiler._validated
+    monkeypatch.setattr(compiler, "_validated", lambda *a: calls.append(1) or validated(*a))
+    monkeypatch.setattr(compiler, "MAX_BLAME_TRIALS", 10)
+    spacings = list(range(450, 550))
+    with pytest.raises(ScenarioError) as caught:
+        hivex_dsl.compile_all({"hivex": 1, "environment": "wind_farm_control", "params": {"drag": 0.2},
+                               "sweep": {"params.turbine_spacing_m": spacings}})
+    assert len(caught.value.problems) == len(spacings)
+    assert len(calls) <= len(spacings) + 10
