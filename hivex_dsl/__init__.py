@@ -36,5 +36,5 @@ def vector_env(scenario: ScenarioLike, num_envs: int = 1, render_mode: Optional[
     return HivexVectorEnv(_compiled(scenario), num_worlds=num_envs, render_mode=render_mode, split=split)
 
 
-__all__ = ["ActionError", "CompiledScenario", "HivexError", "ResetNeeded", "ScenarioError", "compile", "compile_all",
-           "parallel_env", "vector_env", "__version__"]
+__all__ = ["ActionError", "CompiledScenario", "HivexError", "ResetNeeded", "ScenarioError", "compile",
+           "compile_all", "parallel_env", "vector_env", "__version__"]

@@ -137,7 +137,8 @@ def _load(source: Source) -> Loaded:
     if isinstance(source, Mapping):
         return Loaded("<dict>", _plain_data(source, ()))
     if not isinstance(source, (str, Path)) or not str(source):
-        raise ScenarioError([Problem(Location("<input>", 1, 1), f"expected a scenario file path or dict, got {source!r}")])
+        raise ScenarioError([Problem(Location("<input>", 1, 1),
+                                     f"expected a scenario file path or dict, got {source!r}")])
     return load_file(resolve_scenario_path(str(source)))
 
 

@@ -90,7 +90,8 @@ def _read_bounded(path: Path, source: str) -> bytes:
             if stat.S_ISDIR(info.st_mode):
                 raise IsADirectoryError
             if stat.S_ISREG(info.st_mode) and info.st_size > MAX_FILE_BYTES:
-                _fail(source, 1, 1, f"file is {info.st_size:,} bytes; a scenario may be at most {MAX_FILE_BYTES:,} bytes")
+                _fail(source, 1, 1,
+                      f"file is {info.st_size:,} bytes; a scenario may be at most {MAX_FILE_BYTES:,} bytes")
             raw = stream.read(MAX_FILE_BYTES + 1)
     except FileNotFoundError:
         _fail(source, 1, 1, f"no such file: {path}")
