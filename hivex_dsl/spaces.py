@@ -84,8 +84,18 @@ def stack_agent_actions(space: spaces.Space, actions: dict[str, Any], agents: Se
             exact = False
         if not exact:
             _raise_not_a_dict_action(values, agents, space)
-        return {key: _stacked(parts[key], sub, agents) for key, sub in keys.items()}
+        stacked = {}
+        for key, sub in keys.items():
+            try:
+                stacked[key] = _stacked(parts[key], sub, agents)
+            except ActionError as exc:
+                raise _in_part(exc, space, key) from None
+        return stacked
     return _stacked(values, space, agents)
+
+
+def _in_part(exc: ActionError, space: spaces.Dict, key: str) -> ActionError:
+    return ActionError(f"{exc} (part '{key}' of {describe_space(space)})")
 
 
 def _stacked(values: list, space: spaces.Space, agents: Sequence[str]) -> np.ndarray:
@@ -188,7 +198,13 @@ def check_actions(space: spaces.Space, actions: Any, agent_names: Sequence[str],
             got = list(actions) if isinstance(actions, dict) else type(actions).__name__
             raise ActionError(f"actions must be a dict with exactly the keys {list(space.spaces)} for "
                               f"{describe_space(space)}, got {got}")
-        return {k: check_actions(s, actions[k], agent_names, meanings) for k, s in space.spaces.items()}
+        checked = {}
+        for key, sub in space.spaces.items():
+            try:
+                checked[key] = check_actions(sub, actions[key], agent_names, meanings)
+            except ActionError as exc:
+                raise _in_part(exc, space, key) from None
+        return checked
     try:
         array = np.asarray(actions)
     except (ValueError, TypeError):

@@ -5,9 +5,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from gymnasium import spaces
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from hivex_dsl.errors import ActionError
-from hivex_dsl.spaces import check_actions, stack_agent_actions
+from hivex_dsl.spaces import check_actions, describe_space, stack_agent_actions
 
 AGENTS = ["a", "b", "c"]
 PLANE = spaces.Dict({"continuous": spaces.Box(-1.0, 1.0, (1,), np.float32), "discrete": spaces.MultiDiscrete([2])})
@@ -131,3 +133,37 @@ def test_batched_values_are_named_with_their_env():
     batched = np.array([[0, 1, 2], [0, None, 2]], dtype=object)
     with pytest.raises(ActionError, match=r"^action for b in env 1 is None"):
         check_actions(DISCRETE, batched, AGENTS)
+
+
+ANY_VALUE = st.recursive(
+    st.one_of(st.none(), st.booleans(), st.integers(), st.floats(), st.text(max_size=3), st.binary(max_size=2),
+              st.sampled_from([np.bool_(True), np.float32(1.0), np.int8(2), np.str_("1"), object()])),
+    lambda inner: st.one_of(st.lists(inner, max_size=3), st.dictionaries(st.sampled_from(["continuous", "discrete", "x"]),
+                                                                          inner, max_size=3),
+                            st.lists(st.floats(-2, 2), min_size=1, max_size=2).map(np.array)),
+    max_leaves=6)
+
+
+@settings(max_examples=int(__import__("os").environ.get("FUZZ_N", 150)), deadline=None)
+@given(st.sampled_from([DISCRETE, spaces.MultiDiscrete([2, 3]), spaces.Box(-1.0, 1.0, (1,), np.float32), PLANE]),
+       ANY_VALUE)
+def test_any_value_for_one_agent_is_accepted_or_an_action_error_naming_that_agent(space, value):
+    others = {a: space.sample() for a in ("a", "b")}
+    try:
+        stacked = stack_agent_actions(space, {**others, "c": value}, AGENTS)
+        check_actions(space, stacked, AGENTS)
+    except ActionError as exc:
+        assert str(exc).startswith("action for c ") and describe_space(space) in str(exc), str(exc)
+
+
+def test_valid_actions_never_look_for_a_culprit(monkeypatch):
+    import hivex_dsl
+    from hivex_dsl import spaces as module
+
+    monkeypatch.setattr(module, "culprit", lambda *args: pytest.fail("searched for a culprit on a valid step"))
+    env = hivex_dsl.parallel_env({"hivex": 1, "environment": "wind_farm_control", "agents": 3})
+    env.reset(seed=1)
+    env.step({a: i % 3 for i, a in enumerate(env.agents)})
+    venv = hivex_dsl.vector_env({"hivex": 1, "environment": "wind_farm_control", "agents": 3}, num_envs=2)
+    venv.reset(seed=1)
+    venv.step(np.array([0, 1, 2, 2, 1, 0]))
