@@ -26,9 +26,8 @@ from .spec.validate import dotted, validate_model
 
 MAX_SWEEP_POINTS = 10_000
 MAX_SWEEP_VALUES = 1_000
+MAX_BLAME_TRIALS = 1_000  # recompilations a sweep may spend finding which written value causes a problem
 LOCK_VERSION = 1
-LOCK_KEYS = ("hivex_lock", "fingerprint", "scenario", "task_index", "ends_on", "sweep_point",
-             "term_contracts", "spaces")
 
 Source = Union[str, Path, Mapping[str, Any]]
 
@@ -137,6 +136,9 @@ def compile_all(source: Source) -> list[CompiledScenario]:
 def _load(source: Source) -> Loaded:
     if isinstance(source, Mapping):
         return Loaded("<dict>", _plain_data(source, ()))
+    if not isinstance(source, (str, Path)) or not str(source):
+        raise ScenarioError([Problem(Location("<input>", 1, 1),
+                                     f"expected a scenario file path or dict, got {source!r}")])
     return load_file(resolve_scenario_path(str(source)))
 
 
@@ -162,13 +164,15 @@ def compile_loaded(loaded: Loaded) -> list[CompiledScenario]:
     if not isinstance(data, dict):
         _fail(loaded, (), f"the top level must be a mapping of keys such as 'hivex' and 'environment', got {got(data)}")
     if "hivex_lock" in data:
-        return [_compile_lock(loaded)]
+        from .locks import compile_lock
+
+        return [compile_lock(loaded)]
     entry = _environment(loaded)
     points = _sweep_points(loaded, entry)
-    compiled, problems = [], []
+    compiled, problems, budget = [], [], [MAX_BLAME_TRIALS]
     for assignment in points:
         try:
-            compiled.append(_compile_point(loaded, entry, assignment))
+            compiled.append(_compile_point(loaded, entry, assignment, budget))
         except ScenarioError as exc:
             problems.extend(p for p in exc.problems if p not in problems)
     if problems:
@@ -205,8 +209,11 @@ def _sweep_points(loaded: Loaded, entry) -> list[Assignment]:
     sweep = loaded.data.get("sweep")
     if sweep is None:
         return [()]
-    if not isinstance(sweep, dict) or not sweep:
+    if not isinstance(sweep, dict):
         _fail(loaded, ("sweep",), f"sweep: expected a mapping of field -> list of values, got {got(sweep)}")
+    if not sweep:
+        _fail(loaded, ("sweep",), "sweep: the mapping is empty; expected at least one field -> list of values "
+                                  "(or no 'sweep' key)")
     axes = []
     for key, values in sweep.items():
         target = _sweep_target(loaded, entry, key)
@@ -215,11 +222,15 @@ def _sweep_points(loaded: Loaded, entry) -> list[Assignment]:
             _fail(loaded, where, f"sweep.{key}: expected a non-empty list of values, got {got(values)}")
         if len(values) > MAX_SWEEP_VALUES:
             _fail(loaded, where, f"sweep.{key}: {len(values)} values; at most {MAX_SWEEP_VALUES} are allowed")
+        first_at: dict[tuple, int] = {}
         for i, value in enumerate(values):
             if isinstance(value, (dict, list)) or value is None:
                 _fail(loaded, where + (i,), f"sweep.{key}[{i}]: expected a single value, got {kind_of(value)}")
-            if values.index(value) != i:
-                _fail(loaded, where + (i,), f"sweep.{key}[{i}]: {show(value)} is listed twice")
+            same = (isinstance(value, bool), isinstance(value, str), value)  # true is not 1, '1' is not 1
+            if same in first_at:
+                _fail(loaded, where + (i,), f"sweep.{key}[{i}]: {show(value)} is listed twice "
+                                            f"(first at [{first_at[same]}]); list each value once")
+            first_at[same] = i
         axes.append([(target, value, where + (i,)) for i, value in enumerate(values)])
     total = 1
     for axis in axes:
@@ -261,7 +272,7 @@ def _get(data: Any, path: PathKey) -> Any:
     return data
 
 
-def _compile_point(loaded: Loaded, entry, assignment: Assignment) -> CompiledScenario:
+def _compile_point(loaded: Loaded, entry, assignment: Assignment, budget: list[int]) -> CompiledScenario:
     data = {k: v for k, v in copy.deepcopy(loaded.data).items() if k != "sweep"}
     redirects = {}
     for target, value, where in assignment:
@@ -278,12 +289,63 @@ def _compile_point(loaded: Loaded, entry, assignment: Assignment) -> CompiledSce
                 return loaded.locate(where)
         return loaded.locate(path, key=key)
 
-    spec = validate_model(entry.scenario_model, data, locate)
-    compiled = _resolve(entry, spec, loaded.source, {".".join(t): v for t, v, _ in assignment}, locate)
-    problems = [Problem(locate(path), message) for path, message in _semantic_problems(compiled)]
-    if problems:
-        raise ScenarioError(problems)
+    point = {".".join(t): v for t, v, _ in assignment}
+    compiled = _validated(entry, data, loaded.source, point, locate)
+    swept = [target for target, _, _ in assignment]
+    found = _semantic_problems(compiled, swept)
+    if found:
+        raise ScenarioError([Problem(_blame(loaded, entry, data, assignment, locate, path, budget), message)
+                             for path, message in found])
     return compiled
+
+
+def _validated(entry, data: dict, source: str, point: dict, locate) -> CompiledScenario:
+    spec = validate_model(entry.scenario_model, data, locate)
+    return _resolve(entry, spec, source, point, locate)
+
+
+def _blame(loaded: Loaded, entry, data: dict, assignment: Assignment, locate, path: PathKey,
+           budget: list[int]) -> Location:
+    """Where the user wrote what makes the semantic problem at ``path``: the first written value whose
+    removal makes the problem go away (``path`` itself first, then sweep values, then the file's
+    values in order: a params value that makes a layout impossible); else the value at ``path``
+    when the file sets (or sweeps) it; else this point's first sweep value. ``budget`` ([trials left])
+    bounds the recompilations of a whole sweep."""
+    swept = {target: where for target, _, where in assignment}
+    written = path in loaded.marks or any(path[: len(t)] == t for t in swept)
+    candidates = [] if path[:1] == ("seeds",) else ([path] if written else []) + _written_leaves(data, swept)
+    for leaf in candidates:
+        if _get(data, leaf) is _MISSING or budget[0] <= 0:
+            continue
+        budget[0] -= 1
+        variant = copy.deepcopy(data)
+        parent = _get(variant, leaf[:-1])
+        del parent[leaf[-1]]
+        try:
+            remaining = _semantic_problems(_validated(entry, variant, loaded.source, {}, locate), list(swept))
+        except ScenarioError:
+            continue
+        if all(p != path for p, _ in remaining):
+            return locate(leaf)
+    return locate(path) if written or not swept else loaded.locate(next(iter(swept.values())))
+
+
+_NOT_CAUSES = ("hivex", "environment", "name", "description", "seeds")
+
+
+def _written_leaves(data: dict, swept: dict) -> list[PathKey]:
+    """Paths of the single values a scenario sets (swept ones first), at most 64 of them."""
+    leaves = list(swept)
+
+    def walk(value: Any, path: PathKey) -> None:
+        if isinstance(value, dict):
+            for key, item in value.items():
+                walk(item, path + (key,))
+        elif path and path[0] not in _NOT_CAUSES and path not in leaves:
+            leaves.append(path)
+
+    walk(data, ())
+    return leaves[:64]
 
 
 def _resolve(entry, spec: StrictModel, source: str, point: dict[str, Any], locate) -> CompiledScenario:
@@ -331,35 +393,15 @@ def _prefixed(message: str, prefix: PathKey) -> str:
     return f"{dotted(prefix)}.{message}" if ":" in message.split(" ")[0] else f"{dotted(prefix)}: {message}"
 
 
-def _semantic_problems(compiled: CompiledScenario) -> list[tuple[PathKey, str]]:
+def _semantic_problems(compiled: CompiledScenario, swept: list[PathKey] = ()) -> list[tuple[PathKey, str]]:
     problems: list[tuple[PathKey, str]] = []
     shared = compiled.seeds.overlap()
-    if shared:
-        test = compiled.seeds.test
-        where = ("seeds", "test") if isinstance(test, int) else ("seeds", "test", min(test.index(s) for s in shared))
+    if shared:  # blamed on the test split, unless only the train split is swept (the sweep value collides)
+        split = "train" if ("seeds", "train") in swept and ("seeds", "test") not in swept else "test"
+        seeds = getattr(compiled.seeds, split)
+        where = ("seeds", split) if isinstance(seeds, int) else ("seeds", split, min(seeds.index(s) for s in shared))
         problems.append((where, f"seeds: train and test share {one_of(shared[:5])}; "
                                 "the test split must hold seeds never used in training"))
     for check in compiled.entry.checks:
         problems.extend((path, f"{dotted(path)}: {message}") for path, message in check(compiled))
     return problems
-
-
-def _compile_lock(loaded: Loaded) -> CompiledScenario:
-    data = loaded.data
-    for key in data:
-        if key not in LOCK_KEYS:
-            _fail(loaded, (key,), f"unknown key '{key}' in a lock file{did_you_mean(key, LOCK_KEYS)}", key=True)
-    if data.get("hivex_lock") != LOCK_VERSION or isinstance(data.get("hivex_lock"), bool):
-        _fail(loaded, ("hivex_lock",), f"hivex_lock: {show(data.get('hivex_lock'))} is not supported: expected {LOCK_VERSION}")
-    scenario = data.get("scenario")
-    if not isinstance(scenario, dict):
-        _fail(loaded, ("scenario",), "a lock file needs the resolved scenario under 'scenario'")
-    inner = Loaded(loaded.source, scenario,
-                   {path[1:]: loc for path, loc in loaded.marks.items() if path[:1] == ("scenario",)},
-                   {path[1:]: loc for path, loc in loaded.key_marks.items() if path[:1] == ("scenario",)})
-    compiled = compile_loaded(inner)[0]
-    stored = data.get("fingerprint")
-    if stored != compiled.fingerprint:
-        _fail(loaded, ("fingerprint",), f"fingerprint {show(stored)} does not match the content ({compiled.fingerprint}): "
-              "the lock was edited, or this version's reward terms differ from the ones it was made with")
-    return compiled

@@ -13,6 +13,7 @@ import numpy as np
 from gymnasium import spaces
 
 from .compiler import CompiledScenario
+from .errors import ResetNeeded
 from .numeric import all_true, constant
 from .reward.composer import RewardComposer
 from .spaces import hold_inactive, placeholder_actions
@@ -212,7 +213,7 @@ class BatchedEnv:
 
     def _require_reset(self) -> None:
         if self.state is None:
-            raise RuntimeError("call reset() before step()")
+            raise ResetNeeded("call reset() before step(): the environment has not been reset yet")
 
     def step(self, actions: Any, restart: Optional[np.ndarray] = None, respawn: Optional[np.ndarray] = None,
              ) -> Transition:

@@ -200,6 +200,8 @@ def sweepable_fields(vocab: ScenarioVocabulary) -> tuple[str, ...]:
 
 def _level_field_hint(info: EnvironmentInfo):
     def hint(key: str, parent: tuple) -> str | None:
+        if not parent and key == "generators":  # only a model without the field gets here
+            return f"unknown key 'generators': {info.id} builds its world without procedural generators"
         if parent or key not in LEVEL_FIELDS:
             return None
         owners = environments_with(key)
