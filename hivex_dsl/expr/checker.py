@@ -38,9 +38,10 @@ class Typed:
 
 
 class Checker:
-    def __init__(self, vocabulary: Mapping, agents: int | None):
+    def __init__(self, vocabulary: Mapping, agents: int | None, mean_agents: int):
         self.vocabulary = vocabulary
-        self.agents = agents
+        self.agents = agents  # bounds team_sum; None refuses it
+        self.mean_agents = mean_agents  # bounds the rounding of team_mean
         self.reads: set[str] = set()
         self.reads_prev: set[str] = set()
 
@@ -218,7 +219,7 @@ class Checker:
             got = "a per-world value" if a.per == "world" else "a constant"
             raise ExpressionError(f"{name} needs a per-agent value, got {got}", arg.offset, arg.length)
         if name == "team_mean":
-            interval, op = intervals.team_mean(a.interval, self.agents or 1), plan.mean(a.op)
+            interval, op = intervals.team_mean(a.interval, self.mean_agents), plan.mean(a.op)
         elif name == "team_sum":
             if self.agents is None:
                 raise ExpressionError("team_sum needs the number of agents per world (compile with agents=N)",

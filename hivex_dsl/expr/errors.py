@@ -16,6 +16,11 @@ class ExpressionError(ValueError):
         self.offset = offset
         self.length = length
 
+    def line_column(self, source: str) -> tuple[int, int]:
+        """The 1-based line and column of the blamed span inside ``source`` (which may span lines)."""
+        line = source.count("\n", 0, self.offset) + 1
+        return line, self.offset - (source.rfind("\n", 0, self.offset) + 1) + 1
+
     def pointer(self, source: str) -> str:
         """``source`` and a caret line under the blamed span, for a terminal."""
         line_start = source.rfind("\n", 0, self.offset) + 1
