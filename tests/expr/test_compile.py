@@ -114,3 +114,13 @@ def test_a_vocabulary_key_must_be_its_quantity_name_and_agents_positive():
         compile_expression("y", {"y": VOCABULARY["water"]})
     with pytest.raises(ValueError, match="agents must be a positive integer"):
         compile_expression("water", VOCABULARY, agents=0)
+
+
+def test_a_reduction_combined_with_its_own_agents_broadcasts_back(states):
+    now, before = states
+    e = compiled("water - team_mean(water)")
+    assert e.per == "agent" and e.unit == "1"
+    np.testing.assert_array_equal(e.evaluate(now, before), now["water"] - now["water"].mean(axis=1)[:, None])
+    world = compiled("where(raining, team_max(distance_m), prev(distance_m))")
+    expected = np.where(now["raining"][:, None], now["distance_m"].max(axis=1)[:, None], before["distance_m"])
+    np.testing.assert_array_equal(world.evaluate(now, before), expected)

@@ -36,3 +36,4 @@ def test_the_description_is_plain_data_with_every_field_filled():
         assert set(row) == {"name", "signature", "units", "interval", "description"}
         assert all(isinstance(v, str) and v for v in row.values())
     assert grammar["rules"] and all(isinstance(rule, str) for rule in grammar["rules"])
+    assert grammar["syntax"] and all(set(row) == {"form", "text"} for row in grammar["syntax"])
