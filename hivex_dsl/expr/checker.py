@@ -118,7 +118,7 @@ class Checker:
         base = self.check(node.left, before)
         self.need_number("'**'", base, node.left)
         exponent = _literal(node.right)
-        if exponent is None:
+        if exponent is None or _unit_written(node.right):
             raise ExpressionError("the exponent of '**' must be a number written out, e.g. x ** 2",
                                   node.right.offset, node.right.length)
         if abs(exponent) > MAX_EXPONENT:
@@ -277,6 +277,10 @@ def _literal(node: Node) -> float | None:
     if isinstance(node, Unary) and node.op.text == "-" and isinstance(node.operand, Number):
         return -node.operand.value
     return None
+
+
+def _unit_written(node: Node) -> bool:
+    return (node.operand if isinstance(node, Unary) else node).unit is not None
 
 
 def _refusing(token: Token, rule):

@@ -82,6 +82,7 @@ CASES = [
     ("water + 1e400", "number too large (at most 1e+300)", "1e400"),
     ("water ** 2000", "the exponent of '**' is too large (at most 1024 in size)", "2000"),
     ("water ** speed_ms", "the exponent of '**' must be a number written out, e.g. x ** 2", "speed_ms"),
+    ("water ** 2{m}", "the exponent of '**' must be a number written out, e.g. x ** 2", "2{m}"),
 ]
 
 
