@@ -177,11 +177,10 @@ class Checker:
         if name in ("min", "max", "clip"):
             unit = _same_unit(name, token, *args)
             ufunc, rule = (np.minimum, intervals.minimum) if name == "min" else (np.maximum, intervals.maximum)
-            interval, op = rule(a.interval, args[1].interval), plan.apply2(ufunc, ops[0], ops[1])
             if name == "clip":
                 interval = intervals.minimum(intervals.maximum(a.interval, args[1].interval), args[2].interval)
-                op = plan.apply2(np.minimum, op, ops[2])
-            return Typed("number", per, unit, interval, op)
+                return Typed("number", per, unit, interval, plan.clip(*ops))
+            return Typed("number", per, unit, rule(a.interval, args[1].interval), plan.apply2(ufunc, *ops))
         if name == "abs":
             return Typed("number", per, a.unit, intervals.absolute(a.interval), plan.apply1(np.absolute, a.op))
         if name == "sqrt":

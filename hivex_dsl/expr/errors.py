@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+from ..errors import HivexError
 
-class ExpressionError(ValueError):
+
+class ExpressionError(HivexError, ValueError):
     """An expression that cannot be compiled.
 
     ``message``: one line saying what is wrong; ``offset``: 0-based character index of the

@@ -112,13 +112,33 @@ def select(condition: Op, a: Op, b: Op) -> Op:
     return ("f", lambda now, before: np.where(c(now, before), fa(now, before), fb(now, before)))
 
 
+def clip(x: Op, low: Op, high: Op) -> Op:
+    """``minimum(maximum(x, low), high)``, in one closure when both bounds are constants."""
+    if low[0] != "c" or high[0] != "c" or x[0] == "c":
+        return apply2(np.minimum, apply2(np.maximum, x, low), high)
+    lo, hi, maximum, minimum = low[1], high[1], np.maximum, np.minimum
+    if x[0] == "n":
+        name = x[1]
+        return ("f", lambda now, before: minimum(maximum(now[name], lo), hi))
+    fn = function(x)
+    return ("f", lambda now, before: minimum(maximum(fn(now, before), lo), hi))
+
+
 def reduce(f: Callable, a: Op) -> Op:
     """``f.reduce`` over the agent axis of a (batch, agents) operand."""
     reduce_ = f.reduce
-    return apply1(lambda x: reduce_(x, 1), a)
+    if a[0] == "n":
+        name = a[1]
+        return ("f", lambda now, before: reduce_(now[name], 1))
+    fn = function(a)
+    return ("f", lambda now, before: reduce_(fn(now, before), 1))
 
 
 def mean(a: Op) -> Op:
     """The mean over the agent axis: the bits of ``x.mean(axis=1)`` (a sum, then one division by the count)."""
     add = np.add.reduce
-    return apply1(lambda x: add(x, 1) / x.shape[1], a)
+    if a[0] == "n":
+        name = a[1]
+        return ("f", lambda now, before: add(now[name], 1) / now[name].shape[1])
+    fn = function(a)
+    return ("f", lambda now, before: add(x := fn(now, before), 1) / x.shape[1])
