@@ -73,7 +73,9 @@ class Expression:
 
     ``evaluate(now, before)`` takes the quantities after and before the step by name and returns
     a (batch, agents) array for a per-agent expression or (batch,) for a per-world one, float64
-    for kind "number" and bool for kind "bool". It never aliases an input array.
+    for kind "number" and bool for kind "bool". It never aliases an input array. Only the names
+    in ``reads`` are looked up in ``now`` and those in ``reads_prev`` in ``before`` (which may be
+    None when ``reads_prev`` is empty); number quantities must be float64 arrays.
     """
 
     source: str
@@ -103,8 +105,9 @@ def compile_expression(source: str, vocabulary: Mapping[str, Quantity], *, want:
                        per: Per | None = None, agents: int | None = None) -> Expression:
     """Parse, check and compile ``source`` over ``vocabulary``.
 
-    want: the kind the caller needs (a reward is a "number", an ending a "bool"). per: "world" to
-    refuse a per-agent result (None accepts both; a per-world value is the caller's to broadcast).
+    want: the kind the caller needs (a reward is a "number", an ending a "bool"). per: the shape
+    the caller needs, "agent" or "world"; None accepts both (a per-world value is then the
+    caller's to broadcast over its agents).
     agents: the largest number of agents per world, which bounds team_sum's range (team_sum is
     refused without it; evaluating with more agents voids the range). Raises ExpressionError at
     the offending token, ValueError for a malformed vocabulary or agents.
@@ -127,6 +130,8 @@ def compile_expression(source: str, vocabulary: Mapping[str, Quantity], *, want:
     if per == "world" and typed.per == "agent":
         raise ExpressionError("expected a per-world value, got a per-agent one; reduce it with "
                               "team_mean, team_min, team_max or team_sum", *whole)
+    if per == "agent" and typed.per == "world":
+        raise ExpressionError("expected a per-agent value, got a per-world one", *whole)
     unit = "" if typed.kind == "bool" else units.format_unit(typed.unit or units.DIMENSIONLESS)
     low, high = typed.interval
     assert math.isfinite(low) and math.isfinite(high)

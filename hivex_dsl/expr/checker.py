@@ -3,6 +3,7 @@ and building its evaluation plan, and refuses a node at its own source span when
 
 from __future__ import annotations
 
+import difflib
 import operator
 from dataclasses import dataclass
 from fractions import Fraction
@@ -75,7 +76,7 @@ class Checker:
             if node.name in FUNCTIONS:
                 raise ExpressionError(f"{node.name!r} is a function; call it as {FUNCTIONS[node.name].signature}",
                                       node.offset, node.length)
-            hint = did_you_mean(node.name, self.vocabulary)
+            hint = did_you_mean(node.name, self.vocabulary) or _function_hint(node.name)
             raise ExpressionError(f"unknown quantity {node.name!r}{hint}", node.offset, node.length)
         (self.reads_prev if before else self.reads).add(node.name)
         unit = None if quantity.kind == "bool" else units.parse_unit(quantity.unit)
@@ -276,6 +277,11 @@ def _literal(node: Node) -> float | None:
     if isinstance(node, Unary) and node.op.text == "-" and isinstance(node.operand, Number):
         return -node.operand.value
     return None
+
+
+def _function_hint(name: str) -> str:
+    close = difflib.get_close_matches(name, list(FUNCTIONS), n=1, cutoff=0.6)  # did_you_mean's cutoff
+    return f"; did you mean the function {FUNCTIONS[close[0]].signature}?" if close else ""
 
 
 def _unit_written(node: Node) -> bool:

@@ -4,7 +4,7 @@ An operand is one of ``("c", value)`` (a constant, folded at compile time), ``("
 quantity after the step), ``("p", name)`` (a quantity before the step) or ``("f", fn)`` with
 ``fn(now, before) -> array``. Combinators specialise on their operands' modes so that a name or a
 constant operand costs no Python call of its own: ``x * 2`` runs as one closure that does
-``multiply(now["x"], c)``. Operations run exactly as written, in the written order; nothing is
+``multiply(now["x"], c)`` and ``delta(x)`` as ``subtract(now["x"], before["x"])``. Operations run exactly as written, in the written order; nothing is
 reassociated, so a formula re-expressed here gives the bits of the same NumPy calls written by hand.
 Number constants are 0-d float64 arrays, which promote like a Python float on float64 operands
 and skip NumPy's per-call resolution of Python scalars (see :mod:`hivex_dsl.numeric`).
@@ -83,10 +83,6 @@ def apply2(f: Callable, a: Op, b: Op) -> Op:
     (ma, x), (mb, y) = a, b
     if ma == "c" and mb == "c":
         return const(f(x, y))
-    if ma == "p":
-        ma, x = "f", function(a)
-    if mb == "p":
-        mb, y = "f", function(b)
     return ("f", _BINARY[ma, mb](f, x, y))
 
 
@@ -99,6 +95,13 @@ _BINARY: dict[tuple[str, str], Callable[[Callable, Any, Any], Fn]] = {
     ("f", "n"): lambda f, x, y: lambda now, before: f(x(now, before), now[y]),
     ("n", "f"): lambda f, x, y: lambda now, before: f(now[x], y(now, before)),
     ("f", "f"): lambda f, x, y: lambda now, before: f(x(now, before), y(now, before)),
+    ("p", "c"): lambda f, x, y: lambda now, before: f(before[x], y),
+    ("c", "p"): lambda f, x, y: lambda now, before: f(x, before[y]),
+    ("n", "p"): lambda f, x, y: lambda now, before: f(now[x], before[y]),
+    ("p", "n"): lambda f, x, y: lambda now, before: f(before[x], now[y]),
+    ("p", "p"): lambda f, x, y: lambda now, before: f(before[x], before[y]),
+    ("f", "p"): lambda f, x, y: lambda now, before: f(x(now, before), before[y]),
+    ("p", "f"): lambda f, x, y: lambda now, before: f(before[x], y(now, before)),
 }
 
 

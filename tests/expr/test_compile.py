@@ -79,6 +79,9 @@ def test_want_and_per_are_enforced_over_the_whole_source():
     with pytest.raises(ExpressionError, match="per-world"):
         compiled("water", per="world")
     assert compiled("team_mean(water)", per="world").per == "world"
+    with pytest.raises(ExpressionError, match="expected a per-agent value, got a per-world one"):
+        compiled("wind_ms * 2", per="agent")
+    assert compiled("wind_ms * water", per="agent").per == "agent"
 
 
 def test_an_expression_pickles_by_its_source_and_vocabulary(states):

@@ -13,6 +13,7 @@ CASES = [
     # names and functions
     ("distnce_m + 1", "unknown quantity 'distnce_m'; did you mean 'distance_m'?", "distnce_m"),
     ("1 + zzz", "unknown quantity 'zzz'", "zzz"),
+    ("team_mena + 1", "unknown quantity 'team_mena'; did you mean the function team_mean(x)?", "team_mena"),
     ("sqr(water)", "unknown function 'sqr'; did you mean 'sqrt'?", "sqr"),
     ("team_avg(water)", "unknown function 'team_avg'; did you mean 'team_max'?", "team_avg"),
     ("water(1)", "'water' is a quantity, not a function", "water"),
