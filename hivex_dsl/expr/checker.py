@@ -117,6 +117,8 @@ class Checker:
         else:
             combine = units.multiply if op == "*" else units.divide
             unit = combine(a.unit or units.DIMENSIONLESS, b.unit or units.DIMENSIONLESS)
+        if op == "*" and _same_tree(node.left, node.right):
+            rule = lambda x_range, _: intervals.power(x_range, 2)  # noqa: E731 (x * x is x ** 2's bits: never negative)
         interval = _refusing(node.op, lambda: intervals.checked(rule(a.interval, b.interval), f"{op!r}"))
         return Typed("number", per, unit, interval, plan.apply2(ufunc, x, y))
 
@@ -149,9 +151,9 @@ class Checker:
             if a.kind == "bool" or b.kind == "bool":
                 if token.text not in ("==", "!=") or a.kind != b.kind:
                     blame = node.operands[i] if a.kind == "bool" else node.operands[i + 1]
-                    raise ExpressionError(f"{token.text!r} cannot compare a boolean"
-                                          + ("" if token.text in ("==", "!=") else "; only == and != can"),
-                                          blame.offset, blame.length)
+                    why = ("; only == and != can" if token.text not in ("==", "!=") else
+                           " with a number; a boolean is a condition already: use it (or not it) as it is")
+                    raise ExpressionError(f"{token.text!r} cannot compare a boolean{why}", blame.offset, blame.length)
             else:
                 _same_unit(f"{token.text!r}", token, a, b)
             step = plan.apply2(_COMPARE[token.text], aligned[i], aligned[i + 1])
@@ -310,6 +312,24 @@ def _literal(node: Node) -> float | None:
     if isinstance(node, Unary) and node.op.text == "-" and isinstance(node.operand, Number):
         return -node.operand.value
     return None
+
+
+def _same_tree(a: Node, b: Node) -> bool:
+    """Whether two subtrees are written alike (wherever they stand), so they compute the same values."""
+    if type(a) is not type(b):
+        return False
+    if isinstance(a, Number):
+        return (a.value, a.unit) == (b.value, b.unit)
+    if isinstance(a, Name):
+        return a.name == b.name
+    if isinstance(a, Unary):
+        return a.op.text == b.op.text and _same_tree(a.operand, b.operand)
+    if isinstance(a, Binary):
+        return a.op.text == b.op.text and _same_tree(a.left, b.left) and _same_tree(a.right, b.right)
+    if isinstance(a, Compare):
+        return [t.text for t in a.ops] == [t.text for t in b.ops] and all(map(_same_tree, a.operands, b.operands))
+    return (a.function.text == b.function.text and len(a.args) == len(b.args)
+            and all(map(_same_tree, a.args, b.args)))
 
 
 def _empty(interval: Interval) -> bool:

@@ -14,7 +14,10 @@ from .conftest import AGENTS, VOCABULARY
 @pytest.mark.parametrize("source, low, high", [
     ("distance_m / 1000", 0.0, 1.0),
     ("-speed_ms", -5.0, 5.0),
-    ("speed_ms * speed_ms", -25.0, 25.0),  # the operands are not known to be equal
+    ("speed_ms * wind_ms", -100.0, 100.0),
+    ("speed_ms * speed_ms", 0.0, 25.0),  # the same subtree twice: a square
+    ("(speed_ms - 1) * (speed_ms -1)", 0.0, 36.0),
+    ("speed_ms * prev(speed_ms)", -25.0, 25.0),  # not the same values
     ("speed_ms ** 2", 0.0, 25.0),
     ("abs(speed_ms)", 0.0, 5.0),
     ("abs(speed_ms - 6)", 1.0, 11.0),
