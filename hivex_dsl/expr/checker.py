@@ -16,7 +16,7 @@ from . import intervals, narrowing, plan, units
 from .errors import ExpressionError
 from .grammar import FUNCTIONS
 from .intervals import Interval, Refused
-from .syntax import Binary, Call, Compare, Name, Node, Number, Token, Unary
+from .syntax import Binary, Call, Compare, Name, Node, Number, Token, Unary, written_number
 
 _COMPARE = {"<": np.less, "<=": np.less_equal, ">": np.greater, ">=": np.greater_equal,
             "==": np.equal, "!=": np.not_equal}
@@ -125,7 +125,7 @@ class Checker:
     def power(self, node: Binary, before: bool) -> Typed:
         base = self.check(node.left, before)
         self.need_number("'**'", base, node.left)
-        exponent = _literal(node.right)
+        exponent = written_number(node.right)
         if exponent is None or _unit_written(node.right):
             raise ExpressionError("the exponent of '**' must be a number written out, e.g. x ** 2",
                                   node.right.offset, node.right.length)
@@ -304,14 +304,6 @@ def _same_unit(what: str, token: Token, *typed: Typed) -> units.Unit | None:
                                   f"{units.format_unit(found[0])} and {units.format_unit(unit)}",
                                   token.offset, len(token.text))
     return found[0] if found else None
-
-
-def _literal(node: Node) -> float | None:
-    if isinstance(node, Number):
-        return node.value
-    if isinstance(node, Unary) and node.op.text == "-" and isinstance(node.operand, Number):
-        return -node.operand.value
-    return None
 
 
 def _same_tree(a: Node, b: Node) -> bool:

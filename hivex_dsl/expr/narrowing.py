@@ -14,7 +14,7 @@ import math
 from typing import Callable
 
 from .intervals import Interval
-from .syntax import Binary, Compare, Name, Node, Number, Unary
+from .syntax import Binary, Compare, Name, Node, Unary, written_number
 
 Key = tuple[str, bool]  # (quantity, read before the step)
 Region = dict[Key, Interval]  # ranges of the quantities where a condition holds; absent: unconstrained
@@ -59,17 +59,9 @@ def _compared(left: Node, op: str, right: Node, before: bool, is_number):
     """(key, op, number) for ``quantity op number``, flipped for ``number op quantity``; else None."""
     if isinstance(right, Name) and not isinstance(left, Name):
         left, op, right = right, _FLIPPED[op], left
-    value = _number(right)
+    value = written_number(right)
     if isinstance(left, Name) and value is not None and is_number(left.name):
         return (left.name, before), op, value
-    return None
-
-
-def _number(node: Node) -> float | None:
-    if isinstance(node, Number):
-        return node.value
-    if isinstance(node, Unary) and node.op.text == "-" and isinstance(node.operand, Number):
-        return -node.operand.value
     return None
 
 

@@ -103,6 +103,15 @@ class Compare(Node):
     operands: tuple[Node, ...]
 
 
+def written_number(node: Node) -> float | None:
+    """The value of a number written out, ``2`` or ``-2``; None for anything else."""
+    if isinstance(node, Number):
+        return node.value
+    if isinstance(node, Unary) and node.op.text == "-" and isinstance(node.operand, Number):
+        return -node.operand.value
+    return None
+
+
 def tokenize(source: str) -> list[Token]:
     """The tokens of ``source``, ending in an ``end`` token; ExpressionError at the first bad character."""
     tokens: list[Token] = []
