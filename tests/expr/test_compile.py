@@ -62,7 +62,8 @@ def test_conditions_are_booleans_and_become_numbers_only_through_where(states):
     assert result.dtype == bool
     np.testing.assert_array_equal(result, now["dropped"] & ~now["raining"][:, None])
     n = compiled("where(0 < distance_m < 100, 1, 0)")
-    np.testing.assert_array_equal(n.evaluate(now, before), np.where((now["distance_m"] > 0) & (now["distance_m"] < 100), 1.0, 0.0))
+    d = now["distance_m"]
+    np.testing.assert_array_equal(n.evaluate(now, before), np.where((d > 0) & (d < 100), 1.0, 0.0))
 
 
 def test_a_bare_quantity_is_copied_not_aliased(states):
