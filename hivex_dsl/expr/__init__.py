@@ -62,6 +62,11 @@ class Quantity:
             raise ValueError(f"quantity name {self.name!r} must be an identifier, not a keyword, without '__'")
         if self.per not in ("agent", "world") or self.kind not in ("number", "bool"):
             raise ValueError(f"quantity {self.name!r}: per must be 'agent' or 'world' and kind 'number' or 'bool'")
+        try:
+            object.__setattr__(self, "low", float(self.low))
+            object.__setattr__(self, "high", float(self.high))
+        except (TypeError, ValueError):
+            raise ValueError(f"quantity {self.name!r}: low and high must be numbers") from None
         if not (-intervals.LIMIT <= self.low <= self.high <= intervals.LIMIT):
             raise ValueError(f"quantity {self.name!r}: range [{self.low}, {self.high}] is not a finite interval")
         units.parse_unit(self.unit)
@@ -112,6 +117,8 @@ def compile_expression(source: str, vocabulary: Mapping[str, Quantity], *, want:
     refused without it; evaluating with more agents voids the range). Raises ExpressionError at
     the offending token, ValueError for a malformed vocabulary or agents.
     """
+    if want not in ("number", "bool") or per not in (None, "agent", "world"):
+        raise ValueError(f"want must be 'number' or 'bool' and per None, 'agent' or 'world', got {want!r}, {per!r}")
     if agents is not None and (isinstance(agents, bool) or not isinstance(agents, int) or agents < 1):
         raise ValueError(f"agents must be a positive integer, got {agents!r}")
     if not isinstance(source, str):

@@ -118,6 +118,12 @@ def test_a_vocabulary_key_must_be_its_quantity_name_and_agents_positive():
         compile_expression("y", {"y": VOCABULARY["water"]})
     with pytest.raises(ValueError, match="agents must be a positive integer"):
         compile_expression("water", VOCABULARY, agents=0)
+    with pytest.raises(ValueError, match="want must be"):
+        compile_expression("water", VOCABULARY, want="float")
+    with pytest.raises(ValueError, match="low and high must be numbers"):
+        Quantity("x", "agent", "number", "m", "zero", 1.0, "")
+    assert Quantity("x", "agent", "number", "m", 0, 1, "").high == 1.0 and isinstance(
+        Quantity("x", "agent", "number", "m", 0, 1, "").low, float)
 
 
 def test_a_reduction_combined_with_its_own_agents_broadcasts_back(states):
