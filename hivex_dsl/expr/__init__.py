@@ -31,7 +31,8 @@ from .errors import ExpressionError
 from .grammar import describe_grammar
 from .syntax import parse
 
-__all__ = ["Expression", "ExpressionError", "Kind", "Per", "Quantity", "compile_expression", "describe_grammar"]
+__all__ = ["Expression", "ExpressionError", "Kind", "Per", "Quantity", "compile_expression", "describe_grammar",
+           "input_problems"]
 
 Per = Literal["agent", "world"]
 Kind = Literal["number", "bool"]
@@ -148,3 +149,34 @@ def compile_expression(source: str, vocabulary: Mapping[str, Quantity], *, want:
 
 def _recompile(source, vocabulary, want, per, agents) -> Expression:
     return compile_expression(source, vocabulary, want=want, per=per, agents=agents)
+
+
+def input_problems(vocabulary: Mapping[str, Quantity], values: Mapping[str, np.ndarray]) -> list[str]:
+    """What is wrong with ``values`` as inputs of expressions over ``vocabulary`` (empty when nothing).
+
+    The guarantees of :func:`compile_expression` hold for inputs that match their quantities:
+    float64 (bool for booleans), (batch, agents) or (batch,) with one batch size and agent count
+    throughout, and every number inside [low, high]. A vocabulary's tests run this on the values
+    its readers produce.
+    """
+    problems, batch, agents = [], None, None
+    for name, array in values.items():
+        quantity = vocabulary.get(name)
+        if quantity is None:
+            problems.append(f"{name}: not in the vocabulary")
+            continue
+        dtype = np.dtype(bool) if quantity.kind == "bool" else np.dtype(np.float64)
+        rank = 2 if quantity.per == "agent" else 1
+        if not isinstance(array, np.ndarray) or array.dtype != dtype or array.ndim != rank:
+            got = f"{array.dtype} with {array.ndim} axes" if isinstance(array, np.ndarray) else type(array).__name__
+            problems.append(f"{name}: expected {dtype} with {rank} axes, got {got}")
+            continue
+        batch = array.shape[0] if batch is None else batch
+        if array.shape[0] != batch or (rank == 2 and agents is not None and array.shape[1] != agents):
+            problems.append(f"{name}: shape {array.shape} disagrees with the other quantities")
+        agents = array.shape[1] if rank == 2 and agents is None else agents
+        inside = quantity.low <= array.min() and array.max() <= quantity.high if array.size else True
+        if quantity.kind == "number" and not inside:
+            problems.append(f"{name}: values in [{array.min():g}, {array.max():g}] outside its range "
+                            f"[{quantity.low:g}, {quantity.high:g}]")
+    return problems

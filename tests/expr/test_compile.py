@@ -134,3 +134,18 @@ def test_a_reduction_combined_with_its_own_agents_broadcasts_back(states):
     world = compiled("where(raining, team_max(distance_m), prev(distance_m))")
     expected = np.where(now["raining"][:, None], now["distance_m"].max(axis=1)[:, None], before["distance_m"])
     np.testing.assert_array_equal(world.evaluate(now, before), expected)
+
+
+def test_input_problems_names_each_input_that_voids_the_guarantees(states):
+    from hivex_dsl.expr import input_problems
+
+    now, _ = states
+    assert input_problems(VOCABULARY, now) == []
+    bad = dict(now, water=now["water"] + 2.0, wind_ms=now["wind_ms"].astype(np.float32),
+               dropped=now["dropped"][:2], burning=np.full(4, np.nan), extra=now["water"])
+    problems = input_problems(VOCABULARY, bad)
+    assert problems[0].startswith("water: values in [") and problems[0].endswith("outside its range [0, 1]")
+    assert "wind_ms: expected float64 with 1 axes, got float32 with 1 axes" in problems
+    assert "dropped: shape (2, 3) disagrees with the other quantities" in problems
+    assert any(p.startswith("burning: values in [nan") for p in problems)
+    assert "extra: not in the vocabulary" in problems

@@ -103,6 +103,7 @@ def test_every_operand_mode_of_every_combinator_matches_the_reference():
                 expected = expected[:, 0] if expression.per == "world" else expected
                 assert got.dtype == expected.dtype and np.array_equal(got, expected), source
                 if got.dtype == np.float64:
-                    assert np.array_equal(got.view(np.uint64), np.ascontiguousarray(expected).view(np.uint64)), source
+                    bits = np.ascontiguousarray(expected).view(np.uint64)
+                    assert np.array_equal(got.view(np.uint64), bits), source
                 checked += 1
     assert checked > 300
