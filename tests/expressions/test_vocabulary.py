@@ -1,0 +1,72 @@
+"""Every environment's vocabulary: values have the declared shape and kind and never leave the declared range."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import hivex_dsl
+from hivex_dsl import registry
+from hivex_dsl.policies import random_policy
+from hivex_dsl.reward.vocabulary import QuantityFeed, vocabulary_of
+from hivex_dsl.runtime import BatchedEnv
+
+# (environment, extra scenario keys, steps): small worlds where the environment allows, so the test stays quick
+ROLLOUTS = {
+    "wind_farm_control": ({"agents": 4, "episode_length": 60}, 150),
+    "aerial_wildfire_suppression": ({"agents": 3, "episode_length": 40, "params": {"border_half_extent_m": 700.0}}, 70),
+    "ocean_plastic_collection": ({"agents": 3, "episode_length": 50}, 90),
+    "drone_based_reforestation": ({"agents": 3, "episode_length": 50}, 90),
+    "wildfire_resource_management": ({"agents": 3, "episode_length": 30}, 60),
+}
+
+
+def _has_vocabulary(env_id: str) -> bool:
+    try:
+        vocabulary_of(env_id)
+    except ModuleNotFoundError:
+        return False
+    return True
+
+
+@pytest.mark.parametrize("env_id", [e for e in ROLLOUTS if _has_vocabulary(e)])
+def test_random_rollouts_stay_inside_the_declared_ranges(env_id):
+    extra, steps = ROLLOUTS[env_id]
+    compiled = hivex_dsl.compile({"hivex": 1, "environment": env_id, **extra})
+    vocabulary = vocabulary_of(env_id)
+    quantities = vocabulary.quantities(compiled)
+    env = BatchedEnv(compiled, batch=2)
+    feed = QuantityFeed(vocabulary, quantities, env.shape, compiled.params)
+    policy = random_policy(env.sim.action_space, env.shape, np.random.default_rng(3))
+    env.reset(seed=11)
+    feed.start(env.state)
+    seen = {name: [np.inf, -np.inf] for name in quantities}
+    for _ in range(steps):
+        transition = env.step(policy(None))
+        restart = transition.ended.all(axis=1)
+        feed.advance(env.state, {})  # every environment keeps its events in its state
+        for name, q in quantities.items():
+            value = feed.now[name]
+            assert value.shape == (env.shape if q.per == "agent" else (env.batch,)), name
+            if q.kind == "bool":
+                assert value.dtype == bool, name
+            else:
+                assert np.issubdtype(value.dtype, np.floating), name
+                assert np.all(np.isfinite(value)), name
+                assert np.all((q.low <= value) & (value <= q.high)), (name, value.min(), value.max(), q.low, q.high)
+                seen[name] = [min(seen[name][0], value.min()), max(seen[name][1], value.max())]
+        if restart.any():
+            env.reset_worlds(restart)
+            feed.start(env.state, restart)
+    moving = [n for n, q in quantities.items() if q.kind == "number" and seen[n][0] < seen[n][1]]
+    assert len(moving) >= len([q for q in quantities.values() if q.kind == "number"]) // 2  # readers are not constants
+
+
+@pytest.mark.parametrize("env_id", [e for e in ROLLOUTS if _has_vocabulary(e)])
+def test_every_quantity_is_described_with_a_unit_and_a_finite_range(env_id):
+    compiled = hivex_dsl.compile({"hivex": 1, "environment": env_id})
+    for name, q in vocabulary_of(env_id).quantities(compiled).items():
+        assert q.name == name and q.description.endswith(".") and q.unit
+        assert np.isfinite(q.low) and np.isfinite(q.high) and q.low <= q.high
+        assert q.per in ("agent", "world") and q.kind in ("number", "bool")
+    assert registry.get(env_id)
