@@ -97,7 +97,11 @@ class BatchedEnv:
         self.batch = batch
         self.agents = compiled.agents
         self.sim: Simulator = compiled.entry.make_simulator(compiled)
-        self.composer = RewardComposer(compiled.entry.terms, compiled.weights)
+        expressions = compiled.expressions
+        self.feed = expressions.feed(self.shape, compiled.params) if expressions is not None else None
+        terms = expressions.registry(compiled.entry.terms, self.feed) if expressions is not None else compiled.entry.terms
+        self.composer = RewardComposer(terms, compiled.weights, compiled.schedules)
+        self.env_steps = 0  # the clock of weight schedules: steps taken by every world together (settable to resume)
         self.schedule = SeedSchedule(getattr(compiled.seeds, split))
         self.state: Any = None
         self.rng: Optional[np.random.Generator] = None
@@ -131,6 +135,8 @@ class BatchedEnv:
         else:
             self.state = self.sim.reset(self.rng, self.batch)
         self._clear(np.ones(self.batch, bool))
+        if self.feed is not None:
+            self.feed.start(self.state)
         return self.sim.observe(self.state)
 
     def reset_worlds(self, mask: np.ndarray) -> Any:
@@ -138,6 +144,8 @@ class BatchedEnv:
         self._require_reset()
         self.state = self.sim.reset_where(self.state, mask, self.rng)
         self._clear(mask)
+        if self.feed is not None:
+            self.feed.start(self.state, mask)
         return self.sim.observe(self.state)
 
     def _clear(self, mask: np.ndarray) -> None:
@@ -169,12 +177,16 @@ class BatchedEnv:
             actions = hold_inactive(actions, live, self.placeholder)
         prev = self.state
         self.state, outcome = self.sim.step(prev, actions, self.rng)
+        if self.feed is not None:
+            self.feed.advance(self.state, outcome.events)
+        self.composer.set_clock(self.env_steps)
         rewards, terms = self.composer(prev, self.state, actions, self.compiled.params, self.shape)
         if not everyone:  # ended agents earn nothing (skipped while everyone plays: most steps)
             rewards = np.where(live, rewards, _ZERO)
             terms = {name: np.where(live, value, _ZERO) for name, value in terms.items()}
         self.clock += 1
         self.oldest_clock += 1
+        self.env_steps += self.batch
         self.lengths += live
         self.returns += rewards
         for name, value in terms.items():
@@ -184,6 +196,8 @@ class BatchedEnv:
         if restart is not None and np.count_nonzero(restart):
             self.state = self.sim.reset_where(self.state, restart, self.rng)
             self._clear(restart)
+            if self.feed is not None:
+                self.feed.start(self.state, restart)
         return Transition(self.sim.observe(self.state), rewards, terminated, truncated, terms, ended, env_info)
 
     def _endings(self, live: np.ndarray, outcome: StepOutcome) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -195,6 +209,8 @@ class BatchedEnv:
         ending = outcome.terminated
         for event in self.compiled.ends_on:
             ending = ending | outcome.events[event]
+        if self.feed is not None and self.compiled.expressions.endings:
+            ending = ending | self.compiled.expressions.ended(self.feed, self.shape)
         terminated = live & ending
         if self.oldest_clock < self.compiled.episode_length:  # no world truncates
             truncated = np.zeros(terminated.shape, bool)

@@ -13,7 +13,7 @@ from typing import Annotated, Any, Literal, Optional, Union
 
 from pydantic import BeforeValidator, Field, PlainValidator, ValidationError, WithJsonSchema, field_validator
 
-from ..errors import ItemValueError, got
+from ..errors import ItemValueError, got, show
 from .common import MAX_WEIGHT, StrictModel
 
 SNAKE = r"^[a-z][a-z0-9_]*$"
@@ -94,8 +94,10 @@ def _check_weight(value: Any) -> Union[float, WeightSchedule, None]:
     if value is None:
         return None
     if isinstance(value, (int, float)) and not isinstance(value, bool):
-        if not math.isfinite(value) or abs(value) > MAX_WEIGHT:
-            raise ValueError(f"{value} is out of range: expected a finite number from {-MAX_WEIGHT:g} to {MAX_WEIGHT:g}")
+        if not math.isfinite(value):
+            raise ValueError(f"{show(value)} is not allowed: expected a finite number")
+        if abs(value) > MAX_WEIGHT:
+            raise ValueError(f"{show(value)} is out of range: expected a number from {-MAX_WEIGHT} to {MAX_WEIGHT}")
         return float(value)
     if isinstance(value, dict):
         try:

@@ -1,0 +1,210 @@
+"""Reward terms, shaping and endings written as expressions, compiled once per scenario.
+
+A compiled expression term is an ordinary :class:`RewardTerm`: its contract is declared or
+inferred from the expression's interval (range, sign) and shape (scope), and its function reads
+the env's :class:`QuantityFeed`, so the composer, the episode sums, ``reward_terms``, the lock and
+the docs treat it like a registered term. Shaping is a term too: gamma * phi(s') - phi(s).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Callable, Mapping, Optional
+
+import numpy as np
+
+from ..errors import Location, Problem, ScenarioError
+from ..expr import Expression, ExpressionError, compile_expression
+from ..spec.expr_location import expression_location
+from ..spec.expressions import ExpressionTermSpec, ShapingSpec
+from .terms import RewardTerm, TermContract, TermRegistry
+from .vocabulary import QuantityFeed, Vocabulary
+
+PathKey = tuple
+Locate = Callable[..., Location]
+
+
+@dataclass(frozen=True)
+class ExpressionTerm:
+    """A term's contract and its compiled expression (or, for shaping, its potential and gamma)."""
+
+    contract: TermContract
+    expression: Expression
+    gamma: Optional[float] = None  # set for a shaping term
+
+    @property
+    def reads(self) -> frozenset[str]:
+        return frozenset(self.expression.reads) | frozenset(self.expression.reads_prev)
+
+    def bound(self, feed: QuantityFeed) -> RewardTerm:
+        fn = _Shaping(self.expression, self.gamma, feed) if self.gamma is not None else _Value(self.expression, feed)
+        return RewardTerm(self.contract, fn)
+
+
+class _Value:
+    """fn(prev, state, actions, params) of an expression term: the expression over the feed's values."""
+
+    def __init__(self, expression: Expression, feed: QuantityFeed):
+        self.evaluate, self.feed = expression.evaluate, feed
+        self.per_world = expression.per == "world"
+
+    def __call__(self, prev, state, actions, params) -> np.ndarray:
+        value = self.evaluate(self.feed.now, self.feed.before)
+        return value[:, None] if self.per_world else value
+
+
+class _Shaping(_Value):
+    """gamma * phi(after the step) - phi(before it); phi reads no prev(), so each side needs one state."""
+
+    def __init__(self, expression: Expression, gamma: float, feed: QuantityFeed):
+        super().__init__(expression, feed)
+        self.gamma = np.float64(gamma)
+
+    def __call__(self, prev, state, actions, params) -> np.ndarray:
+        now, before = self.feed.now, self.feed.before
+        value = self.gamma * self.evaluate(now, now) - self.evaluate(before, before)
+        return value[:, None] if self.per_world else value
+
+
+@dataclass(frozen=True)
+class ScenarioExpressions:
+    """Everything a scenario wrote as expressions: terms (shaping last) and endings."""
+
+    vocabulary: Optional[Vocabulary] = None
+    terms: tuple[ExpressionTerm, ...] = ()
+    endings: tuple[Expression, ...] = ()
+
+    @property
+    def reads(self) -> frozenset[str]:
+        names = set().union(*(t.reads for t in self.terms)) if self.terms else set()
+        for ending in self.endings:
+            names |= set(ending.reads) | set(ending.reads_prev)
+        return frozenset(names)
+
+    @property
+    def contracts(self) -> tuple[TermContract, ...]:
+        return tuple(t.contract for t in self.terms)
+
+    def feed(self, shape: tuple[int, int], params: Any) -> Optional[QuantityFeed]:
+        """The feed a running env keeps, or None when no expression reads anything."""
+        if self.vocabulary is None or not (self.terms or self.endings):
+            return None
+        return QuantityFeed(self.vocabulary, self.reads, shape, params)
+
+    def registry(self, base: TermRegistry, feed: Optional[QuantityFeed]) -> TermRegistry:
+        """``base``'s terms followed by this scenario's, bound to ``feed``."""
+        if not self.terms:
+            return base
+        combined = TermRegistry(base.environment)
+        for term in base:
+            combined.add(term)
+        for term in self.terms:
+            combined.add(term.bound(feed))
+        return combined
+
+    def ended(self, feed: QuantityFeed, shape: tuple[int, int]) -> Optional[np.ndarray]:
+        """(batch, agents) bool: some ending expression holds after the step; None without any."""
+        hit = None
+        for ending in self.endings:
+            value = ending.evaluate(feed.now, feed.before)
+            value = value[:, None] if value.ndim == 1 else value
+            hit = value if hit is None else hit | value
+        return None if hit is None else np.broadcast_to(hit, shape)
+
+
+def compile_expressions(compiled: Any, vocabulary: Optional[Vocabulary], terms: Mapping[str, ExpressionTermSpec],
+                        shaping: Optional[ShapingSpec], endings: Mapping[PathKey, str], locate: Locate,
+                        registered: tuple[str, ...]) -> ScenarioExpressions:
+    """Compile a scenario's expressions against its vocabulary; every problem is located in the file.
+
+    ``terms`` and ``shaping`` come from the scenario (paths ``terms.<name>``, ``shaping``);
+    ``endings`` maps the path of each ``ends_on`` entry that is not an event to its expression.
+    """
+    if not (terms or shaping or endings):
+        return ScenarioExpressions()
+    if vocabulary is None:
+        raise ScenarioError([Problem(locate(next(iter(endings), ("terms",))),
+                                     f"{compiled.environment} has no vocabulary for expressions yet")])
+    quantities = vocabulary.quantities(compiled)
+    problems: list[Problem] = []
+    built: list[ExpressionTerm] = []
+
+    def attempt(path: PathKey, source: str, want: str) -> Optional[Expression]:
+        try:
+            return compile_expression(source, quantities, want=want)
+        except ExpressionError as exc:
+            where = expression_location(locate(path), source, exc.offset)
+            problems.append(Problem(where, f"{_dotted(path)}: {exc.message}"))
+            return None
+
+    for name, spec in terms.items():
+        path = ("terms", name, "expr")
+        expression = attempt(path, spec.expr, "number")
+        if expression is not None:
+            contract = _contract(name, spec, expression, quantities, ("terms", name), locate, problems)
+            if contract is not None:
+                built.append(ExpressionTerm(contract, expression))
+    if shaping is not None:
+        built += _shaping_term(shaping, attempt, quantities, locate, problems, set(registered) | set(terms))
+    compiled_endings = [e for e in (attempt(path, source, "bool") for path, source in endings.items()) if e is not None]
+    if problems:
+        raise ScenarioError(problems)
+    return ScenarioExpressions(vocabulary, tuple(built), tuple(compiled_endings))
+
+
+def _contract(name: str, spec: ExpressionTermSpec, expression: Expression, quantities: Mapping[str, Any],
+              path: PathKey, locate: Locate, problems: list[Problem]) -> Optional[TermContract]:
+    low, high = float(expression.low), float(expression.high)
+    if spec.range is not None:
+        if not (spec.range[0] <= low and high <= spec.range[1]):
+            problems.append(Problem(locate(path + ("range",)), (
+                f"{_dotted(path)}.range: [{spec.range[0]:g}, {spec.range[1]:g}] does not contain the expression's "
+                f"range [{low:g}, {high:g}] (inferred from the vocabulary's ranges)")))
+            return None
+        low, high = spec.range
+    sign = spec.sign or ("bonus" if low >= 0 else "penalty" if high <= 0 else "mixed")
+    try:
+        return TermContract(name=name, title=spec.title or name.replace("_", " ").capitalize(),
+                            description=spec.description or f"The expression {expression.source}.",
+                            low=low, high=high, sign=sign, timing=spec.timing,
+                            scope=spec.scope or _scope(expression, quantities), equation=expression.source)
+    except ValueError as exc:
+        problems.append(Problem(locate(path + ("sign",)), f"{_dotted(path)}: {exc}"))
+        return None
+
+
+def _scope(expression: Expression, quantities: Mapping[str, Any]) -> str:
+    """agent for a per-agent value; team for a per-world value built from agents; global otherwise."""
+    if expression.per == "agent":
+        return "agent"
+    read = set(expression.reads) | set(expression.reads_prev)
+    return "team" if any(quantities[n].per == "agent" for n in read) else "global"
+
+
+def _shaping_term(spec: ShapingSpec, attempt, quantities, locate: Locate, problems: list[Problem],
+                  taken: set[str]) -> list[ExpressionTerm]:
+    path = ("shaping", "potential")
+    if spec.name in taken:
+        problems.append(Problem(locate(("shaping", "name")), f"shaping.name: '{spec.name}' is already a reward term; "
+                                                             "give the shaping term another name"))
+        return []
+    potential = attempt(path, spec.potential, "number")
+    if potential is None:
+        return []
+    if potential.reads_prev:
+        problems.append(Problem(locate(path), "shaping.potential: a potential is a function of the state alone; "
+                                              "it may not use prev() or delta()"))
+        return []
+    g, low, high = spec.gamma, float(potential.low), float(potential.high)
+    # gamma * phi' - phi over phi, phi' in [low, high]
+    f_low, f_high = min(g * low, g * high) - high, max(g * low, g * high) - low
+    contract = TermContract(name=spec.name, title=spec.title, low=f_low, high=f_high, sign="mixed", timing="dense",
+                            scope=_scope(potential, quantities),
+                            description=(f"Potential-based shaping gamma * phi(s') - phi(s) with gamma = {g:g} and "
+                                         f"phi = {potential.source}; it leaves the optimal policy unchanged."),
+                            equation=f"{g:g} * phi(s') - phi(s),  phi = {potential.source}")
+    return [ExpressionTerm(contract, potential, gamma=g)]
+
+
+def _dotted(path: PathKey) -> str:
+    return "".join(f"[{p}]" if isinstance(p, int) else (f".{p}" if i else p) for i, p in enumerate(path))
