@@ -98,7 +98,7 @@ class BatchedEnv:
         self.agents = compiled.agents
         self.sim: Simulator = compiled.entry.make_simulator(compiled)
         expressions = compiled.expressions
-        self.feed = expressions.feed(self.shape, compiled.params) if expressions is not None else None
+        self.feed = expressions.feed(self.shape, compiled) if expressions is not None else None
         terms = expressions.registry(compiled.entry.terms, self.feed) if expressions is not None else compiled.entry.terms
         self.composer = RewardComposer(terms, compiled.weights, compiled.schedules)
         self.env_steps = 0  # the clock of weight schedules: steps taken by every world together (settable to resume)

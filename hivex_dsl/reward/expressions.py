@@ -85,11 +85,11 @@ class ScenarioExpressions:
     def contracts(self) -> tuple[TermContract, ...]:
         return tuple(t.contract for t in self.terms)
 
-    def feed(self, shape: tuple[int, int], params: Any) -> Optional[QuantityFeed]:
+    def feed(self, shape: tuple[int, int], compiled: Any) -> Optional[QuantityFeed]:
         """The feed a running env keeps, or None when no expression reads anything."""
         if self.vocabulary is None or not (self.terms or self.endings):
             return None
-        return QuantityFeed(self.vocabulary, self.reads, shape, params)
+        return QuantityFeed(self.vocabulary, self.reads, shape, compiled)
 
     def registry(self, base: TermRegistry, feed: Optional[QuantityFeed]) -> TermRegistry:
         """``base``'s terms followed by this scenario's, bound to ``feed``."""

@@ -18,7 +18,7 @@ import numpy as np
 
 from ..expr import Quantity
 
-# reader(state, events, params) -> (batch, agents) for per-agent quantities, (batch,) for per-world ones
+# reader(state, events, compiled scenario) -> (batch, agents) for per-agent quantities, (batch,) for per-world ones
 Reader = Callable[[Any, Mapping[str, np.ndarray], Any], np.ndarray]
 
 
@@ -38,10 +38,10 @@ class Vocabulary:
                              f"{sorted(set(declared) ^ set(self.readers))}")
         return declared
 
-    def values(self, state: Any, events: Mapping[str, np.ndarray], params: Any,
+    def values(self, state: Any, events: Mapping[str, np.ndarray], compiled: Any,
                names: Iterable[str]) -> dict[str, np.ndarray]:
         """{name: array} of ``names`` after a step that had ``events``."""
-        return {name: self.readers[name](state, events, params) for name in names}
+        return {name: self.readers[name](state, events, compiled) for name in names}
 
 
 def vocabulary_of(env_id: str) -> Vocabulary:
@@ -62,16 +62,16 @@ class QuantityFeed:
     of the next step is the reset state's value. ``advance`` after a step.
     """
 
-    def __init__(self, vocabulary: Vocabulary, names: Iterable[str], shape: tuple[int, int], params: Any):
+    def __init__(self, vocabulary: Vocabulary, names: Iterable[str], shape: tuple[int, int], compiled: Any):
         self.vocabulary = vocabulary
-        self.params = params
+        self.compiled = compiled
         self.names = tuple(sorted(set(names)))
         self.quiet = {event: np.zeros(shape, bool) for event in vocabulary.events}
         self.now: dict[str, np.ndarray] = {}
         self.before: dict[str, np.ndarray] = {}
 
     def start(self, state: Any, mask: np.ndarray | None = None) -> None:
-        fresh = self.vocabulary.values(state, self.quiet, self.params, self.names)
+        fresh = self.vocabulary.values(state, self.quiet, self.compiled, self.names)
         if mask is None or not self.now:
             self.now = fresh
             return
@@ -80,7 +80,7 @@ class QuantityFeed:
 
     def advance(self, state: Any, events: Mapping[str, np.ndarray]) -> None:
         self.before = self.now
-        self.now = self.vocabulary.values(state, events, self.params, self.names)
+        self.now = self.vocabulary.values(state, events, self.compiled, self.names)
 
 
 def quantity(name: str, per: str, kind: str, unit: str, low: float, high: float, description: str) -> Quantity:

@@ -17,7 +17,7 @@ ROLLOUTS = {
     "aerial_wildfire_suppression": ({"agents": 3, "episode_length": 40, "params": {"border_half_extent_m": 700.0}}, 70),
     "ocean_plastic_collection": ({"agents": 3, "episode_length": 50}, 90),
     "drone_based_reforestation": ({"agents": 3, "episode_length": 50}, 90),
-    "wildfire_resource_management": ({"agents": 3, "episode_length": 30}, 60),
+    "wildfire_resource_management": ({"episode_length": 30}, 60),
 }
 
 
@@ -36,7 +36,7 @@ def test_random_rollouts_stay_inside_the_declared_ranges(env_id):
     vocabulary = vocabulary_of(env_id)
     quantities = vocabulary.quantities(compiled)
     env = BatchedEnv(compiled, batch=2)
-    feed = QuantityFeed(vocabulary, quantities, env.shape, compiled.params)
+    feed = QuantityFeed(vocabulary, quantities, env.shape, compiled)
     policy = random_policy(env.sim.action_space, env.shape, np.random.default_rng(3))
     env.reset(seed=11)
     feed.start(env.state)

@@ -57,40 +57,40 @@ def _village_gap(state) -> np.ndarray:
     return state.position - state.maps.village[:, None, :]
 
 
-def _fire_distance(state, events, params) -> np.ndarray:
+def _fire_distance(state, events, compiled) -> np.ndarray:
     gap = state.sighting.plane_xy - state.position
-    far = params.fire_view_half_m * math.sqrt(2.0)
+    far = compiled.params.fire_view_half_m * math.sqrt(2.0)
     return np.where(state.sighting.plane_found, np.minimum(np.hypot(gap[..., 0], gap[..., 1]), far), far)
 
 
-def _fire_to_village(state, events, params) -> np.ndarray:
+def _fire_to_village(state, events, compiled) -> np.ndarray:
     gap = state.sighting.plane_xy - state.maps.village[:, None, :]
     return np.where(state.sighting.plane_found, np.hypot(gap[..., 0], gap[..., 1]), 0.0)
 
 
 READERS = {
-    "x_m": lambda s, e, p: s.position[..., 0],
-    "y_m": lambda s, e, p: s.position[..., 1],
-    "heading_rad": lambda s, e, p: s.heading,
-    "holding_water": lambda s, e, p: s.water,
-    "flying": lambda s, e, p: s.flying,
-    "village_x_m": lambda s, e, p: s.maps.village[:, 0],
-    "village_y_m": lambda s, e, p: s.maps.village[:, 1],
-    "distance_to_village_m": lambda s, e, p: np.hypot(*np.moveaxis(_village_gap(s), -1, 0)),
-    "sees_fire": lambda s, e, p: s.sighting.plane_found,
+    "x_m": lambda s, e, c: s.position[..., 0],
+    "y_m": lambda s, e, c: s.position[..., 1],
+    "heading_rad": lambda s, e, c: s.heading,
+    "holding_water": lambda s, e, c: s.water,
+    "flying": lambda s, e, c: s.flying,
+    "village_x_m": lambda s, e, c: s.maps.village[:, 0],
+    "village_y_m": lambda s, e, c: s.maps.village[:, 1],
+    "distance_to_village_m": lambda s, e, c: np.hypot(*np.moveaxis(_village_gap(s), -1, 0)),
+    "sees_fire": lambda s, e, c: s.sighting.plane_found,
     "distance_to_fire_m": _fire_distance,
     "fire_to_village_m": _fire_to_village,
-    "burning_trees": lambda s, e, p: burning_count(s.fire).astype(np.float64),
-    "fire_near_village": lambda s, e, p: s.sighting.village_threat,
-    "extinguished_trees": lambda s, e, p: s.extinguished.astype(np.float64),
-    "prepared_trees": lambda s, e, p: s.prepared.astype(np.float64),
-    "crossed_border": lambda s, e, p: s.crossed,
-    "village_threatened": lambda s, e, p: s.village_threatened,
-    "picked_up_water": lambda s, e, p: s.picked_up,
-    "dropped_water": lambda s, e, p: s.dropped,
-    "found_fire": lambda s, e, p: s.found_fire,
-    "found_village": lambda s, e, p: s.found_village,
-    "fire_out": lambda s, e, p: s.fire_went_out,
+    "burning_trees": lambda s, e, c: burning_count(s.fire).astype(np.float64),
+    "fire_near_village": lambda s, e, c: s.sighting.village_threat,
+    "extinguished_trees": lambda s, e, c: s.extinguished.astype(np.float64),
+    "prepared_trees": lambda s, e, c: s.prepared.astype(np.float64),
+    "crossed_border": lambda s, e, c: s.crossed,
+    "village_threatened": lambda s, e, c: s.village_threatened,
+    "picked_up_water": lambda s, e, c: s.picked_up,
+    "dropped_water": lambda s, e, c: s.dropped,
+    "found_fire": lambda s, e, c: s.found_fire,
+    "found_village": lambda s, e, c: s.found_village,
+    "fire_out": lambda s, e, c: s.fire_went_out,
 }
 
 VOCABULARY = Vocabulary("aerial_wildfire_suppression", declare, READERS)

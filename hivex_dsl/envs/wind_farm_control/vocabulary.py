@@ -43,15 +43,15 @@ def declare(compiled) -> dict:
 
 
 READERS = {
-    "x_m": lambda s, e, p: s.positions[..., 0],
-    "y_m": lambda s, e, p: s.positions[..., 1],
-    "heading_rad": lambda s, e, p: s.heading,
-    "wind_direction_rad": lambda s, e, p: s.local_wind,
-    "main_wind_direction_rad": lambda s, e, p: s.wind.main,
-    "wind_angle_deg": lambda s, e, p: np.degrees(angle_between(s.heading, s.local_wind)),
-    "alignment": lambda s, e, p: alignment(s.heading, s.local_wind),
-    "wind_force": lambda s, e, p: wind_force(alignment(s.heading, s.local_wind), p.alignment_threshold),
-    "performance": lambda s, e, p: s.performance,
+    "x_m": lambda s, e, c: s.positions[..., 0],
+    "y_m": lambda s, e, c: s.positions[..., 1],
+    "heading_rad": lambda s, e, c: s.heading,
+    "wind_direction_rad": lambda s, e, c: s.local_wind,
+    "main_wind_direction_rad": lambda s, e, c: s.wind.main,
+    "wind_angle_deg": lambda s, e, c: np.degrees(angle_between(s.heading, s.local_wind)),
+    "alignment": lambda s, e, c: alignment(s.heading, s.local_wind),
+    "wind_force": lambda s, e, c: wind_force(alignment(s.heading, s.local_wind), c.params.alignment_threshold),
+    "performance": lambda s, e, c: s.performance,
 }
 
 VOCABULARY = Vocabulary("wind_farm_control", declare, READERS)
