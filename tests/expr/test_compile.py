@@ -1,0 +1,79 @@
+"""compile_expression end to end: kinds, shapes, units, ranges and values of typical expressions."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from hivex_dsl.expr import ExpressionError, compile_expression
+
+from .conftest import AGENTS, VOCABULARY
+
+
+def compiled(source, **kw):
+    kw.setdefault("agents", AGENTS)
+    return compile_expression(source, VOCABULARY, **kw)
+
+
+def test_a_proximity_reward_has_its_kind_shape_unit_and_range(states):
+    now, before = states
+    e = compiled("clip(1 - distance_m / 500{m}, 0, 1)")
+    assert (e.kind, e.per, e.unit, e.low, e.high) == ("number", "agent", "1", 0.0, 1.0)
+    assert e.reads == {"distance_m"} and e.reads_prev == frozenset()
+    expected = np.minimum(np.maximum(1 - now["distance_m"] / 500, 0), 1)
+    np.testing.assert_array_equal(e.evaluate(now, before), expected)
+
+
+def test_a_per_world_value_broadcasts_over_the_agents_of_its_world(states):
+    now, before = states
+    e = compiled("speed_ms + wind_ms")
+    assert e.per == "agent" and e.unit == "m/s" and (e.low, e.high) == (-5.0, 25.0)
+    np.testing.assert_array_equal(e.evaluate(now, before), now["speed_ms"] + now["wind_ms"][:, None])
+
+
+def test_reductions_give_one_value_per_world(states):
+    now, before = states
+    for name, expected in [("team_mean", now["water"].mean(axis=1)), ("team_min", now["water"].min(axis=1)),
+                           ("team_max", now["water"].max(axis=1)), ("team_sum", now["water"].sum(axis=1))]:
+        e = compiled(f"{name}(water)")
+        assert e.per == "world"
+        np.testing.assert_array_equal(e.evaluate(now, before), expected)
+    assert compiled("team_sum(water)").high >= AGENTS and compiled("team_sum(water)").low == 0.0
+
+
+def test_prev_and_delta_read_the_state_before_the_step(states):
+    now, before = states
+    e = compiled("delta(distance_m)")
+    assert e.reads == {"distance_m"} and e.reads_prev == {"distance_m"}
+    assert (e.low, e.high) == (-1000.0, 1000.0)
+    np.testing.assert_array_equal(e.evaluate(now, before), now["distance_m"] - before["distance_m"])
+    p = compiled("prev(water) * 2")
+    assert p.reads == frozenset() and p.reads_prev == {"water"}
+    np.testing.assert_array_equal(p.evaluate(now, before), before["water"] * 2)
+
+
+def test_conditions_are_booleans_and_become_numbers_only_through_where(states):
+    now, before = states
+    e = compiled("dropped and not raining", want="bool")
+    assert e.kind == "bool" and e.unit == ""
+    result = e.evaluate(now, before)
+    assert result.dtype == bool
+    np.testing.assert_array_equal(result, now["dropped"] & ~now["raining"][:, None])
+    n = compiled("where(0 < distance_m < 100, 1, 0)")
+    np.testing.assert_array_equal(n.evaluate(now, before), np.where((now["distance_m"] > 0) & (now["distance_m"] < 100), 1.0, 0.0))
+
+
+def test_a_bare_quantity_is_copied_not_aliased(states):
+    now, before = states
+    result = compiled("water").evaluate(now, before)
+    np.testing.assert_array_equal(result, now["water"])
+    assert not np.shares_memory(result, now["water"])
+
+
+def test_want_and_per_are_enforced_over_the_whole_source():
+    with pytest.raises(ExpressionError, match="expected a boolean") as error:
+        compiled("water + 1", want="bool")
+    assert (error.value.offset, error.value.length) == (0, 9)
+    with pytest.raises(ExpressionError, match="per-world"):
+        compiled("water", per="world")
+    assert compiled("team_mean(water)", per="world").per == "world"
