@@ -24,7 +24,8 @@ from .loader import Loaded, PathKey, load_file
 from .resources import resolve_scenario_path
 from .spec.common import SCHEMA_VERSION, StrictModel
 from .spec.expressions import WeightSchedule
-from .spec.expression_keys import clashing_terms, expression_keys, expression_term_names, split_ends_on
+from .spec.expression_keys import (clashing_terms, declared_term_names, expression_keys, expression_term_names,
+                                   split_ends_on)
 from .spec.scenario import SWEEPABLE_PREFIXES, Seeds, scenario_model, sweepable_fields
 from .spec.validate import dotted, validate_model
 
@@ -308,6 +309,7 @@ def _resolve(entry, spec: StrictModel, source: str, point: dict[str, Any], locat
     table = entry.reward_table
     task = spec.task if isinstance(spec.task, int) else table.task_names.index(spec.task)
     weights = table.column(task)
+    weights.update({name: 1.0 for name in declared_term_names(spec)})  # a declared term counts unless weighted
     written = {name: getattr(spec.weights, name) for name in type(spec.weights).model_fields}
     schedules = {name: w for name, w in written.items() if isinstance(w, WeightSchedule)}
     weights.update({name: w.start if name in schedules else w for name, w in written.items() if w is not None})

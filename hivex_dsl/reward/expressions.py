@@ -131,7 +131,7 @@ def compile_expressions(compiled: Any, vocabulary: Optional[Vocabulary], terms: 
 
     def attempt(path: PathKey, source: str, want: str) -> Optional[Expression]:
         try:
-            return compile_expression(source, quantities, want=want)
+            return compile_expression(source, quantities, want=want, agents=compiled.agents)
         except ExpressionError as exc:
             where = expression_location(locate(path), source, exc.offset)
             problems.append(Problem(where, f"{_dotted(path)}: {exc.message}"))

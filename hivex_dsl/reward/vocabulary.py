@@ -90,4 +90,4 @@ def quantity(name: str, per: str, kind: str, unit: str, low: float, high: float,
 
 def flag(name: str, per: str, description: str) -> Quantity:
     """A boolean quantity (an event or a state flag)."""
-    return Quantity(name, per, "bool", "1", 0.0, 1.0, description)
+    return Quantity(name, per, "bool", "", 0.0, 1.0, description)

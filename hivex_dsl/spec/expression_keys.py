@@ -18,6 +18,12 @@ def expression_term_names(data: Any) -> tuple[str, ...]:
     return tuple(dict.fromkeys(names))
 
 
+def declared_term_names(spec: Any) -> tuple[str, ...]:
+    """Names of a validated scenario's expression terms, the shaping term last."""
+    names = tuple(spec.terms or ()) if getattr(spec, "terms", None) else ()
+    return names + ((spec.shaping.name,) if getattr(spec, "shaping", None) is not None else ())
+
+
 def clashing_terms(data: Any, registered: tuple[str, ...]) -> list[tuple[tuple, str]]:
     """(path, message) for every declared term whose name the environment already registered."""
     terms = data.get("terms") if isinstance(data, dict) else None

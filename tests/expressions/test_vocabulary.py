@@ -66,7 +66,7 @@ def test_random_rollouts_stay_inside_the_declared_ranges(env_id):
 def test_every_quantity_is_described_with_a_unit_and_a_finite_range(env_id):
     compiled = hivex_dsl.compile({"hivex": 1, "environment": env_id})
     for name, q in vocabulary_of(env_id).quantities(compiled).items():
-        assert q.name == name and q.description.endswith(".") and q.unit
+        assert q.name == name and q.description.endswith(".") and (q.unit or q.kind == "bool")
         assert np.isfinite(q.low) and np.isfinite(q.high) and q.low <= q.high
         assert q.per in ("agent", "world") and q.kind in ("number", "bool")
     assert registry.get(env_id)
