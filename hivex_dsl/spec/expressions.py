@@ -109,8 +109,8 @@ def _check_weight(value: Any) -> Union[float, WeightSchedule, None]:
                 raise ItemValueError(f"unknown key '{at[0]}' in a schedule; expected from, to, over_steps, kind", at) from None
             if first["type"] == "missing":
                 raise ValueError(f"a schedule needs '{at[0]}' (from, to, over_steps and optionally kind)") from None
-            cause = (first.get("ctx") or {}).get("error")
-            raise ItemValueError(f"{at[0]}: {cause or first['msg']}", at) from None
+            cause = (first.get("ctx") or {}).get("error") or f"{first['msg'][:1].lower()}{first['msg'][1:]}"
+            raise ItemValueError(f"{show(first.get('input'))} is not allowed: {cause}", at) from None
     raise ValueError(f"expected a weight (a number) or a schedule {{from, to, over_steps, kind}}, got {got(value)}")
 
 
