@@ -22,6 +22,7 @@ from dataclasses import dataclass
 from .errors import ExpressionError
 
 MAX_DEPTH = 120  # the deepest tree accepted: checking and evaluation recurse once per level
+MAX_NESTING = 50  # the most parentheses, calls and prefix operators open at once: parsing recurses
 _COMPARISONS = ("<", "<=", ">", ">=", "==", "!=")
 _TOKEN = re.compile(
     r"(?P<space>\s+)"
@@ -171,6 +172,18 @@ class _Parser:
         self.tokens = tokens
         self.index = 0
         self.depth: dict[int, int] = {}  # id(node) -> depth below it
+        self.open = 0  # parentheses, calls and prefix operators being parsed
+
+    def nested(self, token: Token, parse):
+        """``parse()`` one level deeper; refused beyond MAX_NESTING levels, before Python's recursion limit."""
+        if self.open >= MAX_NESTING:
+            raise ExpressionError(f"expression nested too deeply (more than {MAX_NESTING} levels)",
+                                  token.offset, len(token.text))
+        self.open += 1
+        try:
+            return parse()
+        finally:
+            self.open -= 1
 
     def peek(self) -> Token:
         return self.tokens[self.index]
@@ -198,7 +211,7 @@ class _Parser:
     def negation(self) -> Node:
         if self.peek().text == "not" and self.peek().kind == "name":
             op = self.take()
-            operand = self.negation()
+            operand = self.nested(op, self.negation)
             return self.made(Unary(*_span(op, operand), op, operand), operand, at=op)
         return self.comparison()
 
@@ -231,7 +244,7 @@ class _Parser:
     def unary(self) -> Node:
         if self.peek().text == "-" and self.peek().kind == "op":
             op = self.take()
-            operand = self.unary()
+            operand = self.nested(op, self.unary)
             return self.made(Unary(*_span(op, operand), op, operand), operand, at=op)
         if self.peek().text == "+" and self.peek().kind == "op":
             raise ExpressionError("unary '+' is not part of the expression language", self.peek().offset, 1)
@@ -241,7 +254,7 @@ class _Parser:
         base = self.atom()
         if self.peek().text == "**" and self.peek().kind == "op":
             op = self.take()
-            exponent = self.unary()
+            exponent = self.nested(op, self.unary)
             return self.made(Binary(*_span(base, exponent), op, base, exponent), base, exponent, at=op)
         return base
 
@@ -252,10 +265,10 @@ class _Parser:
             return Number(token.offset, len(token.text), float(digits), unit[:-1].strip() if unit else None)
         if token.kind == "name" and token.text not in ("and", "or", "not"):
             if self.peek().text == "(" and self.peek().kind == "op":
-                return self.call(token)
+                return self.nested(token, lambda: self.call(token))
             return Name(token.offset, len(token.text), token.text)
         if token.text == "(" and token.kind == "op":
-            inner = self.expression()
+            inner = self.nested(token, self.expression)
             self.close(token)
             return inner
         raise ExpressionError(f"expected a number, a name or '(', got {_shown(token)}", token.offset, len(token.text))
