@@ -13,6 +13,7 @@ from ..spec import scenario as scenario_spec
 from ..spec.catalogue import CATALOGUE
 from ..spec.common import MAX_SEED, MAX_WEIGHT, SCHEMA_VERSION
 from ..spec.reward_table import RewardTable, TaskColumn
+from .expressions import expression_language_context, vocabulary_context
 from .fields import field_rows, num, show_value, source_tag
 from .spaces_table import specification
 
@@ -153,6 +154,7 @@ def environment_context(entry: registry.EnvironmentEntry) -> dict[str, Any]:
         "scenarios": _scenarios(entry),
         "schema_file": SCHEMA_FILE,
         "reward_file": f"rewards/{entry.id}.yaml",
+        "vocabulary": vocabulary_context(entry),
     }
 
 
@@ -193,7 +195,7 @@ def language_context() -> dict[str, Any]:
         "limits": limits,
         "reward_table": {"doc": _doc(RewardTable), "fields": field_rows(RewardTable)},
         "task_column": {"doc": _doc(TaskColumn), "fields": field_rows(TaskColumn)},
-    }
+    } | expression_language_context()
 
 
 def _doc(model: type) -> str:
