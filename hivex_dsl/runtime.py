@@ -179,7 +179,8 @@ class BatchedEnv:
         self.state, outcome = self.sim.step(prev, actions, self.rng)
         if self.feed is not None:
             self.feed.advance(self.state, outcome.events)
-        self.composer.set_clock(self.env_steps)
+        if self.compiled.schedules:
+            self.composer.set_clock(self.env_steps)
         rewards, terms = self.composer(prev, self.state, actions, self.compiled.params, self.shape)
         if not everyone:  # ended agents earn nothing (skipped while everyone plays: most steps)
             rewards = np.where(live, rewards, _ZERO)

@@ -66,6 +66,7 @@ class QuantityFeed:
         self.vocabulary = vocabulary
         self.compiled = compiled
         self.names = tuple(sorted(set(names)))
+        self._readers = tuple((name, vocabulary.readers[name]) for name in self.names)
         self.quiet = {event: np.zeros(shape, bool) for event in vocabulary.events}
         self.now: dict[str, np.ndarray] = {}
         self.before: dict[str, np.ndarray] = {}
@@ -80,7 +81,8 @@ class QuantityFeed:
 
     def advance(self, state: Any, events: Mapping[str, np.ndarray]) -> None:
         self.before = self.now
-        self.now = self.vocabulary.values(state, events, self.compiled, self.names)
+        compiled = self.compiled
+        self.now = {name: read(state, events, compiled) for name, read in self._readers}  # runs every step
 
 
 def quantity(name: str, per: str, kind: str, unit: str, low: float, high: float, description: str) -> Quantity:
