@@ -247,7 +247,7 @@ def _sweep_points(loaded: Loaded, entry) -> list[Assignment]:
 def _sweep_target(loaded: Loaded, entry, key: str) -> PathKey:
     vocab = entry.vocabulary
     fields = sweepable_fields(vocab)
-    nested = {"params": tuple(entry.params_model.model_fields), "weights": entry.terms.names,
+    nested = {"params": tuple(entry.params_model.model_fields), "weights": entry.term_names,
               "seeds": tuple(Seeds.model_fields)}
     options = list(fields) + [f"{p}.{n}" for p in SWEEPABLE_PREFIXES for n in nested[p]]
     generator_fields = [f"generators.{name}.{f}" for name, slot in entry.generators.items()
@@ -293,7 +293,7 @@ def _compile_point(loaded: Loaded, entry, assignment: Assignment) -> CompiledSce
                 return loaded.locate(where)
         return loaded.locate(path, key=key)
 
-    clashes = clashing_terms(data, entry.terms.names)
+    clashes = clashing_terms(data, entry.term_names)
     if clashes:
         raise ScenarioError([Problem(locate(path, key=True), message) for path, message in clashes])
     spec = validate_model(_scenario_model(entry, expression_term_names(data)), data, locate)
@@ -320,7 +320,7 @@ def _resolve(entry, spec: StrictModel, source: str, point: dict[str, Any], locat
         level = spec.terrain_level
     return CompiledScenario(entry=entry, spec=spec, source=source, task_index=task, level=level,
                             weights=MappingProxyType(weights), schedules=MappingProxyType(schedules),
-                            ends_on=table.tasks[task].ends_on + split_ends_on(spec, entry.events)[0],
+                            ends_on=_events(table.tasks[task].ends_on, entry.events) + split_ends_on(spec, entry.events)[0],
                             sweep_point=MappingProxyType(point),
                             generators=MappingProxyType(_generator_specs(entry, spec, level, locate)))
 
@@ -334,10 +334,26 @@ def _scenario_model(entry, extra_terms: tuple[str, ...]) -> type[StrictModel]:
     return scenario_model(dataclasses.replace(vocab, term_names=vocab.term_names + extra_terms))
 
 
+def _events(ends_on: tuple[str, ...], events) -> tuple[str, ...]:
+    """The entries of an ``ends_on`` list that name events (the others are expressions)."""
+    return tuple(e for e in ends_on if e in events)
+
+
 def _with_expressions(compiled: CompiledScenario, spec: StrictModel, locate) -> CompiledScenario:
-    """``compiled`` with its expression terms, shaping and endings compiled against the vocabulary."""
-    endings = split_ends_on(spec, compiled.entry.events)[1]
-    if not (spec.terms or spec.shaping or endings):
+    """``compiled`` with its expression terms, shaping and endings compiled against the vocabulary.
+
+    The reward table's expression terms and its task's expression endings come first, located in
+    the table's file; the scenario's follow, located in the scenario.
+    """
+    entry = compiled.entry
+    table, in_table = entry.reward_table, entry.reward_table_file.locate
+    terms = [(name, term, in_table) for name, term in (table.terms or {}).items()]
+    terms += [(name, term, locate) for name, term in (spec.terms or {}).items()]
+    task_ends = table.tasks[compiled.task_index].ends_on
+    endings = [(("tasks", compiled.task_index, "ends_on", k), e, in_table) for k, e in enumerate(task_ends)
+               if e not in entry.events]
+    endings += [(path, e, locate) for path, e in split_ends_on(spec, entry.events)[1].items()]
+    if not (terms or spec.shaping or endings):
         return compiled
     from .reward.expressions import compile_expressions  # needs hivex_dsl.expr only for such scenarios
     from .reward.vocabulary import vocabulary_of
@@ -346,8 +362,7 @@ def _with_expressions(compiled: CompiledScenario, spec: StrictModel, locate) -> 
         vocabulary = vocabulary_of(compiled.environment)
     except ModuleNotFoundError:
         vocabulary = None
-    expressions = compile_expressions(compiled, vocabulary, spec.terms or {}, spec.shaping, endings, locate,
-                                      compiled.entry.terms.names)
+    expressions = compile_expressions(compiled, vocabulary, terms, spec.shaping, endings, locate, entry.term_names)
     return dataclasses.replace(compiled, expressions=expressions)
 
 

@@ -9,7 +9,7 @@ the docs treat it like a registered term. Shaping is a term too: gamma * phi(s')
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any, Callable, Mapping, Optional
+from typing import Any, Callable, Mapping, Optional, Sequence
 
 import numpy as np
 
@@ -112,41 +112,45 @@ class ScenarioExpressions:
         return None if hit is None else np.broadcast_to(hit, shape)
 
 
-def compile_expressions(compiled: Any, vocabulary: Optional[Vocabulary], terms: Mapping[str, ExpressionTermSpec],
-                        shaping: Optional[ShapingSpec], endings: Mapping[PathKey, str], locate: Locate,
+def compile_expressions(compiled: Any, vocabulary: Optional[Vocabulary],
+                        terms: Sequence[tuple[str, ExpressionTermSpec, Locate]], shaping: Optional[ShapingSpec],
+                        endings: Sequence[tuple[PathKey, str, Locate]], locate: Locate,
                         registered: tuple[str, ...]) -> ScenarioExpressions:
-    """Compile a scenario's expressions against its vocabulary; every problem is located in the file.
+    """Compile a scenario's expressions against its vocabulary; every problem is located in its file.
 
-    ``terms`` and ``shaping`` come from the scenario (paths ``terms.<name>``, ``shaping``);
-    ``endings`` maps the path of each ``ends_on`` entry that is not an event to its expression.
+    ``terms``: (name, spec, locate) with the term at ``terms.<name>`` of the file ``locate`` reads
+    (the reward table's or the scenario's); ``endings``: (path, expression, locate) of each ``ends_on``
+    entry that is not an event; ``shaping`` and ``locate``: the scenario's.
     """
     if not (terms or shaping or endings):
         return ScenarioExpressions()
     if vocabulary is None:
-        raise ScenarioError([Problem(locate(next(iter(endings), ("terms",))),
+        raise ScenarioError([Problem(locate(("terms",)),
                                      f"{compiled.environment} has no vocabulary for expressions yet")])
     quantities = vocabulary.quantities(compiled)
     problems: list[Problem] = []
     built: list[ExpressionTerm] = []
 
-    def attempt(path: PathKey, source: str, want: str) -> Optional[Expression]:
+    def attempt(path: PathKey, source: str, want: str, where_is: Locate = locate) -> Optional[Expression]:
         try:
             return compile_expression(source, quantities, want=want, agents=compiled.agents)
         except ExpressionError as exc:
-            where = expression_location(locate(path), source, exc.offset)
+            where = expression_location(where_is(path), source, exc.offset)
             problems.append(Problem(where, f"{_dotted(path)}: {exc.message}"))
             return None
 
-    for name, spec in terms.items():
+    for name, spec, where_is in terms:
         path = ("terms", name, "expr")
-        expression = attempt(path, spec.expr, "number")
+        expression = attempt(path, spec.expr, "number", where_is)
         if expression is not None:
-            contract = _contract(name, spec, expression, quantities, ("terms", name), locate, problems)
+            contract = _contract(name, spec, expression, quantities, ("terms", name), where_is, problems)
             if contract is not None:
                 built.append(ExpressionTerm(contract, expression))
     if shaping is not None:
-        built += _shaping_term(shaping, attempt, quantities, locate, problems, set(registered) | set(terms))
-    compiled_endings = [e for e in (attempt(path, source, "bool") for path, source in endings.items()) if e is not None]
+        taken = set(registered) | {name for name, _, _ in terms}
+        built += _shaping_term(shaping, attempt, quantities, locate, problems, taken)
+    compiled_endings = [e for e in (attempt(path, source, "bool", where_is) for path, source, where_is in endings)
+                        if e is not None]
     if problems:
         raise ScenarioError(problems)
     return ScenarioExpressions(vocabulary, tuple(built), tuple(compiled_endings))
