@@ -22,6 +22,7 @@ from . import registry
 from .errors import Location, Problem, ScenarioError, did_you_mean, got, kind_of, one_of, show
 from .loader import Loaded, PathKey, load_file
 from .resources import resolve_scenario_path
+from .reward.expressions import event_names, with_expressions
 from .spec.common import SCHEMA_VERSION, StrictModel
 from .spec.expressions import WeightSchedule
 from .spec.expression_keys import (clashing_terms, declared_term_names, expression_keys, expression_term_names,
@@ -298,7 +299,7 @@ def _compile_point(loaded: Loaded, entry, assignment: Assignment) -> CompiledSce
         raise ScenarioError([Problem(locate(path, key=True), message) for path, message in clashes])
     spec = validate_model(_scenario_model(entry, expression_term_names(data)), data, locate)
     compiled = _resolve(entry, spec, loaded.source, {".".join(t): v for t, v, _ in assignment}, locate)
-    compiled = _with_expressions(compiled, spec, locate)
+    compiled = with_expressions(compiled, spec, locate)
     problems = [Problem(locate(path), message) for path, message in _semantic_problems(compiled)]
     if problems:
         raise ScenarioError(problems)
@@ -320,7 +321,8 @@ def _resolve(entry, spec: StrictModel, source: str, point: dict[str, Any], locat
         level = spec.terrain_level
     return CompiledScenario(entry=entry, spec=spec, source=source, task_index=task, level=level,
                             weights=MappingProxyType(weights), schedules=MappingProxyType(schedules),
-                            ends_on=_events(table.tasks[task].ends_on, entry.events) + split_ends_on(spec, entry.events)[0],
+                            ends_on=(event_names(table.tasks[task].ends_on, entry.events)
+                                     + split_ends_on(spec, entry.events)[0]),
                             sweep_point=MappingProxyType(point),
                             generators=MappingProxyType(_generator_specs(entry, spec, level, locate)))
 
@@ -332,38 +334,6 @@ def _scenario_model(entry, extra_terms: tuple[str, ...]) -> type[StrictModel]:
         return entry.scenario_model
     vocab = entry.vocabulary
     return scenario_model(dataclasses.replace(vocab, term_names=vocab.term_names + extra_terms))
-
-
-def _events(ends_on: tuple[str, ...], events) -> tuple[str, ...]:
-    """The entries of an ``ends_on`` list that name events (the others are expressions)."""
-    return tuple(e for e in ends_on if e in events)
-
-
-def _with_expressions(compiled: CompiledScenario, spec: StrictModel, locate) -> CompiledScenario:
-    """``compiled`` with its expression terms, shaping and endings compiled against the vocabulary.
-
-    The reward table's expression terms and its task's expression endings come first, located in
-    the table's file; the scenario's follow, located in the scenario.
-    """
-    entry = compiled.entry
-    table, in_table = entry.reward_table, entry.reward_table_file.locate
-    terms = [(name, term, in_table) for name, term in (table.terms or {}).items()]
-    terms += [(name, term, locate) for name, term in (spec.terms or {}).items()]
-    task_ends = table.tasks[compiled.task_index].ends_on
-    endings = [(("tasks", compiled.task_index, "ends_on", k), e, in_table) for k, e in enumerate(task_ends)
-               if e not in entry.events]
-    endings += [(path, e, locate) for path, e in split_ends_on(spec, entry.events)[1].items()]
-    if not (terms or spec.shaping or endings):
-        return compiled
-    from .reward.expressions import compile_expressions  # needs hivex_dsl.expr only for such scenarios
-    from .reward.vocabulary import vocabulary_of
-
-    try:
-        vocabulary = vocabulary_of(compiled.environment)
-    except ModuleNotFoundError:
-        vocabulary = None
-    expressions = compile_expressions(compiled, vocabulary, terms, spec.shaping, endings, locate, entry.term_names)
-    return dataclasses.replace(compiled, expressions=expressions)
 
 
 def _generator_specs(entry, spec: StrictModel, level: int | None, locate) -> dict[str, StrictModel]:

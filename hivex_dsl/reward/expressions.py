@@ -8,6 +8,7 @@ the docs treat it like a registered term. Shaping is a term too: gamma * phi(s')
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 from typing import Any, Callable, Mapping, Optional, Sequence
 
@@ -16,9 +17,10 @@ import numpy as np
 from ..errors import Location, Problem, ScenarioError
 from ..expr import Expression, ExpressionError, compile_expression
 from ..spec.expr_location import expression_location
+from ..spec.expression_keys import split_ends_on
 from ..spec.expressions import ExpressionTermSpec, ShapingSpec
 from .terms import RewardTerm, TermContract, TermRegistry
-from .vocabulary import QuantityFeed, Vocabulary
+from .vocabulary import QuantityFeed, Vocabulary, vocabulary_of
 
 PathKey = tuple
 Locate = Callable[..., Location]
@@ -212,3 +214,32 @@ def _shaping_term(spec: ShapingSpec, attempt, quantities, locate: Locate, proble
 
 def _dotted(path: PathKey) -> str:
     return "".join(f"[{p}]" if isinstance(p, int) else (f".{p}" if i else p) for i, p in enumerate(path))
+
+
+def event_names(ends_on: tuple[str, ...], events: Mapping[str, str]) -> tuple[str, ...]:
+    """The entries of an ``ends_on`` list that name events (the others are expressions)."""
+    return tuple(e for e in ends_on if e in events)
+
+
+def with_expressions(compiled: Any, spec: Any, locate: Locate) -> Any:
+    """``compiled`` with its expression terms, shaping and endings compiled against the vocabulary.
+
+    The reward table's expression terms and its task's expression endings come first, located in
+    the table's file; the scenario's follow, located in the scenario.
+    """
+    entry = compiled.entry
+    table, in_table = entry.reward_table, entry.reward_table_file.locate
+    terms = [(name, term, in_table) for name, term in (table.terms or {}).items()]
+    terms += [(name, term, locate) for name, term in (spec.terms or {}).items()]
+    task_ends = table.tasks[compiled.task_index].ends_on
+    endings = [(("tasks", compiled.task_index, "ends_on", k), e, in_table) for k, e in enumerate(task_ends)
+               if e not in entry.events]
+    endings += [(path, e, locate) for path, e in split_ends_on(spec, entry.events)[1].items()]
+    if not (terms or spec.shaping or endings):
+        return compiled
+    try:
+        vocabulary = vocabulary_of(compiled.environment)
+    except ModuleNotFoundError:
+        vocabulary = None
+    expressions = compile_expressions(compiled, vocabulary, terms, spec.shaping, endings, locate, entry.term_names)
+    return dataclasses.replace(compiled, expressions=expressions)
