@@ -248,7 +248,7 @@ def _sweep_points(loaded: Loaded, entry) -> list[Assignment]:
 def _sweep_target(loaded: Loaded, entry, key: str) -> PathKey:
     vocab = entry.vocabulary
     fields = sweepable_fields(vocab)
-    nested = {"params": tuple(entry.params_model.model_fields), "weights": entry.term_names,
+    nested = {"params": tuple(entry.params_model.model_fields), "weights": entry.term_names + expression_term_names(loaded.data),
               "seeds": tuple(Seeds.model_fields)}
     options = list(fields) + [f"{p}.{n}" for p in SWEEPABLE_PREFIXES for n in nested[p]]
     generator_fields = [f"generators.{name}.{f}" for name, slot in entry.generators.items()

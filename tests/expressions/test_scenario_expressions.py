@@ -94,3 +94,9 @@ def test_a_term_reading_nothing_the_simulator_changes_is_still_evaluated_every_s
     env.reset(seed=0)
     value = env.step(np.zeros(env.shape, int)).terms["where_am_i"]
     np.testing.assert_allclose(value, env.state.positions[..., 0] / 600)
+
+
+def test_a_sweep_may_range_over_the_weight_of_a_declared_term():
+    compiled = hivex_dsl.compile_all(WFC | {"terms": {"facing": {"expr": "alignment"}},
+                                            "sweep": {"weights.facing": [0.5, 2.0]}})
+    assert [c.weights["facing"] for c in compiled] == [0.5, 2.0]
