@@ -18,6 +18,7 @@ from ..errors import Location, Problem, ScenarioError
 from ..expr import Expression, ExpressionError, compile_expression
 from ..spec.expr_location import expression_location
 from ..spec.expression_keys import split_ends_on
+from ..spec.validate import dotted
 from ..spec.expressions import ExpressionTermSpec, ShapingSpec
 from .terms import RewardTerm, TermContract, TermRegistry
 from .vocabulary import QuantityFeed, Vocabulary, vocabulary_of
@@ -138,7 +139,7 @@ def compile_expressions(compiled: Any, vocabulary: Optional[Vocabulary],
             return compile_expression(source, quantities, want=want, agents=compiled.agents)
         except ExpressionError as exc:
             where = expression_location(where_is(path), source, exc.offset)
-            problems.append(Problem(where, f"{_dotted(path)}: {exc.message}"))
+            problems.append(Problem(where, f"{dotted(path)}: {exc.message}"))
             return None
 
     for name, spec, where_is in terms:
@@ -164,7 +165,7 @@ def _contract(name: str, spec: ExpressionTermSpec, expression: Expression, quant
     if spec.range is not None:
         if not (spec.range[0] <= low and high <= spec.range[1]):
             problems.append(Problem(locate(path + ("range",)), (
-                f"{_dotted(path)}.range: [{spec.range[0]:g}, {spec.range[1]:g}] does not contain the expression's "
+                f"{dotted(path)}.range: [{spec.range[0]:g}, {spec.range[1]:g}] does not contain the expression's "
                 f"range [{low:g}, {high:g}] (inferred from the vocabulary's ranges)")))
             return None
         low, high = spec.range
@@ -175,7 +176,7 @@ def _contract(name: str, spec: ExpressionTermSpec, expression: Expression, quant
                             low=low, high=high, sign=sign, timing=spec.timing,
                             scope=spec.scope or _scope(expression, quantities), equation=expression.source)
     except ValueError as exc:
-        problems.append(Problem(locate(path + ("sign",)), f"{_dotted(path)}: {exc}"))
+        problems.append(Problem(locate(path + ("sign",)), f"{dotted(path)}: {exc}"))
         return None
 
 
@@ -210,10 +211,6 @@ def _shaping_term(spec: ShapingSpec, attempt, quantities, locate: Locate, proble
                                          f"phi = {potential.source}; it leaves the optimal policy unchanged."),
                             equation=f"{g:g} * phi(s') - phi(s),  phi = {potential.source}")
     return [ExpressionTerm(contract, potential, gamma=g)]
-
-
-def _dotted(path: PathKey) -> str:
-    return "".join(f"[{p}]" if isinstance(p, int) else (f".{p}" if i else p) for i, p in enumerate(path))
 
 
 def event_names(ends_on: tuple[str, ...], events: Mapping[str, str]) -> tuple[str, ...]:
