@@ -21,7 +21,8 @@ class RewardComposer:
     skipped (never evaluated) and contribute exactly zero.
     """
 
-    def __init__(self, registry: TermRegistry, weights: Mapping[str, float], schedules: Mapping[str, Any] | None = None):
+    def __init__(self, registry: TermRegistry, weights: Mapping[str, float],
+                 schedules: Mapping[str, Any] | None = None):
         schedules = schedules or {}
         for name in list(weights) + list(schedules):
             if name not in registry:
@@ -38,7 +39,8 @@ class RewardComposer:
 
     def _build_plan(self) -> None:
         # (name, function, weight as a 0-d operand or None for 1.0), resolved once: this runs every step
-        self._plan = tuple((name, self.registry[name].fn, _operand(self.weights.get(name, 0.0))) for name in self.active)
+        self._plan = tuple((name, self.registry[name].fn, _operand(self.weights.get(name, 0.0)))
+                           for name in self.active)
 
     def set_clock(self, steps: int) -> None:
         """Move scheduled weights to their value after ``steps`` environment steps (a no-op without schedules)."""
