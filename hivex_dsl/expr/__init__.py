@@ -17,7 +17,9 @@ inputs inside their quantities' ranges, and every value lies in ``[low, high]``.
 
 from __future__ import annotations
 
+import keyword
 import math
+import re
 from dataclasses import dataclass, field
 from typing import Callable, Literal, Mapping
 
@@ -33,6 +35,8 @@ __all__ = ["Expression", "ExpressionError", "Kind", "Per", "Quantity", "compile_
 
 Per = Literal["agent", "world"]
 Kind = Literal["number", "bool"]
+_IDENTIFIER = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
+_MEAN_AGENTS = 1024  # the agent count team_mean's rounding allowance assumes when none is given
 
 
 @dataclass(frozen=True)
@@ -54,6 +58,8 @@ class Quantity:
     description: str
 
     def __post_init__(self) -> None:
+        if not _IDENTIFIER.fullmatch(self.name) or keyword.iskeyword(self.name) or "__" in self.name:
+            raise ValueError(f"quantity name {self.name!r} must be an identifier, not a keyword, without '__'")
         if self.per not in ("agent", "world") or self.kind not in ("number", "bool"):
             raise ValueError(f"quantity {self.name!r}: per must be 'agent' or 'world' and kind 'number' or 'bool'")
         if not (-intervals.LIMIT <= self.low <= self.high <= intervals.LIMIT):
@@ -67,7 +73,9 @@ class Expression:
 
     ``evaluate(now, before)`` takes the quantities after and before the step by name and returns
     a (batch, agents) array for a per-agent expression or (batch,) for a per-world one, float64
-    for kind "number" and bool for kind "bool". It never aliases an input array.
+    for kind "number" and bool for kind "bool". It never aliases an input array. Only the names
+    in ``reads`` are looked up in ``now`` and those in ``reads_prev`` in ``before`` (which may be
+    None when ``reads_prev`` is empty); number quantities must be float64 arrays.
     """
 
     source: str
@@ -79,9 +87,15 @@ class Expression:
     reads: frozenset[str]
     reads_prev: frozenset[str]
     _run: Callable = field(repr=False, compare=False)
+    _recipe: tuple = field(repr=False, compare=False)  # compile_expression's other arguments, to pickle
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "evaluate", self._run)  # the fused closure itself: no extra call per evaluation
+
+    def __reduce__(self):
+        # closures do not pickle; the source and the vocabulary do, and compile to the same plan
+        vocabulary, want, per, agents = self._recipe
+        return _recompile, (self.source, vocabulary, want, per, agents)
 
     def evaluate(self, now: Mapping[str, np.ndarray], before: Mapping[str, np.ndarray]) -> np.ndarray:
         return self._run(now, before)
@@ -91,17 +105,21 @@ def compile_expression(source: str, vocabulary: Mapping[str, Quantity], *, want:
                        per: Per | None = None, agents: int | None = None) -> Expression:
     """Parse, check and compile ``source`` over ``vocabulary``.
 
-    want: the kind the caller needs (a reward is a "number", an ending a "bool"). per: "world" to
-    refuse a per-agent result (None accepts both; a per-world value is the caller's to broadcast).
+    want: the kind the caller needs (a reward is a "number", an ending a "bool"). per: the shape
+    the caller needs, "agent" or "world"; None accepts both (a per-world value is then the
+    caller's to broadcast over its agents).
     agents: the largest number of agents per world, which bounds team_sum's range (team_sum is
-    refused without it). Raises ExpressionError at the offending token.
+    refused without it; evaluating with more agents voids the range). Raises ExpressionError at
+    the offending token, ValueError for a malformed vocabulary or agents.
     """
+    if agents is not None and (isinstance(agents, bool) or not isinstance(agents, int) or agents < 1):
+        raise ValueError(f"agents must be a positive integer, got {agents!r}")
     if not isinstance(source, str):
         raise ExpressionError(f"an expression is text, got {type(source).__name__}", 0, 0)
     for name, quantity in vocabulary.items():
         if name != quantity.name:
             raise ValueError(f"vocabulary key {name!r} holds quantity {quantity.name!r}")
-    checker = Checker(vocabulary, agents)
+    checker = Checker(vocabulary, agents, agents or _MEAN_AGENTS)
     typed = checker.check(parse(source))
     whole = (0, len(source))
     if typed.kind != want:
@@ -112,8 +130,14 @@ def compile_expression(source: str, vocabulary: Mapping[str, Quantity], *, want:
     if per == "world" and typed.per == "agent":
         raise ExpressionError("expected a per-world value, got a per-agent one; reduce it with "
                               "team_mean, team_min, team_max or team_sum", *whole)
+    if per == "agent" and typed.per == "world":
+        raise ExpressionError("expected a per-agent value, got a per-world one", *whole)
     unit = "" if typed.kind == "bool" else units.format_unit(typed.unit or units.DIMENSIONLESS)
     low, high = typed.interval
     assert math.isfinite(low) and math.isfinite(high)
     return Expression(source, typed.kind, typed.per, unit, low, high, frozenset(checker.reads),
-                      frozenset(checker.reads_prev), plan.result(typed.op))
+                      frozenset(checker.reads_prev), plan.result(typed.op), (dict(vocabulary), want, per, agents))
+
+
+def _recompile(source, vocabulary, want, per, agents) -> Expression:
+    return compile_expression(source, vocabulary, want=want, per=per, agents=agents)

@@ -3,6 +3,7 @@ and building its evaluation plan, and refuses a node at its own source span when
 
 from __future__ import annotations
 
+import difflib
 import operator
 from dataclasses import dataclass
 from fractions import Fraction
@@ -38,9 +39,10 @@ class Typed:
 
 
 class Checker:
-    def __init__(self, vocabulary: Mapping, agents: int | None):
+    def __init__(self, vocabulary: Mapping, agents: int | None, mean_agents: int):
         self.vocabulary = vocabulary
-        self.agents = agents
+        self.agents = agents  # bounds team_sum; None refuses it
+        self.mean_agents = mean_agents  # bounds the rounding of team_mean
         self.reads: set[str] = set()
         self.reads_prev: set[str] = set()
 
@@ -74,7 +76,7 @@ class Checker:
             if node.name in FUNCTIONS:
                 raise ExpressionError(f"{node.name!r} is a function; call it as {FUNCTIONS[node.name].signature}",
                                       node.offset, node.length)
-            hint = did_you_mean(node.name, self.vocabulary)
+            hint = did_you_mean(node.name, self.vocabulary) or _function_hint(node.name)
             raise ExpressionError(f"unknown quantity {node.name!r}{hint}", node.offset, node.length)
         (self.reads_prev if before else self.reads).add(node.name)
         unit = None if quantity.kind == "bool" else units.parse_unit(quantity.unit)
@@ -117,7 +119,7 @@ class Checker:
         base = self.check(node.left, before)
         self.need_number("'**'", base, node.left)
         exponent = _literal(node.right)
-        if exponent is None:
+        if exponent is None or _unit_written(node.right):
             raise ExpressionError("the exponent of '**' must be a number written out, e.g. x ** 2",
                                   node.right.offset, node.right.length)
         if abs(exponent) > MAX_EXPONENT:
@@ -176,11 +178,10 @@ class Checker:
         if name in ("min", "max", "clip"):
             unit = _same_unit(name, token, *args)
             ufunc, rule = (np.minimum, intervals.minimum) if name == "min" else (np.maximum, intervals.maximum)
-            interval, op = rule(a.interval, args[1].interval), plan.apply2(ufunc, ops[0], ops[1])
             if name == "clip":
                 interval = intervals.minimum(intervals.maximum(a.interval, args[1].interval), args[2].interval)
-                op = plan.apply2(np.minimum, op, ops[2])
-            return Typed("number", per, unit, interval, op)
+                return Typed("number", per, unit, interval, plan.clip(*ops))
+            return Typed("number", per, unit, rule(a.interval, args[1].interval), plan.apply2(ufunc, *ops))
         if name == "abs":
             return Typed("number", per, a.unit, intervals.absolute(a.interval), plan.apply1(np.absolute, a.op))
         if name == "sqrt":
@@ -218,7 +219,7 @@ class Checker:
             got = "a per-world value" if a.per == "world" else "a constant"
             raise ExpressionError(f"{name} needs a per-agent value, got {got}", arg.offset, arg.length)
         if name == "team_mean":
-            interval, op = intervals.team_mean(a.interval, self.agents or 1), plan.mean(a.op)
+            interval, op = intervals.team_mean(a.interval, self.mean_agents), plan.mean(a.op)
         elif name == "team_sum":
             if self.agents is None:
                 raise ExpressionError("team_sum needs the number of agents per world (compile with agents=N)",
@@ -276,6 +277,15 @@ def _literal(node: Node) -> float | None:
     if isinstance(node, Unary) and node.op.text == "-" and isinstance(node.operand, Number):
         return -node.operand.value
     return None
+
+
+def _function_hint(name: str) -> str:
+    close = difflib.get_close_matches(name, list(FUNCTIONS), n=1, cutoff=0.6)  # did_you_mean's cutoff
+    return f"; did you mean the function {FUNCTIONS[close[0]].signature}?" if close else ""
+
+
+def _unit_written(node: Node) -> bool:
+    return (node.operand if isinstance(node, Unary) else node).unit is not None
 
 
 def _refusing(token: Token, rule):

@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+from ..errors import HivexError
 
-class ExpressionError(ValueError):
+
+class ExpressionError(HivexError, ValueError):
     """An expression that cannot be compiled.
 
     ``message``: one line saying what is wrong; ``offset``: 0-based character index of the
@@ -15,6 +17,11 @@ class ExpressionError(ValueError):
         self.message = message
         self.offset = offset
         self.length = length
+
+    def line_column(self, source: str) -> tuple[int, int]:
+        """The 1-based line and column of the blamed span inside ``source`` (which may span lines)."""
+        line = source.count("\n", 0, self.offset) + 1
+        return line, self.offset - (source.rfind("\n", 0, self.offset) + 1) + 1
 
     def pointer(self, source: str) -> str:
         """``source`` and a caret line under the blamed span, for a terminal."""

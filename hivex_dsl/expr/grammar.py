@@ -68,6 +68,19 @@ FUNCTIONS: dict[str, Entry] = {entry.name: entry for entry in (
           "[agents * low, agents * high] (ends at 0 kept)", "Sum of x over the agents of each world.", 1),
 )}
 
+SYNTAX: tuple[tuple[str, str], ...] = (
+    ("number", "1, 0.5, .5, 2e-3; a plain number adapts to the unit of the other side of + - "
+               "comparisons min max clip and where, and is dimensionless in * and /"),
+    ("number with a unit", "500{m}, 2.5{m/s}, 1{1/s}: units are products and quotients of symbols "
+                           "with integer exponents (kg*m/s^2)"),
+    ("name", "a quantity of the environment's vocabulary, read after the step"),
+    ("call", "one of the functions below, with positional arguments only"),
+    ("precedence", "loosest first: or, and, not, comparisons (chainable), + -, * /, unary -, **, "
+                   "calls and parentheses; ** is right-associative and -x ** 2 is -(x ** 2)"),
+    ("refused", "strings, attribute access, subscripts, keyword arguments, lambdas, imports, "
+                "names with double underscores and every other Python construct"),
+)
+
 RULES: tuple[str, ...] = (
     "A per-world value combined with a per-agent one applies to every agent of its world.",
     "A team_* reduction needs a per-agent argument and gives a per-world value.",
@@ -75,12 +88,20 @@ RULES: tuple[str, ...] = (
     "Every expression's range is inferred from the vocabulary's ranges; an operation that could "
     "divide by zero, take the log or square root of a negative, or overflow (beyond 1e300) is refused.",
     "Operations run exactly as written, left to right, with no reassociation.",
+    "Both branches of where are computed: guard a divisor with max(x, small), not with where.",
+    "Ranges treat every occurrence of a quantity as independent: x * x may be negative for a "
+    "signed x, x ** 2 may not; x - x spans the width of x's range in both directions.",
 )
 
 
 def describe_grammar() -> dict[str, list]:
-    """The language as plain data for the docs: operators, functions and general rules."""
+    """The language as plain data for the docs: syntax forms, operators, functions and general rules.
+
+    ``syntax``: [{"form", "text"}]; ``operators`` and ``functions``: [{"name", "signature",
+    "units", "interval", "description"}]; ``rules``: [str].
+    """
     return {
+        "syntax": [{"form": form, "text": text} for form, text in SYNTAX],
         "operators": [_public(entry) for entry in OPERATORS],
         "functions": [_public(entry) for entry in FUNCTIONS.values()],
         "rules": list(RULES),

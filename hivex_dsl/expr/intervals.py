@@ -11,6 +11,7 @@ A rule raises :class:`Refused` when an operand's interval allows a non-finite or
 from __future__ import annotations
 
 import math
+from fractions import Fraction
 
 import numpy as np
 
@@ -92,7 +93,15 @@ def hull(a: Interval, b: Interval) -> Interval:
 def exp(a: Interval) -> Interval:
     if a[1] > EXP_LIMIT:
         raise Refused(f"exp can overflow: its argument reaches {a[1]:g} (at most {EXP_LIMIT:.4g})")
-    return widen((float(np.exp(a[0])), float(np.exp(a[1]))))
+    low, high = widen((float(np.exp(a[0])), float(np.exp(a[1]))))
+    return _around_one((low, high), a[0] >= 0.0, a[1] <= 0.0)
+
+
+def _around_one(interval: Interval, at_least_one: bool, at_most_one: bool) -> Interval:
+    """A widened range kept on its side of 1 where the function is 1 exactly at the boundary
+    (exp(0), x ** n at x = 1) and monotone, so rounding cannot carry it across."""
+    low, high = interval
+    return (max(low, 1.0) if at_least_one else low), (min(high, 1.0) if at_most_one else high)
 
 
 def log(a: Interval) -> Interval:
@@ -118,13 +127,20 @@ def power(a: Interval, n: float) -> Interval:
             need = "positive" if n < 0 else "non-negative"
             raise Refused(f"'**' with a fractional exponent needs a {need} base, but it ranges over {show(a)}")
         ends = (_pow(a[0], n), _pow(a[1], n))
-        return widen((min(ends), max(ends)))
+        return _power_around_one(widen((min(ends), max(ends))), a, n)
     if n < 0 and a[0] <= 0.0 <= a[1]:
         raise Refused(f"'**' with a negative exponent can divide by zero: the base ranges over {show(a)}")
     magnitude = absolute(a) if n % 2 == 0 else a
     ends = (_pow(magnitude[0], n), _pow(magnitude[1], n))
     interval = (min(ends), max(ends))
-    return interval if n == 2 else widen(interval)
+    return interval if n == 2 else _power_around_one(widen(interval), magnitude, n)
+
+
+def _power_around_one(interval: Interval, base: Interval, n: float) -> Interval:
+    if base[0] < 0.0:
+        return interval
+    below, above = base[1] <= 1.0, base[0] >= 1.0  # base within [0, 1], or at least 1
+    return _around_one(interval, above if n > 0 else below, below if n > 0 else above)
 
 
 def _pow(x: float, n: float) -> float:
@@ -135,17 +151,39 @@ def _pow(x: float, n: float) -> float:
 
 
 def team_sum(a: Interval, agents: int) -> Interval:
-    """Sum over 1..``agents`` values in ``a``, padded for the rounding of any summation order."""
-    pad = 2.0 * agents * _EPS * agents * max(abs(a[0]), abs(a[1]))
-    low = a[0] if a[0] >= 0.0 else agents * a[0] - pad
-    high = a[1] if a[1] <= 0.0 else agents * a[1] + pad
+    """A sum over 1..``agents`` values in ``a``, whatever NumPy's summation order.
+
+    Rounding is monotone, so a computed sum is at most the computed sum of as many copies of the
+    high end: exactly ``k * high`` when every partial sum ``j * high`` is a float64 (then any order
+    is exact), else within a rounding allowance of it. The same holds for the low end.
+    """
+    low = a[0] if a[0] >= 0.0 else _copies_sum(a[0], agents, -1.0)
+    high = a[1] if a[1] <= 0.0 else _copies_sum(a[1], agents, 1.0)
     return low, high
 
 
 def team_mean(a: Interval, agents: int) -> Interval:
-    pad = 2.0 * (agents + 1) * _EPS * max(abs(a[0]), abs(a[1]))
-    low, high = a[0] - pad, a[1] + pad
+    """A mean over 1..``agents`` values in ``a``: the sum's bound divided back, see :func:`team_sum`."""
+    low, high = (_copies_mean(end, agents, side) for end, side in ((a[0], -1.0), (a[1], 1.0)))
     return (max(low, 0.0) if a[0] >= 0.0 else low), (min(high, 0.0) if a[1] <= 0.0 else high)
+
+
+def _copies_sum(x: float, agents: int, side: float) -> float:
+    if _exact_multiples(x, agents):
+        return x * agents
+    return x * agents + side * 2.0 * agents * agents * _EPS * abs(x)
+
+
+def _copies_mean(x: float, agents: int, side: float) -> float:
+    if _exact_multiples(x, agents):
+        return x
+    return x + side * 2.0 * (agents + 1) * _EPS * abs(x)
+
+
+def _exact_multiples(x: float, count: int) -> bool:
+    """Whether ``j * x`` is a float64 for every j up to ``count``, so any sum of copies is exact."""
+    exact = Fraction(x)
+    return all(Fraction(float(exact * j)) == exact * j for j in range(2, count + 1))
 
 
 def show(a: Interval) -> str:

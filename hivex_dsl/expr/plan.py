@@ -4,7 +4,7 @@ An operand is one of ``("c", value)`` (a constant, folded at compile time), ``("
 quantity after the step), ``("p", name)`` (a quantity before the step) or ``("f", fn)`` with
 ``fn(now, before) -> array``. Combinators specialise on their operands' modes so that a name or a
 constant operand costs no Python call of its own: ``x * 2`` runs as one closure that does
-``multiply(now["x"], c)``. Operations run exactly as written, in the written order; nothing is
+``multiply(now["x"], c)`` and ``delta(x)`` as ``subtract(now["x"], before["x"])``. Operations run exactly as written, in the written order; nothing is
 reassociated, so a formula re-expressed here gives the bits of the same NumPy calls written by hand.
 Number constants are 0-d float64 arrays, which promote like a Python float on float64 operands
 and skip NumPy's per-call resolution of Python scalars (see :mod:`hivex_dsl.numeric`).
@@ -83,10 +83,6 @@ def apply2(f: Callable, a: Op, b: Op) -> Op:
     (ma, x), (mb, y) = a, b
     if ma == "c" and mb == "c":
         return const(f(x, y))
-    if ma == "p":
-        ma, x = "f", function(a)
-    if mb == "p":
-        mb, y = "f", function(b)
     return ("f", _BINARY[ma, mb](f, x, y))
 
 
@@ -99,6 +95,13 @@ _BINARY: dict[tuple[str, str], Callable[[Callable, Any, Any], Fn]] = {
     ("f", "n"): lambda f, x, y: lambda now, before: f(x(now, before), now[y]),
     ("n", "f"): lambda f, x, y: lambda now, before: f(now[x], y(now, before)),
     ("f", "f"): lambda f, x, y: lambda now, before: f(x(now, before), y(now, before)),
+    ("p", "c"): lambda f, x, y: lambda now, before: f(before[x], y),
+    ("c", "p"): lambda f, x, y: lambda now, before: f(x, before[y]),
+    ("n", "p"): lambda f, x, y: lambda now, before: f(now[x], before[y]),
+    ("p", "n"): lambda f, x, y: lambda now, before: f(before[x], now[y]),
+    ("p", "p"): lambda f, x, y: lambda now, before: f(before[x], before[y]),
+    ("f", "p"): lambda f, x, y: lambda now, before: f(x(now, before), before[y]),
+    ("p", "f"): lambda f, x, y: lambda now, before: f(before[x], y(now, before)),
 }
 
 
@@ -112,13 +115,33 @@ def select(condition: Op, a: Op, b: Op) -> Op:
     return ("f", lambda now, before: np.where(c(now, before), fa(now, before), fb(now, before)))
 
 
+def clip(x: Op, low: Op, high: Op) -> Op:
+    """``minimum(maximum(x, low), high)``, in one closure when both bounds are constants."""
+    if low[0] != "c" or high[0] != "c" or x[0] == "c":
+        return apply2(np.minimum, apply2(np.maximum, x, low), high)
+    lo, hi, maximum, minimum = low[1], high[1], np.maximum, np.minimum
+    if x[0] == "n":
+        name = x[1]
+        return ("f", lambda now, before: minimum(maximum(now[name], lo), hi))
+    fn = function(x)
+    return ("f", lambda now, before: minimum(maximum(fn(now, before), lo), hi))
+
+
 def reduce(f: Callable, a: Op) -> Op:
     """``f.reduce`` over the agent axis of a (batch, agents) operand."""
     reduce_ = f.reduce
-    return apply1(lambda x: reduce_(x, 1), a)
+    if a[0] == "n":
+        name = a[1]
+        return ("f", lambda now, before: reduce_(now[name], 1))
+    fn = function(a)
+    return ("f", lambda now, before: reduce_(fn(now, before), 1))
 
 
 def mean(a: Op) -> Op:
     """The mean over the agent axis: the bits of ``x.mean(axis=1)`` (a sum, then one division by the count)."""
     add = np.add.reduce
-    return apply1(lambda x: add(x, 1) / x.shape[1], a)
+    if a[0] == "n":
+        name = a[1]
+        return ("f", lambda now, before: add(now[name], 1) / now[name].shape[1])
+    fn = function(a)
+    return ("f", lambda now, before: add(x := fn(now, before), 1) / x.shape[1])

@@ -2,10 +2,12 @@
 
 from __future__ import annotations
 
+import pickle
+
 import numpy as np
 import pytest
 
-from hivex_dsl.expr import ExpressionError, compile_expression
+from hivex_dsl.expr import ExpressionError, Quantity, compile_expression
 
 from .conftest import AGENTS, VOCABULARY
 
@@ -77,3 +79,51 @@ def test_want_and_per_are_enforced_over_the_whole_source():
     with pytest.raises(ExpressionError, match="per-world"):
         compiled("water", per="world")
     assert compiled("team_mean(water)", per="world").per == "world"
+    with pytest.raises(ExpressionError, match="expected a per-agent value, got a per-world one"):
+        compiled("wind_ms * 2", per="agent")
+    assert compiled("wind_ms * water", per="agent").per == "agent"
+
+
+def test_an_expression_pickles_by_its_source_and_vocabulary(states):
+    now, before = states
+    e = compiled("max(delta(distance_m), 0{m}) + team_sum(water) * 1{m}")
+    again = pickle.loads(pickle.dumps(e))
+    assert again == e
+    np.testing.assert_array_equal(again.evaluate(now, before), e.evaluate(now, before))
+
+
+def test_an_error_knows_its_line_and_column_in_a_multi_line_source():
+    source = "clip(\n  water +\n  distnce_m, 0, 1)"
+    with pytest.raises(ExpressionError) as caught:
+        compiled(source)
+    assert caught.value.line_column(source) == (3, 3)
+    assert caught.value.pointer(source) == "  distnce_m, 0, 1)\n  ^^^^^^^^^"
+
+
+@pytest.mark.parametrize("name", ["if", "a b", "__x", "1x", ""])
+def test_a_quantity_needs_a_name_the_language_can_write(name):
+    with pytest.raises(ValueError, match="must be an identifier"):
+        Quantity(name, "agent", "number", "m", 0.0, 1.0, "")
+
+
+@pytest.mark.parametrize("low, high", [(1.0, 0.0), (0.0, float("inf")), (float("nan"), 1.0), (-1e301, 0.0)])
+def test_a_quantity_needs_a_finite_range(low, high):
+    with pytest.raises(ValueError, match="not a finite interval"):
+        Quantity("x", "agent", "number", "m", low, high, "")
+
+
+def test_a_vocabulary_key_must_be_its_quantity_name_and_agents_positive():
+    with pytest.raises(ValueError, match="holds quantity"):
+        compile_expression("y", {"y": VOCABULARY["water"]})
+    with pytest.raises(ValueError, match="agents must be a positive integer"):
+        compile_expression("water", VOCABULARY, agents=0)
+
+
+def test_a_reduction_combined_with_its_own_agents_broadcasts_back(states):
+    now, before = states
+    e = compiled("water - team_mean(water)")
+    assert e.per == "agent" and e.unit == "1"
+    np.testing.assert_array_equal(e.evaluate(now, before), now["water"] - now["water"].mean(axis=1)[:, None])
+    world = compiled("where(raining, team_max(distance_m), prev(distance_m))")
+    expected = np.where(now["raining"][:, None], now["distance_m"].max(axis=1)[:, None], before["distance_m"])
+    np.testing.assert_array_equal(world.evaluate(now, before), expected)

@@ -13,6 +13,7 @@ CASES = [
     # names and functions
     ("distnce_m + 1", "unknown quantity 'distnce_m'; did you mean 'distance_m'?", "distnce_m"),
     ("1 + zzz", "unknown quantity 'zzz'", "zzz"),
+    ("team_mena + 1", "unknown quantity 'team_mena'; did you mean the function team_mean(x)?", "team_mena"),
     ("sqr(water)", "unknown function 'sqr'; did you mean 'sqrt'?", "sqr"),
     ("team_avg(water)", "unknown function 'team_avg'; did you mean 'team_max'?", "team_avg"),
     ("water(1)", "'water' is a quantity, not a function", "water"),
@@ -82,6 +83,7 @@ CASES = [
     ("water + 1e400", "number too large (at most 1e+300)", "1e400"),
     ("water ** 2000", "the exponent of '**' is too large (at most 1024 in size)", "2000"),
     ("water ** speed_ms", "the exponent of '**' must be a number written out, e.g. x ** 2", "speed_ms"),
+    ("water ** 2{m}", "the exponent of '**' must be a number written out, e.g. x ** 2", "2{m}"),
 ]
 
 

@@ -52,6 +52,21 @@ def test_transcendental_and_reduced_ranges_are_widened_only_a_little(source, low
         assert e.low >= 0.0, "a range that cannot go negative is not widened below zero"
 
 
+@pytest.mark.parametrize("source, low, high", [
+    ("team_mean(water)", 0.0, 1.0),  # 1 + 1 + 1 is exact in any order: no allowance needed
+    ("team_sum(water)", 0.0, 3.0),
+    ("team_sum(speed_ms)", -15.0, 15.0),
+    ("exp(-water)", pytest.approx(np.exp(-1.0)), 1.0),  # exp(0) is 1 exactly
+    ("exp(water)", 1.0, pytest.approx(np.exp(1.0))),
+    ("water ** 3", 0.0, 1.0),  # 1 ** 3 is 1 exactly, and x ** 3 < 1 below it
+    ("water ** 1.5", 0.0, 1.0),
+    ("(water + 1) ** -1", pytest.approx(0.5), 1.0),
+])
+def test_ranges_that_reach_an_exact_value_are_not_widened_past_it(source, low, high):
+    e = compile_expression(source, VOCABULARY, agents=AGENTS)
+    assert (e.low, e.high) == (low, high)  # exact where a plain number is given, else approximately
+
+
 def test_a_mean_of_equal_values_can_round_above_them_and_stays_inside_its_range():
     vocabulary = {"x": Quantity("x", "agent", "number", "1", 0.0, 0.1, "")}
     now = {"x": np.full((1, 3), 0.1)}

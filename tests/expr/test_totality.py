@@ -95,9 +95,12 @@ def test_an_expression_that_compiles_is_total_and_inside_its_interval(case):
         assume(False)
     rng = np.random.default_rng(seed)
     now, before = inputs(vocabulary, rng, agents), inputs(vocabulary, rng, agents)
+    kept = {name: array.copy() for name, array in now.items()}
     with np.errstate(over="raise", invalid="raise", divide="raise", under="ignore"):
         value = expression.evaluate(now, before)
     assert value.dtype == np.float64
     assert value.shape == ((5, agents) if expression.per == "agent" else (5,))
     assert np.isfinite(value).all()
+    assert all(np.array_equal(now[name], kept[name]) for name in now), "an input was modified"
+    assert not any(np.shares_memory(value, array) for array in (*now.values(), *before.values()))
     assert expression.low <= value.min() and value.max() <= expression.high, (source, expression, value)
