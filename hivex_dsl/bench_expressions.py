@@ -29,16 +29,18 @@ BATCHES = (1, 256)
 TARGET_RATIO = 1.5
 
 
-def _per_call_us(call, seconds: float) -> float:
-    """Median microseconds per call over blocks of calls filling about ``seconds``."""
-    call()
-    block, samples, start = 64, [], time.perf_counter()
-    while time.perf_counter() - start < seconds or len(samples) < 5:
-        began = time.perf_counter()
-        for _ in range(block):
-            call()
-        samples.append((time.perf_counter() - began) / block * 1e6)
-    return statistics.median(samples)
+def _interleaved_us(first, second, seconds: float) -> tuple[float, float]:
+    """Median microseconds per call of ``first`` and of ``second``, timed in alternating blocks of calls
+    for about ``seconds`` in all, so a change of the machine's load weighs on both alike."""
+    first(), second()
+    block, samples, start = 64, ([], []), time.perf_counter()
+    while time.perf_counter() - start < seconds or len(samples[0]) < 5:
+        for call, out in zip((first, second), samples):
+            began = time.perf_counter()
+            for _ in range(block):
+                call()
+            out.append((time.perf_counter() - began) / block * 1e6)
+    return statistics.median(samples[0]), statistics.median(samples[1])
 
 
 def measure(term: str, batch: int, seconds: float) -> dict[str, Any]:
@@ -61,8 +63,7 @@ def measure(term: str, batch: int, seconds: float) -> dict[str, Any]:
         feed.advance(state, {})
         return expression(prev, state, None, params)
 
-    hand_us = _per_call_us(lambda: hand(prev, state, None, params), seconds / 2)
-    expr_us = _per_call_us(written_in_yaml, seconds / 2)
+    hand_us, expr_us = _interleaved_us(lambda: hand(prev, state, None, params), written_in_yaml, seconds)
     return {"term": term, "expression": PAIRS[term], "batch": batch, "agents": compiled.agents,
             "hand_written_us": hand_us, "expression_us": expr_us, "ratio": expr_us / hand_us,
             "target_ratio": TARGET_RATIO}
