@@ -40,33 +40,27 @@ class ExpressionTerm:
         return frozenset(self.expression.reads) | frozenset(self.expression.reads_prev)
 
     def bound(self, feed: QuantityFeed) -> RewardTerm:
-        fn = _Shaping(self.expression, self.gamma, feed) if self.gamma is not None else _Value(self.expression, feed)
-        return RewardTerm(self.contract, fn)
+        """The term reading ``feed``; a closure, not an object with __call__: it runs every step."""
+        evaluate, per_world = self.expression.evaluate, self.expression.per == "world"
+        if self.gamma is not None:  # shaping: phi reads no prev(), so each side needs one state
+            gamma = np.float64(self.gamma)
 
+            def shaping(prev, state, actions, params):
+                now, before = feed.now, feed.before
+                value = gamma * evaluate(now, now) - evaluate(before, before)
+                return value[:, None] if per_world else value
 
-class _Value:
-    """fn(prev, state, actions, params) of an expression term: the expression over the feed's values."""
+            return RewardTerm(self.contract, shaping)
+        if per_world:
+            def world_value(prev, state, actions, params):
+                return evaluate(feed.now, feed.before)[:, None]
 
-    def __init__(self, expression: Expression, feed: QuantityFeed):
-        self.evaluate, self.feed = expression.evaluate, feed
-        self.per_world = expression.per == "world"
+            return RewardTerm(self.contract, world_value)
 
-    def __call__(self, prev, state, actions, params) -> np.ndarray:
-        value = self.evaluate(self.feed.now, self.feed.before)
-        return value[:, None] if self.per_world else value
+        def agent_value(prev, state, actions, params):
+            return evaluate(feed.now, feed.before)
 
-
-class _Shaping(_Value):
-    """gamma * phi(after the step) - phi(before it); phi reads no prev(), so each side needs one state."""
-
-    def __init__(self, expression: Expression, gamma: float, feed: QuantityFeed):
-        super().__init__(expression, feed)
-        self.gamma = np.float64(gamma)
-
-    def __call__(self, prev, state, actions, params) -> np.ndarray:
-        now, before = self.feed.now, self.feed.before
-        value = self.gamma * self.evaluate(now, now) - self.evaluate(before, before)
-        return value[:, None] if self.per_world else value
+        return RewardTerm(self.contract, agent_value)
 
 
 @dataclass(frozen=True)
