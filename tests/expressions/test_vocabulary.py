@@ -70,3 +70,21 @@ def test_every_quantity_is_described_with_a_unit_and_a_finite_range(env_id):
         assert np.isfinite(q.low) and np.isfinite(q.high) and q.low <= q.high
         assert q.per in ("agent", "world") and q.kind in ("number", "bool")
     assert registry.get(env_id)
+
+
+def test_trees_near_the_village_match_a_scan_of_the_whole_grid():
+    compiled = hivex_dsl.compile({"hivex": 1, "environment": "aerial_wildfire_suppression", "agents": 2})
+    env = BatchedEnv(compiled, batch=2)
+    env.reset(seed=1)
+    for _ in range(40):  # let the fire spread a little
+        env.step({"continuous": np.zeros(env.shape + (1,), np.float32), "discrete": np.zeros(env.shape + (1,), int)})
+    values = vocabulary_of(compiled.environment).values(env.state, {}, compiled,
+                                                       ["trees_near_village", "burning_near_village"])
+    forest, state = compiled.generators["forest"], env.state
+    centres = -forest.half_extent_m + (np.arange(forest.cells) + 0.5) * forest.spacing_m
+    for world in range(env.batch):
+        vx, vy = state.maps.village[world]
+        near = np.hypot(centres[None, :] - vx, centres[:, None] - vy) <= compiled.params.village_radius_m
+        trees = state.fire.trees[world]
+        assert values["trees_near_village"][world] == np.count_nonzero(near & ((trees == 1) | (trees == 4)))
+        assert values["burning_near_village"][world] == np.count_nonzero(near & (trees == 2))

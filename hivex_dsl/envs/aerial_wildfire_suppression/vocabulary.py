@@ -10,7 +10,7 @@ import math
 
 import numpy as np
 
-from ...fire import burning_count
+from ...fire import TreeState, burning_count
 from ...reward.vocabulary import Vocabulary, flag, quantity
 from .simulator import EVENTS
 from .terms import MAX_TREES_PER_DROP
@@ -45,12 +45,52 @@ def declare(compiled) -> dict:
                  "Burning trees the plane's drop made wet this step."),
         quantity("prepared_trees", "agent", "number", "trees", 0.0, MAX_TREES_PER_DROP,
                  "Unburnt trees the plane's drop made wet this step."),
+        quantity("trees_near_village", "world", "number", "trees", 0.0, float(_window(compiled)[0].size),
+                 "Unburnt trees (existing or wet) whose cell centre lies within village_radius_m of the village."),
+        quantity("burning_near_village", "world", "number", "trees", 0.0, float(_window(compiled)[0].size),
+                 "Burning trees whose cell centre lies within village_radius_m of the village."),
         flag("crossed_border", "agent", "The plane crossed the border this step (its episode ends)."),
         flag("village_threatened", "world", "Fire came within village_radius_m of the village for the first time."),
     ]
     items += [flag(event, "world" if event == "fire_out" else "agent", description[:1].upper() + description[1:] + ".")
               for event, description in EVENTS.items()]
     return {q.name: q for q in items}
+
+
+def _window(compiled) -> tuple[np.ndarray, np.ndarray]:
+    """Row and column offsets (K,) of the cells around the village's cell that may lie within the radius."""
+    forest = compiled.generators["forest"]
+    reach = int(math.ceil(compiled.params.village_radius_m / forest.spacing_m)) + 1
+    rows, cols = np.mgrid[-reach:reach + 1, -reach:reach + 1]
+    return rows.ravel(), cols.ravel()
+
+
+def _near_village(state, compiled) -> tuple[np.ndarray, np.ndarray]:
+    """(B, K) tree states of the cells around each village and whether each cell centre is within the radius."""
+    forest = compiled.generators["forest"]
+    spacing, half, cells = forest.spacing_m, forest.half_extent_m, forest.cells
+    village = state.maps.village
+    centre = np.floor((village + half) / spacing).astype(np.int64)  # (B, 2) column (x), row (y)
+    d_rows, d_cols = _window(compiled)
+    rows, cols = centre[:, 1:2] + d_rows, centre[:, 0:1] + d_cols
+    on_grid = (rows >= 0) & (rows < cells) & (cols >= 0) & (cols < cells)
+    x = -half + (cols + 0.5) * spacing - village[:, 0:1]
+    y = -half + (rows + 0.5) * spacing - village[:, 1:2]
+    inside = on_grid & (np.hypot(x, y) <= compiled.params.village_radius_m)
+    worlds = np.arange(len(village))[:, None]
+    trees = state.fire.trees[worlds, np.clip(rows, 0, cells - 1), np.clip(cols, 0, cells - 1)]
+    return trees, inside
+
+
+def _trees_near_village(state, events, compiled) -> np.ndarray:
+    trees, inside = _near_village(state, compiled)
+    unburnt = (trees == TreeState.EXISTING) | (trees == TreeState.WET)
+    return np.count_nonzero(unburnt & inside, axis=1).astype(np.float64)
+
+
+def _burning_near_village(state, events, compiled) -> np.ndarray:
+    trees, inside = _near_village(state, compiled)
+    return np.count_nonzero((trees == TreeState.BURNING) & inside, axis=1).astype(np.float64)
 
 
 def _village_gap(state) -> np.ndarray:
@@ -84,6 +124,8 @@ READERS = {
     "fire_near_village": lambda s, e, c: s.sighting.village_threat,
     "extinguished_trees": lambda s, e, c: s.extinguished.astype(np.float64),
     "prepared_trees": lambda s, e, c: s.prepared.astype(np.float64),
+    "trees_near_village": _trees_near_village,
+    "burning_near_village": _burning_near_village,
     "crossed_border": lambda s, e, c: s.crossed,
     "village_threatened": lambda s, e, c: s.village_threatened,
     "picked_up_water": lambda s, e, c: s.picked_up,
