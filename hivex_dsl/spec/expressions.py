@@ -11,7 +11,8 @@ from __future__ import annotations
 import math
 from typing import Annotated, Any, Literal, Optional, Union
 
-from pydantic import BeforeValidator, Field, PlainValidator, ValidationError, WithJsonSchema, field_validator
+from pydantic import (BeforeValidator, Field, PlainValidator, ValidationError, WithJsonSchema, field_validator,
+                      model_validator)
 
 from ..errors import ItemValueError, got, show
 from .common import MAX_WEIGHT, StrictModel
@@ -31,7 +32,8 @@ class ExpressionTermSpec(StrictModel):
     per world: global); timing defaults to dense. A declared range must contain the inferred one.
     """
 
-    expr: Expression = Field(description="The term's value each step: a number per agent or per world.")
+    expr: Expression = Field(description=(
+        "The term's value each step: a number per agent or per world. `name: EXPR` is short for `name: {expr: EXPR}`."))
     title: str = Field("", max_length=120, description="A title for the docs; the name in words when empty.")
     description: str = Field("", max_length=2000, description="What the term rewards, for people.")
     range: Optional[tuple[float, float]] = Field(None, description=(
@@ -40,6 +42,12 @@ class ExpressionTermSpec(StrictModel):
     timing: Literal["dense", "event", "terminal"] = Field("dense", description="When the term pays (documentation).")
     scope: Optional[Literal["agent", "team", "global"]] = Field(None, description=(
         "Inferred when left out: agent for a per-agent expression, global for a per-world one."))
+
+    @model_validator(mode="before")
+    @classmethod
+    def _shorthand(cls, value):
+        """``name: EXPR`` is short for ``name: {expr: EXPR}``."""
+        return {"expr": value} if isinstance(value, str) else value
 
     @field_validator("range", mode="before")
     @classmethod
@@ -103,7 +111,8 @@ def _check_weight(value: Any) -> Union[float, WeightSchedule, None]:
         try:
             return WeightSchedule.model_validate(value)
         except ValidationError as exc:
-            first = exc.errors(include_url=False)[0]
+            errors = exc.errors(include_url=False)
+            first = next((e for e in errors if e["type"] == "extra_forbidden"), errors[0])  # a misspelt key first
             at = tuple(first["loc"][:1])
             if first["type"] == "extra_forbidden":
                 raise ItemValueError(f"unknown key '{at[0]}' in a schedule; expected from, to, over_steps, kind", at) from None
@@ -118,5 +127,8 @@ WEIGHT_SCHEMA = {"anyOf": [{"type": "number", "minimum": -MAX_WEIGHT, "maximum":
                            WeightSchedule.model_json_schema(by_alias=True), {"type": "null"}]}
 Weight = Annotated[Optional[Union[float, WeightSchedule]], PlainValidator(_check_weight), WithJsonSchema(WEIGHT_SCHEMA)]
 
-TermsMapping = Optional[dict[Annotated[str, Field(pattern=SNAKE, max_length=60)], ExpressionTermSpec]]
+_TERM_SCHEMA = {"anyOf": [{"type": "string", "minLength": 1, "maxLength": MAX_EXPRESSION_CHARS},
+                          ExpressionTermSpec.model_json_schema()]}
+TermsMapping = Optional[dict[Annotated[str, Field(pattern=SNAKE, max_length=60)],
+                             Annotated[ExpressionTermSpec, WithJsonSchema(_TERM_SCHEMA)]]]
 EndsOn = Annotated[tuple[Expression, ...], BeforeValidator(lambda v: tuple(v) if isinstance(v, list) else v)]

@@ -100,3 +100,10 @@ def test_a_sweep_may_range_over_the_weight_of_a_declared_term():
     compiled = hivex_dsl.compile_all(WFC | {"terms": {"facing": {"expr": "alignment"}},
                                             "sweep": {"weights.facing": [0.5, 2.0]}})
     assert [c.weights["facing"] for c in compiled] == [0.5, 2.0]
+
+
+def test_a_bare_expression_is_short_for_a_term_with_only_expr():
+    short = _scenario(terms={"facing": "alignment"})
+    long = _scenario(terms={"facing": {"expr": "alignment"}})
+    assert short.fingerprint == long.fingerprint
+    assert short.resolved()["terms"] == {"facing": {"expr": "alignment"}}
