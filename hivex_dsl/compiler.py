@@ -294,12 +294,7 @@ def _compile_point(loaded: Loaded, entry, assignment: Assignment) -> CompiledSce
                 return loaded.locate(where)
         return loaded.locate(path, key=key)
 
-    clashes = clashing_terms(data, entry.term_names)
-    if clashes:
-        raise ScenarioError([Problem(locate(path, key=True), message) for path, message in clashes])
-    spec = validate_model(_scenario_model(entry, expression_term_names(data)), data, locate)
-    compiled = _resolve(entry, spec, loaded.source, {".".join(t): v for t, v, _ in assignment}, locate)
-    compiled = with_expressions(compiled, spec, locate)
+    compiled = _validated(entry, data, loaded.source, {".".join(t): v for t, v, _ in assignment}, locate)
     problems = [Problem(locate(path), message) for path, message in _semantic_problems(compiled)]
     if problems:
         raise ScenarioError(problems)
@@ -325,6 +320,15 @@ def _resolve(entry, spec: StrictModel, source: str, point: dict[str, Any], locat
                                      + split_ends_on(spec, entry.events)[0]),
                             sweep_point=MappingProxyType(point),
                             generators=MappingProxyType(_generator_specs(entry, spec, level, locate)))
+
+
+def _validated(entry, data: dict, source: str, point: dict, locate) -> CompiledScenario:
+    """The scenario ``data`` validated, resolved and with its expressions compiled (no semantic checks yet)."""
+    clashes = clashing_terms(data, entry.term_names)
+    if clashes:
+        raise ScenarioError([Problem(locate(path, key=True), message) for path, message in clashes])
+    spec = validate_model(_scenario_model(entry, expression_term_names(data)), data, locate)
+    return with_expressions(_resolve(entry, spec, source, point, locate), spec, locate)
 
 
 @functools.lru_cache(maxsize=64)
