@@ -107,7 +107,7 @@ def _check_weight(value: Any) -> Union[float, WeightSchedule, None]:
         if abs(value) > MAX_WEIGHT:
             raise ValueError(f"{show(value)} is out of range: expected a number from {-MAX_WEIGHT} to {MAX_WEIGHT}")
         return float(value)
-    if isinstance(value, dict):
+    if isinstance(value, dict) and set(value) & {"from", "to", "over_steps"}:  # meant as a schedule
         try:
             return WeightSchedule.model_validate(value)
         except ValidationError as exc:
