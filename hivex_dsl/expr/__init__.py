@@ -31,7 +31,8 @@ from .errors import ExpressionError
 from .grammar import describe_grammar
 from .syntax import parse
 
-__all__ = ["Expression", "ExpressionError", "Kind", "Per", "Quantity", "compile_expression", "describe_grammar"]
+__all__ = ["Expression", "ExpressionError", "Kind", "Per", "Quantity", "compile_expression", "describe_grammar",
+           "input_problems"]
 
 Per = Literal["agent", "world"]
 Kind = Literal["number", "bool"]
@@ -62,6 +63,11 @@ class Quantity:
             raise ValueError(f"quantity name {self.name!r} must be an identifier, not a keyword, without '__'")
         if self.per not in ("agent", "world") or self.kind not in ("number", "bool"):
             raise ValueError(f"quantity {self.name!r}: per must be 'agent' or 'world' and kind 'number' or 'bool'")
+        try:
+            object.__setattr__(self, "low", float(self.low))
+            object.__setattr__(self, "high", float(self.high))
+        except (TypeError, ValueError):
+            raise ValueError(f"quantity {self.name!r}: low and high must be numbers") from None
         if not (-intervals.LIMIT <= self.low <= self.high <= intervals.LIMIT):
             raise ValueError(f"quantity {self.name!r}: range [{self.low}, {self.high}] is not a finite interval")
         units.parse_unit(self.unit)
@@ -112,6 +118,8 @@ def compile_expression(source: str, vocabulary: Mapping[str, Quantity], *, want:
     refused without it; evaluating with more agents voids the range). Raises ExpressionError at
     the offending token, ValueError for a malformed vocabulary or agents.
     """
+    if want not in ("number", "bool") or per not in (None, "agent", "world"):
+        raise ValueError(f"want must be 'number' or 'bool' and per None, 'agent' or 'world', got {want!r}, {per!r}")
     if agents is not None and (isinstance(agents, bool) or not isinstance(agents, int) or agents < 1):
         raise ValueError(f"agents must be a positive integer, got {agents!r}")
     if not isinstance(source, str):
@@ -141,3 +149,34 @@ def compile_expression(source: str, vocabulary: Mapping[str, Quantity], *, want:
 
 def _recompile(source, vocabulary, want, per, agents) -> Expression:
     return compile_expression(source, vocabulary, want=want, per=per, agents=agents)
+
+
+def input_problems(vocabulary: Mapping[str, Quantity], values: Mapping[str, np.ndarray]) -> list[str]:
+    """What is wrong with ``values`` as inputs of expressions over ``vocabulary`` (empty when nothing).
+
+    The guarantees of :func:`compile_expression` hold for inputs that match their quantities:
+    float64 (bool for booleans), (batch, agents) or (batch,) with one batch size and agent count
+    throughout, and every number inside [low, high]. A vocabulary's tests run this on the values
+    its readers produce.
+    """
+    problems, batch, agents = [], None, None
+    for name, array in values.items():
+        quantity = vocabulary.get(name)
+        if quantity is None:
+            problems.append(f"{name}: not in the vocabulary")
+            continue
+        dtype = np.dtype(bool) if quantity.kind == "bool" else np.dtype(np.float64)
+        rank = 2 if quantity.per == "agent" else 1
+        if not isinstance(array, np.ndarray) or array.dtype != dtype or array.ndim != rank:
+            got = f"{array.dtype} with {array.ndim} axes" if isinstance(array, np.ndarray) else type(array).__name__
+            problems.append(f"{name}: expected {dtype} with {rank} axes, got {got}")
+            continue
+        batch = array.shape[0] if batch is None else batch
+        if array.shape[0] != batch or (rank == 2 and agents is not None and array.shape[1] != agents):
+            problems.append(f"{name}: shape {array.shape} disagrees with the other quantities")
+        agents = array.shape[1] if rank == 2 and agents is None else agents
+        inside = quantity.low <= array.min() and array.max() <= quantity.high if array.size else True
+        if quantity.kind == "number" and not inside:
+            problems.append(f"{name}: values in [{array.min():g}, {array.max():g}] outside its range "
+                            f"[{quantity.low:g}, {quantity.high:g}]")
+    return problems

@@ -12,11 +12,11 @@ from typing import Mapping
 import numpy as np
 
 from ..errors import did_you_mean
-from . import intervals, plan, units
+from . import intervals, narrowing, plan, units
 from .errors import ExpressionError
 from .grammar import FUNCTIONS
 from .intervals import Interval, Refused
-from .syntax import Binary, Call, Compare, Name, Node, Number, Token, Unary
+from .syntax import Binary, Call, Compare, Name, Node, Number, Token, Unary, written_number
 
 _COMPARE = {"<": np.less, "<=": np.less_equal, ">": np.greater, ">=": np.greater_equal,
             "==": np.equal, "!=": np.not_equal}
@@ -25,6 +25,7 @@ _ARITHMETIC = {"+": (np.add, intervals.add), "-": (np.subtract, intervals.subtra
 _REDUCTIONS = {"team_min": np.minimum, "team_max": np.maximum, "team_sum": np.add}
 _BOOL = (0.0, 1.0)
 MAX_EXPONENT = 1024
+_REFINEMENTS = 64
 
 
 @dataclass(frozen=True)
@@ -43,6 +44,8 @@ class Checker:
         self.vocabulary = vocabulary
         self.agents = agents  # bounds team_sum; None refuses it
         self.mean_agents = mean_agents  # bounds the rounding of team_mean
+        self.region: narrowing.Region = {}  # what the where() conditions around the current node guarantee
+        self.refinements = _REFINEMENTS  # re-checks of where() branches left, so nesting stays linear
         self.reads: set[str] = set()
         self.reads_prev: set[str] = set()
 
@@ -81,6 +84,8 @@ class Checker:
         (self.reads_prev if before else self.reads).add(node.name)
         unit = None if quantity.kind == "bool" else units.parse_unit(quantity.unit)
         interval = _BOOL if quantity.kind == "bool" else (float(quantity.low), float(quantity.high))
+        if quantity.kind == "number":
+            interval = narrowing.within(self.region, (node.name, before), interval)
         return Typed(quantity.kind, quantity.per, unit, interval, plan.read(node.name, before))
 
     def unary(self, node: Unary, before: bool) -> Typed:
@@ -112,13 +117,15 @@ class Checker:
         else:
             combine = units.multiply if op == "*" else units.divide
             unit = combine(a.unit or units.DIMENSIONLESS, b.unit or units.DIMENSIONLESS)
+        if op == "*" and _same_tree(node.left, node.right):
+            rule = lambda x_range, _: intervals.power(x_range, 2)  # noqa: E731 (x * x is x ** 2's bits: never negative)
         interval = _refusing(node.op, lambda: intervals.checked(rule(a.interval, b.interval), f"{op!r}"))
         return Typed("number", per, unit, interval, plan.apply2(ufunc, x, y))
 
     def power(self, node: Binary, before: bool) -> Typed:
         base = self.check(node.left, before)
         self.need_number("'**'", base, node.left)
-        exponent = _literal(node.right)
+        exponent = written_number(node.right)
         if exponent is None or _unit_written(node.right):
             raise ExpressionError("the exponent of '**' must be a number written out, e.g. x ** 2",
                                   node.right.offset, node.right.length)
@@ -144,9 +151,9 @@ class Checker:
             if a.kind == "bool" or b.kind == "bool":
                 if token.text not in ("==", "!=") or a.kind != b.kind:
                     blame = node.operands[i] if a.kind == "bool" else node.operands[i + 1]
-                    raise ExpressionError(f"{token.text!r} cannot compare a boolean"
-                                          + ("" if token.text in ("==", "!=") else "; only == and != can"),
-                                          blame.offset, blame.length)
+                    why = ("; only == and != can" if token.text not in ("==", "!=") else
+                           " with a number; a boolean is a condition already: use it (or not it) as it is")
+                    raise ExpressionError(f"{token.text!r} cannot compare a boolean{why}", blame.offset, blame.length)
             else:
                 _same_unit(f"{token.text!r}", token, a, b)
             step = plan.apply2(_COMPARE[token.text], aligned[i], aligned[i + 1])
@@ -166,11 +173,11 @@ class Checker:
                                   node.offset, node.length)
         if name in ("prev", "delta"):
             return self.timed(node, before)
+        if name.startswith("team_"):  # a reduction reads every agent: no condition on one agent holds for all
+            return self.reduction(node, self.within({}, node.args[0], before))
         args = [self.check(arg, before) for arg in node.args]
-        if name.startswith("team_"):
-            return self.reduction(node, args[0])
         if name == "where":
-            return self.where(node, args)
+            return self.where(node, args, before)
         for arg, source in zip(args, node.args):
             self.need_number(name, arg, source)
         per, ops = _aligned(*args)
@@ -230,7 +237,34 @@ class Checker:
         interval = _refusing(node.function, lambda: intervals.checked(interval, name))
         return Typed("number", "world", a.unit, interval, op)
 
-    def where(self, node: Call, args: list[Typed]) -> Typed:
+    def within(self, region: narrowing.Region, node: Node, before: bool) -> Typed:
+        """``node`` checked with the quantities narrowed to ``region`` (and nothing else)."""
+        outer, self.region = self.region, region
+        try:
+            return self.check(node, before)
+        finally:
+            self.region = outer
+
+    def chosen_range(self, node: Call, a: Typed, b: Typed, before: bool) -> Interval:
+        """The hull of each branch's range where it is the one chosen (see :mod:`.narrowing`)."""
+        if self.refinements <= 0:
+            return intervals.hull(a.interval, b.interval)
+        self.refinements -= 1
+        number = lambda name: self.vocabulary[name].kind == "number"  # noqa: E731
+        held, failed = narrowing.regions(node.args[0], before, number)
+        ranges = []
+        for branch, region in ((node.args[1], held), (node.args[2], failed)):
+            region = narrowing.both(self.region, region)
+            if any(_empty(narrowing.within(region, key, self.full_range(key[0]))) for key in region):
+                continue  # this branch is never chosen
+            ranges.append(self.within(region, branch, before).interval)
+        return ranges[0] if len(ranges) == 1 else intervals.hull(*ranges)
+
+    def full_range(self, name: str) -> Interval:
+        quantity = self.vocabulary[name]
+        return float(quantity.low), float(quantity.high)
+
+    def where(self, node: Call, args: list[Typed], before: bool) -> Typed:
         condition, a, b = args
         self.need_bool("where's condition", condition, node.args[0])
         if a.kind != b.kind:
@@ -238,7 +272,8 @@ class Checker:
                                   node.args[2].offset, node.args[2].length)
         unit = _same_unit("where's branches", node.function, a, b) if a.kind == "number" else None
         per, ops = _aligned(condition, a, b)
-        return Typed(a.kind, per, unit, intervals.hull(a.interval, b.interval), plan.select(*ops))
+        interval = self.chosen_range(node, a, b, before) if a.kind == "number" else _BOOL
+        return Typed(a.kind, per, unit, interval, plan.select(*ops))
 
     @staticmethod
     def need_number(what: str, typed: Typed, node: Node) -> None:
@@ -271,12 +306,26 @@ def _same_unit(what: str, token: Token, *typed: Typed) -> units.Unit | None:
     return found[0] if found else None
 
 
-def _literal(node: Node) -> float | None:
-    if isinstance(node, Number):
-        return node.value
-    if isinstance(node, Unary) and node.op.text == "-" and isinstance(node.operand, Number):
-        return -node.operand.value
-    return None
+def _same_tree(a: Node, b: Node) -> bool:
+    """Whether two subtrees are written alike (wherever they stand), so they compute the same values."""
+    if type(a) is not type(b):
+        return False
+    if isinstance(a, Number):
+        return (a.value, a.unit) == (b.value, b.unit)
+    if isinstance(a, Name):
+        return a.name == b.name
+    if isinstance(a, Unary):
+        return a.op.text == b.op.text and _same_tree(a.operand, b.operand)
+    if isinstance(a, Binary):
+        return a.op.text == b.op.text and _same_tree(a.left, b.left) and _same_tree(a.right, b.right)
+    if isinstance(a, Compare):
+        return [t.text for t in a.ops] == [t.text for t in b.ops] and all(map(_same_tree, a.operands, b.operands))
+    return (a.function.text == b.function.text and len(a.args) == len(b.args)
+            and all(map(_same_tree, a.args, b.args)))
+
+
+def _empty(interval: Interval) -> bool:
+    return interval[0] > interval[1]
 
 
 def _function_hint(name: str) -> str:

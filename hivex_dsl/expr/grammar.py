@@ -42,7 +42,8 @@ OPERATORS: tuple[Entry, ...] = (
 
 FUNCTIONS: dict[str, Entry] = {entry.name: entry for entry in (
     Entry("where", "where(cond, a, b)", "cond boolean; a and b of the same unit (or both boolean)",
-          "hull of a's and b's ranges", "a where cond holds, else b (both are computed).", 3),
+          "hull of a's range where cond holds and b's where it does not (conditions comparing a quantity "
+          "with a number narrow it)", "a where cond holds, else b (both are computed).", 3),
     Entry("min", "min(a, b)", _SAME, "[min of lows, min of highs]", "Element-wise minimum.", 2),
     Entry("max", "max(a, b)", _SAME, "[max of lows, max of highs]", "Element-wise maximum.", 2),
     Entry("abs", "abs(x)", "unit of x", "[0 or the nearer end, the farther end]", "Absolute value.", 1),

@@ -61,7 +61,8 @@ def multiply(a: Interval, b: Interval) -> Interval:
 
 def divide(a: Interval, b: Interval) -> Interval:
     if b[0] <= 0.0 <= b[1]:
-        raise Refused(f"'/' can divide by zero: the divisor ranges over {show(b)}; keep it away from 0, e.g. with max(x, 0.001)")
+        raise Refused(f"'/' can divide by zero: the divisor ranges over {show(b)}; "
+                      "keep it away from 0, e.g. with max(x, 0.001)")
     corners = (a[0] / b[0], a[0] / b[1], a[1] / b[0], a[1] / b[1])
     return min(corners), max(corners)
 

@@ -4,8 +4,9 @@ An operand is one of ``("c", value)`` (a constant, folded at compile time), ``("
 quantity after the step), ``("p", name)`` (a quantity before the step) or ``("f", fn)`` with
 ``fn(now, before) -> array``. Combinators specialise on their operands' modes so that a name or a
 constant operand costs no Python call of its own: ``x * 2`` runs as one closure that does
-``multiply(now["x"], c)`` and ``delta(x)`` as ``subtract(now["x"], before["x"])``. Operations run exactly as written, in the written order; nothing is
-reassociated, so a formula re-expressed here gives the bits of the same NumPy calls written by hand.
+``multiply(now["x"], c)`` and ``delta(x)`` as ``subtract(now["x"], before["x"])``. Operations run
+exactly as written, in the written order; nothing is reassociated, so a formula re-expressed here
+gives the bits of the same NumPy calls written by hand.
 Number constants are 0-d float64 arrays, which promote like a Python float on float64 operands
 and skip NumPy's per-call resolution of Python scalars (see :mod:`hivex_dsl.numeric`).
 """

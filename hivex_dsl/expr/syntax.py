@@ -103,6 +103,15 @@ class Compare(Node):
     operands: tuple[Node, ...]
 
 
+def written_number(node: Node) -> float | None:
+    """The value of a number written out, ``2`` or ``-2``; None for anything else."""
+    if isinstance(node, Number):
+        return node.value
+    if isinstance(node, Unary) and node.op.text == "-" and isinstance(node.operand, Number):
+        return -node.operand.value
+    return None
+
+
 def tokenize(source: str) -> list[Token]:
     """The tokens of ``source``, ending in an ``end`` token; ExpressionError at the first bad character."""
     tokens: list[Token] = []
@@ -112,7 +121,7 @@ def tokenize(source: str) -> list[Token]:
         if match is None:
             raise ExpressionError(f"unexpected character {source[position]!r}", position, 1)
         kind, text = match.lastgroup, match.group()
-        if kind == "num" and match.end() < len(source) and (source[match.end()].isalnum() or source[match.end()] == "_"):
+        if kind == "num" and _word_end(source, match.end()) > match.end():
             end = _word_end(source, match.end())
             raise ExpressionError(f"malformed number {source[position:end]!r}", position, end - position)
         if kind == "op" and text in "'\"":
@@ -279,7 +288,8 @@ class _Parser:
         if self.peek().text != ")":
             while True:
                 if self.peek().kind == "name" and self.tokens[self.index + 1].text == "=":
-                    raise ExpressionError("keyword arguments are not allowed", self.peek().offset, len(self.peek().text))
+                    keyword_ = self.peek()
+                    raise ExpressionError("keyword arguments are not allowed", keyword_.offset, len(keyword_.text))
                 args.append(self.expression())
                 if self.peek().text != ",":
                     break

@@ -15,7 +15,7 @@ from fractions import Fraction
 Unit = tuple[tuple[str, int], ...]
 
 DIMENSIONLESS: Unit = ()
-_FACTOR = re.compile(r"\s*(?:(1)|([^\W\d_][\w%°]*|%|°)(?:\^(-?\d+))?)\s*")
+_FACTOR = re.compile(r"\s*(?:(1)|((?:[^\W\d_]|[%°])[\w%°]*)(?:\^(-?\d+))?)\s*")
 
 
 def parse_unit(text: str) -> Unit:

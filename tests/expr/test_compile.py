@@ -62,7 +62,8 @@ def test_conditions_are_booleans_and_become_numbers_only_through_where(states):
     assert result.dtype == bool
     np.testing.assert_array_equal(result, now["dropped"] & ~now["raining"][:, None])
     n = compiled("where(0 < distance_m < 100, 1, 0)")
-    np.testing.assert_array_equal(n.evaluate(now, before), np.where((now["distance_m"] > 0) & (now["distance_m"] < 100), 1.0, 0.0))
+    d = now["distance_m"]
+    np.testing.assert_array_equal(n.evaluate(now, before), np.where((d > 0) & (d < 100), 1.0, 0.0))
 
 
 def test_a_bare_quantity_is_copied_not_aliased(states):
@@ -117,6 +118,12 @@ def test_a_vocabulary_key_must_be_its_quantity_name_and_agents_positive():
         compile_expression("y", {"y": VOCABULARY["water"]})
     with pytest.raises(ValueError, match="agents must be a positive integer"):
         compile_expression("water", VOCABULARY, agents=0)
+    with pytest.raises(ValueError, match="want must be"):
+        compile_expression("water", VOCABULARY, want="float")
+    with pytest.raises(ValueError, match="low and high must be numbers"):
+        Quantity("x", "agent", "number", "m", "zero", 1.0, "")
+    assert Quantity("x", "agent", "number", "m", 0, 1, "").high == 1.0 and isinstance(
+        Quantity("x", "agent", "number", "m", 0, 1, "").low, float)
 
 
 def test_a_reduction_combined_with_its_own_agents_broadcasts_back(states):
@@ -127,3 +134,18 @@ def test_a_reduction_combined_with_its_own_agents_broadcasts_back(states):
     world = compiled("where(raining, team_max(distance_m), prev(distance_m))")
     expected = np.where(now["raining"][:, None], now["distance_m"].max(axis=1)[:, None], before["distance_m"])
     np.testing.assert_array_equal(world.evaluate(now, before), expected)
+
+
+def test_input_problems_names_each_input_that_voids_the_guarantees(states):
+    from hivex_dsl.expr import input_problems
+
+    now, _ = states
+    assert input_problems(VOCABULARY, now) == []
+    bad = dict(now, water=now["water"] + 2.0, wind_ms=now["wind_ms"].astype(np.float32),
+               dropped=now["dropped"][:2], burning=np.full(4, np.nan), extra=now["water"])
+    problems = input_problems(VOCABULARY, bad)
+    assert problems[0].startswith("water: values in [") and problems[0].endswith("outside its range [0, 1]")
+    assert "wind_ms: expected float64 with 1 axes, got float32 with 1 axes" in problems
+    assert "dropped: shape (2, 3) disagrees with the other quantities" in problems
+    assert any(p.startswith("burning: values in [nan") for p in problems)
+    assert "extra: not in the vocabulary" in problems

@@ -58,6 +58,8 @@ CASES = [
     ("where(water, 1, 0)", "where's condition needs a boolean (a comparison such as x > 0), got a number", "water"),
     ("where(dropped, water, raining)", "where's branches must both be numbers or both be booleans", "raining"),
     ("dropped < raining", "'<' cannot compare a boolean; only == and != can", "dropped"),
+    ("where(dropped == 1, water, 0)", "'==' cannot compare a boolean with a number; a boolean is a condition already: "
+     "use it (or not it) as it is", "dropped"),
     # units
     ("distance_m + speed_ms", "'+' needs operands of the same unit, got m and m/s", "+"),
     ("max(distance_m, heading_deg)", "max needs operands of the same unit, got m and deg", "max"),

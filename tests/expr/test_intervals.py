@@ -14,7 +14,10 @@ from .conftest import AGENTS, VOCABULARY
 @pytest.mark.parametrize("source, low, high", [
     ("distance_m / 1000", 0.0, 1.0),
     ("-speed_ms", -5.0, 5.0),
-    ("speed_ms * speed_ms", -25.0, 25.0),  # the operands are not known to be equal
+    ("speed_ms * wind_ms", -100.0, 100.0),
+    ("speed_ms * speed_ms", 0.0, 25.0),  # the same subtree twice: a square
+    ("(speed_ms - 1) * (speed_ms -1)", 0.0, 36.0),
+    ("speed_ms * prev(speed_ms)", -25.0, 25.0),  # not the same values
     ("speed_ms ** 2", 0.0, 25.0),
     ("abs(speed_ms)", 0.0, 5.0),
     ("abs(speed_ms - 6)", 1.0, 11.0),
@@ -67,6 +70,25 @@ def test_ranges_that_reach_an_exact_value_are_not_widened_past_it(source, low, h
     assert (e.low, e.high) == (low, high)  # exact where a plain number is given, else approximately
 
 
+@pytest.mark.parametrize("source, low, high", [
+    ("where(heading_deg <= 90, heading_deg / 90, 2 - heading_deg / 90)", -2.0, 1.0),  # heading reaches 360
+    ("where(heading_deg <= 90, heading_deg / 90, 4 - heading_deg / 90)", 0.0, 3.0),
+    ("where(speed_ms > 0, speed_ms, 0)", 0.0, 5.0),
+    ("where(speed_ms < 0, -speed_ms, speed_ms)", 0.0, 5.0),
+    ("where(-1 <= speed_ms <= 2, speed_ms, 0)", -1.0, 2.0),
+    ("where(speed_ms > 1 and dropped, speed_ms, 1)", 1.0, 5.0),
+    ("where(not (speed_ms > 1), speed_ms, 1)", -5.0, 1.0),
+    ("where(speed_ms < -1 or speed_ms > 1, abs(speed_ms), 1)", 0.0, 5.0),  # one interval per quantity: the hull
+    ("where(speed_ms > 10, speed_ms * 100, 0)", 0.0, 0.0),  # the first branch is never chosen
+    ("where(speed_ms > 0, team_max(speed_ms), 0)", -5.0, 5.0),  # other agents' speeds are not narrowed
+    ("where(prev(speed_ms) > 0, speed_ms, 0)", -5.0, 5.0),  # a condition before the step says nothing after it
+    ("prev(where(speed_ms > 0, speed_ms, 0))", 0.0, 5.0),
+])
+def test_a_where_branch_ranges_only_over_where_it_is_chosen(source, low, high):
+    e = compile_expression(source, VOCABULARY, agents=AGENTS)
+    assert (e.low, e.high) == (low, high)
+
+
 def test_a_mean_of_equal_values_can_round_above_them_and_stays_inside_its_range():
     vocabulary = {"x": Quantity("x", "agent", "number", "1", 0.0, 0.1, "")}
     now = {"x": np.full((1, 3), 0.1)}
@@ -88,3 +110,12 @@ def test_an_interval_touching_zero_is_a_refused_divisor_but_a_positive_one_is_no
     positive = {"x": Quantity("x", "agent", "number", "1", 1e-3, 1.0, "")}
     assert compile_expression("1 / x", positive).high == 1000.0
     assert compile_expression("1 / max(x, 0.5)", positive).high == 2.0
+
+
+def test_nested_wheres_refine_a_bounded_number_of_times():
+    # every where() re-checks its branches to narrow them; unbounded, 40 levels would take 2**40 checks
+    source = "water"
+    for level in range(40):
+        source = f"where(speed_ms > {level % 5 - 2}, {source}, water)"
+    e = compile_expression(source, VOCABULARY)
+    assert (e.low, e.high) == (0.0, 1.0)

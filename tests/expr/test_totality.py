@@ -104,3 +104,31 @@ def test_an_expression_that_compiles_is_total_and_inside_its_interval(case):
     assert all(np.array_equal(now[name], kept[name]) for name in now), "an input was modified"
     assert not any(np.shares_memory(value, array) for array in (*now.values(), *before.values()))
     assert expression.low <= value.min() and value.max() <= expression.high, (source, expression, value)
+
+
+CUTS = ("-2", "-1", "-0.5", "0", "0.5", "1", "2", "3")
+BRANCHES = ("q", "-q", "q * 2", "q ** 2", "1", "abs(q)", "q - 1")
+CONDITIONS = ("q {op} {c}", "{c} {op} q", "not (q {op} {c})", "{c} < q <= {d}", "q > {c} and q < {d}",
+              "q < {c} or q >= {d}", "(q {op} {c}) and flag", "not (q < {c} or q > {d})")
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.sampled_from(ENDS[1:-1]), st.sampled_from(ENDS[1:-1]), st.sampled_from(CONDITIONS),
+       st.sampled_from(("<", "<=", ">", ">=", "==", "!=")), st.sampled_from(CUTS), st.sampled_from(CUTS),
+       st.sampled_from(BRANCHES), st.sampled_from(BRANCHES), st.integers(0, 2**32 - 1))
+def test_where_narrows_each_branch_to_where_it_is_chosen_soundly(end_a, end_b, condition, op, c, d, a, b, seed):
+    low, high = sorted((end_a, end_b))
+    vocabulary = {"q": Quantity("q", "agent", "number", "1", low, high, ""),
+                  "flag": Quantity("flag", "agent", "bool", "", 0.0, 1.0, "")}
+    source = f"where({condition.format(op=op, c=c, d=d)}, {a}, {b})"
+    try:
+        expression = compile_expression(source, vocabulary)
+    except ExpressionError:
+        assume(False)
+    rng = np.random.default_rng(seed)
+    cuts = np.array([float(c), float(d)])
+    near = np.concatenate([cuts, np.nextafter(cuts, np.inf), np.nextafter(cuts, -np.inf), [low, high, 0.0]])
+    values = np.clip(np.concatenate([near, rng.uniform(low, high, 16)]), low, high)[None, :]
+    now = {"q": values, "flag": rng.random(values.shape) < 0.5}
+    result = expression.evaluate(now, now)
+    assert expression.low <= result.min() and result.max() <= expression.high, (source, expression, result)

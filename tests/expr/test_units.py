@@ -15,7 +15,7 @@ from .conftest import VOCABULARY
 @pytest.mark.parametrize("text, canonical", [
     ("m", "m"), ("m/s", "m/s"), ("m/s^2", "m/s^2"), ("s^-2*m", "m/s^2"), ("kg*m/s^2", "kg*m/s^2"),
     ("m*kg/s/s", "kg*m/s^2"), ("1/s", "1/s"), ("s^-1", "1/s"), ("1", "1"), ("", "1"), ("m/m", "1"),
-    ("m * m", "m^2"), ("%", "%"), ("deg", "deg"),
+    ("m * m", "m^2"), ("%", "%"), ("deg", "deg"), ("°C", "°C"), ("trees/km^2", "trees/km^2"),
 ])
 def test_units_have_one_canonical_text(text, canonical):
     assert format_unit(parse_unit(text)) == canonical
