@@ -8,34 +8,14 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-import hivex_dsl
 from hivex_dsl.expr import ExpressionError, compile_expression
-from hivex_dsl.policies import random_policy
-from hivex_dsl.reward.vocabulary import QuantityFeed, vocabulary_of
-from hivex_dsl.runtime import BatchedEnv
+
+from .rollouts import recorded
 
 ENVIRONMENTS = ("wind_farm_control", "ocean_plastic_collection", "drone_based_reforestation")
 
 
-def _recorded(env_id: str, steps: int = 25):
-    """(quantities, [(now, before)]) of a short random rollout of two worlds."""
-    compiled = hivex_dsl.compile({"hivex": 1, "environment": env_id, "agents": 3, "episode_length": 100})
-    vocabulary = vocabulary_of(env_id)
-    quantities = vocabulary.quantities(compiled)
-    env = BatchedEnv(compiled, batch=2)
-    feed = QuantityFeed(vocabulary, quantities, env.shape, compiled)
-    policy = random_policy(env.sim.action_space, env.shape, np.random.default_rng(0))
-    env.reset(seed=2)
-    feed.start(env.state)
-    pairs = []
-    for _ in range(steps):
-        env.step(policy(None))
-        feed.advance(env.state, {})
-        pairs.append((feed.now, feed.before))
-    return quantities, pairs
-
-
-RECORDED = {env_id: _recorded(env_id) for env_id in ENVIRONMENTS}
+RECORDED = {env_id: recorded(env_id, {"agents": 3, "episode_length": 100}, 25, seed=2) for env_id in ENVIRONMENTS}
 UNARY = ("abs({})", "sqrt({})", "log({})", "exp({})", "-{}", "prev({})", "delta({})", "team_mean({})",
          "team_max({})", "team_sum({})")
 BINARY = ("{} + {}", "{} - {}", "{} * {}", "{} / {}", "min({}, {})", "max({}, {})", "clip({}, {}, 1)",

@@ -7,9 +7,11 @@ import pytest
 
 import hivex_dsl
 from hivex_dsl import registry
-from hivex_dsl.policies import random_policy
-from hivex_dsl.reward.vocabulary import QuantityFeed, vocabulary_of
+from hivex_dsl.expr import input_problems
+from hivex_dsl.reward.vocabulary import vocabulary_of
 from hivex_dsl.runtime import BatchedEnv
+
+from .rollouts import recorded
 
 # (environment, extra scenario keys, steps): small worlds where the environment allows, so the test stays quick
 ROLLOUTS = {
@@ -32,32 +34,14 @@ def _has_vocabulary(env_id: str) -> bool:
 @pytest.mark.parametrize("env_id", [e for e in ROLLOUTS if _has_vocabulary(e)])
 def test_random_rollouts_stay_inside_the_declared_ranges(env_id):
     extra, steps = ROLLOUTS[env_id]
-    compiled = hivex_dsl.compile({"hivex": 1, "environment": env_id, **extra})
-    vocabulary = vocabulary_of(env_id)
-    quantities = vocabulary.quantities(compiled)
-    env = BatchedEnv(compiled, batch=2)
-    feed = QuantityFeed(vocabulary, quantities, env.shape, compiled)
-    policy = random_policy(env.sim.action_space, env.shape, np.random.default_rng(3))
-    env.reset(seed=11)
-    feed.start(env.state)
+    quantities, pairs = recorded(env_id, extra, steps)
     seen = {name: [np.inf, -np.inf] for name in quantities}
-    for _ in range(steps):
-        transition = env.step(policy(None))
-        restart = transition.ended.all(axis=1)
-        feed.advance(env.state, {})  # every environment keeps its events in its state
+    for now, _ in pairs:
+        assert set(now) == set(quantities)
+        assert input_problems(quantities, now) == []  # dtype, shape and range, as the compiler's guarantees need
         for name, q in quantities.items():
-            value = feed.now[name]
-            assert value.shape == (env.shape if q.per == "agent" else (env.batch,)), name
-            if q.kind == "bool":
-                assert value.dtype == bool, name
-            else:
-                assert np.issubdtype(value.dtype, np.floating), name
-                assert np.all(np.isfinite(value)), name
-                assert np.all((q.low <= value) & (value <= q.high)), (name, value.min(), value.max(), q.low, q.high)
-                seen[name] = [min(seen[name][0], value.min()), max(seen[name][1], value.max())]
-        if restart.any():
-            env.reset_worlds(restart)
-            feed.start(env.state, restart)
+            if q.kind == "number":
+                seen[name] = [min(seen[name][0], now[name].min()), max(seen[name][1], now[name].max())]
     moving = [n for n, q in quantities.items() if q.kind == "number" and seen[n][0] < seen[n][1]]
     assert len(moving) >= len([q for q in quantities.values() if q.kind == "number"]) // 2  # readers are not constants
 
