@@ -170,7 +170,7 @@ def _contract(name: str, spec: ExpressionTermSpec, expression: Expression, quant
                             low=low, high=high, sign=sign, timing=spec.timing,
                             scope=spec.scope or _scope(expression, quantities), equation=expression.source)
     except ValueError as exc:
-        problems.append(Problem(locate(path + ("sign",)), f"{dotted(path)}: {exc}"))
+        problems.append(Problem(locate(path + ("sign",)), f"{dotted(path)}.sign: {exc} (range [{low:g}, {high:g}])"))
         return None
 
 
