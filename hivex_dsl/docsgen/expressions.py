@@ -10,13 +10,17 @@ from ..resources import bundled_scenarios
 from ..reward.vocabulary import vocabulary_of
 from ..spec.common import SCHEMA_VERSION
 from ..spec.expressions import ExpressionTermSpec, ShapingSpec, WeightSchedule
-from .fields import field_rows, num
+from .fields import field_rows, num, schema_type
 
 
 def _rows(model) -> list[dict[str, str]]:
+    """field_rows of ``model`` under the names a file writes (``from``, not the attribute ``start``)."""
     rows = field_rows(model)
+    schema = model.model_json_schema()
     for row, field in zip(rows, model.model_fields.values()):
-        row["name"] = field.alias or row["name"]
+        if field.alias:
+            row["name"] = field.alias
+            row["type"] = schema_type(schema["properties"][field.alias], schema.get("$defs", {}))
     return rows
 
 
