@@ -22,6 +22,7 @@ from .spec.common import StrictModel
 from .spec.reward_table import RewardTable, table_problems
 from .spec.scenario import ScenarioVocabulary, scenario_model
 from .spec.validate import validate_loaded
+from .statistics import StatisticSet
 
 if TYPE_CHECKING:
     from .compiler import CompiledScenario
@@ -60,6 +61,8 @@ class EnvironmentEntry:
     checks: tuple[ScenarioCheck, ...] = ()
     notes: tuple[str, ...] = ()
     generators: Mapping[str, GeneratorSlot] = field(default_factory=dict)
+    # the per-episode statistics the original logged (hivex_dsl.statistics); None: it declares none
+    statistics: StatisticSet | None = None
 
     @property
     def id(self) -> str:
@@ -99,6 +102,10 @@ def register(entry: EnvironmentEntry) -> EnvironmentEntry:
         raise ValueError(f"environment {entry.id!r} registered twice")
     if entry.terms.environment != entry.id:
         raise ValueError(f"{entry.id}: its term registry belongs to {entry.terms.environment!r}")
+    if entry.statistics is not None:
+        problems = entry.statistics.problems(entry.terms.names)
+        if problems or entry.statistics.environment != entry.id:
+            raise ValueError("; ".join(problems) or f"{entry.id}: its statistics belong to {entry.statistics.environment!r}")
     _REGISTRY[entry.id] = entry
     return entry
 

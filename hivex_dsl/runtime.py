@@ -2,7 +2,7 @@
 
 The simulator moves the world; this module adds what every environment shares: the reward
 composer, episode clocks and truncation, task endings declared as events in the reward table,
-per-agent episode sums of every active term, and the seed schedule of the train/test split.
+per-agent episode sums of every active term and of the environment's logged statistics, and the seed schedule of the train/test split.
 """
 
 from __future__ import annotations
@@ -16,6 +16,7 @@ from .compiler import CompiledScenario
 from .numeric import all_true, constant
 from .reward.composer import RewardComposer
 from .spaces import hold_inactive, placeholder_actions
+from .statistics import StatisticSet, episode_statistics
 
 Split = Literal["train", "test"]
 _ZERO = constant(0.0)  # rewards and terms are float64 (see hivex_dsl.numeric)
@@ -110,6 +111,9 @@ class BatchedEnv:
         self.alive = np.zeros(shape, bool)
         self.returns = np.zeros(shape)
         self.term_sums = {name: np.zeros(shape) for name in self.composer.active}
+        self.statistics: StatisticSet = compiled.entry.statistics or StatisticSet(compiled.environment, "")
+        self._counters = tuple((s.name, s.counter) for s in self.statistics.counters)
+        self.counter_sums = {name: np.zeros(shape) for name, _ in self._counters}
         self.lengths = np.zeros(shape, np.int64)
         self.everyone_playing = False  # == bool(self.alive.all()), kept so a step needs no reduction for it
         self.oldest_clock = 0  # == int(self.clock.max()): a step knows without a reduction whether a world truncates
@@ -155,6 +159,8 @@ class BatchedEnv:
         self.lengths[mask] = 0
         for sums in self.term_sums.values():
             sums[mask] = 0.0
+        for sums in self.counter_sums.values():
+            sums[mask] = 0.0
         self.everyone_playing = bool(self.alive.all())
         self.oldest_clock = int(self.clock.max())
 
@@ -192,6 +198,7 @@ class BatchedEnv:
         self.returns += rewards
         for name, value in terms.items():
             self.term_sums[name] += value
+        self._count(prev, actions, live, everyone)
         terminated, truncated, ended = self._endings(live, outcome)
         env_info = self._step_info(self.state) if self._step_info is not None else {}
         if restart is not None and np.count_nonzero(restart):
@@ -200,6 +207,19 @@ class BatchedEnv:
             if self.feed is not None:
                 self.feed.start(self.state, restart)
         return Transition(self.sim.observe(self.state), rewards, terminated, truncated, terms, ended, env_info)
+
+    def _count(self, prev: Any, actions: Any, live: np.ndarray, everyone: bool) -> None:
+        """Add this step's value of every counter statistic to its episode sums (ended agents add nothing)."""
+        params = self.compiled.params
+        for name, counter in self._counters:
+            value = counter(prev, self.state, actions, params)
+            self.counter_sums[name] += value if everyone else np.where(live, value, _ZERO)
+
+    def statistic_sums(self) -> dict[str, np.ndarray]:
+        """Every statistic's (batch, agents) sum over the current (or just ended) episodes, by logged name
+        without the environment prefix (see :mod:`hivex_dsl.statistics`)."""
+        return episode_statistics(self.statistics, self.compiled.weights, self.counter_sums, self.term_sums,
+                                  self.shape)
 
     def _endings(self, live: np.ndarray, outcome: StepOutcome) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(terminated, truncated, ended) of the step just taken, each (batch, agents); updates who is alive.
@@ -226,11 +246,12 @@ class BatchedEnv:
         return terminated, truncated, ended
 
     def episode_summary(self, world: int, agent: int) -> dict[str, Any]:
-        """Return, length and per-term sums of one agent's current (or just ended) episode."""
+        """Return, length, per-term sums and statistics of one agent's current (or just ended) episode."""
         return {
             "return": float(self.returns[world, agent]),
             "length": int(self.lengths[world, agent]),
             "reward_terms": {name: float(s[world, agent]) for name, s in self.term_sums.items()},
+            "statistics": {name: float(s[world, agent]) for name, s in self.statistic_sums().items()},
         }
 
     def render(self, world: int = 0) -> np.ndarray:

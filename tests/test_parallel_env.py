@@ -96,7 +96,9 @@ def test_infos_carry_reward_terms_and_episode_sums_at_the_end():
     assert env.agents == []
     for a in env.possible_agents:
         assert infos[a]["episode"] == {"return": pytest.approx(total[a]), "length": 5,
-                                       "reward_terms": {"avoid_damage": pytest.approx(total[a])}}
+                                       "reward_terms": {"avoid_damage": pytest.approx(total[a])},
+                                       "statistics": {"Individual Performance": 0.0,
+                                                      "Avoid Damage Reward": pytest.approx(total[a])}}
 
 
 def test_weight_overrides_scale_the_reward():

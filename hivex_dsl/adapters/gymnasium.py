@@ -100,6 +100,7 @@ class HivexVectorEnv(VectorEnv):
                 "return": np.where(ended, core.returns, 0.0).reshape(-1),
                 "length": np.where(ended, core.lengths, 0).reshape(-1),
                 "reward_terms": {k: np.where(ended, s, 0.0).reshape(-1) for k, s in core.term_sums.items()},
+                "statistics": {k: np.where(ended, s, 0.0).reshape(-1) for k, s in core.statistic_sums().items()},
             }
             infos["_episode"] = ended.reshape(-1)
         return infos

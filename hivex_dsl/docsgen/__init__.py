@@ -16,6 +16,7 @@ from jinja2 import Environment, FileSystemLoader, StrictUndefined
 
 from .. import registry
 from .context import SCHEMA_FILE, env_page, environment_context, index_context, language_context, performance_context
+from .fidelity_page import fidelity_context
 from .figures import preview_figures
 from .schema import scenario_json_schema, schema_text
 
@@ -45,10 +46,11 @@ def _jinja() -> Environment:
     return env
 
 
-def render_docs(results: Path | None = None) -> dict[str, Content]:
+def render_docs(results: Path | None = None, fidelity: Path | None = None) -> dict[str, Content]:
     """Relative path under docs/ -> file content (text, bytes, or an (H, W, 3) uint8 picture saved as PNG).
 
     ``results`` is a `hivex bench --json` report; when the file exists, performance.md shows it.
+    ``fidelity`` is the stored `hivex audit --suite` report fidelity.md shows (see hivex_dsl.fidelity).
     """
     jinja = _jinja()
     docs: dict[str, str | bytes] = {
@@ -63,6 +65,7 @@ def render_docs(results: Path | None = None) -> dict[str, Content]:
     docs |= {rel: image for rel, (_, image) in figures.items()}
     if results is not None and Path(results).is_file():
         docs["performance.md"] = jinja.get_template("performance.md.j2").render(**performance_context(results))
+    docs["fidelity.md"] = jinja.get_template("fidelity.md.j2").render(**fidelity_context(fidelity or Path("-")))
     page = jinja.get_template("environment.md.j2")
     for env_id, entry in registry.environments().items():
         docs[env_page(env_id)] = page.render(**environment_context(entry))
@@ -116,7 +119,7 @@ def write_docs(docs_dir: Path) -> list[str]:
     """Write render_docs() into docs_dir (creating dirs), delete generated files no longer produced
     (only files listed in docs/.generated), return the relative paths written or removed."""
     docs_dir = Path(docs_dir)
-    rendered = render_docs(bench_results(docs_dir))
+    rendered = render_docs(bench_results(docs_dir), fidelity_results(docs_dir))
     changed: list[str] = []
     for rel in sorted(set(_read_manifest(docs_dir) or ()) - set(rendered)):
         target = docs_dir / rel
@@ -146,6 +149,13 @@ def bench_results(docs_dir: Path) -> Path:
     return Path(docs_dir).resolve().parent / RESULTS_FILE
 
 
+def fidelity_results(docs_dir: Path) -> Path:
+    """The committed fidelity suite beside docs/ (benchmarks/results/fidelity.json of the same checkout)."""
+    from ..fidelity import FIDELITY_FILE
+
+    return Path(docs_dir).resolve().parent / FIDELITY_FILE
+
+
 def _prune_empty_dirs(directory: Path, root: Path) -> None:
     root = root.resolve()
     directory = directory.resolve()
@@ -159,7 +169,7 @@ def stale_docs(docs_dir: Path) -> list[str]:
     no longer produced (docs/.generated itself if it is missing or omits a produced file).
     Empty list == docs are fresh."""
     docs_dir = Path(docs_dir)
-    rendered = render_docs(bench_results(docs_dir))
+    rendered = render_docs(bench_results(docs_dir), fidelity_results(docs_dir))
     stale = [rel for rel, content in rendered.items() if not _is_fresh(docs_dir / rel, content)]
     listed = _read_manifest(docs_dir)
     if listed is None:

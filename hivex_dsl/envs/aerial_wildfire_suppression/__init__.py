@@ -10,6 +10,7 @@ from ..island import ISLAND_GENERATORS, island_problems
 from .params import AerialWildfireParams
 from .scripted import scripted_policy
 from .simulator import EVENTS, AerialWildfireSimulator
+from .statistics import STATISTICS
 from .terms import MAX_TREES_PER_DROP, TERMS
 
 
@@ -30,6 +31,7 @@ ENTRY = register(EnvironmentEntry(
     info=CATALOGUE["aerial_wildfire_suppression"],
     params_model=AerialWildfireParams,
     terms=TERMS,
+    statistics=STATISTICS,
     make_simulator=AerialWildfireSimulator,
     scripted_policy=scripted_policy,
     events=EVENTS,

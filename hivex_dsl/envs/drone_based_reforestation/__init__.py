@@ -9,12 +9,14 @@ from ...spec.catalogue import CATALOGUE
 from .params import DroneBasedReforestationParams, forest_preset, terrain_preset
 from .scripted import scripted_policy
 from .simulator import DroneReforestationSimulator, world_problems
+from .statistics import STATISTICS
 from .terms import TERMS
 
 ENTRY = register(EnvironmentEntry(
     info=CATALOGUE["drone_based_reforestation"],
     params_model=DroneBasedReforestationParams,
     terms=TERMS,
+    statistics=STATISTICS,
     make_simulator=DroneReforestationSimulator,
     scripted_policy=scripted_policy,
     events={

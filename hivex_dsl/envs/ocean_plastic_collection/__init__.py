@@ -8,6 +8,7 @@ from ...spec.catalogue import CATALOGUE
 from .params import OceanPlasticCollectionParams
 from .scripted import scripted_policy
 from .simulator import OceanPlasticSimulator
+from .statistics import STATISTICS
 from .terms import TERMS
 
 PRESET = load_pollution_preset()
@@ -33,6 +34,7 @@ ENTRY = register(EnvironmentEntry(
     info=CATALOGUE["ocean_plastic_collection"],
     params_model=OceanPlasticCollectionParams,
     terms=TERMS,
+    statistics=STATISTICS,
     make_simulator=OceanPlasticSimulator,
     scripted_policy=scripted_policy,
     events={

@@ -9,6 +9,7 @@ from .layouts_preset import load_layout_preset
 from .params import WindFarmControlParams
 from .scripted import scripted_policy
 from .simulator import WindFarmSimulator
+from .statistics import STATISTICS
 from .terms import TERMS
 
 PRESET = load_layout_preset()
@@ -25,6 +26,7 @@ ENTRY = register(EnvironmentEntry(
     info=CATALOGUE["wind_farm_control"],
     params_model=WindFarmControlParams,
     terms=TERMS,
+    statistics=STATISTICS,
     make_simulator=WindFarmSimulator,
     scripted_policy=scripted_policy,
     level_names=tuple(p.name for p in PRESET.patterns),

@@ -1,0 +1,55 @@
+"""The statistics Aerial Wildfire Suppression logs ("AerialWildfireSuppression/<name>"), from the simulator's events."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ...statistics import StatisticSet
+
+STATISTICS = StatisticSet("aerial_wildfire_suppression", "AerialWildfireSuppression")
+
+
+def _every_plane(state, world_events: np.ndarray) -> np.ndarray:
+    """(B,) -> (B, A) float64: a world's event counted for each of its planes."""
+    return np.broadcast_to(world_events[:, None], state.flying.shape).astype(np.float64)
+
+
+@STATISTICS.counter("Crash Count", "Times the plane crossed the border (its episode ends).")
+def crash_count(prev, state, actions, params):
+    return state.crossed.astype(np.float64)
+
+
+@STATISTICS.counter("Water Pickup", "Times the plane filled up with water in the ring around the island.")
+def water_pickup(prev, state, actions, params):
+    return state.picked_up.astype(np.float64)
+
+
+@STATISTICS.counter("Water Drop", "Times the plane dropped its water.")
+def water_drop(prev, state, actions, params):
+    return state.dropped.astype(np.float64)
+
+
+@STATISTICS.counter("Extinguishing Trees", "Burning trees this plane's drops turned wet.")
+def extinguishing_trees(prev, state, actions, params):
+    return state.extinguished.astype(np.float64)
+
+
+@STATISTICS.counter("Preparing Trees", "Existing (not burning) trees this plane's drops turned wet.")
+def preparing_trees(prev, state, actions, params):
+    return state.prepared.astype(np.float64)
+
+
+@STATISTICS.counter("Fire Out", "Times the fire on the island went out (counted for every plane of the world).")
+def fire_out(prev, state, actions, params):
+    return _every_plane(state, state.fire_went_out)
+
+
+@STATISTICS.counter("Fire too Close to City",
+                    "Times a burning tree first came within the village radius (every plane of the world).")
+def fire_too_close_to_city(prev, state, actions, params):
+    return _every_plane(state, state.village_threatened)
+
+
+STATISTICS.mirror("Extinguishing Trees Reward", "What the task paid for extinguishing trees (weighted).",
+                  "extinguishing_tree")
+STATISTICS.mirror("Preparing Trees Reward", "What the task paid for preparing trees (weighted).", "preparing_tree")

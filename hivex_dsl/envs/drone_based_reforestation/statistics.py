@@ -1,0 +1,77 @@
+"""The statistics Drone-Based Reforestation logs ("DroneBasedReforestation/<name>"), read from the drone state.
+
+The best-so-far statistics (highest fertility, point, distance) are summed as per-step increases, so an
+episode's sum is the best value reached, which is what the original logs at the episode's end.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ...statistics import StatisticSet
+from .simulator import DISTANCE_REWARD_MULTIPLIER
+
+STATISTICS = StatisticSet("drone_based_reforestation", "DroneBasedReforestation")
+
+
+@STATISTICS.counter("Tree Drop Count", "Seeds the drone released (each planted as a new tree).")
+def tree_drop_count(prev, state, actions, params):
+    return state.dropped.astype(np.float64)
+
+
+@STATISTICS.counter("Recharge Energy Count", "Steps the drone's battery was recharged at the drone station.")
+def recharge_energy_count(prev, state, actions, params):
+    return (state.energy > prev.energy).astype(np.float64)
+
+
+@STATISTICS.counter("Out of Energy Count", "Times the drone's battery ran empty (its episode ends).")
+def out_of_energy_count(prev, state, actions, params):
+    return (prev.alive & ~state.alive).astype(np.float64)
+
+
+@STATISTICS.counter("Cumulative Tree Drop Reward", "The seed-quality part r_s of what drops paid (weighted).",
+                    weighted_by="drop_seed")
+def tree_drop_reward(prev, state, actions, params):
+    return state.seed_reward
+
+
+@STATISTICS.counter("Cumulative Distance Reward", "The station-distance part r_d of what drops paid (weighted).",
+                    weighted_by="drop_seed")
+def distance_reward(prev, state, actions, params):
+    return state.distance_reward
+
+
+@STATISTICS.counter("Cumulative Distance Until Tree Drop", "Metres from the station to each drop point.")
+def distance_until_tree_drop(prev, state, actions, params):
+    offset = state.position[..., :2] - state.station[:, None, :2]
+    return np.where(state.dropped, np.hypot(offset[..., 0], offset[..., 1]), 0.0)
+
+
+@STATISTICS.counter("Cumulative Normalized Distance Until Tree Drop",
+                    "The normalised station distance r_d / 10 of each drop of some quality.")
+def normalized_distance_until_tree_drop(prev, state, actions, params):
+    return state.distance_reward * (1.0 / DISTANCE_REWARD_MULTIPLIER)
+
+
+@STATISTICS.counter("Highest Potential Soild Found", "The best seed-drop potential found (the logged name's typo kept).")
+def highest_potential_found(prev, state, actions, params):
+    return state.best_fertility - prev.best_fertility
+
+
+@STATISTICS.counter("Highest Point on Terrain Found", "The highest ground (metres) the drone flew over.")
+def highest_point_found(prev, state, actions, params):
+    return state.best_height - prev.best_height
+
+
+@STATISTICS.counter("Furthest Distance Explored", "The furthest horizontal distance (metres) from the station.")
+def furthest_distance_explored(prev, state, actions, params):
+    return state.best_distance - prev.best_distance
+
+
+STATISTICS.cannot_compute(
+    "Cumulative Distance to Existing Trees",
+    "the distance from a drop point to the nearest existing tree is computed inside the drop (exactly, on the "
+    "forest grid) and not kept in the state, so a statistic cannot read it")
+STATISTICS.cannot_compute(
+    "Save Location Count",
+    "the paper describes no save-location action or event (it is 0 in every published cell)")

@@ -1,0 +1,26 @@
+"""The statistics Wildfire Resource Management logs ("WildfireResourceManagement/<name>")."""
+
+from __future__ import annotations
+
+from ...statistics import StatisticSet
+from .terms import tower_performance
+
+STATISTICS = StatisticSet("wildfire_resource_management", "WildfireResourceManagement", notes=(
+    "Statistics: 'Individual Performance' is the tower's performance P itself, unweighted: it is about 18 in all "
+    "three published tasks although Keep All weighs the own tower x10.",
+    "Statistics: the two 'Reward for Moving Resources to ...' are what the own-tower and neighbourhood terms paid, "
+    "weighted: they follow the task weights in the published results (to Self 143 in Keep All against 0.2 in the "
+    "main task, to Neighbours 513 in Distribute All against 49).",
+))
+
+
+@STATISTICS.counter("Individual Performance", "The tower's performance P (fire distance and approach), unweighted.")
+def individual_performance(prev, state, actions, params):
+    return tower_performance(state, params)
+
+
+STATISTICS.mirror("Collective Performance", "What the collective term paid (weighted).", "collective_performance")
+STATISTICS.mirror("Reward for Moving Resources to Neighbours", "What the neighbourhood term paid (weighted).",
+                  "neighbour_performance")
+STATISTICS.mirror("Reward for Moving Resources to Self", "What the own tower's term paid (weighted).",
+                  "watch_tower_performance")

@@ -1,0 +1,74 @@
+"""The published results shipped with the package, checked against numbers read by hand from the JSON."""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+from pathlib import Path
+
+import pytest
+
+from hivex_dsl import published
+from hivex_dsl.compiler import compile as compile_scenario
+
+SHARED = Path("/work/shared/paper/published-test-results.json")
+
+
+def test_wrm_main_terrain_1_as_read_by_hand():
+    cell = published.cell("wildfire_resource_management", 0, 1)
+    assert (cell.return_mean, cell.return_std) == (93.9174, 37.0585)
+    moved = cell.statistics["WildfireResourceManagement/Reward for Moving Resources to Neighbours"]
+    assert moved == (49.371, 24.7632)
+    assert cell.statistic("Reward for Moving Resources to Self") == (0.2247, 0.1053)
+    assert cell.statistics["Environment/Cumulative Reward"] == (93.9174, 37.0585)
+
+
+def test_wfc_patterns_start_at_zero_and_opc_has_no_level():
+    assert published.cell("wind_farm_control", 0, 8).return_mean == 4602.3256
+    assert published.cell("wind_farm_control", 1, 0).statistic("Avoid Damage Reward") == (4826.7562, 36.9559)
+    avoid = published.cell("ocean_plastic_collection", 3, None)
+    assert (avoid.return_mean, avoid.return_std) == (-2.0388, 1.6475)
+    assert avoid.statistic("Local Reward") == (-2.8543, 1.1866)
+    assert published.cell("ocean_plastic_collection", 3, 1) is None
+
+
+def test_cells_missing_from_the_paper_are_none():
+    assert published.cell("drone_based_reforestation", 4, 1) is None  # Drop Seed: no published result
+    assert published.cell("wildfire_resource_management", 0, 0) is None  # terrain levels start at 1
+    assert published.cell("no_such_env", 0, 1) is None
+
+
+def test_cells_lists_every_task_and_level_in_order():
+    wrm = published.cells("wildfire_resource_management")
+    assert len(wrm) == 3 * 10
+    assert [(c.task_index, c.level) for c in wrm[:3]] == [(0, 1), (0, 2), (0, 3)]
+    dbr_tasks = sorted({c.task_index for c in published.cells("drone_based_reforestation")})
+    assert dbr_tasks == [0, 1, 2, 3, 5, 6, 7]
+    aws = published.cell("aerial_wildfire_suppression", 5, 10)
+    assert aws.statistic("Water Pickup") == (0.9978, 0.0097) and aws.return_mean == 95.0801
+
+
+def test_cell_is_frozen():
+    cell = published.cell("ocean_plastic_collection", 0, None)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        cell.return_mean = 0.0
+
+
+@pytest.mark.parametrize("scenario, expected", [
+    ("wildfire_resource_management/main", ("wildfire_resource_management", 0, 1, 93.9174)),
+    ("wildfire_resource_management/keep_all", ("wildfire_resource_management", 1, 1, 195.4663)),
+    ("ocean_plastic_collection/avoid_plastic", ("ocean_plastic_collection", 3, None, -2.0388)),
+    ("wind_farm_control/main", ("wind_farm_control", 0, 0, 4611.6462)),
+])
+def test_cell_for_a_bundled_scenario(scenario, expected):
+    cell = published.cell_for(compile_scenario(scenario))
+    assert (cell.environment, cell.task_index, cell.level, cell.return_mean) == expected
+
+
+def test_cell_for_a_task_without_a_published_result():
+    assert published.cell_for(compile_scenario("drone_based_reforestation/drop_seed")) is None
+
+
+@pytest.mark.skipif(not SHARED.exists(), reason="the shared paper folder is not on this machine")
+def test_the_packaged_file_is_the_shared_one():
+    assert published.raw() == json.loads(SHARED.read_text())
