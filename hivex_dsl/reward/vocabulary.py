@@ -79,6 +79,15 @@ class QuantityFeed:
         self.now = {name: np.where(mask if value.ndim == 1 else mask[:, None], fresh[name], value)
                     for name, value in self.now.items()}
 
+    def respawn(self, state: Any, mask: np.ndarray) -> None:
+        """After agents of ``mask`` (batch, agents) started afresh in running worlds: their per-agent values
+        are read again (no events happened to them); per-world values stay the step's."""
+        if not self.now:
+            return
+        fresh = self.vocabulary.values(state, self.quiet, self.compiled, self.names)
+        self.now = {name: np.where(mask, fresh[name], value) if value.ndim == 2 else value
+                    for name, value in self.now.items()}
+
     def advance(self, state: Any, events: Mapping[str, np.ndarray]) -> None:
         self.before = self.now
         compiled = self.compiled

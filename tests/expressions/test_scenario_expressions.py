@@ -107,3 +107,20 @@ def test_a_bare_expression_is_short_for_a_term_with_only_expr():
     long = _scenario(terms={"facing": {"expr": "alignment"}})
     assert short.fingerprint == long.fingerprint
     assert short.resolved()["terms"] == {"facing": {"expr": "alignment"}}
+
+
+def test_a_respawned_agent_starts_its_prev_from_where_it_respawned():
+    compiled = hivex_dsl.compile({"hivex": 1, "environment": "ocean_plastic_collection", "agents": 2,
+                                  "episode_length": 50, "terms": {"moved": "abs(delta(x_m)) + abs(delta(y_m))"}})
+    env = BatchedEnv(compiled, batch=1)
+    env.reset(seed=3)
+    env.step(np.tile([1, 0], (1, 2, 1)))
+    before = env.state.position.copy()
+    env.respawn_agents(np.array([[True, False]]))
+    np.testing.assert_array_equal(env.feed.now["x_m"][0], [env.state.position[0, 0, 0], before[0, 1, 0]])
+    respawned_at = env.state.position[0, 0].copy()
+    assert np.abs(respawned_at - before[0, 0]).sum() > 1.0  # the respawn moved the vessel away
+    moved = env.step(np.tile([0, 0], (1, 2, 1))).terms["moved"]
+    top_speed = compiled.params.acceleration / compiled.params.drag
+    assert moved[0, 0] <= 2 * top_speed  # one coasting step from the respawn point, no jump from the old place
+    np.testing.assert_allclose(moved[0, 0], np.abs(env.state.position[0, 0] - respawned_at).sum(), atol=1e-9)
