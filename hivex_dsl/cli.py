@@ -270,7 +270,7 @@ def cmd_preview(args) -> int:
 
 
 def cmd_bench(args) -> int:
-    from . import bench, registry
+    from . import bench, bench_expressions, registry
 
     available = list(registry.environments())
     unknown = [e for e in args.env or [] if e not in available]
@@ -283,11 +283,17 @@ def cmd_bench(args) -> int:
         raise HivexError("the reference needs the mpe2 package: pip install 'hivex-dsl[bench]' (or pass --no-reference)")
     report = bench.run_benchmarks(args.env or available, args.seconds, args.repeats, args.batch, reference,
                                   progress=lambda what: print(f"measuring {what} ...", file=sys.stderr))
+    if bench_expressions.ENVIRONMENT in (args.env or available):
+        print("measuring expression terms ...", file=sys.stderr)
+        report["expression_terms"] = bench_expressions.run(args.seconds, args.repeats, bench.ONE_CORE)
     text = json.dumps(report, indent=2) + "\n"
     if args.output:
         args.output.parent.mkdir(parents=True, exist_ok=True)
         args.output.write_text(text, encoding="utf-8")
-    sys.stdout.write(text if args.json else bench.format_table(report) + "\n")
+    table = bench.format_table(report)
+    if report.get("expression_terms"):
+        table += "\n\n" + bench_expressions.format_table(report["expression_terms"])
+    sys.stdout.write(text if args.json else table + "\n")
     return EXIT_OK
 
 

@@ -7,6 +7,8 @@ must fit) runs here, so a scenario that compiles always resets and steps.
 from __future__ import annotations
 
 import copy
+import dataclasses
+import functools
 import hashlib
 import itertools
 import json
@@ -20,8 +22,12 @@ from . import registry
 from .errors import Location, Problem, ScenarioError, did_you_mean, got, kind_of, one_of, show
 from .loader import Loaded, PathKey, load_file
 from .resources import resolve_scenario_path
+from .reward.expressions import event_names, with_expressions
 from .spec.common import SCHEMA_VERSION, StrictModel
-from .spec.scenario import SWEEPABLE_PREFIXES, Seeds, sweepable_fields
+from .spec.expressions import WeightSchedule
+from .spec.expression_keys import (clashing_terms, declared_term_names, expression_keys, expression_term_names,
+                                   split_ends_on)
+from .spec.scenario import SWEEPABLE_PREFIXES, Seeds, scenario_model, sweepable_fields
 from .spec.validate import dotted, validate_model
 
 MAX_SWEEP_POINTS = 10_000
@@ -45,6 +51,14 @@ class CompiledScenario:
     ends_on: tuple[str, ...]
     sweep_point: Mapping[str, Any] = field(default_factory=dict)
     generators: Mapping[str, StrictModel] = field(default_factory=dict)
+    schedules: Mapping[str, WeightSchedule] = field(default_factory=dict)  # weights moving with env steps
+    expressions: Any = None  # a reward.expressions.ScenarioExpressions when the scenario writes any
+
+    @property
+    def term_contracts(self) -> tuple:
+        """Contracts of every term this scenario can weight: the environment's, then its expression terms."""
+        own = self.expressions.contracts if self.expressions is not None else ()
+        return tuple(term.contract for term in self.entry.terms) + own
 
     @property
     def environment(self) -> str:
@@ -88,17 +102,19 @@ class CompiledScenario:
             out[self.entry.info.level_field] = self.level
         out |= {"agents": self.agents, "episode_length": self.episode_length,
                 "seeds": {"train": _plain(self.seeds.train), "test": _plain(self.seeds.test)},
-                "weights": dict(self.weights), "params": self.params.model_dump(mode="json")}
+                "weights": {name: self.schedules[name].as_dict() if name in self.schedules else weight
+                            for name, weight in self.weights.items()},
+                "params": self.params.model_dump(mode="json")}
         if self.generators:
             out["generators"] = {name: spec.model_dump(mode="json") for name, spec in self.generators.items()}
-        return out
+        return out | expression_keys(self.spec)
 
     @cached_property
     def fingerprint(self) -> str:
         """sha256 of what determines behaviour: resolved content (not name) and term contracts."""
         content = {key: value for key, value in self.resolved().items() if key != "name"}
         content["ends_on"] = list(self.ends_on)
-        content["term_contracts"] = [term.contract.as_dict() for term in self.entry.terms]
+        content["term_contracts"] = [contract.as_dict() for contract in self.term_contracts]
         canonical = json.dumps(content, sort_keys=True, separators=(",", ":"), allow_nan=False)
         return "sha256:" + hashlib.sha256(canonical.encode()).hexdigest()
 
@@ -113,7 +129,7 @@ class CompiledScenario:
             "task_index": self.task_index,
             "ends_on": list(self.ends_on),
             "sweep_point": dict(self.sweep_point),
-            "term_contracts": {t.name: t.contract.as_dict() for t in self.entry.terms},
+            "term_contracts": {contract.name: contract.as_dict() for contract in self.term_contracts},
             "spaces": {"observation": describe_space(simulator.observation_space),
                        "action": describe_space(simulator.action_space)},
         }
@@ -243,7 +259,7 @@ def _sweep_points(loaded: Loaded, entry) -> list[Assignment]:
 def _sweep_target(loaded: Loaded, entry, key: str) -> PathKey:
     vocab = entry.vocabulary
     fields = sweepable_fields(vocab)
-    nested = {"params": tuple(entry.params_model.model_fields), "weights": entry.terms.names,
+    nested = {"params": tuple(entry.params_model.model_fields), "weights": entry.term_names + expression_term_names(loaded.data),
               "seeds": tuple(Seeds.model_fields)}
     options = list(fields) + [f"{p}.{n}" for p in SWEEPABLE_PREFIXES for n in nested[p]]
     generator_fields = [f"generators.{name}.{f}" for name, slot in entry.generators.items()
@@ -299,11 +315,6 @@ def _compile_point(loaded: Loaded, entry, assignment: Assignment, budget: list[i
     return compiled
 
 
-def _validated(entry, data: dict, source: str, point: dict, locate) -> CompiledScenario:
-    spec = validate_model(entry.scenario_model, data, locate)
-    return _resolve(entry, spec, source, point, locate)
-
-
 def _blame(loaded: Loaded, entry, data: dict, assignment: Assignment, locate, path: PathKey,
            budget: list[int]) -> Location:
     """Where the user wrote what makes the semantic problem at ``path``: the first written value whose
@@ -352,16 +363,39 @@ def _resolve(entry, spec: StrictModel, source: str, point: dict[str, Any], locat
     table = entry.reward_table
     task = spec.task if isinstance(spec.task, int) else table.task_names.index(spec.task)
     weights = table.column(task)
-    weights.update({name: w for name, w in spec.weights.model_dump().items() if w is not None})
+    weights.update({name: 1.0 for name in declared_term_names(spec)})  # a declared term counts unless weighted
+    written = {name: getattr(spec.weights, name) for name in type(spec.weights).model_fields}
+    schedules = {name: w for name, w in written.items() if isinstance(w, WeightSchedule)}
+    weights.update({name: w.start if name in schedules else w for name, w in written.items() if w is not None})
     level = None
     if entry.info.level_field == "pattern":
         level = spec.pattern if isinstance(spec.pattern, int) else entry.level_names.index(spec.pattern)
     elif entry.info.level_field == "terrain_level":
         level = spec.terrain_level
     return CompiledScenario(entry=entry, spec=spec, source=source, task_index=task, level=level,
-                            weights=MappingProxyType(weights), ends_on=table.tasks[task].ends_on,
+                            weights=MappingProxyType(weights), schedules=MappingProxyType(schedules),
+                            ends_on=(event_names(table.tasks[task].ends_on, entry.events)
+                                     + split_ends_on(spec, entry.events)[0]),
                             sweep_point=MappingProxyType(point),
                             generators=MappingProxyType(_generator_specs(entry, spec, level, locate)))
+
+
+def _validated(entry, data: dict, source: str, point: dict, locate) -> CompiledScenario:
+    """The scenario ``data`` validated, resolved and with its expressions compiled (no semantic checks yet)."""
+    clashes = clashing_terms(data, entry.term_names)
+    if clashes:
+        raise ScenarioError([Problem(locate(path, key=True), message) for path, message in clashes])
+    spec = validate_model(_scenario_model(entry, expression_term_names(data)), data, locate)
+    return with_expressions(_resolve(entry, spec, source, point, locate), spec, locate)
+
+
+@functools.lru_cache(maxsize=64)
+def _scenario_model(entry, extra_terms: tuple[str, ...]) -> type[StrictModel]:
+    """The environment's scenario model, its weights also naming the scenario's expression terms."""
+    if not extra_terms:
+        return entry.scenario_model
+    vocab = entry.vocabulary
+    return scenario_model(dataclasses.replace(vocab, term_names=vocab.term_names + extra_terms))
 
 
 def _generator_specs(entry, spec: StrictModel, level: int | None, locate) -> dict[str, StrictModel]:
