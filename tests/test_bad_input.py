@@ -247,7 +247,7 @@ def test_stepping_before_reset_says_so():
     env = hivex_dsl.parallel_env(MAIN)
     with pytest.raises(ResetNeeded, match=r"call reset\(\) before step\(\): the environment has not been reset yet"):
         env.step({a: 0 for a in env.possible_agents})
-    venv = hivex_dsl.vector_env(MAIN, num_envs=1)
+    venv = hivex_dsl.vector_env(MAIN, num_worlds=1)
     with pytest.raises(ResetNeeded, match="has not been reset yet"):
         venv.step(np.zeros(venv.num_envs, np.int64))
     assert issubclass(ResetNeeded, hivex_dsl.HivexError) and issubclass(ResetNeeded, RuntimeError)

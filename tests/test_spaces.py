@@ -164,6 +164,6 @@ def test_valid_actions_never_look_for_a_culprit(monkeypatch):
     env = hivex_dsl.parallel_env({"hivex": 1, "environment": "wind_farm_control", "agents": 3})
     env.reset(seed=1)
     env.step({a: i % 3 for i, a in enumerate(env.agents)})
-    venv = hivex_dsl.vector_env({"hivex": 1, "environment": "wind_farm_control", "agents": 3}, num_envs=2)
+    venv = hivex_dsl.vector_env({"hivex": 1, "environment": "wind_farm_control", "agents": 3}, num_worlds=2)
     venv.reset(seed=1)
     venv.step(np.array([0, 1, 2, 2, 1, 0]))
