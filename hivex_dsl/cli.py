@@ -1,4 +1,4 @@
-"""The `hivex` command: validate | compile | run | render | schema | docs | preview | bench | list."""
+"""The `hivex` command: validate | compile | run | render | schema | docs | preview | bench | list | train | evaluate."""
 
 from __future__ import annotations
 
@@ -83,6 +83,10 @@ def _parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("list", help="list the bundled scenarios")
     p.set_defaults(handler=cmd_list)
+
+    from .train.commands import add_commands as add_train_commands
+
+    add_train_commands(sub, _positive)
     return parser
 
 
