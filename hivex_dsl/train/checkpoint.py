@@ -49,4 +49,6 @@ def policy_for(checkpoint: dict[str, Any], compiled: CompiledScenario, device: s
         agent.load_state_dict(checkpoint["model"])
     except RuntimeError as exc:
         raise TrainError(f"the checkpoint does not fit scenario {compiled.name!r}: its spaces differ ({exc})") from None
-    return agent.to(device).eval()
+    from .ppo import torch_device
+
+    return agent.to(torch_device(device)).eval()

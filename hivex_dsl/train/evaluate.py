@@ -10,12 +10,12 @@ from typing import Any
 import numpy as np
 import torch
 
-from ..adapters.gymnasium import HivexVectorEnv
 from ..compiler import CompiledScenario
 from .checkpoint import load_checkpoint, policy_for
 from .config import TrainError
 from .logs import EpisodeLog
 from .networks import to_tensors
+from .ppo import make_env
 
 MAX_WORLDS = 16
 
@@ -39,12 +39,8 @@ def play(compiled: CompiledScenario, agent: torch.nn.Module, episodes: int, spli
     """Run the policy until ``episodes * agents`` per-agent episodes ended; -> their concatenated summaries."""
     torch.manual_seed(seed)
     wanted = episodes * compiled.agents
-    try:
-        env = HivexVectorEnv(compiled, num_worlds=min(episodes, MAX_WORLDS), split=split)
-    except ValueError as exc:
-        raise TrainError(f"cannot evaluate {compiled.name!r} on its {split} seeds: {exc}") from None
+    env, obs = make_env(compiled, min(episodes, MAX_WORLDS), split)
     rounds = math.ceil(episodes / env.num_worlds) + 1
-    obs, _ = env.reset()
     log = EpisodeLog()
     for _ in range(rounds * (compiled.episode_length + 1)):
         with torch.no_grad():

@@ -16,7 +16,9 @@ def episode_summaries(infos: dict[str, Any]) -> dict[str, Any] | None:
     Reads ``hivex_episode`` (the new name) or ``episode`` (the old one)."""
     for key, mask_key in EPISODE_KEYS:
         if key in infos:
-            summary, ended = infos[key], np.asarray(infos[mask_key], dtype=bool)
+            summary = infos[key]
+            # a slot restarting on the very step its world ends reports an empty episode: no experience
+            ended = np.asarray(infos[mask_key], dtype=bool) & (np.asarray(summary["length"]) > 0)
             return {"return": np.asarray(summary["return"])[ended], "length": np.asarray(summary["length"])[ended],
                     "reward_terms": {k: np.asarray(v)[ended] for k, v in summary.get("reward_terms", {}).items()},
                     "statistics": {k: np.asarray(v)[ended] for k, v in summary.get("statistics", {}).items()}}

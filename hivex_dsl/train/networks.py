@@ -187,15 +187,22 @@ class ActorCritic(nn.Module):
             return None
         return torch.cat([obs[k].reshape(obs[k].shape[0], -1) for k in self.actor.vectors], dim=1)
 
+    def _here(self, *tensors):
+        """Inputs moved to the network's device (rollouts stay in CPU memory; outputs come back there)."""
+        device = self.value.weight.device
+        return [{k: v.to(device) for k, v in t.items()} if isinstance(t, dict) else t.to(device) for t in tensors]
+
     def observe(self, obs: dict[str, torch.Tensor]) -> None:
         """Update the running normaliser with a rollout batch of observations."""
+        (obs,) = self._here(obs)
         vector = self._vector(obs)
         if vector is not None:
             self.norm.update(vector)
 
     def get_value(self, obs: dict[str, torch.Tensor]) -> torch.Tensor:
+        (obs,) = self._here(obs)
         vector = self._vector(obs)
-        return self.value(self.critic(obs, None if vector is None else self.norm(vector))).squeeze(-1)
+        return self.value(self.critic(obs, None if vector is None else self.norm(vector))).squeeze(-1).cpu()
 
     def _distributions(self, obs: dict[str, torch.Tensor]) -> tuple[Normal | None, list[Categorical]]:
         vector = self._vector(obs)
@@ -207,6 +214,7 @@ class ActorCritic(nn.Module):
 
     def act(self, obs: dict[str, torch.Tensor], deterministic: bool = False):
         """-> continuous (B, c), discrete (B, d) int64, log-prob (B,): sampled, or the modes if deterministic."""
+        (obs,) = self._here(obs)
         normal, cats = self._distributions(obs)
         first = next(iter(obs.values()))
         batch = first.shape[0]
@@ -217,13 +225,14 @@ class ActorCritic(nn.Module):
         disc = torch.stack([c.probs.argmax(1) if deterministic else c.sample() for c in cats], 1) \
             if cats else torch.zeros(batch, 0, dtype=torch.int64, device=first.device)
         logp, _ = self._log_prob_entropy(normal, cats, cont, disc)
-        return cont, disc, logp
+        return cont.cpu(), disc.cpu(), logp.cpu()
 
     def evaluate(self, obs: dict[str, torch.Tensor], cont: torch.Tensor, disc: torch.Tensor):
         """-> log-prob (B,), entropy (B,), value (B,) of given actions."""
+        obs, cont, disc = self._here(obs, cont, disc)
         normal, cats = self._distributions(obs)
         logp, entropy = self._log_prob_entropy(normal, cats, cont, disc)
-        return logp, entropy, self.get_value(obs)
+        return logp.cpu(), entropy.cpu(), self.get_value(obs)
 
     @staticmethod
     def _log_prob_entropy(normal, cats, cont, disc):

@@ -24,7 +24,7 @@ from torch import nn
 from ..adapters.gymnasium import HivexVectorEnv
 from ..compiler import CompiledScenario
 from .checkpoint import save_checkpoint
-from .config import PPOConfig
+from .config import PPOConfig, TrainError
 from .logs import EpisodeLog, Progress, ScalarLog
 from .networks import ActorCritic, to_tensors
 
@@ -47,6 +47,28 @@ def gae(rewards: torch.Tensor, values: torch.Tensor, next_value: torch.Tensor, t
         running = delta + gamma * lam * (1.0 - done[t]) * running
         advantages[t] = running
     return advantages, advantages + values
+
+
+def make_env(compiled: CompiledScenario, num_worlds: int, split: str) -> tuple[HivexVectorEnv, Any]:
+    """The vector env on ``split`` and its first observations, reset on the split's seed (explicitly, so
+    every run of one seed plays the same worlds)."""
+    try:
+        env = HivexVectorEnv(compiled, num_worlds=num_worlds, split=split)
+    except ValueError as exc:
+        raise TrainError(f"cannot run {compiled.name!r} on its {split} seeds: {exc}") from None
+    observations, _ = env.reset(seed=int(getattr(compiled.seeds, split)))
+    return env, observations
+
+
+def torch_device(name: str) -> torch.device:
+    """A torch device that exists here, or a clear error."""
+    try:
+        device = torch.device(name)
+    except RuntimeError as exc:
+        raise TrainError(f"unknown device {name!r}: {exc}") from None
+    if device.type == "cuda" and not torch.cuda.is_available():
+        raise TrainError("device cuda was asked for, but torch sees no CUDA GPU here (use --device cpu)")
+    return device
 
 
 def acting_mask(previous_done: np.ndarray, active: np.ndarray) -> np.ndarray:
@@ -156,11 +178,10 @@ def train(compiled: CompiledScenario, cfg: PPOConfig, run_dir: Path, progress: b
     torch.set_num_threads(cfg.torch_threads)
     torch.manual_seed(cfg.seed)
     rng = np.random.default_rng(cfg.seed)
-    env = HivexVectorEnv(compiled, num_worlds=cfg.num_worlds, split="train")
-    agent = ActorCritic(env.single_observation_space, env.single_action_space, cfg)
+    env, obs = make_env(compiled, cfg.num_worlds, "train")
+    agent = ActorCritic(env.single_observation_space, env.single_action_space, cfg).to(torch_device(cfg.device))
     optimizer = torch.optim.Adam(agent.parameters(), lr=cfg.learning_rate)
     slots, steps = env.num_envs, cfg.rollout_length(env.num_envs)
-    obs, _ = env.reset()
     state = {"obs": to_tensors(obs), "done": np.zeros(slots, bool), "active": np.ones(slots, bool)}
     buf = Rollout(steps, slots, state["obs"], agent.layout.continuous, len(agent.layout.nvec))
     (run_dir / "config.json").write_text(json.dumps({"hyperparameters": cfg.model_dump(mode="json"),

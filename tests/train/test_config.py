@@ -67,3 +67,11 @@ def test_buffer_size_counts_experiences_over_all_slots():
     assert cfg.rollout_length(64) == 32  # 8 worlds x 8 turbines: 32 steps each fill 2048 experiences
     assert PPOConfig(buffer_size=2048, time_horizon=16).rollout_length(64) == 16  # never past time_horizon
     assert cfg.rollout_length(4096) == 1
+
+
+def test_a_device_that_is_not_here_is_a_clear_error():
+    from hivex_dsl.train.ppo import torch_device
+
+    assert torch_device("cpu").type == "cpu"
+    with pytest.raises(TrainError, match="unknown device"):
+        torch_device("abacus")
