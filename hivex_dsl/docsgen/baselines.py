@@ -80,7 +80,18 @@ def baselines_context(directory: Path) -> dict[str, Any]:
     """Rows of the baselines page, one per environment (trained or not)."""
     data = _load(directory)
     rows = [_row(env_id, data.get(env_id)) for env_id in registry.environments()]
-    return {"rows": rows, "trained": [r for r in rows if r["trained"]], "left": [r for r in rows if not r["trained"]]}
+    return {"rows": rows, "trained": [r for r in rows if r["trained"]], "left": [r for r in rows if not r["trained"]],
+            **hyperparameter_table()}
+
+
+def hyperparameter_table() -> dict[str, Any]:
+    """The shipped paper hyperparameters: ``keys`` (the union, in file order) and one row per environment."""
+    from ..train.config import paper_defaults
+
+    defaults = {env_id: paper_defaults(env_id) for env_id in registry.environments()}
+    keys = list(dict.fromkeys(key for values in defaults.values() for key in values))
+    return {"hp_keys": keys, "hp_rows": [{"environment": env_id, "values": [values.get(k, "-") for k in keys]}
+                                         for env_id, values in defaults.items()]}
 
 
 def baseline_images(directory: Path) -> dict[str, bytes]:

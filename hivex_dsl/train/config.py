@@ -4,7 +4,8 @@ The paper trained with ML-Agents; its appendix lists one trainer config per envi
 ``hyperparams/<environment>.yaml`` with ML-Agents' own key names and are the defaults of `hivex train`.
 How each maps onto the PPO of ``ppo.py`` (parameter-shared over every (world, agent) slot):
 
-- ``max_steps``: agent-steps (experiences over all agents), as ML-Agents counts them.
+- ``max_steps``: agent-steps (experiences over all agents), as ML-Agents counts them; every slot-step
+  counts, the masked reset steps after an ending included.
 - ``buffer_size``: experiences collected over all slots before an update. A rollout is
   ``buffer_size // slots`` steps of every slot (slots = ``num_worlds * agents``), at most ``time_horizon``.
 - ``time_horizon``: ML-Agents cuts trajectories there and bootstraps from the value; our rollouts are
