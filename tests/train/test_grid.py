@@ -45,3 +45,18 @@ def test_a_sweep_runs_on_a_local_ray_instance(tiny, tmp_path):
     results = run_grid(points, configs, tmp_path, eval_episodes=1, ray_address="local",
                        ray_init={"num_cpus": 2}, progress=False)
     _check(results, points, tmp_path)
+
+
+def test_the_command_trains_a_sweep_file(tmp_path, capsys):
+    from hivex_dsl.cli import main
+
+    sweep = short_scenario("wind_farm_control", episode_length=8) | {"sweep": {"pattern": [0, 1]}}
+    del sweep["pattern"]
+    path = tmp_path / "sweep.yaml"
+    path.write_text(json.dumps(sweep))
+    args = ["train", str(path), "-o", str(tmp_path / "runs"), "--steps", "64", "--no-progress",
+            "--set", "num_worlds=1", "--set", "buffer_size=32", "--set", "hidden_units=8"]
+    assert main(args) == 0
+    out = capsys.readouterr().out
+    assert "wfc-main[pattern=0]" in out and "wfc-main[pattern=1]" in out
+    assert len(json.loads((tmp_path / "runs" / "results.json").read_text())) == 2
