@@ -83,3 +83,11 @@ def test_bad_training_input_is_a_clear_error(tmp_path, capsys):
     assert main(["evaluate", str(tmp_path / "w" / "checkpoint.pt"),
                  "scenarios/aerial_wildfire_suppression/main.yaml"]) == 2
     assert "spaces differ" in capsys.readouterr().err
+
+
+def test_without_torch_the_commands_say_what_to_install(monkeypatch, capsys):
+    import sys
+
+    monkeypatch.setitem(sys.modules, "torch", None)  # import torch now raises ImportError
+    assert main(["train", "scenarios/wind_farm_control/main.yaml"]) == 2
+    assert "pip install" in capsys.readouterr().err
