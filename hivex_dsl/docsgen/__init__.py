@@ -53,10 +53,11 @@ def render_docs(results: Path | None = None, baselines: Path | None = None) -> d
     ``baselines`` is the folder of committed baselines (benchmarks/baselines); baselines.md shows them.
     """
     jinja = _jinja()
+    has_baselines = baselines is not None and Path(baselines).is_dir()
     docs: dict[str, str | bytes] = {
         "index.md": jinja.get_template("index.md.j2").render(
             **index_context(), has_performance=results is not None and Path(results).is_file(),
-            has_baselines=baselines is not None and Path(baselines).is_dir()),
+            has_baselines=has_baselines),
         "language.md": jinja.get_template("language.md.j2").render(**language_context()),
         SCHEMA_FILE: schema_text(),
     }
@@ -66,7 +67,6 @@ def render_docs(results: Path | None = None, baselines: Path | None = None) -> d
     docs |= {rel: image for rel, (_, image) in figures.items()}
     if results is not None and Path(results).is_file():
         docs["performance.md"] = jinja.get_template("performance.md.j2").render(**performance_context(results))
-    has_baselines = baselines is not None and Path(baselines).is_dir()
     if has_baselines:
         docs[BASELINES_PAGE] = jinja.get_template("baselines.md.j2").render(**baselines_context(baselines))
         docs |= baseline_images(baselines)

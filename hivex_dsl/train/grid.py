@@ -3,6 +3,7 @@
 Each point trains in its own run directory ``RUN_DIR/NNN-<name>`` and returns its summary; the
 summaries are gathered into one table (``RUN_DIR/results.json``). On a cluster the run directories are
 written on the node that ran the point: give RUN_DIR on a shared filesystem to see them all in one place.
+Every node of a cluster needs hivex-dsl with its train extra installed (``pip install 'hivex-dsl[train]'``).
 """
 
 from __future__ import annotations
