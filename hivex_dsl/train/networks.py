@@ -207,9 +207,13 @@ class ActorCritic(nn.Module):
     def _distributions(self, obs: dict[str, torch.Tensor]) -> tuple[Normal | None, list[Categorical]]:
         vector = self._vector(obs)
         hidden = self.actor(obs, None if vector is None else self.norm(vector))
-        normal = Normal(self.mu(hidden), self.log_std.exp().expand(hidden.shape[0], -1)) if self.mu is not None else None
-        cats = [Categorical(logits=chunk) for chunk in torch.split(self.logits(hidden), self.layout.nvec, dim=1)] \
-            if self.logits is not None else []
+        # our own network makes the parameters: skip torch's argument validation, a cost on every call
+        normal, cats = None, []
+        if self.mu is not None:
+            normal = Normal(self.mu(hidden), self.log_std.exp().expand(hidden.shape[0], -1), validate_args=False)
+        if self.logits is not None:
+            chunks = torch.split(self.logits(hidden), self.layout.nvec, dim=1)
+            cats = [Categorical(logits=chunk, validate_args=False) for chunk in chunks]
         return normal, cats
 
     def act(self, obs: dict[str, torch.Tensor], deterministic: bool = False):
