@@ -1,4 +1,5 @@
-"""The `hivex` command: validate | compile | run | render | schema | docs | preview | bench | list | train | evaluate."""
+"""The `hivex` command: validate | compile | run | render | audit | schema | docs | preview | bench | list |
+train | evaluate."""
 
 from __future__ import annotations
 
@@ -59,6 +60,8 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--fps", type=_positive, default=20, help="GIF frames per second (default 20)")
     p.set_defaults(handler=cmd_render)
 
+    _audit_parser(sub)
+
     p = sub.add_parser("schema", help="print the JSON Schema of the scenario language")
     p.set_defaults(handler=cmd_schema)
 
@@ -90,8 +93,44 @@ def _parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _audit_parser(sub) -> None:
+    p = sub.add_parser("audit", help="property-test a scenario's reward terms with all-zeros, random and scripted "
+                                     "policies; compare with the published results")
+    p.add_argument("file", nargs="?", help="scenario file (every point of a sweep is audited)")
+    p.add_argument("--episodes", type=_positive, default=2, help="test episodes per policy (default 2)")
+    p.add_argument("--json", action="store_true", help="print the audit as JSON")
+    p.add_argument("--strict", action="store_true", help="exit 1 when a flag is raised")
+    p.add_argument("--suite", action="store_true", help="audit every task of every environment at level 1 "
+                                                        "(the fidelity page's numbers) instead of FILE")
+    p.add_argument("-o", "--output", type=Path, help="with --suite: write the report as JSON to this file")
+    p.set_defaults(handler=cmd_audit)
+
+
+def cmd_audit(args) -> int:
+    from .audit import audit_all, describe
+
+    if args.suite == bool(args.file):
+        print("hivex audit: give a scenario FILE or --suite (not both)", file=sys.stderr)
+        return EXIT_USAGE
+    if args.suite:
+        from .fidelity import measure_suite, write_suite
+
+        report = measure_suite(args.episodes)
+        audits = report["scenarios"]
+        if args.output:
+            write_suite(report, args.output)
+            print(f"wrote {args.output}", file=sys.stderr)
+    else:
+        from .compiler import compile_all
+
+        audits = [a.as_dict() for a in audit_all(compile_all(args.file), args.episodes)]
+    print(json.dumps(audits, indent=2) if args.json else "\n\n".join(describe(a) for a in audits))
+    flagged = any(a["flags"] for a in audits)
+    return EXIT_FAIL if args.strict and flagged else EXIT_OK
+
+
 def _policy_args(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--policy", choices=("scripted", "random"), default="scripted", help="default scripted")
+    p.add_argument("--policy", choices=("scripted", "random", "zeros"), default="scripted", help="default scripted")
     p.add_argument("--seed", type=int, default=None, help="environment seed (default: the scenario's split seeds)")
 
 

@@ -1,4 +1,5 @@
-"""Policies used by `hivex run`, `hivex render` and the tests: scripted (per environment) and random."""
+"""Policies used by `hivex run`, `hivex render`, `hivex audit` and the tests: scripted (per environment),
+random and all-zeros."""
 
 from __future__ import annotations
 
@@ -8,9 +9,10 @@ import numpy as np
 from gymnasium import spaces
 
 from .compiler import CompiledScenario
+from .spaces import placeholder_actions
 
 Policy = Callable[[Any], Any]
-POLICIES = ("scripted", "random")
+POLICIES = ("scripted", "random", "zeros")
 
 
 def random_policy(space: spaces.Space, shape: tuple[int, int], rng: np.random.Generator) -> Policy:
@@ -30,6 +32,18 @@ def random_policy(space: spaces.Space, shape: tuple[int, int], rng: np.random.Ge
     return lambda observations: sample(space)
 
 
+def zeros_policy(space: spaces.Space, shape: tuple[int, int]) -> Policy:
+    """The all-zeros action (0 clipped into the space; a Discrete's start) for every agent, every step."""
+
+    def tile(sample: Any) -> Any:
+        if isinstance(sample, dict):
+            return {k: tile(v) for k, v in sample.items()}
+        return np.broadcast_to(sample, shape + sample.shape)
+
+    actions = tile(placeholder_actions(space))
+    return lambda observations: actions
+
+
 def make_policy(name: str, compiled: CompiledScenario, space: spaces.Space, shape: tuple[int, int],
                 seed: int = 0) -> Policy:
     """A batched policy: observations (batch, agents, ...) -> actions (batch, agents, ...)."""
@@ -37,4 +51,6 @@ def make_policy(name: str, compiled: CompiledScenario, space: spaces.Space, shap
         return compiled.entry.scripted_policy(compiled)
     if name == "random":
         return random_policy(space, shape, np.random.default_rng(seed))
+    if name == "zeros":
+        return zeros_policy(space, shape)
     raise ValueError(f"unknown policy {name!r}; expected one of {', '.join(POLICIES)}")

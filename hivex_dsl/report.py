@@ -111,27 +111,11 @@ def run_episodes(compiled: CompiledScenario, policy_name: str, episodes: int, sp
 def collect_returns(compiled: CompiledScenario, policy_name: str, episodes: int, split: Split = "train",
                     seed: Optional[int] = None, progress: Optional[Progress] = None
                     ) -> tuple[np.ndarray, dict[str, np.ndarray]]:
-    """(episodes, agents) returns and unweighted per-term sums of whole episodes."""
-    core = BatchedEnv(compiled, batch=1, split=split)
-    space = core.sim.action_space
-    policy = make_policy(policy_name, compiled, space, core.shape, seed=0 if seed is None else seed)
-    returns = np.zeros((episodes, core.agents))
-    sums = {name: np.zeros((episodes, core.agents)) for name in core.composer.active}
-    for episode in range(episodes):
-        observations = core.reset(seed if episode == 0 else None)
-        step = 0
-        while core.alive.any():
-            actions = check_actions(space, policy(observations), compiled.agent_names, core.sim.action_meanings)
-            observations = core.step(actions).observations
-            step += 1
-            if progress:
-                progress.step(episode, step, compiled.episode_length)
-        returns[episode] = core.returns[0]
-        for name in sums:
-            sums[name][episode] = core.term_sums[name][0]
-        if progress:
-            progress.episode_done(episode, float(returns[episode].mean()), step)
-    return returns, sums
+    """(episodes, agents) returns and unweighted per-term sums of whole episodes (see :func:`hivex_dsl.rollout.rollout`)."""
+    from .rollout import rollout
+
+    done = rollout(compiled, policy_name, episodes, split, seed, progress)
+    return done.returns, done.terms
 
 
 def episode_frames(compiled: CompiledScenario, policy_name: str, steps: int, every: int,

@@ -48,9 +48,10 @@ class Statistic:
 class StatisticSet:
     """The statistics one environment logs, in the order the docs list them."""
 
-    def __init__(self, environment: str, prefix: str):
+    def __init__(self, environment: str, prefix: str, notes: tuple[str, ...] = ()):
         self.environment = environment
         self.prefix = prefix  # the logged names' "<prefix>/" (e.g. "AerialWildfireSuppression")
+        self.notes = notes  # how a name was read where the original's meaning is not written down, and why
         self._stats: dict[str, Statistic] = {}
         self.not_computed: dict[str, str] = {}  # logged name -> why this toolkit cannot compute it
 

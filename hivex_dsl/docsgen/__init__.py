@@ -17,6 +17,7 @@ from jinja2 import Environment, FileSystemLoader, StrictUndefined
 from .. import registry
 from .baselines import PAGE as BASELINES_PAGE, baseline_images, baselines_context, baselines_dir
 from .context import SCHEMA_FILE, env_page, environment_context, index_context, language_context, performance_context
+from .fidelity_page import fidelity_context
 from .figures import preview_figures
 from .schema import scenario_json_schema, schema_text
 
@@ -46,10 +47,12 @@ def _jinja() -> Environment:
     return env
 
 
-def render_docs(results: Path | None = None, baselines: Path | None = None) -> dict[str, Content]:
+def render_docs(results: Path | None = None, fidelity: Path | None = None,
+                baselines: Path | None = None) -> dict[str, Content]:
     """Relative path under docs/ -> file content (text, bytes, or an (H, W, 3) uint8 picture saved as PNG).
 
     ``results`` is a `hivex bench --json` report; when the file exists, performance.md shows it.
+    ``fidelity`` is the stored `hivex audit --suite` report fidelity.md shows (see hivex_dsl.fidelity).
     ``baselines`` is the folder of committed baselines (benchmarks/baselines); baselines.md shows them.
     """
     jinja = _jinja()
@@ -67,6 +70,7 @@ def render_docs(results: Path | None = None, baselines: Path | None = None) -> d
     docs |= {rel: image for rel, (_, image) in figures.items()}
     if results is not None and Path(results).is_file():
         docs["performance.md"] = jinja.get_template("performance.md.j2").render(**performance_context(results))
+    docs["fidelity.md"] = jinja.get_template("fidelity.md.j2").render(**fidelity_context(fidelity or Path("-")))
     if has_baselines:
         docs[BASELINES_PAGE] = jinja.get_template("baselines.md.j2").render(**baselines_context(baselines))
         docs |= baseline_images(baselines)
@@ -123,7 +127,7 @@ def write_docs(docs_dir: Path) -> list[str]:
     """Write render_docs() into docs_dir (creating dirs), delete generated files no longer produced
     (only files listed in docs/.generated), return the relative paths written or removed."""
     docs_dir = Path(docs_dir)
-    rendered = render_docs(bench_results(docs_dir), baselines_dir(docs_dir))
+    rendered = render_docs(bench_results(docs_dir), fidelity_results(docs_dir), baselines_dir(docs_dir))
     changed: list[str] = []
     for rel in sorted(set(_read_manifest(docs_dir) or ()) - set(rendered)):
         target = docs_dir / rel
@@ -153,6 +157,13 @@ def bench_results(docs_dir: Path) -> Path:
     return Path(docs_dir).resolve().parent / RESULTS_FILE
 
 
+def fidelity_results(docs_dir: Path) -> Path:
+    """The committed fidelity suite beside docs/ (benchmarks/results/fidelity.json of the same checkout)."""
+    from ..fidelity import FIDELITY_FILE
+
+    return Path(docs_dir).resolve().parent / FIDELITY_FILE
+
+
 def _prune_empty_dirs(directory: Path, root: Path) -> None:
     root = root.resolve()
     directory = directory.resolve()
@@ -166,7 +177,7 @@ def stale_docs(docs_dir: Path) -> list[str]:
     no longer produced (docs/.generated itself if it is missing or omits a produced file).
     Empty list == docs are fresh."""
     docs_dir = Path(docs_dir)
-    rendered = render_docs(bench_results(docs_dir), baselines_dir(docs_dir))
+    rendered = render_docs(bench_results(docs_dir), fidelity_results(docs_dir), baselines_dir(docs_dir))
     stale = [rel for rel, content in rendered.items() if not _is_fresh(docs_dir / rel, content)]
     listed = _read_manifest(docs_dir)
     if listed is None:

@@ -57,14 +57,18 @@ def test_crash_terms_are_minus_100_on_their_events(sim, state):
                                   [[0, -100, -100], [0, 0, 0]])
 
 
-def test_collide_with_trash_is_minus_100_whenever_a_pebble_was_touched(sim, state):
+def test_collide_with_trash_is_minus_1_whenever_a_pebble_was_touched(sim, state):
+    """The prose's -1 (the equation's -100 was copied from the vessel-collision block): once per step that
+    touches plastic, however many pebbles; in Avoid Plastic a touched pebble thus costs -1 (collect, weight
+    -1) - 1 = -2, the published return (-2.04)."""
     new = replace(state, collected=np.array([[0, 1, 4], [0, 0, 0]]))
-    np.testing.assert_array_equal(collide_with_trash(state, new, None, sim.params), [[0, -100, -100], [0, 0, 0]])
+    np.testing.assert_array_equal(collide_with_trash(state, new, None, sim.params), [[0, -1, -1], [0, 0, 0]])
 
 
-def test_close_to_other_vessel_pays_10_strictly_within_10_m(sim, state):
+def test_close_to_other_vessel_pays_1_within_10_m_inclusive(sim, state):
+    """The prose's +1 at a distance smaller than or equal to 10 (the equation prints 10 at d < 10)."""
     new = replace(state, closest=np.array([[9.99, 10.0, np.inf], [0.5, 25.0, 10.01]]))
-    np.testing.assert_array_equal(close_to_other_vessel(state, new, None, sim.params), [[10, 0, 0], [10, 0, 0]])
+    np.testing.assert_array_equal(close_to_other_vessel(state, new, None, sim.params), [[1, 1, 0], [1, 0, 0]])
 
 
 def test_nearby_delta_pays_only_rises_of_the_count(sim, state):

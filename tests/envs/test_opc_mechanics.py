@@ -66,7 +66,7 @@ def test_the_collector_takes_what_it_swept_in_front_of_the_vessel():
     assert floating(new) == set(left)
     assert new.collected[0, 0] == 4 and new.collected_total[0, 0] == 4
     assert collect_trash(state, new, None, sim.params)[0, 0] == 4.0
-    assert collide_with_trash(state, new, None, sim.params)[0, 0] == -100.0
+    assert collide_with_trash(state, new, None, sim.params)[0, 0] == -1.0  # once per step, however many
     assert outcome.events["collided_with_trash"][0, 0]
 
 

@@ -40,4 +40,4 @@ def test_avoid_plastic_holds_still_and_group_up_keeps_company():
     assert sums["collect_trash"].sum() <= 1.0 and avoid.mean() >= -101.0 / 3
     group, sums = collect_returns(short("group_up"), "scripted", episodes=1, split="test", seed=6000)
     assert sums["collided_with_other_vessel"].sum() == 0.0
-    assert sums["close_to_other_vessel"].mean() >= 10.0 * STEPS / 2  # close for at least half the steps
+    assert sums["close_to_other_vessel"].mean() >= 1.0 * STEPS / 2  # close (+1 a step) for at least half the steps

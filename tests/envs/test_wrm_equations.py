@@ -12,7 +12,8 @@ from hypothesis import given, settings, strategies as st
 import hivex_dsl
 from hivex_dsl.envs.wildfire_resource_management.params import WildfireResourceParams
 from hivex_dsl.envs.wildfire_resource_management.terms import (
-    broken_power_law, collective_performance, neighbour_performance, remapped_distance, watch_tower_performance)
+    broken_power_law, collective_performance, neighbour_performance, remapped_distance, tower_performance,
+    watch_tower_performance)
 from hivex_dsl.envs.wildfire_resource_management.types import Sighting
 
 PARAMS = WildfireResourceParams()
@@ -21,10 +22,10 @@ PARAMS = WildfireResourceParams()
 #   d = 0:              d' = 0.5,  (1.851852)^5 = 21.778662  -> 22.778662^-0.5 = 0.2095250
 #   d = 100, approach:  d' = 0.25, (0.925926)^5 = 0.680583   -> 1.680583^-0.5  = 0.7713829
 #   d = 100, not:       d' = 0.75, (2.777778)^5 = 165.38104  -> 166.38104^-0.5 = 0.0775260
-#   d = 200+, approach: d' = 0,                                 P = 1
-#   d = 600, not:       d' = 1,    (3.703704)^5 = 696.91722  -> 697.91722^-0.5 = 0.0378528
+#   d = 200, approach:  d' = 0,                                 P = 1
+#   d = 200, not:       d' = 1,    (3.703704)^5 = 696.91722  -> 697.91722^-0.5 = 0.0378528
 HAND = [(0.0, True, 0.2095250), (0.0, False, 0.2095250), (100.0, True, 0.7713829), (100.0, False, 0.0775260),
-        (200.0, True, 1.0), (450.0, True, 1.0), (600.0, False, 0.0378528)]
+        (200.0, True, 1.0), (200.0, False, 0.0378528)]
 
 
 @pytest.mark.parametrize("distance, approaching, expected", HAND)
@@ -41,9 +42,24 @@ def test_performance_falls_with_distance_for_a_receding_fire_and_rises_for_an_ap
     assert np.all((approaching > 0) & (approaching <= 1)) and np.all(near_to_far > 0)
 
 
+def test_a_fire_beyond_the_threshold_gives_no_performance():
+    """The equation is defined up to d_thresh: an approaching fire at 450 m used to read as d1n = 1 (clipped)
+    and P = 1, the best a tower can do; now it is idle_performance (0), as is one at 600 m. At exactly 200 m
+    an approaching fire gives d' = 0 and P = 1, a receding one 0.0378528 (the hand values above)."""
+    distance = np.array([[450.0, 600.0, 200.0, 200.0, 199.0, np.inf, 100.0, 250.0, 0.0]])
+    approaching = np.array([[True, False, True, False, True, False, True, True, False]])
+    sighting = Sighting(cell=np.zeros((1, 9), np.int64), cells=400, offset=np.zeros((1, 9, 3)), distance=distance,
+                        approaching=approaching)
+    # 199 m approaching: d' = 0.5 - 0.5 * 0.995 = 0.0025, (0.0092593)^5 = 6.8e-11 -> P = 1.0 to 1e-10
+    expected = [0.0, 0.0, 1.0, 0.0378528, 1.0, 0.0, 0.7713829, 0.0, 0.2095250]
+    np.testing.assert_allclose(tower_performance(SimpleNamespace(sighting=sighting), PARAMS)[0], expected, atol=1e-6)
+
+
 def hand_state(keep_centre: int = 5):
     """One world: tower 4 sees a fire 100 m away that approaches, tower 1 one 100 m away that does not,
-    no other tower sees fire (P = idle = 0). The centre keeps ``keep_centre`` tenths for itself."""
+    no other tower sees fire (P = idle = 0). The centre keeps ``keep_centre`` tenths for itself, tower 1
+    keeps everything, tower 0 gives 2 tenths to tower 1 and 1 to tower 4 (its neighbours 1, 3, 4) and
+    keeps 7 unallocated, tower 7 gives 4, 3, 3 tenths to its neighbours 4, 6, 8."""
     distance = np.full((1, 9), np.inf)
     distance[0, 4] = distance[0, 1] = 100.0
     approaching = np.zeros((1, 9), bool)
@@ -53,6 +69,8 @@ def hand_state(keep_centre: int = 5):
     allocation = np.zeros((1, 9, 4), np.int16)
     allocation[0, 4, 0] = keep_centre
     allocation[0, 1, 0] = 10
+    allocation[0, 0, 1:] = (2, 0, 1)
+    allocation[0, 7, 1:] = (4, 3, 3)
     return SimpleNamespace(sighting=sighting, allocation=allocation)
 
 
@@ -66,14 +84,14 @@ def test_watch_tower_performance_is_p_times_own_share_squared():
     assert np.all(value[[0, 2, 3, 5, 6, 7, 8]] == 0.0)
 
 
-def test_neighbour_performance_sums_the_three_neighbours():
+def test_neighbour_performance_is_the_neighbours_sum_weighted_by_what_the_agent_gives_them():
     value = neighbour_performance(None, hand_state(), None, PARAMS)[0]
-    # tower 0's neighbours 1, 3, 4; tower 4's are 1, 3, 5; tower 7's 4, 6, 8; tower 8's 5, 7, 4; tower 5's 2, 4, 8
-    assert value[0] == pytest.approx(P_SOUTH + P_CENTRE, abs=1e-6)
-    assert value[4] == pytest.approx(P_SOUTH, abs=1e-6)
-    assert value[7] == pytest.approx(P_CENTRE, abs=1e-6) and value[8] == pytest.approx(P_CENTRE, abs=1e-6)
-    assert value[1] == pytest.approx(P_CENTRE, abs=1e-6)  # tower 1's neighbours 0, 2, 4
-    assert value[6] == pytest.approx(P_CENTRE, abs=1e-6)  # tower 6's neighbours 3, 7, 4
+    # tower 0 (neighbours 1, 3, 4) gives 0.3 in all: (0.0775260 + 0 + 0.7713829) * 0.3 = 0.2546727
+    assert value[0] == pytest.approx(0.2546727, abs=1e-6)
+    # tower 7 (neighbours 4, 6, 8) gives 1.0: (0.7713829 + 0 + 0) * 1.0, however it splits it
+    assert value[7] == pytest.approx(0.7713829, abs=1e-6)
+    # towers 1 and 4 give nothing (tower 4's neighbours 1, 3, 5 sum to 0.0775260, times 0); nor do the rest
+    assert np.all(value[[1, 2, 3, 4, 5, 6, 8]] == 0.0)
 
 
 def test_collective_performance_is_the_root_mean_square_of_all_nine():

@@ -119,8 +119,8 @@ def test_weather_sampled_in_one_call_matches_the_separate_samples():
 
 
 def paper_performance(sighting, p) -> np.ndarray:
-    """P by the paper's two functions, idle where no fire is seen."""
-    seen = sighting.seen
+    """P by the paper's two functions, idle where no fire is seen within the distance threshold."""
+    seen = sighting.seen & (sighting.distance <= p.distance_threshold_m)
     return np.where(seen, broken_power_law(remapped_distance(np.where(seen, sighting.distance, 0.0),
                                                              sighting.approaching, p.distance_threshold_m),
                                            p.power_law_s, p.power_law_a), p.idle_performance)
@@ -149,11 +149,12 @@ def test_tower_performance_is_computed_once_per_sighting_and_kept_with_it():
        st.floats(1.0, 500.0), st.floats(1.0, 1000.0), st.floats(0.5, 20.0), st.floats(0.0, 1.0))
 def test_the_fused_performance_is_the_papers_formula(towers, threshold, s, a, idle):
     """tower_performance's fewer operations give exactly broken_power_law(remapped_distance(...)) where a
-    fire is seen, and the collective term's root mean square needs no absolute value (every P is in [0, 1])."""
+    fire is seen within the threshold, and the collective term's root mean square needs no absolute value
+    (every P is in [0, 1])."""
     distance = np.array([[d for d, _ in towers]])
     approaching = np.array([[m for _, m in towers]]) & np.isfinite(distance)
     params = WildfireResourceParams(distance_threshold_m=threshold, power_law_s=s, power_law_a=a, idle_performance=idle)
-    seen = np.isfinite(distance)
+    seen = distance <= threshold
     expected = np.where(seen, broken_power_law(remapped_distance(np.where(seen, distance, 0.0), approaching, threshold),
                                                s, a), idle)
     sighting = Sighting(cell=np.zeros(distance.shape, np.int64), cells=400, offset=np.zeros(distance.shape + (3,)),

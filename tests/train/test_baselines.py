@@ -52,8 +52,8 @@ def test_the_page_sets_ours_beside_the_paper(recorded):
     assert {r["environment"] for r in context["left"]} == {
         "wildfire_resource_management", "drone_based_reforestation", "ocean_plastic_collection",
         "aerial_wildfire_suppression"}
-    docs = render_docs(None, out)
+    docs = render_docs(None, baselines=out)
     assert "images/baselines/wind_farm_control.png" in docs
     assert "4,611.65 ± 39.95" in docs["baselines.md"]
     assert "hivex train scenarios/aerial_wildfire_suppression/main.yaml" in docs["baselines.md"]
-    assert "baselines.md" not in render_docs(None, out / "missing")
+    assert "baselines.md" not in render_docs(None, baselines=out / "missing")

@@ -31,7 +31,7 @@ class OceanPlasticCollectionParams(StrictModel):
     collision_distance_m: float = Field(5.0, gt=0.0, le=50.0, description=(
         "[ours] Two vessels whose centres come closer than this collide (-100 each)."))
     close_distance_m: float = Field(10.0, gt=0.0, le=200.0, description=(
-        "[paper] d_thresh of Close to Other Vessel: the reward is given while the closest vessel is nearer."))
+        "[paper] d_thresh of Close to Other Vessel: the reward is given while the closest vessel is at most this far."))
     nearby_radius_m: float = Field(25.0, gt=0.0, le=100.0, description=(
         "[paper] d_threshold of Nearby Trash Count Delta: pebbles nearer than this count as nearby."))
     camera_full_count: int = Field(2, ge=1, le=100, description=(

@@ -1,17 +1,15 @@
-"""The statistics Ocean Plastic Collection logs ("OceanPlasticCollector/<name>").
-
-The original logs the reward it gives each vessel ("Local Reward") apart from the reward it gives
-the group ("Global Reward"). This toolkit's reading: the local reward is what the agent-scope terms
-paid, the global one what the shared terms paid (the team's lowest collected count); the published
-Avoid Plastic cell (Global 0, Local -2.9) and the main task (Global 286) agree with that split.
-"""
+"""The statistics Ocean Plastic Collection logs ("OceanPlasticCollector/<name>")."""
 
 from __future__ import annotations
 
 from ...statistics import StatisticSet
 from .terms import TERMS
 
-STATISTICS = StatisticSet("ocean_plastic_collection", "OceanPlasticCollector")
+STATISTICS = StatisticSet("ocean_plastic_collection", "OceanPlasticCollector", notes=(
+    "Statistics: 'Local Reward' is what the vessel's own (agent-scope) terms paid and 'Global Reward' what the "
+    "shared terms paid (the team's lowest collected count): the published Avoid Plastic cell, whose only shared "
+    "term has weight 0, logs Global 0 and Local -2.9; the main task logs Global 286.",
+))
 
 STATISTICS.mirror("Local Reward", "What the vessel's own (agent-scope) terms paid, weighted.",
                   *(t.name for t in TERMS if t.contract.scope == "agent"))

@@ -1,6 +1,7 @@
-"""The seven reward terms of Ocean Plastic Collection, as the paper's equations (Appendix, Reward
-Description and Calculation: Ocean Plastic Collection). Where the paper's prose and its equation
-disagree, the equation's value is used; ``notes`` in rewards/ocean_plastic_collection.yaml lists them."""
+"""The seven reward terms of Ocean Plastic Collection, as the paper's reward description and equations
+(Appendix, Reward Description and Calculation: Ocean Plastic Collection). Where the prose and the
+equation disagree (Close to Other Vessel, Collide with Trash), the published test results decide;
+``notes`` in rewards/ocean_plastic_collection.yaml gives each reading and its evidence."""
 
 from __future__ import annotations
 
@@ -13,8 +14,8 @@ TERMS = TermRegistry("ocean_plastic_collection")
 
 LOWEST_COUNT_FACTOR = 0.01  # [paper] a
 CRASH_PENALTY = -100.0  # [paper] crossing the border, colliding with another vessel
-CLOSE_REWARD = 10.0  # [paper] equation (the prose says 1)
-TRASH_COLLISION_PENALTY = -100.0  # [paper] equation (the prose says -1)
+CLOSE_REWARD = 1.0  # [paper] prose and the original README (the equation prints 10)
+TRASH_COLLISION_PENALTY = -1.0  # [paper] prose and the original README (the equation prints -100)
 
 
 def _largest_pebble_count() -> int:
@@ -71,11 +72,11 @@ def collided_with_other_vessel(prev, state, actions, params):
 @TERMS.term(
     "close_to_other_vessel", title="Close to Other Vessel", paper_row=5, low=0.0, high=CLOSE_REWARD, sign="bonus",
     timing="dense", scope="agent",
-    description="10 every step the closest other vessel still in the world is nearer than close_distance_m (10 m).",
-    equation="r = 10 if d < d_thresh else 0,  d = distance to the closest other vessel, d_thresh = 10",
+    description="+1 every step the closest other vessel still in the world is at most close_distance_m (10 m) away.",
+    equation="r = 1 if d <= d_thresh else 0,  d = distance to the closest other vessel, d_thresh = 10",
 )
 def close_to_other_vessel(prev, state, actions, params):
-    return np.where(state.closest < params.close_distance_m, CLOSE_REWARD, 0.0)
+    return np.where(state.closest <= params.close_distance_m, CLOSE_REWARD, 0.0)
 
 
 @TERMS.term(
@@ -92,8 +93,8 @@ def nearby_trash_count_delta(prev, state, actions, params):
 @TERMS.term(
     "collide_with_trash", title="Collide with Trash", paper_row=7, low=TRASH_COLLISION_PENALTY, high=0.0,
     sign="penalty", timing="event", scope="agent",
-    description="-100 on a step the vessel runs into (and so picks up) at least one floating pebble.",
-    equation="r_p = -100 if exists p_t in P_t with p colliding with p_t else 0",
+    description="-1 on a step the vessel runs into (and so picks up) at least one floating pebble.",
+    equation="r_p = -1 if exists p_t in P_t with p colliding with p_t else 0",
 )
 def collide_with_trash(prev, state, actions, params):
     return np.where(state.collected > 0, TRASH_COLLISION_PENALTY, 0.0)

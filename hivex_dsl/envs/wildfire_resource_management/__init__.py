@@ -50,26 +50,24 @@ ENTRY = register(EnvironmentEntry(
         "supports it) / 9.0, the most any tower can receive, and the agent's own unallocated budget (ours: the "
         "paper's table lists 7 of the 8 values per stack).",
         "Tower performance: the closest fire is the horizontally nearest burning tree within detection_radius_m; "
-        "C(x) is the 3-D distance to it. d1 / d_thresh is clipped to [0, 1] (unclipped, a fire approaching from "
-        "beyond d_thresh = 200 m would give a negative base, and beyond about 310 m no real P). m compares C with "
-        "its value at the previous fire step (with fire_step_interval 1, the previous step); a fire that just came "
-        "into range approaches, and nothing approaches at reset. A tower that sees no fire has P = idle_performance "
-        "(0, ours).",
-        "The equations are implemented as printed: Watch Tower Performance is P r_s r_s (r_distributed, the total "
-        "support, is named in R(p, r_distributed, r_supporting) but not used), and Neighbourhood Performance is the "
-        "plain sum of the neighbours' P although the prose says it is weighted by the resources given to them; "
-        "Collective Performance is the equation's 1 - |1 - RMS| over the nine towers, where the prose says the sum "
-        "of all towers' performance. So "
-        "only the watch-tower term depends on the actions, and keeping everything for the own tower maximises "
-        "every task's return.",
+        "C(x) is the 3-D distance to it. P follows the paper's law for a fire within d_thresh = 200 m (d1n = "
+        "d1 / d_thresh in [0, 1]); a tower whose closest fire is farther, or that sees none, has P = "
+        "idle_performance (0, ours). m compares C with its value at the previous fire step (with "
+        "fire_step_interval 1, the previous step); a fire that just came into range approaches, and nothing "
+        "approaches at reset. The reward table's notes give the evidence.",
+        "Terms: Watch Tower Performance is P r_s r_s (r_s the agent's allocation to itself), Neighbourhood "
+        "Performance the neighbours' summed P times the agent's allocation to its neighbours (the prose's weight; "
+        "the equation leaves it out), Collective Performance the equation's 1 - |1 - RMS| over the nine towers "
+        "(no action changes it, as in the published results). Keeping pays P_own r^2 and giving pays "
+        "(sum of the neighbours' P) r, so the main and Distribute All tasks pay for giving and Keep All for keeping.",
         "Fire, terrain, forest, ignition and weather are Aerial Wildfire Suppression's (an island is kept across the "
         "episodes of a seed stream unless redraw_island is 'episode'; the fire is new every episode). Towers "
         "cannot fight the fire; with one fire step per environment step (fire_step_interval 1, ours) it mostly goes "
         "out after 150-350 steps, near the original's logged mean episode lengths of 140-275, and every task ends "
         "then (event fire_out) or after 500 steps.",
-        "Scale: Neighbourhood plus Collective Performance, which no action changes, sum to about 390 per episode "
-        "here (test seeds 6000-6003, terrain level 1), against about 100 implied by the published returns, so our "
-        "towers see more (or more often approaching) fire than the original's. The order of the three tasks' "
-        "returns and the ratios of the terms match the published ones; the fire is not calibrated further.",
+        "Scale (test seed 6000, terrain level 1, two episodes): the towers' summed P (Individual Performance) is "
+        "about 13 per episode and Collective Performance about 33, against the published 18 and 34.5; the "
+        "scripted officer's resource rewards (Neighbours 53 in the main task, Self 122 in Keep All, Neighbours "
+        "526 in Distribute All) are near the published PPO's (49, 143, 513).",
     ),
 ))

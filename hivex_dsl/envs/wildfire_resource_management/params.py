@@ -27,14 +27,16 @@ class WildfireResourceParams(WindParams, FireSpec):
     detection_radius_m: float = Field(600.0, gt=0.0, le=10_000.0, description=(
         "[paper] A tower observes the closest burning tree within this horizontal distance."))
     distance_threshold_m: float = Field(200.0, gt=0.0, le=10_000.0, description=(
-        "[paper] d_thresh: the fire distance is normalised by it (and clipped to [0, 1]) in the tower performance."))
+        "[paper] d_thresh: the fire distance is normalised by it in the tower performance, which is defined only "
+        "for a fire within it (beyond, the remapped distance of an approaching fire turns negative); a tower whose "
+        "closest fire is farther has P = idle_performance."))
     power_law_s: float = Field(270.0, ge=1.0, le=100_000.0, description=(
         "[paper] s of the broken power law P = (1 + (d' * 1000 / s)^a)^(-1/2)."))
     power_law_a: float = Field(5.0, ge=0.5, le=20.0, description=(
         "[paper] a of the broken power law P = (1 + (d' * 1000 / s)^a)^(-1/2)."))
     idle_performance: float = Field(0.0, ge=0.0, le=1.0, description=(
-        "[ours] Performance P of a tower that sees no burning tree within the detection radius (the paper "
-        "defines P only for an observed fire)."))
+        "[ours] Performance P of a tower without a burning tree within distance_threshold_m (the paper defines "
+        "P only for a fire within d_thresh); 0 gives the published Individual and Collective Performance sizes."))
     initial_self_tenths: int = Field(0, ge=0, le=10, description=(
         "[ours] Tenths of its 1.0 that each tower has allocated to itself at reset; the rest starts unallocated."))
     redraw_island: Literal["seed", "episode"] = Field("seed", description=(

@@ -1,10 +1,16 @@
-"""A scripted fire officer: move every tenth to the tower (own or neighbour) the observed fire approaches most closely.
+"""A scripted fire officer: keep the whole resource or give it all to the neighbours, whichever the task pays more.
 
 Each tower reads only its own observation (the closest fire's offset now and one step before) and
-knows where its neighbours stand, as the person in a watchtower would. The fire counts as approaching
-a candidate tower when its distance to it shrank since the previous frame (or the fire just came
-into view). The target gets an add, every other branch a subtract, so within about ten steps all of
-the tower's resource sits on the target; with no approaching fire in view the tower keeps it all.
+knows where its neighbours stand, as the person in a watchtower would. From the closest fire it
+estimates the performance P of its own tower (exactly) and of each neighbour (from that same fire's
+horizontal distance to it) with the paper's law. Keeping pays w_own P_own r_self^2 and giving pays
+w_neighbours (sum of the neighbours' P) r_given (the reward table's weights of watch_tower_performance
+and neighbour_performance), so one of the two corners is best: keep everything when w_own P_own beats
+w_neighbours times the neighbours' estimated P, else give everything. With no fire in anyone's range
+the resource waits where the task pays more when fire comes: with the own tower when w_own beats
+three times w_neighbours (three neighbours watch three times the ground), else with the neighbours.
+Keeping adds to the own tower and subtracts from the neighbours; giving adds to all three neighbours
+and subtracts from the own tower, so the whole resource moves within about ten steps (four to give).
 """
 
 from __future__ import annotations
@@ -13,8 +19,12 @@ from typing import Callable
 
 import numpy as np
 
-from .resources import ADD, SUBTRACT, TARGETS, grid_offsets
+from .resources import ADD, NEIGHBOURS_PER_TOWER, SUBTRACT, TARGETS, grid_offsets
 from .simulator import FRAME
+from .terms import broken_power_law, remapped_distance
+
+KEEP = np.array([ADD] + [SUBTRACT] * NEIGHBOURS_PER_TOWER)
+GIVE = np.array([SUBTRACT] + [ADD] * NEIGHBOURS_PER_TOWER)
 
 
 def candidate_offsets(spacing_m: float) -> np.ndarray:
@@ -23,32 +33,53 @@ def candidate_offsets(spacing_m: float) -> np.ndarray:
     return (grid[TARGETS] - grid[:, None, :]) * spacing_m
 
 
-def choose_targets(fire_now: np.ndarray, fire_before: np.ndarray, seen_now: np.ndarray, seen_before: np.ndarray,
-                   candidates: np.ndarray) -> np.ndarray:
-    """(B, A) index 0-3 of the candidate nearest to an approaching fire (0, the own tower, when none).
+def candidate_distances(fire_now: np.ndarray, fire_before: np.ndarray, seen_now: np.ndarray,
+                        seen_before: np.ndarray, candidates: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(distance (B, A, 4) metres from the closest fire to each candidate, inf when none is seen;
+    approaching (B, A, 4): seen and nearer than one step before, or just come into view).
 
-    fire_now/fire_before (B, A, 2) metres from the tower to its closest fire now and one step before,
+    fire_now/fire_before (B, A, 3) metres from the tower to its closest fire now and one step before
+    (x, y, z; the 3-D distance for the own tower, the horizontal one for a neighbour),
     seen_now/seen_before (B, A) bool, candidates (A, 4, 2) metres from the tower.
     """
-    d_now = np.linalg.norm(fire_now[..., None, :] - candidates, axis=-1)
-    d_before = np.linalg.norm(fire_before[..., None, :] - candidates, axis=-1)
+    gap_now = fire_now[..., None, :2] - candidates
+    gap_before = fire_before[..., None, :2] - candidates
+    d_now, d_before = np.hypot(gap_now[..., 0], gap_now[..., 1]), np.hypot(gap_before[..., 0], gap_before[..., 1])
+    d_now[..., 0], d_before[..., 0] = np.linalg.norm(fire_now, axis=-1), np.linalg.norm(fire_before, axis=-1)
     approaching = seen_now[..., None] & (~seen_before[..., None] | (d_now < d_before))
-    score = np.where(approaching, d_now, np.inf)
-    return np.where(approaching.any(axis=-1), np.argmin(score, axis=-1), 0)
+    return np.where(seen_now[..., None], d_now, np.inf), approaching
+
+
+def estimated_performance(distance: np.ndarray, approaching: np.ndarray, params) -> np.ndarray:
+    """(B, A, 4) the paper's P of each candidate for the given distances, 0 beyond distance_threshold_m."""
+    in_range = distance <= params.distance_threshold_m
+    law = broken_power_law(remapped_distance(np.where(in_range, distance, 0.0), approaching,
+                                             params.distance_threshold_m), params.power_law_s, params.power_law_a)
+    return np.where(in_range, law, 0.0)
+
+
+def keep_all(performance: np.ndarray, own_weight: float, neighbour_weight: float) -> np.ndarray:
+    """(B, A) bool: keep everything (else give everything) for estimated P (B, A, 4) of self and neighbours."""
+    keep = own_weight * performance[..., 0]
+    give = neighbour_weight * performance[..., 1:].sum(axis=-1)
+    idle = (keep == 0.0) & (give == 0.0)
+    return np.where(idle, own_weight > NEIGHBOURS_PER_TOWER * neighbour_weight, keep > give)
 
 
 def scripted_policy(compiled) -> Callable[[np.ndarray], np.ndarray]:
-    """observations (B, 9, 16) -> actions (B, 9, 4): add to the chosen target, subtract from the other three."""
-    radius = compiled.params.detection_radius_m
-    candidates = candidate_offsets(compiled.params.tower_spacing_m)
+    """observations (B, 9, 16) -> actions (B, 9, 4): all branches toward keeping or toward giving."""
+    params = compiled.params
+    radius = params.detection_radius_m
+    candidates = candidate_offsets(params.tower_spacing_m)
+    own = compiled.weights.get("watch_tower_performance", 0.0)
+    given = compiled.weights.get("neighbour_performance", 0.0)
 
     def act(observations: np.ndarray) -> np.ndarray:
         obs = np.asarray(observations, dtype=np.float64)
         now, before = obs[..., 0:3], obs[..., FRAME:FRAME + 3]
-        target = choose_targets(now[..., :2] * radius, before[..., :2] * radius, (now != 0).any(axis=-1),
-                                (before != 0).any(axis=-1), candidates)
-        actions = np.full(obs.shape[:-1] + (candidates.shape[1],), SUBTRACT, np.int64)
-        np.put_along_axis(actions, target[..., None], ADD, axis=-1)
-        return actions
+        distance, approaching = candidate_distances(now * radius, before * radius, (now != 0).any(axis=-1),
+                                                    (before != 0).any(axis=-1), candidates)
+        keep = keep_all(estimated_performance(distance, approaching, params), own, given)
+        return np.where(keep[..., None], KEEP, GIVE).astype(np.int64)
 
     return act

@@ -1,18 +1,17 @@
-"""The statistics Wildfire Resource Management logs ("WildfireResourceManagement/<name>").
-
-Readings (from the published values, which are the same in every task where a name is not task-weighted):
-"Individual Performance" (about 18 in all three tasks, although Keep All weighs the own tower x10) is
-the tower's performance P itself, unweighted; "Collective Performance" is what the collective term paid;
-the two "Reward for Moving Resources to ..." follow the task's weights (to Self 143 in Keep All, to
-Neighbours 513 in Distribute All) and are what the watch-tower and neighbourhood terms paid.
-"""
+"""The statistics Wildfire Resource Management logs ("WildfireResourceManagement/<name>")."""
 
 from __future__ import annotations
 
 from ...statistics import StatisticSet
 from .terms import tower_performance
 
-STATISTICS = StatisticSet("wildfire_resource_management", "WildfireResourceManagement")
+STATISTICS = StatisticSet("wildfire_resource_management", "WildfireResourceManagement", notes=(
+    "Statistics: 'Individual Performance' is the tower's performance P itself, unweighted: it is about 18 in all "
+    "three published tasks although Keep All weighs the own tower x10.",
+    "Statistics: the two 'Reward for Moving Resources to ...' are what the own-tower and neighbourhood terms paid, "
+    "weighted: they follow the task weights in the published results (to Self 143 in Keep All against 0.2 in the "
+    "main task, to Neighbours 513 in Distribute All against 49).",
+))
 
 
 @STATISTICS.counter("Individual Performance", "The tower's performance P (fire distance and approach), unweighted.")

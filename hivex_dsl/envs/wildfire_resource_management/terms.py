@@ -1,8 +1,13 @@
-"""The three reward terms of Wildfire Resource Management, as the paper's appendix equations.
+"""The three reward terms of Wildfire Resource Management, as the paper's appendix equations and prose.
 
 Appendix "Reward Description and Calculation: Wildfire Resource Management": each tower's
 performance P comes from the distance d1 to the closest observed fire and whether it approaches
-(m = d1 < d0), through a broken power law; the terms weight and sum the performances.
+(m = d1 < d0), through a broken power law. The equation is defined for d1 <= d_thresh (beyond it
+the remapped distance of an approaching fire turns negative), so a tower performs only for a fire
+within d_thresh. The own tower's P is weighted by the square of what the agent keeps for itself,
+the neighbours' summed P by what the agent gives its neighbours (the prose), and the collective term is
+the root mean square of all nine P (the equation). rewards/wildfire_resource_management.yaml's
+notes give the evidence for each reading.
 """
 
 from __future__ import annotations
@@ -21,8 +26,8 @@ POWER_LAW_EXPONENT = -0.5  # the paper's (...)^(-1/2)
 def remapped_distance(distance: np.ndarray, approaching: np.ndarray, threshold_m: float) -> np.ndarray:
     """The paper's d1n': 0.5 - 0.5 d1n if m else 0.5 + 0.5 d1n, with d1n = d1 / d_thresh clipped to [0, 1].
 
-    Unclipped, a fire approaching from beyond d_thresh (towers see 3 d_thresh = 600 m) would give a
-    negative base for the power law; clipped, d1n' lies in [0, 1] and P in (0, 1].
+    P is defined only for d1 <= d_thresh (:func:`performance_of`), where the clip does nothing; beyond
+    d_thresh an approaching fire's d1n' would be negative and the power law undefined.
     """
     normalised = clamp(distance / threshold_m, 0.0, 1.0)
     return np.where(approaching, 0.5 - 0.5 * normalised, 0.5 + 0.5 * normalised)
@@ -34,7 +39,7 @@ def broken_power_law(remapped: np.ndarray, s: float, a: float) -> np.ndarray:
 
 
 def tower_performance(state, params) -> np.ndarray:
-    """(B, A) P of every tower; ``idle_performance`` where no burning tree is within the detection radius.
+    """(B, A) P of every tower; ``idle_performance`` where no burning tree is within ``distance_threshold_m``.
 
     The simulator computes P once per sighting, under its own params, and keeps it with the sighting
     (``Sighting.performance``): the three terms read it. A hand-made sighting without it is computed here.
@@ -47,17 +52,19 @@ def tower_performance(state, params) -> np.ndarray:
 
 def performance_of(distance: np.ndarray, approaching: np.ndarray, seen: np.ndarray, params) -> np.ndarray:
     """(B, A) P from the distances (B, A) to the closest seen fires (inf where none is ``seen``) and whether
-    they approach: broken_power_law(remapped_distance(...)) where seen, else ``idle_performance``.
+    they approach: broken_power_law(remapped_distance(...)) where the fire is seen within
+    ``distance_threshold_m``, else ``idle_performance``.
 
-    Fewer array operations than the two functions, the same floats where the distance is finite
-    (elsewhere any value, replaced): a distance is >= 0, so clipping it below is a no-op; an unseen
-    tower's inf stays finite through the clip; and n * -0.5 is exactly -(0.5 * n).
+    Fewer array operations than the two functions, the same floats where the fire is in range
+    (elsewhere any value, replaced): a distance is >= 0, so clipping it below is a no-op; a farther
+    tower's distance (inf for none) stays finite through the clip; and n * -0.5 is exactly -(0.5 * n).
     """
+    in_range = seen & (distance <= params.distance_threshold_m)
     normalised = np.minimum(distance / params.distance_threshold_m, 1.0)
     remapped = normalised * np.where(approaching, -0.5, 0.5)
     remapped += 0.5
     scaled = remapped * (POWER_LAW_SCALE / params.power_law_s)
-    return np.where(seen, (1.0 + scaled ** params.power_law_a) ** POWER_LAW_EXPONENT, params.idle_performance)
+    return np.where(in_range, (1.0 + scaled ** params.power_law_a) ** POWER_LAW_EXPONENT, params.idle_performance)
 
 
 @TERMS.term(
@@ -66,7 +73,8 @@ def performance_of(distance: np.ndarray, approaching: np.ndarray, seen: np.ndarr
     description="The own tower's performance P, weighted by the square of the resource the agent keeps for itself.",
     equation=("R = P * r_supporting * r_supporting,  r_supporting = own allocation to itself in [0, 1];  "
               "P = (1 + (d' * 1000 / s)^a)^(-1/2),  d' = 0.5 - 0.5 d1n if m else 0.5 + 0.5 d1n,  "
-              "d1n = min(1, d1 / d_thresh),  m = d1 < d0  (d_thresh = 200, s = 270, a = 5)"),
+              "d1n = d1 / d_thresh,  m = d1 < d0  (d_thresh = 200, s = 270, a = 5);  "
+              "P = idle_performance (0) without a fire within d_thresh"),
 )
 def watch_tower_performance(prev, state, actions, params):
     own = state.allocation[..., 0] / TENTHS
@@ -76,11 +84,14 @@ def watch_tower_performance(prev, state, actions, params):
 @TERMS.term(
     "neighbour_performance", title="Neighbourhood Performance", paper_row=2, low=0.0,
     high=float(NEIGHBOURS_PER_TOWER), sign="bonus", timing="dense", scope="team",
-    description="The sum of the performances P of the tower's three neighbouring towers.",
-    equation="R_neighbourhood = sum_{i=1..n} p_i over the n = 3 neighbouring towers",
+    description=("The sum of the performances P of the tower's three neighbouring towers, weighted by the resource "
+                 "the agent gives its neighbours (the paper's prose; its equation leaves the weight out)."),
+    equation="R_neighbourhood = (sum_{i=1..n} p_i) * r_given over the n = 3 neighbours,  r_given = the agent's "
+             "allocation to its neighbours in [0, 1]",
 )
 def neighbour_performance(prev, state, actions, params):
-    return np.add.reduce(tower_performance(state, params).take(NEIGHBOURS, axis=1), axis=-1)
+    given = np.add.reduce(state.allocation[..., 1:], axis=-1) / TENTHS  # (B, A) resource given to the neighbours
+    return np.add.reduce(tower_performance(state, params).take(NEIGHBOURS, axis=1), axis=-1) * given
 
 
 @TERMS.term(

@@ -1,0 +1,277 @@
+"""`hivex audit`: the reward property tester a task author runs on a scenario (or every point of a sweep).
+
+It rolls the all-zeros, random and scripted policies for a few episodes on the test seeds and reports,
+per policy and per active term, what the term paid per agent and episode (mean, spread, share of the
+return). It raises a :class:`Flag` for what usually means a reward bug:
+
+- ``action_independent``: a term pays the same episode sums under all three policies (and is at least 5%
+  of what the random or the scripted policy earns);
+- ``first_step``: an event or terminal term pays on the first step after reset under the all-zeros policy;
+- ``dominant``: one term pays at least 90% of what the scripted policy earns from the terms that can
+  reward it (where at least two can);
+- ``contract_range`` / ``contract_sign`` / ``contract_timing``: a per-step value outside the term's
+  declared range or sign, a terminal term paid before the end, an event term paid on most steps;
+- ``beats_published``: where the scenario is a published cell with a PPO return above 0.5, the all-zeros
+  or random policy earns more than that return plus 10%;
+- ``published_scale``: some policy's mean return is more than 10 times the published one in size.
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+from dataclasses import dataclass, field
+from typing import Any, Optional, Sequence, TextIO
+
+import numpy as np
+
+from . import published
+from .compiler import CompiledScenario
+from .report import Progress
+from .rollout import Rollout, rollout
+
+AUDIT_POLICIES = ("zeros", "random", "scripted")
+ACTING = ("random", "scripted")  # under all-zeros actions any action-independent term is the whole return
+MATTERS_SHARE = 0.05  # an action-independent term is flagged only if it is at least this share of a return
+DOMINANT_SHARE = 0.9
+EVENT_MOST_STEPS = 0.5  # an event term paid on more than this fraction of live agent-steps is not an event
+PUBLISHED_MARGIN = 0.1
+PUBLISHED_MIN = 0.5
+SCALE_FACTOR = 10.0
+TOLERANCE = 1e-9
+
+
+@dataclass(frozen=True)
+class Flag:
+    """One finding: its kind (see the module doc), the term and policy it concerns (if any), and why."""
+
+    kind: str
+    message: str
+    term: Optional[str] = None
+    policy: Optional[str] = None
+
+    def as_dict(self) -> dict[str, Any]:
+        return {"kind": self.kind, "term": self.term, "policy": self.policy, "message": self.message}
+
+
+def spread(values: np.ndarray) -> dict[str, float]:
+    """Mean and standard deviation of per-agent episode values, over every agent and episode."""
+    return {"mean": float(np.mean(values)), "std": float(np.std(values))}
+
+
+@dataclass
+class ScenarioAudit:
+    """What the audit measured and flagged for one compiled scenario."""
+
+    compiled: CompiledScenario
+    rollouts: dict[str, Rollout]
+    cell: Optional[published.PublishedCell]
+    flags: list[Flag] = field(default_factory=list)
+
+    def shares(self, policy: str) -> dict[str, float]:
+        """Each active term's mean weighted episode sum over the sum of their sizes (signed; sizes add to 1)."""
+        done = self.rollouts[policy]
+        means = {name: float(done.weighted(name).mean()) for name in done.terms}
+        size = sum(abs(v) for v in means.values())
+        return {name: (v / size if size else 0.0) for name, v in means.items()}
+
+    def as_dict(self) -> dict[str, Any]:
+        c = self.compiled
+        out: dict[str, Any] = {
+            "scenario": c.name, "source": c.source, "environment": c.environment, "task": c.task_name,
+            "task_index": c.entry.reward_table.tasks[c.task_index].index, "level": c.level,
+            "episodes": int(next(iter(self.rollouts.values())).returns.shape[0]), "policies": {},
+            "published": None, "flags": [f.as_dict() for f in self.flags],
+        }
+        for policy, done in self.rollouts.items():
+            shares = self.shares(policy)
+            out["policies"][policy] = {
+                "return": spread(done.returns),
+                "terms": {name: spread(done.weighted(name)) | {"share": shares[name]} for name in done.terms},
+                "statistics": {name: spread(values) for name, values in done.statistics.items()},
+            }
+        if self.cell is not None:
+            out["published"] = {"return": {"mean": self.cell.return_mean, "std": self.cell.return_std},
+                                "statistics": {published.short_name(k): {"mean": m, "std": s}
+                                               for k, (m, s) in self.cell.statistics.items() if k != published.RETURN}}
+        return out
+
+
+def audit_scenario(compiled: CompiledScenario, episodes: int = 2, stream: Optional[TextIO] = None,
+                   label: str = "") -> ScenarioAudit:
+    """Roll every audit policy for ``episodes`` test episodes and check the terms; progress goes to ``stream``."""
+    rollouts = {}
+    for policy in AUDIT_POLICIES:
+        started = time.monotonic()
+        if stream is not None:
+            stream.write(f"audit {label}{compiled.name}: policy {policy}, {episodes} episode(s)\n")
+        rollouts[policy] = rollout(compiled, policy, episodes, split="test", trace=True,
+                                   progress=Progress(episodes, stream) if stream is not None else None)
+        if stream is not None:
+            stream.write(f"  done in {time.monotonic() - started:.1f} s\n")
+    result = ScenarioAudit(compiled, rollouts, published.cell_for(compiled))
+    result.flags = find_flags(result)
+    return result
+
+
+def find_flags(audit: ScenarioAudit) -> list[Flag]:
+    return (_action_independent(audit) + _first_step(audit) + _dominant(audit) + _contracts(audit)
+            + _against_published(audit))
+
+
+def _action_independent(audit: ScenarioAudit) -> list[Flag]:
+    flags = []
+    runs = [audit.rollouts[p] for p in AUDIT_POLICIES]
+    for term in runs[0].terms:
+        sums = [run.terms[term] for run in runs]
+        if not any(np.any(s != 0) for s in sums):
+            continue
+        same = all(s.shape == sums[0].shape and np.allclose(s, sums[0], rtol=TOLERANCE, atol=TOLERANCE) for s in sums)
+        matters = max(abs(audit.shares(p)[term]) for p in ACTING) >= MATTERS_SHARE
+        if same and matters:
+            flags.append(Flag("action_independent", term=term, message=(
+                f"{term} pays the same per-episode sums under the all-zeros, random and scripted policies "
+                f"(mean {float(sums[0].mean()):.4g}): its value does not depend on the actions")))
+    return flags
+
+
+def _first_step(audit: ScenarioAudit) -> list[Flag]:
+    flags = []
+    entry, done = audit.compiled.entry, audit.rollouts["zeros"]
+    for term, trace in done.traces.items():
+        if entry.terms[term].contract.timing == "dense" or not trace.first_step:
+            continue
+        first = np.stack(trace.first_step)
+        if np.any(first != 0):
+            flags.append(Flag("first_step", term=term, policy="zeros", message=(
+                f"{term} ({entry.terms[term].contract.timing}) pays {float(np.abs(first).max()):.4g} on the first "
+                "step after reset under the all-zeros policy, before anything happened")))
+    return flags
+
+
+def _dominant(audit: ScenarioAudit) -> list[Flag]:
+    """A term paying at least 90% of what the scripted policy earns from the terms that can pay it something.
+
+    Only rewards count (positive weighted sums): a task whose one bonus is the task (Find Fire) has nothing
+    to dominate, and penalties dominating a run that earns nothing say nothing about the reward's design.
+    """
+    done, entry = audit.rollouts["scripted"], audit.compiled.entry
+    can_pay = [t for t in done.terms if _can_pay(entry.terms[t].contract, audit.compiled.weights[t])]
+    earned = {t: float(done.weighted(t).mean()) for t in can_pay}
+    total = sum(v for v in earned.values() if v > 0)
+    if len(can_pay) < 2 or total <= 0:
+        return []
+    return [Flag("dominant", term=term, policy="scripted", message=(
+        f"{term} pays {value / total:.0%} of what the scripted policy earns from the {len(can_pay)} terms "
+        "that reward it (the others hardly matter)"))
+        for term, value in earned.items() if value >= DOMINANT_SHARE * total]
+
+
+def _can_pay(contract, weight: float) -> bool:
+    """Whether a term with this contract and weight can add to the return."""
+    return contract.sign == "mixed" or (contract.sign == "bonus") == (weight > 0)
+
+
+def _contracts(audit: ScenarioAudit) -> list[Flag]:
+    flags = []
+    for term in audit.rollouts["zeros"].traces:
+        contract = audit.compiled.entry.terms[term].contract
+        for policy, done in audit.rollouts.items():
+            trace = done.traces[term]
+            if trace.live == 0:
+                continue
+            flags += _contract_flags(contract, trace, policy)
+    return flags
+
+
+def _contract_flags(contract, trace, policy: str) -> list[Flag]:
+    term, flags = contract.name, []
+    if (contract.sign == "bonus" and trace.low < 0) or (contract.sign == "penalty" and trace.high > 0):
+        flags.append(Flag("contract_sign", term=term, policy=policy, message=(
+            f"{term} is declared a {contract.sign} but paid values in [{trace.low:.4g}, {trace.high:.4g}]")))
+    elif trace.low < contract.low - TOLERANCE or trace.high > contract.high + TOLERANCE:
+        flags.append(Flag("contract_range", term=term, policy=policy, message=(
+            f"{term} paid per-step values in [{trace.low:.4g}, {trace.high:.4g}] outside its declared "
+            f"[{contract.low:g}, {contract.high:g}]")))
+    if contract.timing == "terminal" and trace.before_end:
+        flags.append(Flag("contract_timing", term=term, policy=policy, message=(
+            f"{term} is terminal but paid on {trace.before_end} agent-steps that did not end an episode")))
+    if contract.timing == "event" and trace.nonzero > EVENT_MOST_STEPS * trace.live:
+        flags.append(Flag("contract_timing", term=term, policy=policy, message=(
+            f"{term} is an event but paid on {trace.nonzero / trace.live:.0%} of the agent-steps")))
+    return flags
+
+
+def _against_published(audit: ScenarioAudit) -> list[Flag]:
+    cell, flags = audit.cell, []
+    if cell is None:
+        return flags
+    target = cell.return_mean
+    for policy, done in audit.rollouts.items():
+        ours = float(done.returns.mean())
+        if policy != "scripted" and target > PUBLISHED_MIN and ours > target + PUBLISHED_MARGIN * abs(target):
+            flags.append(Flag("beats_published", policy=policy, message=(
+                f"the {policy} policy earns {ours:.4g} per agent and episode, more than the paper's trained PPO "
+                f"({target:.4g}): a reward bug until proven otherwise")))
+        if abs(target) >= PUBLISHED_MIN and abs(ours) > SCALE_FACTOR * abs(target):
+            flags.append(Flag("published_scale", policy=policy, message=(
+                f"the {policy} policy's return {ours:.4g} is {abs(ours / target):.0f} times the published "
+                f"{target:.4g} in size: the reward scale differs from the paper's")))
+    return flags
+
+
+def audit_all(compiled: Sequence[CompiledScenario], episodes: int = 2,
+              stream: Optional[TextIO] = None, quiet: bool = False) -> list[ScenarioAudit]:
+    """Audit every scenario (every point of a sweep), with progress on ``stream`` (stderr unless ``quiet``)."""
+    stream = None if quiet else (stream or sys.stderr)
+    total = len(compiled)
+    return [audit_scenario(sc, episodes, stream, label=f"[{i + 1}/{total}] " if total > 1 else "")
+            for i, sc in enumerate(compiled)]
+
+
+def _pm(value: dict[str, float]) -> str:
+    return f"{value['mean']:.4g} ± {value['std']:.3g}"
+
+
+def _table(rows: list[list[str]]) -> list[str]:
+    widths = [max(len(row[c]) for row in rows) for c in range(len(rows[0]))]
+    return ["  " + "  ".join(cell.ljust(w) if c == 0 else cell.rjust(w) for c, (cell, w) in enumerate(zip(row, widths)))
+            for row in rows]
+
+
+def _ratio(ours: float, theirs: float) -> str:
+    return f" ({ours / theirs:.2f}x)" if theirs else ""
+
+
+def describe(audit: dict[str, Any]) -> str:
+    """The text report of one scenario's audit (from :meth:`ScenarioAudit.as_dict`)."""
+    level = "" if audit["level"] is None else f", level {audit['level']}"
+    lines = [f"{audit['scenario']} ({audit['source']}): {audit['environment']} task {audit['task_index']} "
+             f"{audit['task']}{level}; {audit['episodes']} test episode(s) per policy",
+             "  per agent and episode: mean ± std over agents and episodes (share of what the terms paid)"]
+    runs = audit["policies"]
+    rows = [["term (weighted)"] + list(runs), ["return"] + [_pm(run["return"]) for run in runs.values()]]
+    for term in next(iter(runs.values()))["terms"]:
+        rows.append([term] + [f"{_pm(run['terms'][term])} ({run['terms'][term]['share']:+.0%})" for run in runs.values()])
+    lines += _table(rows)
+    cell = audit["published"]
+    if cell is not None:
+        theirs = cell["return"]["mean"]
+        lines.append(f"  published PPO (test seeds): return {_pm(cell['return'])}")
+        rows = [["statistic", "published"] + list(runs),
+                ["return", f"{theirs:.4g}"] + [f"{run['return']['mean']:.4g}{_ratio(run['return']['mean'], theirs)}"
+                                              for run in runs.values()]]
+        for name, value in cell["statistics"].items():
+            ours = [run["statistics"].get(name) for run in runs.values()]
+            rows.append([name, f"{value['mean']:.4g}"] + ["not computed" if v is None else
+                                                         f"{v['mean']:.4g}{_ratio(v['mean'], value['mean'])}" for v in ours])
+        lines += _table(rows)
+    else:
+        lines.append("  no published result for this environment, task and level")
+    flags = audit["flags"]
+    lines += [f"  FLAG {f['kind']}: {f['message']}" + (f" [{f['policy']}]" if f["policy"] else "") for f in flags]
+    lines.append(f"  {len(flags)} flag(s)")
+    return "\n".join(lines)
+
+
+__all__ = ["AUDIT_POLICIES", "Flag", "ScenarioAudit", "audit_all", "audit_scenario", "describe", "find_flags", "spread"]

@@ -1,0 +1,83 @@
+"""The fidelity suite: every task of every environment at level 1, audited against the published results.
+
+Rolling all 26 tasks for the three audit policies takes minutes, too long for `hivex docs --check`
+in CI, so the measured numbers are stored: ``hivex audit --suite -o benchmarks/results/fidelity.json``
+writes them (:func:`measure_suite`), docs/fidelity.md is rendered from that file, and a test
+recomputes a cheap subset and checks every scenario's fingerprint to prove the file is not stale.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any, Optional, TextIO
+
+from . import published, registry
+from .audit import audit_all
+from .compiler import CompiledScenario, compile as compile_scenario
+from .loader import load_file
+from .resources import data_dir
+
+FIDELITY_VERSION = 1
+FIDELITY_FILE = "benchmarks/results/fidelity.json"
+SUITE_EPISODES = 2
+
+
+def first_level(entry: registry.EnvironmentEntry) -> Optional[int]:
+    """The level the suite (and the issue's comparison) uses: pattern 0, terrain level 1, or none."""
+    return {"pattern": 0, "terrain_level": 1}.get(entry.info.level_field or "")
+
+
+def suite_scenarios(environments: Optional[list[str]] = None) -> list[CompiledScenario]:
+    """Each environment's bundled main scenario with each of its tasks, at the first level."""
+    out = []
+    for env_id, entry in registry.environments().items():
+        if environments is not None and env_id not in environments:
+            continue
+        main = load_file(data_dir("scenarios") / env_id / "main.yaml").data
+        for task in entry.reward_table.tasks:
+            data = dict(main, task=task.name, name=f"{entry.info.abbreviation.lower()}-{task.name.replace('_', '-')}")
+            if entry.info.level_field:
+                data[entry.info.level_field] = first_level(entry)
+            out.append(compile_scenario(data))
+    return out
+
+
+def measure_suite(episodes: int = SUITE_EPISODES, environments: Optional[list[str]] = None,
+                  stream: Optional[TextIO] = None, quiet: bool = False) -> dict[str, Any]:
+    """Audit every suite scenario; the JSON-ready report (each audit with its scenario's fingerprint)."""
+    compiled = suite_scenarios(environments)
+    audits = audit_all(compiled, episodes, stream, quiet=quiet)
+    rows = []
+    for scenario, audit in zip(compiled, audits):
+        row = audit.as_dict()
+        row["source"] = f"{scenario.environment}/main.yaml (task {scenario.task_name})"
+        rows.append(row | {"fingerprint": scenario.fingerprint})
+    return {"hivex_fidelity": FIDELITY_VERSION, "episodes": episodes, "split": "test", "scenarios": rows}
+
+
+def write_suite(report: dict[str, Any], output: Path) -> None:
+    output.parent.mkdir(parents=True, exist_ok=True)
+    output.write_text(json.dumps(report, indent=1, sort_keys=False) + "\n", encoding="utf-8")
+
+
+def load_suite(path: Path) -> Optional[dict[str, Any]]:
+    """The stored report, or None where none was measured yet."""
+    path = Path(path)
+    if not path.is_file():
+        return None
+    return json.loads(path.read_text(encoding="utf-8"))
+
+
+def published_level_mean(environment: str, task_index: int) -> Optional[dict[str, float]]:
+    """The published return and statistics of a task averaged over its levels (None without any)."""
+    found = [c for c in published.cells(environment) if c.task_index == task_index]
+    if not found:
+        return None
+    names = found[0].statistics
+    return {published.short_name(name) if name != published.RETURN else "return":
+            sum(c.statistics[name][0] for c in found if name in c.statistics) / len(found) for name in names}
+
+
+__all__ = ["FIDELITY_FILE", "measure_suite", "load_suite", "published_level_mean", "suite_scenarios",
+           "write_suite", "first_level"]

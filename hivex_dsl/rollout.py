@@ -1,0 +1,99 @@
+"""The one rollout helper: whole episodes of a policy, with returns, per-term sums, statistics and term traces.
+
+`hivex run`, `hivex audit`, the fidelity page and the tests all roll episodes through :func:`rollout`.
+Episodes run one after another in one world (the scenario's split seeds, like a user's environment);
+``trace=True`` also records, per active term, the per-step facts the audit checks contracts against.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Optional
+
+import numpy as np
+
+from .compiler import CompiledScenario
+from .policies import make_policy
+from .runtime import BatchedEnv, Split
+from .spaces import check_actions
+
+
+@dataclass
+class TermTrace:
+    """Per-step facts of one term's unweighted values over a rollout's live agent-steps."""
+
+    low: float = np.inf  # the smallest per-step value seen
+    high: float = -np.inf  # the largest
+    nonzero: int = 0  # live agent-steps with a value other than 0
+    live: int = 0  # live agent-steps
+    before_end: int = 0  # non-zero values on steps that did not end the agent's episode (terminal timing)
+    first_step: list[np.ndarray] = field(default_factory=list)  # (agents,) values on each episode's first step
+
+    def add(self, value: np.ndarray, live: np.ndarray, ended: np.ndarray, first: bool) -> None:
+        """``value``, ``live`` and ``ended`` are one world's (agents,) arrays of one step."""
+        seen = value[live]
+        if seen.size:
+            self.low, self.high = min(self.low, float(seen.min())), max(self.high, float(seen.max()))
+        self.nonzero += int(np.count_nonzero(seen))
+        self.live += int(seen.size)
+        self.before_end += int(np.count_nonzero(value[live & ~ended]))
+        if first:
+            self.first_step.append(value.copy())
+
+
+@dataclass
+class Rollout:
+    """``episodes`` whole episodes of one policy: every array is (episodes, agents)."""
+
+    compiled: CompiledScenario
+    policy: str
+    returns: np.ndarray
+    lengths: np.ndarray
+    terms: dict[str, np.ndarray]  # unweighted per-term episode sums of the active terms
+    statistics: dict[str, np.ndarray]  # logged statistics (see hivex_dsl.statistics)
+    traces: dict[str, TermTrace] = field(default_factory=dict)  # per active term, when traced
+
+    def weighted(self, term: str) -> np.ndarray:
+        """What ``term`` paid per agent and episode: its weight times its episode sums."""
+        return self.compiled.weights[term] * self.terms[term]
+
+
+def rollout(compiled: CompiledScenario, policy: str, episodes: int, split: Split = "test",
+            seed: Optional[int] = None, progress=None, trace: bool = False) -> Rollout:
+    """Roll ``episodes`` whole episodes of ``policy`` ('scripted', 'random' or 'zeros') in one world.
+
+    ``seed`` (optional) restarts the split's seed stream and seeds the random policy (0 otherwise);
+    ``progress`` (a :class:`hivex_dsl.report.Progress`) is told of steps and episodes.
+    """
+    core = BatchedEnv(compiled, batch=1, split=split)
+    space = core.sim.action_space
+    act = make_policy(policy, compiled, space, core.shape, seed=0 if seed is None else seed)
+    shape = (episodes, core.agents)
+    returns, lengths = np.zeros(shape), np.zeros(shape, np.int64)
+    terms = {name: np.zeros(shape) for name in core.composer.active}
+    statistics = {name: np.zeros(shape) for name in core.statistics.names}
+    traces = {name: TermTrace() for name in core.composer.active} if trace else {}
+    for episode in range(episodes):
+        observations = core.reset(seed if episode == 0 else None)
+        step = 0
+        while core.alive.any():
+            live = core.alive[0].copy()
+            actions = check_actions(space, act(observations), compiled.agent_names, core.sim.action_meanings)
+            result = core.step(actions)
+            observations = result.observations
+            for name, tracer in traces.items():
+                tracer.add(result.terms[name][0], live, result.ended[0], step == 0)
+            step += 1
+            if progress:
+                progress.step(episode, step, compiled.episode_length)
+        returns[episode], lengths[episode] = core.returns[0], core.lengths[0]
+        for name in terms:
+            terms[name][episode] = core.term_sums[name][0]
+        for name, sums in core.statistic_sums().items():
+            statistics[name][episode] = sums[0]
+        if progress:
+            progress.episode_done(episode, float(returns[episode].mean()), step)
+    return Rollout(compiled, policy, returns, lengths, terms, statistics, traces)
+
+
+__all__ = ["Rollout", "TermTrace", "rollout"]

@@ -1,0 +1,161 @@
+"""`hivex audit`: hand-made terms that must raise each flag, and well-behaved ones that must not."""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+from types import MappingProxyType
+
+import numpy as np
+import pytest
+
+import hivex_dsl
+from hivex_dsl.audit import audit_scenario, describe
+from hivex_dsl.cli import main
+from hivex_dsl.reward.terms import TermRegistry
+
+EPISODE = 30
+
+
+def _terms(*specs):
+    """A WFC term registry of (name, fn, contract fields) triples."""
+    registry = TermRegistry("wind_farm_control")
+    for name, fn, contract in specs:
+        registry.term(name, title=name, description=name, **contract)(fn)
+    return registry
+
+
+def _compiled(registry, weights, task="generate_energy"):
+    """WFC (3 turbines, pattern 0: a published cell) whose reward is the hand-made terms with ``weights``."""
+    compiled = hivex_dsl.compile({"hivex": 1, "environment": "wind_farm_control", "task": task, "agents": 3,
+                                  "episode_length": EPISODE})
+    entry = dataclasses.replace(compiled.entry, terms=registry)
+    entry.__dict__["reward_table"] = compiled.entry.reward_table  # the real table: its rows name the real terms
+    return dataclasses.replace(compiled, entry=entry, weights=MappingProxyType(weights))
+
+
+def _kinds(audit, term=None):
+    return {f.kind for f in audit.flags if term is None or f.term == term}
+
+
+DENSE = dict(low=0.0, high=1.0, sign="bonus", timing="dense", scope="agent")
+
+
+def turning(prev, state, actions, params):
+    return (np.asarray(actions) == 1).astype(np.float64)
+
+
+def steady(prev, state, actions, params):
+    return np.ones(state.heading.shape)
+
+
+def energy(prev, state, actions, params):
+    return np.clip(state.performance, 0.0, 1.0)
+
+
+def test_a_well_behaved_reward_raises_no_flag():
+    audit = audit_scenario(_compiled(_terms(("turning", turning, DENSE), ("energy", energy, DENSE)),
+                                     {"turning": 0.2, "energy": 1.0}))
+    assert audit.flags == []
+    assert audit.cell is not None and audit.cell.return_mean == pytest.approx(4611.6462)
+
+
+def test_a_term_the_actions_do_not_change_is_flagged_when_it_matters():
+    audit = audit_scenario(_compiled(_terms(("turning", turning, DENSE), ("steady", steady, DENSE)),
+                                     {"turning": 1.0, "steady": 1.0}))
+    assert _kinds(audit, "steady") == {"action_independent"}
+    assert "action_independent" not in _kinds(audit, "turning")
+    tiny = audit_scenario(_compiled(_terms(("turning", turning, DENSE), ("steady", steady, DENSE)),
+                                    {"turning": 1.0, "steady": 0.001}))
+    assert "action_independent" not in _kinds(tiny)  # 0.1% of the return does not matter
+
+
+def test_reward_on_the_first_step_after_reset_is_flagged_for_events_only():
+    def from_reset(prev, state, actions, params):
+        return (prev.performance == 0.0).astype(np.float64)
+
+    event = dict(DENSE, timing="event")
+    audit = audit_scenario(_compiled(_terms(("turning", turning, DENSE), ("from_reset", from_reset, event)),
+                                     {"turning": 1.0, "from_reset": 0.01}))
+    assert "first_step" in _kinds(audit, "from_reset")
+    dense = audit_scenario(_compiled(_terms(("turning", turning, DENSE), ("from_reset", from_reset, DENSE)),
+                                     {"turning": 1.0, "from_reset": 0.01}))
+    assert "first_step" not in _kinds(dense)
+
+
+def test_a_dominant_term_is_flagged():
+    audit = audit_scenario(_compiled(_terms(("turning", turning, DENSE), ("energy", energy, DENSE)),
+                                     {"turning": 0.001, "energy": 1.0}))
+    assert _kinds(audit, "energy") == {"dominant"}
+
+
+def test_the_one_bonus_of_a_task_dominates_nothing():
+    def cost(prev, state, actions, params):
+        return -(np.asarray(actions) == 2).astype(np.float64)
+
+    penalty = dict(DENSE, sign="penalty", low=-1.0, high=0.0)
+    audit = audit_scenario(_compiled(_terms(("energy", energy, DENSE), ("cost", cost, penalty)),
+                                     {"energy": 1.0, "cost": 0.001}))
+    assert "dominant" not in _kinds(audit)
+
+
+@pytest.mark.parametrize("value, contract, kind", [
+    (2.0, DENSE, "contract_range"),
+    (-1.0, DENSE, "contract_sign"),
+    (0.5, dict(DENSE, sign="mixed", low=-1.0), None),
+    (1.0, dict(DENSE, timing="terminal"), "contract_timing"),
+    (1.0, dict(DENSE, timing="event"), "contract_timing"),
+])
+def test_contract_violations(value, contract, kind):
+    def constant_when_turning(prev, state, actions, params):
+        return value * turning(prev, state, actions, params) + 0.5 * (value < 0) * 0
+
+    def paid(prev, state, actions, params):
+        return np.full(state.heading.shape, value)
+
+    audit = audit_scenario(_compiled(_terms(("turning", turning, DENSE), ("paid", paid, contract)),
+                                     {"turning": 10.0, "paid": 0.01}))
+    contract_kinds = {k for k in _kinds(audit, "paid") if k.startswith("contract")}
+    assert contract_kinds == ({kind} if kind else set())
+
+
+def test_a_trivial_policy_beating_published_ppo_and_a_far_scale_are_flagged():
+    big = audit_scenario(_compiled(_terms(("turning", turning, DENSE), ("steady", steady, DENSE)),
+                                   {"turning": 1.0, "steady": 200.0}))  # 6000 per episode > 4611.6 + 10%
+    assert {f.policy for f in big.flags if f.kind == "beats_published"} == {"zeros", "random"}
+    assert "published_scale" not in _kinds(big)
+    huge = audit_scenario(_compiled(_terms(("turning", turning, DENSE), ("steady", steady, DENSE)),
+                                    {"turning": 1.0, "steady": 2000.0}))
+    assert {f.policy for f in huge.flags if f.kind == "published_scale"} == {"zeros", "random", "scripted"}
+
+
+def test_text_and_json_reports_show_published_statistics_beside_ours():
+    audit = audit_scenario(hivex_dsl.compile({"hivex": 1, "environment": "wind_farm_control", "agents": 2,
+                                              "episode_length": EPISODE}), episodes=1)
+    data = audit.as_dict()
+    assert data["published"]["return"]["mean"] == pytest.approx(4611.6462)
+    ours = data["policies"]["scripted"]
+    assert ours["statistics"]["Individual Performance"]["mean"] == pytest.approx(ours["return"]["mean"])
+    assert ours["terms"]["generate_energy"]["share"] == pytest.approx(1.0)
+    text = describe(data)
+    assert "Individual Performance" in text and "published PPO" in text
+    json.dumps(data)  # plain data
+
+
+def test_the_command_prints_json_and_strict_fails_on_flags(tmp_path, capsys):
+    scenario = tmp_path / "wfc.yaml"
+    scenario.write_text("hivex: 1\nenvironment: wind_farm_control\nagents: 2\nepisode_length: 20\n"
+                        "sweep:\n  pattern: [0, 1]\n")
+    assert main(["audit", str(scenario), "--episodes", "1", "--json"]) == 0
+    out, err = capsys.readouterr()
+    audits = json.loads(out)
+    assert [a["level"] for a in audits] == [0, 1]
+    assert "[2/2]" in err and "policy scripted" in err
+    strict = main(["audit", str(scenario), "--episodes", "1", "--strict"])
+    assert strict == (1 if any(a["flags"] for a in audits) else 0)
+
+
+def test_the_command_wants_a_file_or_the_suite(capsys):
+    assert main(["audit"]) == 2
+    assert main(["audit", "wind_farm_control/main", "--suite"]) == 2
+    assert "give a scenario FILE or --suite" in capsys.readouterr().err
