@@ -22,18 +22,44 @@ def _compiled(scenario: ScenarioLike) -> CompiledScenario:
     return scenario if isinstance(scenario, CompiledScenario) else compile(scenario)
 
 
-def parallel_env(scenario: ScenarioLike, render_mode: Optional[str] = None, split: str = "train"):
-    """A PettingZoo ParallelEnv of one world (accepts a CompiledScenario, a path or a plain dict)."""
+def parallel_env(scenario: ScenarioLike, render_mode: Optional[str] = None, split: str = "train",
+                 respawn: bool = False):
+    """A PettingZoo ParallelEnv of one world (accepts a CompiledScenario, a path or a plain dict).
+
+    ``respawn=True``: agents that end alone are respawned at once and never leave ``agents`` (for
+    SuperSuit's vector conversion); see :class:`hivex_dsl.adapters.pettingzoo.HivexParallelEnv`.
+    """
     from .adapters.pettingzoo import HivexParallelEnv
 
-    return HivexParallelEnv(_compiled(scenario), render_mode=render_mode, split=split)
+    return HivexParallelEnv(_compiled(scenario), render_mode=render_mode, split=split, respawn=respawn)
 
 
-def vector_env(scenario: ScenarioLike, num_envs: int = 1, render_mode: Optional[str] = None, split: str = "train"):
-    """A Gymnasium VectorEnv of ``num_envs`` worlds with every agent a slot (parameter sharing)."""
+def vector_env(scenario: ScenarioLike, num_worlds: int = 1, render_mode: Optional[str] = None, split: str = "train",
+               autoreset_mode: Any = "next_step", **unexpected: Any):
+    """A Gymnasium VectorEnv of ``num_worlds`` worlds with every agent a slot (parameter sharing):
+    its ``num_envs`` is worlds x agents. ``autoreset_mode``: "next_step" (default) or "same_step"."""
     from .adapters.gymnasium import HivexVectorEnv
 
-    return HivexVectorEnv(_compiled(scenario), num_worlds=num_envs, render_mode=render_mode, split=split)
+    if "num_envs" in unexpected:
+        raise KeywordError("vector_env takes num_worlds= (the number of worlds); num_envs is the slot count "
+                        "it reports, worlds x agents")
+    if unexpected:
+        raise KeywordError(f"vector_env got unexpected keyword arguments {sorted(unexpected)}")
+    return HivexVectorEnv(_compiled(scenario), num_worlds=num_worlds, render_mode=render_mode, split=split,
+                          autoreset_mode=autoreset_mode)
+
+
+class KeywordError(HivexError, TypeError):
+    """A keyword argument the function does not take (e.g. vector_env's old ``num_envs``)."""
+
+
+def _register_gymnasium_ids() -> None:
+    from .adapters.registration import register_gymnasium
+
+    register_gymnasium()
+
+
+_register_gymnasium_ids()
 
 
 __all__ = ["ActionError", "CompiledScenario", "HivexError", "ScenarioError", "compile", "compile_all",

@@ -166,7 +166,7 @@ def measure_vector(env_id: str, seconds: float, batch: int) -> Measurement:
     from hivex_dsl.policies import random_policy
 
     compiled = hivex_dsl.compile(f"{env_id}/main")
-    env = hivex_dsl.vector_env(compiled, num_envs=batch)
+    env = hivex_dsl.vector_env(compiled, num_worlds=batch)
     draw = random_policy(env.single_action_space, (env.num_envs,), np.random.default_rng(0))
 
     def step() -> bool:

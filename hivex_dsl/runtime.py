@@ -44,6 +44,9 @@ class Simulator(Protocol):
 
     def reset(self, rng: np.random.Generator, batch: int) -> Any: ...
     def reset_where(self, state: Any, mask: np.ndarray, rng: np.random.Generator) -> Any: ...
+    # Where an agent can end its episode while its world goes on (a crash, a border):
+    # ``respawn_where(state, mask (batch, agents) bool, rng) -> state`` starts those agents afresh in
+    # their running worlds (ML-Agents' agent reset) and makes their next observation a first one.
     def step(self, state: Any, actions: Any, rng: np.random.Generator) -> tuple[Any, StepOutcome]: ...
     def observe(self, state: Any) -> Any: ...
     def render(self, state: Any, index: int) -> np.ndarray: ...
@@ -51,13 +54,34 @@ class Simulator(Protocol):
     # last step that the adapters put in infos under "env" (e.g. WRM's impossible resource moves).
 
 
-class SeedSchedule:
-    """Seeds of one split: an integer seeds a stream that episodes continue; a list seeds each episode."""
+_UNSEEDED_STREAMS: dict[int, int] = {}  # scenario seed -> unseeded streams started from it in this process
 
-    def __init__(self, seeds: int | tuple[int, ...]):
+
+def copy_stream(seed: int) -> np.random.Generator:
+    """The stream of the next unseeded copy of a scenario whose integer seed is ``seed``.
+
+    The first copy in a process plays the scenario's own stream; copy k (k >= 1) a child stream
+    ``SeedSequence(seed, spawn_key=(k,))``. So copies (SuperSuit's concatenation, several adapters
+    of one scenario) are different worlds unless seeded, and a program is still reproducible.
+    """
+    k = _UNSEEDED_STREAMS.get(seed, 0)
+    _UNSEEDED_STREAMS[seed] = k + 1
+    return np.random.default_rng(seed if k == 0 else np.random.SeedSequence(seed, spawn_key=(k,)))
+
+
+class SeedSchedule:
+    """Seeds of one split: an integer seeds a stream that episodes continue; a list seeds each episode.
+
+    ``distinct_copies`` (the adapters): an integer stream started without a user's seed is the
+    scenario's own for the first such copy in the process and a child of it for later ones
+    (:func:`copy_stream`); without it (``hivex run``, the report) always the scenario's own.
+    """
+
+    def __init__(self, seeds: int | tuple[int, ...], distinct_copies: bool = False):
         self.seeds = seeds
         self.episode = 0
         self.rng: Optional[np.random.Generator] = None
+        self.distinct_copies = distinct_copies
 
     def next_rng(self, explicit: Optional[int]) -> np.random.Generator:
         """The generator for the next reset; ``explicit`` (a user's seed) restarts the stream."""
@@ -66,7 +90,7 @@ class SeedSchedule:
         elif isinstance(self.seeds, tuple):
             self.rng = np.random.default_rng(self.seeds[self.episode % len(self.seeds)])
         elif self.rng is None:
-            self.rng = np.random.default_rng(self.seeds)
+            self.rng = copy_stream(self.seeds) if self.distinct_copies else np.random.default_rng(self.seeds)
         self.episode += 1
         return self.rng
 
@@ -89,7 +113,8 @@ class Transition(NamedTuple):
 class BatchedEnv:
     """``batch`` worlds of one scenario. Agents of a world may end early; a world ends when all have."""
 
-    def __init__(self, compiled: CompiledScenario, batch: int = 1, split: Split = "train"):
+    def __init__(self, compiled: CompiledScenario, batch: int = 1, split: Split = "train",
+                 distinct_copies: bool = False):
         if batch < 1:
             raise ValueError(f"batch must be >= 1, got {batch}")
         if split not in ("train", "test"):
@@ -99,7 +124,7 @@ class BatchedEnv:
         self.agents = compiled.agents
         self.sim: Simulator = compiled.entry.make_simulator(compiled)
         self.composer = RewardComposer(compiled.entry.terms, compiled.weights)
-        self.schedule = SeedSchedule(getattr(compiled.seeds, split))
+        self.schedule = SeedSchedule(getattr(compiled.seeds, split), distinct_copies)
         self.state: Any = None
         self.rng: Optional[np.random.Generator] = None
         shape = (batch, self.agents)
@@ -144,8 +169,38 @@ class BatchedEnv:
         self._clear(mask)
         return self.sim.observe(self.state)
 
+    def respawn_agents(self, mask: np.ndarray) -> None:
+        """Start new episodes for the agents where ``mask`` (batch, agents) is true, in their running worlds.
+
+        Their worlds' clocks go on; the simulator's ``respawn_where`` puts them back (continuing the
+        random stream) and their per-agent sums start from zero. A simulator without one (its agents
+        never end alone unless a scenario says so, e.g. a turbine) starts them again where they are.
+        Does not observe.
+        """
+        self._require_reset()
+        if not np.count_nonzero(mask):
+            return
+        respawn = getattr(self.sim, "respawn_where", None)
+        if respawn is not None:
+            self.state = respawn(self.state, mask, self.rng)
+        self._clear_agents(mask)
+
+    def world_endings(self, result: "Transition") -> np.ndarray:
+        """(batch,) bool: worlds whose episode ends with this step as a whole -- the clock reached the
+        episode length, or every agent of the world terminated on this very step."""
+        return (self.clock >= self.compiled.episode_length) | result.terminated.all(axis=1)
+
+    def observe(self) -> Any:
+        self._require_reset()
+        return self.sim.observe(self.state)
+
     def _clear(self, mask: np.ndarray) -> None:
         self.clock[mask] = 0
+        self._clear_agents(np.broadcast_to(mask[:, None], self.shape))
+        self.oldest_clock = int(self.clock.max())
+
+    def _clear_agents(self, mask: np.ndarray) -> None:
+        """Zero the per-agent episode records where ``mask`` (batch, agents) is true; they play again."""
         self.alive[mask] = True
         self.returns[mask] = 0.0
         self.lengths[mask] = 0
@@ -154,20 +209,21 @@ class BatchedEnv:
         for sums in self.counter_sums.values():
             sums[mask] = 0.0
         self.everyone_playing = bool(self.alive.all())
-        self.oldest_clock = int(self.clock.max())
 
     def _require_reset(self) -> None:
         if self.state is None:
             raise RuntimeError("call reset() before step()")
 
-    def step(self, actions: Any, restart: Optional[np.ndarray] = None) -> Transition:
+    def step(self, actions: Any, restart: Optional[np.ndarray] = None, respawn: Optional[np.ndarray] = None,
+             ) -> Transition:
         """Advance every world one step with already validated (batch, agents, ...) actions.
 
         ``restart`` (batch,) bool, if given, starts new episodes in those worlds right after the
         step (continuing the random stream), so the returned observations are their first ones;
         observing once after the restart spares a second observation of every world, which for
         camera environments costs as much as the step. Their transition values (rewards, ended,
-        ...) are the step's, for the caller to discard.
+        ...) are the step's, for the caller to discard. ``respawn`` (batch, agents) bool, if given,
+        respawns those agents (:meth:`respawn_agents`) after the step, before any restart.
         """
         self._require_reset()
         live, everyone = self.alive, self.everyone_playing
@@ -188,6 +244,8 @@ class BatchedEnv:
         self._count(prev, actions, live, everyone)
         terminated, truncated, ended = self._endings(live, outcome)
         env_info = self._step_info(self.state) if self._step_info is not None else {}
+        if respawn is not None:
+            self.respawn_agents(respawn)
         if restart is not None and np.count_nonzero(restart):
             self.state = self.sim.reset_where(self.state, restart, self.rng)
             self._clear(restart)

@@ -87,7 +87,7 @@ def test_same_seed_same_trajectory_and_another_seed_differs(env_id):
 @pytest.mark.parametrize("env_id", ENV_IDS)
 def test_one_vector_world_follows_the_parallel_env(env_id):
     parallel = hivex_dsl.parallel_env(scenario(env_id, episode_length=30))
-    vector = hivex_dsl.vector_env(scenario(env_id, episode_length=30), num_envs=1)
+    vector = hivex_dsl.vector_env(scenario(env_id, episode_length=30), num_worlds=1)
     obs_p, _ = parallel.reset(seed=8)
     obs_v, _ = vector.reset(seed=8)
     rng = np.random.default_rng(4)

@@ -95,7 +95,7 @@ def test_infos_carry_reward_terms_and_episode_sums_at_the_end():
     assert all(truncs.values()) and not any(terms.values())
     assert env.agents == []
     for a in env.possible_agents:
-        assert infos[a]["episode"] == {"return": pytest.approx(total[a]), "length": 5,
+        assert infos[a]["hivex_episode"] == {"return": pytest.approx(total[a]), "length": 5,
                                        "reward_terms": {"avoid_damage": pytest.approx(total[a])},
                                        "statistics": {"Individual Performance": 0.0,
                                                       "Avoid Damage Reward": pytest.approx(total[a])}}
@@ -153,7 +153,7 @@ def test_task_events_end_single_agents_and_the_others_go_on(restepped):
     env.reset(seed=0)
     _, _, terms, truncs, infos = env.step({"turbine_0": 0, "turbine_1": 1, "turbine_2": 0})
     assert terms == {"turbine_0": False, "turbine_1": True, "turbine_2": False}
-    assert env.agents == ["turbine_0", "turbine_2"] and infos["turbine_1"]["episode"]["length"] == 1
+    assert env.agents == ["turbine_0", "turbine_2"] and infos["turbine_1"]["hivex_episode"]["length"] == 1
     for _ in range(9):
         _, rewards, terms, truncs, _ = env.step({a: 0 for a in env.agents})
         assert "turbine_1" not in rewards

@@ -40,3 +40,14 @@ def test_the_python_example_runs(monkeypatch):
     exec(compile(example, "README.md", "exec"), namespace)
     assert namespace["venv"].num_envs == 64 * 8
     assert len(namespace["suite"]) == 18
+
+
+def test_the_one_line_ways_in_run():
+    """The PettingZoo and Gymnasium rows of the "From RL libraries" table (SB3's runs in test_examples)."""
+    rows = dict(re.findall(r"^\| (PettingZoo|Gymnasium|Stable-Baselines3) \| `([^`]*)`", README, flags=re.M))
+    namespace: dict = {}
+    exec(rows["PettingZoo"], namespace)
+    assert namespace["env"].reset(seed=0)[0].keys() == {"vessel_0", "vessel_1", "vessel_2"} or namespace["env"].agents
+    exec(rows["Gymnasium"], namespace)
+    assert namespace["envs"].compiled.task_name == "find_fire" and namespace["envs"].num_worlds == 4
+    assert "SB3VecEnv(" in rows["Stable-Baselines3"]

@@ -124,13 +124,13 @@ def test_episode_infos_carry_the_statistics_in_both_adapters():
     venv.reset(seed=1)
     for _ in range(3):
         *_, infos = venv.step(np.zeros(4, np.int64))
-    episode = infos["episode"]
+    episode = infos["hivex_episode"]
     np.testing.assert_allclose(episode["statistics"]["Individual Performance"], episode["return"])
     env = hivex_dsl.parallel_env(scenario)
     env.reset(seed=1)
     for _ in range(3):
         *_, infos = env.step({a: 0 for a in env.agents})
-    summary = infos["turbine_0"]["episode"]
+    summary = infos["turbine_0"]["hivex_episode"]
     assert summary["statistics"]["Individual Performance"] == pytest.approx(summary["return"])
     assert summary["statistics"]["Avoid Damage Reward"] == 0.0
 

@@ -13,7 +13,7 @@ SCENARIO = {"hivex": 1, "environment": "wind_farm_control", "agents": 3, "episod
 
 
 def test_spaces_single_and_batched():
-    venv = hivex_dsl.vector_env(SCENARIO, num_envs=5)
+    venv = hivex_dsl.vector_env(SCENARIO, num_worlds=5)
     assert venv.num_envs == 15 and venv.num_worlds == 5 and venv.agents_per_world == 3
     assert venv.single_observation_space == spaces.Box(-1, 1, (6,), np.float32)
     assert venv.single_action_space == spaces.Discrete(3)
@@ -23,25 +23,26 @@ def test_spaces_single_and_batched():
 
 
 def test_next_step_autoreset_and_episode_infos():
-    venv = hivex_dsl.vector_env(SCENARIO, num_envs=2)
+    venv = hivex_dsl.vector_env(SCENARIO, num_worlds=2)
     obs, _ = venv.reset(seed=1)
     assert obs.shape == (6, 6) and venv.observation_space.contains(obs)
     for step in range(1, 5):
         obs, rewards, terminated, truncated, infos = venv.step(np.zeros(6, np.int64))
         assert rewards.shape == (6,) and not terminated.any()
         assert truncated.all() == (step == 4)
-    assert infos["_episode"].all()
-    np.testing.assert_array_equal(infos["episode"]["length"], 4)
-    np.testing.assert_allclose(infos["episode"]["return"], infos["episode"]["reward_terms"]["generate_energy"])
+    assert infos["_hivex_episode"].all()
+    np.testing.assert_array_equal(infos["hivex_episode"]["length"], 4)
+    np.testing.assert_allclose(infos["hivex_episode"]["return"], infos["hivex_episode"]["reward_terms"]["generate_energy"])
     last_obs = obs
     obs, rewards, terminated, truncated, infos = venv.step(np.zeros(6, np.int64))
     np.testing.assert_array_equal(rewards, 0.0)
-    assert not truncated.any() and "episode" not in infos and infos["active"].all()
+    assert not truncated.any() and "hivex_episode" not in infos and "active" not in infos
+    np.testing.assert_array_equal(infos["reward_terms"]["generate_energy"], 0.0)  # every step has its terms
     assert not np.array_equal(obs, last_obs)  # new layout of headings and wind after the reset
 
 
 def test_one_world_matches_the_parallel_env():
-    venv = hivex_dsl.vector_env(SCENARIO | {"episode_length": 50}, num_envs=1)
+    venv = hivex_dsl.vector_env(SCENARIO | {"episode_length": 50}, num_worlds=1)
     penv = hivex_dsl.parallel_env(SCENARIO | {"episode_length": 50})
     v_obs, _ = venv.reset(seed=8)
     p_obs, _ = penv.reset(seed=8)
@@ -55,7 +56,7 @@ def test_one_world_matches_the_parallel_env():
 
 
 def test_bad_slot_action_names_agent_and_world():
-    venv = hivex_dsl.vector_env(SCENARIO, num_envs=2)
+    venv = hivex_dsl.vector_env(SCENARIO, num_worlds=2)
     venv.reset(seed=0)
     actions = np.zeros(6, np.int64)
     actions[4] = 7
@@ -67,8 +68,8 @@ def test_bad_slot_action_names_agent_and_world():
 
 def test_per_episode_seed_lists_are_refused_with_the_reason():
     with pytest.raises(ValueError, match="per-episode list \\[7, 8\\].*use parallel_env"):
-        hivex_dsl.vector_env(SCENARIO | {"seeds": {"train": [7, 8], "test": 9}}, num_envs=2)
-    hivex_dsl.vector_env(SCENARIO | {"seeds": {"train": [7, 8], "test": 9}}, num_envs=2, split="test")
+        hivex_dsl.vector_env(SCENARIO | {"seeds": {"train": [7, 8], "test": 9}}, num_worlds=2)
+    hivex_dsl.vector_env(SCENARIO | {"seeds": {"train": [7, 8], "test": 9}}, num_worlds=2, split="test")
 
 
 def test_an_agent_whose_episode_ended_gets_the_placeholder_action_until_its_world_resets(restepped):
@@ -83,7 +84,7 @@ def test_an_agent_whose_episode_ended_gets_the_placeholder_action_until_its_worl
         return new, StepOutcome(outcome.terminated, {"spun": np.asarray(actions) == 1})
 
     sc = hivex_dsl.compile(SCENARIO | {"episode_length": 10})
-    env = hivex_dsl.vector_env(restepped(sc, recording_spins, {"spun": "rotated left"}, ("spun",)), num_envs=1)
+    env = hivex_dsl.vector_env(restepped(sc, recording_spins, {"spun": "rotated left"}, ("spun",)), num_worlds=1)
     env.reset(seed=0)
     env.step(np.array([0, 1, 0]))  # agent 1 ends its episode
     env.step(np.array([2, 1, 2]))  # its action is replaced; the others act
@@ -98,22 +99,29 @@ def test_restarting_worlds_observe_as_a_separate_reset_would(environment):
     from hivex_dsl.runtime import BatchedEnv
 
     compiled = hivex_dsl.compile({"hivex": 1, "environment": environment, "episode_length": 6, "seeds": {"train": 4}})
-    venv = hivex_dsl.vector_env(compiled, num_envs=3)
+    venv = hivex_dsl.vector_env(compiled, num_worlds=3)
     manual = BatchedEnv(compiled, batch=3)
     draw = random_policy(venv.single_action_space, (venv.num_envs,), np.random.default_rng(1))
-    obs, _ = venv.reset()
-    expected = manual.reset()
+    obs, _ = venv.reset(seed=4)
+    expected = manual.reset(seed=4)
     pending = np.zeros(3, bool)
+    respawning = np.zeros((3, compiled.agents), bool)
     restarts = 0
     for _ in range(20):
         actions = draw(None)
         obs, *_ = venv.step(actions)
         batched = {k: v.reshape((3, -1) + v.shape[1:]) for k, v in actions.items()} if isinstance(actions, dict) \
             else actions.reshape((3, -1) + actions.shape[1:])
-        expected = manual.step(batched).observations
-        if pending.any():
+        if pending.all():  # every world restarts: no simulator step on discarded actions
             expected = manual.reset_worlds(pending)
-            restarts += 1
+            ended = np.zeros_like(respawning)
+        else:
+            result = manual.step(batched, respawn=respawning & ~pending[:, None])
+            expected, ended = result.observations, result.ended
+            if pending.any():
+                expected = manual.reset_worlds(pending)
+        restarts += pending.any()
+        respawning = ended & ~pending[:, None] & manual.alive.any(axis=1)[:, None]
         pending = ~manual.alive.any(axis=1)
         flat = {k: v.reshape((venv.num_envs,) + v.shape[2:]) for k, v in expected.items()} if isinstance(expected, dict) \
             else expected.reshape((venv.num_envs,) + expected.shape[2:])

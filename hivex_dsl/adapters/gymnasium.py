@@ -2,9 +2,31 @@
 
 ``num_worlds`` copies of the scenario step together; the slots are the flattened
 (world, agent) pairs, so ``num_envs == num_worlds * agents`` and one policy acts for all.
-Autoreset follows Gymnasium's NEXT_STEP mode per world: a world whose agents have all ended
-reports its last observation with terminated/truncated, and the next ``step`` resets it
-(ignoring its actions) and returns its first observation with reward 0.
+
+Episodes are per slot, with ML-Agents' semantics: an agent whose own episode ends while its world
+goes on (a crash, a border, a task's ``ends_on`` event) reports ``terminated`` on that step and is
+respawned in the same world; a world restarts as a whole when its clock reaches the episode length
+or every agent terminates on the same step. Every slot is always live, so stock consumers
+(``RecordEpisodeStatistics``, SB3, CleanRL) count per-agent returns and lengths right. Both of
+Gymnasium's autoreset modes are offered (``autoreset_mode``):
+
+- NEXT_STEP (default): a slot that ended returns its last observation; the next ``step`` ignores
+  its action and returns its first observation with reward 0 and no ending.
+- SAME_STEP: a slot that ended returns its first observation at once; the last one is in
+  ``infos["final_obs"]`` (an object array, ``None`` elsewhere) under the mask ``infos["_final_obs"]``.
+
+A slot that restarts (NEXT_STEP) on the very step its world ends is reported truncated with an
+empty episode (return 0, length 0), as ``RecordEpisodeStatistics`` counts it too. When every world
+restarts at once, NEXT_STEP resets them without stepping the simulator, so a one-world vector env
+follows the parallel env episode after episode as long as no agent ends alone (the parallel env
+then lets the agent leave, the vector env respawns it).
+
+``infos["hivex_episode"]`` (mask ``infos["_hivex_episode"]``) holds each ended slot's return,
+length and per-term sums, never colliding with the wrappers' ``episode`` key; there is no
+``infos["active"]``: every slot is always live. Observations are fresh writable arrays every
+step. A reset without a seed follows the scenario's seed (the first copy of a scenario in a
+process plays its stream, later copies child streams of it: copies are different worlds unless
+seeded, and a seeded reset is deterministic).
 """
 
 from __future__ import annotations
@@ -16,14 +38,18 @@ from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
 from ..compiler import CompiledScenario
-from ..runtime import BatchedEnv, Split
+from ..runtime import BatchedEnv, Split, Transition
 from ..spaces import check_actions
+from .human import Rendering, check_render_mode
+
+_MODES = {"next_step": AutoresetMode.NEXT_STEP, "same_step": AutoresetMode.SAME_STEP}
 
 
 def _flatten(tree: Any, slots: int) -> Any:
+    """(worlds, agents, ...) arrays (or a dict of them) -> fresh writable (slots, ...) arrays."""
     if isinstance(tree, dict):
         return {k: _flatten(v, slots) for k, v in tree.items()}
-    return tree.reshape((slots,) + tree.shape[2:])
+    return np.array(tree.reshape((slots,) + tree.shape[2:]))
 
 
 def _unflatten(tree: Any, shape: tuple[int, int]) -> Any:
@@ -35,13 +61,27 @@ def _unflatten(tree: Any, shape: tuple[int, int]) -> Any:
     return array.reshape(shape + array.shape[1:])
 
 
-class HivexVectorEnv(VectorEnv):
+def _slot_values(tree: Any, slot: int) -> Any:
+    return {k: _slot_values(v, slot) for k, v in tree.items()} if isinstance(tree, dict) else tree[slot]
+
+
+def as_autoreset_mode(mode: Any) -> AutoresetMode:
+    """An AutoresetMode from itself or its name ("next_step", "same_step"); DISABLED is not offered."""
+    if isinstance(mode, AutoresetMode) and mode in _MODES.values():
+        return mode
+    if isinstance(mode, str) and mode.lower() in _MODES:
+        return _MODES[mode.lower()]
+    raise ValueError(f"autoreset_mode must be one of {list(_MODES)} (or AutoresetMode.NEXT_STEP / SAME_STEP), "
+                     f"got {mode!r}")
+
+
+class HivexVectorEnv(Rendering, VectorEnv):
     """Slots are (world, agent) pairs in world-major order: slot = world * agents + agent."""
 
     def __init__(self, compiled: CompiledScenario, num_worlds: int = 1, render_mode: Optional[str] = None,
-                 split: Split = "train"):
-        if render_mode not in (None, "rgb_array"):
-            raise ValueError(f"render_mode must be None or 'rgb_array', got {render_mode!r}")
+                 split: Split = "train", autoreset_mode: Any = AutoresetMode.NEXT_STEP):
+        check_render_mode(render_mode)
+        mode = as_autoreset_mode(autoreset_mode)
         seeds = getattr(compiled.seeds, split, None)
         if isinstance(seeds, tuple):
             raise ValueError(
@@ -49,7 +89,7 @@ class HivexVectorEnv(VectorEnv):
                 "their episodes on their own and continue one random stream, so they cannot play the listed seeds in "
                 "turn; use parallel_env for per-episode seeds, or give this split one integer seed")
         self.compiled = compiled
-        self.core = BatchedEnv(compiled, batch=num_worlds, split=split)
+        self.core = BatchedEnv(compiled, batch=num_worlds, split=split, distinct_copies=True)
         self.num_worlds = num_worlds
         self.agents_per_world = compiled.agents
         self.num_envs = num_worlds * compiled.agents
@@ -58,55 +98,92 @@ class HivexVectorEnv(VectorEnv):
         self.observation_space = batch_space(self.single_observation_space, self.num_envs)
         self.action_space = batch_space(self.single_action_space, self.num_envs)
         self.render_mode = render_mode
-        self.metadata = {"autoreset_mode": AutoresetMode.NEXT_STEP, "render_modes": ["rgb_array"],
+        self.autoreset_mode = mode
+        self.metadata = {"autoreset_mode": mode, "render_modes": ["rgb_array", "human"],
                          "render_fps": self.core.sim.render_fps}
-        self._pending_reset = np.zeros(num_worlds, bool)
+        self._pending_worlds = np.zeros(num_worlds, bool)  # NEXT_STEP: worlds that restart on the next step
+        self._pending_agents = np.zeros(self.core.shape, bool)  # NEXT_STEP: agents that respawn on the next step
 
     def reset(self, *, seed: Optional[int] = None, options: Optional[dict] = None):
         if seed is not None and not isinstance(seed, (int, np.integer)):
             raise ValueError("seed must be one integer: it seeds the stream shared by every world")
         observations = self.core.reset(None if seed is None else int(seed))
-        self._pending_reset[:] = False
+        self._pending_worlds[:] = False
+        self._pending_agents[:] = False
+        self._show()
         return _flatten(observations, self.num_envs), {}
 
     def step(self, actions: Any):
-        shape = self.core.shape
-        batched = check_actions(self.single_action_space, _unflatten(actions, shape),
+        batched = check_actions(self.single_action_space, _unflatten(actions, self.core.shape),
                                 self.compiled.agent_names, self.core.sim.action_meanings)
-        pending = self._pending_reset
-        restarting = pending.any()
-        # only worlds that ended a step ago restart, so the sums of episodes ending now stay for the infos
-        result = self.core.step(batched, restart=pending if restarting else None)
-        observations, rewards = result.observations, result.rewards
-        terminated, truncated = result.terminated, result.truncated
-        infos = self._infos(result)
-        if restarting:  # those worlds return their first observation, reward 0 and no ending
-            resetting = pending[:, None]
-            rewards = np.where(resetting, 0.0, rewards)
-            terminated, truncated = terminated & ~resetting, truncated & ~resetting
-        infos["active"] = self.core.alive.reshape(-1).copy()
-        self._pending_reset = ~self.core.alive.any(axis=1)
-        return (_flatten(observations, self.num_envs), rewards.reshape(-1), terminated.reshape(-1),
+        if self.autoreset_mode is AutoresetMode.SAME_STEP:
+            out = self._step_same(batched)
+        else:
+            out = self._step_next(batched)
+        self._show()
+        return out
+
+    def _step_next(self, batched: Any):
+        core, restart = self.core, self._pending_worlds
+        shape = core.shape
+        if restart.all():  # every world restarts: no simulator step on discarded actions (issue 16)
+            observations = core.reset_worlds(restart)
+            self._pending_worlds = np.zeros(self.num_worlds, bool)
+            self._pending_agents = np.zeros(shape, bool)
+            zeros = np.zeros(self.num_envs, bool)
+            infos = {"reward_terms": {name: np.zeros(self.num_envs) for name in core.term_sums}}
+            return _flatten(observations, self.num_envs), np.zeros(self.num_envs), zeros, zeros.copy(), infos
+        respawning = self._pending_agents & ~restart[:, None]
+        restarting = restart if restart.any() else None
+        result = core.step(batched, restart=restarting, respawn=respawning if respawning.any() else None)
+        ending = core.world_endings(result) & ~restart
+        terminated, truncated, ended = result.terminated, result.truncated, result.ended
+        empty = respawning & ending[:, None]  # respawned on the last step of their world: an empty episode
+        if empty.any():
+            truncated, ended = truncated | empty, ended | empty
+            core.alive[empty] = False
+        counted = ~restart[:, None]
+        terminated, truncated, ended = terminated & counted, truncated & counted, ended & counted
+        rewards = np.where(counted, result.rewards, 0.0)
+        infos = self._infos(result, ended)
+        self._pending_worlds = ending
+        self._pending_agents = ended & ~ending[:, None]
+        return (_flatten(result.observations, self.num_envs), rewards.reshape(-1), terminated.reshape(-1),
                 truncated.reshape(-1), infos)
 
-    def _infos(self, result) -> dict[str, Any]:
-        ended = result.ended & ~self._pending_reset[:, None]
+    def _step_same(self, batched: Any):
+        core = self.core
+        result = core.step(batched)
+        ending = core.world_endings(result)
+        infos = self._infos(result, result.ended)
+        observations = result.observations
+        if np.count_nonzero(result.ended):
+            final = _flatten(observations, self.num_envs)
+            done = result.ended.reshape(-1)
+            infos["final_obs"] = np.full(self.num_envs, None, dtype=object)
+            for slot in np.flatnonzero(done):
+                infos["final_obs"][slot] = _slot_values(final, slot)
+            infos["_final_obs"] = done
+            core.respawn_agents(result.ended & ~ending[:, None])
+            observations = core.reset_worlds(ending) if ending.any() else core.observe()
+        return (_flatten(observations, self.num_envs), result.rewards.reshape(-1), result.terminated.reshape(-1),
+                result.truncated.reshape(-1), infos)
+
+    def _infos(self, result: Transition, ended: np.ndarray) -> dict[str, Any]:
         core = self.core
         infos: dict[str, Any] = {"reward_terms": {k: v.reshape(-1) for k, v in result.terms.items()}}
         if result.env_info:
             infos["env"] = {k: np.asarray(v).reshape(-1) for k, v in result.env_info.items()}
         if ended.any():
-            infos["episode"] = {
+            infos["hivex_episode"] = {
                 "return": np.where(ended, core.returns, 0.0).reshape(-1),
                 "length": np.where(ended, core.lengths, 0).reshape(-1),
                 "reward_terms": {k: np.where(ended, s, 0.0).reshape(-1) for k, s in core.term_sums.items()},
                 "statistics": {k: np.where(ended, s, 0.0).reshape(-1) for k, s in core.statistic_sums().items()},
             }
-            infos["_episode"] = ended.reshape(-1)
+            infos["_hivex_episode"] = ended.reshape(-1)
         return infos
 
-    def render(self):
-        return None if self.render_mode is None else self.core.render(0)
-
     def close_extras(self, **kwargs: Any) -> None:
-        """Nothing to release: the worlds are only NumPy arrays."""
+        """Closes the window of human rendering, if any; the worlds are only NumPy arrays."""
+        self._close_window()

@@ -10,20 +10,23 @@ from pettingzoo import ParallelEnv
 from ..compiler import CompiledScenario
 from ..runtime import BatchedEnv, Split
 from ..spaces import check_actions, stack_agent_actions
+from .human import Rendering, check_render_mode
 
 
 def _unbatch(observations: Any, world: int, agent: int) -> Any:
+    """One agent's observation as fresh writable arrays."""
     if isinstance(observations, dict):
-        return {key: value[world, agent] for key, value in observations.items()}
-    return observations[world, agent]
+        return {key: np.array(value[world, agent]) for key, value in observations.items()}
+    return np.array(observations[world, agent])
 
 
 def _per_agent(observations: Any) -> list:
-    """World 0's observation of every agent: (1, agents, ...) arrays (or a dict of them) -> a list of views."""
+    """World 0's observation of every agent: (1, agents, ...) arrays (or a dict of them) -> a list of
+    fresh writable arrays (one copy of the batch, then views of it per agent)."""
     if isinstance(observations, dict):
         keys = list(observations)
-        return [dict(zip(keys, parts)) for parts in zip(*(observations[k][0] for k in keys))]
-    return list(observations[0])
+        return [dict(zip(keys, parts)) for parts in zip(*(np.array(observations[k][0]) for k in keys))]
+    return list(np.array(observations[0]))
 
 
 def _per_agent_values(named: dict[str, np.ndarray], agents: int) -> list[dict[str, Any]]:
@@ -33,23 +36,34 @@ def _per_agent_values(named: dict[str, np.ndarray], agents: int) -> list[dict[st
     return [dict(zip(names, row)) for row in zip(*columns)] if names else [{} for _ in range(agents)]
 
 
-class HivexParallelEnv(ParallelEnv):
+class HivexParallelEnv(Rendering, ParallelEnv):
     """One world of a compiled scenario behind PettingZoo's parallel API.
 
     ``infos[agent]["reward_terms"]`` holds the unweighted value of every active reward term this
-    step, ``infos[agent]["env"]`` the environment's own facts of the step (if it reports any); when an agent's episode ends, ``infos[agent]["episode"]`` holds its return, length and
-    per-term sums. A reset without a seed follows the scenario's seeds for ``split``.
+    step, ``infos[agent]["env"]`` the environment's own facts of the step (if it reports any); when an
+    agent's episode ends, ``infos[agent]["hivex_episode"]`` holds its return, length and per-term sums.
+    A reset without a seed follows the scenario's seeds for ``split`` (a later copy of the same
+    scenario in the process plays a child stream of them: copies are different worlds unless seeded).
+    Observations are fresh writable arrays.
+
+    Agent death: by PettingZoo's convention an agent whose episode ended leaves ``agents`` until
+    the world resets. With ``respawn=True`` (for SuperSuit's ``pettingzoo_env_to_vec_env_v1`` and
+    other consumers that need a constant agent list) an agent that ends alone while its world goes on
+    reports ``terminated`` and its ``hivex_episode``, is respawned at once (ML-Agents' semantics) and
+    stays in ``agents``; its step observation is its first one and its last is in
+    ``infos[agent]["terminal_observation"]`` (SB3's key). Worlds still end as a whole as usual.
     """
 
-    def __init__(self, compiled: CompiledScenario, render_mode: Optional[str] = None, split: Split = "train"):
-        if render_mode not in (None, "rgb_array"):
-            raise ValueError(f"render_mode must be None or 'rgb_array', got {render_mode!r}")
+    def __init__(self, compiled: CompiledScenario, render_mode: Optional[str] = None, split: Split = "train",
+                 respawn: bool = False):
+        check_render_mode(render_mode)
         self.compiled = compiled
-        self.core = BatchedEnv(compiled, batch=1, split=split)
+        self.core = BatchedEnv(compiled, batch=1, split=split, distinct_copies=True)
         self.render_mode = render_mode
+        self.respawn = respawn
         self.possible_agents = list(compiled.agent_names)
         self.agents: list[str] = []
-        self.metadata = {"name": f"hivex_{compiled.environment}_v0", "render_modes": ["rgb_array"],
+        self.metadata = {"name": f"hivex_{compiled.environment}_v0", "render_modes": ["rgb_array", "human"],
                          "is_parallelizable": True, "render_fps": self.core.sim.render_fps}
         self._index = {name: i for i, name in enumerate(self.possible_agents)}
         self.observation_spaces = {a: self.core.sim.observation_space for a in self.possible_agents}
@@ -65,6 +79,7 @@ class HivexParallelEnv(ParallelEnv):
         observations = self.core.reset(seed)
         self.agents = list(self.possible_agents)
         obs = {a: _unbatch(observations, 0, i) for i, a in enumerate(self.agents)}
+        self._show()
         return obs, {a: {} for a in self.agents}
 
     def step(self, actions: dict[str, Any]):
@@ -97,9 +112,22 @@ class HivexParallelEnv(ParallelEnv):
         if np.count_nonzero(ended):
             for a in live:
                 if ended[self._index[a]]:
-                    infos[a]["episode"] = self.core.episode_summary(0, self._index[a])
-            self.agents = [a for a in live if not ended[self._index[a]]]
+                    infos[a]["hivex_episode"] = self.core.episode_summary(0, self._index[a])
+            if self.respawn and not self.core.world_endings(result)[0]:
+                self._respawn(result.ended, obs, infos)
+            else:
+                self.agents = [a for a in live if not ended[self._index[a]]]
+        self._show()
         return obs, rewards, terminations, truncations, infos
+
+    def _respawn(self, ended: np.ndarray, obs: dict, infos: dict) -> None:
+        """Respawn the agents where ``ended`` (1, agents); their observations become first ones."""
+        self.core.respawn_agents(ended)
+        fresh = self.core.observe()
+        for i in np.flatnonzero(ended[0]):
+            agent = self.possible_agents[i]
+            infos[agent]["terminal_observation"] = obs[agent]
+            obs[agent] = _unbatch(fresh, 0, i)
 
     def _fill_inactive(self, batched: Any, live: list[str]) -> Any:
         """Actions for every agent slot; finished agents get a valid placeholder the runtime masks out."""
@@ -117,10 +145,6 @@ class HivexParallelEnv(ParallelEnv):
         full[0, rows] = part[0]
         return full
 
-    def render(self):
-        if self.render_mode is None:
-            return None
-        return self.core.render(0)
-
     def close(self) -> None:
-        """Nothing to release: a world is only NumPy arrays."""
+        """Closes the window of human rendering, if any; a world is only NumPy arrays."""
+        self._close_window()

@@ -64,6 +64,9 @@ def render_docs(results: Path | None = None, fidelity: Path | None = None,
         "language.md": jinja.get_template("language.md.j2").render(**language_context()),
         SCHEMA_FILE: schema_text(),
     }
+    from .ecosystem import ecosystem_context
+
+    docs["ecosystem.md"] = jinja.get_template("ecosystem.md.j2").render(**ecosystem_context())
     figures = preview_figures()
     docs["generators.md"] = jinja.get_template("generators.md.j2").render(
         figures=[{"path": rel, "caption": caption} for rel, (caption, _) in figures.items()])

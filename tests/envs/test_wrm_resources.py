@@ -171,7 +171,7 @@ def test_impossible_moves_are_counted_in_the_infos_of_both_adapters():
     _, _, _, _, infos = env.step({a: np.zeros(4, np.int64) for a in env.agents})
     assert infos["tower_0"]["env"] == {"impossible_actions": 0, "impossible_actions_episode": 1}
 
-    vector = hivex_dsl.vector_env(scenario, num_envs=2)
+    vector = hivex_dsl.vector_env(scenario, num_worlds=2)
     vector.reset(seed=3)
     batch = np.zeros((18, 4), np.int64)
     batch[9] = [2, 2, 2, 2]  # world 1, tower_0: nothing to subtract anywhere

@@ -18,6 +18,7 @@ from ...procgen.wind import wind_step, wrap_angle
 from ...runtime import StepOutcome
 from .camera import pixel_offsets
 from .params import CAMERA_PIXELS, AerialWildfireParams
+from .respawn import respawn_where
 from .types import AerialWildfireState, Sighting
 from .view import (build_look, frame_template, is_tiled, plane_cameras, redraw_cells, redraw_fire_step, view_frame,
                    window_cells)
@@ -127,6 +128,8 @@ class AerialWildfireSimulator:
     def _cameras(self, position: np.ndarray, heading: np.ndarray, look: np.ndarray, trees: np.ndarray,
                  ground: np.ndarray, facing: np.ndarray | None = None) -> np.ndarray:
         return plane_cameras(position, heading, look, trees, ground, self.frame, self.camera_offsets, facing)
+
+    respawn_where = respawn_where  # single planes in running worlds: see respawn.py
 
     # ---- step --------------------------------------------------------------------------
 

@@ -23,6 +23,7 @@ from .fertility import (FAR_M, Grid, GridSet, distance_reward, fertility, interp
                         nearest_new_tree_distance, nearest_tree_distance, same_step_distance, sample_bilinear,
                         seed_reward, storage_slots, tree_distance_raster)
 from .params import DroneBasedReforestationParams
+from .respawn import respawn_where
 from .types import DroneState
 
 SEED_REWARD_MULTIPLIER = 20.0  # [paper] sdrm
@@ -155,6 +156,8 @@ class DroneReforestationSimulator:
 
     def reset_where(self, state: DroneState, mask: np.ndarray, rng: np.random.Generator) -> DroneState:
         return replace_worlds(state, mask, self.reset(rng, int(np.count_nonzero(mask))))
+
+    respawn_where = respawn_where  # single drones in running worlds: see respawn.py
 
     # ------------------------------------------------------------------ step
     @staticmethod

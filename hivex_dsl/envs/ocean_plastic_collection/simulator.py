@@ -22,6 +22,7 @@ from ...numeric import all_true, clamp
 from ...runtime import StepOutcome
 from .camera import CAMERA_CELLS, Geometry, Sensing, as_pairs, build_field, sense
 from .params import OceanPlasticCollectionParams
+from .respawn import respawn_where
 from .types import OceanState
 
 # steer action -> heading change sign: 0 do nothing, 1 turn right (clockwise), 2 turn left
@@ -149,6 +150,8 @@ class OceanPlasticSimulator:
         if count == 0:
             return state
         return replace_worlds(state, mask, self.reset(rng, count))
+
+    respawn_where = respawn_where  # single vessels in running worlds: see respawn.py
 
     # -- step -------------------------------------------------------------------------------------
 

@@ -1,0 +1,41 @@
+# Two commands on a fresh machine with only Python 3.10+:
+#   make run    installs what is needed in .venv and trains the CleanRL-style PPO example on a bundled scenario
+#   make test   installs the test set-up in .venv and runs the tests and the docs check
+# torch==2.13.0 is installed before the extras that need torch: a bare range would pull GBs of CUDA wheels.
+
+PYTHON ?= python3
+VENV ?= .venv
+BIN := $(VENV)/bin
+SCENARIO ?= wind_farm_control/main
+STEPS ?= 20000
+
+.PHONY: run test rllib clean
+
+$(BIN)/python:
+	$(PYTHON) -m venv $(VENV)
+	$(BIN)/python -m pip install --quiet --upgrade pip
+
+$(VENV)/.installed-run: pyproject.toml | $(BIN)/python
+	$(BIN)/pip install --quiet torch==2.13.0
+	$(BIN)/pip install --quiet -e ".[train]"
+	touch $@
+
+$(VENV)/.installed-test: pyproject.toml | $(BIN)/python
+	$(BIN)/pip install --quiet torch==2.13.0
+	$(BIN)/pip install --quiet -e ".[dev,train,sb3,window,ray,plots]"
+	touch $@
+
+run: $(VENV)/.installed-run
+	$(BIN)/python examples/cleanrl_ppo.py --scenario $(SCENARIO) --total-timesteps $(STEPS)
+
+test: $(VENV)/.installed-test
+	SDL_VIDEODRIVER=dummy $(BIN)/pytest
+	$(BIN)/hivex docs --check
+
+# RLlib's install is heavy (ray, ~80 MB wheel plus dependencies): its own target and CI step.
+rllib: $(VENV)/.installed-test
+	$(BIN)/pip install --quiet -e ".[rllib]"
+	$(BIN)/python examples/rllib_ppo.py --scenario $(SCENARIO) --episode-length 50 --iterations 1 --batch-size 200
+
+clean:
+	rm -rf $(VENV)

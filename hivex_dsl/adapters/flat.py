@@ -1,0 +1,147 @@
+"""Flat views for libraries that refuse Dict spaces (SB3's and RLlib's default models).
+
+The mapping, for every environment:
+
+- Observation: a Dict observation becomes one float32 Box: its parts in the space's key order
+  (``vector`` then ``visual``), each flattened in C order (``visual`` (H, W, C) row by row) and
+  concatenated; bounds are the parts' bounds. Box observations stay as they are.
+- Action: a hybrid Dict action {``continuous``: Box(-1, 1, (k,)), ``discrete``: MultiDiscrete(n)}
+  becomes one Box(-1, 1, (k + len(n),)): the first k values are the continuous part as they are;
+  value k + i in [-1, 1] picks discrete choice ``min(n_i - 1, floor((x + 1) / 2 * n_i))``, i.e.
+  splits [-1, 1] into n_i equal bins (for n_i = 2: x < 0 -> 0, x >= 0 -> 1). Discrete and
+  MultiDiscrete actions stay as they are (every library here takes them).
+
+:func:`flat_vector_env` wraps the Gymnasium vector env, :class:`FlatParallelEnv` a PettingZoo
+ParallelEnv (before SuperSuit's vector conversion); both keep our infos.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from gymnasium import spaces
+from gymnasium.vector import VectorActionWrapper, VectorEnv, VectorWrapper
+from gymnasium.vector.utils import batch_space
+from pettingzoo.utils.wrappers import BaseParallelWrapper
+
+
+def is_hybrid(space: spaces.Space) -> bool:
+    return isinstance(space, spaces.Dict) and set(space.spaces) == {"continuous", "discrete"}
+
+
+def flat_observation_space(space: spaces.Space) -> spaces.Space:
+    if not isinstance(space, spaces.Dict):
+        return space
+    parts = list(space.spaces.values())
+    low = np.concatenate([np.broadcast_to(p.low, p.shape).ravel() for p in parts]).astype(np.float32)
+    high = np.concatenate([np.broadcast_to(p.high, p.shape).ravel() for p in parts]).astype(np.float32)
+    return spaces.Box(low, high, dtype=np.float32)
+
+
+def flatten_observation(space: spaces.Space, observation: Any, lead: int = 0) -> np.ndarray:
+    """One observation (``lead`` = 0) or a batch of them (``lead`` = 1 leading axis) as flat float32."""
+    if not isinstance(space, spaces.Dict):
+        return observation
+    shape = np.shape(observation[next(iter(space.spaces))])[:lead]
+    return np.concatenate([np.asarray(observation[k], np.float32).reshape(shape + (-1,)) for k in space.spaces],
+                          axis=-1)
+
+
+def flat_action_space(space: spaces.Space) -> spaces.Space:
+    if not is_hybrid(space):
+        return space
+    size = space["continuous"].shape[0] + len(space["discrete"].nvec)
+    return spaces.Box(-1.0, 1.0, (size,), np.float32)
+
+
+def unflatten_action(space: spaces.Space, action: Any) -> Any:
+    """A flat action (..., k + m) -> the hybrid Dict action (see the module's mapping)."""
+    if not is_hybrid(space):
+        return action
+    action = np.asarray(action, np.float32)
+    continuous = space["continuous"]
+    k = continuous.shape[0]
+    nvec = space["discrete"].nvec
+    bins = np.floor((np.clip(action[..., k:], -1.0, 1.0) + 1.0) * 0.5 * nvec).astype(np.int64)
+    return {"continuous": np.clip(action[..., :k], continuous.low, continuous.high).astype(np.float32),
+            "discrete": np.minimum(bins, nvec - 1)}
+
+
+class _FlatObservations(VectorWrapper):
+    """Not a VectorObservationWrapper: that refuses SAME_STEP, whose ``final_obs`` this one flattens too."""
+
+    def __init__(self, env: VectorEnv):
+        super().__init__(env)
+        self._dict_space = env.single_observation_space
+        self.single_observation_space = flat_observation_space(self._dict_space)
+        self.observation_space = batch_space(self.single_observation_space, self.num_envs)
+
+    def observations(self, observations: Any) -> Any:
+        return flatten_observation(self._dict_space, observations, lead=1)
+
+    def reset(self, **kwargs: Any):
+        obs, infos = self.env.reset(**kwargs)
+        return self.observations(obs), infos
+
+    def step(self, actions: Any):
+        obs, rewards, terminated, truncated, infos = self.env.step(actions)
+        obs = self.observations(obs)
+        if "final_obs" in infos:  # SAME_STEP: the last observations of ended slots, flat as well
+            final = infos["final_obs"].copy()
+            for slot in np.flatnonzero(infos["_final_obs"]):
+                final[slot] = flatten_observation(self._dict_space, final[slot])
+            infos["final_obs"] = final
+        return obs, rewards, terminated, truncated, infos
+
+
+class _FlatActions(VectorActionWrapper):
+    def __init__(self, env: VectorEnv):
+        super().__init__(env)
+        self._hybrid_space = env.single_action_space
+        self.single_action_space = flat_action_space(self._hybrid_space)
+        self.action_space = batch_space(self.single_action_space, self.num_envs)
+
+    def actions(self, actions: Any) -> Any:
+        return unflatten_action(self._hybrid_space, actions)
+
+
+def flat_vector_env(env: VectorEnv) -> VectorEnv:
+    """The vector env with a flat Box observation and (hybrid envs) a flat Box action; see the module."""
+    if isinstance(env.single_action_space, spaces.Dict):
+        env = _FlatActions(env)
+    if isinstance(env.single_observation_space, spaces.Dict):
+        env = _FlatObservations(env)
+    return env
+
+
+class FlatParallelEnv(BaseParallelWrapper):
+    """A PettingZoo ParallelEnv with flat observations and actions per agent (see the module)."""
+
+    def __init__(self, env):
+        super().__init__(env)
+        agent = env.possible_agents[0]
+        self._dict_obs, self._hybrid = env.observation_space(agent), env.action_space(agent)
+        self._obs_space = flat_observation_space(self._dict_obs)
+        self._act_space = flat_action_space(self._hybrid)
+
+    def observation_space(self, agent: str) -> spaces.Space:
+        return self._obs_space
+
+    def action_space(self, agent: str) -> spaces.Space:
+        return self._act_space
+
+    def _flat(self, observations: dict) -> dict:
+        return {a: flatten_observation(self._dict_obs, o) for a, o in observations.items()}
+
+    def reset(self, seed=None, options=None):
+        observations, infos = self.env.reset(seed=seed, options=options)
+        return self._flat(observations), infos
+
+    def step(self, actions: dict):
+        actions = {a: unflatten_action(self._hybrid, x) for a, x in actions.items()}
+        observations, rewards, terminations, truncations, infos = self.env.step(actions)
+        for info in infos.values():
+            if "terminal_observation" in info:
+                info["terminal_observation"] = flatten_observation(self._dict_obs, info["terminal_observation"])
+        return self._flat(observations), rewards, terminations, truncations, infos

@@ -1,0 +1,99 @@
+"""Ways in by name: Gymnasium ids for ``make_vec`` and PettingZoo's module convention.
+
+Gymnasium: ``import hivex_dsl`` registers ``hivex/<EnvName>-v0`` for each environment (keyword
+arguments ``scenario``, ``task``, ``level`` and any top-level scenario field) and
+``hivex/<EnvName>-<Scenario>-v0`` for each bundled single scenario (e.g.
+``hivex/AerialWildfireSuppression-FindFire-v0``). ``make_vec``'s ``num_envs`` is the number of
+copies of the environment, i.e. of worlds; the vector env's own ``num_envs`` is then
+worlds x agents, its slot count.
+
+PettingZoo: ``hivex_dsl.zoo.<env id>_v0`` modules offer ``env()`` (AEC), ``parallel_env()`` and
+``raw_env``, with ``max_cycles`` the episode length.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any, Optional
+
+from ..compiler import CompiledScenario, compile
+from ..loader import load_file
+from ..resources import data_dir, resolve_scenario_path
+from ..spec.catalogue import CATALOGUE
+
+NAMESPACE = "hivex"
+
+
+def camel(name: str) -> str:
+    """``wind_farm_control`` -> ``WindFarmControl``."""
+    return "".join(part.capitalize() for part in name.split("_"))
+
+
+def make_scenario(environment: Optional[str], scenario: Any = None, task: Optional[str] = None, level: Any = None,
+                  max_cycles: Optional[int] = None, **fields: Any) -> CompiledScenario:
+    """A compiled scenario: ``scenario`` (a bundled scenario's name such as ``"main"`` -- the
+    default --, ``"<env>/<name>"``, a path, a dict or a CompiledScenario) with ``task``, ``level``
+    (the environment's level field: ``pattern`` or ``terrain_level``), ``max_cycles`` (the episode
+    length) and other top-level ``fields`` put over it. ``environment`` may be None when the
+    scenario names it."""
+    overrides = dict(fields)
+    if task is not None:
+        overrides["task"] = task
+    if max_cycles is not None:
+        overrides["episode_length"] = max_cycles
+    if isinstance(scenario, CompiledScenario):
+        if overrides or level is not None:
+            raise ValueError(f"a compiled scenario cannot take {sorted(overrides)}: change its source instead")
+        return scenario
+    if environment is not None and (scenario is None or (isinstance(scenario, str) and "/" not in scenario
+                                                         and not scenario.endswith(".yaml"))):
+        scenario = f"{environment}/{scenario or 'main'}"
+    if isinstance(scenario, dict):
+        data = dict(scenario)
+    elif overrides or level is not None:
+        data = load_file(resolve_scenario_path(str(scenario))).data
+    else:
+        return compile(scenario)
+    environment = environment or data.get("environment")
+    data.setdefault("environment", environment)
+    if data.get("environment") != environment:
+        raise ValueError(f"the scenario is of {data.get('environment')!r}, not {environment!r}")
+    if level is not None:
+        level_field = CATALOGUE[environment].level_field if environment in CATALOGUE else None
+        if level_field is None:
+            raise ValueError(f"{environment} has no difficulty levels; leave level out")
+        overrides[level_field] = level
+    return compile({**data, **overrides})
+
+
+def bundled_scenarios(environment: str) -> list[str]:
+    """Names of the bundled scenarios of ``environment`` that are one scenario each (no sweep)."""
+    folder = Path(data_dir("scenarios")) / environment
+    return sorted(p.stem for p in folder.glob("*.yaml") if "\nsweep:" not in p.read_text())
+
+
+def make_vector(environment: str, num_envs: int = 1, num_worlds: Optional[int] = None, scenario: Any = None,
+                task: Optional[str] = None, level: Any = None, render_mode: Optional[str] = None,
+                split: str = "train", autoreset_mode: Any = "next_step", **fields: Any):
+    """The vector entry point of the ids: ``num_envs`` (make_vec's copies) counts worlds."""
+    from . import gymnasium as adapter
+
+    if num_worlds is not None and num_envs != 1:
+        raise ValueError("give num_worlds or make_vec's num_envs (which counts worlds here), not both")
+    compiled = make_scenario(environment, scenario, task, level, **fields)
+    return adapter.HivexVectorEnv(compiled, num_worlds=num_worlds or num_envs, render_mode=render_mode,
+                                  split=split, autoreset_mode=autoreset_mode)
+
+
+def register_gymnasium() -> None:
+    """Register the ids (idempotent: a second call changes nothing)."""
+    from gymnasium.envs.registration import register, registry
+
+    for environment in CATALOGUE:
+        ids = {f"{NAMESPACE}/{camel(environment)}-v0": {}}
+        for name in bundled_scenarios(environment):
+            ids[f"{NAMESPACE}/{camel(environment)}-{camel(name)}-v0"] = {"scenario": name}
+        for env_id, kwargs in ids.items():
+            if env_id not in registry:
+                register(id=env_id, vector_entry_point=f"{__name__}:make_vector",
+                         kwargs={"environment": environment, **kwargs})

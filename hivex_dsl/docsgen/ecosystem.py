@@ -1,0 +1,22 @@
+"""Context of docs/ecosystem.md: the ids, modules and adapter semantics, read from the live code."""
+
+from __future__ import annotations
+
+import inspect
+
+from .. import registry
+from ..adapters import flat, gymnasium as vector_adapter, pettingzoo as parallel_adapter, sb3_doc
+from ..adapters.registration import bundled_scenarios, camel
+
+
+def ecosystem_context() -> dict:
+    rows = []
+    for env_id in registry.environments():
+        rows.append({"env": env_id, "id": f"hivex/{camel(env_id)}-v0", "module": f"hivex_dsl.zoo.{env_id}_v0",
+                     "scenarios": ", ".join(f"`hivex/{camel(env_id)}-{camel(name)}-v0`"
+                                               for name in bundled_scenarios(env_id))})
+    return {"rows": rows,
+            "vector_doc": inspect.getdoc(vector_adapter),
+            "parallel_doc": inspect.getdoc(parallel_adapter.HivexParallelEnv),
+            "flat_doc": inspect.getdoc(flat),
+            "sb3_doc": sb3_doc()}

@@ -1,0 +1,38 @@
+"""Respawning single planes in running worlds (the vector env's ML-Agents agent reset).
+
+A plane whose episode ended alone (it crossed the border, or a task ends on one of its own
+events) starts again as at an episode start -- a random point of the spawn disk, a random
+heading, water as the scenario spawns it, its one-off latches cleared -- over the world's
+burning island, which goes on. Its camera and sighting are those of its new place.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+
+from .types import AerialWildfireState, Sighting
+
+
+def respawn_where(sim, state: AerialWildfireState, mask: np.ndarray, rng: np.random.Generator) -> AerialWildfireState:
+    """``state`` with the planes where ``mask`` (B, A) is true respawned; the rest untouched."""
+    if not np.count_nonzero(mask):
+        return state
+    spawn_position, spawn_heading, spawn_water = sim._spawn(rng, len(mask))
+    position = np.where(mask[..., None], spawn_position, state.position)
+    heading = np.where(mask, spawn_heading, state.heading)
+    flying = state.flying | mask
+    seen = sim._sight_of(state.fire, state.maps.village, position, flying)
+    sighting = Sighting(plane_found=np.where(mask, seen.plane_found, state.sighting.plane_found),
+                        plane_xy=np.where(mask[..., None], seen.plane_xy, state.sighting.plane_xy),
+                        village_threat=state.sighting.village_threat)
+    cameras = sim._cameras(position, heading, state.look, state.fire.trees, state.maps.ground)
+    off = ~mask
+    return replace(state, position=position, heading=heading, water=np.where(mask, spawn_water, state.water),
+                   flying=flying, sighting=sighting, seen_fire=state.seen_fire & off,
+                   seen_village=state.seen_village & off, crossed=state.crossed & off,
+                   picked_up=state.picked_up & off, dropped=state.dropped & off, found_fire=state.found_fire & off,
+                   found_village=state.found_village & off, extinguished=np.where(mask, 0, state.extinguished),
+                   prepared=np.where(mask, 0, state.prepared),
+                   visual=np.where(mask[..., None, None, None], cameras, state.visual))

@@ -1,0 +1,46 @@
+"""PettingZoo's module convention, one module per environment::
+
+    from hivex_dsl.zoo import ocean_plastic_collection_v0
+    env = ocean_plastic_collection_v0.parallel_env(task="plastic_collection", max_cycles=500)
+    aec = ocean_plastic_collection_v0.env(render_mode="human")
+
+Each module has ``env(**kwargs)`` (AEC), ``parallel_env(**kwargs)``, ``raw_env`` (the AEC class) and
+takes ``scenario``, ``task``, ``level``, ``max_cycles`` (the episode length), ``render_mode``,
+``split``, ``respawn`` and any top-level scenario field (see
+:func:`hivex_dsl.adapters.registration.make_scenario`).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from pettingzoo.utils.conversions import parallel_to_aec_wrapper
+from pettingzoo.utils.wrappers import OrderEnforcingWrapper
+
+from ..adapters.registration import make_scenario
+
+__all__ = ["module_api"]
+
+
+def module_api(environment: str):
+    """(env, parallel_env, raw_env) of one environment."""
+
+    def parallel_env(scenario: Any = None, task=None, level=None, max_cycles=None, render_mode=None,
+                     split: str = "train", respawn: bool = False, **fields: Any):
+        from ..adapters.pettingzoo import HivexParallelEnv
+
+        compiled = make_scenario(environment, scenario, task, level, max_cycles, **fields)
+        return HivexParallelEnv(compiled, render_mode=render_mode, split=split, respawn=respawn)
+
+    class raw_env(parallel_to_aec_wrapper):  # noqa: N801 - PettingZoo's name
+        """The AEC view of :func:`parallel_env` (PettingZoo's ``raw_env``)."""
+
+        def __init__(self, **kwargs: Any):
+            super().__init__(parallel_env(**kwargs))
+
+    def env(**kwargs: Any):
+        """The AEC env with PettingZoo's order enforcing wrapper."""
+        return OrderEnforcingWrapper(raw_env(**kwargs))
+
+    raw_env.__name__ = raw_env.__qualname__ = "raw_env"
+    return env, parallel_env, raw_env

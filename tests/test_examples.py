@@ -1,0 +1,47 @@
+"""The examples train for a few hundred agent-steps on every environment (CI installs torch and SB3;
+without them these tests skip). RLlib's example runs in CI's optional RLlib step (`make rllib`)."""
+
+from __future__ import annotations
+
+import importlib.util
+import math
+from pathlib import Path
+
+import pytest
+
+from hivex_dsl import registry
+
+ENV_IDS = list(registry.environments())
+EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+
+
+def load(name: str):
+    spec = importlib.util.spec_from_file_location(f"example_{name}", EXAMPLES / f"{name}.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+@pytest.mark.parametrize("env_id", ENV_IDS)
+def test_cleanrl_ppo_trains_a_few_hundred_steps(env_id):
+    pytest.importorskip("torch")
+    returns = load("cleanrl_ppo").main(["--scenario", f"{env_id}/main", "--num-worlds", "1", "--num-steps", "32",
+                                        "--total-timesteps", "300", "--episode-length", "20"])
+    assert returns and all(math.isfinite(r) for r in returns)  # episodes ended and were summed
+
+
+@pytest.mark.parametrize("env_id", ENV_IDS)
+def test_sb3_ppo_trains_a_few_hundred_steps(env_id):
+    pytest.importorskip("stable_baselines3")
+    model = load("sb3_ppo").main(["--scenario", f"{env_id}/main", "--num-worlds", "1", "--n-steps", "32",
+                                  "--total-timesteps", "300", "--episode-length", "20"])
+    assert model.num_timesteps >= 300
+    episodes = list(model.ep_info_buffer)
+    assert episodes and all(e["l"] <= 20 and math.isfinite(e["r"]) for e in episodes)
+
+
+def test_rllib_example_is_importable_without_ray_only_when_ray_is_there():
+    pytest.importorskip("ray.rllib")
+    results = load("rllib_ppo").main(["--scenario", "wind_farm_control/main", "--episode-length", "20",
+                                      "--iterations", "1", "--batch-size", "100"])
+    assert len(results) == 1

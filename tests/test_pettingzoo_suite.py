@@ -1,0 +1,61 @@
+"""PettingZoo's whole test suite, unmodified, on every environment through the module convention
+(``hivex_dsl.zoo.<env>_v0``: ``env()``, ``parallel_env()``, ``raw_env``, ``max_cycles``)."""
+
+from __future__ import annotations
+
+import importlib
+import os
+from functools import partial
+
+import pytest
+from pettingzoo.test import (api_test, max_cycles_test, parallel_api_test, parallel_seed_test, render_test,
+                             seed_test)
+
+from hivex_dsl import registry
+
+ENV_IDS = list(registry.environments())
+CYCLES = 40  # steps per episode in these tests: enough for every agent to act, small enough for CI
+
+
+def module(env_id: str):
+    return importlib.import_module(f"hivex_dsl.zoo.{env_id}_v0")
+
+
+@pytest.mark.parametrize("env_id", ENV_IDS)
+def test_api_test(env_id):
+    api_test(module(env_id).env(max_cycles=CYCLES), num_cycles=CYCLES + 10)
+
+
+@pytest.mark.parametrize("env_id", ENV_IDS)
+def test_parallel_api_test(env_id):
+    parallel_api_test(module(env_id).parallel_env(max_cycles=CYCLES), num_cycles=CYCLES + 10)
+
+
+@pytest.mark.parametrize("env_id", ENV_IDS)
+def test_seed_test(env_id):
+    seed_test(partial(module(env_id).env, max_cycles=CYCLES), num_cycles=CYCLES)
+
+
+@pytest.mark.parametrize("env_id", ENV_IDS)
+def test_parallel_seed_test(env_id):
+    parallel_seed_test(partial(module(env_id).parallel_env, max_cycles=CYCLES), num_cycles=CYCLES)
+
+
+@pytest.mark.parametrize("env_id", ENV_IDS)
+def test_max_cycles_test(env_id):
+    max_cycles_test(module(env_id))
+
+
+@pytest.mark.parametrize("env_id", ENV_IDS)
+def test_render_test(env_id, monkeypatch):
+    pytest.importorskip("pygame", reason='render_mode="human" needs the window extra (pygame)')
+    monkeypatch.setenv("SDL_VIDEODRIVER", os.environ.get("SDL_VIDEODRIVER", "dummy"))
+    render_test(partial(module(env_id).env, max_cycles=CYCLES))
+
+
+@pytest.mark.parametrize("env_id", ENV_IDS)
+def test_raw_env_is_the_aec_class(env_id):
+    mod = module(env_id)
+    aec = mod.raw_env(max_cycles=5)
+    aec.reset(seed=0)
+    assert isinstance(aec, mod.raw_env) and aec.unwrapped.possible_agents == aec.possible_agents
