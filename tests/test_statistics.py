@@ -120,7 +120,7 @@ def test_counters_add_nothing_for_ended_agents_and_reset_clears_them(restepped):
 
 def test_episode_infos_carry_the_statistics_in_both_adapters():
     scenario = {"hivex": 1, "environment": "wind_farm_control", "agents": 2, "episode_length": 3}
-    venv = hivex_dsl.vector_env(scenario, num_envs=2)
+    venv = hivex_dsl.vector_env(scenario, num_worlds=2)
     venv.reset(seed=1)
     for _ in range(3):
         *_, infos = venv.step(np.zeros(4, np.int64))
