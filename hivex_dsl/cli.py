@@ -1,4 +1,5 @@
-"""The `hivex` command: validate | compile | run | render | audit | schema | docs | preview | bench | list."""
+"""The `hivex` command: validate | compile | run | render | audit | schema | docs | preview | bench | list |
+train | evaluate."""
 
 from __future__ import annotations
 
@@ -110,6 +111,10 @@ def _parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("list", help="list the bundled scenarios")
     p.set_defaults(handler=cmd_list)
+
+    from .train.commands import add_commands as add_train_commands
+
+    add_train_commands(sub, _positive)
     return parser
 
 
