@@ -9,9 +9,10 @@ grid so the simulators work on arrays.
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
-from typing import Any, Callable
+from typing import Any, Callable, Literal
 
 import numpy as np
+from pydantic import Field
 
 from ..procgen.forest import (ForestSpec, IgnitionSpec, cell_centre_xy, ignition_candidates, load_forest_preset,
                               place_forest, rank_by_weather, ranked_ignition_mask)
@@ -31,6 +32,22 @@ SHADE_TOP_M = 220.0  # heights at or above this get the lightest land shade
 
 FOREST_PRESET = load_forest_preset()
 WEATHER_PRESET = load_weather_preset()
+
+RedrawIsland = Literal["seed", "episode"]
+
+
+def redraw_island_field() -> Any:
+    """The ``redraw_island`` param of the island environments (AWS, WRM): one default, one meaning."""
+    return Field("episode", description=(
+        "[ours] When a world draws a new island (terrain, village, forest): 'episode' (the default) for every "
+        "episode, each drawn from the split's seed stream, as Drone-Based Reforestation draws its world; 'seed' "
+        "only when a seed starts a stream (the first reset, reset(seed=...), every episode of a per-episode seed "
+        "list), keeping it for the episodes that continue the stream in either adapter (faster: an island costs "
+        "about 60 ms to draw, a new fire on a kept one a few ms). The paper's protocol is one seed per run (train "
+        "5000, test 6000) over hundreds of episodes, with a terrain level standing for a family of worlds (its "
+        "figures show a different world per seed), so a run sees a new world every episode. Fire, weather and "
+        "wind are new every episode either way."))
+
 
 ISLAND_GENERATORS = {
     "terrain": GeneratorSlot(TerrainSpec, lambda level: terrain_spec_for_level(level),

@@ -243,8 +243,22 @@ def act_batch(batch, agents):
     return {"continuous": np.zeros((batch, agents, 1), np.float32), "discrete": np.zeros((batch, agents, 1), np.int64)}
 
 
-def test_the_parallel_env_keeps_the_island_while_episodes_continue_a_seed_stream():
-    env = hivex_dsl.parallel_env({"hivex": 1, "environment": "aerial_wildfire_suppression", "episode_length": 3})
+@pytest.mark.parametrize("environment", ["aerial_wildfire_suppression", "wildfire_resource_management",
+                                         "drone_based_reforestation"])
+def test_by_default_every_episode_of_a_seed_stream_draws_a_new_world(environment):
+    def height_map(state):  # DBR keeps its terrain in ``heights``, the island environments in ``maps``
+        return (state.heights if environment == "drone_based_reforestation" else state.maps.height).copy()
+
+    env = hivex_dsl.parallel_env({"hivex": 1, "environment": environment, "episode_length": 3})
+    env.reset(seed=1)
+    first = height_map(env.core.state)
+    env.reset()  # continues the stream: a new world
+    assert not np.array_equal(height_map(env.core.state), first)
+
+
+def test_the_parallel_env_keeps_the_island_while_episodes_continue_a_seed_stream_when_told_to():
+    env = hivex_dsl.parallel_env({"hivex": 1, "environment": "aerial_wildfire_suppression", "episode_length": 3,
+                                  "params": {"redraw_island": "seed"}})
     env.reset(seed=1)
     first = env.core.state.maps.height.copy()
     env.reset()  # continues the stream: same island, a new fire
@@ -252,7 +266,7 @@ def test_the_parallel_env_keeps_the_island_while_episodes_continue_a_seed_stream
     env.reset(seed=2)  # a new seed starts a new stream: a new island
     assert not np.array_equal(env.core.state.maps.height, first)
     listed = hivex_dsl.parallel_env({"hivex": 1, "environment": "aerial_wildfire_suppression",
-                                     "seeds": {"train": [1, 2], "test": 3}})
+                                     "seeds": {"train": [1, 2], "test": 3}, "params": {"redraw_island": "seed"}})
     listed.reset()
     assert np.array_equal(listed.core.state.maps.height, first)  # the list's first seed is seed 1
 
@@ -313,3 +327,18 @@ def test_what_a_plane_saw_when_its_task_ended_does_not_depend_on_other_worlds_re
     after = env.reset_worlds(np.array([False, True]))
     for key in observations:
         np.testing.assert_array_equal(after[key][0], observations[key][0], err_msg=key)
+
+
+@pytest.mark.parametrize("task", ["pick_up_water", "find_village"])
+def test_nothing_is_paid_on_the_first_step_for_where_a_plane_happens_to_start(task):
+    # issue 15: a plane without water spawning over the water ring filled up (+1, x100 in Pick Up Water) and one
+    # spawning within 150 m of the village found it (+100) on the first step, whatever it did
+    compiled = hivex_dsl.compile({"hivex": 1, "environment": "aerial_wildfire_suppression", "task": task})
+    sim = AerialWildfireSimulator(compiled)
+    state = sim.reset(np.random.default_rng(7), 64)
+    gap = state.position - state.maps.village[:, None, :]
+    assert (np.hypot(gap[..., 0], gap[..., 1]) >= 160.0 - 1e-9).all()  # two 5 m steps outside its 150 m
+    if task == "pick_up_water":  # over the island, two 5 m steps from the ring at least
+        assert (np.abs(state.position) <= 590.0).all() and not state.water.any()
+    new, _ = sim.step(state, act_batch(64, 3), np.random.default_rng(1))  # one step straight on: 5 m
+    assert not new.picked_up.any() and not new.found_village.any()

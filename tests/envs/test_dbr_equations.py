@@ -15,6 +15,7 @@ import hivex_dsl
 from hivex_dsl.envs.drone_based_reforestation.camera import NEW_TREE_GRAY, to_byte
 from hivex_dsl.envs.drone_based_reforestation.fertility import (FAR_M, distance_reward, sample_bilinear, seed_reward,
                                                                 tree_distance_raster)
+from hivex_dsl.reward.composer import RewardComposer
 
 ENV = "drone_based_reforestation"
 
@@ -44,7 +45,8 @@ def hand_world(sim, drones, trees=(), holding=True, energy=1.0, away=True, headi
         heading=np.full(shape, heading), ground=sample_bilinear(heights, sim.terrain_grid, position[..., :2]),
         energy=np.full(shape, energy), holding=np.full(shape, holding), alive=np.ones(shape, bool),
         inside=distance <= sim.params.charge_radius_m, away=np.full(shape, away),
-        back_active=np.zeros(shape, bool))
+        back_active=np.zeros(shape, bool), best_fertility=np.zeros(shape), best_height=np.zeros(shape),
+        best_distance=np.zeros(shape))
     return state
 
 
@@ -291,17 +293,20 @@ def test_high_fertility_delta_pays_the_gain_in_potential_and_ignores_spots_next_
     assert term(compiled, "high_fertility_location_delta", crowded, new, act())[0, 0] == 0.0
 
 
-def test_high_landscape_delta_pays_each_new_highest_ground_below_the_drone():
+def test_high_landscape_delta_pays_each_new_height_of_the_drone_not_of_the_ground_below():
+    # the published "Highest Point on Terrain Found" is 46-47 m at every terrain level 1-10 (our level-1 peaks
+    # are 8 m, level-10 peaks 30 m): the original rewards the drone's own height, up to the 40 m bound
     compiled, sim = simulator()
     coords = sim.terrain_grid.origin + sim.terrain_grid.cell * np.arange(sim.terrain_grid.n)
     slope = np.broadcast_to(np.clip(coords / 10.0, 0.0, None)[None, :], (sim.terrain_grid.n,) * 2)  # h = x / 10
     state = hand_world(sim, [(50.0, 30.0, 20.0)], heights=slope)
     gains = []
-    for x in (50.0, 62.5, 40.0, 70.0):  # ground 5, 6.25, 4, 7
-        moved = replace(state, position=np.array([[[x, 30.0, 20.0]]]))
-        prev, (state, _) = moved, sim.step(moved, act(), np.random.default_rng(1))
-        gains.append(term(compiled, "high_landscape_point_delta", prev, state, act())[0, 0])
-    assert gains == pytest.approx([5.0, 1.25, 0.0, 0.75])
+    for x, z in ((50.0, 20.0), (62.5, 20.0), (40.0, 26.0), (70.0, 23.0), (70.0, 39.8)):  # ground 5, 6.25, 4, 7, 7
+        moved = replace(state, position=np.array([[[x, 30.0, z]]]))
+        prev, (state, _) = moved, sim.step(moved, act(updown=1.0), np.random.default_rng(1))  # climbs 0.5 m
+        gains.append(term(compiled, "high_landscape_point_delta", prev, state, act(updown=1.0))[0, 0])
+    # heights after the step: 20.5, 20.5, 26.5, 23.5, 40 (the bound): gains from 0
+    assert gains == pytest.approx([20.5, 0.0, 6.0, 0.0, 13.5])
 
 
 def test_far_distance_delta_pays_each_new_furthest_distance_capped_at_the_half_extent():
@@ -313,3 +318,97 @@ def test_far_distance_delta_pays_each_new_furthest_distance_capped_at_the_half_e
         prev, (state, _) = moved, sim.step(moved, act(), np.random.default_rng(1))
         gains.append(term(compiled, "far_distance_explored_delta", prev, state, act())[0, 0])
     assert gains == pytest.approx([50.0, 30.0, 0.0, 120.0])
+
+
+# ------------------------------------------------------------------ issue 15: the readings the published results support
+def test_a_12_m_drop_pays_one_running_back_increment_not_a_second_on_entering_the_charge_radius():
+    compiled, sim = simulator()
+    state = hand_world(sim, [(12.0, 2.0, 1.5)], trees=[(22.0, 2.0)], heading=np.pi)
+    state, _ = sim.step(state, act(drop=1), np.random.default_rng(1))
+    r_s = 20.0 * (75.0 - 10.0) / 72.5  # det 10 m
+    r_d = 10.0 * np.hypot(12.0, 2.0) / 200.0
+    rbm = (r_s + r_d) / 30.0
+    assert state.back_init[0, 0] == 4  # floor(sqrt(144 + 4 + 2.25) / 2.5)
+    paid = []
+    for _ in range(10):  # 12 m -> 2 m: increments 3 (7.5-10 m), then 2 and 1 inside the charge radius
+        prev = state
+        state, _ = sim.step(state, act(throttle=1.0), np.random.default_rng(1))
+        paid.append(term(compiled, "incremental_running_back", prev, state, act(throttle=1.0))[0, 0])
+    # d_init - d_charge / s = 4 - 3 = 1 increment, paying r_p * rbm / 1; the old code paid it twice
+    assert sum(paid) == pytest.approx(20.0 * rbm) and sum(v > 0 for v in paid) == 1
+
+
+def test_a_whole_run_back_pays_r_p_times_rbm_at_most_20():
+    compiled, sim = simulator()
+    state = hand_world(sim, [(50.0, 2.0, 10.0)], trees=[(54.0, 2.0)], heading=np.pi)
+    state, _ = sim.step(state, act(drop=1), np.random.default_rng(1))
+    rbm = (20.0 * (75.0 - 4.0) / 72.5 + 10.0 * np.hypot(50.0, 2.0) / 200.0) / 30.0  # det 4 m
+    total = 0.0
+    for _ in range(60):
+        prev = state
+        state, _ = sim.step(state, act(throttle=1.0, updown=-1.0), np.random.default_rng(1))
+        total += term(compiled, "incremental_running_back", prev, state, act(throttle=1.0))[0, 0]
+    assert total == pytest.approx(20.0 * rbm) and total <= 20.0
+
+
+def test_the_first_step_after_reset_pays_nothing_in_the_best_so_far_terms():
+    compiled = hivex_dsl.compile({"hivex": 1, "environment": ENV, "terrain_level": 3})
+    sim = compiled.entry.make_simulator(compiled)
+    state = sim.reset(np.random.default_rng(11), 3)
+    spawn = state.position
+    horizontal = np.hypot(spawn[..., 0] - state.station[:, None, 0], spawn[..., 1] - state.station[:, None, 1])
+    assert np.allclose(state.best_distance, horizontal) and np.allclose(state.best_height, spawn[..., 2])
+    hover = {"continuous": np.zeros((3, 3, 3), np.float32), "discrete": np.zeros((3, 3, 1), np.int64)}
+    new, _ = sim.step(state, hover, np.random.default_rng(1))
+    for name in ("high_fertility_location_delta", "high_landscape_point_delta", "far_distance_explored_delta"):
+        assert np.all(term(compiled, name, state, new, hover) == 0.0), name
+
+
+@pytest.mark.parametrize("agents, radius", [(3, 6.0), (4, 7.0710678), (12, 19.3185165)])
+def test_drones_start_on_a_circle_at_least_10_m_apart_so_none_is_grouped_up_at_the_start(agents, radius):
+    # radius max(6, 10 / (2 sin(pi / A))): 3 drones 10.4 m apart on 6 m; 12 drones on 19.3 m (on 6 m: 3.1 m apart)
+    compiled = hivex_dsl.compile({"hivex": 1, "environment": ENV, "agents": agents, "terrain_level": 1})
+    sim = compiled.entry.make_simulator(compiled)
+    state = sim.reset(np.random.default_rng(2), 2)
+    offset = state.position[..., :2] - state.station[:, None, :2]
+    assert np.allclose(np.hypot(offset[..., 0], offset[..., 1]), radius)
+    gaps = np.linalg.norm(state.position[:, :, None] - state.position[:, None], axis=-1) + 1e9 * np.eye(agents)
+    assert gaps.min() >= 10.0 - 1e-6
+    hover = {"continuous": np.zeros((2, agents, 3), np.float32), "discrete": np.zeros((2, agents, 1), np.int64)}
+    new, _ = sim.step(state, hover, np.random.default_rng(1))
+    assert np.all(term(compiled, "group_up", state, new, hover) == 0.0)
+    assert not state.away.any()  # starting outside the charge radius is no trip: no pick-up reward for flying in
+
+
+def test_group_up_drones_start_scattered_like_pick_up_seed():
+    compiled = hivex_dsl.compile(f"{ENV}/group_up")
+    sim = compiled.entry.make_simulator(compiled)
+    state = sim.reset(np.random.default_rng(4), 4)
+    horizontal = np.linalg.norm(state.position[..., :2] - state.station[:, None, :2], axis=-1)
+    assert (horizontal >= 20.0 - 1e-9).all() and not state.holding.any()
+
+
+def test_a_seed_dropped_just_outside_the_pad_is_worth_at_most_about_1():
+    # trees are cleared within 80 m of the station: det >= 80 - 9 = 71 m, r_s <= 20 (75 - 71) / 72.5 = 1.10
+    compiled = hivex_dsl.compile({"hivex": 1, "environment": ENV, "terrain_level": 1})
+    sim = compiled.entry.make_simulator(compiled)
+    state = sim.reset(np.random.default_rng(5), 8)
+    angle = np.linspace(0.0, 2.0 * np.pi, 3, endpoint=False)
+    xy = state.station[:, None, :2] + 9.0 * np.stack([np.cos(angle), np.sin(angle)], axis=-1)[None]
+    state = replace(state, position=np.concatenate([xy, np.full(xy.shape[:2] + (1,), 30.0)], axis=-1))
+    drop = {"continuous": np.zeros((8, 3, 3), np.float32), "discrete": np.ones((8, 3, 1), np.int64)}
+    new, _ = sim.step(state, drop, np.random.default_rng(1))
+    assert new.dropped.all()
+    assert np.all(term(compiled, "drop_seed", state, new, drop) <= 20.0 * 4.0 / 72.5 + 10.0 * 9.0 / 200.0 + 1e-9)
+
+
+def test_explore_furthest_pays_the_explored_distance_over_the_half_extent():
+    # published: "Furthest Distance Explored" 152 m but a return of 8.0, so the metres cannot be paid 1:1
+    compiled = hivex_dsl.compile({"hivex": 1, "environment": ENV, "task": "explore_furthest", "agents": 1})
+    sim = compiled.entry.make_simulator(compiled)
+    composer = RewardComposer(compiled.entry.terms, compiled.weights)
+    state = replace(hand_world(sim, [(80.0, 0.0, 10.0)]), best_distance=np.array([[50.0]]))
+    new, _ = sim.step(state, act(), np.random.default_rng(1))  # hovering 80 m out, 50 m the furthest before
+    rewards, terms = composer(state, new, act(), compiled.params, (1, 1))
+    assert terms["far_distance_explored_delta"][0, 0] == pytest.approx(30.0)  # the term stays in metres
+    assert rewards[0, 0] == pytest.approx(30.0 / 200.0 - 1.0 / 1000.0)  # holding a seed: -1/1000 a step

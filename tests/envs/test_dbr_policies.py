@@ -54,7 +54,7 @@ def test_scripted_drones_come_home_before_the_battery_runs_out():
     while core.alive.any():
         observations = core.step(policy(observations)).observations
         lowest = min(lowest, float(core.state.energy.min()))
-    assert core.state.alive.all() and lowest > 0.3
+    assert core.state.alive.all() and lowest > 0.2  # the forest starts 80 m out: longer trips than before
     assert np.count_nonzero(core.state.new_quality[0] > 0.5) >= 20
 
 

@@ -14,6 +14,7 @@ from pydantic import Field, model_validator
 
 from ...fire import FireSpec
 from ...procgen.wind import WindParams
+from ..island import RedrawIsland, redraw_island_field
 
 CAMERA_PIXELS = 42  # [paper] 42x42x3 downward camera
 
@@ -30,11 +31,7 @@ class AerialWildfireParams(WindParams, FireSpec):
         "[orig] Planes spawn uniformly within this distance of the centre (inside the border) with a random heading."))
     spawn_holding_water: Literal["auto", "always", "never"] = Field("auto", description=(
         "[orig] Whether planes start holding water; auto: they do, except in tasks that end on picking up water."))
-    redraw_island: Literal["seed", "episode"] = Field("seed", description=(
-        "[ours] When a world draws a new island (terrain, village, forest): 'seed' whenever a seed starts a stream "
-        "(the first reset, reset(seed=...), every episode of a per-episode seed list), keeping it for the episodes that "
-        "continue the stream in either adapter; 'episode' for every episode. Fire, weather, wind and planes are new "
-        "every episode either way. An island costs about 60 ms to draw, a new episode on a kept one about 2 ms."))
+    redraw_island: RedrawIsland = redraw_island_field()
     drop_points: int = Field(4, ge=1, le=8, description="[orig] Points of the water swath, the first under the plane.")
     drop_point_spacing_m: float = Field(20.0, ge=0.0, le=100.0, description="[orig] Metres between swath points, ahead of the plane.")
     drop_radius_m: float = Field(30.0, gt=0.0, le=60.0, description=(

@@ -14,6 +14,7 @@ from ...procgen.wind import wrap_angle
 
 PATROL_RADIUS_M = 380.0  # middle of the forested band between village surroundings and coast
 PATROL_LEAD_RAD = np.radians(35.0)  # aim this far ahead along the patrol circle (counter-clockwise)
+PREPARE_BAND_M = 40.0  # when preparing trees: drop within this distance of the patrol circle
 
 
 def steer_towards(position: np.ndarray, heading: np.ndarray, target: np.ndarray, turn_rad: float) -> np.ndarray:
@@ -45,6 +46,9 @@ def scripted_policy(compiled) -> Callable[[dict], dict]:
     scale = p.border_half_extent_m
     turn = np.radians(p.turn_rate_deg)
     reach = (p.drop_points - 1) * p.drop_point_spacing_m
+    w = compiled.weights
+    # a prepared tree pays as much as an extinguished one (Maximize Preparing Trees): wet the forest band at once
+    prepare = w.get("preparing_tree", 0.0) * 1.0 >= w.get("extinguishing_tree", 0.0) * 5.0 > 0.0
 
     def act(observations: dict) -> dict:
         vector = observations["vector"].astype(np.float64)
@@ -60,6 +64,9 @@ def scripted_policy(compiled) -> Callable[[dict], dict]:
         across = np.abs(-gap[..., 0] * np.sin(heading) + gap[..., 1] * np.cos(heading))
         on_target = (ahead >= -0.5 * p.drop_radius_m) & (ahead <= reach + 0.5 * p.drop_radius_m)
         drop = water & fire_seen & on_target & (across <= 0.8 * p.drop_radius_m)
+        if prepare:
+            in_band = np.abs(np.hypot(position[..., 0], position[..., 1]) - PATROL_RADIUS_M) < PREPARE_BAND_M
+            drop = drop | (water & ~fire_seen & in_band)
         return {"continuous": steer[..., None].astype(np.float32), "discrete": drop[..., None].astype(np.int64)}
 
     return act

@@ -73,13 +73,25 @@ class AerialWildfireSimulator:
 
     # ---- reset -------------------------------------------------------------------------
 
-    def _spawn(self, rng: np.random.Generator, count: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Positions (count, A, 2) uniform in the spawn disk clipped to the border, headings, water."""
+    def _spawn(self, rng: np.random.Generator, count: int, village: np.ndarray
+               ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Positions (count, A, 2) uniform in the spawn disk clipped to the border, or, for planes without water
+        (which would fill up on the first step over the ring), uniform over the island at least two steps from the
+        ring; pushed two steps beyond the village radius (the village is found by flying to it); headings; water.
+        ``village`` (count, 2)."""
         p, shape = self.params, (count, self.agents)
-        radius = p.spawn_radius_m * np.sqrt(rng.random(shape))
-        angle = rng.uniform(-np.pi, np.pi, shape)
-        position = np.stack([radius * np.cos(angle), radius * np.sin(angle)], axis=-1)
-        position = np.clip(position, -p.border_half_extent_m, p.border_half_extent_m)
+        if self.spawn_water:
+            limit = p.border_half_extent_m
+            radius = p.spawn_radius_m * np.sqrt(rng.random(shape))
+            angle = rng.uniform(-np.pi, np.pi, shape)
+            position = np.clip(np.stack([radius * np.cos(angle), radius * np.sin(angle)], axis=-1), -limit, limit)
+        else:
+            limit = p.island_half_extent_m - 2.0 * p.plane_speed_m
+            position = rng.uniform(-limit, limit, shape + (2,))
+        gap = position - village[:, None, :]
+        distance = np.hypot(gap[..., 0], gap[..., 1])
+        push = np.maximum(p.village_radius_m + 2.0 * p.plane_speed_m, distance) / np.maximum(distance, 1e-9)
+        position = np.clip(village[:, None, :] + gap * push[..., None], -limit, limit)
         heading = rng.uniform(-np.pi, np.pi, shape)
         return position, heading, np.full(shape, self.spawn_water)
 
@@ -91,7 +103,7 @@ class AerialWildfireSimulator:
         """``batch`` new episodes: on new islands, or on the given ``maps`` (kept islands) when not None.
         Their look is ``tiled`` or not (see view.build_look; by default as suits ``batch`` worlds)."""
         island = start_islands(rng, batch, self.island, maps)
-        position, heading, water = self._spawn(rng, batch)
+        position, heading, water = self._spawn(rng, batch, island.maps.village)
         shape, no = (batch, self.agents), np.zeros((batch, self.agents), bool)
         flying = np.ones(shape, bool)
         look = build_look(island.fire.trees, island.maps.ground, self.frame_template, self.frame, tiled)

@@ -33,7 +33,7 @@ ENTRY = register(EnvironmentEntry(
             "the centre.")),
         "forest": GeneratorSlot(ForestSpec, forest_preset, (
             "The existing forest: the shared height rule on 100 x 100 cells of 4 m, trees between 3 m and 12 m "
-            "above the lowland (densest at 7 m), none within 40 m of the station.")),
+            "above the lowland (densest at 7 m), none within 80 m of the station (see the reward table's notes).")),
     },
     notes=(
         "Tasks are the configs' 0-based `task:` values; the paper's reward-scale columns 3 and 4 are swapped "
@@ -62,13 +62,20 @@ ENTRY = register(EnvironmentEntry(
         "drone was at least return_min_distance_m (15 m) away; recharging to full happens whenever a drone is "
         "within the charge radius.",
         "Incremental Running Back reads d_-1 as the closest increment reached since the drop, so each increment pays "
-        "once; it pays nothing when the drop was within d_charge + s of the station (d_init - d_charge / s not positive).",
+        "once, and pays only the increments from d_init down to d_charge / s (those outside the charge radius), so a "
+        "whole run back pays r_p x rbm, at most 20; it pays nothing when the drop was within d_charge + s of the "
+        "station (d_init - d_charge / s not positive).",
         "Find Close Tree compares the distance in metres with 20 m (the paper's equation divides it by the half "
         "extent first, which would make every distance qualify).",
         "Energy drains by 1/1000 per step with a seed and 1/2000 without (the seed state at the start of the step, "
         "as the depletion penalties); an empty battery terminates that drone (frozen, no longer a neighbour) while "
         "the others fly on.",
-        "Drones start evenly spaced 6 m around the station holding a seed, except in Pick-up Seed, where they start "
-        "at random at least 20 m away without one.",
+        "Drones start evenly spaced around the station holding a seed, on a 6 m circle widened so neighbours start at "
+        "least spawn_gap_m (10 m) apart, except in Pick-up Seed and Group Up, where they start at random at least "
+        "20 m away without one. A drone starting outside the charge radius has made no trip: flying in is no return.",
+        "Every episode draws a new world (terrain, forest) from the split's seed stream, as Aerial Wildfire "
+        "Suppression and Wildfire Resource Management draw a new island (redraw_island 'episode').",
+        "The best-so-far quantities of the delta terms (pot_old, h_old, d_old) start from the spawn state, so the "
+        "first step pays only for what it finds.",
     ),
 ))

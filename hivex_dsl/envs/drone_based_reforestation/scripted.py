@@ -40,6 +40,8 @@ def scripted_policy(compiled) -> Callable[[dict], dict]:
     view = np.tan(np.radians(p.camera_fov_deg) / 2.0)
     turn = np.radians(p.turn_rate_deg)
     east, north = _pixel_grid()
+    gather = compiled.task_name == "group_up"
+    soar = compiled.task_name == "find_high_terrain"  # the height reward reads the drone's own height
     reach = np.hypot(east, north)
     bearing = np.arctan2(north, east)
 
@@ -60,7 +62,7 @@ def scripted_policy(compiled) -> Callable[[dict], dict]:
         home_distance = np.hypot(x, y)
         steps_home = home_distance / p.drone_speed_m + (z - station_z) / p.climb_speed_m + 20.0
         enough = energy > ENERGY_MARGIN * steps_home / p.energy_steps_with_seed + 0.02
-        seeking = holding & enough
+        seeking = holding & enough & ~gather  # Group Up: everyone meets at the station, the one place all know
 
         hw = np.maximum(p.camera_min_half_width_m, above * view)
         tree = image < TREE_BELOW
@@ -90,6 +92,8 @@ def scripted_policy(compiled) -> Callable[[dict], dict]:
         home_z = np.where(home_distance < 6.0, station_z + LANDING_HEIGHT_M, ground + HOME_HEIGHT_M)
         target_z = np.where(seeking, ground + height, home_z)
         climb = np.clip((np.minimum(target_z, bound - 1.0) - z) / p.climb_speed_m, -1.0, 1.0)
+        if soar:
+            climb = np.ones_like(climb)
 
         drop = (seeking & ready).astype(np.int64)[..., None]
         continuous = np.stack([throttle, steer, climb], axis=-1).astype(np.float32)

@@ -29,7 +29,9 @@ from .types import DroneState
 SEED_REWARD_MULTIPLIER = 20.0  # [paper] sdrm
 DISTANCE_REWARD_MULTIPLIER = 10.0  # [paper] drm
 RUNNING_BACK_REWARD = 20.0  # [paper] r_p
-RANDOM_SPAWN_TASKS = ("pick_up_seed",)  # [paper] "the initial position of drones is random instead of at the station"
+# [paper] Pick-up Seed: "the initial position of drones is random instead of at the station"; [ours] Group Up too
+# (the reward table's notes give the evidence: drones that start together would be grouped from the first step)
+RANDOM_SPAWN_TASKS = ("pick_up_seed", "group_up")
 STATION_PAD_M = 3.0  # radius of the pad the camera and renderer draw
 VECTOR_SIZE = 10
 
@@ -120,7 +122,7 @@ class DroneReforestationSimulator:
             z = low + rng.random((batch, count)) * (p.height_bound_m - low)
         else:
             angles = rng.uniform(0.0, 2.0 * np.pi, (batch, 1)) + 2.0 * np.pi * np.arange(count) / count
-            xy = station[:, None, :2] + p.spawn_radius_m * np.stack([np.cos(angles), np.sin(angles)], axis=-1)
+            xy = station[:, None, :2] + spawn_ring_radius(p, count) * np.stack([np.cos(angles), np.sin(angles)], axis=-1)
             z = np.broadcast_to(station[:, None, 2] + p.spawn_altitude_m, (batch, count))
         ground = sample_bilinear(heights, self.terrain_grid, xy)
         z = np.clip(z, ground + p.min_clearance_m, p.height_bound_m)
@@ -136,16 +138,21 @@ class DroneReforestationSimulator:
         position, heading, ground, holding = self._spawn(rng, heights, station)
         shape = (batch, self.agents)
         zeros, false = np.zeros(shape), np.zeros(shape, bool)
-        distance, _ = self._station_distances(position, station)
+        distance, reach = self._station_distances(position, station)
+        tree_distance = tree_distance_raster(occupied, self.forest_grid.cell, self.tree_reach_m)
+        _, det = self._below.sample((heights, tree_distance), position[..., :2])
+        p = self.params
         state = DroneState(
-            heights=heights, tree_distance=tree_distance_raster(occupied, self.forest_grid.cell, self.tree_reach_m),
+            heights=heights, tree_distance=tree_distance,
             tree_xy=trees, station=station, camera=self._cameras(heights, trees, station),
             new_trees=np.full((batch, self.params.new_tree_capacity, 2), FAR_M, np.float32),
             new_quality=np.zeros((batch, self.params.new_tree_capacity), np.float32),
             new_count=np.zeros(batch, np.int64), position=position, heading=heading, ground=ground,
             energy=np.ones(shape), holding=np.full(shape, holding), alive=np.ones(shape, bool),
-            inside=distance <= self.params.charge_radius_m, away=distance >= self.params.return_min_distance_m,
-            best_fertility=zeros, best_height=zeros, best_distance=zeros, back_active=false,
+            inside=distance <= p.charge_radius_m, away=(distance >= p.return_min_distance_m) & self.random_spawn,
+            # best-so-far from the spawn state: the first step pays only for what it finds (no planted trees yet)
+            best_fertility=fertility(det, p.min_tree_distance_m, p.max_tree_distance_m),
+            best_height=position[..., 2].copy(), best_distance=np.minimum(reach, self.half), back_active=false,
             back_init=np.zeros(shape, np.int64), back_best=np.zeros(shape, np.int64), back_multiplier=zeros,
             dropped=false, seed_reward=zeros, distance_reward=zeros, returned=false,
             found_tree=false, running_back=zeros, frames=np.zeros(shape + (2 * VECTOR_SIZE,), np.float32))
@@ -232,9 +239,12 @@ class DroneReforestationSimulator:
         closer = _alive_only(state.back_active & (increment < state.back_best), alive)
         if not np.count_nonzero(closer):  # (count_nonzero is the cheapest "any" on small arrays)
             return np.zeros(closer.shape)
-        span = state.back_init - p.charge_radius_m / p.running_back_step_m
+        first_inside = p.charge_radius_m / p.running_back_step_m  # d_charge / s: the increments inside pay nothing
+        span = state.back_init - first_inside
         reward = RUNNING_BACK_REWARD * state.back_multiplier / np.where(span > 0, span, 1.0)
-        return np.where(closer & (span > 0), clamp(reward, 0.0, RUNNING_BACK_REWARD), 0.0)
+        # the span counts the increments from d_init down to d_charge / s, so the run back pays at most r_p * rbm
+        paid = closer & (span > 0) & (increment >= first_inside)
+        return np.where(paid, clamp(reward, 0.0, RUNNING_BACK_REWARD), 0.0)
 
     def _back(self, state: DroneState, drops: np.ndarray, increment: np.ndarray, outside: np.ndarray,
               r_s: np.ndarray, r_d: np.ndarray, dropping: bool) -> dict[str, np.ndarray]:
@@ -307,7 +317,7 @@ class DroneReforestationSimulator:
             energy=energy, holding=holding, alive=energy > 0.0, inside=inside,
             away=away & ~returned if returning else away,
             best_fertility=self._best_fertility(state, flight.xy, flight.tree_distance, alive),
-            best_height=np.maximum(state.best_height, _zero_unless_alive(flight.ground, alive)),
+            best_height=np.maximum(state.best_height, _zero_unless_alive(flight.z, alive)),
             best_distance=np.maximum(state.best_distance, _zero_unless_alive(np.minimum(reach, self.half), alive)),
             dropped=drops, seed_reward=r_s, distance_reward=r_d, returned=returned,
             found_tree=_alive_only(flight.tree_distance <= p.close_tree_radius_m, alive), running_back=running_back,
@@ -347,6 +357,14 @@ class DroneReforestationSimulator:
         from .render import draw_reforestation
 
         return draw_reforestation(state, index, self)
+
+
+def spawn_ring_radius(p: DroneBasedReforestationParams, count: int) -> float:
+    """Radius of the circle the drones start on: spawn_radius_m, widened so that neighbours on it start at least
+    spawn_gap_m apart (with 12 drones on a 6 m circle they would start 3.1 m apart, grouped up from the start)."""
+    if count < 2:
+        return p.spawn_radius_m
+    return max(p.spawn_radius_m, p.spawn_gap_m / (2.0 * np.sin(np.pi / count)))
 
 
 def _alive_only(mask: np.ndarray, alive: np.ndarray | None) -> np.ndarray:

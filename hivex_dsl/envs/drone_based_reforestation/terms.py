@@ -78,8 +78,8 @@ def pick_up_seed_explored(prev, state, actions, params):
     sign="bonus", timing="event", scope="agent",
     description="After a drop, for each 2.5 m increment closer to the station than before, scaled by the drop's "
                 "quality so a whole run back pays up to 20 times rbm.",
-    equation="if d_0 < d_-1: r_rb = clip(r_p * rbm / (d_init - d_charge / s), 0, r_p);  d_0 = floor(|p - dp| / s), "
-             "rbm = (r_s + r_d) / (sdrm + drm), r_p = 20, s = 2.5, d_charge = 7.5",
+    equation="if d_0 < d_-1 and d_0 >= d_charge / s: r_rb = clip(r_p * rbm / (d_init - d_charge / s), 0, r_p);  "
+             "d_0 = floor(|p - dp| / s), rbm = (r_s + r_d) / (sdrm + drm), r_p = 20, s = 2.5, d_charge = 7.5",
 )
 def incremental_running_back(prev, state, actions, params):
     return state.running_back
@@ -105,7 +105,7 @@ def group_up(prev, state, actions, params):
     sign="bonus", timing="event", scope="agent",
     description="Each time the drone finds a more fertile seed-drop location than before: the gain in potential.",
     equation="r_fl = pot_current - pot_old if pot_old < pot_current else 0;  pot = Map(det, 2.5, 75, 1, 0) where "
-             "2.5 <= det <= 75 and dnt >= 2.5, pot_old starts at 0",
+             "2.5 <= det <= 75 and dnt >= 2.5, pot_old starts at the spawn point's potential",
 )
 def high_fertility_location_delta(prev, state, actions, params):
     return state.best_fertility - prev.best_fertility
@@ -114,8 +114,9 @@ def high_fertility_location_delta(prev, state, actions, params):
 @TERMS.term(
     "high_landscape_point_delta", title="High Landscape Point Delta", paper_row=7, low=0.0, high=HEIGHT_BOUND_M,
     sign="bonus", timing="event", scope="agent",
-    description="Each time the drone flies over higher ground than before: the gain in height.",
-    equation="r_h = h(p) - h_old if h_old < h(p) else 0;  h(p) = terrain height below the drone, h_old starts at 0",
+    description="Each time the drone flies higher than before: the gain in height (the drone's own height, up to the "
+                "40 m bound, as the published results read; see the reward table's notes).",
+    equation="r_h = h(p) - h_old if h_old < h(p) else 0;  h(p) = the drone's height z, h_old starts at the spawn height",
 )
 def high_landscape_point_delta(prev, state, actions, params):
     return state.best_height - prev.best_height
@@ -126,7 +127,7 @@ def high_landscape_point_delta(prev, state, actions, params):
     sign="bonus", timing="event", scope="agent",
     description="Each time the drone gets further from the station than before: the gain in distance.",
     equation="r_fd = d_current - d_old if d_old < d_current else 0;  d = horizontal distance to the station "
-             "(at most the half extent 200), d_old starts at 0",
+             "(at most the half extent 200), d_old starts at the spawn distance",
 )
 def far_distance_explored_delta(prev, state, actions, params):
     return state.best_distance - prev.best_distance

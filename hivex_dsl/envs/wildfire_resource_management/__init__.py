@@ -60,8 +60,8 @@ ENTRY = register(EnvironmentEntry(
         "the equation leaves it out), Collective Performance the equation's 1 - |1 - RMS| over the nine towers "
         "(no action changes it, as in the published results). Keeping pays P_own r^2 and giving pays "
         "(sum of the neighbours' P) r, so the main and Distribute All tasks pay for giving and Keep All for keeping.",
-        "Fire, terrain, forest, ignition and weather are Aerial Wildfire Suppression's (an island is kept across the "
-        "episodes of a seed stream unless redraw_island is 'episode'; the fire is new every episode). Towers "
+        "Fire, terrain, forest, ignition and weather are Aerial Wildfire Suppression's (a new island every episode "
+        "unless redraw_island is 'seed', which keeps it across a seed stream; the fire is new every episode). Towers "
         "cannot fight the fire; with one fire step per environment step (fire_step_interval 1, ours) it mostly goes "
         "out after 150-350 steps, near the original's logged mean episode lengths of 140-275, and every task ends "
         "then (event fire_out) or after 500 steps.",

@@ -9,12 +9,11 @@ overrides them under `generators:`).
 
 from __future__ import annotations
 
-from typing import Literal
-
 from pydantic import Field, model_validator
 
 from ...fire import FireSpec
 from ...procgen.wind import WindParams
+from ..island import RedrawIsland, redraw_island_field
 
 
 class WildfireResourceParams(WindParams, FireSpec):
@@ -39,11 +38,7 @@ class WildfireResourceParams(WindParams, FireSpec):
         "P only for a fire within d_thresh); 0 gives the published Individual and Collective Performance sizes."))
     initial_self_tenths: int = Field(0, ge=0, le=10, description=(
         "[ours] Tenths of its 1.0 that each tower has allocated to itself at reset; the rest starts unallocated."))
-    redraw_island: Literal["seed", "episode"] = Field("seed", description=(
-        "[ours] When a world draws a new island (terrain, village, forest), as in Aerial Wildfire Suppression: "
-        "'seed' whenever a seed starts a stream, kept for the episodes that continue it; "
-        "'episode' for every episode. Fire, weather and wind are new every episode either way; an island costs "
-        "about 60 ms to draw, a new fire on a kept one a few ms."))
+    redraw_island: RedrawIsland = redraw_island_field()
     fire_step_interval: int = Field(1, ge=1, le=1_000, description=(
         "[ours] Environment steps per fire step. With 1, a free-burning fire mostly goes out after 150-350 steps, "
         "matching the original's logged mean episode lengths of 140-275 [orig]; towers cannot fight the fire."))
