@@ -22,7 +22,7 @@ $(VENV)/.installed-run: pyproject.toml | $(BIN)/python
 
 $(VENV)/.installed-test: pyproject.toml | $(BIN)/python
 	$(BIN)/pip install --quiet torch==2.13.0
-	$(BIN)/pip install --quiet -e ".[dev,train,sb3,window]"
+	$(BIN)/pip install --quiet -e ".[dev,train,sb3,window,ray,plots]"
 	touch $@
 
 run: $(VENV)/.installed-run

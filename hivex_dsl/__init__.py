@@ -11,7 +11,7 @@ import os
 from typing import Any, Mapping, Optional, Union
 
 from .compiler import CompiledScenario, compile, compile_all
-from .errors import ActionError, HivexError, ScenarioError
+from .errors import ActionError, HivexError, ResetNeeded, ScenarioError
 
 __version__ = "0.1.0"
 
@@ -62,5 +62,5 @@ def _register_gymnasium_ids() -> None:
 _register_gymnasium_ids()
 
 
-__all__ = ["ActionError", "CompiledScenario", "HivexError", "ScenarioError", "compile", "compile_all",
-           "parallel_env", "vector_env", "__version__"]
+__all__ = ["ActionError", "CompiledScenario", "HivexError", "ResetNeeded", "ScenarioError", "compile",
+           "compile_all", "parallel_env", "vector_env", "__version__"]

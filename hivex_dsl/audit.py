@@ -147,14 +147,14 @@ def _action_independent(audit: ScenarioAudit) -> list[Flag]:
 
 def _first_step(audit: ScenarioAudit) -> list[Flag]:
     flags = []
-    entry, done = audit.compiled.entry, audit.rollouts["zeros"]
+    contracts, done = _contracts_of(audit), audit.rollouts["zeros"]
     for term, trace in done.traces.items():
-        if entry.terms[term].contract.timing == "dense" or not trace.first_step:
+        if contracts[term].timing == "dense" or not trace.first_step:
             continue
         first = np.stack(trace.first_step)
         if np.any(first != 0):
             flags.append(Flag("first_step", term=term, policy="zeros", message=(
-                f"{term} ({entry.terms[term].contract.timing}) pays {float(np.abs(first).max()):.4g} on the first "
+                f"{term} ({contracts[term].timing}) pays {float(np.abs(first).max()):.4g} on the first "
                 "step after reset under the all-zeros policy, before anything happened")))
     return flags
 
@@ -165,8 +165,8 @@ def _dominant(audit: ScenarioAudit) -> list[Flag]:
     Only rewards count (positive weighted sums): a task whose one bonus is the task (Find Fire) has nothing
     to dominate, and penalties dominating a run that earns nothing say nothing about the reward's design.
     """
-    done, entry = audit.rollouts["scripted"], audit.compiled.entry
-    can_pay = [t for t in done.terms if _can_pay(entry.terms[t].contract, audit.compiled.weights[t])]
+    done, contracts = audit.rollouts["scripted"], _contracts_of(audit)
+    can_pay = [t for t in done.terms if _can_pay(contracts[t], audit.compiled.weights[t])]
     earned = {t: float(done.weighted(t).mean()) for t in can_pay}
     total = sum(v for v in earned.values() if v > 0)
     if len(can_pay) < 2 or total <= 0:
@@ -177,6 +177,11 @@ def _dominant(audit: ScenarioAudit) -> list[Flag]:
         for term, value in earned.items() if value >= DOMINANT_SHARE * total]
 
 
+def _contracts_of(audit: ScenarioAudit) -> dict:
+    """Every term's contract by name: the environment's and the scenario's expression terms."""
+    return {contract.name: contract for contract in audit.compiled.term_contracts}
+
+
 def _can_pay(contract, weight: float) -> bool:
     """Whether a term with this contract and weight can add to the return."""
     return contract.sign == "mixed" or (contract.sign == "bonus") == (weight > 0)
@@ -185,7 +190,7 @@ def _can_pay(contract, weight: float) -> bool:
 def _contracts(audit: ScenarioAudit) -> list[Flag]:
     flags = []
     for term in audit.rollouts["zeros"].traces:
-        contract = audit.compiled.entry.terms[term].contract
+        contract = _contracts_of(audit)[term]
         for policy, done in audit.rollouts.items():
             trace = done.traces[term]
             if trace.live == 0:

@@ -1,9 +1,11 @@
-"""The `hivex` command: validate | compile | run | render | audit | schema | docs | preview | bench | list."""
+"""The `hivex` command: validate | compile | run | render | audit | schema | docs | preview | bench | list |
+train | evaluate."""
 
 from __future__ import annotations
 
 import argparse
 import json
+import os
 import sys
 from pathlib import Path
 from typing import Sequence
@@ -17,7 +19,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser = _parser()
     args = parser.parse_args(argv)
     try:
-        return args.handler(args)
+        code = args.handler(args)
+        sys.stdout.flush()  # here, so a reader that went away (`| head -1`) is seen while we can still handle it
+        return code
+    except BrokenPipeError:
+        return _reader_gone()
     except ScenarioError as exc:
         for problem in exc.problems:
             print(problem, file=sys.stderr)
@@ -28,6 +34,26 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("hivex: interrupted", file=sys.stderr)
         return 130
+    except OSError as exc:  # an output path the system refuses (permissions, a full disk, ...)
+        where = f": {exc.filename}" if exc.filename else ""
+        print(f"hivex: {exc.strerror or exc}{where}", file=sys.stderr)
+        return EXIT_FAIL
+
+
+EXIT_PIPE = 128 + 13  # what a shell reports for a writer ended by SIGPIPE
+
+
+def _reader_gone() -> int:
+    """stdout's reader closed the pipe: stop quietly, as `yes | head -1` does; point stdout at /dev/null so
+    Python's own flush at exit does not report the broken pipe again."""
+    try:
+        target = sys.stdout.fileno()
+    except (AttributeError, OSError, ValueError):  # stdout without a file descriptor: nothing more is written
+        return EXIT_PIPE
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    os.dup2(devnull, target)
+    os.close(devnull)
+    return EXIT_PIPE
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -85,6 +111,10 @@ def _parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("list", help="list the bundled scenarios")
     p.set_defaults(handler=cmd_list)
+
+    from .train.commands import add_commands as add_train_commands
+
+    add_train_commands(sub, _positive)
     return parser
 
 
@@ -157,22 +187,34 @@ def cmd_compile(args) -> int:
     from .report import describe_compiled, describe_sweep
 
     compiled = compile_all(args.file)
+    locks = _lock_paths(len(compiled), Path(args.output)) if args.output else []
     print(describe_compiled(compiled[0]) if len(compiled) == 1 else describe_sweep(compiled))
-    if args.output:
-        for path in _write_locks(compiled, Path(args.output)):
-            print(f"wrote {path}")
+    if locks:
+        locks[0].parent.mkdir(parents=True, exist_ok=True)
+    for scenario, path in zip(compiled, locks):
+        path.write_text(json.dumps(scenario.to_lock(), indent=2) + "\n", encoding="utf-8")
+        print(f"wrote {path}")
     return EXIT_OK
 
 
-def _write_locks(compiled, output: Path) -> list[Path]:
-    def dump(scenario, path: Path) -> Path:
-        path.write_text(json.dumps(scenario.to_lock(), indent=2) + "\n", encoding="utf-8")
-        return path
-
-    if len(compiled) == 1:
-        return [dump(compiled[0], output)]
-    output.mkdir(parents=True, exist_ok=True)
-    return [dump(sc, output / f"{i:04d}.lock.json") for i, sc in enumerate(compiled)]
+def _lock_paths(count: int, output: Path) -> list[Path]:
+    """Where the locks of ``count`` scenarios go: the file ``output``, or for a sweep files in the directory
+    ``output`` (created if need be); checked before anything is written."""
+    if count == 1:
+        if output.is_dir():
+            raise HivexError(f"-o {output} is a directory; give the lock file's name (a directory is for a sweep)")
+        if not output.parent.is_dir():
+            raise HivexError(f"-o {output}: the directory {output.parent} does not exist")
+        return [output]
+    if output.exists() and not output.is_dir():
+        raise HivexError(f"-o {output} is a file; a sweep of {count} scenarios writes one lock per point "
+                         "into a directory")
+    names = [output / f"{i:04d}.lock.json" for i in range(count)]
+    stale = sorted(set(output.glob("*.lock.json")) - set(names)) if output.is_dir() else []
+    if stale:
+        raise HivexError(f"-o {output} holds lock files this sweep would not overwrite ({stale[0].name}, ...); "
+                         "they would be mixed with its points: choose an empty directory")
+    return names
 
 
 def cmd_run(args) -> int:
@@ -233,7 +275,7 @@ def cmd_preview(args) -> int:
 
 
 def cmd_bench(args) -> int:
-    from . import bench, registry
+    from . import bench, bench_expressions, registry
 
     available = list(registry.environments())
     unknown = [e for e in args.env or [] if e not in available]
@@ -246,11 +288,17 @@ def cmd_bench(args) -> int:
         raise HivexError("the reference needs the mpe2 package: pip install 'hivex-dsl[bench]' (or pass --no-reference)")
     report = bench.run_benchmarks(args.env or available, args.seconds, args.repeats, args.batch, reference,
                                   progress=lambda what: print(f"measuring {what} ...", file=sys.stderr))
+    if bench_expressions.ENVIRONMENT in (args.env or available):
+        print("measuring expression terms ...", file=sys.stderr)
+        report["expression_terms"] = bench_expressions.run(args.seconds, args.repeats, bench.ONE_CORE)
     text = json.dumps(report, indent=2) + "\n"
     if args.output:
         args.output.parent.mkdir(parents=True, exist_ok=True)
         args.output.write_text(text, encoding="utf-8")
-    sys.stdout.write(text if args.json else bench.format_table(report) + "\n")
+    table = bench.format_table(report)
+    if report.get("expression_terms"):
+        table += "\n\n" + bench_expressions.format_table(report["expression_terms"])
+    sys.stdout.write(text if args.json else table + "\n")
     return EXIT_OK
 
 

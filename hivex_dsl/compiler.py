@@ -7,6 +7,8 @@ must fit) runs here, so a scenario that compiles always resets and steps.
 from __future__ import annotations
 
 import copy
+import dataclasses
+import functools
 import hashlib
 import itertools
 import json
@@ -20,15 +22,18 @@ from . import registry
 from .errors import Location, Problem, ScenarioError, did_you_mean, got, kind_of, one_of, show
 from .loader import Loaded, PathKey, load_file
 from .resources import resolve_scenario_path
+from .reward.expressions import event_names, with_expressions
 from .spec.common import SCHEMA_VERSION, StrictModel
-from .spec.scenario import SWEEPABLE_PREFIXES, Seeds, sweepable_fields
+from .spec.expressions import WeightSchedule
+from .spec.expression_keys import (clashing_terms, declared_term_names, expression_keys, expression_term_names,
+                                   split_ends_on)
+from .spec.scenario import SWEEPABLE_PREFIXES, Seeds, scenario_model, sweepable_fields
 from .spec.validate import dotted, validate_model
 
 MAX_SWEEP_POINTS = 10_000
 MAX_SWEEP_VALUES = 1_000
+MAX_BLAME_TRIALS = 1_000  # recompilations a sweep may spend finding which written value causes a problem
 LOCK_VERSION = 1
-LOCK_KEYS = ("hivex_lock", "fingerprint", "scenario", "task_index", "ends_on", "sweep_point",
-             "term_contracts", "spaces")
 
 Source = Union[str, Path, Mapping[str, Any]]
 
@@ -46,6 +51,14 @@ class CompiledScenario:
     ends_on: tuple[str, ...]
     sweep_point: Mapping[str, Any] = field(default_factory=dict)
     generators: Mapping[str, StrictModel] = field(default_factory=dict)
+    schedules: Mapping[str, WeightSchedule] = field(default_factory=dict)  # weights moving with env steps
+    expressions: Any = None  # a reward.expressions.ScenarioExpressions when the scenario writes any
+
+    @property
+    def term_contracts(self) -> tuple:
+        """Contracts of every term this scenario can weight: the environment's, then its expression terms."""
+        own = self.expressions.contracts if self.expressions is not None else ()
+        return tuple(term.contract for term in self.entry.terms) + own
 
     @property
     def environment(self) -> str:
@@ -89,17 +102,19 @@ class CompiledScenario:
             out[self.entry.info.level_field] = self.level
         out |= {"agents": self.agents, "episode_length": self.episode_length,
                 "seeds": {"train": _plain(self.seeds.train), "test": _plain(self.seeds.test)},
-                "weights": dict(self.weights), "params": self.params.model_dump(mode="json")}
+                "weights": {name: self.schedules[name].as_dict() if name in self.schedules else weight
+                            for name, weight in self.weights.items()},
+                "params": self.params.model_dump(mode="json")}
         if self.generators:
             out["generators"] = {name: spec.model_dump(mode="json") for name, spec in self.generators.items()}
-        return out
+        return out | expression_keys(self.spec)
 
     @cached_property
     def fingerprint(self) -> str:
         """sha256 of what determines behaviour: resolved content (not name) and term contracts."""
         content = {key: value for key, value in self.resolved().items() if key != "name"}
         content["ends_on"] = list(self.ends_on)
-        content["term_contracts"] = [term.contract.as_dict() for term in self.entry.terms]
+        content["term_contracts"] = [contract.as_dict() for contract in self.term_contracts]
         canonical = json.dumps(content, sort_keys=True, separators=(",", ":"), allow_nan=False)
         return "sha256:" + hashlib.sha256(canonical.encode()).hexdigest()
 
@@ -114,7 +129,7 @@ class CompiledScenario:
             "task_index": self.task_index,
             "ends_on": list(self.ends_on),
             "sweep_point": dict(self.sweep_point),
-            "term_contracts": {t.name: t.contract.as_dict() for t in self.entry.terms},
+            "term_contracts": {contract.name: contract.as_dict() for contract in self.term_contracts},
             "spaces": {"observation": describe_space(simulator.observation_space),
                        "action": describe_space(simulator.action_space)},
         }
@@ -137,6 +152,9 @@ def compile_all(source: Source) -> list[CompiledScenario]:
 def _load(source: Source) -> Loaded:
     if isinstance(source, Mapping):
         return Loaded("<dict>", _plain_data(source, ()))
+    if not isinstance(source, (str, Path)) or not str(source):
+        raise ScenarioError([Problem(Location("<input>", 1, 1),
+                                     f"expected a scenario file path or dict, got {source!r}")])
     return load_file(resolve_scenario_path(str(source)))
 
 
@@ -162,13 +180,15 @@ def compile_loaded(loaded: Loaded) -> list[CompiledScenario]:
     if not isinstance(data, dict):
         _fail(loaded, (), f"the top level must be a mapping of keys such as 'hivex' and 'environment', got {got(data)}")
     if "hivex_lock" in data:
-        return [_compile_lock(loaded)]
+        from .locks import compile_lock
+
+        return [compile_lock(loaded)]
     entry = _environment(loaded)
     points = _sweep_points(loaded, entry)
-    compiled, problems = [], []
+    compiled, problems, budget = [], [], [MAX_BLAME_TRIALS]
     for assignment in points:
         try:
-            compiled.append(_compile_point(loaded, entry, assignment))
+            compiled.append(_compile_point(loaded, entry, assignment, budget))
         except ScenarioError as exc:
             problems.extend(p for p in exc.problems if p not in problems)
     if problems:
@@ -205,8 +225,11 @@ def _sweep_points(loaded: Loaded, entry) -> list[Assignment]:
     sweep = loaded.data.get("sweep")
     if sweep is None:
         return [()]
-    if not isinstance(sweep, dict) or not sweep:
+    if not isinstance(sweep, dict):
         _fail(loaded, ("sweep",), f"sweep: expected a mapping of field -> list of values, got {got(sweep)}")
+    if not sweep:
+        _fail(loaded, ("sweep",), "sweep: the mapping is empty; expected at least one field -> list of values "
+                                  "(or no 'sweep' key)")
     axes = []
     for key, values in sweep.items():
         target = _sweep_target(loaded, entry, key)
@@ -215,11 +238,15 @@ def _sweep_points(loaded: Loaded, entry) -> list[Assignment]:
             _fail(loaded, where, f"sweep.{key}: expected a non-empty list of values, got {got(values)}")
         if len(values) > MAX_SWEEP_VALUES:
             _fail(loaded, where, f"sweep.{key}: {len(values)} values; at most {MAX_SWEEP_VALUES} are allowed")
+        first_at: dict[tuple, int] = {}
         for i, value in enumerate(values):
             if isinstance(value, (dict, list)) or value is None:
                 _fail(loaded, where + (i,), f"sweep.{key}[{i}]: expected a single value, got {kind_of(value)}")
-            if values.index(value) != i:
-                _fail(loaded, where + (i,), f"sweep.{key}[{i}]: {show(value)} is listed twice")
+            same = (isinstance(value, bool), isinstance(value, str), value)  # true is not 1, '1' is not 1
+            if same in first_at:
+                _fail(loaded, where + (i,), f"sweep.{key}[{i}]: {show(value)} is listed twice "
+                                            f"(first at [{first_at[same]}]); list each value once")
+            first_at[same] = i
         axes.append([(target, value, where + (i,)) for i, value in enumerate(values)])
     total = 1
     for axis in axes:
@@ -232,7 +259,7 @@ def _sweep_points(loaded: Loaded, entry) -> list[Assignment]:
 def _sweep_target(loaded: Loaded, entry, key: str) -> PathKey:
     vocab = entry.vocabulary
     fields = sweepable_fields(vocab)
-    nested = {"params": tuple(entry.params_model.model_fields), "weights": entry.terms.names,
+    nested = {"params": tuple(entry.params_model.model_fields), "weights": entry.term_names + expression_term_names(loaded.data),
               "seeds": tuple(Seeds.model_fields)}
     options = list(fields) + [f"{p}.{n}" for p in SWEEPABLE_PREFIXES for n in nested[p]]
     generator_fields = [f"generators.{name}.{f}" for name, slot in entry.generators.items()
@@ -261,7 +288,7 @@ def _get(data: Any, path: PathKey) -> Any:
     return data
 
 
-def _compile_point(loaded: Loaded, entry, assignment: Assignment) -> CompiledScenario:
+def _compile_point(loaded: Loaded, entry, assignment: Assignment, budget: list[int]) -> CompiledScenario:
     data = {k: v for k, v in copy.deepcopy(loaded.data).items() if k != "sweep"}
     redirects = {}
     for target, value, where in assignment:
@@ -278,28 +305,97 @@ def _compile_point(loaded: Loaded, entry, assignment: Assignment) -> CompiledSce
                 return loaded.locate(where)
         return loaded.locate(path, key=key)
 
-    spec = validate_model(entry.scenario_model, data, locate)
-    compiled = _resolve(entry, spec, loaded.source, {".".join(t): v for t, v, _ in assignment}, locate)
-    problems = [Problem(locate(path), message) for path, message in _semantic_problems(compiled)]
-    if problems:
-        raise ScenarioError(problems)
+    point = {".".join(t): v for t, v, _ in assignment}
+    compiled = _validated(entry, data, loaded.source, point, locate)
+    swept = [target for target, _, _ in assignment]
+    found = _semantic_problems(compiled, swept)
+    if found:
+        raise ScenarioError([Problem(_blame(loaded, entry, data, assignment, locate, path, budget), message)
+                             for path, message in found])
     return compiled
+
+
+def _blame(loaded: Loaded, entry, data: dict, assignment: Assignment, locate, path: PathKey,
+           budget: list[int]) -> Location:
+    """Where the user wrote what makes the semantic problem at ``path``: the first written value whose
+    removal makes the problem go away (``path`` itself first, then sweep values, then the file's
+    values in order: a params value that makes a layout impossible); else the value at ``path``
+    when the file sets (or sweeps) it; else this point's first sweep value. ``budget`` ([trials left])
+    bounds the recompilations of a whole sweep."""
+    swept = {target: where for target, _, where in assignment}
+    written = path in loaded.marks or any(path[: len(t)] == t for t in swept)
+    candidates = [] if path[:1] == ("seeds",) else ([path] if written else []) + _written_leaves(data, swept)
+    for leaf in candidates:
+        if _get(data, leaf) is _MISSING or budget[0] <= 0:
+            continue
+        budget[0] -= 1
+        variant = copy.deepcopy(data)
+        parent = _get(variant, leaf[:-1])
+        del parent[leaf[-1]]
+        try:
+            remaining = _semantic_problems(_validated(entry, variant, loaded.source, {}, locate), list(swept))
+        except ScenarioError:
+            continue
+        if all(p != path for p, _ in remaining):
+            return locate(leaf)
+    return locate(path) if written or not swept else loaded.locate(next(iter(swept.values())))
+
+
+_NOT_CAUSES = ("hivex", "environment", "name", "description", "seeds")
+
+
+def _written_leaves(data: dict, swept: dict) -> list[PathKey]:
+    """Paths of the single values a scenario sets (swept ones first), at most 64 of them."""
+    leaves = list(swept)
+
+    def walk(value: Any, path: PathKey) -> None:
+        if isinstance(value, dict):
+            for key, item in value.items():
+                walk(item, path + (key,))
+        elif path and path[0] not in _NOT_CAUSES and path not in leaves:
+            leaves.append(path)
+
+    walk(data, ())
+    return leaves[:64]
 
 
 def _resolve(entry, spec: StrictModel, source: str, point: dict[str, Any], locate) -> CompiledScenario:
     table = entry.reward_table
     task = spec.task if isinstance(spec.task, int) else table.task_names.index(spec.task)
     weights = table.column(task)
-    weights.update({name: w for name, w in spec.weights.model_dump().items() if w is not None})
+    weights.update({name: 1.0 for name in declared_term_names(spec)})  # a declared term counts unless weighted
+    written = {name: getattr(spec.weights, name) for name in type(spec.weights).model_fields}
+    schedules = {name: w for name, w in written.items() if isinstance(w, WeightSchedule)}
+    weights.update({name: w.start if name in schedules else w for name, w in written.items() if w is not None})
     level = None
     if entry.info.level_field == "pattern":
         level = spec.pattern if isinstance(spec.pattern, int) else entry.level_names.index(spec.pattern)
     elif entry.info.level_field == "terrain_level":
         level = spec.terrain_level
     return CompiledScenario(entry=entry, spec=spec, source=source, task_index=task, level=level,
-                            weights=MappingProxyType(weights), ends_on=table.tasks[task].ends_on,
+                            weights=MappingProxyType(weights), schedules=MappingProxyType(schedules),
+                            ends_on=(event_names(table.tasks[task].ends_on, entry.events)
+                                     + split_ends_on(spec, entry.events)[0]),
                             sweep_point=MappingProxyType(point),
                             generators=MappingProxyType(_generator_specs(entry, spec, level, locate)))
+
+
+def _validated(entry, data: dict, source: str, point: dict, locate) -> CompiledScenario:
+    """The scenario ``data`` validated, resolved and with its expressions compiled (no semantic checks yet)."""
+    clashes = clashing_terms(data, entry.term_names)
+    if clashes:
+        raise ScenarioError([Problem(locate(path, key=True), message) for path, message in clashes])
+    spec = validate_model(_scenario_model(entry, expression_term_names(data)), data, locate)
+    return with_expressions(_resolve(entry, spec, source, point, locate), spec, locate)
+
+
+@functools.lru_cache(maxsize=64)
+def _scenario_model(entry, extra_terms: tuple[str, ...]) -> type[StrictModel]:
+    """The environment's scenario model, its weights also naming the scenario's expression terms."""
+    if not extra_terms:
+        return entry.scenario_model
+    vocab = entry.vocabulary
+    return scenario_model(dataclasses.replace(vocab, term_names=vocab.term_names + extra_terms))
 
 
 def _generator_specs(entry, spec: StrictModel, level: int | None, locate) -> dict[str, StrictModel]:
@@ -331,35 +427,15 @@ def _prefixed(message: str, prefix: PathKey) -> str:
     return f"{dotted(prefix)}.{message}" if ":" in message.split(" ")[0] else f"{dotted(prefix)}: {message}"
 
 
-def _semantic_problems(compiled: CompiledScenario) -> list[tuple[PathKey, str]]:
+def _semantic_problems(compiled: CompiledScenario, swept: list[PathKey] = ()) -> list[tuple[PathKey, str]]:
     problems: list[tuple[PathKey, str]] = []
     shared = compiled.seeds.overlap()
-    if shared:
-        test = compiled.seeds.test
-        where = ("seeds", "test") if isinstance(test, int) else ("seeds", "test", min(test.index(s) for s in shared))
+    if shared:  # blamed on the test split, unless only the train split is swept (the sweep value collides)
+        split = "train" if ("seeds", "train") in swept and ("seeds", "test") not in swept else "test"
+        seeds = getattr(compiled.seeds, split)
+        where = ("seeds", split) if isinstance(seeds, int) else ("seeds", split, min(seeds.index(s) for s in shared))
         problems.append((where, f"seeds: train and test share {one_of(shared[:5])}; "
                                 "the test split must hold seeds never used in training"))
     for check in compiled.entry.checks:
         problems.extend((path, f"{dotted(path)}: {message}") for path, message in check(compiled))
     return problems
-
-
-def _compile_lock(loaded: Loaded) -> CompiledScenario:
-    data = loaded.data
-    for key in data:
-        if key not in LOCK_KEYS:
-            _fail(loaded, (key,), f"unknown key '{key}' in a lock file{did_you_mean(key, LOCK_KEYS)}", key=True)
-    if data.get("hivex_lock") != LOCK_VERSION or isinstance(data.get("hivex_lock"), bool):
-        _fail(loaded, ("hivex_lock",), f"hivex_lock: {show(data.get('hivex_lock'))} is not supported: expected {LOCK_VERSION}")
-    scenario = data.get("scenario")
-    if not isinstance(scenario, dict):
-        _fail(loaded, ("scenario",), "a lock file needs the resolved scenario under 'scenario'")
-    inner = Loaded(loaded.source, scenario,
-                   {path[1:]: loc for path, loc in loaded.marks.items() if path[:1] == ("scenario",)},
-                   {path[1:]: loc for path, loc in loaded.key_marks.items() if path[:1] == ("scenario",)})
-    compiled = compile_loaded(inner)[0]
-    stored = data.get("fingerprint")
-    if stored != compiled.fingerprint:
-        _fail(loaded, ("fingerprint",), f"fingerprint {show(stored)} does not match the content ({compiled.fingerprint}): "
-              "the lock was edited, or this version's reward terms differ from the ones it was made with")
-    return compiled

@@ -28,16 +28,14 @@ class Problem:
     message: str
 
     def __post_init__(self) -> None:
-        # a message is one line even when it quotes a value or key that holds a line break
-        if len(self.message.splitlines()) > 1 or self.message.endswith(tuple(_LINE_BREAKS)):
-            one_line = "".join(c.encode("unicode_escape").decode() if c in _LINE_BREAKS else c for c in self.message)
-            object.__setattr__(self, "message", one_line)
+        # one line, every character visible, even when it quotes a key that holds a line break or a
+        # zero-width space ('a\u200bgents' rather than an 'agents' that looks right)
+        if not self.message.isprintable():
+            visible = "".join(c if c.isprintable() else c.encode("unicode_escape").decode() for c in self.message)
+            object.__setattr__(self, "message", visible)
 
     def __str__(self) -> str:
         return f"{self.location}: {self.message}"
-
-
-_LINE_BREAKS = frozenset("\n\r\v\f\x1c\x1d\x1e\x85\u2028\u2029")
 
 
 class HivexError(Exception):
@@ -68,6 +66,10 @@ class ItemValueError(ValueError):
 
 class ActionError(HivexError, ValueError):
     """An action handed to an environment is outside its space."""
+
+
+class ResetNeeded(HivexError, RuntimeError):
+    """An environment was stepped before its first ``reset()``, or after every agent's episode ended."""
 
 
 def did_you_mean(word: str, choices: Iterable[str]) -> str:

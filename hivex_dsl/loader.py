@@ -8,7 +8,11 @@ JSON is YAML, so lock files are read by the same code.
 
 from __future__ import annotations
 
+import os
 import re
+import stat
+import sys
+import unicodedata
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Union
@@ -16,6 +20,7 @@ from typing import Any, Union
 import yaml
 
 from .errors import Location, Problem, ScenarioError, show
+from .yaml11 import character_name, line_and_column, refusal, refused_character
 
 PathKey = tuple[Union[str, int], ...]
 
@@ -65,16 +70,7 @@ def load_file(path: str | Path) -> Loaded:
     """Read a YAML (or JSON) file; every failure is a located :class:`ScenarioError`."""
     path = Path(path)
     source = str(path)
-    try:
-        raw = path.read_bytes()
-    except FileNotFoundError:
-        _fail(source, 1, 1, f"no such file: {path}")
-    except IsADirectoryError:
-        _fail(source, 1, 1, f"{path} is a directory, expected a YAML file")
-    except OSError as exc:
-        _fail(source, 1, 1, f"cannot read {path}: {exc.strerror}")
-    if len(raw) > MAX_FILE_BYTES:
-        _fail(source, 1, 1, f"file is {len(raw)} bytes; a scenario may be at most {MAX_FILE_BYTES} bytes")
+    raw = _read_bounded(path, source)
     try:
         text = raw.decode("utf-8")
     except UnicodeDecodeError as exc:
@@ -85,9 +81,36 @@ def load_file(path: str | Path) -> Loaded:
     return load_text(text, source)
 
 
+def _read_bounded(path: Path, source: str) -> bytes:
+    """At most MAX_FILE_BYTES bytes of ``path``: a regular file's size is checked before reading it,
+    and a stream (a pipe, /dev/stdin, /dev/zero) is read no further than one byte past the limit."""
+    try:
+        with open(path, "rb") as stream:
+            info = os.fstat(stream.fileno())
+            if stat.S_ISDIR(info.st_mode):
+                raise IsADirectoryError
+            if stat.S_ISREG(info.st_mode) and info.st_size > MAX_FILE_BYTES:
+                _fail(source, 1, 1,
+                      f"file is {info.st_size:,} bytes; a scenario may be at most {MAX_FILE_BYTES:,} bytes")
+            raw = stream.read(MAX_FILE_BYTES + 1)
+    except FileNotFoundError:
+        _fail(source, 1, 1, f"no such file: {path}")
+    except IsADirectoryError:
+        _fail(source, 1, 1, f"{path} is a directory, expected a YAML file")
+    except OSError as exc:
+        _fail(source, 1, 1, f"cannot read {path}: {exc.strerror or exc}")
+    if len(raw) > MAX_FILE_BYTES:
+        _fail(source, 1, 1, f"input is longer than {MAX_FILE_BYTES:,} bytes, the most a scenario may be")
+    return raw
+
+
 def load_text(text: str, source: str = "<string>") -> Loaded:
     """Parse YAML text named ``source`` (used in error locations)."""
-    reader = _Reader(text, source)
+    try:
+        reader = _Reader(text, source)
+    except yaml.reader.ReaderError as exc:  # a character YAML never allows (PyYAML checks the whole text first)
+        line, col = line_and_column(text, exc.position)
+        _fail(source, line, col, refused_character(exc.character))
     documents: list[tuple[yaml.Mark, yaml.Node]] = []
     try:
         while reader.check_node():
@@ -98,10 +121,7 @@ def load_text(text: str, source: str = "<string>") -> Loaded:
             if len(documents) > 1:
                 break
     except yaml.MarkedYAMLError as exc:
-        mark = exc.problem_mark or exc.context_mark
-        line, col = (mark.line + 1, mark.column + 1) if mark else (1, 1)
-        what = exc.problem or exc.context or "malformed input"
-        _fail(source, line, col, f"not valid YAML: {what}")
+        _fail(source, *_syntax_error(exc))
     except yaml.YAMLError as exc:  # pragma: no cover - PyYAML marks all parse errors it raises
         _fail(source, 1, 1, f"not valid YAML: {exc}")
     except RecursionError:  # pragma: no cover - _Reader bounds the nesting first
@@ -116,6 +136,32 @@ def load_text(text: str, source: str = "<string>") -> Loaded:
     builder = _Builder(source, reader.alias_marks)
     data = builder.build(documents[0][1], (), 0)
     return Loaded(source, data, builder.marks, builder.key_marks)
+
+
+_OPENERS = {"while scanning a quoted scalar": "quoted string", "while parsing a flow mapping": "'{'",
+            "while parsing a flow sequence": "'['"}
+_CLOSERS = {"'{'": "'}'", "'['": "']'"}
+
+
+def _syntax_error(exc: yaml.MarkedYAMLError) -> tuple[int, int, str]:
+    """(line, col, message) of a PyYAML syntax error. An unclosed quote or bracket is located where it
+    opens; a bracket whose trouble lies on its own line, where the trouble is."""
+    problem, context = exc.problem_mark, exc.context_mark
+    what = exc.problem or exc.context or "malformed input"
+    opener = _OPENERS.get(exc.context)
+    if opener and context is not None and problem is not None:
+        at = f"at line {problem.line + 1}, column {problem.column + 1}"
+        if opener == "quoted string" or "<stream end>" in what:
+            return (context.line + 1, context.column + 1,
+                    f"not valid YAML: the {opener} opened here is never closed: {what} {at}")
+        if problem.line > context.line:
+            return (context.line + 1, context.column + 1,
+                    f"not valid YAML: the {opener} opened here is not closed in time: {what} {at} "
+                    f"(a missing {_CLOSERS[opener]} or ',')")
+        what = f"{what} (inside the {opener} at column {context.column + 1})"
+    mark = problem or context
+    line, col = (mark.line + 1, mark.column + 1) if mark else (1, 1)
+    return line, col, f"not valid YAML: {what}"
 
 
 def _fail(source: str, line: int, col: int, message: str):
@@ -172,6 +218,10 @@ _Reader.add_implicit_resolver(
     re.compile(r"^[-+]?[0-9][0-9_]*(?:\.[0-9_]*)?[eE][-+]?[0-9]+$"),
     list("-+0123456789"),
 )
+# a plain '=' is the string '=' (YAML 1.2), not YAML 1.1's 'default value' tag that no constructor knows
+_Reader.yaml_implicit_resolvers = {
+    first: [(tag, regexp) for tag, regexp in resolvers if tag != "tag:yaml.org,2002:value"]
+    for first, resolvers in _Reader.yaml_implicit_resolvers.items()}
 
 
 _KEY_KINDS = {"tag:yaml.org,2002:int": "an integer", "tag:yaml.org,2002:float": "a number",
@@ -255,7 +305,7 @@ class _Builder:
         if isinstance(node, yaml.SequenceNode):
             return [self.build(item, path + (i,), depth + 1, self.alias_marks.get((id(node), i)))
                     for i, item in enumerate(node.value)]
-        return self.build_scalar(node)
+        return self.build_scalar(node, path)
 
     def build_mapping(self, node: yaml.MappingNode, path: PathKey, depth: int) -> dict:
         result: dict[str, Any] = {}
@@ -272,6 +322,10 @@ class _Builder:
             if key_node.tag != "tag:yaml.org,2002:str":
                 self.fail(key_node, f"a key must be a plain name, not a value tagged '{_tag(key_node.tag)}'")
             key = key_node.value
+            hidden = next((c for c in key if c != " " and unicodedata.category(c) in ("Zs", "Cf")), None)  # look-alikes
+            if hidden is not None:
+                self.fail(key_node, f"the key {show(key)} holds {character_name(ord(hidden))}, which YAML does not "
+                                    "read as a space: keys and indentation are written with plain characters and spaces")
             if key in first_seen:
                 first = first_seen[key]
                 place = f" in '{_dotted(path)}'" if path else ""
@@ -281,13 +335,23 @@ class _Builder:
             result[key] = self.build(value_node, path + (key,), depth + 1, self.alias_marks.get((id(node), id(key_node))))
         return result
 
-    def build_scalar(self, node: yaml.ScalarNode) -> Any:
+    def build_scalar(self, node: yaml.ScalarNode, path: PathKey) -> Any:
+        field = f"{_dotted(path)}: " if path else ""
         if node.tag == "tag:yaml.org,2002:timestamp":
             return node.value  # kept as written; no field takes a date, so validation names it
         try:
-            return self._scalars.construct_object(node, deep=False)
+            value = self._scalars.construct_object(node, deep=False)
         except (yaml.YAMLError, ValueError, TypeError, KeyError, IndexError, OverflowError):
             # only an explicit tag (``!!int 0.5``) or an absurdly long number gets here
             kind = {"tag:yaml.org,2002:int": "an integer", "tag:yaml.org,2002:float": "a number",
                     "tag:yaml.org,2002:bool": "true or false"}.get(node.tag, f"'{_tag(node.tag)}'")
-            self.fail(node, f"{show(node.value)} cannot be read as {kind}")
+            digits = sum(c.isdigit() for c in node.value)
+            limit = sys.get_int_max_str_digits()
+            if node.tag == "tag:yaml.org,2002:int" and limit and digits > limit:
+                self.fail(node, f"{field}a {digits:,}-digit integer is too long to read: expected a number "
+                                f"of at most {limit:,} digits")
+            self.fail(node, f"{field}{show(node.value)} cannot be read as {kind}")
+        reason = refusal(node.tag, node.value, value) if node.style is None else None
+        if reason:
+            self.fail(node, field + reason)
+        return value

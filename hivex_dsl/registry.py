@@ -14,7 +14,7 @@ from functools import cached_property
 from typing import TYPE_CHECKING, Any, Callable, Mapping
 
 from .errors import Problem, ScenarioError, did_you_mean
-from .loader import load_file
+from .loader import Loaded, load_file
 from .resources import data_dir
 from .reward.terms import TermRegistry
 from .spec.catalogue import CATALOGUE, EnvironmentInfo
@@ -73,10 +73,20 @@ class EnvironmentEntry:
         return load_reward_table(self)
 
     @cached_property
+    def reward_table_file(self) -> Loaded:
+        """rewards/<env>.yaml as read, for locating problems of the table's expressions."""
+        return load_file(data_dir("rewards") / f"{self.id}.yaml")
+
+    @property
+    def term_names(self) -> tuple[str, ...]:
+        """The registered terms, then the reward table's expression terms."""
+        return self.terms.names + tuple(self.reward_table.terms or ())
+
+    @cached_property
     def vocabulary(self) -> ScenarioVocabulary:
         """The names and bounds a scenario of this environment may use."""
         return ScenarioVocabulary(info=self.info, params_model=self.params_model,
-                                  task_names=self.reward_table.task_names, term_names=self.terms.names,
+                                  task_names=self.reward_table.task_names, term_names=self.term_names,
                                   level_names=self.level_names,
                                   generators={name: slot.spec_model for name, slot in self.generators.items()})
 
@@ -127,12 +137,22 @@ def get(env_id: str) -> EnvironmentEntry:
 
 def load_reward_table(entry: EnvironmentEntry) -> RewardTable:
     """Read and check rewards/<env>.yaml against the environment's registered terms and events."""
-    loaded = load_file(data_dir("rewards") / f"{entry.id}.yaml")
+    loaded = entry.reward_table_file
     table = validate_loaded(RewardTable, loaded)
-    problems = table_problems(table, entry.id, entry.terms.names, tuple(entry.events))
+    problems = table_problems(table, entry.id, entry.terms.names, tuple(entry.events), _quantity_names(entry.id))
     if problems:
         raise ScenarioError([Problem(loaded.locate(path), message) for path, message in problems])
     return table
+
+
+def _quantity_names(env_id: str) -> tuple[str, ...]:
+    """Names an environment's expressions may read (none without a vocabulary module)."""
+    from .reward.vocabulary import vocabulary_of
+
+    try:
+        return tuple(vocabulary_of(env_id).readers)
+    except ModuleNotFoundError:
+        return ()
 
 
 __all__ = ["EnvironmentEntry", "GeneratorSlot", "register", "environments", "get"]

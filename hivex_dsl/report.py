@@ -49,10 +49,20 @@ def describe_compiled(compiled: CompiledScenario) -> str:
     width = max(len(k) for k, _ in rows)
     lines = [f"{compiled.name}  ({compiled.source})"] + [f"  {k:<{width}}  {v}" for k, v in rows]
     lines.append("  reward weights (task column with overrides):")
-    lines += [f"    {w:>10g}  {term}" + ("" if w else "  (inactive)") for term, w in compiled.weights.items()]
+    lines += [f"    {w:>10g}  {term}" + _weight_note(compiled, term, w) for term, w in compiled.weights.items()]
+    if compiled.expressions is not None and compiled.expressions.terms:
+        lines.append("  expression terms:")
+        lines += [f"    {t.contract.name} = {t.contract.equation}" for t in compiled.expressions.terms]
     lines.append("  params:")
     lines += [f"    {k} = {_fmt(v)}" for k, v in compiled.params.model_dump().items()]
     return "\n".join(lines)
+
+
+def _weight_note(compiled: CompiledScenario, term: str, weight: float) -> str:
+    schedule = compiled.schedules.get(term)
+    if schedule is not None:
+        return f"  (schedule: {schedule.start:g} -> {schedule.end:g} over {schedule.over_steps:,} env steps, {schedule.kind})"
+    return "" if weight else "  (inactive)"
 
 
 def describe_sweep(compiled: list[CompiledScenario]) -> str:

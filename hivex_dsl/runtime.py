@@ -13,6 +13,7 @@ import numpy as np
 from gymnasium import spaces
 
 from .compiler import CompiledScenario
+from .errors import ResetNeeded
 from .numeric import all_true, constant
 from .reward.composer import RewardComposer
 from .spaces import hold_inactive, placeholder_actions
@@ -123,7 +124,11 @@ class BatchedEnv:
         self.batch = batch
         self.agents = compiled.agents
         self.sim: Simulator = compiled.entry.make_simulator(compiled)
-        self.composer = RewardComposer(compiled.entry.terms, compiled.weights)
+        expressions = compiled.expressions
+        self.feed = expressions.feed(self.shape, compiled) if expressions is not None else None
+        terms = expressions.registry(compiled.entry.terms, self.feed) if expressions is not None else compiled.entry.terms
+        self.composer = RewardComposer(terms, compiled.weights, compiled.schedules)
+        self.env_steps = 0  # the clock of weight schedules: steps taken by every world together (settable to resume)
         self.schedule = SeedSchedule(getattr(compiled.seeds, split), distinct_copies)
         self.state: Any = None
         self.rng: Optional[np.random.Generator] = None
@@ -160,6 +165,8 @@ class BatchedEnv:
         else:
             self.state = self.sim.reset(self.rng, self.batch)
         self._clear(np.ones(self.batch, bool))
+        if self.feed is not None:
+            self.feed.start(self.state)
         return self.sim.observe(self.state)
 
     def reset_worlds(self, mask: np.ndarray) -> Any:
@@ -167,6 +174,8 @@ class BatchedEnv:
         self._require_reset()
         self.state = self.sim.reset_where(self.state, mask, self.rng)
         self._clear(mask)
+        if self.feed is not None:
+            self.feed.start(self.state, mask)
         return self.sim.observe(self.state)
 
     def respawn_agents(self, mask: np.ndarray) -> None:
@@ -184,6 +193,8 @@ class BatchedEnv:
         if respawn is not None:
             self.state = respawn(self.state, mask, self.rng)
         self._clear_agents(mask)
+        if self.feed is not None:
+            self.feed.respawn(self.state, mask)
 
     def world_endings(self, result: "Transition") -> np.ndarray:
         """(batch,) bool: worlds whose episode ends with this step as a whole -- the clock reached the
@@ -212,7 +223,7 @@ class BatchedEnv:
 
     def _require_reset(self) -> None:
         if self.state is None:
-            raise RuntimeError("call reset() before step()")
+            raise ResetNeeded("call reset() before step(): the environment has not been reset yet")
 
     def step(self, actions: Any, restart: Optional[np.ndarray] = None, respawn: Optional[np.ndarray] = None,
              ) -> Transition:
@@ -231,12 +242,17 @@ class BatchedEnv:
             actions = hold_inactive(actions, live, self.placeholder)
         prev = self.state
         self.state, outcome = self.sim.step(prev, actions, self.rng)
+        if self.feed is not None:
+            self.feed.advance(self.state, outcome.events)
+        if self.compiled.schedules:
+            self.composer.set_clock(self.env_steps)
         rewards, terms = self.composer(prev, self.state, actions, self.compiled.params, self.shape)
         if not everyone:  # ended agents earn nothing (skipped while everyone plays: most steps)
             rewards = np.where(live, rewards, _ZERO)
             terms = {name: np.where(live, value, _ZERO) for name, value in terms.items()}
         self.clock += 1
         self.oldest_clock += 1
+        self.env_steps += self.batch
         self.lengths += live
         self.returns += rewards
         for name, value in terms.items():
@@ -249,6 +265,8 @@ class BatchedEnv:
         if restart is not None and np.count_nonzero(restart):
             self.state = self.sim.reset_where(self.state, restart, self.rng)
             self._clear(restart)
+            if self.feed is not None:
+                self.feed.start(self.state, restart)
         return Transition(self.sim.observe(self.state), rewards, terminated, truncated, terms, ended, env_info)
 
     def _count(self, prev: Any, actions: Any, live: np.ndarray, everyone: bool) -> None:
@@ -273,6 +291,8 @@ class BatchedEnv:
         ending = outcome.terminated
         for event in self.compiled.ends_on:
             ending = ending | outcome.events[event]
+        if self.feed is not None and self.compiled.expressions.endings:
+            ending = ending | self.compiled.expressions.ended(self.feed, self.shape)
         terminated = live & ending
         if self.oldest_clock < self.compiled.episode_length:  # no world truncates
             truncated = np.zeros(terminated.shape, bool)

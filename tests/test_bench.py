@@ -102,3 +102,17 @@ def test_a_replayed_step_keeps_the_api_layer_and_drops_the_environment_work():
     assert env.core.clock[0] == 3 and env.core.lengths[0, 0] == 3  # the runtime keeps counting (the recording step is not its)
     first, _ = env.reset()
     assert all(np.array_equal(first[a], obs[a]) for a in env.agents)
+
+
+def test_expression_terms_are_timed_against_their_hand_written_twins():
+    """Structure only: the ratios are for `hivex bench` on a quiet machine, never asserted here."""
+    from hivex_dsl import bench_expressions
+
+    results = bench_expressions.run(0.05, 1, bench.ONE_CORE)
+    assert [(r["term"], r["batch"]) for r in results] == [
+        (term, batch) for term in bench_expressions.PAIRS for batch in bench_expressions.BATCHES]
+    for r in results:
+        assert r["hand_written_us"] > 0 and r["expression_us"] > 0
+        assert r["ratio"] == pytest.approx(r["expression_us"] / r["hand_written_us"])
+        assert isinstance(r["meets_target"], bool) and r["target_ratio"] == 1.5
+    assert "expression term vs hand-written" in bench_expressions.format_table(results)

@@ -108,8 +108,8 @@ def test_quoted_keys_are_names():
                                "(no tags that construct objects)"),
     ("a: !!str [1]\n", "1:4: YAML tag '!!str' cannot be put on a list"),
     ("a: !!seq x\n", "1:4: YAML tag '!!seq' cannot be put on a single value"),
-    ("a: !!int 0.5\n", "1:4: '0.5' cannot be read as an integer"),
-    ("a: !!bool maybe\n", "1:4: 'maybe' cannot be read as true or false"),
+    ("a: !!int 0.5\n", "1:4: a: '0.5' cannot be read as an integer"),
+    ("a: !!bool maybe\n", "1:4: a: 'maybe' cannot be read as true or false"),
 ])
 def test_object_constructing_and_mismatched_tags_are_refused(text, expected):
     assert first_problem(text) == expected
@@ -197,7 +197,8 @@ def test_empty_and_comment_only_files():
 
 
 def test_syntax_errors_are_located():
-    assert first_problem("a: [1, 2\n") == "2:1: not valid YAML: expected ',' or ']', but got '<stream end>'"
+    assert first_problem("a: [1, 2\n") == ("1:4: not valid YAML: the '[' opened here is never closed: "
+                                            "expected ',' or ']', but got '<stream end>' at line 2, column 1")
     assert first_problem("a:\n\tb: 1\n") == "2:1: not valid YAML: found character '\\t' that cannot start any token"
 
 
@@ -234,3 +235,75 @@ def test_line_breaks_in_quoted_keys_do_not_break_one_line_messages():
 def _write(path, data: bytes):
     path.write_bytes(data)
     return path
+
+
+# --- YAML 1.1 readings: refused when they would rewrite what was written, kept when every reading agrees ---
+
+
+@pytest.mark.parametrize("text, expected", [
+    ("a: 0123\n", "1:4: a: 0123 has a leading zero, which YAML 1.1 reads as the octal number 83; "
+                  "write the plain decimal form 83, or 123 if that is what was meant"),
+    ("a: -0_7\n", "1:4: a: -0_7 has a leading zero, which YAML 1.1 reads as the octal number -7; "
+                  "write the plain decimal form -7"),
+    ("a: [1:30]\n", "1:5: a[0]: 1:30 is read by YAML 1.1 as a base-60 number (90); write 90, "
+                    "or quote it ('1:30') if it is meant as text"),
+    ("a: 1:30.5\n", "1:4: a: 1:30.5 is read by YAML 1.1 as a base-60 number (90.5); write 90.5, "
+                    "or quote it ('1:30.5') if it is meant as text"),
+    ("a: {b: On}\n", "1:8: a.b: On is read by YAML 1.1 as the boolean true; write true, "
+                     "or quote it ('On') if it is meant as text"),
+    ("a: NO\n", "1:4: a: NO is read by YAML 1.1 as the boolean false; write false, or quote it ('NO') if it is meant as text"),
+    ("a: 1__0\n", "1:4: a: 1__0 is read by YAML 1.1 as 10; write the plain form 10"),
+    ("a: 2_.5\n", "1:4: a: 2_.5 is read by YAML 1.1 as 2.5; write the plain form 2.5"),
+])
+def test_yaml_1_1_readings_are_refused_with_the_reading_and_the_plain_form(text, expected):
+    assert first_problem(text) == expected
+
+
+def test_spellings_every_reading_agrees_on_are_kept():
+    loaded = load_text("a: 0x1F\nb: 0b101\nc: 1_000\nd: 0\ne: 0.5\nf: true\ng: FALSE\nh: ~\ni: .inf\nj: '0123'\n"
+                       "k: \"1:30\"\nl: 'yes'\nm: =\nn: -0.0\n")
+    assert loaded.data == {"a": 31, "b": 5, "c": 1000, "d": 0, "e": 0.5, "f": True, "g": False, "h": None,
+                           "i": float("inf"), "j": "0123", "k": "1:30", "l": "yes", "m": "=", "n": -0.0}
+
+
+@pytest.mark.parametrize("code", [c for c in range(0x20) if c not in (0x09, 0x0A, 0x0D)] + [0x7F, 0x80, 0x9F, 0xFFFE])
+def test_every_control_character_is_refused_by_name_where_it_stands(code):
+    message = first_problem(f"a: 1\nb: 'x{chr(code)}'\n")
+    assert message.startswith(f"2:6: U+{code:04X} ")
+    assert message.endswith(f"is not allowed in YAML: expected printable text "
+                            f"(inside double quotes the escape \"\\x{code:02x}\" writes it)"
+                            if code < 0x100 else f"(inside double quotes the escape \"\\u{code:04x}\" writes it)")
+
+
+def test_escaped_control_characters_in_double_quotes_are_read():
+    assert load_text('a: "x\\f\\x1b\\u0085"\n').data == {"a": "x\x0c\x1b\x85"}
+
+
+def test_control_characters_are_named():
+    from hivex_dsl.yaml11 import character_name
+
+    assert character_name(0x0C) == "U+000C FORM FEED"
+    assert character_name(0x1B) == "U+001B ESCAPE"
+    assert character_name(0x00) == "U+0000 NULL"
+    assert character_name(0x7F) == "U+007F DELETE"
+    assert character_name(0x9B) == "U+009B (a C1 control character)"
+    assert character_name(0xFFFE) == "U+FFFE (a noncharacter)"
+
+
+def test_a_too_long_integer_names_its_field():
+    import sys
+
+    limit = sys.get_int_max_str_digits()
+    assert first_problem(f"a:\n  b: {'7' * (limit + 1)}\n") == (
+        f"2:6: a.b: a {limit + 1:,}-digit integer is too long to read: expected a number of at most {limit:,} digits")
+
+
+def test_unclosed_quotes_and_brackets_are_located_where_they_open():
+    assert first_problem("a: 1\nb: 'x\nc: 2\n") == ("2:4: not valid YAML: the quoted string opened here is never closed: "
+                                                    "found unexpected end of stream at line 4, column 1")
+    assert first_problem("a: {x: 1\nb: 2\n") == ("1:4: not valid YAML: the '{' opened here is not closed in time: "
+                                                 "expected ',' or '}', but got ':' at line 2, column 2 (a missing '}' or ',')")
+    assert first_problem("a: {x: 1\n") == ("1:4: not valid YAML: the '{' opened here is never closed: "
+                                          "expected ',' or '}', but got '<stream end>' at line 2, column 1")
+    # closed on its own line: the trouble is where it stands
+    assert first_problem("a: [1: 2: 3]\n") == "1:9: not valid YAML: expected ',' or ']', but got ':' (inside the '[' at column 4)"

@@ -62,7 +62,7 @@ def test_bad_slot_action_names_agent_and_world():
     actions[4] = 7
     with pytest.raises(hivex_dsl.ActionError, match=r"action for turbine_1 in env 1 is 7, not in Discrete\(3\)"):
         venv.step(actions)
-    with pytest.raises(ValueError, match="expected \\(6,\\) slots"):
+    with pytest.raises(hivex_dsl.ActionError, match=r"leading size \(5,\); expected 6 slots \(2 worlds x 3 agents\)"):
         venv.step(np.zeros(5, np.int64))
 
 

@@ -38,6 +38,7 @@ from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
 from ..compiler import CompiledScenario
+from ..errors import ActionError
 from ..runtime import BatchedEnv, Split, Transition
 from ..spaces import check_actions
 from .human import Rendering, check_render_mode
@@ -55,9 +56,13 @@ def _flatten(tree: Any, slots: int) -> Any:
 def _unflatten(tree: Any, shape: tuple[int, int]) -> Any:
     if isinstance(tree, dict):
         return {k: _unflatten(v, shape) for k, v in tree.items()}
-    array = np.asarray(tree)
+    try:
+        array = np.asarray(tree)
+    except (ValueError, TypeError):
+        raise ActionError(f"actions are ragged; expected an array of {shape[0] * shape[1]} slots") from None
     if array.shape[:1] != (shape[0] * shape[1],):
-        raise ValueError(f"actions have leading size {array.shape[:1]}, expected ({shape[0] * shape[1]},) slots")
+        raise ActionError(f"actions have leading size {array.shape[:1]}; expected {shape[0] * shape[1]} slots "
+                          f"({shape[0]} worlds x {shape[1]} agents)")
     return array.reshape(shape + array.shape[1:])
 
 

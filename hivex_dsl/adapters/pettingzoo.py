@@ -8,6 +8,7 @@ import numpy as np
 from pettingzoo import ParallelEnv
 
 from ..compiler import CompiledScenario
+from ..errors import ResetNeeded
 from ..runtime import BatchedEnv, Split
 from ..spaces import check_actions, stack_agent_actions
 from .human import Rendering, check_render_mode
@@ -84,7 +85,9 @@ class HivexParallelEnv(Rendering, ParallelEnv):
 
     def step(self, actions: dict[str, Any]):
         if not self.agents:
-            raise RuntimeError("every agent is done: call reset() before step()")
+            if self.core.state is None:
+                raise ResetNeeded("call reset() before step(): the environment has not been reset yet")
+            raise ResetNeeded("every agent is done: call reset() before step()")
         live = self.agents
         space = self.core.sim.action_space
         batched = stack_agent_actions(space, actions, live)

@@ -15,6 +15,7 @@ import numpy as np
 from jinja2 import Environment, FileSystemLoader, StrictUndefined
 
 from .. import registry
+from .baselines import PAGE as BASELINES_PAGE, baseline_images, baselines_context, baselines_dir
 from .context import SCHEMA_FILE, env_page, environment_context, index_context, language_context, performance_context
 from .fidelity_page import fidelity_context
 from .figures import preview_figures
@@ -46,16 +47,20 @@ def _jinja() -> Environment:
     return env
 
 
-def render_docs(results: Path | None = None, fidelity: Path | None = None) -> dict[str, Content]:
+def render_docs(results: Path | None = None, fidelity: Path | None = None,
+                baselines: Path | None = None) -> dict[str, Content]:
     """Relative path under docs/ -> file content (text, bytes, or an (H, W, 3) uint8 picture saved as PNG).
 
     ``results`` is a `hivex bench --json` report; when the file exists, performance.md shows it.
     ``fidelity`` is the stored `hivex audit --suite` report fidelity.md shows (see hivex_dsl.fidelity).
+    ``baselines`` is the folder of committed baselines (benchmarks/baselines); baselines.md shows them.
     """
     jinja = _jinja()
+    has_baselines = baselines is not None and Path(baselines).is_dir()
     docs: dict[str, str | bytes] = {
         "index.md": jinja.get_template("index.md.j2").render(
-            **index_context(), has_performance=results is not None and Path(results).is_file()),
+            **index_context(), has_performance=results is not None and Path(results).is_file(),
+            has_baselines=has_baselines),
         "language.md": jinja.get_template("language.md.j2").render(**language_context()),
         SCHEMA_FILE: schema_text(),
     }
@@ -69,6 +74,9 @@ def render_docs(results: Path | None = None, fidelity: Path | None = None) -> di
     if results is not None and Path(results).is_file():
         docs["performance.md"] = jinja.get_template("performance.md.j2").render(**performance_context(results))
     docs["fidelity.md"] = jinja.get_template("fidelity.md.j2").render(**fidelity_context(fidelity or Path("-")))
+    if has_baselines:
+        docs[BASELINES_PAGE] = jinja.get_template("baselines.md.j2").render(**baselines_context(baselines))
+        docs |= baseline_images(baselines)
     page = jinja.get_template("environment.md.j2")
     for env_id, entry in registry.environments().items():
         docs[env_page(env_id)] = page.render(**environment_context(entry))
@@ -122,7 +130,7 @@ def write_docs(docs_dir: Path) -> list[str]:
     """Write render_docs() into docs_dir (creating dirs), delete generated files no longer produced
     (only files listed in docs/.generated), return the relative paths written or removed."""
     docs_dir = Path(docs_dir)
-    rendered = render_docs(bench_results(docs_dir), fidelity_results(docs_dir))
+    rendered = render_docs(bench_results(docs_dir), fidelity_results(docs_dir), baselines_dir(docs_dir))
     changed: list[str] = []
     for rel in sorted(set(_read_manifest(docs_dir) or ()) - set(rendered)):
         target = docs_dir / rel
@@ -172,7 +180,7 @@ def stale_docs(docs_dir: Path) -> list[str]:
     no longer produced (docs/.generated itself if it is missing or omits a produced file).
     Empty list == docs are fresh."""
     docs_dir = Path(docs_dir)
-    rendered = render_docs(bench_results(docs_dir), fidelity_results(docs_dir))
+    rendered = render_docs(bench_results(docs_dir), fidelity_results(docs_dir), baselines_dir(docs_dir))
     stale = [rel for rel, content in rendered.items() if not _is_fresh(docs_dir / rel, content)]
     listed = _read_manifest(docs_dir)
     if listed is None:

@@ -13,6 +13,7 @@ from ..spec import scenario as scenario_spec
 from ..spec.catalogue import CATALOGUE
 from ..spec.common import MAX_SEED, MAX_WEIGHT, SCHEMA_VERSION
 from ..spec.reward_table import RewardTable, TaskColumn
+from .expressions import expression_language_context, vocabulary_context
 from .fields import field_rows, num, show_value, source_tag
 from .spaces_table import specification
 
@@ -42,16 +43,17 @@ def index_context() -> dict[str, Any]:
 
 def _vocabulary(entry: registry.EnvironmentEntry) -> scenario_spec.ScenarioVocabulary:
     return scenario_spec.ScenarioVocabulary(entry.info, entry.params_model, entry.reward_table.task_names,
-                                            entry.terms.names, entry.level_names)
+                                            entry.term_names, entry.level_names)
 
 
 def _matrix(entry: registry.EnvironmentEntry) -> dict[str, Any]:
     table = entry.reward_table
     rows = []
     for term_name, weights in table.matrix.items():
-        contract = entry.terms[term_name].contract
-        rows.append({"name": term_name, "title": contract.title,
-                     "paper_row": num(contract.paper_row) if contract.paper_row is not None else "-",
+        contract = entry.terms[term_name].contract if term_name in entry.terms else None  # None: an expression term
+        title = contract.title if contract else (table.terms[term_name].title or term_name)
+        rows.append({"name": term_name, "title": title,
+                     "paper_row": num(contract.paper_row) if contract and contract.paper_row is not None else "-",
                      "weights": [num(float(w)) for w in weights]})
     tasks = [{"index": t.index, "name": t.name, "title": t.title, "description": t.description,
               "ends_on": [{"name": e, "meaning": entry.events.get(e, "")} for e in t.ends_on]}
@@ -153,6 +155,7 @@ def environment_context(entry: registry.EnvironmentEntry) -> dict[str, Any]:
         "scenarios": _scenarios(entry),
         "schema_file": SCHEMA_FILE,
         "reward_file": f"rewards/{entry.id}.yaml",
+        "vocabulary": vocabulary_context(entry),
     }
 
 
@@ -173,7 +176,7 @@ def language_context() -> dict[str, Any]:
             "id": entry.id, "title": entry.info.title, "page": env_page(entry.id),
             "fields": field_rows(model), "nested": nested,
             "sweepable": list(scenario_spec.sweepable_fields(_vocabulary(entry))),
-            "prefixes": {"params": list(entry.params_model.model_fields), "weights": list(entry.terms.names),
+            "prefixes": {"params": list(entry.params_model.model_fields), "weights": list(entry.term_names),
                          "seeds": list(scenario_spec.Seeds.model_fields)},
         })
     limits = [
@@ -193,7 +196,7 @@ def language_context() -> dict[str, Any]:
         "limits": limits,
         "reward_table": {"doc": _doc(RewardTable), "fields": field_rows(RewardTable)},
         "task_column": {"doc": _doc(TaskColumn), "fields": field_rows(TaskColumn)},
-    }
+    } | expression_language_context()
 
 
 def _doc(model: type) -> str:

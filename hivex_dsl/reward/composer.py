@@ -21,17 +21,34 @@ class RewardComposer:
     skipped (never evaluated) and contribute exactly zero.
     """
 
-    def __init__(self, registry: TermRegistry, weights: Mapping[str, float]):
-        for name in weights:
+    def __init__(self, registry: TermRegistry, weights: Mapping[str, float],
+                 schedules: Mapping[str, Any] | None = None):
+        schedules = schedules or {}
+        for name in list(weights) + list(schedules):
             if name not in registry:
                 raise KeyError(
                     f"{registry.environment} has no reward term {name!r}{did_you_mean(name, registry.names)}"
                 )
         self.registry = registry
         self.weights = {name: float(w) for name, w in weights.items()}
-        self.active = tuple(name for name in registry.names if self.weights.get(name, 0.0) != 0.0)
+        self.schedules = dict(schedules)  # name -> schedule with .at(steps) and .start/.end (spec.WeightSchedule)
+        self.active = tuple(name for name in registry.names if self.weights.get(name, 0.0) != 0.0
+                            or (name in self.schedules and (self.schedules[name].start or self.schedules[name].end)))
+        self.steps = 0
+        self._build_plan()
+
+    def _build_plan(self) -> None:
         # (name, function, weight as a 0-d operand or None for 1.0), resolved once: this runs every step
-        self._plan = tuple((name, registry[name].fn, _operand(self.weights[name])) for name in self.active)
+        self._plan = tuple((name, self.registry[name].fn, _operand(self.weights.get(name, 0.0)))
+                           for name in self.active)
+
+    def set_clock(self, steps: int) -> None:
+        """Move scheduled weights to their value after ``steps`` environment steps (a no-op without schedules)."""
+        if not self.schedules or steps == self.steps:
+            return
+        self.steps = steps
+        self.weights.update({name: schedule.at(steps) for name, schedule in self.schedules.items()})
+        self._build_plan()
 
     def __call__(
         self, prev: Any, state: Any, actions: Any, params: Any, shape: tuple[int, int]

@@ -2,14 +2,17 @@
 
 from __future__ import annotations
 
+import re
 from typing import Literal
 
 from pydantic import Field, field_validator
 
 from ..errors import did_you_mean
 from .common import MAX_WEIGHT, SCHEMA_VERSION, StrictModel
+from .expressions import TermsMapping
 
 SNAKE = r"^[a-z][a-z0-9_]*$"
+_PLAIN_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 
 
 class TaskColumn(StrictModel):
@@ -19,7 +22,8 @@ class TaskColumn(StrictModel):
     name: str = Field(pattern=SNAKE, max_length=60, description="Snake-case name used in scenarios.")
     title: str = Field(max_length=120, description="The task's title as the paper writes it.")
     description: str = Field("", max_length=2000, description="What the agents should learn.")
-    ends_on: tuple[str, ...] = Field((), description="Events of the environment that end an agent's episode in this task.")
+    ends_on: tuple[str, ...] = Field((), description=(
+        "What ends an agent's episode in this task: event names of the environment or boolean expressions."))
 
     @field_validator("ends_on", mode="before")
     @classmethod
@@ -37,6 +41,9 @@ class RewardTable(StrictModel):
     environment: str = Field(description="The environment this table belongs to.")
     source: str = Field(max_length=500, description="Where in the paper the matrix comes from.")
     tasks: tuple[TaskColumn, ...] = Field(min_length=1, max_length=100, description="The columns, in paper order.")
+    terms: TermsMapping = Field(None, description=(
+        "Reward terms written as expressions over the environment's vocabulary (name -> {expr, ...}); "
+        "each needs a row in the matrix like a registered term."))
     matrix: dict[str, tuple[float, ...]] = Field(description="term name -> one weight per task column.")
     notes: tuple[str, ...] = Field((), description="How this table reconciles or departs from the paper.")
 
@@ -62,9 +69,17 @@ class RewardTable(StrictModel):
 
 
 def table_problems(table: RewardTable, environment: str, terms: tuple[str, ...],
-                   events: tuple[str, ...]) -> list[tuple[tuple, str]]:
-    """(path, message) for everything in ``table`` that does not fit the environment's code."""
+                   events: tuple[str, ...], quantities: tuple[str, ...] = ()) -> list[tuple[tuple, str]]:
+    """(path, message) for everything in ``table`` that does not fit the environment's code.
+
+    ``terms`` are the registered terms; the table's own expression terms join them. An ``ends_on``
+    entry that is neither an event nor a plain name (an expression) is compiled with each scenario.
+    """
     problems: list[tuple[tuple, str]] = []
+    for name in table.terms or {}:
+        if name in terms:
+            problems.append((("terms", name), f"terms.{name}: '{name}' is already a registered reward term"))
+    terms = terms + tuple(name for name in table.terms or {} if name not in terms)
     if table.environment != environment:
         problems.append((("environment",), f"this table is for {environment!r}, not {table.environment!r}"))
     for position, task in enumerate(table.tasks):
@@ -74,7 +89,7 @@ def table_problems(table: RewardTable, environment: str, terms: tuple[str, ...],
         if task.name in table.task_names[:position]:
             problems.append((("tasks", position, "name"), f"task name '{task.name}' is used twice"))
         for k, event in enumerate(task.ends_on):
-            if event not in events:
+            if event not in events and _PLAIN_NAME.match(event) and event not in quantities:
                 listing = ", ".join(events) or "none"
                 problems.append((("tasks", position, "ends_on", k),
                                  f"unknown event '{event}'{did_you_mean(event, events)}; {environment} has: {listing}"))

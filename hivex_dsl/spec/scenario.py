@@ -10,11 +10,12 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Annotated, Any, Literal, Mapping, Optional, Union
 
-from pydantic import Field, PlainValidator, WithJsonSchema, create_model
+from pydantic import ConfigDict, Field, PlainValidator, WithJsonSchema, create_model
 
 from ..errors import ItemValueError, did_you_mean, got, one_of, show
 from .catalogue import CATALOGUE, LEVEL_FIELDS, EnvironmentInfo, environments_with
-from .common import MAX_SEED, MAX_WEIGHT, NAME_EXPECTED, NAME_PATTERN, SCHEMA_VERSION, StrictModel
+from .common import MAX_SEED, NAME_EXPECTED, NAME_PATTERN, SCHEMA_VERSION, StrictModel
+from .expressions import WEIGHT_SCHEMA, EndsOn, ShapingSpec, TermsMapping, Weight
 
 MAX_SEEDS_PER_SPLIT = 10_000
 TERRAIN_LEVELS = (1, 10)
@@ -111,12 +112,19 @@ def _name_or_index(what: str, names: tuple[str, ...], index_base: int = 0):
     return Annotated[Union[int, str], PlainValidator(check), WithJsonSchema(schema)]
 
 
+class _Weights(StrictModel):
+    """Closed for the compiler (it knows the scenario's own terms); open to a scenario's `terms:` in the schema."""
+
+    model_config = ConfigDict(json_schema_extra={"additionalProperties": WEIGHT_SCHEMA})
+
+
 def weights_model(env_id: str, term_names: tuple[str, ...]) -> type[StrictModel]:
     """A closed mapping term name -> optional weight, so unknown terms are located errors."""
-    bounded = Annotated[Optional[float], Field(ge=-MAX_WEIGHT, le=MAX_WEIGHT)]
-    fields = {name: (bounded, Field(None, description=f"Weight of the '{name}' reward term; overrides the task column."))
+    fields = {name: (Weight, Field(None, description=(
+                  f"Weight of the '{name}' reward term (a number, or a schedule over environment steps); "
+                  "overrides the task column.")))
               for name in term_names}
-    model = create_model(f"{_camel(env_id)}Weights", __base__=StrictModel, **fields)
+    model = create_model(f"{_camel(env_id)}Weights", __base__=_Weights, **fields)
     model.__hivex_key_noun__ = "reward term"  # 'unknown reward term ...' in error messages
     return model
 
@@ -176,6 +184,13 @@ def scenario_model(vocab: ScenarioVocabulary) -> type[StrictModel]:
                     description="Overrides of single cells of the task's reward column.")),
         "params": (vocab.params_model, Field(default_factory=vocab.params_model,
                    description="Physical constants of the simulator; each is bounded and documented.")),
+        "terms": (TermsMapping, Field(None, description=(
+            "New reward terms written as expressions over the environment's vocabulary (name -> {expr, ...}); "
+            "weight them in `weights:`."))),
+        "shaping": (Optional[ShapingSpec], Field(None, description=(
+            "Potential-based shaping {potential, gamma}: gamma * phi(s') - phi(s), reported as its own term."))),
+        "ends_on": (EndsOn, Field((), description=(
+            "More endings besides the task's: event names or boolean expressions over the vocabulary."))),
     }
     if vocab.generators:
         generators = generators_model(info.id, vocab.generators)
@@ -200,6 +215,8 @@ def sweepable_fields(vocab: ScenarioVocabulary) -> tuple[str, ...]:
 
 def _level_field_hint(info: EnvironmentInfo):
     def hint(key: str, parent: tuple) -> str | None:
+        if not parent and key == "generators":  # only a model without the field gets here
+            return f"unknown key 'generators': {info.id} builds its world without procedural generators"
         if parent or key not in LEVEL_FIELDS:
             return None
         owners = environments_with(key)

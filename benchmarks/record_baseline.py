@@ -1,0 +1,34 @@
+"""Turn a finished `hivex train` run into a committed baseline: benchmarks/baselines/<environment>.json + .png.
+
+    python benchmarks/record_baseline.py RUN_DIR SCENARIO [--episodes 10] [--command "..."] [--note "..."]
+
+It evaluates the run's checkpoint on the test seeds (as `hivex evaluate` does), measures the random and
+scripted policies on the same seeds, draws the learning curve, and writes both files; then run
+`hivex docs` to regenerate docs/baselines.md. Needs the train and plots extras.
+"""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from hivex_dsl.train.baselines import record_baseline
+
+OUT = Path(__file__).resolve().parent / "baselines"
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("run_dir", type=Path)
+    parser.add_argument("scenario", help="the bundled scenario path, e.g. scenarios/wind_farm_control/main.yaml")
+    parser.add_argument("--episodes", type=int, default=10)
+    parser.add_argument("--command", default="", help="the exact commands that trained the run (shown on the page)")
+    parser.add_argument("--note", default="", help="one paragraph shown under the curve")
+    args = parser.parse_args()
+    data = record_baseline(args.run_dir, args.scenario, OUT, args.episodes, args.command, args.note)
+    print(f"wrote {OUT / data['environment']}.json and .png: test return "
+          f"{data['test']['return']['mean']:.2f} ± {data['test']['return']['std']:.2f}")
+
+
+if __name__ == "__main__":
+    main()

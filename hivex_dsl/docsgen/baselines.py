@@ -1,0 +1,99 @@
+"""The baselines page: every environment's main task, this toolkit's trained PPO on the test seeds beside the
+paper's, from the data committed under ``benchmarks/baselines/`` (no torch needed to generate it)."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+from .. import registry
+
+BASELINES_DIR = Path("benchmarks") / "baselines"
+PAGE = "baselines.md"
+# Why a main task's baseline differs from the paper's on purpose (not a shortfall of the run).
+KNOWN_GAPS = {
+    "wildfire_resource_management": "the paper adds a curiosity reward signal (strength 0.02) that this PPO lacks",
+    "drone_based_reforestation": "the paper adds a curiosity reward signal (strength 0.1) that this PPO lacks",
+    "ocean_plastic_collection": "the paper adds a curiosity reward signal (strength 0.1) that this PPO lacks",
+}
+
+
+def baselines_dir(docs_dir: Path) -> Path:
+    """``benchmarks/baselines`` of the checkout holding ``docs_dir``."""
+    return Path(docs_dir).resolve().parent / BASELINES_DIR
+
+
+def _number(value: float) -> str:
+    return f"{value:,.2f}"
+
+
+def _spread(value: dict[str, float] | None) -> str:
+    return "-" if not value else f"{_number(value['mean'])} ± {_number(value['std'])}"
+
+
+def _row(env_id: str, data: dict[str, Any] | None) -> dict[str, Any]:
+    scenario = f"scenarios/{env_id}/main.yaml"
+    run = f"runs/{env_id}-main"
+    row: dict[str, Any] = {
+        "environment": env_id, "scenario": scenario, "gap": KNOWN_GAPS.get(env_id, ""),
+        "commands": [f"hivex train {scenario} -o {run}",
+                     f"python benchmarks/record_baseline.py {run} {scenario}"],
+        "trained": data is not None,
+    }
+    if data is None:
+        return row
+    published = data["published"]["return"] if data["published"] else None
+    test = data["test"]["return"]
+    row |= {
+        "ours": _spread(test), "published": _spread(published), "random": _spread(data["random"]),
+        "scripted": _spread(data["scripted"]), "steps": f"{data['agent_steps']:,}",
+        "paper_steps": f"{data['hyperparameters'].get('max_steps', 0):,}",
+        "wall": f"{data['wall_s'] / 60:.1f} min", "machine": data["machine"], "seed": data["seed"],
+        "test_seed": data["test"]["seed"], "episodes": data["test"]["episodes"], "actions": data["test"]["actions"],
+        "verdict": "-" if published is None else
+        ("matches (within the spread)" if abs(test["mean"] - published["mean"]) <= max(published["std"], test["std"])
+         else ("above" if test["mean"] > published["mean"] else "below")),
+        "image": f"images/baselines/{env_id}.png", "note": data.get("note", ""),
+        "commands": [data["command"]] if data.get("command") else row["commands"],
+        "statistics": [{"name": name, "ours": _spread(value),
+                        "published": _spread(_published_statistic(data["published"], name))}
+                       for name, value in data["test"]["statistics"].items()],
+    }
+    return row
+
+
+def _published_statistic(published: dict[str, Any] | None, name: str) -> dict[str, float] | None:
+    if not published:
+        return None
+    return next((v for k, v in published["statistics"].items() if k.split("/", 1)[-1] == name), None)
+
+
+def _load(directory: Path) -> dict[str, dict[str, Any]]:
+    found = {}
+    for path in sorted(Path(directory).glob("*.json")):
+        found[path.stem] = json.loads(path.read_text(encoding="utf-8"))
+    return found
+
+
+def baselines_context(directory: Path) -> dict[str, Any]:
+    """Rows of the baselines page, one per environment (trained or not)."""
+    data = _load(directory)
+    rows = [_row(env_id, data.get(env_id)) for env_id in registry.environments()]
+    return {"rows": rows, "trained": [r for r in rows if r["trained"]], "left": [r for r in rows if not r["trained"]],
+            **hyperparameter_table()}
+
+
+def hyperparameter_table() -> dict[str, Any]:
+    """The shipped paper hyperparameters: ``keys`` (the union, in file order) and one row per environment."""
+    from ..train.config import paper_defaults
+
+    defaults = {env_id: paper_defaults(env_id) for env_id in registry.environments()}
+    keys = list(dict.fromkeys(key for values in defaults.values() for key in values))
+    return {"hp_keys": keys, "hp_rows": [{"environment": env_id, "values": [values.get(k, "-") for k in keys]}
+                                         for env_id, values in defaults.items()]}
+
+
+def baseline_images(directory: Path) -> dict[str, bytes]:
+    """``images/baselines/<env>.png`` -> the committed learning-curve PNG's bytes."""
+    return {f"images/baselines/{path.name}": path.read_bytes() for path in sorted(Path(directory).glob("*.png"))}

@@ -1,0 +1,61 @@
+"""Committed baselines: a trained run turned into small data (JSON) and a learning curve (PNG) under
+``benchmarks/baselines/``, from which `hivex docs` generates docs/baselines.md.
+
+``record_baseline`` evaluates the run's checkpoint on the test seeds, measures the random and the scripted
+policy on the same seeds, and writes ``<environment>.json`` and ``<environment>.png``.
+"""
+
+from __future__ import annotations
+
+import json
+import platform
+from pathlib import Path
+from typing import Any
+
+from ..compiler import compile
+from ..report import collect_returns
+from .evaluate import evaluate
+
+
+def _level(compiled, policy: str, episodes: int) -> dict[str, float]:
+    returns, _ = collect_returns(compiled, policy, episodes, "test")
+    per_agent = returns.reshape(-1)
+    return {"mean": float(per_agent.mean()), "std": float(per_agent.std())}
+
+
+def machine() -> str:
+    """The machine in words: processor, cores, OS, Python."""
+    import os
+
+    processor = platform.processor() or platform.machine()
+    return f"{processor}, {os.cpu_count()} cores, {platform.system()}, Python {platform.python_version()}"
+
+
+def record_baseline(run_dir: Path, scenario: str, out_dir: Path, episodes: int = 10,
+                    command: str = "", note: str = "") -> dict[str, Any]:
+    """Write ``out_dir/<environment>.json`` and ``.png`` for the run in ``run_dir`` trained on ``scenario``
+    (the bundled path, e.g. ``scenarios/wind_farm_control/main.yaml``); -> the JSON's content."""
+    run_dir, out_dir = Path(run_dir), Path(out_dir)
+    summary = json.loads((run_dir / "summary.json").read_text())
+    curve = json.loads((run_dir / "curve.json").read_text())
+    report = evaluate(run_dir / "checkpoint.pt", split="test", episodes=episodes)
+    compiled = compile(scenario)
+    if report["scenario"] != compiled.name:
+        raise ValueError(f"the run trained {report['scenario']!r}, not {compiled.name!r}")
+    data = {
+        "environment": compiled.environment, "scenario": scenario, "task": compiled.task_name,
+        "task_index": compiled.task_index, "level": compiled.level, "command": command, "note": note,
+        "agent_steps": summary["agent_steps"], "wall_s": summary["wall_s"], "seed": summary["seed"],
+        "machine": machine(), "hyperparameters": json.loads((run_dir / "config.json").read_text())["hyperparameters"],
+        "test": {k: report[k] for k in ("seed", "episodes", "agent_episodes", "actions", "return", "statistics")},
+        "published": report["published"],
+        "random": _level(compiled, "random", episodes), "scripted": _level(compiled, "scripted", episodes),
+        "curve": [[point["agent_steps"], point["wall_s"], round(point["return"], 4)] for point in curve],
+    }
+    out_dir.mkdir(parents=True, exist_ok=True)
+    (out_dir / f"{compiled.environment}.json").write_text(json.dumps(data, indent=1) + "\n")
+    from .plots import learning_curve
+
+    learning_curve(data, out_dir / f"{compiled.environment}.png")
+    return data
+

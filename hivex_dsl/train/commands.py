@@ -1,0 +1,89 @@
+"""`hivex train` and `hivex evaluate`: argument parsing here, the work in ppo/grid/evaluate (imported lazily,
+so the rest of the CLI never needs torch)."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+from ..errors import HivexError
+
+TRAIN_EXTRA = "training needs torch: pip install torch, then pip install 'hivex-dsl[train]'"
+
+
+def add_commands(sub: argparse._SubParsersAction, positive) -> None:
+    p = sub.add_parser("train", help="train the paper's parameter-shared PPO on a scenario (a sweep trains every point)")
+    p.add_argument("file", metavar="SCENARIO", help="scenario file; a sweep file trains every grid point")
+    p.add_argument("-o", "--output", type=Path, default=None, metavar="RUN_DIR",
+                   help="run directory (default runs/<scenario name>)")
+    p.add_argument("--steps", type=positive, default=None, help="agent-steps to train (default: the paper's max_steps)")
+    p.add_argument("--seed", type=int, default=None, help="seed of the network and the action sampling (default 0)")
+    p.add_argument("--device", default=None, help="torch device, cpu or cuda (default cpu)")
+    p.add_argument("--config", type=Path, default=None, metavar="YAML",
+                   help="hyperparameters overriding the paper's (ML-Agents' key names)")
+    p.add_argument("--set", action="append", default=[], metavar="NAME=VALUE", dest="assignments",
+                   help="override one hyperparameter (repeatable), e.g. --set num_worlds=16")
+    p.add_argument("--eval-episodes", type=int, default=0, metavar="N",
+                   help="after training, evaluate on the test seeds for N episodes (default 0: skip)")
+    p.add_argument("--ray", nargs="?", const="local", default=None, metavar="ADDRESS",
+                   help="run a sweep's points as Ray tasks: a local instance, or the cluster at ADDRESS")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.set_defaults(handler=cmd_train)
+
+    p = sub.add_parser("evaluate", help="test a trained checkpoint on the test seeds, beside the published result")
+    p.add_argument("checkpoint", type=Path, metavar="CHECKPOINT")
+    p.add_argument("file", nargs="?", default=None, metavar="SCENARIO",
+                   help="scenario to evaluate on (default: the one the checkpoint trained on)")
+    p.add_argument("--split", choices=("train", "test"), default="test", help="seed split (default test)")
+    p.add_argument("--episodes", type=positive, default=10, help="episodes (default 10)")
+    p.add_argument("--deterministic", action="store_true", help="take the policy's modes instead of sampling")
+    p.add_argument("--seed", type=int, default=0, help="seed of the action sampling (default 0)")
+    p.add_argument("--json", action="store_true", help="print the report as JSON")
+    p.set_defaults(handler=cmd_evaluate)
+
+
+def _require_torch() -> None:
+    try:
+        import torch  # noqa: F401
+    except ImportError:
+        raise HivexError(TRAIN_EXTRA) from None
+
+
+def cmd_train(args) -> int:
+    from ..compiler import compile_all
+    from .config import make_config, parse_assignments, read_overrides
+
+    _require_torch()
+    points = compile_all(args.file)
+    layers = [read_overrides(args.config) if args.config else {}, parse_assignments(args.assignments),
+              {"max_steps": args.steps, "seed": args.seed, "device": args.device}]
+    configs = [make_config(p.environment, *layers) for p in points]
+    if args.eval_episodes < 0:
+        raise HivexError(f"--eval-episodes must be 0 or more, got {args.eval_episodes}")
+    run_dir = args.output or Path("runs") / points[0].spec.name
+    if len(points) == 1 and args.ray is None:
+        from .grid import train_point
+
+        result = train_point(points[0].resolved(), configs[0].model_dump(mode="json"), str(run_dir),
+                             args.eval_episodes, progress=not args.no_progress)
+        print(json.dumps(result, indent=2))
+        return 0
+    from .grid import format_table, run_grid
+
+    results = run_grid(points, configs, run_dir, args.eval_episodes, args.ray, progress=not args.no_progress)
+    print(format_table(results))
+    print(f"wrote {run_dir / 'results.json'}")
+    return 0
+
+
+def cmd_evaluate(args) -> int:
+    from ..compiler import compile
+    from .evaluate import evaluate, format_report
+
+    _require_torch()
+    scenario = compile(args.file) if args.file else None
+    report = evaluate(args.checkpoint, scenario, args.split, args.episodes, args.deterministic, args.seed)
+    sys.stdout.write(json.dumps(report, indent=2) + "\n" if args.json else format_report(report) + "\n")
+    return 0

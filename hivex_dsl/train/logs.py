@@ -1,0 +1,101 @@
+"""What a training run reports: per-agent episode summaries, TensorBoard scalars and a progress bar."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+EPISODE_KEYS = (("hivex_episode", "_hivex_episode"), ("episode", "_episode"))
+
+
+def episode_summaries(infos: dict[str, Any]) -> dict[str, Any] | None:
+    """The vector env's per-agent summaries of episodes that ended this step, restricted to those slots:
+    ``{"return": (n,), "length": (n,), "reward_terms": {name: (n,)}, "statistics": {name: (n,)}}``.
+    Reads ``hivex_episode`` (the new name) or ``episode`` (the old one)."""
+    for key, mask_key in EPISODE_KEYS:
+        if key in infos:
+            summary = infos[key]
+            # a slot restarting on the very step its world ends reports an empty episode: no experience
+            ended = np.asarray(infos[mask_key], dtype=bool) & (np.asarray(summary["length"]) > 0)
+            return {"return": np.asarray(summary["return"])[ended], "length": np.asarray(summary["length"])[ended],
+                    "reward_terms": {k: np.asarray(v)[ended] for k, v in summary.get("reward_terms", {}).items()},
+                    "statistics": {k: np.asarray(v)[ended] for k, v in summary.get("statistics", {}).items()}}
+    return None
+
+
+class EpisodeLog:
+    """Gathers per-agent episode summaries between two reports."""
+
+    def __init__(self) -> None:
+        self._parts: list[dict[str, Any]] = []
+
+    def record(self, infos: dict[str, Any]) -> None:
+        summary = episode_summaries(infos)
+        if summary is not None and summary["return"].size:
+            self._parts.append(summary)
+
+    def values(self) -> dict[str, Any]:
+        """Every recorded summary concatenated (same layout as one summary); {} if none."""
+        if not self._parts:
+            return {}
+        cat = lambda key: np.concatenate([p[key] for p in self._parts])  # noqa: E731
+        nested = lambda key: {name: np.concatenate([p[key][name] for p in self._parts if name in p[key]])  # noqa: E731
+                              for name in self._parts[-1][key]}
+        return {"return": cat("return"), "length": cat("length"), "reward_terms": nested("reward_terms"),
+                "statistics": nested("statistics")}
+
+    def drain(self) -> dict[str, Any]:
+        """Means since the last drain: ``{"return", "length", "episodes", "reward_terms", "statistics"}``."""
+        values = self.values()
+        self._parts = []
+        if not values:
+            return {}
+        mean = lambda group: {k: float(v.mean()) for k, v in group.items() if v.size}  # noqa: E731
+        return {"return": float(values["return"].mean()), "length": float(values["length"].mean()),
+                "episodes": int(values["return"].size), "reward_terms": mean(values["reward_terms"]),
+                "statistics": mean(values["statistics"])}
+
+
+class ScalarLog:
+    """TensorBoard event files under ``run_dir/tb`` (torch's SummaryWriter; needs the tensorboard package)."""
+
+    def __init__(self, run_dir: Path):
+        from torch.utils.tensorboard import SummaryWriter
+
+        self.writer = SummaryWriter(log_dir=str(Path(run_dir) / "tb"))
+
+    def write(self, step: int, episodes: dict[str, Any], losses: dict[str, float], charts: dict[str, float]) -> None:
+        scalars: dict[str, float] = {}
+        if episodes:
+            scalars |= {"episode/return": episodes["return"], "episode/length": episodes["length"]}
+            scalars |= {f"reward_terms/{k}": v for k, v in episodes["reward_terms"].items()}
+            scalars |= {f"statistics/{k}": v for k, v in episodes["statistics"].items()}
+        scalars |= {f"losses/{k}": v for k, v in losses.items()}
+        scalars |= {f"charts/{k}": v for k, v in charts.items()}
+        for tag, value in scalars.items():
+            self.writer.add_scalar(tag, value, step)
+
+    def close(self) -> None:
+        self.writer.close()
+
+
+class Progress:
+    """A tqdm bar over agent-steps: rate, time left, and the latest mean episode return."""
+
+    def __init__(self, total: int, enabled: bool, label: str):
+        from tqdm import tqdm
+
+        self.bar = tqdm(total=total, unit="step", unit_scale=True, disable=not enabled, desc=label,
+                        dynamic_ncols=True)
+        self.last_return: float | None = None
+
+    def advance(self, steps: int, episode_return: float | None) -> None:
+        if episode_return is not None:
+            self.last_return = episode_return
+            self.bar.set_postfix(ret=f"{episode_return:.1f}", refresh=False)
+        self.bar.update(min(steps, self.bar.total - self.bar.n))
+
+    def close(self) -> None:
+        self.bar.close()

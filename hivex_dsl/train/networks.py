@@ -1,0 +1,251 @@
+"""The networks of ``ppo.py``: observation encoders (MLP inputs, ML-Agents' simple and ResNet cameras) and
+an actor-critic whose policy mixes Gaussian (Box) and categorical (Discrete/MultiDiscrete) heads.
+
+Observations reach the networks as a dict of float tensors ``{key: (B, ...)}``: a Box observation is the
+key ``"obs"``, a Dict observation keeps its keys. A key whose single space is (H, W, C) is a camera.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import torch
+from gymnasium import spaces
+from torch import nn
+from torch.distributions import Categorical, Normal
+
+from .config import PPOConfig, TrainError
+
+MIN_IMAGE = {"simple": 20, "resnet": 15}  # ML-Agents' minimum camera sizes per encoder
+
+
+def observation_keys(space: spaces.Space) -> dict[str, tuple[int, ...]]:
+    """Key -> single-slot shape of every observation input."""
+    if isinstance(space, spaces.Dict):
+        return {k: tuple(s.shape) for k, s in space.spaces.items()}
+    if isinstance(space, spaces.Box):
+        return {"obs": tuple(space.shape)}
+    raise TrainError(f"PPO handles Box and Dict observations, not {space}")
+
+
+def to_tensors(observations: Any, device: torch.device | str = "cpu") -> dict[str, torch.Tensor]:
+    """Vector-env observations (an array or a dict of arrays, leading slot axis) -> float tensors."""
+    items = observations.items() if isinstance(observations, dict) else [("obs", observations)]
+    return {k: torch.tensor(np.asarray(v), dtype=torch.float32, device=device) for k, v in items}
+
+
+@dataclass(frozen=True)
+class ActionLayout:
+    """A Box part of ``continuous`` dims in [low, high] and categorical parts of sizes ``nvec`` (offset ``start``)."""
+
+    kind: str  # "discrete" | "multi_discrete" | "box" | "hybrid"
+    continuous: int
+    nvec: tuple[int, ...]
+    start: tuple[int, ...]
+    low: np.ndarray | None = None
+    high: np.ndarray | None = None
+
+    @classmethod
+    def of(cls, space: spaces.Space) -> "ActionLayout":
+        if isinstance(space, spaces.Discrete):
+            return cls("discrete", 0, (int(space.n),), (int(space.start),))
+        if isinstance(space, spaces.MultiDiscrete) and space.nvec.ndim == 1:
+            return cls("multi_discrete", 0, tuple(map(int, space.nvec)), tuple(map(int, space.start)))
+        if isinstance(space, spaces.Box) and len(space.shape) == 1:
+            return cls("box", space.shape[0], (), (), space.low.astype(np.float32), space.high.astype(np.float32))
+        if isinstance(space, spaces.Dict) and set(space.spaces) == {"continuous", "discrete"}:
+            box, cat = ActionLayout.of(space["continuous"]), ActionLayout.of(space["discrete"])
+            return cls("hybrid", box.continuous, cat.nvec, cat.start, box.low, box.high)
+        raise TrainError(f"PPO handles Discrete, MultiDiscrete, Box and Dict(continuous, discrete) actions, not {space}")
+
+    def to_env(self, continuous: torch.Tensor, discrete: torch.Tensor) -> Any:
+        """Sampled (S, continuous) floats and (S, len(nvec)) indices -> the vector env's action batch.
+        Continuous actions are clipped into the Box; the unclipped sample keeps its log-probability."""
+        cont = np.clip(continuous.cpu().numpy(), self.low, self.high) if self.continuous else None
+        disc = discrete.cpu().numpy() + np.asarray(self.start, dtype=np.int64) if self.nvec else None
+        if self.kind == "discrete":
+            return disc[:, 0]
+        if self.kind == "multi_discrete":
+            return disc
+        if self.kind == "box":
+            return cont
+        return {"continuous": cont, "discrete": disc}
+
+
+def _swish_mlp(inputs: int, hidden: int, layers: int) -> nn.Sequential:
+    modules: list[nn.Module] = []
+    for i in range(layers):
+        modules += [nn.Linear(inputs if i == 0 else hidden, hidden), nn.SiLU()]
+    return nn.Sequential(*modules)
+
+
+class ResidualBlock(nn.Module):
+    def __init__(self, channels: int):
+        super().__init__()
+        self.body = nn.Sequential(nn.SiLU(), nn.Conv2d(channels, channels, 3, padding=1),
+                                  nn.SiLU(), nn.Conv2d(channels, channels, 3, padding=1))
+
+    def forward(self, x: torch.Tensor) -> torch.Tensor:
+        return x + self.body(x)
+
+
+def camera_encoder(kind: str, shape: tuple[int, int, int], out: int) -> nn.Module:
+    """(B, H, W, C) in [0, 1] -> (B, out): ML-Agents' ``simple`` (2 conv) or ``resnet`` (IMPALA) encoder."""
+    height, width, channels = shape
+    if min(height, width) < MIN_IMAGE[kind]:
+        raise TrainError(f"vis_encode_type {kind!r} needs cameras of at least {MIN_IMAGE[kind]}x{MIN_IMAGE[kind]}, "
+                         f"this one is {height}x{width}; choose the other encoder")
+    if kind == "simple":
+        convs = nn.Sequential(nn.Conv2d(channels, 16, 8, stride=4), nn.LeakyReLU(),
+                              nn.Conv2d(16, 32, 4, stride=2), nn.LeakyReLU(), nn.Flatten())
+    else:
+        stack: list[nn.Module] = []
+        for c_in, c_out in zip((channels, 16, 32), (16, 32, 32)):
+            stack += [nn.Conv2d(c_in, c_out, 3, padding=1), nn.MaxPool2d(3, stride=2, padding=1),
+                      ResidualBlock(c_out), ResidualBlock(c_out)]
+        convs = nn.Sequential(*stack, nn.SiLU(), nn.Flatten())
+    with torch.no_grad():
+        flat = convs(torch.zeros(1, channels, height, width)).shape[1]
+    return nn.Sequential(Channels(), convs, nn.Linear(flat, out), nn.LeakyReLU())
+
+
+class Channels(nn.Module):
+    """(B, H, W, C) -> (B, C, H, W)."""
+
+    def forward(self, x: torch.Tensor) -> torch.Tensor:
+        return x.permute(0, 3, 1, 2)
+
+
+class RunningNorm(nn.Module):
+    """Running mean and variance of a vector input (ML-Agents' ``normalize``); a no-op when disabled."""
+
+    def __init__(self, size: int, enabled: bool):
+        super().__init__()
+        self.enabled = enabled
+        self.register_buffer("mean", torch.zeros(size))
+        self.register_buffer("var", torch.ones(size))
+        self.register_buffer("count", torch.tensor(1e-4))
+
+    def update(self, x: torch.Tensor) -> None:
+        if not self.enabled:
+            return
+        batch_mean, batch_var, n = x.mean(0), x.var(0, unbiased=False), x.shape[0]
+        delta, total = batch_mean - self.mean, self.count + n
+        self.var.copy_((self.var * self.count + batch_var * n + delta.square() * self.count * n / total) / total)
+        self.mean.add_(delta * n / total)
+        self.count.copy_(total)
+
+    def forward(self, x: torch.Tensor) -> torch.Tensor:
+        return ((x - self.mean) / torch.sqrt(self.var + 1e-8)).clamp(-5, 5) if self.enabled else x
+
+
+class Body(nn.Module):
+    """Cameras through their encoders, vectors concatenated, then ``num_layers`` x ``hidden_units`` (Swish)."""
+
+    def __init__(self, keys: dict[str, tuple[int, ...]], cfg: PPOConfig):
+        super().__init__()
+        self.cameras = nn.ModuleDict({k: camera_encoder(cfg.vis_encode_type, s, cfg.hidden_units)
+                                      for k, s in keys.items() if len(s) == 3})
+        self.vectors = [k for k, s in keys.items() if len(s) != 3]
+        width = sum(int(np.prod(keys[k])) for k in self.vectors) + cfg.hidden_units * len(self.cameras)
+        self.mlp = _swish_mlp(width, cfg.hidden_units, cfg.num_layers)
+
+    def forward(self, obs: dict[str, torch.Tensor], vector: torch.Tensor | None) -> torch.Tensor:
+        parts = [encoder(obs[k]) for k, encoder in self.cameras.items()]
+        if vector is not None:
+            parts.append(vector)
+        return self.mlp(torch.cat(parts, dim=1))
+
+
+def _head(inputs: int, outputs: int, gain: float) -> nn.Linear:
+    layer = nn.Linear(inputs, outputs)
+    nn.init.orthogonal_(layer.weight, gain)
+    nn.init.zeros_(layer.bias)
+    return layer
+
+
+class ActorCritic(nn.Module):
+    """Separate actor and critic bodies (as ML-Agents), shared by every slot (parameter sharing)."""
+
+    def __init__(self, observation_space: spaces.Space, action_space: spaces.Space, cfg: PPOConfig):
+        super().__init__()
+        keys = observation_keys(observation_space)
+        self.layout = ActionLayout.of(action_space)
+        self.actor, self.critic = Body(keys, cfg), Body(keys, cfg)
+        vector_width = sum(int(np.prod(keys[k])) for k in self.actor.vectors)
+        self.norm = RunningNorm(vector_width, cfg.normalize)
+        hidden = cfg.hidden_units
+        self.value = _head(hidden, 1, 1.0)
+        self.logits = _head(hidden, sum(self.layout.nvec), 0.01) if self.layout.nvec else None
+        self.mu = _head(hidden, self.layout.continuous, 0.01) if self.layout.continuous else None
+        self.log_std = nn.Parameter(torch.zeros(self.layout.continuous))
+
+    def _vector(self, obs: dict[str, torch.Tensor]) -> torch.Tensor | None:
+        if not self.actor.vectors:
+            return None
+        return torch.cat([obs[k].reshape(obs[k].shape[0], -1) for k in self.actor.vectors], dim=1)
+
+    def _here(self, *tensors):
+        """Inputs moved to the network's device (rollouts stay in CPU memory; outputs come back there)."""
+        device = self.value.weight.device
+        return [{k: v.to(device) for k, v in t.items()} if isinstance(t, dict) else t.to(device) for t in tensors]
+
+    def observe(self, obs: dict[str, torch.Tensor]) -> None:
+        """Update the running normaliser with a rollout batch of observations."""
+        (obs,) = self._here(obs)
+        vector = self._vector(obs)
+        if vector is not None:
+            self.norm.update(vector)
+
+    def get_value(self, obs: dict[str, torch.Tensor]) -> torch.Tensor:
+        (obs,) = self._here(obs)
+        vector = self._vector(obs)
+        return self.value(self.critic(obs, None if vector is None else self.norm(vector))).squeeze(-1).cpu()
+
+    def _distributions(self, obs: dict[str, torch.Tensor]) -> tuple[Normal | None, list[Categorical]]:
+        vector = self._vector(obs)
+        hidden = self.actor(obs, None if vector is None else self.norm(vector))
+        # our own network makes the parameters: skip torch's argument validation, a cost on every call
+        normal, cats = None, []
+        if self.mu is not None:
+            normal = Normal(self.mu(hidden), self.log_std.exp().expand(hidden.shape[0], -1), validate_args=False)
+        if self.logits is not None:
+            chunks = torch.split(self.logits(hidden), self.layout.nvec, dim=1)
+            cats = [Categorical(logits=chunk, validate_args=False) for chunk in chunks]
+        return normal, cats
+
+    def act(self, obs: dict[str, torch.Tensor], deterministic: bool = False):
+        """-> continuous (B, c), discrete (B, d) int64, log-prob (B,): sampled, or the modes if deterministic."""
+        (obs,) = self._here(obs)
+        normal, cats = self._distributions(obs)
+        first = next(iter(obs.values()))
+        batch = first.shape[0]
+        if normal is None:
+            cont = first.new_zeros(batch, 0)
+        else:
+            cont = normal.mean if deterministic else normal.sample()
+        disc = torch.stack([c.probs.argmax(1) if deterministic else c.sample() for c in cats], 1) \
+            if cats else torch.zeros(batch, 0, dtype=torch.int64, device=first.device)
+        logp, _ = self._log_prob_entropy(normal, cats, cont, disc)
+        return cont.cpu(), disc.cpu(), logp.cpu()
+
+    def evaluate(self, obs: dict[str, torch.Tensor], cont: torch.Tensor, disc: torch.Tensor):
+        """-> log-prob (B,), entropy (B,), value (B,) of given actions."""
+        obs, cont, disc = self._here(obs, cont, disc)
+        normal, cats = self._distributions(obs)
+        logp, entropy = self._log_prob_entropy(normal, cats, cont, disc)
+        return logp.cpu(), entropy.cpu(), self.get_value(obs)
+
+    @staticmethod
+    def _log_prob_entropy(normal, cats, cont, disc):
+        logp = cont.new_zeros(cont.shape[0])
+        entropy = cont.new_zeros(cont.shape[0])
+        if normal is not None:
+            logp = logp + normal.log_prob(cont).sum(1)
+            entropy = entropy + normal.entropy().sum(1)
+        for i, cat in enumerate(cats):
+            logp = logp + cat.log_prob(disc[:, i])
+            entropy = entropy + cat.entropy()
+        return logp, entropy

@@ -1,0 +1,232 @@
+"""Parameter-shared PPO over the batched vector env, CleanRL-style: one file, read top to bottom.
+
+Every (world, agent) slot of ``HivexVectorEnv`` is one actor of one shared policy, as in the paper.
+The env autoresets in Gymnasium's NEXT_STEP mode: after a step that ends a slot's episode, the slot's
+next step ignores its action and returns its fresh observation with reward 0. That reset transition is
+no experience of the policy, so it is masked out of the loss, and GAE never flows across an episode's end.
+A slot that reports ``infos["active"] == False`` (an agent that died while its world goes on, when the env
+keeps it out until its world resets) is masked the same way.
+
+Hyperparameters and their ML-Agents meaning: ``config.py``.
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from pathlib import Path
+from typing import Any, Callable
+
+import numpy as np
+import torch
+from torch import nn
+
+from ..adapters.gymnasium import HivexVectorEnv
+from ..compiler import CompiledScenario
+from .checkpoint import save_checkpoint
+from .config import PPOConfig, TrainError
+from .logs import EpisodeLog, Progress, ScalarLog
+from .networks import ActorCritic, to_tensors
+
+
+def gae(rewards: torch.Tensor, values: torch.Tensor, next_value: torch.Tensor, terminated: torch.Tensor,
+        done: torch.Tensor, gamma: float, lam: float) -> tuple[torch.Tensor, torch.Tensor]:
+    """Generalized advantage estimates and returns of a (T, S) rollout.
+
+    ``values[t]`` is V(obs_t); ``next_value`` (S,) is V of the observation after the last step.
+    A step that ``terminated`` bootstraps from 0; one that was truncated from V of the observation it
+    returned (in NEXT_STEP mode the episode's last observation). ``done`` = terminated | truncated stops
+    the recursion, so the masked reset transition after an ending never leaks into the step before it.
+    """
+    steps = rewards.shape[0]
+    advantages = torch.zeros_like(rewards)
+    running = torch.zeros_like(next_value)
+    for t in reversed(range(steps)):
+        following = next_value if t == steps - 1 else values[t + 1]
+        delta = rewards[t] + gamma * following * (1.0 - terminated[t]) - values[t]
+        running = delta + gamma * lam * (1.0 - done[t]) * running
+        advantages[t] = running
+    return advantages, advantages + values
+
+
+def make_env(compiled: CompiledScenario, num_worlds: int, split: str) -> tuple[HivexVectorEnv, Any]:
+    """The vector env on ``split`` and its first observations, reset on the split's seed (explicitly, so
+    every run of one seed plays the same worlds)."""
+    try:
+        env = HivexVectorEnv(compiled, num_worlds=num_worlds, split=split)
+    except ValueError as exc:
+        raise TrainError(f"cannot run {compiled.name!r} on its {split} seeds: {exc}") from None
+    observations, _ = env.reset(seed=int(getattr(compiled.seeds, split)))
+    return env, observations
+
+
+def torch_device(name: str) -> torch.device:
+    """A torch device that exists here, or a clear error."""
+    try:
+        device = torch.device(name)
+    except RuntimeError as exc:
+        raise TrainError(f"unknown device {name!r}: {exc}") from None
+    if device.type == "cuda" and not torch.cuda.is_available():
+        raise TrainError("device cuda was asked for, but torch sees no CUDA GPU here (use --device cpu)")
+    return device
+
+
+def acting_mask(previous_done: np.ndarray, active: np.ndarray) -> np.ndarray:
+    """Slots whose action this step is a real experience: not the NEXT_STEP reset after an ending, and live."""
+    return ~previous_done & active
+
+
+def schedule(cfg: PPOConfig, progress: float) -> tuple[float, float, float]:
+    """(learning rate, beta, epsilon) at ``progress`` in [0, 1]: ML-Agents' linear decay, or constant."""
+    if cfg.learning_rate_schedule == "constant":
+        return cfg.learning_rate, cfg.beta, cfg.epsilon
+    left = max(0.0, 1.0 - progress)
+    lerp = lambda start, end: end + (start - end) * left  # noqa: E731 - ML-Agents decays towards these floors
+    return cfg.learning_rate * left, lerp(cfg.beta, 1e-5), lerp(cfg.epsilon, 0.1)
+
+
+class Rollout:
+    """(T, S) storage of one rollout; observations as a dict of (T, S, ...) tensors."""
+
+    def __init__(self, steps: int, slots: int, first_obs: dict[str, torch.Tensor], continuous: int, discrete: int):
+        self.obs = {k: torch.zeros((steps,) + v.shape, dtype=v.dtype) for k, v in first_obs.items()}
+        self.cont = torch.zeros(steps, slots, continuous)
+        self.disc = torch.zeros(steps, slots, discrete, dtype=torch.int64)
+        self.logp, self.values, self.rewards = (torch.zeros(steps, slots) for _ in range(3))
+        self.terminated, self.done, self.valid = (torch.zeros(steps, slots) for _ in range(3))
+
+    def flat(self, name: str) -> torch.Tensor:
+        return merge_steps(getattr(self, name))
+
+    def flat_obs(self) -> dict[str, torch.Tensor]:
+        return {k: merge_steps(v) for k, v in self.obs.items()}
+
+
+def merge_steps(tensor: torch.Tensor) -> torch.Tensor:
+    """(T, S, ...) -> (T * S, ...)."""
+    return tensor.reshape((tensor.shape[0] * tensor.shape[1],) + tensor.shape[2:])
+
+
+def collect(env: HivexVectorEnv, agent: ActorCritic, buf: Rollout, state: dict[str, Any], cfg: PPOConfig,
+            episodes: EpisodeLog) -> torch.Tensor:
+    """Fill ``buf`` with one rollout from ``state`` (obs, previous done, active); -> V(next obs) (S,)."""
+    for t in range(buf.rewards.shape[0]):
+        obs = state["obs"]
+        for k, v in obs.items():
+            buf.obs[k][t] = v
+        buf.valid[t] = torch.as_tensor(acting_mask(state["done"], state["active"]), dtype=torch.float32)
+        with torch.no_grad():
+            cont, disc, logp = agent.act(obs)
+            buf.values[t] = agent.get_value(obs)
+        buf.cont[t], buf.disc[t], buf.logp[t] = cont, disc, logp
+        next_obs, reward, terminated, truncated, infos = env.step(agent.layout.to_env(cont, disc))
+        done = terminated | truncated
+        buf.rewards[t] = torch.as_tensor(reward, dtype=torch.float32) * cfg.reward_strength
+        buf.terminated[t] = torch.as_tensor(terminated, dtype=torch.float32)
+        buf.done[t] = torch.as_tensor(done, dtype=torch.float32)
+        episodes.record(infos)
+        state["obs"], state["done"] = to_tensors(next_obs), done
+        state["active"] = np.asarray(infos.get("active", np.ones_like(done)), dtype=bool)
+    with torch.no_grad():
+        return agent.get_value(state["obs"])
+
+
+def update(agent: ActorCritic, optimizer: torch.optim.Optimizer, buf: Rollout, advantages: torch.Tensor,
+           returns: torch.Tensor, cfg: PPOConfig, beta: float, epsilon: float,
+           rng: np.random.Generator) -> dict[str, float]:
+    """``num_epoch`` passes of minibatch PPO over the valid experiences only; -> mean losses."""
+    valid = np.flatnonzero(buf.flat("valid").numpy() > 0)
+    if valid.size == 0:
+        return {}
+    obs = {k: v[valid] for k, v in buf.flat_obs().items()}
+    cont, disc = buf.flat("cont")[valid], buf.flat("disc")[valid]
+    old_logp, old_values = buf.flat("logp")[valid], buf.flat("values")[valid]
+    adv, ret = advantages.reshape(-1)[valid], returns.reshape(-1)[valid]
+    adv = (adv - adv.mean()) / (adv.std(unbiased=False) + 1e-8)
+    stats: dict[str, list[float]] = {"policy": [], "value": [], "entropy": [], "approx_kl": [], "clipfrac": []}
+    for _ in range(cfg.num_epoch):
+        order = rng.permutation(valid.size)
+        for start in range(0, valid.size, cfg.batch_size):
+            mb = torch.as_tensor(order[start:start + cfg.batch_size])
+            logp, entropy, value = agent.evaluate({k: v[mb] for k, v in obs.items()}, cont[mb], disc[mb])
+            log_ratio = logp - old_logp[mb]
+            ratio = log_ratio.exp()
+            policy_loss = torch.max(-adv[mb] * ratio, -adv[mb] * ratio.clamp(1 - epsilon, 1 + epsilon)).mean()
+            clipped = old_values[mb] + (value - old_values[mb]).clamp(-epsilon, epsilon)
+            value_loss = torch.max((value - ret[mb]).square(), (clipped - ret[mb]).square()).mean()
+            loss = policy_loss + 0.5 * value_loss - beta * entropy.mean()
+            optimizer.zero_grad()
+            loss.backward()
+            if cfg.max_grad_norm > 0:
+                nn.utils.clip_grad_norm_(agent.parameters(), cfg.max_grad_norm)
+            optimizer.step()
+            with torch.no_grad():
+                stats["policy"].append(policy_loss.item())
+                stats["value"].append(value_loss.item())
+                stats["entropy"].append(entropy.mean().item())
+                stats["approx_kl"].append(((ratio - 1) - log_ratio).mean().item())
+                stats["clipfrac"].append(((ratio - 1).abs() > epsilon).float().mean().item())
+    return {k: float(np.mean(v)) for k, v in stats.items()}
+
+
+def train(compiled: CompiledScenario, cfg: PPOConfig, run_dir: Path, progress: bool = True,
+          on_update: Callable[[dict[str, Any]], None] | None = None) -> dict[str, Any]:
+    """Train one policy for ``cfg.max_steps`` agent-steps; write checkpoints, scalars and curve.json
+    under ``run_dir``; -> the run's summary (also written as summary.json)."""
+    run_dir = Path(run_dir)
+    run_dir.mkdir(parents=True, exist_ok=True)
+    torch.set_num_threads(cfg.torch_threads)
+    torch.manual_seed(cfg.seed)
+    rng = np.random.default_rng(cfg.seed)
+    env, obs = make_env(compiled, cfg.num_worlds, "train")
+    agent = ActorCritic(env.single_observation_space, env.single_action_space, cfg).to(torch_device(cfg.device))
+    optimizer = torch.optim.Adam(agent.parameters(), lr=cfg.learning_rate)
+    slots, steps = env.num_envs, cfg.rollout_length(env.num_envs)
+    state = {"obs": to_tensors(obs), "done": np.zeros(slots, bool), "active": np.ones(slots, bool)}
+    buf = Rollout(steps, slots, state["obs"], agent.layout.continuous, len(agent.layout.nvec))
+    (run_dir / "config.json").write_text(json.dumps({"hyperparameters": cfg.model_dump(mode="json"),
+                                                     "scenario": compiled.resolved()}, indent=2) + "\n")
+    episodes, scalars = EpisodeLog(), ScalarLog(run_dir)
+    bar = Progress(cfg.max_steps, enabled=progress, label=compiled.name)
+    agent_steps, next_checkpoint, started, curve = 0, cfg.checkpoint_every, time.perf_counter(), []
+    while agent_steps < cfg.max_steps:
+        lr, beta, epsilon = schedule(cfg, agent_steps / cfg.max_steps)
+        for group in optimizer.param_groups:
+            group["lr"] = lr
+        next_value = collect(env, agent, buf, state, cfg, episodes)
+        agent.observe(buf.flat_obs())
+        advantages, returns = gae(buf.rewards, buf.values, next_value, buf.terminated, buf.done,
+                                  cfg.gamma, cfg.lambd)
+        losses = update(agent, optimizer, buf, advantages, returns, cfg, beta, epsilon, rng)
+        agent_steps += steps * slots
+        wall = time.perf_counter() - started
+        summary = episodes.drain()
+        if summary:
+            curve.append({"agent_steps": agent_steps, "wall_s": round(wall, 3), "return": summary["return"],
+                          "episodes": summary["episodes"]})
+        scalars.write(agent_steps, summary, losses, {"learning_rate": lr, "beta": beta, "epsilon": epsilon,
+                                                     "agent_steps_per_s": agent_steps / max(wall, 1e-9)})
+        bar.advance(steps * slots, summary.get("return"))
+        if on_update is not None:
+            on_update({"agent_steps": agent_steps, "wall_s": wall, **summary})
+        if agent_steps >= next_checkpoint:
+            _checkpoint(run_dir, agent, cfg, compiled, agent_steps)
+            next_checkpoint += cfg.checkpoint_every
+    bar.close()
+    scalars.close()
+    save_checkpoint(run_dir / "checkpoint.pt", agent, cfg, compiled, agent_steps)
+    wall = time.perf_counter() - started
+    result = {"scenario": compiled.name, "environment": compiled.environment, "task_index": compiled.task_index,
+              "level": compiled.level, "agent_steps": agent_steps, "wall_s": round(wall, 2), "seed": cfg.seed,
+              "final_return": curve[-1]["return"] if curve else None, "checkpoint": "checkpoint.pt"}
+    (run_dir / "curve.json").write_text(json.dumps(curve, indent=1) + "\n")
+    (run_dir / "summary.json").write_text(json.dumps(result, indent=2) + "\n")
+    return result
+
+
+def _checkpoint(run_dir: Path, agent: ActorCritic, cfg: PPOConfig, compiled: CompiledScenario, steps: int) -> None:
+    """Save checkpoints/step_N.pt and keep only the newest ``keep_checkpoints``."""
+    folder = run_dir / "checkpoints"
+    save_checkpoint(folder / f"step_{steps:012d}.pt", agent, cfg, compiled, steps)
+    for old in sorted(folder.glob("step_*.pt"))[:-cfg.keep_checkpoints]:
+        old.unlink()

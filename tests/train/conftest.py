@@ -1,0 +1,27 @@
+"""Small scenarios and configs for training tests: a few hundred agent-steps each."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+import yaml
+
+pytest.importorskip("torch")
+
+SCENARIOS = Path(__file__).resolve().parents[2] / "scenarios"
+ENVIRONMENTS = ("wind_farm_control", "wildfire_resource_management", "drone_based_reforestation",
+                "ocean_plastic_collection", "aerial_wildfire_suppression")
+TINY = {"num_worlds": 1, "buffer_size": 64, "batch_size": 32, "num_epoch": 2, "hidden_units": 16,
+        "max_steps": 192, "checkpoint_every": 128, "keep_checkpoints": 1}
+
+
+def short_scenario(environment: str, episode_length: int = 24) -> dict:
+    """The environment's main scenario with short episodes (so evaluation ends quickly)."""
+    data = yaml.safe_load((SCENARIOS / environment / "main.yaml").read_text())
+    return data | {"episode_length": episode_length}
+
+
+@pytest.fixture
+def tiny():
+    return dict(TINY)

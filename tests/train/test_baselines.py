@@ -1,0 +1,59 @@
+"""A finished run becomes committed data (JSON + learning-curve PNG), and the baselines page is built from it."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+import yaml
+
+from hivex_dsl.compiler import compile
+from hivex_dsl.docsgen import render_docs
+from hivex_dsl.docsgen.baselines import baselines_context
+from hivex_dsl.train.config import make_config
+from hivex_dsl.train.ppo import train
+
+from .conftest import short_scenario
+
+pytest.importorskip("matplotlib")
+
+
+@pytest.fixture(scope="module")
+def recorded(tmp_path_factory):
+    from hivex_dsl.train.baselines import record_baseline
+
+    root = tmp_path_factory.mktemp("baseline")
+    scenario = root / "wfc.yaml"
+    scenario.write_text(yaml.safe_dump(short_scenario("wind_farm_control", episode_length=12)))
+    tiny = {"num_worlds": 1, "buffer_size": 32, "batch_size": 16, "hidden_units": 8, "max_steps": 192}
+    train(compile(scenario), make_config("wind_farm_control", tiny), root / "run", progress=False)
+    out = root / "benchmarks" / "baselines"
+    data = record_baseline(root / "run", str(scenario), out, episodes=2, command="hivex train x", note="a note")
+    return out, data
+
+
+def test_the_record_holds_test_levels_and_curve(recorded):
+    out, data = recorded
+    assert json.loads((out / "wind_farm_control.json").read_text()) == data
+    assert (out / "wind_farm_control.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert data["test"]["agent_episodes"] == 2 * 8 and data["test"]["seed"] == 6000
+    assert data["published"]["return"]["mean"] == pytest.approx(4611.6462)
+    # all-scripted turbines face the wind: they must beat uniformly random ones on the same seeds
+    assert data["scripted"]["mean"] > data["random"]["mean"]
+    assert all(row[0] > 0 for row in data["curve"])
+
+
+def test_the_page_sets_ours_beside_the_paper(recorded):
+    out, data = recorded
+    context = baselines_context(out)
+    (row,) = context["trained"]
+    assert row["environment"] == "wind_farm_control" and row["commands"] == ["hivex train x"]
+    assert row["verdict"] in ("matches (within the spread)", "above", "below")
+    assert {r["environment"] for r in context["left"]} == {
+        "wildfire_resource_management", "drone_based_reforestation", "ocean_plastic_collection",
+        "aerial_wildfire_suppression"}
+    docs = render_docs(None, baselines=out)
+    assert "images/baselines/wind_farm_control.png" in docs
+    assert "4,611.65 ± 39.95" in docs["baselines.md"]
+    assert "hivex train scenarios/aerial_wildfire_suppression/main.yaml" in docs["baselines.md"]
+    assert "baselines.md" not in render_docs(None, baselines=out / "missing")
