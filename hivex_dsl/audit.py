@@ -137,7 +137,7 @@ def _action_independent(audit: ScenarioAudit) -> list[Flag]:
         same = all(s.shape == sums[0].shape and np.allclose(s, sums[0], rtol=TOLERANCE, atol=TOLERANCE) for s in sums)
         matters = max(abs(audit.shares(p)[term]) for p in ACTING) >= MATTERS_SHARE
         if same and matters:
-            world = audit.compiled.entry.terms[term].contract.scope == "global"
+            world = _contracts_of(audit)[term].scope == "global"
             flags.append(Flag("action_independent", term=term, note=world, message=(
                 f"{term} pays the same per-episode sums under the all-zeros, random and scripted policies "
                 f"(mean {float(sums[0].mean()):.4g}): its value does not depend on the actions"
