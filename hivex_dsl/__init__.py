@@ -26,7 +26,7 @@ def parallel_env(scenario: ScenarioLike, render_mode: Optional[str] = None, spli
                  respawn: bool = False):
     """A PettingZoo ParallelEnv of one world (accepts a CompiledScenario, a path or a plain dict).
 
-    ``respawn=True``: agents that end alone are respawned at once and never leave ``agents`` (for
+    ``respawn=True``: agents whose own episode ends are respawned at once and never leave ``agents`` (for
     SuperSuit's vector conversion); see :class:`hivex_dsl.adapters.pettingzoo.HivexParallelEnv`.
     """
     from .adapters.pettingzoo import HivexParallelEnv

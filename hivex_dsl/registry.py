@@ -56,6 +56,9 @@ class EnvironmentEntry:
     make_simulator: Callable[["CompiledScenario"], Any]
     scripted_policy: Callable[["CompiledScenario"], Callable[[Any], Any]]
     events: Mapping[str, str] = field(default_factory=dict)
+    # events of the whole world (e.g. the fire went out): a task that ends on one restarts the world,
+    # where the other events (and the simulator's own ``terminated``) end single agents' episodes
+    world_events: frozenset[str] = frozenset()
     level_names: tuple[str, ...] = ()
     level_titles: tuple[str, ...] = ()
     checks: tuple[ScenarioCheck, ...] = ()
@@ -106,6 +109,9 @@ def register(entry: EnvironmentEntry) -> EnvironmentEntry:
         problems = entry.statistics.problems(entry.terms.names)
         if problems or entry.statistics.environment != entry.id:
             raise ValueError("; ".join(problems) or f"{entry.id}: its statistics belong to {entry.statistics.environment!r}")
+    unknown = sorted(set(entry.world_events) - set(entry.events))
+    if unknown:
+        raise ValueError(f"{entry.id}: world events {unknown} are not among its events {sorted(entry.events)}")
     _REGISTRY[entry.id] = entry
     return entry
 

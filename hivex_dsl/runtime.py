@@ -26,6 +26,11 @@ _ZERO = constant(0.0)  # rewards and terms are float64 (see hivex_dsl.numeric)
 class StepOutcome(NamedTuple):
     """What a simulator reports besides its new state: (batch, agents) bool arrays.
 
+    ``terminated`` ends single agents' episodes (a crash, an empty battery); ``events`` are what
+    happened this step, per agent. Whether an event is an agent's own or the whole world's (an event
+    the registry lists in its entry's ``world_events``, true for every agent of a world) decides what
+    a task's ``ends_on`` naming it ends: the agent's episode, or the world's (see :class:`BatchedEnv`).
+
     A named tuple rather than a frozen dataclass: it is built every step, and a frozen dataclass's
     ``__init__`` (one ``object.__setattr__`` per field) costs a visible share of a one-world step.
     """
@@ -109,10 +114,20 @@ class Transition(NamedTuple):
     terms: dict[str, np.ndarray]
     ended: np.ndarray
     env_info: dict[str, np.ndarray]
+    world_terminated: np.ndarray  # (batch,) bool: a world-level ending happened in the world on this step
 
 
 class BatchedEnv:
-    """``batch`` worlds of one scenario. Agents of a world may end early; a world ends when all have."""
+    """``batch`` worlds of one scenario. Agents of a world may end early; a world ends when all have.
+
+    Endings have a scope. An agent's own ending (the simulator's ``terminated``, a task's ``ends_on``
+    event that is not a world event, a per-agent ending expression) ends that agent's episode. A
+    world-level ending (a task's ``ends_on`` event that the registry lists in ``world_events``, e.g. the
+    fire went out, or a per-world ending expression) ends the episode of every agent of the world at
+    once, and is reported in ``Transition.world_terminated``. Consumers that respawn agents (the vector
+    env, ``parallel_env(respawn=True)``) restart a world only at :meth:`world_endings`: never because
+    its agents' own endings happen to coincide.
+    """
 
     def __init__(self, compiled: CompiledScenario, batch: int = 1, split: Split = "train",
                  distinct_copies: bool = False):
@@ -144,6 +159,11 @@ class BatchedEnv:
         self.everyone_playing = False  # == bool(self.alive.all()), kept so a step needs no reduction for it
         self.oldest_clock = 0  # == int(self.clock.max()): a step knows without a reduction whether a world truncates
         self._step_info = getattr(self.sim, "step_info", None)
+        world_events = compiled.entry.world_events
+        self._agent_ends_on = tuple(e for e in compiled.ends_on if e not in world_events)
+        self._world_ends_on = tuple(e for e in compiled.ends_on if e in world_events)
+        self._no_world_ending = np.zeros(batch, bool)
+        self._no_world_ending.flags.writeable = False  # shared by every step that has no world ending
         self.placeholder = placeholder_actions(self.sim.action_space)  # what an agent out of its episode does
 
     @property
@@ -198,8 +218,9 @@ class BatchedEnv:
 
     def world_endings(self, result: "Transition") -> np.ndarray:
         """(batch,) bool: worlds whose episode ends with this step as a whole -- the clock reached the
-        episode length, or every agent of the world terminated on this very step."""
-        return (self.clock >= self.compiled.episode_length) | result.terminated.all(axis=1)
+        episode length, or a world-level ending happened (``result.world_terminated``). Agents whose own
+        endings coincide (every drone's battery empty on one step) do not end their world."""
+        return (self.clock >= self.compiled.episode_length) | result.world_terminated
 
     def observe(self) -> Any:
         self._require_reset()
@@ -258,7 +279,7 @@ class BatchedEnv:
         for name, value in terms.items():
             self.term_sums[name] += value
         self._count(prev, actions, live, everyone)
-        terminated, truncated, ended = self._endings(live, outcome)
+        terminated, truncated, ended, world_terminated = self._endings(live, outcome)
         env_info = self._step_info(self.state) if self._step_info is not None else {}
         if respawn is not None:
             self.respawn_agents(respawn)
@@ -267,7 +288,8 @@ class BatchedEnv:
             self._clear(restart)
             if self.feed is not None:
                 self.feed.start(self.state, restart)
-        return Transition(self.sim.observe(self.state), rewards, terminated, truncated, terms, ended, env_info)
+        return Transition(self.sim.observe(self.state), rewards, terminated, truncated, terms, ended, env_info,
+                          world_terminated)
 
     def _count(self, prev: Any, actions: Any, live: np.ndarray, everyone: bool) -> None:
         """Add this step's value of every counter statistic to its episode sums (ended agents add nothing)."""
@@ -282,29 +304,48 @@ class BatchedEnv:
         return episode_statistics(self.statistics, self.compiled.weights, self.counter_sums, self.term_sums,
                                   self.shape)
 
-    def _endings(self, live: np.ndarray, outcome: StepOutcome) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """(terminated, truncated, ended) of the step just taken, each (batch, agents); updates who is alive.
+    def _world_terminated(self, outcome: StepOutcome) -> np.ndarray:
+        """(batch,) bool: a world-level ending of the task happened in the world on this step."""
+        world = self._no_world_ending
+        for event in self._world_ends_on:  # a world event holds for every agent of its world
+            world = world | outcome.events[event].any(axis=1)
+        if self.feed is not None and self.compiled.expressions.endings:
+            hit = self.compiled.expressions.world_ended(self.feed)
+            if hit is not None:
+                world = world | hit
+        return world
+
+    def _endings(self, live: np.ndarray, outcome: StepOutcome
+                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """(terminated, truncated, ended) of the step just taken, each (batch, agents), and the (batch,)
+        world-level endings; updates who is alive. A world-level ending terminates every live agent of
+        its world.
 
         Most steps nobody ends: while no world reaches the episode length truncation is known to be all
         false, and while moreover every agent plays and none terminates the alive mask stays as it is.
         """
         ending = outcome.terminated
-        for event in self.compiled.ends_on:
+        for event in self._agent_ends_on:
             ending = ending | outcome.events[event]
         if self.feed is not None and self.compiled.expressions.endings:
-            ending = ending | self.compiled.expressions.ended(self.feed, self.shape)
+            hit = self.compiled.expressions.ended(self.feed, self.shape)
+            if hit is not None:
+                ending = ending | hit
+        world = self._world_terminated(outcome)
+        if world is not self._no_world_ending:
+            ending = ending | world[:, None]
         terminated = live & ending
         if self.oldest_clock < self.compiled.episode_length:  # no world truncates
             truncated = np.zeros(terminated.shape, bool)
             if self.everyone_playing and not np.count_nonzero(terminated):
-                return terminated, truncated, terminated.copy()
+                return terminated, truncated, terminated.copy(), world
             ended = terminated.copy()
         else:
             truncated = live & ~terminated & (self.clock >= self.compiled.episode_length)[:, None]
             ended = terminated | truncated
         self.alive = live & ~ended
         self.everyone_playing = all_true(self.alive)
-        return terminated, truncated, ended
+        return terminated, truncated, ended, world
 
     def episode_summary(self, world: int, agent: int) -> dict[str, Any]:
         """Return, length, per-term sums and statistics of one agent's current (or just ended) episode."""

@@ -203,3 +203,170 @@ def test_respawn_where_restarts_only_the_masked_agents(environment):
         assert state.active[1, 0] and state.speed[1, 0] == 0.0 and state.collected_total[1, 0] == 0
     if environment == "aerial_wildfire_suppression":
         assert state.flying[1, 0] and not state.seen_fire[1, 0]
+
+
+# --- The scope of an ending: an agent's own (it respawns) or its world's (the world restarts) ---------------
+
+ONE_EPISODE = 60
+LAYOUT = {  # per-world arrays a world restart draws anew and no step changes
+    "drone_based_reforestation": lambda s: (s.heights, s.tree_xy, s.station, s.new_trees, s.new_count),
+    "ocean_plastic_collection": lambda s: (s.heat,),
+    "aerial_wildfire_suppression": lambda s: (s.maps.ground, s.maps.village),
+    "wildfire_resource_management": lambda s: (s.fire_factors,),
+}
+
+
+def short_battery(agents: int = 3, **extra) -> dict:
+    """DBR whose batteries last 12 steps away from the station (the smallest bound is 10); every drone starts
+    above the station itself."""
+    return {"hivex": 1, "environment": "drone_based_reforestation", "episode_length": ONE_EPISODE, "agents": agents,
+            "seeds": {"train": 1, "test": 2},
+            "params": {"energy_steps_with_seed": 12, "energy_steps_without_seed": 12,
+                       "spawn_radius_m": 0.0, "spawn_gap_m": 0.0}, **extra}
+
+
+def climbing(slots: int):
+    """No throttle, no steering, full climb, no drop: drones spawned at one point above the station leave its
+    charge radius on the same step, drain alike, and (never docking again) die on the same step."""
+    continuous = np.zeros((slots, 3), np.float32)
+    continuous[:, 2] = 1.0
+    return {"continuous": continuous, "discrete": np.zeros((slots, 1), np.int64)}
+
+
+def layout(environment: str, state) -> list[np.ndarray]:
+    return [np.array(a, copy=True) for a in LAYOUT[environment](state)]
+
+
+def assert_same_worlds(environment: str, state, start: list[np.ndarray], worlds) -> None:
+    for now, then in zip(layout(environment, state), start):
+        np.testing.assert_array_equal(now[worlds], then[worlds])
+
+
+DEATH_CASES = [("drone_based_reforestation", 3), ("drone_based_reforestation", 1),
+               ("ocean_plastic_collection", 1), ("aerial_wildfire_suppression", 1)]
+
+
+def death_case(environment: str, agents: int):
+    """(scenario, actions for n slots, episode length) of a case whose agents all die on one step."""
+    if environment == "drone_based_reforestation":
+        return short_battery(agents), climbing, ONE_EPISODE
+    return dict(scenario(environment), agents=agents), lambda slots: straight_ahead(environment, slots), LENGTH[environment]
+
+
+@pytest.mark.parametrize("environment,agents", DEATH_CASES)
+@pytest.mark.parametrize("mode", ["next_step", "same_step"])
+def test_agents_that_all_die_on_one_step_respawn_in_the_same_world(environment, agents, mode):
+    """Individual endings that coincide (every drone's battery, a one-agent world's only agent) end those
+    agents' episodes, never their world's: the clock runs on and the world's layout stays until the clock
+    runs out; the episode statistics still match the toolkit's sums and the rewards summed by hand."""
+    sc, act, length = death_case(environment, agents)
+    venv = hivex_dsl.vector_env(sc, num_worlds=2, autoreset_mode=mode)
+    stats = RecordEpisodeStatistics(venv)
+    stats.reset(seed=3)
+    core, actions = venv.core, act(stats.num_envs)
+    start = layout(environment, core.state)
+    rewards, dones, ours, together = [], [], [], 0
+    for t in range(length + 3):
+        obs, reward, terminated, truncated, infos = stats.step(actions)
+        assert stats.observation_space.contains(obs)
+        done = terminated | truncated
+        rewards.append(reward)
+        dones.append(done)
+        ours.append([(s, infos["hivex_episode"]["return"][s], infos["hivex_episode"]["length"][s])
+                     for s in np.flatnonzero(done)])
+        if done.any():
+            np.testing.assert_allclose(infos["episode"]["r"], infos["hivex_episode"]["return"], rtol=1e-9, atol=1e-9)
+            np.testing.assert_array_equal(infos["episode"]["l"], infos["hivex_episode"]["length"])
+        if t < length - 1:  # inside the first episode: deaths only, and no world restarts
+            assert not truncated.any()
+            together += int(np.count_nonzero(terminated.reshape(2, agents).all(axis=1)))
+            np.testing.assert_array_equal(core.clock, [t + 1, t + 1])
+            assert_same_worlds(environment, core.state, start, slice(None))
+    assert together >= 1  # every agent of a world died on one step (the old rule restarted the world then)
+    by_hand = hand_counted(rewards, dones, stats.metadata["autoreset_mode"])
+    for mine, theirs in zip(ours, by_hand):
+        assert [(s, length) for s, _, length in mine] == [(s, length) for s, _, length in theirs]
+        np.testing.assert_allclose([r for _, r, _ in mine], [r for _, r, _ in theirs], rtol=1e-9, atol=1e-9)
+    with pytest.raises(AssertionError):  # the clock's end does restart the worlds: the layout is a new one
+        assert_same_worlds(environment, core.state, start, slice(None))
+
+
+FIRE_OUT_STEP = 5
+
+
+def fire_out_in_world_zero(restepped, environment: str):
+    """``environment``'s main task (it ends on ``fire_out``) with the fire of world 0 going out on step 5."""
+    calls = [0]
+
+    def step(sim, state, actions, rng):
+        new, outcome = sim.step(state, actions, rng)
+        calls[0] += 1
+        events = dict(outcome.events)
+        events["fire_out"] = events["fire_out"].copy()
+        events["fire_out"][0] |= calls[0] == FIRE_OUT_STEP  # a world event holds for every agent of its world
+        return new, outcome._replace(events=events)
+
+    compiled = hivex_dsl.compile({"hivex": 1, "environment": environment, "episode_length": ONE_EPISODE,
+                                  "seeds": {"train": 1, "test": 2}})
+    assert "fire_out" in compiled.ends_on and "fire_out" in compiled.entry.world_events
+    return restepped(compiled, step)
+
+
+@pytest.mark.parametrize("environment", ["aerial_wildfire_suppression", "wildfire_resource_management"])
+@pytest.mark.parametrize("mode", ["next_step", "same_step"])
+def test_fire_out_is_a_world_ending_that_restarts_the_world(restepped, environment, mode):
+    venv = hivex_dsl.vector_env(fire_out_in_world_zero(restepped, environment), num_worlds=2, autoreset_mode=mode)
+    stats = RecordEpisodeStatistics(venv)
+    stats.reset(seed=3)
+    core, agents = venv.core, venv.agents_per_world
+    actions = np.stack([stats.single_action_space.sample() for _ in range(stats.num_envs)]) \
+        if not isinstance(stats.single_action_space, spaces.Dict) else straight_ahead(environment, stats.num_envs)
+    start = layout(environment, core.state)
+    for _ in range(FIRE_OUT_STEP - 1):
+        _, _, terminated, truncated, _ = stats.step(actions)
+        assert not (terminated | truncated).any()
+    _, _, terminated, truncated, infos = stats.step(actions)
+    world0 = np.arange(stats.num_envs) < agents
+    np.testing.assert_array_equal(terminated, world0)  # every agent of world 0 ends, nobody of world 1
+    assert not truncated.any()
+    np.testing.assert_array_equal(infos["episode"]["l"][world0], FIRE_OUT_STEP)
+    np.testing.assert_array_equal(infos["hivex_episode"]["length"][world0], FIRE_OUT_STEP)
+    if mode == "next_step":  # world 0 restarts on the next step (its rewards 0, no ending)
+        _, reward, terminated, truncated, _ = stats.step(actions)
+        assert not (terminated | truncated).any() and np.all(reward[world0] == 0.0)
+    np.testing.assert_array_equal(core.clock, [0, FIRE_OUT_STEP + (mode == "next_step")])
+    assert_same_worlds(environment, core.state, start, [1])
+    with pytest.raises(AssertionError):  # world 0 is a new one
+        assert_same_worlds(environment, core.state, start, [0])
+
+
+@pytest.mark.parametrize("scope,world_restarts", [("altitude_m > 15", False), ("team_min(altitude_m) > 15", True)])
+def test_a_per_world_ending_expression_ends_the_world_and_a_per_agent_one_its_agents(scope, world_restarts):
+    """Climbing drones cross 15 m together: the per-agent expression ends each drone (they respawn, the
+    world goes on), the per-world one (a value of the whole world) ends the world."""
+    venv = hivex_dsl.vector_env(short_battery(3, ends_on=[scope]), num_worlds=1, autoreset_mode="same_step")
+    venv.reset(seed=3)
+    actions = climbing(venv.num_envs)
+    for t in range(ONE_EPISODE - 1):
+        _, _, terminated, truncated, _ = venv.step(actions)
+        if terminated.any():
+            break
+    assert terminated.all() and not truncated.any()
+    assert venv.core.clock[0] == (0 if world_restarts else t + 1)
+
+
+@pytest.mark.parametrize("respawn", [False, True])
+def test_the_parallel_env_ends_a_one_drone_world_only_with_respawn_off(respawn):
+    env = hivex_dsl.parallel_env(short_battery(1), respawn=respawn)
+    env.reset(seed=3)
+    action = {"continuous": np.array([0.0, 0.0, 1.0], np.float32), "discrete": np.zeros(1, np.int64)}
+    for t in range(ONE_EPISODE - 1):
+        obs, _, terminated, truncated, infos = env.step({a: action for a in env.agents})
+        if terminated["drone_0"]:
+            break
+    assert terminated["drone_0"] and not truncated["drone_0"] and infos["drone_0"]["hivex_episode"]["length"] == t + 1
+    if respawn:  # respawned in its world: a full battery, the clock runs on
+        assert env.agents == ["drone_0"] and "terminal_observation" in infos["drone_0"]
+        assert env.core.state.energy[0, 0] == 1.0 and env.core.clock[0] == t + 1
+    else:  # PettingZoo's rule: the ended agent leaves, and with nobody left the episode is over
+        assert env.agents == []

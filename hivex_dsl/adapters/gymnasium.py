@@ -3,12 +3,21 @@
 ``num_worlds`` copies of the scenario step together; the slots are the flattened
 (world, agent) pairs, so ``num_envs == num_worlds * agents`` and one policy acts for all.
 
-Episodes are per slot, with ML-Agents' semantics: an agent whose own episode ends while its world
-goes on (a crash, a border, a task's ``ends_on`` event) reports ``terminated`` on that step and is
-respawned in the same world; a world restarts as a whole when its clock reaches the episode length
-or every agent terminates on the same step. Every slot is always live, so stock consumers
-(``RecordEpisodeStatistics``, SB3, CleanRL) count per-agent returns and lengths right. Both of
-Gymnasium's autoreset modes are offered (``autoreset_mode``):
+Episodes are per slot, with ML-Agents' semantics. Endings have a scope (see
+:class:`hivex_dsl.runtime.BatchedEnv`):
+
+- an agent's own ending (a crash, the border, an empty battery, a task's ``ends_on`` event of one
+  agent, a per-agent ending expression) reports ``terminated`` for that slot and respawns the agent
+  in the same world, which goes on (its clock, fire, forest, planted trees);
+- a world restarts as a whole when its clock reaches the episode length (its slots report
+  ``truncated``) or a world-level ending happens: a task's ``ends_on`` event that the environment
+  declares a world event (AWS's and WRM's ``fire_out``) or a per-world ending expression (its slots
+  report ``terminated``).
+
+A world never restarts because its agents' own endings coincide: drones whose batteries run out on
+the same step (or the only agent of a one-agent world) respawn in their world. Every slot is always
+live, so stock consumers (``RecordEpisodeStatistics``, SB3, CleanRL) count per-agent returns and
+lengths right. Both of Gymnasium's autoreset modes are offered (``autoreset_mode``):
 
 - NEXT_STEP (default): a slot that ended returns its last observation; the next ``step`` ignores
   its action and returns its first observation with reward 0 and no ending.

@@ -52,7 +52,10 @@ class HivexParallelEnv(Rendering, ParallelEnv):
     other consumers that need a constant agent list) an agent that ends alone while its world goes on
     reports ``terminated`` and its ``hivex_episode``, is respawned at once (ML-Agents' semantics) and
     stays in ``agents``; its step observation is its first one and its last is in
-    ``infos[agent]["terminal_observation"]`` (SB3's key). Worlds still end as a whole as usual.
+    ``infos[agent]["terminal_observation"]`` (SB3's key). The world ends as a whole (every agent
+    leaves ``agents``) only when its clock runs out or a world-level ending happens (a world event
+    such as ``fire_out``, a per-world ending expression), never because agents' own endings coincide:
+    a one-agent world's agent, or drones whose batteries empty on one step, respawn.
     """
 
     def __init__(self, compiled: CompiledScenario, render_mode: Optional[str] = None, split: Split = "train",

@@ -56,7 +56,8 @@ def _matrix(entry: registry.EnvironmentEntry) -> dict[str, Any]:
                      "paper_row": num(contract.paper_row) if contract and contract.paper_row is not None else "-",
                      "weights": [num(float(w)) for w in weights]})
     tasks = [{"index": t.index, "name": t.name, "title": t.title, "description": t.description,
-              "ends_on": [{"name": e, "meaning": entry.events.get(e, "")} for e in t.ends_on]}
+              "ends_on": [{"name": e, "meaning": entry.events.get(e, ""), "world": e in entry.world_events}
+                          for e in t.ends_on]}
              for t in table.tasks]
     return {"source": table.source, "tasks": tasks, "rows": rows}
 
@@ -146,6 +147,7 @@ def environment_context(entry: registry.EnvironmentEntry) -> dict[str, Any]:
         "spec": specification(entry.info, compiled, simulator),
         "matrix": _matrix(entry),
         "events": sorted(entry.events.items()),
+        "world_events": sorted(entry.world_events),
         "contracts": _contracts(entry),
         "params": _params(entry),
         "generators": _generators(entry),

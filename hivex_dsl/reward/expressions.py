@@ -100,13 +100,22 @@ class ScenarioExpressions:
         return combined
 
     def ended(self, feed: QuantityFeed, shape: tuple[int, int]) -> Optional[np.ndarray]:
-        """(batch, agents) bool: some ending expression holds after the step; None without any."""
+        """(batch, agents) bool: some per-agent ending expression holds after the step; None without any."""
         hit = None
         for ending in self.endings:
-            value = ending.evaluate(feed.now, feed.before)
-            value = value[:, None] if value.ndim == 1 else value
-            hit = value if hit is None else hit | value
+            if ending.per == "agent":
+                value = ending.evaluate(feed.now, feed.before)
+                hit = value if hit is None else hit | value
         return None if hit is None else np.broadcast_to(hit, shape)
+
+    def world_ended(self, feed: QuantityFeed) -> Optional[np.ndarray]:
+        """(batch,) bool: some per-world ending expression (an ending of the whole world) holds; None without any."""
+        hit = None
+        for ending in self.endings:
+            if ending.per == "world":
+                value = ending.evaluate(feed.now, feed.before)
+                hit = value if hit is None else hit | value
+        return hit
 
 
 def compile_expressions(compiled: Any, vocabulary: Optional[Vocabulary],

@@ -35,6 +35,7 @@ ENTRY = register(EnvironmentEntry(
     make_simulator=AerialWildfireSimulator,
     scripted_policy=scripted_policy,
     events=EVENTS,
+    world_events=frozenset({"fire_out"}),  # the island's fire: an ending of the whole world
     checks=(world_fits,),
     generators=ISLAND_GENERATORS,
     notes=(
