@@ -101,6 +101,9 @@ class EnvironmentEntry:
 def register(entry: EnvironmentEntry) -> EnvironmentEntry:
     if entry.id not in CATALOGUE:
         raise ValueError(f"{entry.id!r} is not in the catalogue of HIVEX environments")
+    unknown = sorted(set(entry.world_events) - set(entry.events))
+    if unknown:
+        raise ValueError(f"{entry.id}: world events {unknown} are not among its events {sorted(entry.events)}")
     if entry.id in _REGISTRY:
         raise ValueError(f"environment {entry.id!r} registered twice")
     if entry.terms.environment != entry.id:
@@ -109,9 +112,6 @@ def register(entry: EnvironmentEntry) -> EnvironmentEntry:
         problems = entry.statistics.problems(entry.terms.names)
         if problems or entry.statistics.environment != entry.id:
             raise ValueError("; ".join(problems) or f"{entry.id}: its statistics belong to {entry.statistics.environment!r}")
-    unknown = sorted(set(entry.world_events) - set(entry.events))
-    if unknown:
-        raise ValueError(f"{entry.id}: world events {unknown} are not among its events {sorted(entry.events)}")
     _REGISTRY[entry.id] = entry
     return entry
 

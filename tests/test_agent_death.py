@@ -5,6 +5,10 @@ cross the border (OPC's crash ends a vessel's episode; AWS's border ends a plane
 RecordEpisodeStatistics, SuperSuit's vector conversion and the flat wrappers must all count the
 same per-agent returns and lengths as the toolkit's own ``hivex_episode`` sums, and those must
 equal the rewards summed by hand under Gymnasium's autoreset rules.
+
+Endings have a scope: agents whose own endings coincide (DBR drones draining alike, a one-agent
+world's only agent) respawn in their running world; only the clock or a declared world-level ending
+(AWS/WRM fire out, a per-world ending expression) restarts a world.
 """
 
 from __future__ import annotations
@@ -370,3 +374,17 @@ def test_the_parallel_env_ends_a_one_drone_world_only_with_respawn_off(respawn):
         assert env.core.state.energy[0, 0] == 1.0 and env.core.clock[0] == t + 1
     else:  # PettingZoo's rule: the ended agent leaves, and with nobody left the episode is over
         assert env.agents == []
+
+
+def test_only_the_fire_going_out_is_declared_an_ending_of_the_whole_world():
+    import dataclasses
+
+    from hivex_dsl import registry
+
+    declared = {env: registry.get(env).world_events for env in LAYOUT | {"wind_farm_control": None}}
+    assert declared == {"aerial_wildfire_suppression": {"fire_out"}, "wildfire_resource_management": {"fire_out"},
+                        "drone_based_reforestation": set(), "ocean_plastic_collection": set(),
+                        "wind_farm_control": set()}
+    entry = registry.get("drone_based_reforestation")
+    with pytest.raises(ValueError, match="world events \\['fire_out'\\] are not among its events"):
+        registry.register(dataclasses.replace(entry, world_events=frozenset({"fire_out"})))
