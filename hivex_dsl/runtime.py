@@ -332,7 +332,7 @@ class BatchedEnv:
             if hit is not None:
                 ending = ending | hit
         world = self._world_terminated(outcome)
-        if world is not self._no_world_ending:
+        if world is not self._no_world_ending and np.count_nonzero(world):
             ending = ending | world[:, None]
         terminated = live & ending
         if self.oldest_clock < self.compiled.episode_length:  # no world truncates

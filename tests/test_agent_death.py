@@ -57,6 +57,33 @@ def hand_counted(rewards, dones, mode):
     return out
 
 
+def record_step(infos, reward, done, record) -> None:
+    """Keep one step's rewards, endings and our episode summaries in ``record`` (rewards, dones, ours);
+    the wrapper's episode statistics and ours must agree slot by slot, and so must the flags."""
+    rewards, dones, ours = record
+    rewards.append(reward)
+    dones.append(done)
+    ours.append([(s, infos["hivex_episode"]["return"][s], infos["hivex_episode"]["length"][s])
+                 for s in np.flatnonzero(done)])
+    if not done.any():
+        assert "hivex_episode" not in infos and "episode" not in infos
+        return
+    np.testing.assert_array_equal(infos["_episode"], done)
+    np.testing.assert_array_equal(infos["_hivex_episode"], done)
+    np.testing.assert_allclose(infos["episode"]["r"], infos["hivex_episode"]["return"], rtol=1e-9, atol=1e-9)
+    np.testing.assert_array_equal(infos["episode"]["l"], infos["hivex_episode"]["length"])
+
+
+def assert_summed_as_by_hand(record, mode) -> int:
+    """Our episode summaries equal the rewards summed by hand; returns the number of finished episodes."""
+    rewards, dones, ours = record
+    by_hand = hand_counted(rewards, dones, mode)
+    for mine, theirs in zip(ours, by_hand):
+        assert [(s, length) for s, _, length in mine] == [(s, length) for s, _, length in theirs]
+        np.testing.assert_allclose([r for _, r, _ in mine], [r for _, r, _ in theirs], rtol=1e-9, atol=1e-9)
+    return sum(len(step) for step in by_hand)
+
+
 @pytest.mark.parametrize("environment", list(LENGTH))
 @pytest.mark.parametrize("mode", ["next_step", "same_step"])
 @pytest.mark.parametrize("flat", [False, True])
@@ -67,31 +94,15 @@ def test_record_episode_statistics_counts_what_the_toolkit_sums_including_deaths
     stats = RecordEpisodeStatistics(venv)
     stats.reset(seed=3)
     actions = straight_ahead(environment, stats.num_envs, flat)
-    rewards, dones, ours, deaths, finished = [], [], [], 0, 0
+    record, deaths, finished = ([], [], []), 0, 0
     for _ in range(LENGTH[environment] + 3):
         obs, reward, terminated, truncated, infos = stats.step(actions)
         assert stats.observation_space.contains(obs)
-        done = terminated | truncated
-        rewards.append(reward)
-        dones.append(done)
-        ours.append([(s, infos["hivex_episode"]["return"][s], infos["hivex_episode"]["length"][s])
-                     for s in np.flatnonzero(done)])
-        if not done.any():
-            assert "hivex_episode" not in infos and "episode" not in infos
-            continue
-        # the wrapper's episode stats and ours agree slot by slot, and so do the flags
-        np.testing.assert_array_equal(infos["_episode"], done)
-        np.testing.assert_array_equal(infos["_hivex_episode"], done)
-        np.testing.assert_allclose(infos["episode"]["r"], infos["hivex_episode"]["return"], rtol=1e-9, atol=1e-9)
-        np.testing.assert_array_equal(infos["episode"]["l"], infos["hivex_episode"]["length"])
+        record_step(infos, reward, terminated | truncated, record)
         deaths += int(np.count_nonzero(terminated & ~truncated))
-        finished += int(np.count_nonzero(done))
+        finished += int(np.count_nonzero(terminated | truncated))
     assert deaths >= 2 and finished > deaths  # agents died alone, and worlds ran out of time later
-    by_hand = hand_counted(rewards, dones, stats.metadata["autoreset_mode"])
-    assert sum(len(step) for step in by_hand) == finished
-    for mine, theirs in zip(ours, by_hand):
-        assert [(s, length) for s, _, length in mine] == [(s, length) for s, _, length in theirs]
-        np.testing.assert_allclose([r for _, r, _ in mine], [r for _, r, _ in theirs], rtol=1e-9, atol=1e-9)
+    assert assert_summed_as_by_hand(record, stats.metadata["autoreset_mode"]) == finished
 
 
 @pytest.mark.parametrize("environment", list(LENGTH))
@@ -269,28 +280,18 @@ def test_agents_that_all_die_on_one_step_respawn_in_the_same_world(environment, 
     stats.reset(seed=3)
     core, actions = venv.core, act(stats.num_envs)
     start = layout(environment, core.state)
-    rewards, dones, ours, together = [], [], [], 0
+    record, together = ([], [], []), 0
     for t in range(length + 3):
         obs, reward, terminated, truncated, infos = stats.step(actions)
         assert stats.observation_space.contains(obs)
-        done = terminated | truncated
-        rewards.append(reward)
-        dones.append(done)
-        ours.append([(s, infos["hivex_episode"]["return"][s], infos["hivex_episode"]["length"][s])
-                     for s in np.flatnonzero(done)])
-        if done.any():
-            np.testing.assert_allclose(infos["episode"]["r"], infos["hivex_episode"]["return"], rtol=1e-9, atol=1e-9)
-            np.testing.assert_array_equal(infos["episode"]["l"], infos["hivex_episode"]["length"])
+        record_step(infos, reward, terminated | truncated, record)
         if t < length - 1:  # inside the first episode: deaths only, and no world restarts
             assert not truncated.any()
             together += int(np.count_nonzero(terminated.reshape(2, agents).all(axis=1)))
             np.testing.assert_array_equal(core.clock, [t + 1, t + 1])
             assert_same_worlds(environment, core.state, start, slice(None))
     assert together >= 1  # every agent of a world died on one step (the old rule restarted the world then)
-    by_hand = hand_counted(rewards, dones, stats.metadata["autoreset_mode"])
-    for mine, theirs in zip(ours, by_hand):
-        assert [(s, length) for s, _, length in mine] == [(s, length) for s, _, length in theirs]
-        np.testing.assert_allclose([r for _, r, _ in mine], [r for _, r, _ in theirs], rtol=1e-9, atol=1e-9)
+    assert assert_summed_as_by_hand(record, stats.metadata["autoreset_mode"]) > 0
     with pytest.raises(AssertionError):  # the clock's end does restart the worlds: the layout is a new one
         assert_same_worlds(environment, core.state, start, slice(None))
 
