@@ -203,7 +203,7 @@ class BatchedEnv:
 
         Their worlds' clocks go on; the simulator's ``respawn_where`` puts them back (continuing the
         random stream) and their per-agent sums start from zero. A simulator without one (its agents
-        never end alone unless a scenario says so, e.g. a turbine) starts them again where they are.
+        never end on their own unless a scenario says so, e.g. a turbine) starts them again where they are.
         Does not observe.
         """
         self._require_reset()

@@ -265,7 +265,8 @@ def death_case(environment: str, agents: int):
     """(scenario, actions for n slots, episode length) of a case whose agents all die on one step."""
     if environment == "drone_based_reforestation":
         return short_battery(agents), climbing, ONE_EPISODE
-    return dict(scenario(environment), agents=agents), lambda slots: straight_ahead(environment, slots), LENGTH[environment]
+    actions = lambda slots: straight_ahead(environment, slots)  # noqa: E731
+    return dict(scenario(environment), agents=agents), actions, LENGTH[environment]
 
 
 @pytest.mark.parametrize("environment,agents", DEATH_CASES)

@@ -27,7 +27,7 @@ lengths right. Both of Gymnasium's autoreset modes are offered (``autoreset_mode
 A slot that restarts (NEXT_STEP) on the very step its world ends is reported truncated with an
 empty episode (return 0, length 0), as ``RecordEpisodeStatistics`` counts it too. When every world
 restarts at once, NEXT_STEP resets them without stepping the simulator, so a one-world vector env
-follows the parallel env episode after episode as long as no agent ends alone (the parallel env
+follows the parallel env episode after episode as long as no agent's own episode ends (the parallel env
 then lets the agent leave, the vector env respawns it).
 
 ``infos["hivex_episode"]`` (mask ``infos["_hivex_episode"]``) holds each ended slot's return,

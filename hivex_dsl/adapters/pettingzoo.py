@@ -49,7 +49,7 @@ class HivexParallelEnv(Rendering, ParallelEnv):
 
     Agent death: by PettingZoo's convention an agent whose episode ended leaves ``agents`` until
     the world resets. With ``respawn=True`` (for SuperSuit's ``pettingzoo_env_to_vec_env_v1`` and
-    other consumers that need a constant agent list) an agent that ends alone while its world goes on
+    other consumers that need a constant agent list) an agent whose own episode ends while its world goes on
     reports ``terminated`` and its ``hivex_episode``, is respawned at once (ML-Agents' semantics) and
     stays in ``agents``; its step observation is its first one and its last is in
     ``infos[agent]["terminal_observation"]`` (SB3's key). The world ends as a whole (every agent
