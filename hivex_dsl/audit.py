@@ -6,7 +6,9 @@ return). It raises a :class:`Flag` for what usually means a reward bug:
 
 - ``action_independent``: a term pays the same episode sums under all three policies (and is at least 5%
   of what the random or the scripted policy earns); for a global-scope term (a property of the whole world,
-  which a task may mean the agents to be unable to change) this is a note, not a flag;
+  which a task may mean the agents to be unable to change) this is a note, not a flag; a term paid only on
+  the steps that end episodes, whose episodes last differently long under the policies, is neither (the
+  actions decide when it is earned);
 - ``first_step``: an event or terminal term pays on the first step after reset under the all-zeros policy;
 - ``dominant``: one term pays at least 90% of what the scripted policy earns from the terms that can
   reward it (where at least two can);
@@ -136,13 +138,27 @@ def _action_independent(audit: ScenarioAudit) -> list[Flag]:
             continue
         same = all(s.shape == sums[0].shape and np.allclose(s, sums[0], rtol=TOLERANCE, atol=TOLERANCE) for s in sums)
         matters = max(abs(audit.shares(p)[term]) for p in ACTING) >= MATTERS_SHARE
-        if same and matters:
+        if same and matters and not _paid_on_endings_the_actions_time(runs, term):
             world = _contracts_of(audit)[term].scope == "global"
             flags.append(Flag("action_independent", term=term, note=world, message=(
                 f"{term} pays the same per-episode sums under the all-zeros, random and scripted policies "
                 f"(mean {float(sums[0].mean()):.4g}): its value does not depend on the actions"
                 + (" (a global-scope term: a property of the world)" if world else ""))))
     return flags
+
+
+def _paid_on_endings_the_actions_time(runs: list[Rollout], term: str) -> bool:
+    """Whether ``term`` paid only on steps that ended the agent's episode, under every policy, and the policies'
+    episodes lasted differently long.
+
+    Such a term (a task that ends on its event, such as Aerial Wildfire Suppression's Pick Up Water task) pays
+    once per episode under every policy that triggers it, so equal episode sums say nothing: what the actions
+    decide is when it is earned, which the episode lengths show.
+    """
+    only_at_endings = all(term in run.traces and run.traces[term].before_end == 0 for run in runs)
+    lengths = [run.lengths for run in runs]
+    differ = any(a.shape != lengths[0].shape or not np.array_equal(a, lengths[0]) for a in lengths)
+    return only_at_endings and differ
 
 
 def _first_step(audit: ScenarioAudit) -> list[Flag]:

@@ -20,6 +20,7 @@ from typing import Any, Mapping, Union
 
 from . import registry
 from .errors import Location, Problem, ScenarioError, did_you_mean, got, kind_of, one_of, show
+from .blame import MISSING as _MISSING, culprit, get as _get
 from .loader import Loaded, PathKey, load_file
 from .resources import resolve_scenario_path
 from .reward.expressions import event_names, with_expressions
@@ -277,17 +278,6 @@ def _sweep_target(loaded: Loaded, entry, key: str) -> PathKey:
           f"{', generators.<generator>.<field>' if generator_fields else ''}", key=True)
 
 
-_MISSING = object()
-
-
-def _get(data: Any, path: PathKey) -> Any:
-    for part in path:
-        if not isinstance(data, dict) or part not in data:
-            return _MISSING
-        data = data[part]
-    return data
-
-
 def _compile_point(loaded: Loaded, entry, assignment: Assignment, budget: list[int]) -> CompiledScenario:
     data = {k: v for k, v in copy.deepcopy(loaded.data).items() if k != "sweep"}
     redirects = {}
@@ -310,53 +300,12 @@ def _compile_point(loaded: Loaded, entry, assignment: Assignment, budget: list[i
     swept = [target for target, _, _ in assignment]
     found = _semantic_problems(compiled, swept)
     if found:
-        raise ScenarioError([Problem(_blame(loaded, entry, data, assignment, locate, path, budget), message)
+        def recheck(variant: dict) -> list[tuple[PathKey, str]]:
+            return _semantic_problems(_validated(entry, variant, loaded.source, {}, locate), swept)
+
+        raise ScenarioError([Problem(culprit(loaded, data, assignment, locate, path, budget, recheck), message)
                              for path, message in found])
     return compiled
-
-
-def _blame(loaded: Loaded, entry, data: dict, assignment: Assignment, locate, path: PathKey,
-           budget: list[int]) -> Location:
-    """Where the user wrote what makes the semantic problem at ``path``: the first written value whose
-    removal makes the problem go away (``path`` itself first, then sweep values, then the file's
-    values in order: a params value that makes a layout impossible); else the value at ``path``
-    when the file sets (or sweeps) it; else this point's first sweep value. ``budget`` ([trials left])
-    bounds the recompilations of a whole sweep."""
-    swept = {target: where for target, _, where in assignment}
-    written = path in loaded.marks or any(path[: len(t)] == t for t in swept)
-    candidates = [] if path[:1] == ("seeds",) else ([path] if written else []) + _written_leaves(data, swept)
-    for leaf in candidates:
-        if _get(data, leaf) is _MISSING or budget[0] <= 0:
-            continue
-        budget[0] -= 1
-        variant = copy.deepcopy(data)
-        parent = _get(variant, leaf[:-1])
-        del parent[leaf[-1]]
-        try:
-            remaining = _semantic_problems(_validated(entry, variant, loaded.source, {}, locate), list(swept))
-        except ScenarioError:
-            continue
-        if all(p != path for p, _ in remaining):
-            return locate(leaf)
-    return locate(path) if written or not swept else loaded.locate(next(iter(swept.values())))
-
-
-_NOT_CAUSES = ("hivex", "environment", "name", "description", "seeds")
-
-
-def _written_leaves(data: dict, swept: dict) -> list[PathKey]:
-    """Paths of the single values a scenario sets (swept ones first), at most 64 of them."""
-    leaves = list(swept)
-
-    def walk(value: Any, path: PathKey) -> None:
-        if isinstance(value, dict):
-            for key, item in value.items():
-                walk(item, path + (key,))
-        elif path and path[0] not in _NOT_CAUSES and path not in leaves:
-            leaves.append(path)
-
-    walk(data, ())
-    return leaves[:64]
 
 
 def _resolve(entry, spec: StrictModel, source: str, point: dict[str, Any], locate) -> CompiledScenario:

@@ -10,9 +10,10 @@ import numpy as np
 import pytest
 
 import hivex_dsl
-from hivex_dsl.audit import audit_scenario, describe
+from hivex_dsl.audit import AUDIT_POLICIES, ScenarioAudit, audit_scenario, describe, find_flags
 from hivex_dsl.cli import main
 from hivex_dsl.reward.terms import TermRegistry
+from hivex_dsl.rollout import Rollout, TermTrace
 
 EPISODE = 30
 
@@ -168,3 +169,26 @@ def test_the_command_wants_a_file_or_the_suite(capsys):
     assert main(["audit"]) == 2
     assert main(["audit", "wind_farm_control/main", "--suite"]) == 2
     assert "give a scenario FILE or --suite" in capsys.readouterr().err
+
+
+def _ending_term_audit(lengths_by_policy, before_end=0):
+    """An audit of three hand-made rollouts in which term ``pick`` pays 1 once per episode under every policy,
+    on the step that ends it (``before_end`` payments did not), after episodes of the given lengths."""
+    compiled = _compiled(_terms(("pick", turning, dict(DENSE, timing="event"))), {"pick": 1.0})
+    rollouts = {}
+    for policy, length in zip(AUDIT_POLICIES, lengths_by_policy):
+        trace = TermTrace(low=0.0, high=1.0, nonzero=6, live=6 * length, before_end=before_end)
+        rollouts[policy] = Rollout(compiled, policy, returns=np.ones((2, 3)), lengths=np.full((2, 3), length),
+                                   terms={"pick": np.ones((2, 3))}, statistics={}, traces={"pick": trace})
+    return find_flags(ScenarioAudit(compiled, rollouts, None))
+
+
+def test_a_term_paid_on_the_event_that_ends_the_episode_depends_on_when_the_actions_trigger_it():
+    """Once per episode under every policy, on the ending step: the all-zeros policy drifts onto the water
+    after 400 steps, random after 250, the scripted pilot heads there in 40. Equal sums, yet the actions
+    decide the term (when it is earned), so it is not flagged as action-independent."""
+    assert not [f for f in _ending_term_audit([400, 250, 40]) if f.kind == "action_independent"]
+    # the same payments after equally long episodes: nothing the actions did shows, so it is flagged
+    assert [f.kind for f in _ending_term_audit([30, 30, 30])] == ["action_independent"]
+    # paid before the episode ended too (a step that did not end it): equal sums are action-independence
+    assert [f.kind for f in _ending_term_audit([400, 250, 40], before_end=2)] == ["action_independent"]

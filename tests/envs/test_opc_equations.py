@@ -43,10 +43,26 @@ def test_collect_trash_is_the_count_collected_this_step(sim, state):
     np.testing.assert_array_equal(collect_trash(state, new, None, sim.params), [[0, 2, 1], [5, 0, 0]])
 
 
-def test_lowest_collected_count_pays_everyone_a_hundredth_of_the_world_minimum(sim, state):
-    new = replace(state, collected_total=np.array([[7, 3, 12], [40, 41, 40]]))
+def test_lowest_collected_count_pays_everyone_a_hundredth_of_the_world_minimum_per_pebble_collected(sim, state):
+    """World 0: vessels hold 7, 3 and 12 pebbles after this step, two of them picked up 2 and 1 now: each of
+    the 3 pebbles pays every vessel 0.01 x 3 (the lowest count), 0.09. World 1: lowest 40, but nothing was
+    collected this step, so nothing is paid (the term pays on collection, not on every step)."""
+    new = replace(state, collected_total=np.array([[7, 3, 12], [40, 41, 40]]),
+                  collected=np.array([[0, 2, 1], [0, 0, 0]]))
     np.testing.assert_allclose(lowest_collected_trash_count(state, new, None, sim.params),
-                               [[0.03, 0.03, 0.03], [0.40, 0.40, 0.40]])
+                               [[0.09, 0.09, 0.09], [0.0, 0.0, 0.0]])
+
+
+def test_the_lowest_count_term_pays_the_world_minimum_once_per_pebble_over_an_episode(sim, state):
+    """Hand-computed episode: three vessels; step 1 vessel 0 takes a pebble (lowest count 0: pays 0),
+    step 2 vessels 1 and 2 take one each (lowest 1: 2 pebbles x 0.01 x 1 = 0.02), step 3 nothing (0),
+    step 4 vessel 0 takes 3 (lowest 1: 3 x 0.01 = 0.03). Every vessel's episode sum is 0.05, where paying
+    0.01 x the lowest count on every step would give 0 + 0.01 + 0.01 + 0.01 = 0.03."""
+    steps = [([1, 0, 0], [1, 0, 0]), ([0, 1, 1], [1, 1, 1]), ([0, 0, 0], [1, 1, 1]), ([3, 0, 0], [4, 1, 1])]
+    total = sum(lowest_collected_trash_count(state, replace(state, collected=np.array([now]),
+                                                            collected_total=np.array([held])), None, sim.params)
+                for now, held in steps)
+    np.testing.assert_allclose(total, [[0.05, 0.05, 0.05]])
 
 
 def test_crash_terms_are_minus_100_on_their_events(sim, state):

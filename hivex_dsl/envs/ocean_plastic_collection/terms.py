@@ -39,14 +39,16 @@ def collect_trash(prev, state, actions, params):
 
 @TERMS.term(
     "lowest_collected_trash_count", title="Global Lowest Trash Collected", paper_row=2, low=0.0,
-    high=LOWEST_COUNT_FACTOR * MAX_PEBBLES, sign="bonus", timing="dense", scope="global",
-    description="Every step, every vessel gets 0.01 times the lowest count of pebbles any vessel of the world "
-                "has collected so far this episode.",
-    equation="R(T) = a * min(t_1, ..., t_n),  a = 0.01",
+    high=LOWEST_COUNT_FACTOR * MAX_PEBBLES * MAX_PEBBLES, sign="bonus", timing="event", scope="global",
+    description="For every pebble collected anywhere in the world this step, every vessel gets 0.01 times the "
+                "lowest count of pebbles any vessel of the world has collected so far this episode (paid on "
+                "collection, not on every step: the published Global Reward, see the reward table's notes).",
+    equation="R(T) = a * min(t_1, ..., t_n) * c,  a = 0.01,  c = pebbles collected in the world this step",
 )
 def lowest_collected_trash_count(prev, state, actions, params):
-    counts = state.collected_total
-    return np.zeros(counts.shape) + LOWEST_COUNT_FACTOR * counts.min(axis=1, keepdims=True)
+    lowest = state.collected_total.min(axis=1, keepdims=True)
+    collected_in_world = state.collected.sum(axis=1, keepdims=True)
+    return np.zeros(state.collected_total.shape) + LOWEST_COUNT_FACTOR * lowest * collected_in_world
 
 
 @TERMS.term(

@@ -1,0 +1,64 @@
+"""Every environment against the paper's published test results at level 1 (issue 15).
+
+For every published cell whose PPO return is above 0.5, the all-zeros and the uniform random policy
+stay below PPO x 1.1 and the scripted policy reaches at least half of it. Each policy's return is
+the mean per-agent return of the first two episodes of the test seed stream (seed 6000), rolled one
+after the other in one world (each episode draws its own world); the random policy is seeded 0.
+Level 1 is terrain level 1, or layout pattern 0 for Wind Farm Control. WRM and OPC, whose files
+beside this one also check which published statistics fire, carry their own bounds there.
+"""
+
+from __future__ import annotations
+
+from functools import lru_cache
+
+import pytest
+
+import hivex_dsl
+from hivex_dsl import published
+from hivex_dsl.rollout import rollout
+
+EPISODES = 2
+LEVEL_KEY = {"wind_farm_control": ("pattern", 0), "drone_based_reforestation": ("terrain_level", 1),
+             "aerial_wildfire_suppression": ("terrain_level", 1)}
+# The published cells above 0.5 at level 1, read by hand from the results file: DBR has no result for
+# task 4 (Drop Seed) and published -0.02 for task 5; AWS published -69.6 for task 4 (Protect Village).
+EXPECTED_TASKS = {"wind_farm_control": [0, 1], "drone_based_reforestation": [0, 1, 2, 3, 6, 7],
+                  "aerial_wildfire_suppression": [0, 1, 2, 3, 5, 6, 7, 8]}
+
+
+def _cells(env: str) -> list:
+    level = LEVEL_KEY[env][1]
+    return [c for c in published.cells(env) if c.level == level and c.return_mean > 0.5]
+
+
+CELLS = [cell for env in LEVEL_KEY for cell in _cells(env)]
+
+
+def _id(cell) -> str:
+    return f"{cell.environment}-task{cell.task_index}"
+
+
+@lru_cache(maxsize=None)
+def mean_return(env: str, task: int, policy: str) -> float:
+    key, level = LEVEL_KEY[env]
+    compiled = hivex_dsl.compile({"hivex": 1, "environment": env, "task": task, key: level})
+    return float(rollout(compiled, policy, EPISODES, split="test").returns.mean())
+
+
+@pytest.mark.parametrize("env", sorted(LEVEL_KEY))
+def test_the_cells_under_test_are_the_published_positive_ones(env):
+    assert [c.task_index for c in _cells(env)] == EXPECTED_TASKS[env]
+
+
+@pytest.mark.parametrize("policy", ["zeros", "random"])
+@pytest.mark.parametrize("cell", CELLS, ids=_id)
+def test_a_trivial_policy_does_not_beat_the_published_ppo(cell, policy):
+    mean = mean_return(cell.environment, cell.task_index, policy)
+    assert mean < 1.1 * cell.return_mean, f"{policy} {mean:.2f} vs published {cell.return_mean:.2f}"
+
+
+@pytest.mark.parametrize("cell", CELLS, ids=_id)
+def test_the_scripted_policy_reaches_half_the_published_ppo(cell):
+    mean = mean_return(cell.environment, cell.task_index, "scripted")
+    assert mean >= 0.5 * cell.return_mean, f"scripted {mean:.2f} vs published {cell.return_mean:.2f}"
