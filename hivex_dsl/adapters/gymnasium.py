@@ -75,8 +75,9 @@ def _unflatten(tree: Any, shape: tuple[int, int]) -> Any:
     return array.reshape(shape + array.shape[1:])
 
 
-def _slot_values(tree: Any, slot: int) -> Any:
-    return {k: _slot_values(v, slot) for k, v in tree.items()} if isinstance(tree, dict) else tree[slot]
+def slot_values(tree: Any, slot: int) -> Any:
+    """One slot's values of a (nested dict of) per-slot arrays."""
+    return {k: slot_values(v, slot) for k, v in tree.items()} if isinstance(tree, dict) else tree[slot]
 
 
 def as_autoreset_mode(mode: Any) -> AutoresetMode:
@@ -176,7 +177,7 @@ class HivexVectorEnv(Rendering, VectorEnv):
             done = result.ended.reshape(-1)
             infos["final_obs"] = np.full(self.num_envs, None, dtype=object)
             for slot in np.flatnonzero(done):
-                infos["final_obs"][slot] = _slot_values(final, slot)
+                infos["final_obs"][slot] = slot_values(final, slot)
             infos["_final_obs"] = done
             core.respawn_agents(result.ended & ~ending[:, None])
             observations = core.reset_worlds(ending) if ending.any() else core.observe()

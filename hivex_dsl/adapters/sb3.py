@@ -15,10 +15,7 @@ import numpy as np
 from stable_baselines3.common.vec_env.base_vec_env import VecEnv
 
 from .flat import flat_vector_env
-
-
-def _slot(tree: Any, index: int) -> Any:
-    return {k: _slot(v, index) for k, v in tree.items()} if isinstance(tree, dict) else tree[index]
+from .gymnasium import slot_values
 
 
 class SB3VecEnv(VecEnv):
@@ -49,7 +46,7 @@ class SB3VecEnv(VecEnv):
         for i in np.flatnonzero(dones):
             slot_infos[i]["terminal_observation"] = infos["final_obs"][i]
             slot_infos[i]["TimeLimit.truncated"] = bool(truncated[i] and not terminated[i])
-            slot_infos[i]["hivex_episode"] = _slot(infos["hivex_episode"], i)
+            slot_infos[i]["hivex_episode"] = slot_values(infos["hivex_episode"], i)
         return observations, rewards.astype(np.float32), dones, slot_infos
 
     def close(self) -> None:
