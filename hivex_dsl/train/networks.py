@@ -7,6 +7,7 @@ key ``"obs"``, a Dict observation keeps its keys. A key whose single space is (H
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any
 
@@ -14,11 +15,11 @@ import numpy as np
 import torch
 from gymnasium import spaces
 from torch import nn
-from torch.distributions import Categorical, Normal
 
 from .config import PPOConfig, TrainError
 
 MIN_IMAGE = {"simple": 20, "resnet": 15}  # ML-Agents' minimum camera sizes per encoder
+HALF_LOG_2PI = 0.5 * math.log(2 * math.pi)
 
 
 def observation_keys(space: spaces.Space) -> dict[str, tuple[int, ...]]:
@@ -156,7 +157,7 @@ class Body(nn.Module):
         parts = [encoder(obs[k]) for k, encoder in self.cameras.items()]
         if vector is not None:
             parts.append(vector)
-        return self.mlp(torch.cat(parts, dim=1))
+        return self.mlp(parts[0] if len(parts) == 1 else torch.cat(parts, dim=1))
 
 
 def _head(inputs: int, outputs: int, gain: float) -> nn.Linear:
@@ -185,7 +186,8 @@ class ActorCritic(nn.Module):
     def _vector(self, obs: dict[str, torch.Tensor]) -> torch.Tensor | None:
         if not self.actor.vectors:
             return None
-        return torch.cat([obs[k].reshape(obs[k].shape[0], -1) for k in self.actor.vectors], dim=1)
+        parts = [obs[k].reshape(obs[k].shape[0], -1) for k in self.actor.vectors]
+        return parts[0] if len(parts) == 1 else torch.cat(parts, dim=1)
 
     def _here(self, *tensors):
         """Inputs moved to the network's device (rollouts stay in CPU memory; outputs come back there)."""
@@ -199,53 +201,76 @@ class ActorCritic(nn.Module):
         if vector is not None:
             self.norm.update(vector)
 
-    def get_value(self, obs: dict[str, torch.Tensor]) -> torch.Tensor:
-        (obs,) = self._here(obs)
-        vector = self._vector(obs)
-        return self.value(self.critic(obs, None if vector is None else self.norm(vector))).squeeze(-1).cpu()
+    def _value(self, obs: dict[str, torch.Tensor], vector: torch.Tensor | None) -> torch.Tensor:
+        return self.value(self.critic(obs, vector)).squeeze(-1)
 
-    def _distributions(self, obs: dict[str, torch.Tensor]) -> tuple[Normal | None, list[Categorical]]:
+    def get_value(self, obs: dict[str, torch.Tensor]) -> torch.Tensor:
+        """-> V(obs) (B,) on the CPU."""
+        (obs,) = self._here(obs)
+        return self._value(obs, self._normalised(obs)).cpu()
+
+    def _normalised(self, obs: dict[str, torch.Tensor]) -> torch.Tensor | None:
         vector = self._vector(obs)
-        hidden = self.actor(obs, None if vector is None else self.norm(vector))
-        # our own network makes the parameters: skip torch's argument validation, a cost on every call
-        normal, cats = None, []
-        if self.mu is not None:
-            normal = Normal(self.mu(hidden), self.log_std.exp().expand(hidden.shape[0], -1), validate_args=False)
-        if self.logits is not None:
-            chunks = torch.split(self.logits(hidden), self.layout.nvec, dim=1)
-            cats = [Categorical(logits=chunk, validate_args=False) for chunk in chunks]
-        return normal, cats
+        return None if vector is None else self.norm(vector)
+
+    def _heads(self, obs: dict[str, torch.Tensor], vector: torch.Tensor | None):
+        """-> the Gaussian means (B, c) or None, and each categorical part's log-probabilities [(B, n_i)].
+
+        Written out rather than built from ``torch.distributions`` objects: their construction costs more
+        than the small networks themselves in PPO's hot loop (see benchmarks/train_throughput.py)."""
+        hidden = self.actor(obs, vector)
+        mu = self.mu(hidden) if self.mu is not None else None
+        log_probs = [torch.log_softmax(chunk, dim=1) for chunk in torch.split(self.logits(hidden), self.layout.nvec, 1)] \
+            if self.logits is not None else []
+        return mu, log_probs
 
     def act(self, obs: dict[str, torch.Tensor], deterministic: bool = False):
         """-> continuous (B, c), discrete (B, d) int64, log-prob (B,): sampled, or the modes if deterministic."""
+        cont, disc, logp, _ = self._act(obs, deterministic, with_value=False)
+        return cont, disc, logp
+
+    def act_and_value(self, obs: dict[str, torch.Tensor]):
+        """-> sampled continuous (B, c), discrete (B, d), their log-prob (B,) and V(obs) (B,), in one pass."""
+        return self._act(obs, False, with_value=True)
+
+    def _act(self, obs: dict[str, torch.Tensor], deterministic: bool, with_value: bool):
         (obs,) = self._here(obs)
-        normal, cats = self._distributions(obs)
-        first = next(iter(obs.values()))
-        batch = first.shape[0]
-        if normal is None:
-            cont = first.new_zeros(batch, 0)
+        vector = self._normalised(obs)
+        mu, log_probs = self._heads(obs, vector)
+        batch = next(iter(obs.values())).shape[0]
+        device = self.value.weight.device
+        if mu is None:
+            cont = torch.zeros(batch, 0, device=device)
         else:
-            cont = normal.mean if deterministic else normal.sample()
-        disc = torch.stack([c.probs.argmax(1) if deterministic else c.sample() for c in cats], 1) \
-            if cats else torch.zeros(batch, 0, dtype=torch.int64, device=first.device)
-        logp, _ = self._log_prob_entropy(normal, cats, cont, disc)
-        return cont.cpu(), disc.cpu(), logp.cpu()
+            cont = mu if deterministic else mu + self.log_std.exp() * torch.randn_like(mu)
+        if log_probs:
+            disc = torch.stack([lp.argmax(1) if deterministic else torch.multinomial(lp.exp(), 1).squeeze(1)
+                                for lp in log_probs], 1)
+        else:
+            disc = torch.zeros(batch, 0, dtype=torch.int64, device=device)
+        logp, _ = self._log_prob_entropy(mu, log_probs, cont, disc)
+        value = self._value(obs, vector).cpu() if with_value else None
+        return cont.cpu(), disc.cpu(), logp.cpu(), value
 
     def evaluate(self, obs: dict[str, torch.Tensor], cont: torch.Tensor, disc: torch.Tensor):
         """-> log-prob (B,), entropy (B,), value (B,) of given actions."""
         obs, cont, disc = self._here(obs, cont, disc)
-        normal, cats = self._distributions(obs)
-        logp, entropy = self._log_prob_entropy(normal, cats, cont, disc)
-        return logp.cpu(), entropy.cpu(), self.get_value(obs)
+        vector = self._normalised(obs)
+        mu, log_probs = self._heads(obs, vector)
+        logp, entropy = self._log_prob_entropy(mu, log_probs, cont, disc)
+        return logp.cpu(), entropy.cpu(), self._value(obs, vector).cpu()
 
-    @staticmethod
-    def _log_prob_entropy(normal, cats, cont, disc):
+    def _log_prob_entropy(self, mu: torch.Tensor | None, log_probs: list[torch.Tensor], cont: torch.Tensor,
+                          disc: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
+        """Joint log-probability (B,) of (cont, disc) and the policy's entropy (B,): a diagonal Gaussian with
+        state-independent log-std times independent categoricals."""
         logp = cont.new_zeros(cont.shape[0])
         entropy = cont.new_zeros(cont.shape[0])
-        if normal is not None:
-            logp = logp + normal.log_prob(cont).sum(1)
-            entropy = entropy + normal.entropy().sum(1)
-        for i, cat in enumerate(cats):
-            logp = logp + cat.log_prob(disc[:, i])
-            entropy = entropy + cat.entropy()
+        if mu is not None:
+            log_std = self.log_std.expand_as(mu)
+            logp = logp + (-0.5 * ((cont - mu) / log_std.exp()).square() - log_std - HALF_LOG_2PI).sum(1)
+            entropy = entropy + (0.5 + HALF_LOG_2PI + log_std).sum(1)
+        for i, lp in enumerate(log_probs):
+            logp = logp + lp.gather(1, disc[:, i:i + 1]).squeeze(1)
+            entropy = entropy - (lp.exp() * lp).sum(1)
         return logp, entropy

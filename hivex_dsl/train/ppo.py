@@ -71,6 +71,15 @@ def torch_device(name: str) -> torch.device:
     return device
 
 
+def make_optimizer(agent: nn.Module, learning_rate: float) -> torch.optim.Optimizer:
+    """Adam with its fused kernel (one pass over all parameters: the small networks' update is dominated by
+    per-tensor overhead otherwise), or the per-tensor loop where this torch build has no fused Adam."""
+    try:
+        return torch.optim.Adam(agent.parameters(), lr=learning_rate, fused=True)
+    except (RuntimeError, TypeError):
+        return torch.optim.Adam(agent.parameters(), lr=learning_rate)
+
+
 def acting_mask(previous_done: np.ndarray, active: np.ndarray) -> np.ndarray:
     """Slots whose action this step is a real experience: not the NEXT_STEP reset after an ending, and live."""
     return ~previous_done & active
@@ -116,8 +125,7 @@ def collect(env: HivexVectorEnv, agent: ActorCritic, buf: Rollout, state: dict[s
             buf.obs[k][t] = v
         buf.valid[t] = torch.as_tensor(acting_mask(state["done"], state["active"]), dtype=torch.float32)
         with torch.no_grad():
-            cont, disc, logp = agent.act(obs)
-            buf.values[t] = agent.get_value(obs)
+            cont, disc, logp, buf.values[t] = agent.act_and_value(obs)
         buf.cont[t], buf.disc[t], buf.logp[t] = cont, disc, logp
         next_obs, reward, terminated, truncated, infos = env.step(agent.layout.to_env(cont, disc))
         done = terminated | truncated
@@ -135,38 +143,46 @@ def update(agent: ActorCritic, optimizer: torch.optim.Optimizer, buf: Rollout, a
            returns: torch.Tensor, cfg: PPOConfig, beta: float, epsilon: float,
            rng: np.random.Generator) -> dict[str, float]:
     """``num_epoch`` passes of minibatch PPO over the valid experiences only; -> mean losses."""
-    valid = np.flatnonzero(buf.flat("valid").numpy() > 0)
-    if valid.size == 0:
+    valid = torch.as_tensor(np.flatnonzero(buf.flat("valid").numpy() > 0))
+    if valid.numel() == 0:
         return {}
-    obs = {k: v[valid] for k, v in buf.flat_obs().items()}
-    cont, disc = buf.flat("cont")[valid], buf.flat("disc")[valid]
-    old_logp, old_values = buf.flat("logp")[valid], buf.flat("values")[valid]
-    adv, ret = advantages.reshape(-1)[valid], returns.reshape(-1)[valid]
-    adv = (adv - adv.mean()) / (adv.std(unbiased=False) + 1e-8)
-    stats: dict[str, list[float]] = {"policy": [], "value": [], "entropy": [], "approx_kl": [], "clipfrac": []}
+    adv = advantages.reshape(-1)[valid]
+    data = {"obs": {k: v[valid] for k, v in buf.flat_obs().items()}, "cont": buf.flat("cont")[valid],
+            "disc": buf.flat("disc")[valid], "old_logp": buf.flat("logp")[valid],
+            "old_values": buf.flat("values")[valid], "returns": returns.reshape(-1)[valid],
+            "adv": (adv - adv.mean()) / (adv.std(unbiased=False) + 1e-8)}
+    params = list(agent.parameters())
+    stats: dict[str, list[torch.Tensor]] = {"policy": [], "value": [], "entropy": [], "approx_kl": [], "clipfrac": []}
     for _ in range(cfg.num_epoch):
-        order = rng.permutation(valid.size)
-        for start in range(0, valid.size, cfg.batch_size):
-            mb = torch.as_tensor(order[start:start + cfg.batch_size])
-            logp, entropy, value = agent.evaluate({k: v[mb] for k, v in obs.items()}, cont[mb], disc[mb])
-            log_ratio = logp - old_logp[mb]
+        # one gather per epoch; the minibatches are then contiguous slices (views, no copies)
+        shuffled = _take(data, torch.as_tensor(rng.permutation(valid.numel())))
+        for start in range(0, valid.numel(), cfg.batch_size):
+            mb = _take(shuffled, slice(start, start + cfg.batch_size))
+            logp, entropy, value = agent.evaluate(mb["obs"], mb["cont"], mb["disc"])
+            log_ratio = logp - mb["old_logp"]
             ratio = log_ratio.exp()
-            policy_loss = torch.max(-adv[mb] * ratio, -adv[mb] * ratio.clamp(1 - epsilon, 1 + epsilon)).mean()
-            clipped = old_values[mb] + (value - old_values[mb]).clamp(-epsilon, epsilon)
-            value_loss = torch.max((value - ret[mb]).square(), (clipped - ret[mb]).square()).mean()
+            adv = mb["adv"]
+            policy_loss = torch.max(-adv * ratio, -adv * ratio.clamp(1 - epsilon, 1 + epsilon)).mean()
+            clipped = mb["old_values"] + (value - mb["old_values"]).clamp(-epsilon, epsilon)
+            value_loss = torch.max((value - mb["returns"]).square(), (clipped - mb["returns"]).square()).mean()
             loss = policy_loss + 0.5 * value_loss - beta * entropy.mean()
             optimizer.zero_grad()
             loss.backward()
             if cfg.max_grad_norm > 0:
-                nn.utils.clip_grad_norm_(agent.parameters(), cfg.max_grad_norm)
+                nn.utils.clip_grad_norm_(params, cfg.max_grad_norm)
             optimizer.step()
-            with torch.no_grad():
-                stats["policy"].append(policy_loss.item())
-                stats["value"].append(value_loss.item())
-                stats["entropy"].append(entropy.mean().item())
-                stats["approx_kl"].append(((ratio - 1) - log_ratio).mean().item())
-                stats["clipfrac"].append(((ratio - 1).abs() > epsilon).float().mean().item())
-    return {k: float(np.mean(v)) for k, v in stats.items()}
+            with torch.no_grad():  # kept as tensors: one .item() per minibatch each would sync a GPU
+                stats["policy"].append(policy_loss.detach())
+                stats["value"].append(value_loss.detach())
+                stats["entropy"].append(entropy.mean())
+                stats["approx_kl"].append(((ratio - 1) - log_ratio).mean())
+                stats["clipfrac"].append(((ratio - 1).abs() > epsilon).float().mean())
+    return {k: float(torch.stack(v).mean()) for k, v in stats.items()}
+
+
+def _take(data: dict[str, Any], index: torch.Tensor | slice) -> dict[str, Any]:
+    """``data`` (tensors, and one nested dict of observation tensors) indexed along the first axis."""
+    return {k: _take(v, index) if isinstance(v, dict) else v[index] for k, v in data.items()}
 
 
 def train(compiled: CompiledScenario, cfg: PPOConfig, run_dir: Path, progress: bool = True,
@@ -180,7 +196,7 @@ def train(compiled: CompiledScenario, cfg: PPOConfig, run_dir: Path, progress: b
     rng = np.random.default_rng(cfg.seed)
     env, obs = make_env(compiled, cfg.num_worlds, "train")
     agent = ActorCritic(env.single_observation_space, env.single_action_space, cfg).to(torch_device(cfg.device))
-    optimizer = torch.optim.Adam(agent.parameters(), lr=cfg.learning_rate)
+    optimizer = make_optimizer(agent, cfg.learning_rate)
     slots, steps = env.num_envs, cfg.rollout_length(env.num_envs)
     state = {"obs": to_tensors(obs), "done": np.zeros(slots, bool), "active": np.ones(slots, bool)}
     buf = Rollout(steps, slots, state["obs"], agent.layout.continuous, len(agent.layout.nvec))
