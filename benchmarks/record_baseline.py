@@ -3,7 +3,8 @@
     python benchmarks/record_baseline.py RUN_DIR SCENARIO [--episodes 10] [--command "..."] [--note "..."]
 
 It evaluates the run's checkpoint on the test seeds (as `hivex evaluate` does), measures the random and
-scripted policies on the same seeds, draws the learning curve, and writes both files; then run
+scripted policies on the same seeds, evaluates every intermediate checkpoint the run kept on the test seeds
+(--curve-episodes each), draws the learning curve, and writes both files; then run
 `hivex docs` to regenerate docs/baselines.md. Needs the train and plots extras.
 """
 
@@ -24,8 +25,11 @@ def main() -> None:
     parser.add_argument("--episodes", type=int, default=10)
     parser.add_argument("--command", default="", help="the exact commands that trained the run (shown on the page)")
     parser.add_argument("--note", default="", help="one paragraph shown under the curve")
+    parser.add_argument("--curve-episodes", type=int, default=3,
+                        help="test episodes per intermediate checkpoint (the test-seed curve)")
     args = parser.parse_args()
-    data = record_baseline(args.run_dir, args.scenario, OUT, args.episodes, args.command, args.note)
+    data = record_baseline(args.run_dir, args.scenario, OUT, args.episodes, args.command, args.note,
+                           args.curve_episodes)
     print(f"wrote {OUT / data['environment']}.json and .png: test return "
           f"{data['test']['return']['mean']:.2f} ± {data['test']['return']['std']:.2f}")
 

@@ -13,7 +13,7 @@ from typing import Optional
 import numpy as np
 
 from .compiler import CompiledScenario
-from .policies import make_policy
+from .policies import Policy, make_policy
 from .runtime import BatchedEnv, Split
 from .spaces import check_actions
 
@@ -46,7 +46,7 @@ class Rollout:
     """``episodes`` whole episodes of one policy: every array is (episodes, agents)."""
 
     compiled: CompiledScenario
-    policy: str
+    policy: str  # the policy's name ('scripted', 'random', 'zeros', or a callable's __name__)
     returns: np.ndarray
     lengths: np.ndarray
     terms: dict[str, np.ndarray]  # unweighted per-term episode sums of the active terms
@@ -58,16 +58,21 @@ class Rollout:
         return self.compiled.weights[term] * self.terms[term]
 
 
-def rollout(compiled: CompiledScenario, policy: str, episodes: int, split: Split = "test",
+def rollout(compiled: CompiledScenario, policy: str | Policy, episodes: int, split: Split = "test",
             seed: Optional[int] = None, progress=None, trace: bool = False) -> Rollout:
-    """Roll ``episodes`` whole episodes of ``policy`` ('scripted', 'random' or 'zeros') in one world.
+    """Roll ``episodes`` whole episodes of ``policy`` in one world: 'scripted', 'random', 'zeros', or any
+    batched policy, observations (1, agents, ...) -> actions (1, agents, ...) (a trained network's, say).
+    Every policy given the same split and ``seed`` plays the same episodes, so their returns compare.
 
     ``seed`` (optional) restarts the split's seed stream and seeds the random policy (0 otherwise);
     ``progress`` (a :class:`hivex_dsl.report.Progress`) is told of steps and episodes.
     """
     core = BatchedEnv(compiled, batch=1, split=split)
     space = core.sim.action_space
-    act = make_policy(policy, compiled, space, core.shape, seed=0 if seed is None else seed)
+    if callable(policy):
+        act, policy = policy, getattr(policy, "__name__", "custom")
+    else:
+        act = make_policy(policy, compiled, space, core.shape, seed=0 if seed is None else seed)
     shape = (episodes, core.agents)
     returns, lengths = np.zeros(shape), np.zeros(shape, np.int64)
     terms = {name: np.zeros(shape) for name in core.composer.active}

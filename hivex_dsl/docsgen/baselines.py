@@ -54,13 +54,26 @@ def _row(env_id: str, data: dict[str, Any] | None) -> dict[str, Any]:
         "verdict": "-" if published is None else
         ("matches (within the spread)" if abs(test["mean"] - published["mean"]) <= max(published["std"], test["std"])
          else ("above" if test["mean"] > published["mean"] else "below")),
-        "image": f"images/baselines/{env_id}.png", "note": data.get("note", ""),
+        "image": f"images/baselines/{env_id}.png", "note": data.get("note", ""), "reached": _reached(data),
         "commands": [data["command"]] if data.get("command") else row["commands"],
         "statistics": [{"name": name, "ours": _spread(value),
                         "published": _spread(_published_statistic(data["published"], name))}
                        for name, value in data["test"]["statistics"].items()],
     }
     return row
+
+
+def _reached(data: dict[str, Any]) -> str:
+    """When the test-seed return first reached the published mean, in words ("-" without a published cell)."""
+    if not data["published"]:
+        return "-"
+    hit = data.get("reached_published")
+    if "reached_published" not in data:
+        return "not measured"
+    if hit is None:
+        return "not within the run"
+    wall = "" if hit["wall_s"] is None else f", {hit['wall_s'] / 60:.1f} min"
+    return f"{hit['agent_steps']:,} agent-steps{wall}"
 
 
 def _published_statistic(published: dict[str, Any] | None, name: str) -> dict[str, float] | None:

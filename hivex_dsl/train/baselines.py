@@ -2,7 +2,9 @@
 ``benchmarks/baselines/``, from which `hivex docs` generates docs/baselines.md.
 
 ``record_baseline`` evaluates the run's checkpoint on the test seeds, measures the random and the scripted
-policy on the same seeds, and writes ``<environment>.json`` and ``<environment>.png``.
+policy on the same seeds, and writes ``<environment>.json`` and ``<environment>.png``. Every intermediate
+checkpoint the run kept is also evaluated on the test seeds (fewer episodes): that test-seed curve says
+after how many agent-steps and how much wall time the policy first matched the published return.
 """
 
 from __future__ import annotations
@@ -31,8 +33,29 @@ def machine() -> str:
     return f"{processor}, {os.cpu_count()} cores, {platform.system()}, Python {platform.python_version()}"
 
 
+def test_curve(run_dir: Path, episodes: int) -> list[list[float]]:
+    """[agent-steps, wall s, mean, std] of the test-seed return of every checkpoint under run_dir/checkpoints."""
+    rows = []
+    for path in sorted(Path(run_dir).glob("checkpoints/step_*.pt")):
+        report = evaluate(path, split="test", episodes=episodes)
+        ret = report["return"]
+        rows.append([report["trained_agent_steps"], report["trained_wall_s"], round(ret["mean"], 4), round(ret["std"], 4)])
+    return rows
+
+
+def first_reaching(curve: list[list[float]], final: list[float], published: dict[str, Any] | None) -> dict | None:
+    """The first test-curve point (or the final one) whose mean reaches the published mean; None if none does."""
+    if not published:
+        return None
+    target = published["return"]["mean"]
+    for steps, wall, mean, _ in [*curve, final]:
+        if mean >= target:
+            return {"agent_steps": steps, "wall_s": wall, "return": mean}
+    return None
+
+
 def record_baseline(run_dir: Path, scenario: str, out_dir: Path, episodes: int = 10,
-                    command: str = "", note: str = "") -> dict[str, Any]:
+                    command: str = "", note: str = "", curve_episodes: int = 3) -> dict[str, Any]:
     """Write ``out_dir/<environment>.json`` and ``.png`` for the run in ``run_dir`` trained on ``scenario``
     (the bundled path, e.g. ``scenarios/wind_farm_control/main.yaml``); -> the JSON's content."""
     run_dir, out_dir = Path(run_dir), Path(out_dir)
@@ -51,7 +74,10 @@ def record_baseline(run_dir: Path, scenario: str, out_dir: Path, episodes: int =
         "published": report["published"],
         "random": _level(compiled, "random", episodes), "scripted": _level(compiled, "scripted", episodes),
         "curve": [[point["agent_steps"], point["wall_s"], round(point["return"], 4)] for point in curve],
+        "test_curve": test_curve(run_dir, curve_episodes), "test_curve_episodes": curve_episodes,
     }
+    final = [summary["agent_steps"], summary["wall_s"], report["return"]["mean"], report["return"]["std"]]
+    data["reached_published"] = first_reaching(data["test_curve"], final, report["published"])
     out_dir.mkdir(parents=True, exist_ok=True)
     (out_dir / f"{compiled.environment}.json").write_text(json.dumps(data, indent=1) + "\n")
     from .plots import learning_curve

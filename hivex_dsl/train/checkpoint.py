@@ -15,12 +15,13 @@ FORMAT = "hivex-ppo/1"
 
 
 def save_checkpoint(path: Path, agent: ActorCritic, cfg: PPOConfig, compiled: CompiledScenario,
-                    agent_steps: int) -> Path:
-    """Write one checkpoint (weights, hyperparameters, the resolved scenario and its fingerprint)."""
+                    agent_steps: int, wall_s: float | None = None) -> Path:
+    """Write one checkpoint (weights, hyperparameters, the resolved scenario and its fingerprint, and the
+    training's agent-steps and wall seconds when it was taken)."""
     path.parent.mkdir(parents=True, exist_ok=True)
     torch.save({"format": FORMAT, "model": agent.state_dict(), "config": cfg.model_dump(mode="json"),
                 "scenario": compiled.resolved(), "fingerprint": compiled.fingerprint,
-                "agent_steps": int(agent_steps)}, path)
+                "agent_steps": int(agent_steps), "wall_s": None if wall_s is None else round(float(wall_s), 3)}, path)
     return path
 
 

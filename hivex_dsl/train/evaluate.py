@@ -3,21 +3,17 @@ the mean and spread of the per-agent return and of every published statistic, be
 
 from __future__ import annotations
 
-import math
 from pathlib import Path
-from typing import Any
+from typing import Any, Callable
 
 import numpy as np
 import torch
 
+from ..adapters.gymnasium import _flatten, _unflatten
 from ..compiler import CompiledScenario
+from ..rollout import rollout
 from .checkpoint import load_checkpoint, policy_for
-from .config import TrainError
-from .logs import EpisodeLog
 from .networks import to_tensors
-from .ppo import make_env
-
-MAX_WORLDS = 16
 
 
 def _spread(values: np.ndarray) -> dict[str, float]:
@@ -34,27 +30,28 @@ def _published(compiled: CompiledScenario) -> dict[str, Any] | None:
             "statistics": {name: {"mean": mean, "std": std} for name, (mean, std) in cell.statistics.items()}}
 
 
+def network_policy(agent: torch.nn.Module, agents: int, deterministic: bool = False) -> Callable[[Any], Any]:
+    """The network as a batched policy of one world: observations (1, agents, ...) -> actions (1, agents, ...)."""
+
+    def ppo(observations: Any) -> Any:
+        with torch.no_grad():
+            cont, disc, _ = agent.act(to_tensors(_flatten(observations, agents)), deterministic=deterministic)
+        return _unflatten(agent.layout.to_env(cont, disc), (1, agents))
+
+    return ppo
+
+
 def play(compiled: CompiledScenario, agent: torch.nn.Module, episodes: int, split: str = "test",
          deterministic: bool = False, seed: int = 0) -> dict[str, Any]:
-    """Run the policy until ``episodes * agents`` per-agent episodes ended; -> their concatenated summaries."""
+    """The policy's first ``episodes`` episodes of ``split``, one after another in one world: the same episodes
+    the random and scripted levels play (:func:`hivex_dsl.rollout.rollout`), every one whole, however long.
+
+    (Counting the first episodes to end across parallel worlds would favour short ones: in WRM, where an
+    episode ends when its fire goes out, that halved the measured return.) -> flat per-agent arrays."""
     torch.manual_seed(seed)
-    wanted = episodes * compiled.agents
-    env, obs = make_env(compiled, min(episodes, MAX_WORLDS), split)
-    rounds = math.ceil(episodes / env.num_worlds) + 1
-    log = EpisodeLog()
-    for _ in range(rounds * (compiled.episode_length + 1)):
-        with torch.no_grad():
-            cont, disc, _ = agent.act(to_tensors(obs), deterministic=deterministic)
-        obs, _, _, _, infos = env.step(agent.layout.to_env(cont, disc))
-        log.record(infos)
-        values = log.values()
-        if values and values["return"].size >= wanted:
-            break
-    values = log.values()
-    if not values or values["return"].size < wanted:
-        raise TrainError(f"only {0 if not values else values['return'].size} of {wanted} agent episodes ended")
-    return {"return": values["return"][:wanted], "reward_terms": {k: v[:wanted] for k, v in values["reward_terms"].items()},
-            "statistics": {k: v[:wanted] for k, v in values["statistics"].items()}}
+    done = rollout(compiled, network_policy(agent, compiled.agents, deterministic), episodes, split)
+    return {"return": done.returns.reshape(-1), "reward_terms": {k: v.reshape(-1) for k, v in done.terms.items()},
+            "statistics": {k: v.reshape(-1) for k, v in done.statistics.items()}}
 
 
 def evaluate(checkpoint: str | Path, scenario: CompiledScenario | None = None, split: str = "test",
@@ -66,6 +63,7 @@ def evaluate(checkpoint: str | Path, scenario: CompiledScenario | None = None, s
     played = play(compiled, agent, episodes, split, deterministic, seed)
     return {"checkpoint": str(checkpoint), "scenario": compiled.name, "environment": compiled.environment,
             "task_index": compiled.task_index, "level": compiled.level, "trained_agent_steps": loaded["agent_steps"],
+            "trained_wall_s": loaded.get("wall_s"),
             "split": split, "seed": getattr(compiled.seeds, split), "episodes": episodes,
             "agent_episodes": int(played["return"].size), "actions": "mode" if deterministic else "sampled",
             "return": _spread(played["return"]),

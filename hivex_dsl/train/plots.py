@@ -23,6 +23,10 @@ def learning_curve(data: dict[str, Any], path: Path) -> Path:
     fig, ax = plt.subplots(figsize=(7, 4), dpi=100)
     steps = [row[0] for row in data["curve"]]
     ax.plot(steps, [row[2] for row in data["curve"]], color="tab:blue", label="PPO (this toolkit), training return")
+    if data.get("test_curve"):
+        points = data["test_curve"]
+        ax.errorbar([r[0] for r in points], [r[2] for r in points], yerr=[r[3] for r in points], fmt="s", ms=3,
+                    color="tab:purple", capsize=2, label=f"checkpoints on test seeds ({data['test_curve_episodes']} episodes)")
     test = data["test"]["return"]
     ax.errorbar([data["agent_steps"]], [test["mean"]], yerr=[test["std"]], fmt="o", color="tab:blue",
                 capsize=4, label=f"PPO test seeds ({data['test']['episodes']} episodes)")

@@ -226,12 +226,12 @@ def train(compiled: CompiledScenario, cfg: PPOConfig, run_dir: Path, progress: b
         if on_update is not None:
             on_update({"agent_steps": agent_steps, "wall_s": wall, **summary})
         if agent_steps >= next_checkpoint:
-            _checkpoint(run_dir, agent, cfg, compiled, agent_steps)
+            _checkpoint(run_dir, agent, cfg, compiled, agent_steps, wall)
             next_checkpoint += cfg.checkpoint_every
     bar.close()
     scalars.close()
-    save_checkpoint(run_dir / "checkpoint.pt", agent, cfg, compiled, agent_steps)
     wall = time.perf_counter() - started
+    save_checkpoint(run_dir / "checkpoint.pt", agent, cfg, compiled, agent_steps, wall)
     result = {"scenario": compiled.name, "environment": compiled.environment, "task_index": compiled.task_index,
               "level": compiled.level, "agent_steps": agent_steps, "wall_s": round(wall, 2), "seed": cfg.seed,
               "final_return": curve[-1]["return"] if curve else None, "checkpoint": "checkpoint.pt"}
@@ -240,9 +240,10 @@ def train(compiled: CompiledScenario, cfg: PPOConfig, run_dir: Path, progress: b
     return result
 
 
-def _checkpoint(run_dir: Path, agent: ActorCritic, cfg: PPOConfig, compiled: CompiledScenario, steps: int) -> None:
+def _checkpoint(run_dir: Path, agent: ActorCritic, cfg: PPOConfig, compiled: CompiledScenario, steps: int,
+                wall: float) -> None:
     """Save checkpoints/step_N.pt and keep only the newest ``keep_checkpoints``."""
     folder = run_dir / "checkpoints"
-    save_checkpoint(folder / f"step_{steps:012d}.pt", agent, cfg, compiled, steps)
+    save_checkpoint(folder / f"step_{steps:012d}.pt", agent, cfg, compiled, steps, wall)
     for old in sorted(folder.glob("step_*.pt"))[:-cfg.keep_checkpoints]:
         old.unlink()

@@ -25,7 +25,8 @@ def recorded(tmp_path_factory):
     root = tmp_path_factory.mktemp("baseline")
     scenario = root / "wfc.yaml"
     scenario.write_text(yaml.safe_dump(short_scenario("wind_farm_control", episode_length=12)))
-    tiny = {"num_worlds": 1, "buffer_size": 32, "batch_size": 16, "hidden_units": 8, "max_steps": 192}
+    tiny = {"num_worlds": 1, "buffer_size": 32, "batch_size": 16, "hidden_units": 8, "max_steps": 192,
+            "checkpoint_every": 64, "keep_checkpoints": 2}
     train(compile(scenario), make_config("wind_farm_control", tiny), root / "run", progress=False)
     out = root / "benchmarks" / "baselines"
     data = record_baseline(root / "run", str(scenario), out, episodes=2, command="hivex train x", note="a note")
@@ -41,6 +42,26 @@ def test_the_record_holds_test_levels_and_curve(recorded):
     # all-scripted turbines face the wind: they must beat uniformly random ones on the same seeds
     assert data["scripted"]["mean"] > data["random"]["mean"]
     assert all(row[0] > 0 for row in data["curve"])
+
+
+def test_every_kept_checkpoint_is_scored_on_the_test_seeds(recorded):
+    _, data = recorded
+    # checkpoints at 64, 128 and 192 agent-steps; the newest two are kept
+    assert [row[0] for row in data["test_curve"]] == [128, 192]
+    assert all(0 < row[1] <= data["wall_s"] for row in data["test_curve"])
+    # 12-step episodes cannot reach the paper's 4,611 (about 400 per step at most)
+    assert all(row[2] < 4611 for row in data["test_curve"]) and data["reached_published"] is None
+
+
+def test_first_reaching_takes_the_earliest_point_at_or_above_the_published_mean():
+    from hivex_dsl.train.baselines import first_reaching
+
+    published = {"return": {"mean": 10.0, "std": 1.0}}
+    curve = [[100, 1.0, 4.0, 0.5], [200, 2.0, 10.0, 0.5], [300, 3.0, 12.0, 0.5]]
+    assert first_reaching(curve, [400, 4.0, 11.0, 0.1], published) == {"agent_steps": 200, "wall_s": 2.0, "return": 10.0}
+    assert first_reaching(curve[:1], [400, 4.0, 11.0, 0.1], published)["agent_steps"] == 400
+    assert first_reaching(curve[:1], [400, 4.0, 9.9, 0.1], published) is None
+    assert first_reaching(curve, [400, 4.0, 11.0, 0.1], None) is None
 
 
 def test_the_page_sets_ours_beside_the_paper(recorded):

@@ -1,0 +1,33 @@
+"""The test protocol plays the same whole episodes as the random and scripted levels: a network that always
+picks action 0 scores exactly what the all-zeros policy scores, episode by episode, in an environment whose
+episodes end early (WRM: when the fire goes out), where counting the first episodes to end would not."""
+
+from __future__ import annotations
+
+import numpy as np
+import torch
+
+from hivex_dsl.adapters.gymnasium import HivexVectorEnv
+from hivex_dsl.compiler import compile
+from hivex_dsl.rollout import rollout
+from hivex_dsl.train.config import make_config
+from hivex_dsl.train.evaluate import play
+from hivex_dsl.train.networks import ActorCritic
+
+from .conftest import SCENARIOS
+
+
+def test_a_network_that_always_picks_zero_scores_as_the_zeros_policy():
+    compiled = compile(SCENARIOS / "wildfire_resource_management" / "main.yaml")
+    env = HivexVectorEnv(compiled, num_worlds=1)
+    agent = ActorCritic(env.single_observation_space, env.single_action_space,
+                        make_config("wildfire_resource_management", {"hidden_units": 8}))
+    with torch.no_grad():
+        agent.logits.weight.zero_()
+        agent.logits.bias.copy_(torch.tensor([5.0, 0.0, 0.0] * len(agent.layout.nvec)))
+    played = play(compiled, agent, episodes=3, split="test", deterministic=True)
+    zeros = rollout(compiled, "zeros", 3, "test")
+    assert len(set(zeros.lengths[:, 0].tolist())) > 1  # episodes of different lengths (fires go out)
+    np.testing.assert_allclose(played["return"], zeros.returns.reshape(-1))
+    for name, sums in zeros.statistics.items():
+        np.testing.assert_allclose(played["statistics"][name], sums.reshape(-1))
