@@ -13,6 +13,8 @@ Hyperparameters and their ML-Agents meaning: ``config.py``.
 from __future__ import annotations
 
 import json
+import signal
+import threading
 import time
 from pathlib import Path
 from typing import Any, Callable
@@ -180,6 +182,31 @@ def update(agent: ActorCritic, optimizer: torch.optim.Optimizer, buf: Rollout, a
     return {k: float(torch.stack(v).mean()) for k, v in stats.items()}
 
 
+class StopRequests:
+    """Within it, SIGINT (Ctrl-C) and SIGTERM set ``requested`` instead of killing the run, so training stops
+    after the update under way and still writes its checkpoint, curve and summary. A second Ctrl-C kills.
+    Only the main thread can take signals; elsewhere (a Ray task's thread) it requests nothing."""
+
+    SIGNALS = (signal.SIGINT, signal.SIGTERM)
+
+    def __init__(self) -> None:
+        self.requested = False
+        self._previous: dict[int, Any] = {}
+
+    def _request(self, signum: int, frame: Any) -> None:
+        self.requested = True
+        signal.signal(signal.SIGINT, self._previous.get(signal.SIGINT, signal.default_int_handler))
+
+    def __enter__(self) -> "StopRequests":
+        if threading.current_thread() is threading.main_thread():
+            self._previous = {sig: signal.signal(sig, self._request) for sig in self.SIGNALS}
+        return self
+
+    def __exit__(self, *exc: Any) -> None:
+        for sig, handler in self._previous.items():
+            signal.signal(sig, handler)
+
+
 def _take(data: dict[str, Any], index: torch.Tensor | slice) -> dict[str, Any]:
     """``data`` (tensors, and one nested dict of observation tensors) indexed along the first axis."""
     return {k: _take(v, index) if isinstance(v, dict) else v[index] for k, v in data.items()}
@@ -205,36 +232,38 @@ def train(compiled: CompiledScenario, cfg: PPOConfig, run_dir: Path, progress: b
     episodes, scalars = EpisodeLog(), ScalarLog(run_dir)
     bar = Progress(cfg.max_steps, enabled=progress, label=compiled.name)
     agent_steps, next_checkpoint, started, curve = 0, cfg.checkpoint_every, time.perf_counter(), []
-    while agent_steps < cfg.max_steps:
-        lr, beta, epsilon = schedule(cfg, agent_steps / cfg.max_steps)
-        for group in optimizer.param_groups:
-            group["lr"] = lr
-        next_value = collect(env, agent, buf, state, cfg, episodes)
-        agent.observe(buf.flat_obs())
-        advantages, returns = gae(buf.rewards, buf.values, next_value, buf.terminated, buf.done,
-                                  cfg.gamma, cfg.lambd)
-        losses = update(agent, optimizer, buf, advantages, returns, cfg, beta, epsilon, rng)
-        agent_steps += steps * slots
-        wall = time.perf_counter() - started
-        summary = episodes.drain()
-        if summary:
-            curve.append({"agent_steps": agent_steps, "wall_s": round(wall, 3), "return": summary["return"],
-                          "episodes": summary["episodes"]})
-        scalars.write(agent_steps, summary, losses, {"learning_rate": lr, "beta": beta, "epsilon": epsilon,
-                                                     "agent_steps_per_s": agent_steps / max(wall, 1e-9)})
-        bar.advance(steps * slots, summary.get("return"))
-        if on_update is not None:
-            on_update({"agent_steps": agent_steps, "wall_s": wall, **summary})
-        if agent_steps >= next_checkpoint:
-            _checkpoint(run_dir, agent, cfg, compiled, agent_steps, wall)
-            next_checkpoint += cfg.checkpoint_every
+    with StopRequests() as stop:  # Ctrl-C or SIGTERM: finish this update, then save as if done
+        while agent_steps < cfg.max_steps and not stop.requested:
+            lr, beta, epsilon = schedule(cfg, agent_steps / cfg.max_steps)
+            for group in optimizer.param_groups:
+                group["lr"] = lr
+            next_value = collect(env, agent, buf, state, cfg, episodes)
+            agent.observe(buf.flat_obs())
+            advantages, returns = gae(buf.rewards, buf.values, next_value, buf.terminated, buf.done,
+                                      cfg.gamma, cfg.lambd)
+            losses = update(agent, optimizer, buf, advantages, returns, cfg, beta, epsilon, rng)
+            agent_steps += steps * slots
+            wall = time.perf_counter() - started
+            summary = episodes.drain()
+            if summary:
+                curve.append({"agent_steps": agent_steps, "wall_s": round(wall, 3), "return": summary["return"],
+                              "episodes": summary["episodes"]})
+            scalars.write(agent_steps, summary, losses, {"learning_rate": lr, "beta": beta, "epsilon": epsilon,
+                                                         "agent_steps_per_s": agent_steps / max(wall, 1e-9)})
+            bar.advance(steps * slots, summary.get("return"))
+            if on_update is not None:
+                on_update({"agent_steps": agent_steps, "wall_s": wall, **summary})
+            if agent_steps >= next_checkpoint:
+                _checkpoint(run_dir, agent, cfg, compiled, agent_steps, wall)
+                next_checkpoint += cfg.checkpoint_every
     bar.close()
     scalars.close()
     wall = time.perf_counter() - started
     save_checkpoint(run_dir / "checkpoint.pt", agent, cfg, compiled, agent_steps, wall)
     result = {"scenario": compiled.name, "environment": compiled.environment, "task_index": compiled.task_index,
               "level": compiled.level, "agent_steps": agent_steps, "wall_s": round(wall, 2), "seed": cfg.seed,
-              "final_return": curve[-1]["return"] if curve else None, "checkpoint": "checkpoint.pt"}
+              "final_return": curve[-1]["return"] if curve else None, "checkpoint": "checkpoint.pt",
+              "stopped_early": stop.requested}
     (run_dir / "curve.json").write_text(json.dumps(curve, indent=1) + "\n")
     (run_dir / "summary.json").write_text(json.dumps(result, indent=2) + "\n")
     return result

@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import json
+import os
+import signal
 
 import pytest
 import torch
@@ -91,3 +93,16 @@ def test_without_torch_the_commands_say_what_to_install(monkeypatch, capsys):
     monkeypatch.setitem(sys.modules, "torch", None)  # import torch now raises ImportError
     assert main(["train", "scenarios/wind_farm_control/main.yaml"]) == 2
     assert "pip install" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM])
+def test_an_interrupted_run_finishes_its_update_and_keeps_everything(signum, tiny, tmp_path):
+    """Ctrl-C (or a scheduler's SIGTERM) during the first update: the run stops after it, saves its checkpoint,
+    curve and summary, says it stopped early, and gives the signal handlers back."""
+    before = signal.getsignal(signal.SIGINT), signal.getsignal(signal.SIGTERM)
+    summary = train(compile(short_scenario("wind_farm_control")), make_config("wind_farm_control", tiny),
+                    tmp_path / "run", progress=False, on_update=lambda _: os.kill(os.getpid(), signum))
+    assert summary["stopped_early"] is True
+    assert summary["agent_steps"] == tiny["buffer_size"]  # one rollout of the 192 asked for
+    assert (tmp_path / "run" / "checkpoint.pt").is_file() and (tmp_path / "run" / "curve.json").is_file()
+    assert (signal.getsignal(signal.SIGINT), signal.getsignal(signal.SIGTERM)) == before
