@@ -145,21 +145,20 @@ def update(agent: ActorCritic, optimizer: torch.optim.Optimizer, buf: Rollout, a
            returns: torch.Tensor, cfg: PPOConfig, beta: float, epsilon: float,
            rng: np.random.Generator) -> dict[str, float]:
     """``num_epoch`` passes of minibatch PPO over the valid experiences only; -> mean losses."""
-    valid = torch.as_tensor(np.flatnonzero(buf.flat("valid").numpy() > 0))
-    if valid.numel() == 0:
+    valid = np.flatnonzero(buf.flat("valid").numpy() > 0)
+    if valid.size == 0:
         return {}
-    adv = advantages.reshape(-1)[valid]
-    data = {"obs": {k: v[valid] for k, v in buf.flat_obs().items()}, "cont": buf.flat("cont")[valid],
-            "disc": buf.flat("disc")[valid], "old_logp": buf.flat("logp")[valid],
-            "old_values": buf.flat("values")[valid], "returns": returns.reshape(-1)[valid],
-            "adv": (adv - adv.mean()) / (adv.std(unbiased=False) + 1e-8)}
+    data = {"obs": buf.flat_obs(), "cont": buf.flat("cont"), "disc": buf.flat("disc"), "old_logp": buf.flat("logp"),
+            "old_values": buf.flat("values"), "returns": returns.reshape(-1), "adv": advantages.reshape(-1)}
+    if valid.size < len(data["adv"]):  # cameras make these copies costly: only when some experience is masked
+        data = _take(data, torch.as_tensor(valid))
+    data["adv"] = (data["adv"] - data["adv"].mean()) / (data["adv"].std(unbiased=False) + 1e-8)
     params = list(agent.parameters())
     stats: dict[str, list[torch.Tensor]] = {"policy": [], "value": [], "entropy": [], "approx_kl": [], "clipfrac": []}
     for _ in range(cfg.num_epoch):
-        # one gather per epoch; the minibatches are then contiguous slices (views, no copies)
-        shuffled = _take(data, torch.as_tensor(rng.permutation(valid.numel())))
-        for start in range(0, valid.numel(), cfg.batch_size):
-            mb = _take(shuffled, slice(start, start + cfg.batch_size))
+        order = torch.as_tensor(rng.permutation(valid.size))
+        for start in range(0, valid.size, cfg.batch_size):
+            mb = _take(data, order[start:start + cfg.batch_size])
             logp, entropy, value = agent.evaluate(mb["obs"], mb["cont"], mb["disc"])
             log_ratio = logp - mb["old_logp"]
             ratio = log_ratio.exp()
@@ -207,7 +206,7 @@ class StopRequests:
             signal.signal(sig, handler)
 
 
-def _take(data: dict[str, Any], index: torch.Tensor | slice) -> dict[str, Any]:
+def _take(data: dict[str, Any], index: torch.Tensor) -> dict[str, Any]:
     """``data`` (tensors, and one nested dict of observation tensors) indexed along the first axis."""
     return {k: _take(v, index) if isinstance(v, dict) else v[index] for k, v in data.items()}
 
