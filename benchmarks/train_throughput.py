@@ -2,6 +2,9 @@
 
     python benchmarks/train_throughput.py [--env ID ...] [--steps 200000] [--set NAME=VALUE ...] [-o out.json]
 
+With -o benchmarks/results/train_throughput.json (what the baselines page shows) the rows are merged into
+the file: a row of the same environment, worlds and threads is replaced, others are kept.
+
 For each environment's main scenario it trains for --steps agent-steps with the paper's hyperparameters
 (overridable with --set, e.g. --set num_worlds=32) and reports agent-steps per second and the share of the
 wall time spent inside the vector env's step. Measure on a quiet machine: run nothing else, and compare
@@ -49,7 +52,9 @@ def measure(environment: str, steps: int, overrides: dict) -> dict:
     wall = summary["wall_s"]
     return {"environment": environment, "agent_steps": summary["agent_steps"], "wall_s": wall,
             "agent_steps_per_s": round(summary["agent_steps"] / wall, 1), "env_share": round(inside[0] / wall, 3),
-            "num_worlds": cfg.num_worlds, "torch_threads": cfg.torch_threads}
+            "num_worlds": cfg.num_worlds, "torch_threads": cfg.torch_threads,
+            "agents": compiled.agents, "buffer_size": cfg.buffer_size, "batch_size": cfg.batch_size,
+            "num_epoch": cfg.num_epoch}
 
 
 def main() -> None:
@@ -61,12 +66,20 @@ def main() -> None:
     args = parser.parse_args()
     overrides = parse_assignments(args.assignments)
     rows = [measure(env, args.steps, overrides) for env in args.env or registry.environments()]
-    report = {"machine": machine(), "rows": rows}
     for row in rows:
         print(f"{row['environment']:32} {row['agent_steps_per_s']:>10,.0f} agent-steps/s  "
               f"env {100 * row['env_share']:.0f}% of the time")
     if args.output:
-        args.output.write_text(json.dumps(report, indent=2) + "\n")
+        args.output.write_text(json.dumps(merged(args.output, rows), indent=2) + "\n")
+
+
+def merged(path: Path, rows: list[dict]) -> dict:
+    """The report at ``path`` (if any) with ``rows`` replacing the rows of the same configuration."""
+    key = lambda row: (row["environment"], row["num_worlds"], row["torch_threads"])  # noqa: E731
+    old = json.loads(path.read_text())["rows"] if path.is_file() else []
+    fresh = {key(row) for row in rows}
+    kept = [row for row in old if key(row) not in fresh]
+    return {"machine": machine(), "rows": sorted(kept + rows, key=key)}
 
 
 if __name__ == "__main__":

@@ -19,6 +19,11 @@ KNOWN_GAPS = {
 }
 
 
+# The issue's throughput targets (agent-steps/s, end to end, one 2-core CPU machine).
+THROUGHPUT_TARGETS = {"wind_farm_control": 50_000, "aerial_wildfire_suppression": 2_000}
+THROUGHPUT_FILE = Path("results") / "train_throughput.json"  # beside baselines/, under benchmarks/
+
+
 def baselines_dir(docs_dir: Path) -> Path:
     """``benchmarks/baselines`` of the checkout holding ``docs_dir``."""
     return Path(docs_dir).resolve().parent / BASELINES_DIR
@@ -94,7 +99,21 @@ def baselines_context(directory: Path) -> dict[str, Any]:
     data = _load(directory)
     rows = [_row(env_id, data.get(env_id)) for env_id in registry.environments()]
     return {"rows": rows, "trained": [r for r in rows if r["trained"]], "left": [r for r in rows if not r["trained"]],
-            **hyperparameter_table()}
+            **hyperparameter_table(), **throughput_table(Path(directory).parent / THROUGHPUT_FILE)}
+
+
+def throughput_table(path: Path) -> dict[str, Any]:
+    """``throughput_machine`` and ``throughput`` rows from `benchmarks/train_throughput.py -o` (none if absent)."""
+    if not path.is_file():
+        return {"throughput_machine": "", "throughput": []}
+    report = json.loads(path.read_text(encoding="utf-8"))
+    rows = []
+    for row in report["rows"]:
+        target = THROUGHPUT_TARGETS.get(row["environment"])
+        rows.append({**row, "rate": f"{row['agent_steps_per_s']:,.0f}", "env_share": f"{100 * row['env_share']:.0f}%",
+                     "target": "-" if target is None else f"{target:,}",
+                     "met": "-" if target is None else ("yes" if row["agent_steps_per_s"] >= target else "no")})
+    return {"throughput_machine": report["machine"], "throughput": rows}
 
 
 def hyperparameter_table() -> dict[str, Any]:

@@ -78,3 +78,22 @@ def test_the_page_sets_ours_beside_the_paper(recorded):
     assert "4,611.65 ± 39.95" in docs["baselines.md"]
     assert "hivex train scenarios/aerial_wildfire_suppression/main.yaml" in docs["baselines.md"]
     assert "baselines.md" not in render_docs(None, baselines=out / "missing")
+
+
+def test_the_page_shows_training_throughput_against_the_targets(recorded):
+    out, _ = recorded
+    results = out.parent / "results" / "train_throughput.json"
+    results.parent.mkdir(exist_ok=True)
+    row = {"environment": "wind_farm_control", "agent_steps": 300_000, "wall_s": 6.0, "agent_steps_per_s": 50_000.0,
+           "env_share": 0.061, "num_worlds": 32, "torch_threads": 1, "agents": 8, "buffer_size": 2048,
+           "batch_size": 256, "num_epoch": 3}
+    slow = row | {"environment": "aerial_wildfire_suppression", "agent_steps_per_s": 1_999.4, "num_worlds": 12,
+                  "agents": 3}
+    results.write_text(json.dumps({"machine": "a test machine", "rows": [row, slow]}))
+    try:
+        page = render_docs(None, baselines=out)["baselines.md"]
+    finally:
+        results.unlink()
+    assert "| `wind_farm_control` | 32 x 8 | 1 | 2048 / 256 / 3 | 50,000 | 6% | 50,000 | yes |" in page
+    assert "| `aerial_wildfire_suppression` | 12 x 3 | 1 | 2048 / 256 / 3 | 1,999 | 6% | 2,000 | no |" in page
+    assert "Training throughput" not in render_docs(None, baselines=out)["baselines.md"]
