@@ -19,8 +19,10 @@ How each maps onto the PPO of ``ppo.py`` (parameter-shared over every (world, ag
 - ``hidden_units`` x ``num_layers``: the MLP after the encoders, separate for actor and critic as in
   ML-Agents; ``vis_encode_type``: ``simple`` (2 conv layers) or ``resnet`` (ML-Agents' IMPALA-style stack);
   ``normalize``: running mean/std of vector observations.
-- Not carried over: the curiosity reward signal of WRM, DBR and OPC (an intrinsic-motivation module,
-  documented as a gap on the baselines page).
+- ``reward_signals.curiosity`` (WRM, DBR, OPC) flattened: ``curiosity_strength`` (0 turns the signal off),
+  ``curiosity_gamma``, ``curiosity_encoding_size``, ``curiosity_learning_rate``; its encoder uses the run's
+  ``vis_encode_type`` and ``num_layers`` (the paper's curiosity network_settings name the same encoder).
+  ``curiosity.py`` is ML-Agents' module; the critic gets a second value head for it.
 
 Ours (ML-Agents has no such key): ``num_worlds`` (parallel copies of the scenario; the paper's AWS config
 runs 12 environments), ``max_grad_norm`` (gradient clipping, 0 disables), ``checkpoint_every`` and
@@ -73,6 +75,10 @@ class PPOConfig(StrictModel):
     seed: int = Field(0, ge=0, le=2**32 - 1)
     device: str = "cpu"
     torch_threads: int = Field(1, ge=1, le=256)
+    curiosity_strength: float = Field(0.0, ge=0.0, le=1.0)
+    curiosity_gamma: float = Field(0.99, ge=0.0, le=1.0)
+    curiosity_encoding_size: int = Field(256, ge=1, le=8192)
+    curiosity_learning_rate: float = Field(3.0e-4, ge=0.0, le=1.0)
 
     def rollout_length(self, slots: int) -> int:
         """Steps of every slot per update: ``buffer_size // slots`` (at least 1), at most ``time_horizon``."""

@@ -75,6 +75,14 @@ class ActionLayout:
         return {"continuous": cont, "discrete": disc}
 
 
+def vector_part(obs: dict[str, torch.Tensor], keys: list[str]) -> torch.Tensor | None:
+    """The vector inputs ``keys`` of a batch flattened and side by side (B, width); None if there are none."""
+    if not keys:
+        return None
+    parts = [obs[k].reshape(obs[k].shape[0], -1) for k in keys]
+    return parts[0] if len(parts) == 1 else torch.cat(parts, dim=1)
+
+
 def _swish_mlp(inputs: int, hidden: int, layers: int) -> nn.Sequential:
     modules: list[nn.Module] = []
     for i in range(layers):
@@ -178,16 +186,15 @@ class ActorCritic(nn.Module):
         vector_width = sum(int(np.prod(keys[k])) for k in self.actor.vectors)
         self.norm = RunningNorm(vector_width, cfg.normalize)
         hidden = cfg.hidden_units
-        self.value = _head(hidden, 1, 1.0)
+        # one value head per reward signal (ML-Agents): extrinsic, and curiosity when the config adds it
+        self.signals = 2 if cfg.curiosity_strength > 0 else 1
+        self.value = _head(hidden, self.signals, 1.0)
         self.logits = _head(hidden, sum(self.layout.nvec), 0.01) if self.layout.nvec else None
         self.mu = _head(hidden, self.layout.continuous, 0.01) if self.layout.continuous else None
         self.log_std = nn.Parameter(torch.zeros(self.layout.continuous))
 
     def _vector(self, obs: dict[str, torch.Tensor]) -> torch.Tensor | None:
-        if not self.actor.vectors:
-            return None
-        parts = [obs[k].reshape(obs[k].shape[0], -1) for k in self.actor.vectors]
-        return parts[0] if len(parts) == 1 else torch.cat(parts, dim=1)
+        return vector_part(obs, self.actor.vectors)
 
     def _here(self, *tensors):
         """Inputs moved to the network's device (rollouts stay in CPU memory; outputs come back there)."""
@@ -202,10 +209,11 @@ class ActorCritic(nn.Module):
             self.norm.update(vector)
 
     def _value(self, obs: dict[str, torch.Tensor], vector: torch.Tensor | None) -> torch.Tensor:
-        return self.value(self.critic(obs, vector)).squeeze(-1)
+        value = self.value(self.critic(obs, vector))
+        return value.squeeze(-1) if self.signals == 1 else value
 
     def get_value(self, obs: dict[str, torch.Tensor]) -> torch.Tensor:
-        """-> V(obs) (B,) on the CPU."""
+        """-> V(obs) on the CPU: (B,), or (B, signals) with more than the extrinsic reward signal."""
         (obs,) = self._here(obs)
         return self._value(obs, self._normalised(obs)).cpu()
 
@@ -230,7 +238,7 @@ class ActorCritic(nn.Module):
         return cont, disc, logp
 
     def act_and_value(self, obs: dict[str, torch.Tensor]):
-        """-> sampled continuous (B, c), discrete (B, d), their log-prob (B,) and V(obs) (B,), in one pass."""
+        """-> sampled continuous (B, c), discrete (B, d), their log-prob (B,) and V(obs) (see get_value)."""
         return self._act(obs, False, with_value=True)
 
     def _act(self, obs: dict[str, torch.Tensor], deterministic: bool, with_value: bool):

@@ -27,13 +27,15 @@ from ..adapters.gymnasium import HivexVectorEnv
 from ..compiler import CompiledScenario
 from .checkpoint import save_checkpoint
 from .config import PPOConfig, TrainError
+from .curiosity import Curiosity
 from .logs import EpisodeLog, Progress, ScalarLog
 from .networks import ActorCritic, to_tensors
 
 
 def gae(rewards: torch.Tensor, values: torch.Tensor, next_value: torch.Tensor, terminated: torch.Tensor,
-        done: torch.Tensor, gamma: float, lam: float) -> tuple[torch.Tensor, torch.Tensor]:
-    """Generalized advantage estimates and returns of a (T, S) rollout.
+        done: torch.Tensor, gamma: float | torch.Tensor, lam: float) -> tuple[torch.Tensor, torch.Tensor]:
+    """Generalized advantage estimates and returns of a (T, S) rollout, or of (T, S, K) rewards and values of
+    K reward signals with a (K,) tensor ``gamma`` (the masks are (T, S) either way).
 
     ``values[t]`` is V(obs_t); ``next_value`` (S,) is V of the observation after the last step.
     A step that ``terminated`` bootstraps from 0; one that was truncated from V of the observation it
@@ -41,6 +43,8 @@ def gae(rewards: torch.Tensor, values: torch.Tensor, next_value: torch.Tensor, t
     the recursion, so the masked reset transition after an ending never leaks into the step before it.
     """
     steps = rewards.shape[0]
+    trailing = (1,) * (rewards.dim() - terminated.dim())  # per-signal axes: the masks broadcast over them
+    terminated, done = terminated.reshape(terminated.shape + trailing), done.reshape(done.shape + trailing)
     advantages = torch.zeros_like(rewards)
     running = torch.zeros_like(next_value)
     for t in reversed(range(steps)):
@@ -99,11 +103,14 @@ def schedule(cfg: PPOConfig, progress: float) -> tuple[float, float, float]:
 class Rollout:
     """(T, S) storage of one rollout; observations as a dict of (T, S, ...) tensors."""
 
-    def __init__(self, steps: int, slots: int, first_obs: dict[str, torch.Tensor], continuous: int, discrete: int):
+    def __init__(self, steps: int, slots: int, first_obs: dict[str, torch.Tensor], continuous: int, discrete: int,
+                 signals: int = 1):
         self.obs = {k: torch.zeros((steps,) + v.shape, dtype=v.dtype) for k, v in first_obs.items()}
+        self.last_obs = first_obs  # the observation after the rollout's last step (collect sets it)
         self.cont = torch.zeros(steps, slots, continuous)
         self.disc = torch.zeros(steps, slots, discrete, dtype=torch.int64)
-        self.logp, self.values, self.rewards = (torch.zeros(steps, slots) for _ in range(3))
+        self.logp, self.rewards = torch.zeros(steps, slots), torch.zeros(steps, slots)
+        self.values = torch.zeros((steps, slots) + ((signals,) if signals > 1 else ()))  # one column per signal
         self.terminated, self.done, self.valid = (torch.zeros(steps, slots) for _ in range(3))
 
     def flat(self, name: str) -> torch.Tensor:
@@ -111,6 +118,11 @@ class Rollout:
 
     def flat_obs(self) -> dict[str, torch.Tensor]:
         return {k: merge_steps(v) for k, v in self.obs.items()}
+
+    def flat_next_obs(self) -> dict[str, torch.Tensor]:
+        """The observation each step returned, flat (T * S, ...): in NEXT_STEP mode an ending step's is the
+        episode's last observation, so every valid transition's s' is right."""
+        return {k: merge_steps(torch.cat([v[1:], self.last_obs[k][None]])) for k, v in self.obs.items()}
 
 
 def merge_steps(tensor: torch.Tensor) -> torch.Tensor:
@@ -137,19 +149,26 @@ def collect(env: HivexVectorEnv, agent: ActorCritic, buf: Rollout, state: dict[s
         episodes.record(infos)
         state["obs"], state["done"] = to_tensors(next_obs), done
         state["active"] = np.asarray(infos.get("active", np.ones_like(done)), dtype=bool)
+    buf.last_obs = state["obs"]
     with torch.no_grad():
         return agent.get_value(state["obs"])
 
 
 def update(agent: ActorCritic, optimizer: torch.optim.Optimizer, buf: Rollout, advantages: torch.Tensor,
            returns: torch.Tensor, cfg: PPOConfig, beta: float, epsilon: float,
-           rng: np.random.Generator) -> dict[str, float]:
-    """``num_epoch`` passes of minibatch PPO over the valid experiences only; -> mean losses."""
+           rng: np.random.Generator, curiosity: tuple[Curiosity, torch.optim.Optimizer] | None = None
+           ) -> dict[str, float]:
+    """``num_epoch`` passes of minibatch PPO over the valid experiences only; -> mean losses.
+
+    ``advantages`` (T, S) are the signals' summed; ``returns`` (T, S) or (T, S, K) one column per value head.
+    With ``curiosity`` (the module and its optimizer) each minibatch also trains it (ML-Agents does so)."""
     valid = np.flatnonzero(buf.flat("valid").numpy() > 0)
     if valid.size == 0:
         return {}
     data = {"obs": buf.flat_obs(), "cont": buf.flat("cont"), "disc": buf.flat("disc"), "old_logp": buf.flat("logp"),
-            "old_values": buf.flat("values"), "returns": returns.reshape(-1), "adv": advantages.reshape(-1)}
+            "old_values": buf.flat("values"), "returns": merge_steps(returns), "adv": advantages.reshape(-1)}
+    if curiosity is not None:
+        data["next_obs"] = buf.flat_next_obs()
     if valid.size < len(data["adv"]):  # cameras make these copies costly: only when some experience is masked
         data = _take(data, torch.as_tensor(valid))
     data["adv"] = (data["adv"] - data["adv"].mean()) / (data["adv"].std(unbiased=False) + 1e-8)
@@ -172,6 +191,10 @@ def update(agent: ActorCritic, optimizer: torch.optim.Optimizer, buf: Rollout, a
             if cfg.max_grad_norm > 0:
                 nn.utils.clip_grad_norm_(params, cfg.max_grad_norm)
             optimizer.step()
+            if curiosity is not None:
+                forward, inverse = _train_curiosity(*curiosity, mb)
+                stats.setdefault("curiosity_forward", []).append(forward)
+                stats.setdefault("curiosity_inverse", []).append(inverse)
             with torch.no_grad():  # kept as tensors: one .item() per minibatch each would sync a GPU
                 stats["policy"].append(policy_loss.detach())
                 stats["value"].append(value_loss.detach())
@@ -179,6 +202,35 @@ def update(agent: ActorCritic, optimizer: torch.optim.Optimizer, buf: Rollout, a
                 stats["approx_kl"].append(((ratio - 1) - log_ratio).mean())
                 stats["clipfrac"].append(((ratio - 1).abs() > epsilon).float().mean())
     return {k: float(torch.stack(v).mean()) for k, v in stats.items()}
+
+
+def _train_curiosity(module: Curiosity, optimizer: torch.optim.Optimizer, mb: dict[str, Any]
+                     ) -> tuple[torch.Tensor, torch.Tensor]:
+    """One gradient step of the curiosity module on a minibatch; -> its (forward, inverse) losses."""
+    total, forward, inverse = module.loss(mb["obs"], mb["next_obs"], mb["cont"], mb["disc"])
+    optimizer.zero_grad()
+    total.backward()
+    optimizer.step()
+    module.updated.fill_(True)
+    return forward, inverse
+
+
+def advantages_and_returns(buf: Rollout, next_value: torch.Tensor, cfg: PPOConfig,
+                           curiosity: Curiosity | None) -> tuple[torch.Tensor, torch.Tensor, dict[str, float]]:
+    """GAE of every reward signal -> (summed advantages (T, S), returns (T, S[, K]), charts).
+
+    With curiosity, its rewards for the rollout come from the module as it is now (ML-Agents rewards a
+    trajectory when it is processed), over valid transitions only, and are discounted with its own gamma."""
+    if curiosity is None:
+        advantages, returns = gae(buf.rewards, buf.values, next_value, buf.terminated, buf.done, cfg.gamma, cfg.lambd)
+        return advantages, returns, {}
+    intrinsic = curiosity.rewards(buf.flat_obs(), buf.flat_next_obs(), buf.flat("cont"), buf.flat("disc"))
+    intrinsic = intrinsic.reshape(buf.rewards.shape) * buf.valid
+    rewards = torch.stack([buf.rewards, intrinsic], dim=-1)
+    gammas = torch.tensor([cfg.gamma, cfg.curiosity_gamma])
+    advantages, returns = gae(rewards, buf.values, next_value, buf.terminated, buf.done, gammas, cfg.lambd)
+    mean = float(intrinsic.sum() / buf.valid.sum().clamp(min=1))
+    return advantages.sum(-1), returns, {"curiosity_reward": mean}
 
 
 class StopRequests:
@@ -223,9 +275,13 @@ def train(compiled: CompiledScenario, cfg: PPOConfig, run_dir: Path, progress: b
     env, obs = make_env(compiled, cfg.num_worlds, "train")
     agent = ActorCritic(env.single_observation_space, env.single_action_space, cfg).to(torch_device(cfg.device))
     optimizer = make_optimizer(agent, cfg.learning_rate)
+    curiosity, curiosity_optimizer = None, None
+    if cfg.curiosity_strength > 0:
+        curiosity = Curiosity(env.single_observation_space, agent.layout, cfg).to(torch_device(cfg.device))
+        curiosity_optimizer = make_optimizer(curiosity, cfg.curiosity_learning_rate)
     slots, steps = env.num_envs, cfg.rollout_length(env.num_envs)
     state = {"obs": to_tensors(obs), "done": np.zeros(slots, bool), "active": np.ones(slots, bool)}
-    buf = Rollout(steps, slots, state["obs"], agent.layout.continuous, len(agent.layout.nvec))
+    buf = Rollout(steps, slots, state["obs"], agent.layout.continuous, len(agent.layout.nvec), agent.signals)
     (run_dir / "config.json").write_text(json.dumps({"hyperparameters": cfg.model_dump(mode="json"),
                                                      "scenario": compiled.resolved()}, indent=2) + "\n")
     episodes, scalars = EpisodeLog(), ScalarLog(run_dir)
@@ -238,9 +294,9 @@ def train(compiled: CompiledScenario, cfg: PPOConfig, run_dir: Path, progress: b
                 group["lr"] = lr
             next_value = collect(env, agent, buf, state, cfg, episodes)
             agent.observe(buf.flat_obs())
-            advantages, returns = gae(buf.rewards, buf.values, next_value, buf.terminated, buf.done,
-                                      cfg.gamma, cfg.lambd)
-            losses = update(agent, optimizer, buf, advantages, returns, cfg, beta, epsilon, rng)
+            advantages, returns, signal_charts = advantages_and_returns(buf, next_value, cfg, curiosity)
+            losses = update(agent, optimizer, buf, advantages, returns, cfg, beta, epsilon, rng,
+                            None if curiosity is None else (curiosity, curiosity_optimizer))
             agent_steps += steps * slots
             wall = time.perf_counter() - started
             summary = episodes.drain()
@@ -248,7 +304,8 @@ def train(compiled: CompiledScenario, cfg: PPOConfig, run_dir: Path, progress: b
                 curve.append({"agent_steps": agent_steps, "wall_s": round(wall, 3), "return": summary["return"],
                               "episodes": summary["episodes"]})
             scalars.write(agent_steps, summary, losses, {"learning_rate": lr, "beta": beta, "epsilon": epsilon,
-                                                         "agent_steps_per_s": agent_steps / max(wall, 1e-9)})
+                                                         "agent_steps_per_s": agent_steps / max(wall, 1e-9),
+                                                         **signal_charts})
             bar.advance(steps * slots, summary.get("return"))
             if on_update is not None:
                 on_update({"agent_steps": agent_steps, "wall_s": wall, **summary})

@@ -1,0 +1,93 @@
+"""ML-Agents' curiosity reward signal (an intrinsic curiosity module, Pathak et al. 2017), which the paper's
+WRM (strength 0.02), DBR and OPC (0.1) configs add to the extrinsic reward.
+
+An encoder phi (the cameras through the run's visual encoder, then ``num_layers`` x ``encoding_size``) is
+trained by two heads on every valid transition (s, a, s'):
+
+- the inverse model predicts a from (phi(s), phi(s')): cross-entropy per categorical branch, half the squared
+  error of the continuous part;
+- the forward model predicts phi(s') from (phi(s), a) (a as its continuous part and one-hot branches);
+  its error e = 0.5 * |f(phi(s), a) - phi(s')|^2 is both its loss and the curiosity reward.
+
+Loss = 10 * (0.2 * forward + 0.8 * inverse), its own Adam at ``curiosity_learning_rate`` (ML-Agents'
+constants). The reward of a transition is min(strength * e, 1), and 0 until the module has been updated
+once; it has its own value head and discount (``curiosity_gamma``) in the critic, and the advantages of
+both signals are summed, as ML-Agents does.
+"""
+
+from __future__ import annotations
+
+import torch
+from gymnasium import spaces
+from torch import nn
+
+from .config import PPOConfig
+from .networks import ActionLayout, Body, observation_keys, vector_part
+
+FORWARD_WEIGHT = 0.2  # ML-Agents' CuriosityRewardProvider.beta
+LOSS_MULTIPLIER = 10.0  # ML-Agents' CuriosityRewardProvider.loss_multiplier
+MODEL_UNITS = 256  # ML-Agents' width of the inverse and forward models
+CHUNK = 4096  # transitions per no-grad pass when rewarding a whole rollout
+
+
+class Curiosity(nn.Module):
+    def __init__(self, observation_space: spaces.Space, layout: ActionLayout, cfg: PPOConfig):
+        super().__init__()
+        keys = observation_keys(observation_space)
+        size = cfg.curiosity_encoding_size
+        self.encoder = Body(keys, cfg.model_copy(update={"hidden_units": size}))
+        self.layout, self.strength = layout, cfg.curiosity_strength
+        actions = layout.continuous + sum(layout.nvec)
+        self.inverse_model = nn.Sequential(nn.Linear(2 * size, MODEL_UNITS), nn.SiLU(),
+                                           nn.Linear(MODEL_UNITS, actions))
+        self.forward_model = nn.Sequential(nn.Linear(size + actions, MODEL_UNITS), nn.SiLU(),
+                                           nn.Linear(MODEL_UNITS, size))
+        self.register_buffer("updated", torch.tensor(False))
+
+    def _device(self) -> torch.device:
+        return self.forward_model[0].weight.device
+
+    def _encode(self, obs: dict[str, torch.Tensor]) -> torch.Tensor:
+        obs = {k: v.to(self._device()) for k, v in obs.items()}
+        return self.encoder(obs, vector_part(obs, self.encoder.vectors))
+
+    def _action_input(self, cont: torch.Tensor, disc: torch.Tensor) -> torch.Tensor:
+        """(B, continuous + sum(nvec)): the continuous part, then each branch one-hot."""
+        cont, disc = cont.to(self._device()), disc.to(self._device())
+        parts = [cont] + [nn.functional.one_hot(disc[:, i], n).float() for i, n in enumerate(self.layout.nvec)]
+        return torch.cat(parts, dim=1)
+
+    def _forward_error(self, phi: torch.Tensor, phi_next: torch.Tensor, action: torch.Tensor) -> torch.Tensor:
+        predicted = self.forward_model(torch.cat([phi, action], dim=1))
+        return 0.5 * (predicted - phi_next).square().sum(1)
+
+    def loss(self, obs: dict[str, torch.Tensor], next_obs: dict[str, torch.Tensor], cont: torch.Tensor,
+             disc: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor]:
+        """-> (total loss, forward loss, inverse loss) of a minibatch of valid transitions."""
+        phi, phi_next = self._encode(obs), self._encode(next_obs)
+        cont, disc = cont.to(self._device()), disc.to(self._device())
+        forward = self._forward_error(phi, phi_next, self._action_input(cont, disc)).mean()
+        predicted = self.inverse_model(torch.cat([phi, phi_next], dim=1))
+        inverse = predicted.new_zeros(())
+        if self.layout.continuous:
+            inverse = inverse + 0.5 * (predicted[:, :self.layout.continuous] - cont).square().sum(1).mean()
+        logits = torch.split(predicted[:, self.layout.continuous:], self.layout.nvec, dim=1)
+        for i, branch in enumerate(logits):
+            inverse = inverse + nn.functional.cross_entropy(branch, disc[:, i])
+        total = LOSS_MULTIPLIER * (FORWARD_WEIGHT * forward + (1.0 - FORWARD_WEIGHT) * inverse)
+        return total, forward.detach(), inverse.detach()
+
+    @torch.no_grad()
+    def rewards(self, obs: dict[str, torch.Tensor], next_obs: dict[str, torch.Tensor], cont: torch.Tensor,
+                disc: torch.Tensor) -> torch.Tensor:
+        """(N,) curiosity rewards min(strength * e, 1) of N transitions (flat observations), 0 before any update."""
+        total = cont.shape[0]
+        if not bool(self.updated):
+            return torch.zeros(total)
+        errors = []
+        for start in range(0, total, CHUNK):
+            part = slice(start, start + CHUNK)
+            phi = self._encode({k: v[part] for k, v in obs.items()})
+            phi_next = self._encode({k: v[part] for k, v in next_obs.items()})
+            errors.append(self._forward_error(phi, phi_next, self._action_input(cont[part], disc[part])))
+        return (self.strength * torch.cat(errors)).clamp(max=1.0).cpu()

@@ -1,0 +1,116 @@
+"""The curiosity reward signal: ML-Agents' reward rule, its learning, its own discount, and its masking."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import torch
+from gymnasium import spaces
+
+from hivex_dsl.adapters.gymnasium import HivexVectorEnv
+from hivex_dsl.compiler import compile
+from hivex_dsl.train.config import make_config
+from hivex_dsl.train.curiosity import Curiosity
+from hivex_dsl.train.logs import EpisodeLog
+from hivex_dsl.train.networks import ActionLayout, ActorCritic, to_tensors
+from hivex_dsl.train.ppo import Rollout, _train_curiosity, advantages_and_returns, collect, gae
+
+from .conftest import short_scenario
+
+OBS = spaces.Box(-1.0, 1.0, (4,), np.float32)
+HYBRID = spaces.Dict({"continuous": spaces.Box(-1.0, 1.0, (1,), np.float32), "discrete": spaces.MultiDiscrete([3])})
+
+
+def _module(strength=0.1, seed=0):
+    torch.manual_seed(seed)
+    cfg = make_config("ocean_plastic_collection", {"curiosity_strength": strength, "curiosity_encoding_size": 16})
+    return Curiosity(OBS, ActionLayout.of(HYBRID), cfg)
+
+
+def _transitions(n=256, seed=1):
+    """s' = s shifted by the discrete action (a deterministic world the forward model can learn)."""
+    g = torch.Generator().manual_seed(seed)
+    obs = torch.rand(n, 4, generator=g) * 2 - 1
+    disc = torch.randint(0, 3, (n, 1), generator=g)
+    cont = torch.rand(n, 1, generator=g)
+    following = (obs + 0.3 * (disc.float() - 1)).clamp(-1, 1)
+    return {"obs": obs}, {"obs": following}, cont, disc
+
+
+def test_the_papers_configs_add_curiosity_and_wfc_aws_do_not():
+    strengths = {env: make_config(env).curiosity_strength for env in (
+        "wildfire_resource_management", "drone_based_reforestation", "ocean_plastic_collection",
+        "wind_farm_control", "aerial_wildfire_suppression")}
+    assert strengths == {"wildfire_resource_management": 0.02, "drone_based_reforestation": 0.1,
+                         "ocean_plastic_collection": 0.1, "wind_farm_control": 0.0, "aerial_wildfire_suppression": 0.0}
+
+
+def test_no_reward_before_the_first_update_then_min_of_strength_times_error_and_one():
+    obs, following, cont, disc = _transitions()
+    weak, strong = _module(0.1), _module(1.0)  # same seed: the same weights
+    assert torch.equal(weak.rewards(obs, following, cont, disc), torch.zeros(256))
+    weak.updated.fill_(True)
+    strong.updated.fill_(True)
+    with torch.no_grad():  # large errors: some of the strong module's rewards hit the cap of 1
+        strong.forward_model[-1].weight.mul_(40.0)
+        weak.forward_model[-1].weight.mul_(40.0)
+    low, high = weak.rewards(obs, following, cont, disc), strong.rewards(obs, following, cont, disc)
+    assert (high <= 1.0).all() and (high == 1.0).any() and (low >= 0).all()
+    uncapped = high < 1.0
+    torch.testing.assert_close(low[uncapped], 0.1 * high[uncapped])
+    assert (low[~uncapped] >= 0.1 - 1e-6).all()  # capped at strength 1 means an error of at least 1
+
+
+def test_training_lowers_the_forward_error_of_seen_transitions():
+    module = _module(0.1)
+    optimizer = torch.optim.Adam(module.parameters(), lr=3e-3)
+    obs, following, cont, disc = _transitions()
+    batch = {"obs": obs, "next_obs": following, "cont": cont, "disc": disc}
+    first = [_train_curiosity(module, optimizer, batch) for _ in range(3)][0]
+    for _ in range(300):
+        last = _train_curiosity(module, optimizer, batch)
+    assert last[0] < 0.2 * first[0]  # forward loss
+    assert last[1] < 0.5 * first[1]  # inverse loss: the action is readable from (s, s')
+    assert bool(module.updated)
+
+
+def test_each_signal_is_discounted_with_its_own_gamma():
+    rewards = torch.tensor([[[1.0, 0.5]], [[2.0, 0.0]], [[4.0, 1.0]]])  # (T=3, S=1, K=2)
+    values = torch.tensor([[[10.0, 1.0]], [[20.0, 2.0]], [[30.0, 3.0]]])
+    next_value, terminated, done = torch.tensor([[40.0, 4.0]]), torch.zeros(3, 1), torch.tensor([[0.0], [1.0], [0.0]])
+    adv, ret = gae(rewards, values, next_value, terminated, done, torch.tensor([0.5, 0.9]), 0.8)
+    for k, gamma in enumerate((0.5, 0.9)):
+        alone, alone_ret = gae(rewards[..., k], values[..., k], next_value[:, k], terminated, done, gamma, 0.8)
+        torch.testing.assert_close(adv[..., k], alone)
+        torch.testing.assert_close(ret[..., k], alone_ret)
+
+
+def test_a_rollout_with_curiosity_has_two_value_columns_and_masks_reset_transitions():
+    compiled = compile(short_scenario("wildfire_resource_management", episode_length=5))
+    cfg = make_config("wildfire_resource_management", {"num_worlds": 1, "hidden_units": 8, "curiosity_encoding_size": 8})
+    env = HivexVectorEnv(compiled, num_worlds=1)
+    torch.manual_seed(0)
+    agent = ActorCritic(env.single_observation_space, env.single_action_space, cfg)
+    module = Curiosity(env.single_observation_space, agent.layout, cfg)
+    module.updated.fill_(True)
+    obs, _ = env.reset()
+    state = {"obs": to_tensors(obs), "done": np.zeros(env.num_envs, bool), "active": np.ones(env.num_envs, bool)}
+    buf = Rollout(12, env.num_envs, state["obs"], 0, len(agent.layout.nvec), agent.signals)
+    next_value = collect(env, agent, buf, state, cfg, EpisodeLog())
+    assert agent.signals == 2 and buf.values.shape == (12, env.num_envs, 2) and next_value.shape == (env.num_envs, 2)
+    advantages, returns, charts = advantages_and_returns(buf, next_value, cfg, module)
+    assert advantages.shape == (12, env.num_envs) and returns.shape == (12, env.num_envs, 2)
+    assert charts["curiosity_reward"] > 0
+    # the step after each 5-step episode is a reset transition: valid 0, so its curiosity reward is 0
+    assert buf.valid[5].sum() == 0 and buf.valid[11].sum() == 0
+    flat = module.rewards(buf.flat_obs(), buf.flat_next_obs(), buf.flat("cont"), buf.flat("disc"))
+    masked = flat.reshape(12, env.num_envs) * buf.valid
+    assert masked[5].abs().sum() == 0 and masked[4].abs().sum() > 0
+
+
+@pytest.mark.parametrize("strength", [0.0, 0.02])
+def test_the_critic_has_one_head_per_signal(strength):
+    cfg = make_config("wildfire_resource_management", {"hidden_units": 8, "curiosity_strength": strength})
+    agent = ActorCritic(OBS, spaces.MultiDiscrete([3, 3]), cfg)
+    value = agent.get_value({"obs": torch.zeros(5, 4)})
+    assert value.shape == ((5,) if strength == 0 else (5, 2))
