@@ -11,14 +11,6 @@ from .. import registry
 
 BASELINES_DIR = Path("benchmarks") / "baselines"
 PAGE = "baselines.md"
-# Why a main task's baseline differs from the paper's on purpose (not a shortfall of the run).
-KNOWN_GAPS = {
-    "wildfire_resource_management": "the paper adds a curiosity reward signal (strength 0.02) that this PPO lacks",
-    "drone_based_reforestation": "the paper adds a curiosity reward signal (strength 0.1) that this PPO lacks",
-    "ocean_plastic_collection": "the paper adds a curiosity reward signal (strength 0.1) that this PPO lacks",
-}
-
-
 # The throughput targets (agent-steps/s, end to end, one 2-core CPU machine).
 THROUGHPUT_TARGETS = {"wind_farm_control": 50_000, "aerial_wildfire_suppression": 2_000}
 THROUGHPUT_FILE = Path("results") / "train_throughput.json"  # beside baselines/, under benchmarks/
@@ -41,7 +33,7 @@ def _row(env_id: str, data: dict[str, Any] | None) -> dict[str, Any]:
     scenario = f"scenarios/{env_id}/main.yaml"
     run = f"runs/{env_id}-main"
     row: dict[str, Any] = {
-        "environment": env_id, "scenario": scenario, "gap": KNOWN_GAPS.get(env_id, ""),
+        "environment": env_id, "scenario": scenario,
         "commands": [f"hivex train {scenario} -o {run}",
                      f"python benchmarks/record_baseline.py {run} {scenario}"],
         "trained": data is not None,
