@@ -1,6 +1,7 @@
 """Turn a finished `hivex train` run into a committed baseline: benchmarks/baselines/<environment>.json + .png.
 
     python benchmarks/record_baseline.py RUN_DIR SCENARIO [--episodes 10] [--command "..."] [--note "..."]
+    python benchmarks/record_baseline.py --replot   # redraw every committed PNG from its JSON
 
 It evaluates the run's checkpoint on the test seeds (as `hivex evaluate` does), measures the random and
 scripted policies on the same seeds, evaluates every intermediate checkpoint the run kept on the test seeds
@@ -11,23 +12,33 @@ scripted policies on the same seeds, evaluates every intermediate checkpoint the
 from __future__ import annotations
 
 import argparse
+import json
 from pathlib import Path
 
 from hivex_dsl.train.baselines import record_baseline
+from hivex_dsl.train.plots import learning_curve
 
 OUT = Path(__file__).resolve().parent / "baselines"
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("run_dir", type=Path)
-    parser.add_argument("scenario", help="the bundled scenario path, e.g. scenarios/wind_farm_control/main.yaml")
+    parser.add_argument("run_dir", type=Path, nargs="?")
+    parser.add_argument("scenario", nargs="?", help="the bundled scenario path, e.g. scenarios/wind_farm_control/main.yaml")
+    parser.add_argument("--replot", action="store_true", help="only redraw the committed PNGs from their JSON")
     parser.add_argument("--episodes", type=int, default=10)
     parser.add_argument("--command", default="", help="the exact commands that trained the run (shown on the page)")
     parser.add_argument("--note", default="", help="one paragraph shown under the curve")
     parser.add_argument("--curve-episodes", type=int, default=3,
                         help="test episodes per intermediate checkpoint (the test-seed curve)")
     args = parser.parse_args()
+    if args.replot:
+        for path in sorted(OUT.glob("*.json")):
+            learning_curve(json.loads(path.read_text()), path.with_suffix(".png"))
+            print(f"redrew {path.with_suffix('.png')}")
+        return
+    if args.run_dir is None or args.scenario is None:
+        parser.error("RUN_DIR and SCENARIO are required (or --replot)")
     data = record_baseline(args.run_dir, args.scenario, OUT, args.episodes, args.command, args.note,
                            args.curve_episodes)
     print(f"wrote {OUT / data['environment']}.json and .png: test return "

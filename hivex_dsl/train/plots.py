@@ -11,6 +11,15 @@ from .config import TrainError
 LEVELS = (("random", "random policy", "tab:gray", ":"), ("scripted", "scripted policy", "tab:green", "--"))
 
 
+def running_mean(values: list[float], window: int) -> list[float]:
+    """The mean of each value and the up to ``window - 1`` before it."""
+    out, total = [], 0.0
+    for i, value in enumerate(values):
+        total += value - (values[i - window] if i >= window else 0.0)
+        out.append(total / min(i + 1, window))
+    return out
+
+
 def learning_curve(data: dict[str, Any], path: Path) -> Path:
     """``data`` is a baseline record (see baselines.py): its ``curve`` rows are (agent-steps, wall s, return)."""
     try:
@@ -22,7 +31,12 @@ def learning_curve(data: dict[str, Any], path: Path) -> Path:
         raise TrainError("learning curves need matplotlib: pip install 'hivex-dsl[plots]'") from None
     fig, ax = plt.subplots(figsize=(7, 4), dpi=100)
     steps = [row[0] for row in data["curve"]]
-    ax.plot(steps, [row[2] for row in data["curve"]], color="tab:blue", label="PPO (this toolkit), training return")
+    returns = [row[2] for row in data["curve"]]
+    window = max(1, len(returns) // 50)
+    if window > 1:  # a few episodes per update make the raw curve noisy: draw it faint under its running mean
+        ax.plot(steps, returns, color="tab:blue", alpha=0.2, linewidth=0.8)
+    ax.plot(steps, running_mean(returns, window), color="tab:blue",
+            label="PPO (this toolkit), training return" + (f" (mean of {window} updates)" if window > 1 else ""))
     if data.get("test_curve"):
         points = data["test_curve"]
         ax.errorbar([r[0] for r in points], [r[2] for r in points], yerr=[r[3] for r in points], fmt="s", ms=3,
@@ -38,7 +52,7 @@ def learning_curve(data: dict[str, Any], path: Path) -> Path:
     ax.set_ylabel("per-agent episode return")
     ax.set_title(f"{data['environment']} · {data['task']}")
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=8, loc="lower right")
+    ax.legend(fontsize=8, loc="best")
     fig.tight_layout()
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)

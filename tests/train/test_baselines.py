@@ -97,3 +97,10 @@ def test_the_page_shows_training_throughput_against_the_targets(recorded):
     assert "| `wind_farm_control` | 32 x 8 | 1 | 2048 / 256 / 3 | 50,000 | 6% | 50,000 | yes |" in page
     assert "| `aerial_wildfire_suppression` | 12 x 3 | 1 | 2048 / 256 / 3 | 1,999 | 6% | 2,000 | no |" in page
     assert "Training throughput" not in render_docs(None, baselines=out)["baselines.md"]
+
+
+def test_running_mean_by_hand():
+    from hivex_dsl.train.plots import running_mean
+
+    assert running_mean([2.0, 4.0, 6.0, 8.0], 2) == [2.0, 3.0, 5.0, 7.0]
+    assert running_mean([1.0, 5.0], 1) == [1.0, 5.0]
