@@ -317,7 +317,7 @@ def train(compiled: CompiledScenario, cfg: PPOConfig, run_dir: Path, progress: b
     wall = time.perf_counter() - started
     save_checkpoint(run_dir / "checkpoint.pt", agent, cfg, compiled, agent_steps, wall)
     result = {"scenario": compiled.name, "environment": compiled.environment, "task_index": compiled.task_index,
-              "level": compiled.level, "agent_steps": agent_steps, "wall_s": round(wall, 2), "seed": cfg.seed,
+              "level": compiled.level, "agent_steps": agent_steps, "wall_s": round(wall, 3), "seed": cfg.seed,
               "final_return": curve[-1]["return"] if curve else None, "checkpoint": "checkpoint.pt",
               "stopped_early": stop.requested}
     (run_dir / "curve.json").write_text(json.dumps(curve, indent=1) + "\n")
