@@ -15,13 +15,22 @@ FORMAT = "hivex-ppo/1"
 
 
 def save_checkpoint(path: Path, agent: ActorCritic, cfg: PPOConfig, compiled: CompiledScenario,
-                    agent_steps: int, wall_s: float | None = None) -> Path:
+                    agent_steps: int, wall_s: float | None = None, training: dict[str, Any] | None = None) -> Path:
     """Write one checkpoint (weights, hyperparameters, the resolved scenario and its fingerprint, and the
-    training's agent-steps and wall seconds when it was taken)."""
+    training's agent-steps and wall seconds when it was taken). ``training`` (optimizer states, the curiosity
+    module, the learning curve so far) makes it resumable: the run directory's ``checkpoint.pt`` carries it.
+
+    The file is written beside and then renamed over ``path``, so a run killed mid-write leaves the previous
+    checkpoint whole."""
     path.parent.mkdir(parents=True, exist_ok=True)
-    torch.save({"format": FORMAT, "model": agent.state_dict(), "config": cfg.model_dump(mode="json"),
-                "scenario": compiled.resolved(), "fingerprint": compiled.fingerprint,
-                "agent_steps": int(agent_steps), "wall_s": None if wall_s is None else round(float(wall_s), 3)}, path)
+    data = {"format": FORMAT, "model": agent.state_dict(), "config": cfg.model_dump(mode="json"),
+            "scenario": compiled.resolved(), "fingerprint": compiled.fingerprint,
+            "agent_steps": int(agent_steps), "wall_s": None if wall_s is None else round(float(wall_s), 3)}
+    if training is not None:
+        data["training"] = training
+    partial = path.with_name(path.name + ".partial")
+    torch.save(data, partial)
+    partial.replace(path)
     return path
 
 
@@ -53,3 +62,27 @@ def policy_for(checkpoint: dict[str, Any], compiled: CompiledScenario, device: s
     from .ppo import torch_device
 
     return agent.to(torch_device(device)).eval()
+
+
+# what may change when a run goes on: how long it trains and where and how it runs, not what it learns
+RESUMABLE_CHANGES = frozenset({"max_steps", "device", "torch_threads", "checkpoint_every", "keep_checkpoints"})
+
+
+def resume_state(path: Path, compiled: CompiledScenario, cfg: PPOConfig) -> dict[str, Any]:
+    """The checkpoint a run goes on from, checked to be resumable with ``compiled`` and ``cfg``: the same
+    scenario (fingerprint) and the same hyperparameters but for :data:`RESUMABLE_CHANGES`."""
+    if not path.is_file():
+        raise TrainError(f"cannot resume: no checkpoint at {path} (train without --resume first)")
+    data = load_checkpoint(path)
+    if "training" not in data:
+        raise TrainError(f"cannot resume from {path}: it holds weights only, not the optimizer state")
+    if data["fingerprint"] != compiled.fingerprint:
+        raise TrainError(f"cannot resume from {path}: it trained scenario {data['compiled'].name!r}, which differs "
+                         f"from {compiled.name!r} (fingerprint {data['fingerprint']} != {compiled.fingerprint})")
+    before, now = data["config"].model_dump(), cfg.model_dump()
+    changed = sorted(k for k in now if before[k] != now[k] and k not in RESUMABLE_CHANGES)
+    if changed:
+        listing = ", ".join(f"{k}: {before[k]!r} -> {now[k]!r}" for k in changed)
+        raise TrainError(f"cannot resume from {path}: hyperparameters differ from the run's ({listing}); "
+                         f"only {', '.join(sorted(RESUMABLE_CHANGES))} may change")
+    return data

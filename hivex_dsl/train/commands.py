@@ -29,6 +29,8 @@ def add_commands(sub: argparse._SubParsersAction, positive) -> None:
                    help="after training, evaluate on the test seeds for N episodes (default 0: skip)")
     p.add_argument("--ray", nargs="?", const="local", default=None, metavar="ADDRESS",
                    help="run a sweep's points as Ray tasks: a local instance, or the cluster at ADDRESS")
+    p.add_argument("--resume", action="store_true",
+                   help="go on from RUN_DIR/checkpoint.pt (same scenario and hyperparameters; --steps may grow)")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.set_defaults(handler=cmd_train)
 
@@ -67,12 +69,13 @@ def cmd_train(args) -> int:
         from .grid import train_point
 
         result = train_point(points[0].resolved(), configs[0].model_dump(mode="json"), str(run_dir),
-                             args.eval_episodes, progress=not args.no_progress)
+                             args.eval_episodes, progress=not args.no_progress, resume=args.resume)
         print(json.dumps(result, indent=2))
         return 0
     from .grid import format_table, run_grid
 
-    results = run_grid(points, configs, run_dir, args.eval_episodes, args.ray, progress=not args.no_progress)
+    results = run_grid(points, configs, run_dir, args.eval_episodes, args.ray, progress=not args.no_progress,
+                       resume=args.resume)
     print(format_table(results))
     print(f"wrote {run_dir / 'results.json'}")
     return 0

@@ -24,13 +24,14 @@ def point_dir(run_dir: Path, index: int, compiled: CompiledScenario) -> Path:
 
 
 def train_point(scenario: dict[str, Any], config: dict[str, Any], run_dir: str, eval_episodes: int,
-                progress: bool) -> dict[str, Any]:
-    """Train one point (given as plain data, so it travels to a Ray worker) and evaluate it on the test seeds."""
+                progress: bool, resume: bool = False) -> dict[str, Any]:
+    """Train one point (given as plain data, so it travels to a Ray worker) and evaluate it on the test seeds;
+    ``resume`` goes on from the run directory's checkpoint."""
     from .evaluate import evaluate
     from .ppo import train
 
     compiled = compile(scenario)
-    summary = train(compiled, PPOConfig(**config), Path(run_dir), progress=progress)
+    summary = train(compiled, PPOConfig(**config), Path(run_dir), progress=progress, resume=resume)
     summary["run_dir"] = str(run_dir)
     if eval_episodes:
         report = evaluate(Path(run_dir) / "checkpoint.pt", split="test", episodes=eval_episodes)
@@ -42,22 +43,26 @@ def train_point(scenario: dict[str, Any], config: dict[str, Any], run_dir: str, 
 
 def run_grid(points: Sequence[CompiledScenario], configs: Sequence[PPOConfig], run_dir: Path,
              eval_episodes: int = 0, ray_address: str | None = None, ray_init: dict[str, Any] | None = None,
-             progress: bool = True) -> list[dict[str, Any]]:
+             progress: bool = True, resume: bool = False) -> list[dict[str, Any]]:
     """Train every point (``configs[i]`` for ``points[i]``); ``ray_address`` ``"local"`` starts a local Ray
-    instance, any other value joins that cluster, ``None`` runs the points in turn. -> the results table."""
+    instance, any other value joins that cluster, ``None`` runs the points in turn. ``resume`` lets each
+    point with a checkpoint go on from it (one that finished only re-evaluates); the others start afresh.
+    -> the results table."""
     run_dir = Path(run_dir)
-    jobs = [(p.resolved(), c.model_dump(mode="json"), str(point_dir(run_dir, i, p).resolve()), eval_episodes)
-            for i, (p, c) in enumerate(zip(points, configs))]
+    folders = [point_dir(run_dir, i, p).resolve() for i, p in enumerate(points)]
+    jobs = [(p.resolved(), c.model_dump(mode="json"), str(folder), eval_episodes)
+            for p, c, folder in zip(points, configs, folders)]
+    going_on = [resume and (folder / "checkpoint.pt").is_file() for folder in folders]
     if ray_address is None:
-        results = [train_point(*job, progress=progress) for job in jobs]
+        results = [train_point(*job, progress=progress, resume=again) for job, again in zip(jobs, going_on)]
     else:
-        results = _on_ray(jobs, ray_address, ray_init or {})
+        results = _on_ray(jobs, going_on, ray_address, ray_init or {})
     run_dir.mkdir(parents=True, exist_ok=True)
     (run_dir / "results.json").write_text(json.dumps(results, indent=2) + "\n")
     return results
 
 
-def _on_ray(jobs: list[tuple], address: str, init: dict[str, Any]) -> list[dict[str, Any]]:
+def _on_ray(jobs: list[tuple], going_on: list[bool], address: str, init: dict[str, Any]) -> list[dict[str, Any]]:
     try:
         import ray
     except ImportError:
@@ -68,7 +73,7 @@ def _on_ray(jobs: list[tuple], address: str, init: dict[str, Any]) -> list[dict[
                  log_to_driver=False, **init)
     try:
         remote = ray.remote(num_cpus=1)(train_point)
-        return ray.get([remote.remote(*job, progress=False) for job in jobs])
+        return ray.get([remote.remote(*job, progress=False, resume=again) for job, again in zip(jobs, going_on)])
     finally:
         if started:
             ray.shutdown()

@@ -84,11 +84,11 @@ class ScalarLog:
 class Progress:
     """A tqdm bar over agent-steps: rate, time left, and the latest mean episode return."""
 
-    def __init__(self, total: int, enabled: bool, label: str):
+    def __init__(self, total: int, enabled: bool, label: str, start: int = 0):
         from tqdm import tqdm
 
-        self.bar = tqdm(total=total, unit="step", unit_scale=True, disable=not enabled, desc=label,
-                        dynamic_ncols=True)
+        self.bar = tqdm(total=total, initial=min(start, total), unit="step", unit_scale=True, disable=not enabled,
+                        desc=label, dynamic_ncols=True)
         self.last_return: float | None = None
 
     def advance(self, steps: int, episode_return: float | None) -> None:

@@ -25,7 +25,7 @@ from torch import nn
 
 from ..adapters.gymnasium import HivexVectorEnv
 from ..compiler import CompiledScenario
-from .checkpoint import save_checkpoint
+from .checkpoint import resume_state, save_checkpoint
 from .config import PPOConfig, TrainError
 from .curiosity import Curiosity
 from .logs import EpisodeLog, Progress, ScalarLog
@@ -264,14 +264,21 @@ def _take(data: dict[str, Any], index: torch.Tensor) -> dict[str, Any]:
 
 
 def train(compiled: CompiledScenario, cfg: PPOConfig, run_dir: Path, progress: bool = True,
-          on_update: Callable[[dict[str, Any]], None] | None = None) -> dict[str, Any]:
+          on_update: Callable[[dict[str, Any]], None] | None = None, resume: bool = False) -> dict[str, Any]:
     """Train one policy for ``cfg.max_steps`` agent-steps; write checkpoints, scalars and curve.json
-    under ``run_dir``; -> the run's summary (also written as summary.json)."""
+    under ``run_dir``; -> the run's summary (also written as summary.json).
+
+    ``resume`` goes on from ``run_dir/checkpoint.pt`` (see :func:`resume_state`): the weights, both optimizers,
+    the curiosity module, the agent-steps, wall time and learning curve so far. As in ML-Agents' ``--resume``
+    the environments start afresh on the train seed, so a resumed run is not bit-identical to one never
+    stopped."""
     run_dir = Path(run_dir)
     run_dir.mkdir(parents=True, exist_ok=True)
+    resumed = resume_state(run_dir / "checkpoint.pt", compiled, cfg) if resume else None
+    done_before = resumed["agent_steps"] if resumed else 0
     torch.set_num_threads(cfg.torch_threads)
-    torch.manual_seed(cfg.seed)
-    rng = np.random.default_rng(cfg.seed)
+    torch.manual_seed(cfg.seed + done_before)
+    rng = np.random.default_rng([cfg.seed, done_before])
     env, obs = make_env(compiled, cfg.num_worlds, "train")
     agent = ActorCritic(env.single_observation_space, env.single_action_space, cfg).to(torch_device(cfg.device))
     optimizer = make_optimizer(agent, cfg.learning_rate)
@@ -279,14 +286,29 @@ def train(compiled: CompiledScenario, cfg: PPOConfig, run_dir: Path, progress: b
     if cfg.curiosity_strength > 0:
         curiosity = Curiosity(env.single_observation_space, agent.layout, cfg).to(torch_device(cfg.device))
         curiosity_optimizer = make_optimizer(curiosity, cfg.curiosity_learning_rate)
+    modules = {"optimizer": optimizer, "curiosity": curiosity, "curiosity_optimizer": curiosity_optimizer}
+    if resumed:
+        agent.load_state_dict(resumed["model"])
+        for name, module in modules.items():
+            if module is not None:
+                module.load_state_dict(resumed["training"][name])
     slots, steps = env.num_envs, cfg.rollout_length(env.num_envs)
     state = {"obs": to_tensors(obs), "done": np.zeros(slots, bool), "active": np.ones(slots, bool)}
     buf = Rollout(steps, slots, state["obs"], agent.layout.continuous, len(agent.layout.nvec), agent.signals)
     (run_dir / "config.json").write_text(json.dumps({"hyperparameters": cfg.model_dump(mode="json"),
                                                      "scenario": compiled.resolved()}, indent=2) + "\n")
     episodes, scalars = EpisodeLog(), ScalarLog(run_dir)
-    bar = Progress(cfg.max_steps, enabled=progress, label=compiled.name)
-    agent_steps, next_checkpoint, started, curve = 0, cfg.checkpoint_every, time.perf_counter(), []
+    bar = Progress(cfg.max_steps, enabled=progress, label=compiled.name, start=done_before)
+    agent_steps, curve = done_before, list(resumed["training"]["curve"]) if resumed else []
+    wall_before = (resumed["wall_s"] or 0.0) if resumed else 0.0
+    next_checkpoint = (agent_steps // cfg.checkpoint_every + 1) * cfg.checkpoint_every
+    started = time.perf_counter()
+
+    def latest(steps: int, wall: float) -> None:
+        """The run directory's resumable checkpoint.pt."""
+        training = {name: module.state_dict() for name, module in modules.items() if module is not None}
+        save_checkpoint(run_dir / "checkpoint.pt", agent, cfg, compiled, steps, wall, training | {"curve": curve})
+
     with StopRequests() as stop:  # Ctrl-C or SIGTERM: finish this update, then save as if done
         while agent_steps < cfg.max_steps and not stop.requested:
             lr, beta, epsilon = schedule(cfg, agent_steps / cfg.max_steps)
@@ -298,24 +320,26 @@ def train(compiled: CompiledScenario, cfg: PPOConfig, run_dir: Path, progress: b
             losses = update(agent, optimizer, buf, advantages, returns, cfg, beta, epsilon, rng,
                             None if curiosity is None else (curiosity, curiosity_optimizer))
             agent_steps += steps * slots
-            wall = time.perf_counter() - started
+            wall = wall_before + time.perf_counter() - started
             summary = episodes.drain()
             if summary:
                 curve.append({"agent_steps": agent_steps, "wall_s": round(wall, 3), "return": summary["return"],
                               "episodes": summary["episodes"]})
             scalars.write(agent_steps, summary, losses, {"learning_rate": lr, "beta": beta, "epsilon": epsilon,
-                                                         "agent_steps_per_s": agent_steps / max(wall, 1e-9),
+                                                         "agent_steps_per_s": (agent_steps - done_before)
+                                                         / max(wall - wall_before, 1e-9),
                                                          **signal_charts})
             bar.advance(steps * slots, summary.get("return"))
             if on_update is not None:
                 on_update({"agent_steps": agent_steps, "wall_s": wall, **summary})
             if agent_steps >= next_checkpoint:
                 _checkpoint(run_dir, agent, cfg, compiled, agent_steps, wall)
+                latest(agent_steps, wall)
                 next_checkpoint += cfg.checkpoint_every
     bar.close()
     scalars.close()
-    wall = time.perf_counter() - started
-    save_checkpoint(run_dir / "checkpoint.pt", agent, cfg, compiled, agent_steps, wall)
+    wall = wall_before + time.perf_counter() - started
+    latest(agent_steps, wall)
     result = {"scenario": compiled.name, "environment": compiled.environment, "task_index": compiled.task_index,
               "level": compiled.level, "agent_steps": agent_steps, "wall_s": round(wall, 3), "seed": cfg.seed,
               "final_return": curve[-1]["return"] if curve else None, "checkpoint": "checkpoint.pt",

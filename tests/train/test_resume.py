@@ -1,0 +1,110 @@
+"""`hivex train --resume`: a stopped run goes on from its checkpoint with its optimizers and curve."""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+
+import pytest
+import torch
+
+from hivex_dsl.cli import main
+from hivex_dsl.compiler import compile
+from hivex_dsl.train.config import TrainError, make_config
+from hivex_dsl.train.grid import run_grid
+from hivex_dsl.train.ppo import train
+
+from .conftest import TINY, short_scenario
+
+# WRM's 9 agents in one world: 90 agent-steps per update in one minibatch, so 2 epochs -> 2 optimizer steps
+ONE_MINIBATCH = {"buffer_size": 90, "batch_size": 90, "num_epoch": 2, "max_steps": 270}
+STEPS_PER_UPDATE, UPDATES = 2, 3
+
+
+def adam_steps(run_dir, module: str = "optimizer") -> int:
+    state = torch.load(run_dir / "checkpoint.pt", weights_only=True)["training"][module]["state"]
+    return {int(s["step"]) for s in state.values()}.pop()
+
+
+def stop_after_first_update(*_):
+    os.kill(os.getpid(), signal.SIGINT)
+
+
+@pytest.fixture
+def wrm():
+    """Wildfire resource management: curiosity ships in its paper hyperparameters."""
+    return compile(short_scenario("wildfire_resource_management", episode_length=8))
+
+
+@pytest.fixture
+def tiny(tiny):
+    return tiny | ONE_MINIBATCH
+
+
+def test_a_resumed_run_goes_on_with_its_optimizers_and_curve(wrm, tiny, tmp_path):
+    cfg = make_config(wrm.environment, tiny)
+    assert cfg.curiosity_strength > 0
+    run = tmp_path / "run"
+    first = train(wrm, cfg, run, progress=False, on_update=stop_after_first_update)
+    assert first["stopped_early"] and first["agent_steps"] == tiny["buffer_size"]
+    assert adam_steps(run) == STEPS_PER_UPDATE
+    curve_before = json.loads((run / "curve.json").read_text())
+
+    second = train(wrm, cfg, run, progress=False, resume=True)
+    assert second["agent_steps"] == tiny["max_steps"] and not second["stopped_early"]
+    assert second["wall_s"] >= first["wall_s"]
+    # without the saved optimizer state Adam would count only the resumed run's steps
+    assert adam_steps(run) == STEPS_PER_UPDATE * UPDATES
+    assert adam_steps(run, "curiosity_optimizer") == STEPS_PER_UPDATE * UPDATES
+    curve = json.loads((run / "curve.json").read_text())
+    assert curve[:len(curve_before)] == curve_before and len(curve) > len(curve_before)
+    assert [p["agent_steps"] for p in curve] == sorted(p["agent_steps"] for p in curve)
+    assert not list(run.rglob("*.partial"))
+
+
+def test_a_resumed_run_may_train_longer_but_not_differently(wrm, tiny, tmp_path):
+    run = tmp_path / "run"
+    train(wrm, make_config(wrm.environment, tiny), run, progress=False)
+    longer = train(wrm, make_config(wrm.environment, tiny, {"max_steps": 360}), run, progress=False, resume=True)
+    assert longer["agent_steps"] == 360
+    assert adam_steps(run) == STEPS_PER_UPDATE * 4
+
+    with pytest.raises(TrainError, match=r"gamma: 0\.99 -> 0\.5"):
+        train(wrm, make_config(wrm.environment, tiny, {"gamma": 0.5}), run, progress=False, resume=True)
+    other = compile(short_scenario("wildfire_resource_management", episode_length=9))
+    with pytest.raises(TrainError, match="fingerprint"):
+        train(other, make_config(wrm.environment, tiny), run, progress=False, resume=True)
+    with pytest.raises(TrainError, match="no checkpoint"):
+        train(wrm, make_config(wrm.environment, tiny), tmp_path / "empty", progress=False, resume=True)
+    step_file = next((run / "checkpoints").glob("step_*.pt"))
+    (tmp_path / "weights").mkdir()
+    step_file.replace(tmp_path / "weights" / "checkpoint.pt")
+    with pytest.raises(TrainError, match="weights only"):
+        train(wrm, make_config(wrm.environment, tiny), tmp_path / "weights", progress=False, resume=True)
+
+
+def test_the_train_command_resumes(tmp_path, capsys):
+    scenario = tmp_path / "wfc.yaml"
+    scenario.write_text(json.dumps(short_scenario("wind_farm_control", episode_length=16)))
+    common = [str(scenario), "-o", str(tmp_path / "run"), "--no-progress", "--set", "num_worlds=1",
+              "--set", "hidden_units=8", "--set", "buffer_size=64"]
+    assert main(["train", *common, "--steps", "128"]) == 0
+    assert json.loads(capsys.readouterr().out)["agent_steps"] == 128
+    assert main(["train", *common, "--steps", "256", "--resume"]) == 0
+    assert json.loads(capsys.readouterr().out)["agent_steps"] == 256
+    assert main(["train", *common, "--steps", "256", "--resume", "--set", "gamma=0.5"]) == 2
+    assert "gamma" in capsys.readouterr().err
+
+
+def test_a_resumed_grid_finishes_what_is_left(tmp_path):
+    tiny = dict(TINY)
+    points = [compile(short_scenario("wind_farm_control")), compile(short_scenario("wind_farm_control", 30))]
+    configs = [make_config("wind_farm_control", tiny) for _ in points]
+    run_grid(points[:1], configs[:1], tmp_path, progress=False)  # the second point never started
+    done = next(tmp_path.glob("000-*")) / "checkpoint.pt"
+    before = torch.load(done, weights_only=True)["model"]
+    results = run_grid(points, configs, tmp_path, progress=False, resume=True)
+    assert [r["agent_steps"] for r in results] == [tiny["max_steps"]] * 2
+    after = torch.load(done, weights_only=True)["model"]
+    assert all(torch.equal(before[k], after[k]) for k in before)  # a finished point is not trained again
