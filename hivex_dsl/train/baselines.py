@@ -69,7 +69,7 @@ def record_baseline(run_dir: Path, scenario: str, out_dir: Path, episodes: int =
         "environment": compiled.environment, "scenario": scenario, "task": compiled.task_name,
         "task_index": compiled.task_index, "level": compiled.level, "command": command, "note": note,
         "agent_steps": summary["agent_steps"], "wall_s": summary["wall_s"], "seed": summary["seed"],
-        "machine": machine(), "hyperparameters": json.loads((run_dir / "config.json").read_text())["hyperparameters"],
+        "resumed_at": summary.get("resumed_at", []), "machine": machine(), "hyperparameters": json.loads((run_dir / "config.json").read_text())["hyperparameters"],
         "test": {k: report[k] for k in ("seed", "episodes", "agent_episodes", "actions", "return", "statistics")},
         "published": report["published"],
         "random": _level(compiled, "random", episodes), "scripted": _level(compiled, "scripted", episodes),

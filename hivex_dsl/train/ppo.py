@@ -300,6 +300,7 @@ def train(compiled: CompiledScenario, cfg: PPOConfig, run_dir: Path, progress: b
     episodes, scalars = EpisodeLog(), ScalarLog(run_dir)
     bar = Progress(cfg.max_steps, enabled=progress, label=compiled.name, start=done_before)
     agent_steps, curve = done_before, list(resumed["training"]["curve"]) if resumed else []
+    resumed_at = [*resumed["training"].get("resumed_at", []), done_before] if resumed else []
     wall_before = (resumed["wall_s"] or 0.0) if resumed else 0.0
     next_checkpoint = (agent_steps // cfg.checkpoint_every + 1) * cfg.checkpoint_every
     started = time.perf_counter()
@@ -307,7 +308,7 @@ def train(compiled: CompiledScenario, cfg: PPOConfig, run_dir: Path, progress: b
     def latest(steps: int, wall: float) -> None:
         """The run directory's resumable checkpoint.pt."""
         training = {name: module.state_dict() for name, module in modules.items() if module is not None}
-        save_checkpoint(run_dir / "checkpoint.pt", agent, cfg, compiled, steps, wall, training | {"curve": curve})
+        save_checkpoint(run_dir / "checkpoint.pt", agent, cfg, compiled, steps, wall, training | {"curve": curve, "resumed_at": resumed_at})
 
     with StopRequests() as stop:  # Ctrl-C or SIGTERM: finish this update, then save as if done
         while agent_steps < cfg.max_steps and not stop.requested:
@@ -343,7 +344,7 @@ def train(compiled: CompiledScenario, cfg: PPOConfig, run_dir: Path, progress: b
     result = {"scenario": compiled.name, "environment": compiled.environment, "task_index": compiled.task_index,
               "level": compiled.level, "agent_steps": agent_steps, "wall_s": round(wall, 3), "seed": cfg.seed,
               "final_return": curve[-1]["return"] if curve else None, "checkpoint": "checkpoint.pt",
-              "stopped_early": stop.requested}
+              "stopped_early": stop.requested, "resumed_at": resumed_at}
     (run_dir / "curve.json").write_text(json.dumps(curve, indent=1) + "\n")
     (run_dir / "summary.json").write_text(json.dumps(result, indent=2) + "\n")
     return result

@@ -104,3 +104,12 @@ def test_running_mean_by_hand():
 
     assert running_mean([2.0, 4.0, 6.0, 8.0], 2) == [2.0, 3.0, 5.0, 7.0]
     assert running_mean([1.0, 5.0], 1) == [1.0, 5.0]
+
+
+def test_a_resumed_run_says_so_on_the_page(recorded, tmp_path):
+    _, data = recorded
+    assert data["resumed_at"] == []  # the recorded run trained in one go
+    resumed = data | {"resumed_at": [2_100_000], "wall_s": 600.0}
+    (tmp_path / "wind_farm_control.json").write_text(json.dumps(resumed))
+    (row,) = baselines_context(tmp_path)["trained"]
+    assert row["wall"] == "10.0 min (resumed at 2,100,000)"

@@ -53,6 +53,7 @@ def test_a_resumed_run_goes_on_with_its_optimizers_and_curve(wrm, tiny, tmp_path
 
     second = train(wrm, cfg, run, progress=False, resume=True)
     assert second["agent_steps"] == tiny["max_steps"] and not second["stopped_early"]
+    assert first["resumed_at"] == [] and second["resumed_at"] == [first["agent_steps"]]
     assert second["wall_s"] >= first["wall_s"]
     # without the saved optimizer state Adam would count only the resumed run's steps
     assert adam_steps(run) == STEPS_PER_UPDATE * UPDATES
@@ -67,7 +68,7 @@ def test_a_resumed_run_may_train_longer_but_not_differently(wrm, tiny, tmp_path)
     run = tmp_path / "run"
     train(wrm, make_config(wrm.environment, tiny), run, progress=False)
     longer = train(wrm, make_config(wrm.environment, tiny, {"max_steps": 360}), run, progress=False, resume=True)
-    assert longer["agent_steps"] == 360
+    assert longer["agent_steps"] == 360 and longer["resumed_at"] == [270]
     assert adam_steps(run) == STEPS_PER_UPDATE * 4
 
     with pytest.raises(TrainError, match=r"gamma: 0\.99 -> 0\.5"):
