@@ -55,16 +55,19 @@ from .human import Rendering, check_render_mode
 _MODES = {"next_step": AutoresetMode.NEXT_STEP, "same_step": AutoresetMode.SAME_STEP}
 
 
-def _flatten(tree: Any, slots: int) -> Any:
-    """(worlds, agents, ...) arrays (or a dict of them) -> fresh writable (slots, ...) arrays."""
+def flatten_slots(tree: Any, slots: int) -> Any:
+    """(worlds, agents, ...) arrays (or a dict of them) -> fresh writable (slots, ...) arrays, slot = world * agents
+    + agent (the vector env's layout, which policies trained on it see)."""
     if isinstance(tree, dict):
-        return {k: _flatten(v, slots) for k, v in tree.items()}
+        return {k: flatten_slots(v, slots) for k, v in tree.items()}
     return np.array(tree.reshape((slots,) + tree.shape[2:]))
 
 
-def _unflatten(tree: Any, shape: tuple[int, int]) -> Any:
+def unflatten_slots(tree: Any, shape: tuple[int, int]) -> Any:
+    """(slots, ...) actions (or a dict of them) -> (worlds, agents, ...) arrays; a clear ActionError when the
+    slot count is wrong or the actions are ragged."""
     if isinstance(tree, dict):
-        return {k: _unflatten(v, shape) for k, v in tree.items()}
+        return {k: unflatten_slots(v, shape) for k, v in tree.items()}
     try:
         array = np.asarray(tree)
     except (ValueError, TypeError):
@@ -126,10 +129,10 @@ class HivexVectorEnv(Rendering, VectorEnv):
         self._pending_worlds[:] = False
         self._pending_agents[:] = False
         self._show()
-        return _flatten(observations, self.num_envs), {}
+        return flatten_slots(observations, self.num_envs), {}
 
     def step(self, actions: Any):
-        batched = check_actions(self.single_action_space, _unflatten(actions, self.core.shape),
+        batched = check_actions(self.single_action_space, unflatten_slots(actions, self.core.shape),
                                 self.compiled.agent_names, self.core.sim.action_meanings)
         if self.autoreset_mode is AutoresetMode.SAME_STEP:
             out = self._step_same(batched)
@@ -147,7 +150,7 @@ class HivexVectorEnv(Rendering, VectorEnv):
             self._pending_agents = np.zeros(shape, bool)
             zeros = np.zeros(self.num_envs, bool)
             infos = {"reward_terms": {name: np.zeros(self.num_envs) for name in core.term_sums}}
-            return _flatten(observations, self.num_envs), np.zeros(self.num_envs), zeros, zeros.copy(), infos
+            return flatten_slots(observations, self.num_envs), np.zeros(self.num_envs), zeros, zeros.copy(), infos
         respawning = self._pending_agents & ~restart[:, None]
         restarting = restart if restart.any() else None
         result = core.step(batched, restart=restarting, respawn=respawning if respawning.any() else None)
@@ -163,7 +166,7 @@ class HivexVectorEnv(Rendering, VectorEnv):
         infos = self._infos(result, ended)
         self._pending_worlds = ending
         self._pending_agents = ended & ~ending[:, None]
-        return (_flatten(result.observations, self.num_envs), rewards.reshape(-1), terminated.reshape(-1),
+        return (flatten_slots(result.observations, self.num_envs), rewards.reshape(-1), terminated.reshape(-1),
                 truncated.reshape(-1), infos)
 
     def _step_same(self, batched: Any):
@@ -173,7 +176,7 @@ class HivexVectorEnv(Rendering, VectorEnv):
         infos = self._infos(result, result.ended)
         observations = result.observations
         if np.count_nonzero(result.ended):
-            final = _flatten(observations, self.num_envs)
+            final = flatten_slots(observations, self.num_envs)
             done = result.ended.reshape(-1)
             infos["final_obs"] = np.full(self.num_envs, None, dtype=object)
             for slot in np.flatnonzero(done):
@@ -181,7 +184,7 @@ class HivexVectorEnv(Rendering, VectorEnv):
             infos["_final_obs"] = done
             core.respawn_agents(result.ended & ~ending[:, None])
             observations = core.reset_worlds(ending) if ending.any() else core.observe()
-        return (_flatten(observations, self.num_envs), result.rewards.reshape(-1), result.terminated.reshape(-1),
+        return (flatten_slots(observations, self.num_envs), result.rewards.reshape(-1), result.terminated.reshape(-1),
                 result.truncated.reshape(-1), infos)
 
     def _infos(self, result: Transition, ended: np.ndarray) -> dict[str, Any]:

@@ -65,7 +65,7 @@ class Curiosity(nn.Module):
              disc: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor]:
         """-> (total loss, forward loss, inverse loss) of a minibatch of valid transitions."""
         phi, phi_next = self._encode(obs), self._encode(next_obs)
-        cont, disc = cont.to(self._device()), disc.to(self._device())
+        cont, disc = cont.to(self._device()), disc.to(self._device())  # the inverse model's targets too
         forward = self._forward_error(phi, phi_next, self._action_input(cont, disc)).mean()
         predicted = self.inverse_model(torch.cat([phi, phi_next], dim=1))
         inverse = predicted.new_zeros(())

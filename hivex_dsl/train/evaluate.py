@@ -9,7 +9,7 @@ from typing import Any, Callable
 import numpy as np
 import torch
 
-from ..adapters.gymnasium import _flatten, _unflatten
+from ..adapters.gymnasium import flatten_slots, unflatten_slots
 from ..compiler import CompiledScenario
 from ..rollout import rollout
 from .checkpoint import load_checkpoint, policy_for
@@ -35,8 +35,8 @@ def network_policy(agent: torch.nn.Module, agents: int, deterministic: bool = Fa
 
     def ppo(observations: Any) -> Any:
         with torch.no_grad():
-            cont, disc, _ = agent.act(to_tensors(_flatten(observations, agents)), deterministic=deterministic)
-        return _unflatten(agent.layout.to_env(cont, disc), (1, agents))
+            cont, disc, _ = agent.act(to_tensors(flatten_slots(observations, agents)), deterministic=deterministic)
+        return unflatten_slots(agent.layout.to_env(cont, disc), (1, agents))
 
     return ppo
 
