@@ -101,7 +101,9 @@ class ResidualBlock(nn.Module):
 
 
 def camera_encoder(kind: str, shape: tuple[int, int, int], out: int) -> nn.Module:
-    """(B, H, W, C) in [0, 1] -> (B, out): ML-Agents' ``simple`` (2 conv) or ``resnet`` (IMPALA) encoder."""
+    """(B, H, W, C) in [0, 1] -> (B, out): ML-Agents' ``simple`` (2 conv, LeakyReLU) or ``resnet`` (IMPALA)
+    encoder, layer for layer (mlagents/trainers/torch_entities/encoders.py). The ResNet's max-pools are
+    unpadded (3x3, stride 2: a 25x25 camera is 12x12, 5x5, then 2x2) and its dense output is a ReLU."""
     height, width, channels = shape
     if min(height, width) < MIN_IMAGE[kind]:
         raise TrainError(f"vis_encode_type {kind!r} needs cameras of at least {MIN_IMAGE[kind]}x{MIN_IMAGE[kind]}, "
@@ -109,15 +111,17 @@ def camera_encoder(kind: str, shape: tuple[int, int, int], out: int) -> nn.Modul
     if kind == "simple":
         convs = nn.Sequential(nn.Conv2d(channels, 16, 8, stride=4), nn.LeakyReLU(),
                               nn.Conv2d(16, 32, 4, stride=2), nn.LeakyReLU(), nn.Flatten())
+        activation: nn.Module = nn.LeakyReLU()
     else:
         stack: list[nn.Module] = []
         for c_in, c_out in zip((channels, 16, 32), (16, 32, 32)):
-            stack += [nn.Conv2d(c_in, c_out, 3, padding=1), nn.MaxPool2d(3, stride=2, padding=1),
+            stack += [nn.Conv2d(c_in, c_out, 3, padding=1), nn.MaxPool2d(3, stride=2),
                       ResidualBlock(c_out), ResidualBlock(c_out)]
         convs = nn.Sequential(*stack, nn.SiLU(), nn.Flatten())
+        activation = nn.ReLU()
     with torch.no_grad():
         flat = convs(torch.zeros(1, channels, height, width)).shape[1]
-    return nn.Sequential(Channels(), convs, nn.Linear(flat, out), nn.LeakyReLU())
+    return nn.Sequential(Channels(), convs, nn.Linear(flat, out), activation)
 
 
 class Channels(nn.Module):

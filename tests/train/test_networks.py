@@ -78,3 +78,36 @@ def test_deterministic_actions_are_the_modes():
     torch.testing.assert_close(cont, agent.mu(hidden).detach())
     chunks = torch.split(agent.logits(hidden), agent.layout.nvec, 1)
     assert disc.tolist() == torch.stack([c.argmax(1) for c in chunks], 1).tolist()
+
+
+@pytest.mark.parametrize("kind, size, flat", [
+    ("resnet", 25, 32 * 2 * 2),   # OPC: ML-Agents' pool_out_shape, (h - 3) // 2 + 1: 25 -> 12 -> 5 -> 2
+    ("resnet", 16, 32 * 1 * 1),   # DBR: 16 -> 7 -> 3 -> 1
+    ("resnet", 15, 32 * 1 * 1),   # ML-Agents' smallest ResNet camera: 15 -> 7 -> 3 -> 1
+    ("simple", 84, 32 * 9 * 9),   # conv 8/4 then 4/2: 84 -> 20 -> 9
+    ("simple", 20, 32 * 1 * 1),   # the smallest simple camera: 20 -> 4 -> 1
+])
+def test_camera_encoders_have_ml_agents_shapes(kind, size, flat):
+    from hivex_dsl.train.networks import camera_encoder
+
+    encoder = camera_encoder(kind, (size, size, 2), 128)
+    dense = [m for m in encoder.modules() if isinstance(m, torch.nn.Linear)]
+    assert [(d.in_features, d.out_features) for d in dense] == [(flat, 128)]
+    convs = [m for m in encoder.modules() if isinstance(m, torch.nn.Conv2d)]
+    assert len(convs) == (15 if kind == "resnet" else 2)  # 3 stacks of a conv and 2 residual blocks of 2 convs
+    out = encoder(torch.rand(64, size, size, 2))
+    assert out.shape == (64, 128)
+    if kind == "resnet":  # ML-Agents ends the ResNet with a ReLU, the simple encoder with a LeakyReLU
+        assert out.min() >= 0
+    else:
+        assert out.min() < 0
+
+
+def test_cameras_below_the_encoders_minimum_are_refused():
+    from hivex_dsl.train.config import TrainError
+    from hivex_dsl.train.networks import camera_encoder
+
+    with pytest.raises(TrainError, match="at least 15x15"):
+        camera_encoder("resnet", (14, 20, 1), 8)
+    with pytest.raises(TrainError, match="at least 20x20"):
+        camera_encoder("simple", (19, 19, 1), 8)
