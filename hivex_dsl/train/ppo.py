@@ -306,9 +306,11 @@ def train(compiled: CompiledScenario, cfg: PPOConfig, run_dir: Path, progress: b
     started = time.perf_counter()
 
     def latest(steps: int, wall: float) -> None:
-        """The run directory's resumable checkpoint.pt."""
+        """The run directory's resumable checkpoint.pt, and the curve so far (to follow a long run)."""
         training = {name: module.state_dict() for name, module in modules.items() if module is not None}
-        save_checkpoint(run_dir / "checkpoint.pt", agent, cfg, compiled, steps, wall, training | {"curve": curve, "resumed_at": resumed_at})
+        save_checkpoint(run_dir / "checkpoint.pt", agent, cfg, compiled, steps, wall,
+                        training | {"curve": curve, "resumed_at": resumed_at})
+        (run_dir / "curve.json").write_text(json.dumps(curve, indent=1) + "\n")
 
     with StopRequests() as stop:  # Ctrl-C or SIGTERM: finish this update, then save as if done
         while agent_steps < cfg.max_steps and not stop.requested:
@@ -345,7 +347,6 @@ def train(compiled: CompiledScenario, cfg: PPOConfig, run_dir: Path, progress: b
               "level": compiled.level, "agent_steps": agent_steps, "wall_s": round(wall, 3), "seed": cfg.seed,
               "final_return": curve[-1]["return"] if curve else None, "checkpoint": "checkpoint.pt",
               "stopped_early": stop.requested, "resumed_at": resumed_at}
-    (run_dir / "curve.json").write_text(json.dumps(curve, indent=1) + "\n")
     (run_dir / "summary.json").write_text(json.dumps(result, indent=2) + "\n")
     return result
 

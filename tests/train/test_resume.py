@@ -109,3 +109,18 @@ def test_a_resumed_grid_finishes_what_is_left(tmp_path):
     assert [r["agent_steps"] for r in results] == [tiny["max_steps"]] * 2
     after = torch.load(done, weights_only=True)["model"]
     assert all(torch.equal(before[k], after[k]) for k in before)  # a finished point is not trained again
+
+
+def test_the_curve_is_on_disk_at_every_checkpoint(wrm, tiny, tmp_path):
+    """A long run can be followed (and survives a kill) from curve.json, rewritten with each checkpoint."""
+    run, seen = tmp_path / "run", []
+
+    def look(update):
+        path = run / "curve.json"
+        seen.append((update["agent_steps"], json.loads(path.read_text()) if path.is_file() else None))
+
+    train(wrm, make_config(wrm.environment, tiny, {"checkpoint_every": 180}), run, progress=False, on_update=look)
+    assert [steps for steps, _ in seen] == [90, 180, 270]
+    assert seen[0][1] is None and seen[1][1] is None  # the first checkpoint is taken after the second update
+    assert [p["agent_steps"] for p in seen[2][1]] == [90, 180]
+    assert len(json.loads((run / "curve.json").read_text())) == 3
