@@ -46,7 +46,7 @@ def _row(env_id: str, data: dict[str, Any] | None) -> dict[str, Any]:
         "ours": _spread(test), "published": _spread(published), "random": _spread(data["random"]),
         "scripted": _spread(data["scripted"]), "steps": f"{data['agent_steps']:,}",
         "paper_steps": f"{data['hyperparameters'].get('max_steps', 0):,}",
-        "wall": f"{data['wall_s'] / 60:.1f} min" + "".join(f" (resumed at {at:,})" for at in data.get("resumed_at", [])),
+        "wall": f"{data['wall_s'] / 60:.1f} min" + "".join(f" (resumed at {n:,})" for n in data.get("resumed_at", [])),
         "machine": data["machine"], "seed": data["seed"],
         "test_seed": data["test"]["seed"], "episodes": data["test"]["episodes"], "actions": data["test"]["actions"],
         "verdict": "-" if published is None else

@@ -300,7 +300,9 @@ def train(compiled: CompiledScenario, cfg: PPOConfig, run_dir: Path, progress: b
     episodes, scalars = EpisodeLog(), ScalarLog(run_dir)
     bar = Progress(cfg.max_steps, enabled=progress, label=compiled.name, start=done_before)
     agent_steps, curve = done_before, list(resumed["training"]["curve"]) if resumed else []
-    resumed_at = [*resumed["training"].get("resumed_at", []), done_before] if resumed else []
+    resumed_at = list(resumed["training"].get("resumed_at", [])) if resumed else []
+    if resumed and done_before < cfg.max_steps:
+        resumed_at.append(done_before)
     wall_before = (resumed["wall_s"] or 0.0) if resumed else 0.0
     next_checkpoint = (agent_steps // cfg.checkpoint_every + 1) * cfg.checkpoint_every
     started = time.perf_counter()

@@ -107,6 +107,7 @@ def test_a_resumed_grid_finishes_what_is_left(tmp_path):
     before = torch.load(done, weights_only=True)["model"]
     results = run_grid(points, configs, tmp_path, progress=False, resume=True)
     assert [r["agent_steps"] for r in results] == [tiny["max_steps"]] * 2
+    assert [r["resumed_at"] for r in results] == [[], []]  # nothing was left to go on with, or it started afresh
     after = torch.load(done, weights_only=True)["model"]
     assert all(torch.equal(before[k], after[k]) for k in before)  # a finished point is not trained again
 
