@@ -42,6 +42,8 @@ def add_commands(sub: argparse._SubParsersAction, positive) -> None:
     p.add_argument("--episodes", type=positive, default=10, help="episodes (default 10)")
     p.add_argument("--deterministic", action="store_true", help="take the policy's modes instead of sampling")
     p.add_argument("--seed", type=int, default=0, help="seed of the action sampling (default 0)")
+    p.add_argument("--torch-threads", type=positive, default=1, metavar="N",
+                   help="torch threads of the network (default 1: one world's agents are small batches)")
     p.add_argument("--json", action="store_true", help="print the report as JSON")
     p.set_defaults(handler=cmd_evaluate)
 
@@ -87,6 +89,7 @@ def cmd_evaluate(args) -> int:
 
     _require_torch()
     scenario = compile(args.file) if args.file else None
-    report = evaluate(args.checkpoint, scenario, args.split, args.episodes, args.deterministic, args.seed)
+    report = evaluate(args.checkpoint, scenario, args.split, args.episodes, args.deterministic, args.seed,
+                      args.torch_threads)
     sys.stdout.write(json.dumps(report, indent=2) + "\n" if args.json else format_report(report) + "\n")
     return 0

@@ -42,25 +42,35 @@ def network_policy(agent: torch.nn.Module, agents: int, deterministic: bool = Fa
 
 
 def play(compiled: CompiledScenario, agent: torch.nn.Module, episodes: int, split: str = "test",
-         deterministic: bool = False, seed: int = 0) -> dict[str, Any]:
+         deterministic: bool = False, seed: int = 0, torch_threads: int = 1) -> dict[str, Any]:
     """The policy's first ``episodes`` episodes of ``split``, one after another in one world: the same episodes
     the random and scripted levels play (:func:`hivex_dsl.rollout.rollout`), every one whole, however long.
 
     (Counting the first episodes to end across parallel worlds would favour short ones: in WRM, where an
-    episode ends when its fire goes out, that halved the measured return.) -> flat per-agent arrays."""
+    episode ends when its fire goes out, that halved the measured return.) -> flat per-agent arrays.
+
+    The network runs on ``torch_threads`` threads (torch's count is restored after): one world's few agents
+    are batches too small to share, and on a machine busy with training torch's default of one thread per
+    core made every step twenty times slower (threads spinning for cores they could not get)."""
     torch.manual_seed(seed)
-    done = rollout(compiled, network_policy(agent, compiled.agents, deterministic), episodes, split)
+    threads = torch.get_num_threads()
+    torch.set_num_threads(torch_threads)
+    try:
+        done = rollout(compiled, network_policy(agent, compiled.agents, deterministic), episodes, split)
+    finally:
+        torch.set_num_threads(threads)
     return {"return": done.returns.reshape(-1), "reward_terms": {k: v.reshape(-1) for k, v in done.terms.items()},
             "statistics": {k: v.reshape(-1) for k, v in done.statistics.items()}}
 
 
 def evaluate(checkpoint: str | Path, scenario: CompiledScenario | None = None, split: str = "test",
-             episodes: int = 10, deterministic: bool = False, seed: int = 0) -> dict[str, Any]:
+             episodes: int = 10, deterministic: bool = False, seed: int = 0, torch_threads: int = 1
+             ) -> dict[str, Any]:
     """The report of one checkpoint on its own scenario (or ``scenario``, whose spaces must match)."""
     loaded = load_checkpoint(checkpoint)
     compiled = scenario if scenario is not None else loaded["compiled"]
     agent = policy_for(loaded, compiled)
-    played = play(compiled, agent, episodes, split, deterministic, seed)
+    played = play(compiled, agent, episodes, split, deterministic, seed, torch_threads)
     return {"checkpoint": str(checkpoint), "scenario": compiled.name, "environment": compiled.environment,
             "task_index": compiled.task_index, "level": compiled.level, "trained_agent_steps": loaded["agent_steps"],
             "trained_wall_s": loaded.get("wall_s"),

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 import torch
+import yaml
 
 from hivex_dsl.adapters.gymnasium import HivexVectorEnv
 from hivex_dsl.compiler import compile
@@ -31,3 +32,23 @@ def test_a_network_that_always_picks_zero_scores_as_the_zeros_policy():
     np.testing.assert_allclose(played["return"], zeros.returns.reshape(-1))
     for name, sums in zeros.statistics.items():
         np.testing.assert_allclose(played["statistics"][name], sums.reshape(-1))
+
+
+def test_the_network_plays_on_the_threads_asked_for_and_torch_keeps_its_own(monkeypatch):
+    compiled = compile(dict(yaml.safe_load((SCENARIOS / "wind_farm_control" / "main.yaml").read_text()),
+                            episode_length=4))
+    env = HivexVectorEnv(compiled, num_worlds=1)
+    agent = ActorCritic(env.single_observation_space, env.single_action_space,
+                        make_config("wind_farm_control", {"hidden_units": 8}))
+    seen, act = [], agent.act
+    monkeypatch.setattr(agent, "act", lambda *a, **k: seen.append(torch.get_num_threads()) or act(*a, **k))
+    before = torch.get_num_threads()
+    try:
+        torch.set_num_threads(2)
+        play(compiled, agent, episodes=1)
+        assert set(seen) == {1} and torch.get_num_threads() == 2
+        seen.clear()
+        play(compiled, agent, episodes=1, torch_threads=3)
+        assert set(seen) == {3} and torch.get_num_threads() == 2
+    finally:
+        torch.set_num_threads(before)
