@@ -276,13 +276,12 @@ class ActorCritic(nn.Module):
                           disc: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
         """Joint log-probability (B,) of (cont, disc) and the policy's entropy (B,): a diagonal Gaussian with
         state-independent log-std times independent categoricals."""
-        logp = cont.new_zeros(cont.shape[0])
-        entropy = cont.new_zeros(cont.shape[0])
+        logps, entropies = [], []  # one term per action part, summed (no zeros to start from: a hot path)
         if mu is not None:
             log_std = self.log_std.expand_as(mu)
-            logp = logp + (-0.5 * ((cont - mu) / log_std.exp()).square() - log_std - HALF_LOG_2PI).sum(1)
-            entropy = entropy + (0.5 + HALF_LOG_2PI + log_std).sum(1)
+            logps.append((-0.5 * ((cont - mu) / log_std.exp()).square() - log_std - HALF_LOG_2PI).sum(1))
+            entropies.append((0.5 + HALF_LOG_2PI + log_std).sum(1))
         for i, lp in enumerate(log_probs):
-            logp = logp + lp.gather(1, disc[:, i:i + 1]).squeeze(1)
-            entropy = entropy - (lp.exp() * lp).sum(1)
-        return logp, entropy
+            logps.append(lp.gather(1, disc[:, i:i + 1]).squeeze(1))
+            entropies.append(-(lp.exp() * lp).sum(1))
+        return sum(logps[1:], logps[0]), sum(entropies[1:], entropies[0])

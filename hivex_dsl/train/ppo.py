@@ -169,15 +169,17 @@ def update(agent: ActorCritic, optimizer: torch.optim.Optimizer, buf: Rollout, a
             "old_values": buf.flat("values"), "returns": merge_steps(returns), "adv": advantages.reshape(-1)}
     if curiosity is not None:
         data["next_obs"] = buf.flat_next_obs()
-    if valid.size < len(data["adv"]):  # cameras make these copies costly: only when some experience is masked
-        data = _take(data, torch.as_tensor(valid))
-    data["adv"] = (data["adv"] - data["adv"].mean()) / (data["adv"].std(unbiased=False) + 1e-8)
+    valid_adv = data["adv"][valid]
+    data["adv"] = (data["adv"] - valid_adv.mean()) / (valid_adv.std(unbiased=False) + 1e-8)
     params = list(agent.parameters())
-    stats: dict[str, list[torch.Tensor]] = {"policy": [], "value": [], "entropy": [], "approx_kl": [], "clipfrac": []}
+    losses: dict[str, list[torch.Tensor]] = {"policy": [], "value": [], "entropy": []}
+    log_ratios = []  # detached, for approx_kl and clipfrac once per update (not a dozen small ops per minibatch)
     for _ in range(cfg.num_epoch):
-        order = torch.as_tensor(rng.permutation(valid.size))
+        # the valid experiences shuffled in one gather per epoch (cameras make it the costly copy); the
+        # minibatches are then slices, views, where a gather per minibatch costs more small ops
+        shuffled = _take(data, torch.as_tensor(valid[rng.permutation(valid.size)]))
         for start in range(0, valid.size, cfg.batch_size):
-            mb = _take(data, order[start:start + cfg.batch_size])
+            mb = _slice(shuffled, start, start + cfg.batch_size)
             logp, entropy, value = agent.evaluate(mb["obs"], mb["cont"], mb["disc"])
             log_ratio = logp - mb["old_logp"]
             ratio = log_ratio.exp()
@@ -185,23 +187,30 @@ def update(agent: ActorCritic, optimizer: torch.optim.Optimizer, buf: Rollout, a
             policy_loss = torch.max(-adv * ratio, -adv * ratio.clamp(1 - epsilon, 1 + epsilon)).mean()
             clipped = mb["old_values"] + (value - mb["old_values"]).clamp(-epsilon, epsilon)
             value_loss = torch.max((value - mb["returns"]).square(), (clipped - mb["returns"]).square()).mean()
-            loss = policy_loss + 0.5 * value_loss - beta * entropy.mean()
+            entropy = entropy.mean()
+            loss = policy_loss + 0.5 * value_loss - beta * entropy
             optimizer.zero_grad()
             loss.backward()
             if cfg.max_grad_norm > 0:
-                nn.utils.clip_grad_norm_(params, cfg.max_grad_norm)
+                nn.utils.clip_grad_norm_(params, cfg.max_grad_norm, foreach=True)
             optimizer.step()
             if curiosity is not None:
                 forward, inverse = _train_curiosity(*curiosity, mb)
-                stats.setdefault("curiosity_forward", []).append(forward)
-                stats.setdefault("curiosity_inverse", []).append(inverse)
-            with torch.no_grad():  # kept as tensors: one .item() per minibatch each would sync a GPU
-                stats["policy"].append(policy_loss.detach())
-                stats["value"].append(value_loss.detach())
-                stats["entropy"].append(entropy.mean())
-                stats["approx_kl"].append(((ratio - 1) - log_ratio).mean())
-                stats["clipfrac"].append(((ratio - 1).abs() > epsilon).float().mean())
-    return {k: float(torch.stack(v).mean()) for k, v in stats.items()}
+                losses.setdefault("curiosity_forward", []).append(forward)
+                losses.setdefault("curiosity_inverse", []).append(inverse)
+            # kept as tensors: one .item() per minibatch each would sync a GPU
+            for name, term in (("policy", policy_loss), ("value", value_loss), ("entropy", entropy)):
+                losses[name].append(term.detach())
+            log_ratios.append(log_ratio.detach())
+    return {k: float(torch.stack(v).mean()) for k, v in losses.items()} | _ratio_stats(torch.cat(log_ratios), epsilon)
+
+
+def _ratio_stats(log_ratio: torch.Tensor, epsilon: float) -> dict[str, float]:
+    """Over every (epoch, sample) log probability ratio log(pi/pi_old) (N,): the approximate KL divergence
+    from the rollout's policy, E[(r - 1) - log r] (CleanRL's k3 estimator), and the share of ratios clipped."""
+    ratio = log_ratio.exp()
+    return {"approx_kl": float(((ratio - 1) - log_ratio).mean()),
+            "clipfrac": float(((ratio - 1).abs() > epsilon).float().mean())}
 
 
 def _train_curiosity(module: Curiosity, optimizer: torch.optim.Optimizer, mb: dict[str, Any]
@@ -261,6 +270,11 @@ class StopRequests:
 def _take(data: dict[str, Any], index: torch.Tensor) -> dict[str, Any]:
     """``data`` (tensors, and one nested dict of observation tensors) indexed along the first axis."""
     return {k: _take(v, index) if isinstance(v, dict) else v[index] for k, v in data.items()}
+
+
+def _slice(data: dict[str, Any], start: int, stop: int) -> dict[str, Any]:
+    """Rows ``start:stop`` of ``data`` (as :func:`_take`), as views."""
+    return {k: _slice(v, start, stop) if isinstance(v, dict) else v[start:stop] for k, v in data.items()}
 
 
 def train(compiled: CompiledScenario, cfg: PPOConfig, run_dir: Path, progress: bool = True,

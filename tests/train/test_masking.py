@@ -14,7 +14,7 @@ from hivex_dsl.compiler import compile
 from hivex_dsl.train.config import make_config
 from hivex_dsl.train.logs import EpisodeLog
 from hivex_dsl.train.networks import ActorCritic, to_tensors
-from hivex_dsl.train.ppo import Rollout, acting_mask, collect, gae, update
+from hivex_dsl.train.ppo import Rollout, _ratio_stats, acting_mask, collect, gae, update
 
 from .conftest import short_scenario
 
@@ -84,3 +84,30 @@ def test_masked_transitions_do_not_change_the_update():
         results.append(torch.cat([p.detach().flatten() for p in twin.parameters()]))
     assert torch.equal(results[0], results[1])
     assert not torch.equal(results[0], torch.cat([p.detach().flatten() for p in agent.parameters()]))
+
+
+def test_every_valid_experience_is_trained_on_once_per_epoch():
+    agent, cfg, buf, next_value = _rollout()
+    advantages, returns = gae(buf.rewards, buf.values, next_value, buf.terminated, buf.done, cfg.gamma, cfg.lambd)
+    buf.obs["obs"][..., 0] = torch.arange(buf.valid.numel(), dtype=torch.float32).reshape(buf.valid.shape)  # ids
+    seen, evaluate = [], agent.evaluate
+
+    def spy(obs, cont, disc):
+        seen.extend(obs["obs"][:, 0].tolist())
+        return evaluate(obs, cont, disc)
+
+    agent.evaluate = spy
+    update(agent, torch.optim.Adam(agent.parameters()), buf, advantages, returns, cfg, 0.01, 0.2,
+           np.random.default_rng(0))
+    valid_ids = torch.nonzero(buf.valid.flatten()).flatten().tolist()
+    assert len(valid_ids) == 8 * 10 and cfg.num_epoch == 3  # 8 turbines, 10 of 12 steps valid
+    assert sorted(seen) == sorted(valid_ids * cfg.num_epoch)
+    epochs = [seen[i:i + len(valid_ids)] for i in range(0, len(seen), len(valid_ids))]
+    assert all(sorted(epoch) == valid_ids for epoch in epochs) and epochs[0] != epochs[1]  # each shuffled anew
+
+
+def test_ratio_statistics_by_hand():
+    # ratios 1, 1.5, 0.5, 1.1: (r - 1) - log r = 0, 0.094535, 0.193147, 0.004690; |r - 1| > 0.2 for 1.5 and 0.5
+    stats = _ratio_stats(torch.log(torch.tensor([1.0, 1.5, 0.5, 1.1])), epsilon=0.2)
+    assert stats["approx_kl"] == pytest.approx((0.0 + 0.094535 + 0.193147 + 0.004690) / 4, abs=1e-6)
+    assert stats["clipfrac"] == 0.5
