@@ -1,0 +1,105 @@
+"""How much gradient clipping scales a run's PPO steps: actor and critic gradient norms per minibatch.
+
+    python benchmarks/gradient_norms.py CHECKPOINT [--rollouts 3]
+
+From a `hivex train` checkpoint it collects rollouts on the train seed with the checkpoint's policy and
+hyperparameters, and for every minibatch of one shuffled epoch computes the PPO loss's gradient (no step is
+taken) and reports the norms of the actor's part (body and policy heads) and of the critic's, and the factor
+``max_grad_norm`` clipping would scale the whole gradient by, split by whether the minibatch holds a reward at or
+below --penalty (a crash). Adam divides each parameter's step by its running gradient scale, so a factor that
+barely varies changes little; one that swings with the minibatch's content reweights it.
+"""
+
+from __future__ import annotations
+
+import argparse
+
+import numpy as np
+import torch
+
+from hivex_dsl.train import ppo
+from hivex_dsl.train.checkpoint import load_checkpoint, policy_for
+from hivex_dsl.train.curiosity import Curiosity
+from hivex_dsl.train.logs import EpisodeLog
+from hivex_dsl.train.networks import to_tensors
+
+
+def actor_and_critic(agent) -> tuple[list, list]:
+    """The network's parameters split into the actor's (body, policy heads, log-std) and the critic's."""
+    critic = {id(p) for module in (agent.critic, agent.value) for p in module.parameters()}
+    params = list(agent.parameters())
+    return [p for p in params if id(p) not in critic], [p for p in params if id(p) in critic]
+
+
+def grad_norm(params) -> float:
+    grads = [p.grad for p in params if p.grad is not None]
+    return float(torch.linalg.vector_norm(torch.stack([g.norm() for g in grads]))) if grads else 0.0
+
+
+def minibatch_rows(agent, cfg, buf, advantages, returns, rng) -> list[tuple[float, float, float]]:
+    """(actor norm, critic norm, lowest reward) of each minibatch of one shuffled epoch, as ppo.update builds it."""
+    valid = np.flatnonzero(buf.flat("valid").numpy() > 0)
+    data = {"obs": buf.flat_obs(), "cont": buf.flat("cont"), "disc": buf.flat("disc"), "old_logp": buf.flat("logp"),
+            "old_values": buf.flat("values"), "returns": ppo.merge_steps(returns), "adv": advantages.reshape(-1),
+            "reward": buf.flat("rewards")}
+    valid_adv = data["adv"][valid]
+    data["adv"] = (data["adv"] - valid_adv.mean()) / (valid_adv.std(unbiased=False) + 1e-8)
+    shuffled = ppo._take(data, torch.as_tensor(valid[rng.permutation(valid.size)]))
+    rows, eps = [], cfg.epsilon
+    actor, critic = actor_and_critic(agent)
+    for start in range(0, valid.size, cfg.batch_size):
+        mb = ppo._slice(shuffled, start, start + cfg.batch_size)
+        logp, entropy, value = agent.evaluate(mb["obs"], mb["cont"], mb["disc"])
+        ratio = (logp - mb["old_logp"]).exp()
+        policy_loss = torch.max(-mb["adv"] * ratio, -mb["adv"] * ratio.clamp(1 - eps, 1 + eps)).mean()
+        clipped = mb["old_values"] + (value - mb["old_values"]).clamp(-eps, eps)
+        value_loss = torch.max((value - mb["returns"]).square(), (clipped - mb["returns"]).square()).mean()
+        agent.zero_grad()
+        (policy_loss + 0.5 * value_loss - cfg.beta * entropy.mean()).backward()
+        rows.append((grad_norm(actor), grad_norm(critic),
+                     float(mb["reward"].min())))
+    return rows
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("checkpoint")
+    parser.add_argument("--rollouts", type=int, default=3)
+    parser.add_argument("--penalty", type=float, default=-50.0, help="a reward at or below this is a crash")
+    args = parser.parse_args()
+    torch.set_num_threads(1)
+    torch.manual_seed(0)
+    checkpoint = load_checkpoint(args.checkpoint)
+    cfg, compiled = checkpoint["config"], checkpoint["compiled"]
+    agent = policy_for(checkpoint, compiled).train()
+    env, obs = ppo.make_env(compiled, cfg.num_worlds, "train")
+    curiosity = None
+    if cfg.curiosity_strength > 0:
+        curiosity = Curiosity(env.single_observation_space, agent.layout, cfg)
+        if "training" in checkpoint:  # a run directory's checkpoint.pt; checkpoints/step_*.pt hold weights only
+            curiosity.load_state_dict(checkpoint["training"]["curiosity"])
+        else:
+            print("the checkpoint holds no curiosity module: a fresh one rewards the rollouts")
+    slots, steps = env.num_envs, cfg.rollout_length(env.num_envs)
+    state = {"obs": to_tensors(obs), "done": np.zeros(slots, bool), "active": np.ones(slots, bool)}
+    buf = ppo.Rollout(steps, slots, state["obs"], agent.layout.continuous, len(agent.layout.nvec), agent.signals)
+    rows, rng = [], np.random.default_rng(0)
+    for _ in range(args.rollouts):
+        next_value = ppo.collect(env, agent, buf, state, cfg, EpisodeLog())
+        advantages, returns, _ = ppo.advantages_and_returns(buf, next_value, cfg, curiosity)
+        rows += minibatch_rows(agent, cfg, buf, advantages, returns, rng)
+    actor, critic, lowest = (np.array(column) for column in zip(*rows))
+    factor = np.minimum(1.0, cfg.max_grad_norm / (np.hypot(actor, critic) + 1e-6)) if cfg.max_grad_norm > 0 \
+        else np.ones_like(actor)
+    print(f"{len(rows)} minibatches of {cfg.batch_size}; max_grad_norm {cfg.max_grad_norm}")
+    print(f"actor gradient norm   median {np.median(actor):.3f}  90th percentile {np.percentile(actor, 90):.3f}")
+    print(f"critic gradient norm  median {np.median(critic):.3f}  90th percentile {np.percentile(critic, 90):.3f}")
+    for name, rows_of in (("without a crash", lowest > args.penalty), ("with a crash", lowest <= args.penalty)):
+        if rows_of.any():
+            f = factor[rows_of]
+            print(f"clip factor, {rows_of.sum():3d} minibatches {name}: median {np.median(f):.4f}, "
+                  f"range {f.min():.4f} to {f.max():.4f}")
+
+
+if __name__ == "__main__":
+    main()
