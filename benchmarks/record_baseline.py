@@ -1,12 +1,15 @@
 """Turn a finished `hivex train` run into a committed baseline: benchmarks/baselines/<environment>.json + .png.
 
     python benchmarks/record_baseline.py RUN_DIR SCENARIO [--episodes 10] [--command "..."] [--note "..."]
+    python benchmarks/record_baseline.py --add-seed RUN_DIR [--add-seed RUN_DIR ...]   # other training seeds
     python benchmarks/record_baseline.py --replot   # redraw every committed PNG from its JSON
 
 It evaluates the run's checkpoint on the test seeds (as `hivex evaluate` does), measures the random and
 scripted policies on the same seeds, evaluates every intermediate checkpoint the run kept on the test seeds
 (--curve-episodes each), draws the learning curve, and writes both files; then run
-`hivex docs` to regenerate docs/baselines.md. Needs the train and plots extras.
+`hivex docs` to regenerate docs/baselines.md. Needs the train and plots extras. --add-seed evaluates a run of
+the same scenario and hyperparameters on another training seed (`hivex train ... --seed 1`) and adds it to
+that environment's committed record, which the page then shows beside the recorded seed.
 """
 
 from __future__ import annotations
@@ -15,7 +18,7 @@ import argparse
 import json
 from pathlib import Path
 
-from hivex_dsl.train.baselines import record_baseline
+from hivex_dsl.train.baselines import add_seed, record_baseline
 from hivex_dsl.train.plots import learning_curve
 
 OUT = Path(__file__).resolve().parent / "baselines"
@@ -26,6 +29,8 @@ def main() -> None:
     parser.add_argument("run_dir", type=Path, nargs="?")
     parser.add_argument("scenario", nargs="?", help="the bundled scenario path, e.g. scenarios/wind_farm_control/main.yaml")
     parser.add_argument("--replot", action="store_true", help="only redraw the committed PNGs from their JSON")
+    parser.add_argument("--add-seed", action="append", type=Path, default=[], metavar="RUN_DIR",
+                        help="add another training seed's run to its environment's committed record")
     parser.add_argument("--episodes", type=int, default=10)
     parser.add_argument("--command", default="", help="the exact commands that trained the run (shown on the page)")
     parser.add_argument("--note", default="", help="one paragraph shown under the curve")
@@ -37,8 +42,16 @@ def main() -> None:
             learning_curve(json.loads(path.read_text()), path.with_suffix(".png"))
             print(f"redrew {path.with_suffix('.png')}")
         return
+    for run_dir in args.add_seed:
+        summary = json.loads((run_dir / "summary.json").read_text())
+        data = add_seed(OUT / f"{summary['environment']}.json", run_dir)
+        entry = next(e for e in data["other_seeds"] if e["seed"] == summary["seed"])
+        print(f"added seed {entry['seed']} to {OUT / summary['environment']}.json: test return "
+              f"{entry['return']['mean']:.2f} ± {entry['return']['std']:.2f}")
+    if args.add_seed:
+        return
     if args.run_dir is None or args.scenario is None:
-        parser.error("RUN_DIR and SCENARIO are required (or --replot)")
+        parser.error("RUN_DIR and SCENARIO are required (or --add-seed, or --replot)")
     data = record_baseline(args.run_dir, args.scenario, OUT, args.episodes, args.command, args.note,
                            args.curve_episodes)
     print(f"wrote {OUT / data['environment']}.json and .png: test return "

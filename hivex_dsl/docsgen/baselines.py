@@ -54,11 +54,28 @@ def _row(env_id: str, data: dict[str, Any] | None) -> dict[str, Any]:
          else ("above" if test["mean"] > published["mean"] else "below")),
         "image": f"images/baselines/{env_id}.png", "note": data.get("note", ""), "reached": _reached(data),
         "commands": [data["command"]] if data.get("command") else row["commands"],
+        "seeds": _seeds(data),
         "statistics": [{"name": name, "ours": _spread(value),
                         "published": _spread(_published_statistic(data["published"], name))}
                        for name, value in data["test"]["statistics"].items()],
     }
     return row
+
+
+def _seeds(data: dict[str, Any]) -> dict[str, Any] | None:
+    """The record's seed and its ``other_seeds`` as rows, and the spread of their test means; None with one seed."""
+    others = data.get("other_seeds", [])
+    if not others:
+        return None
+    runs = [{"seed": data["seed"], "return": data["test"]["return"], "agent_steps": data["agent_steps"],
+             "wall_s": data["wall_s"], "recorded": True}] + [{**e, "recorded": False} for e in others]
+    means = [run["return"]["mean"] for run in runs]
+    mean = sum(means) / len(means)
+    spread = (sum((m - mean) ** 2 for m in means) / len(means)) ** 0.5
+    return {"rows": [{"seed": run["seed"] if not run["recorded"] else f"{run['seed']} (the record above)",
+                      "ours": _spread(run["return"]), "steps": f"{run['agent_steps']:,}",
+                      "wall": f"{run['wall_s'] / 60:.1f} min"} for run in runs],
+            "count": len(runs), "across": _spread({"mean": mean, "std": spread})}
 
 
 def _reached(data: dict[str, Any]) -> str:

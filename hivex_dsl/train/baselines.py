@@ -5,6 +5,10 @@
 policy on the same seeds, and writes ``<environment>.json`` and ``<environment>.png``. Every intermediate
 checkpoint the run kept is also evaluated on the test seeds (fewer episodes): that test-seed curve says
 after how many agent-steps and how much wall time the policy first matched the published return.
+
+``add_seed`` adds a run of the same scenario and hyperparameters but another training seed to a record
+(``other_seeds``): its test-seed evaluation on the record's episodes. One seed can mislead where PPO finds a
+strategy in some seeds and not in others; the page shows every recorded seed and their spread.
 """
 
 from __future__ import annotations
@@ -16,7 +20,11 @@ from typing import Any
 
 from ..compiler import compile
 from ..report import collect_returns
+from .checkpoint import RESUMABLE_CHANGES, load_checkpoint
+from .config import TrainError
 from .evaluate import evaluate
+
+SEED_CHANGES = RESUMABLE_CHANGES | {"seed"}  # what another seed's run may differ in: not what it learns from
 
 
 def _level(compiled, policy: str, episodes: int) -> dict[str, float]:
@@ -86,3 +94,37 @@ def record_baseline(run_dir: Path, scenario: str, out_dir: Path, episodes: int =
     learning_curve(data, out_dir / f"{compiled.environment}.png")
     return data
 
+
+
+def add_seed(record: Path, run_dir: Path) -> dict[str, Any]:
+    """Add (or replace) ``run_dir``'s test-seed evaluation in the baseline ``record`` (a ``<environment>.json``)
+    as one of its ``other_seeds``; -> the record's new content, also written back, and its PNG redrawn.
+
+    The run must have trained the record's scenario with the record's hyperparameters but for
+    :data:`SEED_CHANGES`, on a training seed other than the record's own."""
+    record, run_dir = Path(record), Path(run_dir)
+    data = json.loads(record.read_text())
+    summary = json.loads((run_dir / "summary.json").read_text())
+    hyperparameters = json.loads((run_dir / "config.json").read_text())["hyperparameters"]
+    changed = sorted(k for k, v in hyperparameters.items()
+                     if k not in SEED_CHANGES and data["hyperparameters"].get(k) != v)
+    if changed:
+        listing = ", ".join(f"{k}: {data['hyperparameters'].get(k)!r} -> {hyperparameters[k]!r}" for k in changed)
+        raise TrainError(f"{run_dir} is not another seed of {record.name}: its hyperparameters differ ({listing})")
+    if summary["seed"] == data["seed"]:
+        raise TrainError(f"{run_dir} trained on seed {summary['seed']}, the record's own; give another seed's run")
+    trained = load_checkpoint(run_dir / "checkpoint.pt")
+    if trained["fingerprint"] != compile(data["scenario"]).fingerprint:
+        raise TrainError(f"{run_dir} trained scenario {trained['compiled'].name!r}, which differs from the "
+                         f"record's {data['scenario']}")
+    report = evaluate(run_dir / "checkpoint.pt", split="test", episodes=data["test"]["episodes"])
+    entry = {"seed": summary["seed"], "agent_steps": summary["agent_steps"], "wall_s": summary["wall_s"],
+             "resumed_at": summary.get("resumed_at", []), "threads": hyperparameters["torch_threads"],
+             "return": report["return"], "statistics": report["statistics"]}
+    others = [e for e in data.get("other_seeds", []) if e["seed"] != entry["seed"]]
+    data["other_seeds"] = sorted([*others, entry], key=lambda e: e["seed"])
+    record.write_text(json.dumps(data, indent=1) + "\n")
+    from .plots import learning_curve
+
+    learning_curve(data, record.with_suffix(".png"))
+    return data

@@ -44,6 +44,11 @@ def learning_curve(data: dict[str, Any], path: Path) -> Path:
     test = data["test"]["return"]
     ax.errorbar([data["agent_steps"]], [test["mean"]], yerr=[test["std"]], fmt="o", color="tab:blue",
                 capsize=4, label=f"PPO test seeds ({data['test']['episodes']} episodes)")
+    if data.get("other_seeds"):
+        others = data["other_seeds"]
+        ax.errorbar([e["agent_steps"] for e in others], [e["return"]["mean"] for e in others],
+                    yerr=[e["return"]["std"] for e in others], fmt="D", ms=4, color="tab:orange", capsize=3,
+                    label=f"other training seeds ({', '.join(str(e['seed']) for e in others)}), test seeds")
     for key, label, color, style in LEVELS:
         ax.axhline(data[key]["mean"], color=color, linestyle=style, label=f"{label} (test seeds)")
     if data["published"]:

@@ -113,3 +113,52 @@ def test_a_resumed_run_says_so_on_the_page(recorded, tmp_path):
     (tmp_path / "wind_farm_control.json").write_text(json.dumps(resumed))
     (row,) = baselines_context(tmp_path)["trained"]
     assert row["wall"] == "10.0 min (resumed at 2,100,000)"
+
+
+@pytest.fixture(scope="module")
+def seeds(recorded, tmp_path_factory):
+    """The recorded run's record copied aside, and runs of the same tiny config on seed 1 and on seed 0."""
+    out, data = recorded
+    root = tmp_path_factory.mktemp("seeds")
+    record = root / "wind_farm_control.json"
+    record.write_text((out / "wind_farm_control.json").read_text())
+    compiled = compile(data["scenario"])
+    runs = {}
+    for name, overrides in (("seed1", {"seed": 1}), ("seed0", {}), ("gamma", {"seed": 2, "gamma": 0.5})):
+        hyperparameters = data["hyperparameters"] | overrides
+        train(compiled, make_config("wind_farm_control", hyperparameters), root / name, progress=False)
+        runs[name] = root / name
+    return record, runs
+
+
+def test_another_seed_is_evaluated_on_the_record_s_test_episodes(seeds):
+    from hivex_dsl.train.baselines import add_seed
+    from hivex_dsl.train.evaluate import evaluate
+
+    record, runs = seeds
+    data = add_seed(record, runs["seed1"])
+    (entry,) = data["other_seeds"]
+    assert entry["seed"] == 1 and entry["agent_steps"] == 192
+    alone = evaluate(runs["seed1"] / "checkpoint.pt", split="test", episodes=data["test"]["episodes"])
+    assert entry["return"] == alone["return"]  # the same episodes as the record's own evaluation
+    assert json.loads(record.read_text()) == data
+    assert add_seed(record, runs["seed1"])["other_seeds"] == [entry]  # adding it again replaces it
+
+    (row,) = baselines_context(record.parent)["trained"]
+    means = [data["test"]["return"]["mean"], entry["return"]["mean"]]
+    across = f"{sum(means) / 2:,.2f} ± {abs(means[0] - means[1]) / 2:,.2f}"  # population std of two values
+    assert row["seeds"]["across"] == across and row["seeds"]["count"] == 2
+    assert [r["seed"] for r in row["seeds"]["rows"]] == ["0 (the record above)", 1]
+    page = render_docs(None, baselines=record.parent)["baselines.md"]
+    assert f"| {across} (2 seeds) |" in page and "| 1 | " in page
+
+
+def test_only_another_seed_of_the_same_config_is_added(seeds):
+    from hivex_dsl.train.baselines import add_seed
+    from hivex_dsl.train.config import TrainError
+
+    record, runs = seeds
+    with pytest.raises(TrainError, match="seed 0, the record's own"):
+        add_seed(record, runs["seed0"])
+    with pytest.raises(TrainError, match=r"gamma: 0.9 -> 0.5"):
+        add_seed(record, runs["gamma"])
