@@ -38,26 +38,17 @@ def grad_norm(params) -> float:
 
 def minibatch_rows(agent, cfg, buf, advantages, returns, rng) -> list[tuple[float, float, float]]:
     """(actor norm, critic norm, lowest reward) of each minibatch of one shuffled epoch, as ppo.update builds it."""
-    valid = np.flatnonzero(buf.flat("valid").numpy() > 0)
-    data = {"obs": buf.flat_obs(), "cont": buf.flat("cont"), "disc": buf.flat("disc"), "old_logp": buf.flat("logp"),
-            "old_values": buf.flat("values"), "returns": ppo.merge_steps(returns), "adv": advantages.reshape(-1),
-            "reward": buf.flat("rewards")}
-    valid_adv = data["adv"][valid]
-    data["adv"] = (data["adv"] - valid_adv.mean()) / (valid_adv.std(unbiased=False) + 1e-8)
-    shuffled = ppo._take(data, torch.as_tensor(valid[rng.permutation(valid.size)]))
-    rows, eps = [], cfg.epsilon
+    data, valid = ppo.update_data(buf, advantages, returns)
+    data["reward"] = buf.flat("rewards")
+    shuffled = ppo.take_rows(data, torch.as_tensor(valid[rng.permutation(valid.size)]))
+    rows = []
     actor, critic = actor_and_critic(agent)
     for start in range(0, valid.size, cfg.batch_size):
-        mb = ppo._slice(shuffled, start, start + cfg.batch_size)
-        logp, entropy, value = agent.evaluate(mb["obs"], mb["cont"], mb["disc"])
-        ratio = (logp - mb["old_logp"]).exp()
-        policy_loss = torch.max(-mb["adv"] * ratio, -mb["adv"] * ratio.clamp(1 - eps, 1 + eps)).mean()
-        clipped = mb["old_values"] + (value - mb["old_values"]).clamp(-eps, eps)
-        value_loss = torch.max((value - mb["returns"]).square(), (clipped - mb["returns"]).square()).mean()
+        mb = ppo.slice_rows(shuffled, start, start + cfg.batch_size)
+        loss, _ = ppo.ppo_loss(agent, mb, cfg.beta, cfg.epsilon)
         agent.zero_grad()
-        (policy_loss + 0.5 * value_loss - cfg.beta * entropy.mean()).backward()
-        rows.append((grad_norm(actor), grad_norm(critic),
-                     float(mb["reward"].min())))
+        loss.backward()
+        rows.append((grad_norm(actor), grad_norm(critic), float(mb["reward"].min())))
     return rows
 
 

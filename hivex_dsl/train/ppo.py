@@ -162,33 +162,19 @@ def update(agent: ActorCritic, optimizer: torch.optim.Optimizer, buf: Rollout, a
 
     ``advantages`` (T, S) are the signals' summed; ``returns`` (T, S) or (T, S, K) one column per value head.
     With ``curiosity`` (the module and its optimizer) each minibatch also trains it (ML-Agents does so)."""
-    valid = np.flatnonzero(buf.flat("valid").numpy() > 0)
+    data, valid = update_data(buf, advantages, returns, with_next_obs=curiosity is not None)
     if valid.size == 0:
         return {}
-    data = {"obs": buf.flat_obs(), "cont": buf.flat("cont"), "disc": buf.flat("disc"), "old_logp": buf.flat("logp"),
-            "old_values": buf.flat("values"), "returns": merge_steps(returns), "adv": advantages.reshape(-1)}
-    if curiosity is not None:
-        data["next_obs"] = buf.flat_next_obs()
-    valid_adv = data["adv"][valid]
-    data["adv"] = (data["adv"] - valid_adv.mean()) / (valid_adv.std(unbiased=False) + 1e-8)
     params = list(agent.parameters())
     losses: dict[str, list[torch.Tensor]] = {"policy": [], "value": [], "entropy": []}
     log_ratios = []  # detached, for approx_kl and clipfrac once per update (not a dozen small ops per minibatch)
     for _ in range(cfg.num_epoch):
         # the valid experiences shuffled in one gather per epoch (cameras make it the costly copy); the
         # minibatches are then slices, views, where a gather per minibatch costs more small ops
-        shuffled = _take(data, torch.as_tensor(valid[rng.permutation(valid.size)]))
+        shuffled = take_rows(data, torch.as_tensor(valid[rng.permutation(valid.size)]))
         for start in range(0, valid.size, cfg.batch_size):
-            mb = _slice(shuffled, start, start + cfg.batch_size)
-            logp, entropy, value = agent.evaluate(mb["obs"], mb["cont"], mb["disc"])
-            log_ratio = logp - mb["old_logp"]
-            ratio = log_ratio.exp()
-            adv = mb["adv"]
-            policy_loss = torch.max(-adv * ratio, -adv * ratio.clamp(1 - epsilon, 1 + epsilon)).mean()
-            clipped = mb["old_values"] + (value - mb["old_values"]).clamp(-epsilon, epsilon)
-            value_loss = torch.max((value - mb["returns"]).square(), (clipped - mb["returns"]).square()).mean()
-            entropy = entropy.mean()
-            loss = policy_loss + 0.5 * value_loss - beta * entropy
+            mb = slice_rows(shuffled, start, start + cfg.batch_size)
+            loss, (policy_loss, value_loss, entropy, log_ratio) = ppo_loss(agent, mb, beta, epsilon)
             optimizer.zero_grad()
             loss.backward()
             if cfg.max_grad_norm > 0:
@@ -203,6 +189,36 @@ def update(agent: ActorCritic, optimizer: torch.optim.Optimizer, buf: Rollout, a
                 losses[name].append(term.detach())
             log_ratios.append(log_ratio.detach())
     return {k: float(torch.stack(v).mean()) for k, v in losses.items()} | _ratio_stats(torch.cat(log_ratios), epsilon)
+
+
+def update_data(buf: Rollout, advantages: torch.Tensor, returns: torch.Tensor, with_next_obs: bool = False
+                ) -> tuple[dict[str, Any], np.ndarray]:
+    """The rollout flat (T * S rows) for the update, advantages normalised over the valid rows; -> (data, the
+    valid rows' indices). Masked rows stay in ``data`` (copying the valid ones out costs a camera copy)."""
+    valid = np.flatnonzero(buf.flat("valid").numpy() > 0)
+    data = {"obs": buf.flat_obs(), "cont": buf.flat("cont"), "disc": buf.flat("disc"), "old_logp": buf.flat("logp"),
+            "old_values": buf.flat("values"), "returns": merge_steps(returns), "adv": advantages.reshape(-1)}
+    if with_next_obs:
+        data["next_obs"] = buf.flat_next_obs()
+    if valid.size:
+        valid_adv = data["adv"][valid]
+        data["adv"] = (data["adv"] - valid_adv.mean()) / (valid_adv.std(unbiased=False) + 1e-8)
+    return data, valid
+
+
+def ppo_loss(agent: ActorCritic, mb: dict[str, Any], beta: float, epsilon: float
+             ) -> tuple[torch.Tensor, tuple[torch.Tensor, ...]]:
+    """ML-Agents' PPO loss of a minibatch: the clipped surrogate, 0.5 x the clipped value loss, minus beta x the
+    entropy; -> (loss, (policy loss, value loss, mean entropy, log-ratios (B,)))."""
+    logp, entropy, value = agent.evaluate(mb["obs"], mb["cont"], mb["disc"])
+    log_ratio = logp - mb["old_logp"]
+    ratio = log_ratio.exp()
+    adv = mb["adv"]
+    policy_loss = torch.max(-adv * ratio, -adv * ratio.clamp(1 - epsilon, 1 + epsilon)).mean()
+    clipped = mb["old_values"] + (value - mb["old_values"]).clamp(-epsilon, epsilon)
+    value_loss = torch.max((value - mb["returns"]).square(), (clipped - mb["returns"]).square()).mean()
+    entropy = entropy.mean()
+    return policy_loss + 0.5 * value_loss - beta * entropy, (policy_loss, value_loss, entropy, log_ratio)
 
 
 def _ratio_stats(log_ratio: torch.Tensor, epsilon: float) -> dict[str, float]:
@@ -267,14 +283,14 @@ class StopRequests:
             signal.signal(sig, handler)
 
 
-def _take(data: dict[str, Any], index: torch.Tensor) -> dict[str, Any]:
+def take_rows(data: dict[str, Any], index: torch.Tensor) -> dict[str, Any]:
     """``data`` (tensors, and one nested dict of observation tensors) indexed along the first axis."""
-    return {k: _take(v, index) if isinstance(v, dict) else v[index] for k, v in data.items()}
+    return {k: take_rows(v, index) if isinstance(v, dict) else v[index] for k, v in data.items()}
 
 
-def _slice(data: dict[str, Any], start: int, stop: int) -> dict[str, Any]:
-    """Rows ``start:stop`` of ``data`` (as :func:`_take`), as views."""
-    return {k: _slice(v, start, stop) if isinstance(v, dict) else v[start:stop] for k, v in data.items()}
+def slice_rows(data: dict[str, Any], start: int, stop: int) -> dict[str, Any]:
+    """Rows ``start:stop`` of ``data`` (as :func:`take_rows`), as views."""
+    return {k: slice_rows(v, start, stop) if isinstance(v, dict) else v[start:stop] for k, v in data.items()}
 
 
 def train(compiled: CompiledScenario, cfg: PPOConfig, run_dir: Path, progress: bool = True,
