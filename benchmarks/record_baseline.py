@@ -19,6 +19,7 @@ import json
 from pathlib import Path
 
 from hivex_dsl.train.baselines import add_seed, record_baseline
+from hivex_dsl.train.config import TrainError
 from hivex_dsl.train.plots import learning_curve
 
 OUT = Path(__file__).resolve().parent / "baselines"
@@ -44,7 +45,10 @@ def main() -> None:
         return
     for run_dir in args.add_seed:
         summary = json.loads((run_dir / "summary.json").read_text())
-        data = add_seed(OUT / f"{summary['environment']}.json", run_dir)
+        try:
+            data = add_seed(OUT / f"{summary['environment']}.json", run_dir)
+        except TrainError as exc:
+            parser.exit(2, f"error: {exc}\n")
         entry = next(e for e in data["other_seeds"] if e["seed"] == summary["seed"])
         print(f"added seed {entry['seed']} to {OUT / summary['environment']}.json: test return "
               f"{entry['return']['mean']:.2f} ± {entry['return']['std']:.2f}")

@@ -21,7 +21,7 @@ from typing import Any
 from ..compiler import compile
 from ..report import collect_returns
 from .checkpoint import RESUMABLE_CHANGES, load_checkpoint
-from .config import TrainError
+from .config import PPOConfig, TrainError
 from .evaluate import evaluate
 
 SEED_CHANGES = RESUMABLE_CHANGES | {"seed"}  # what another seed's run may differ in: not what it learns from
@@ -106,10 +106,11 @@ def add_seed(record: Path, run_dir: Path) -> dict[str, Any]:
     data = json.loads(record.read_text())
     summary = json.loads((run_dir / "summary.json").read_text())
     hyperparameters = json.loads((run_dir / "config.json").read_text())["hyperparameters"]
-    changed = sorted(k for k, v in hyperparameters.items()
-                     if k not in SEED_CHANGES and data["hyperparameters"].get(k) != v)
+    # through the config model: a record made before a key existed holds that key's default
+    recorded = PPOConfig(**data["hyperparameters"]).model_dump(mode="json")
+    changed = sorted(k for k, v in hyperparameters.items() if k not in SEED_CHANGES and recorded.get(k) != v)
     if changed:
-        listing = ", ".join(f"{k}: {data['hyperparameters'].get(k)!r} -> {hyperparameters[k]!r}" for k in changed)
+        listing = ", ".join(f"{k}: {recorded.get(k)!r} -> {hyperparameters[k]!r}" for k in changed)
         raise TrainError(f"{run_dir} is not another seed of {record.name}: its hyperparameters differ ({listing})")
     if summary["seed"] == data["seed"]:
         raise TrainError(f"{run_dir} trained on seed {summary['seed']}, the record's own; give another seed's run")

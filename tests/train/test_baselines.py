@@ -162,3 +162,31 @@ def test_only_another_seed_of_the_same_config_is_added(seeds):
         add_seed(record, runs["seed0"])
     with pytest.raises(TrainError, match=r"gamma: 0.9 -> 0.5"):
         add_seed(record, runs["gamma"])
+
+
+def test_a_record_older_than_a_hyperparameter_takes_its_default(seeds, tmp_path):
+    from hivex_dsl.train.baselines import add_seed
+
+    record, runs = seeds
+    old = json.loads(record.read_text())
+    old["hyperparameters"] = {k: v for k, v in old["hyperparameters"].items() if not k.startswith("curiosity_")}
+    (tmp_path / record.name).write_text(json.dumps(old))
+    assert [e["seed"] for e in add_seed(tmp_path / record.name, runs["seed1"])["other_seeds"]] == [1]
+
+
+def test_the_script_reports_a_refused_seed_without_a_traceback(seeds, monkeypatch, capsys):
+    import importlib.util
+    import sys
+    from pathlib import Path
+
+    record, runs = seeds
+    path = Path(__file__).resolve().parents[2] / "benchmarks" / "record_baseline.py"
+    spec = importlib.util.spec_from_file_location("record_baseline", path)
+    script = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(script)
+    monkeypatch.setattr(script, "OUT", record.parent)
+    monkeypatch.setattr(sys, "argv", ["record_baseline.py", "--add-seed", str(runs["seed0"])])
+    with pytest.raises(SystemExit) as exit_:
+        script.main()
+    assert exit_.value.code == 2
+    assert capsys.readouterr().err == f"error: {runs['seed0']} trained on seed 0, the record's own; give another seed's run\n"
