@@ -95,7 +95,6 @@ def record_baseline(run_dir: Path, scenario: str, out_dir: Path, episodes: int =
     return data
 
 
-
 def add_seed(record: Path, run_dir: Path) -> dict[str, Any]:
     """Add (or replace) ``run_dir``'s test-seed evaluation in the baseline ``record`` (a ``<environment>.json``)
     as one of its ``other_seeds``; -> the record's new content, also written back, and its PNG redrawn.
