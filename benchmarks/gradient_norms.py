@@ -21,7 +21,6 @@ from hivex_dsl.train import ppo
 from hivex_dsl.train.checkpoint import load_checkpoint, policy_for
 from hivex_dsl.train.curiosity import Curiosity
 from hivex_dsl.train.logs import EpisodeLog
-from hivex_dsl.train.networks import to_tensors
 
 
 def actor_and_critic(agent) -> tuple[list, list]:
@@ -40,11 +39,9 @@ def minibatch_rows(agent, cfg, buf, advantages, returns, rng) -> list[tuple[floa
     """(actor norm, critic norm, lowest reward) of each minibatch of one shuffled epoch, as ppo.update builds it."""
     data, valid = ppo.update_data(buf, advantages, returns)
     data["reward"] = buf.flat("rewards")
-    shuffled = ppo.take_rows(data, torch.as_tensor(valid[rng.permutation(valid.size)]))
     rows = []
     actor, critic = actor_and_critic(agent)
-    for start in range(0, valid.size, cfg.batch_size):
-        mb = ppo.slice_rows(shuffled, start, start + cfg.batch_size)
+    for mb in ppo.minibatches(data, valid, cfg.batch_size, rng):
         loss, _ = ppo.ppo_loss(agent, mb, cfg.beta, cfg.epsilon)
         agent.zero_grad()
         loss.backward()
@@ -71,9 +68,7 @@ def main() -> None:
             curiosity.load_state_dict(checkpoint["training"]["curiosity"])
         else:
             print("the checkpoint holds no curiosity module: a fresh one rewards the rollouts")
-    slots, steps = env.num_envs, cfg.rollout_length(env.num_envs)
-    state = {"obs": to_tensors(obs), "done": np.zeros(slots, bool), "active": np.ones(slots, bool)}
-    buf = ppo.Rollout(steps, slots, state["obs"], agent.layout.continuous, len(agent.layout.nvec), agent.signals)
+    state, buf = ppo.start_rollouts(obs, agent, cfg.rollout_length(env.num_envs))
     rows, rng = [], np.random.default_rng(0)
     for _ in range(args.rollouts):
         next_value = ppo.collect(env, agent, buf, state, cfg, EpisodeLog())

@@ -4,6 +4,7 @@ paper's, from the data committed under ``benchmarks/baselines/`` (no torch neede
 from __future__ import annotations
 
 import json
+import statistics
 from pathlib import Path
 from typing import Any
 
@@ -70,12 +71,11 @@ def _seeds(data: dict[str, Any]) -> dict[str, Any] | None:
     runs = [{"seed": data["seed"], "return": data["test"]["return"], "agent_steps": data["agent_steps"],
              "wall_s": data["wall_s"], "recorded": True}] + [{**e, "recorded": False} for e in others]
     means = [run["return"]["mean"] for run in runs]
-    mean = sum(means) / len(means)
-    spread = (sum((m - mean) ** 2 for m in means) / len(means)) ** 0.5
+    across = _spread({"mean": statistics.fmean(means), "std": statistics.pstdev(means)})
     return {"rows": [{"seed": run["seed"] if not run["recorded"] else f"{run['seed']} (the record above)",
                       "ours": _spread(run["return"]), "steps": f"{run['agent_steps']:,}",
                       "wall": f"{run['wall_s'] / 60:.1f} min"} for run in runs],
-            "count": len(runs), "across": _spread({"mean": mean, "std": spread})}
+            "count": len(runs), "across": across, "cell": f"{across} ({len(runs)} seeds)"}
 
 
 def _reached(data: dict[str, Any]) -> str:

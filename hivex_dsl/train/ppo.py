@@ -125,6 +125,15 @@ class Rollout:
         return {k: merge_steps(torch.cat([v[1:], self.last_obs[k][None]])) for k, v in self.obs.items()}
 
 
+def start_rollouts(observations: Any, agent: ActorCritic, steps: int) -> tuple[dict[str, Any], Rollout]:
+    """The collection state after a reset to ``observations`` (obs, previous done, active; see :func:`collect`)
+    and the (``steps``, slots) storage its rollouts fill, sized for ``agent``'s actions and value heads."""
+    obs = to_tensors(observations)
+    slots = next(iter(obs.values())).shape[0]
+    state = {"obs": obs, "done": np.zeros(slots, bool), "active": np.ones(slots, bool)}
+    return state, Rollout(steps, slots, obs, agent.layout.continuous, len(agent.layout.nvec), agent.signals)
+
+
 def merge_steps(tensor: torch.Tensor) -> torch.Tensor:
     """(T, S, ...) -> (T * S, ...)."""
     return tensor.reshape((tensor.shape[0] * tensor.shape[1],) + tensor.shape[2:])
@@ -169,11 +178,7 @@ def update(agent: ActorCritic, optimizer: torch.optim.Optimizer, buf: Rollout, a
     losses: dict[str, list[torch.Tensor]] = {"policy": [], "value": [], "entropy": []}
     log_ratios = []  # detached, for approx_kl and clipfrac once per update (not a dozen small ops per minibatch)
     for _ in range(cfg.num_epoch):
-        # the valid experiences shuffled in one gather per epoch (cameras make it the costly copy); the
-        # minibatches are then slices, views, where a gather per minibatch costs more small ops
-        shuffled = take_rows(data, torch.as_tensor(valid[rng.permutation(valid.size)]))
-        for start in range(0, valid.size, cfg.batch_size):
-            mb = slice_rows(shuffled, start, start + cfg.batch_size)
+        for mb in minibatches(data, valid, cfg.batch_size, rng):
             loss, (policy_loss, value_loss, entropy, log_ratio) = ppo_loss(agent, mb, beta, epsilon)
             optimizer.zero_grad()
             loss.backward()
@@ -204,6 +209,16 @@ def update_data(buf: Rollout, advantages: torch.Tensor, returns: torch.Tensor, w
         valid_adv = data["adv"][valid]
         data["adv"] = (data["adv"] - valid_adv.mean()) / (valid_adv.std(unbiased=False) + 1e-8)
     return data, valid
+
+
+def minibatches(data: dict[str, Any], valid: np.ndarray, batch_size: int, rng: np.random.Generator):
+    """One epoch over the ``valid`` rows of ``data`` in a fresh random order: minibatches of ``batch_size`` rows.
+
+    The rows are shuffled with one gather per epoch (cameras make it the costly copy) and the minibatches are
+    slices of it, views: a gather per minibatch costs more small ops in the update's hot loop."""
+    shuffled = _take_rows(data, torch.as_tensor(valid[rng.permutation(valid.size)]))
+    for start in range(0, valid.size, batch_size):
+        yield _slice_rows(shuffled, start, start + batch_size)
 
 
 def ppo_loss(agent: ActorCritic, mb: dict[str, Any], beta: float, epsilon: float
@@ -283,14 +298,14 @@ class StopRequests:
             signal.signal(sig, handler)
 
 
-def take_rows(data: dict[str, Any], index: torch.Tensor) -> dict[str, Any]:
+def _take_rows(data: dict[str, Any], index: torch.Tensor) -> dict[str, Any]:
     """``data`` (tensors, and one nested dict of observation tensors) indexed along the first axis."""
-    return {k: take_rows(v, index) if isinstance(v, dict) else v[index] for k, v in data.items()}
+    return {k: _take_rows(v, index) if isinstance(v, dict) else v[index] for k, v in data.items()}
 
 
-def slice_rows(data: dict[str, Any], start: int, stop: int) -> dict[str, Any]:
-    """Rows ``start:stop`` of ``data`` (as :func:`take_rows`), as views."""
-    return {k: slice_rows(v, start, stop) if isinstance(v, dict) else v[start:stop] for k, v in data.items()}
+def _slice_rows(data: dict[str, Any], start: int, stop: int) -> dict[str, Any]:
+    """Rows ``start:stop`` of ``data`` (as :func:`_take_rows`), as views."""
+    return {k: _slice_rows(v, start, stop) if isinstance(v, dict) else v[start:stop] for k, v in data.items()}
 
 
 def train(compiled: CompiledScenario, cfg: PPOConfig, run_dir: Path, progress: bool = True,
@@ -323,8 +338,7 @@ def train(compiled: CompiledScenario, cfg: PPOConfig, run_dir: Path, progress: b
             if module is not None:
                 module.load_state_dict(resumed["training"][name])
     slots, steps = env.num_envs, cfg.rollout_length(env.num_envs)
-    state = {"obs": to_tensors(obs), "done": np.zeros(slots, bool), "active": np.ones(slots, bool)}
-    buf = Rollout(steps, slots, state["obs"], agent.layout.continuous, len(agent.layout.nvec), agent.signals)
+    state, buf = start_rollouts(obs, agent, steps)
     (run_dir / "config.json").write_text(json.dumps({"hyperparameters": cfg.model_dump(mode="json"),
                                                      "scenario": compiled.resolved()}, indent=2) + "\n")
     episodes, scalars = EpisodeLog(), ScalarLog(run_dir)
