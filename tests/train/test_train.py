@@ -87,6 +87,31 @@ def test_bad_training_input_is_a_clear_error(tmp_path, capsys):
     assert "spaces differ" in capsys.readouterr().err
 
 
+def test_a_device_this_machine_lacks_is_a_clear_error(monkeypatch, tmp_path, capsys):
+    monkeypatch.setattr(torch.cuda, "is_available", lambda: False)
+    base = ["train", "scenarios/wind_farm_control/main.yaml", "-o", str(tmp_path / "run"), "--no-progress"]
+    assert main(base + ["--device", "cuda"]) == 2
+    assert "no CUDA GPU" in capsys.readouterr().err
+    assert main(base + ["--device", "abacus"]) == 2
+    assert "unknown device 'abacus'" in capsys.readouterr().err
+
+
+@pytest.mark.skipif(not torch.cuda.is_available(), reason="needs a CUDA GPU (run it where one is lent)")
+def test_training_on_cuda_updates_the_policy_and_evaluates_on_the_cpu(tiny, tmp_path):
+    """The camera, curiosity and hybrid-action paths on the GPU: the weights change between the first and the
+    last checkpoint (updates reached the GPU's parameters), and the checkpoint evaluates on the CPU."""
+    for environment in ("aerial_wildfire_suppression", "ocean_plastic_collection"):
+        compiled = compile(short_scenario(environment))
+        cfg = make_config(environment, tiny, {"device": "cuda", "checkpoint_every": 64, "keep_checkpoints": 5})
+        summary = train(compiled, cfg, tmp_path / environment, progress=False)
+        assert summary["agent_steps"] >= tiny["max_steps"]
+        first, *_, last = sorted((tmp_path / environment / "checkpoints").glob("step_*.pt"))
+        before, after = (load_checkpoint(path)["model"] for path in (first, last))
+        assert any(not torch.equal(before[k], after[k]) for k in before)
+        report = evaluate(tmp_path / environment / "checkpoint.pt", episodes=1)
+        assert report["agent_episodes"] == compiled.agents
+
+
 def test_without_torch_the_commands_say_what_to_install(monkeypatch, capsys):
     import sys
 
