@@ -19,8 +19,6 @@ How each maps onto the PPO of ``ppo.py`` (parameter-shared over every (world, ag
 - ``hidden_units`` x ``num_layers``: the MLP after the encoders, separate for actor and critic as in
   ML-Agents; ``vis_encode_type``: ``simple`` (2 conv layers) or ``resnet`` (ML-Agents' IMPALA-style stack),
   both layer for layer as ML-Agents builds them; ``normalize``: running mean/std of vector observations.
-  The weights start as CleanRL's do (torch's defaults, orthogonal policy and value heads with gains 0.01
-  and 1), not with ML-Agents' scaled Kaiming-normal: a choice of ours, which every baseline trained with.
 - ``reward_signals.curiosity`` (WRM, DBR, OPC) flattened: ``curiosity_strength`` (0 turns the signal off),
   ``curiosity_gamma``, ``curiosity_encoding_size``, ``curiosity_learning_rate``; its encoder uses the run's
   ``vis_encode_type`` and ``num_layers`` (the paper's curiosity network_settings name the same encoder).
@@ -30,7 +28,11 @@ Ours (ML-Agents has no such key): ``num_worlds`` (parallel copies of the scenari
 runs 12 environments), ``max_grad_norm`` (gradient clipping, 0 disables), ``checkpoint_every`` and
 ``keep_checkpoints`` (agent-steps between checkpoints, how many are kept), ``seed`` (torch and sampling;
 the environment's seeds are the scenario's), ``device``, ``torch_threads`` (1: small networks on a
-shared machine lose more to thread hand-offs than they gain).
+shared machine lose more to thread hand-offs than they gain), ``weight_init``: ``cleanrl`` (the default,
+which every recorded baseline trained with: torch's defaults, orthogonal policy and value heads with gains
+0.01 and 1) or ``ml_agents`` (its ``linear_layer`` choices: Kaiming-normal body and camera dense layers with
+gains 1 and 1.41, Xavier-uniform value heads, Kaiming-normal policy heads with gains 0.2 for Gaussian means
+and 0.1 for categorical branches, zero biases; the curiosity module's layers too).
 """
 
 from __future__ import annotations
@@ -81,6 +83,7 @@ class PPOConfig(StrictModel):
     curiosity_gamma: float = Field(0.99, ge=0.0, le=1.0)
     curiosity_encoding_size: int = Field(256, ge=1, le=8192)
     curiosity_learning_rate: float = Field(3.0e-4, ge=0.0, le=1.0)
+    weight_init: Literal["cleanrl", "ml_agents"] = "cleanrl"
 
     def rollout_length(self, slots: int) -> int:
         """Steps of every slot per update: ``buffer_size // slots`` (at least 1), at most ``time_horizon``."""

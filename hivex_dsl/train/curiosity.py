@@ -13,6 +13,10 @@ Loss = 10 * (0.2 * forward + 0.8 * inverse), its own Adam at ``curiosity_learnin
 constants). The reward of a transition is min(strength * e, 1), and 0 until the module has been updated
 once; it has its own value head and discount (``curiosity_gamma``) in the critic, and the advantages of
 both signals are summed, as ML-Agents does.
+
+One difference, known and kept while the recorded WRM, DBR and OPC baselines were trained with it: ML-Agents
+builds each model's hidden part as ``LinearEncoder(inputs, 1, 256)``, which (its loop adds a last layer after
+``num_layers - 2`` middle ones) is two Swish layers of 256; here it is one.
 """
 
 from __future__ import annotations
@@ -22,7 +26,7 @@ from gymnasium import spaces
 from torch import nn
 
 from .config import PPOConfig
-from .networks import ActionLayout, Body, observation_keys, vector_part
+from .networks import ActionLayout, Body, ml_agents_linear, observation_keys, vector_part
 
 FORWARD_WEIGHT = 0.2  # ML-Agents' CuriosityRewardProvider.beta
 LOSS_MULTIPLIER = 10.0  # ML-Agents' CuriosityRewardProvider.loss_multiplier
@@ -43,6 +47,11 @@ class Curiosity(nn.Module):
         self.forward_model = nn.Sequential(nn.Linear(size + actions, MODEL_UNITS), nn.SiLU(),
                                            nn.Linear(MODEL_UNITS, size))
         self.register_buffer("updated", torch.tensor(False))
+        if cfg.weight_init == "ml_agents":
+            self.encoder.init_like_ml_agents()
+            for model in (self.inverse_model, self.forward_model):  # a LinearEncoder layer, then a linear_layer
+                ml_agents_linear(model[0], "kaiming")
+                ml_agents_linear(model[2], "xavier")
 
     def _device(self) -> torch.device:
         return self.forward_model[0].weight.device

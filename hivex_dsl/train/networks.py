@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 import torch
@@ -165,6 +165,15 @@ class Body(nn.Module):
         width = sum(int(np.prod(keys[k])) for k in self.vectors) + cfg.hidden_units * len(self.cameras)
         self.mlp = _swish_mlp(width, cfg.hidden_units, cfg.num_layers)
 
+    def init_like_ml_agents(self) -> None:
+        """ML-Agents' initialisation: its LinearEncoder's Kaiming-normal (linear) layers, and the cameras' dense
+        layer with the ReLU gain 1.41 (the convolutions keep torch's defaults, as in ML-Agents)."""
+        for layer in self.mlp:
+            if isinstance(layer, nn.Linear):
+                ml_agents_linear(layer, "kaiming", 1.0)
+        for encoder in self.cameras.values():
+            ml_agents_linear(encoder[2], "kaiming", 1.41)
+
     def forward(self, obs: dict[str, torch.Tensor], vector: torch.Tensor | None) -> torch.Tensor:
         parts = [encoder(obs[k]) for k, encoder in self.cameras.items()]
         if vector is not None:
@@ -177,6 +186,18 @@ def _head(inputs: int, outputs: int, gain: float) -> nn.Linear:
     nn.init.orthogonal_(layer.weight, gain)
     nn.init.zeros_(layer.bias)
     return layer
+
+
+def ml_agents_linear(layer: nn.Linear, kind: Literal["kaiming", "xavier"], gain: float = 1.0) -> None:
+    """Re-initialise ``layer`` as ML-Agents' ``linear_layer`` does: Kaiming-normal for a linear activation
+    (std 1 / sqrt(fan_in)) or Xavier-uniform, times ``gain``, and a zero bias."""
+    with torch.no_grad():
+        if kind == "kaiming":
+            nn.init.kaiming_normal_(layer.weight, nonlinearity="linear")
+        else:
+            nn.init.xavier_uniform_(layer.weight)
+        layer.weight.mul_(gain)
+        layer.bias.zero_()
 
 
 class ActorCritic(nn.Module):
@@ -196,6 +217,19 @@ class ActorCritic(nn.Module):
         self.logits = _head(hidden, sum(self.layout.nvec), 0.01) if self.layout.nvec else None
         self.mu = _head(hidden, self.layout.continuous, 0.01) if self.layout.continuous else None
         self.log_std = nn.Parameter(torch.zeros(self.layout.continuous))
+        if cfg.weight_init == "ml_agents":
+            self._init_like_ml_agents()
+
+    def _init_like_ml_agents(self) -> None:
+        """ML-Agents' heads: value Xavier-uniform; Gaussian means and categorical branches Kaiming-normal with
+        gains 0.2 and 0.1 (mlagents/trainers/torch_entities/distributions.py, decoders.py); log-std 0 either way."""
+        self.actor.init_like_ml_agents()
+        self.critic.init_like_ml_agents()
+        ml_agents_linear(self.value, "xavier")
+        if self.logits is not None:
+            ml_agents_linear(self.logits, "kaiming", 0.1)
+        if self.mu is not None:
+            ml_agents_linear(self.mu, "kaiming", 0.2)
 
     def _vector(self, obs: dict[str, torch.Tensor]) -> torch.Tensor | None:
         return vector_part(obs, self.actor.vectors)
