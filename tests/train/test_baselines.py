@@ -64,6 +64,27 @@ def test_first_reaching_takes_the_earliest_point_at_or_above_the_published_mean(
     assert first_reaching(curve, [400, 4.0, 11.0, 0.1], None) is None
 
 
+def test_the_verdict_pools_every_seeds_test_episodes():
+    from hivex_dsl.docsgen.baselines import pooled_return, verdict
+
+    # seed 0 scored episodes [-3, 3], seed 1 scored [3, 5]: together [-3, 3, 3, 5], mean 2, population std 3
+    data = {"test": {"return": {"mean": 0.0, "std": 3.0}}, "other_seeds": [{"return": {"mean": 4.0, "std": 1.0}}]}
+    assert pooled_return(data) == pytest.approx({"mean": 2.0, "std": 3.0})
+    assert pooled_return({"test": data["test"]}) == data["test"]["return"]
+    assert verdict(pooled_return(data), {"mean": 3.0, "std": 1.0}) == "matches (within the spread)"
+    # our own spread (3) does not widen the published one (1)
+    assert verdict(pooled_return(data), {"mean": 3.5, "std": 1.0}) == "below"
+    assert verdict(pooled_return(data), {"mean": 5.5, "std": 1.0}) == "below"
+    assert verdict(pooled_return(data), {"mean": -1.5, "std": 0.5}) == "above"
+    assert verdict(pooled_return(data), None) == "-"
+    # one unlucky record seed no longer decides it: alone it is below a published 8 +- 1, pooled with two
+    # seeds at 60 and 70 (as DBR's) it is above
+    unlucky = {"test": {"return": {"mean": 2.0, "std": 1.0}},
+               "other_seeds": [{"return": {"mean": 60.0, "std": 1.0}}, {"return": {"mean": 70.0, "std": 1.0}}]}
+    assert verdict(unlucky["test"]["return"], {"mean": 8.0, "std": 1.0}) == "below"
+    assert verdict(pooled_return(unlucky), {"mean": 8.0, "std": 1.0}) == "above"
+
+
 def test_the_page_sets_ours_beside_the_paper(recorded):
     out, data = recorded
     context = baselines_context(out)
