@@ -226,7 +226,7 @@ def test_a_world_starting_a_new_episode_keeps_its_island_unless_told_otherwise(r
     rng = np.random.default_rng(5)
     state = sim.reset(rng, 2)
     before_height, before_trees = state.maps.height.copy(), state.fire.trees.copy()
-    for _ in range(12):  # let the fire spread so world 0 has burnt and burning trees to clear
+    for _ in range(2 * compiled.params.fire_step_interval):  # two fire steps: world 0 gets trees to clear
         state, _ = sim.step(state, act_batch(2, 3), rng)
     assert (state.fire.trees[0] != before_trees[0]).any()
     other = state.fire.trees[1].copy()
@@ -342,3 +342,35 @@ def test_nothing_is_paid_on_the_first_step_for_where_a_plane_happens_to_start(ta
         assert (np.abs(state.position) <= 590.0).all() and not state.water.any()
     new, _ = sim.step(state, act_batch(64, 3), np.random.default_rng(1))  # one step straight on: 5 m
     assert not new.picked_up.any() and not new.found_village.any()
+
+
+def test_no_plane_starts_or_respawns_with_the_fire_in_view():
+    """Uniform spawns put about one plane in eleven within sight of the fire (measured with the redraw off),
+    which would pay Find Fire on the first step for nothing; the fire, like the village, is found by flying."""
+    compiled = hivex_dsl.compile({"hivex": 1, "environment": "aerial_wildfire_suppression"})
+    sim = AerialWildfireSimulator(compiled)
+    rng = np.random.default_rng(3)
+    state = sim.reset(rng, 128)
+    assert not state.sighting.plane_found.any()
+    for _ in range(3 * compiled.params.fire_step_interval):  # the fire grows: more of the island is in its sight
+        state, _ = sim.step(state, act_batch(128, 3), rng)
+    mask = np.zeros((128, 3), bool)
+    mask[:, 0] = True
+    respawned = sim.respawn_where(state, mask, rng)
+    assert not respawned.sighting.plane_found[:, 0].any()
+    assert np.array_equal(respawned.position[:, 1:], state.position[:, 1:])
+
+
+def test_a_spawn_is_drawn_again_only_where_it_sees_the_fire(monkeypatch):
+    import hivex_dsl.envs.aerial_wildfire_suppression.simulator as simulator
+
+    compiled = hivex_dsl.compile({"hivex": 1, "environment": "aerial_wildfire_suppression"})
+    sim = AerialWildfireSimulator(compiled)
+    monkeypatch.setattr(simulator, "SPAWN_REDRAWS", 0)
+    uniform = sim.reset(np.random.default_rng(3), 128)
+    sees = uniform.sighting.plane_found
+    assert 0.02 < sees.mean() < 0.2  # the case exists, and is not the rule
+    monkeypatch.setattr(simulator, "SPAWN_REDRAWS", 16)
+    redrawn = sim.reset(np.random.default_rng(3), 128)
+    assert np.array_equal(redrawn.position[~sees], uniform.position[~sees])
+    assert not np.isclose(redrawn.position[sees], uniform.position[sees]).all(axis=-1).any()

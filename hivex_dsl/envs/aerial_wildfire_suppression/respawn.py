@@ -2,7 +2,7 @@
 
 A plane whose episode ended alone (it crossed the border, or a task ends on one of its own
 events) starts again as at an episode start -- a random point of the spawn disk, a random
-heading, water as the scenario spawns it, its one-off latches cleared -- over the world's
+heading, water as the scenario spawns it, out of the fire's sight, its one-off latches cleared -- over the world's
 burning island, which goes on. Its camera and sighting are those of its new place.
 """
 
@@ -19,7 +19,7 @@ def respawn_where(sim, state: AerialWildfireState, mask: np.ndarray, rng: np.ran
     """``state`` with the planes where ``mask`` (B, A) is true respawned; the rest untouched."""
     if not np.count_nonzero(mask):
         return state
-    spawn_position, spawn_heading, spawn_water = sim._spawn(rng, len(mask), state.maps.village)
+    spawn_position, spawn_heading, spawn_water = sim._spawn_out_of_sight(rng, state.fire, state.maps.village, mask)
     position = np.where(mask[..., None], spawn_position, state.position)
     heading = np.where(mask, spawn_heading, state.heading)
     flying = state.flying | mask

@@ -27,6 +27,7 @@ from ..island import SEA, IslandMaps, IslandSpecs, grid_lookup, restart_where, s
 PICKUP_EVENT = "picked_up_water"
 # Events of one plane; a task that ends on one of them takes that plane out of the game (see _sense).
 PLANE_EVENTS = (PICKUP_EVENT, "dropped_water", "found_fire", "found_village")
+SPAWN_REDRAWS = 16  # a spawn that sees the fire is drawn again up to this many times (then kept)
 EVENTS = {
     PICKUP_EVENT: "a plane without water entered the water ring and filled up",
     "dropped_water": "a plane dropped its water over land",
@@ -95,6 +96,20 @@ class AerialWildfireSimulator:
         heading = rng.uniform(-np.pi, np.pi, shape)
         return position, heading, np.full(shape, self.spawn_water)
 
+    def _spawn_out_of_sight(self, rng: np.random.Generator, fire, village: np.ndarray, mask: np.ndarray | None = None
+                            ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """:meth:`_spawn`, drawn again (at most SPAWN_REDRAWS times) for the planes (where ``mask`` (B, A), all by
+        default) whose view already holds a burning tree: as the village, the fire is found by flying to it."""
+        position, heading, water = self._spawn(rng, len(village), village)
+        flying = np.ones(position.shape[:2], bool) if mask is None else mask
+        for _ in range(SPAWN_REDRAWS):
+            sees = self._sight_of(fire, village, position, flying).plane_found
+            if not sees.any():
+                break
+            again, turned, _ = self._spawn(rng, len(village), village)
+            position, heading = np.where(sees[..., None], again, position), np.where(sees, turned, heading)
+        return position, heading, water
+
     def reset(self, rng: np.random.Generator, batch: int) -> AerialWildfireState:
         return self._fresh(rng, batch, None)
 
@@ -103,9 +118,9 @@ class AerialWildfireSimulator:
         """``batch`` new episodes: on new islands, or on the given ``maps`` (kept islands) when not None.
         Their look is ``tiled`` or not (see view.build_look; by default as suits ``batch`` worlds)."""
         island = start_islands(rng, batch, self.island, maps)
-        position, heading, water = self._spawn(rng, batch, island.maps.village)
         shape, no = (batch, self.agents), np.zeros((batch, self.agents), bool)
         flying = np.ones(shape, bool)
+        position, heading, water = self._spawn_out_of_sight(rng, island.fire, island.maps.village)
         look = build_look(island.fire.trees, island.maps.ground, self.frame_template, self.frame, tiled)
         return AerialWildfireState(
             maps=island.maps, fire=island.fire, wind=island.wind, weather=island.weather, tick=0,
