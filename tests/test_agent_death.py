@@ -22,7 +22,9 @@ from gymnasium.wrappers.vector import RecordEpisodeStatistics
 import hivex_dsl
 from hivex_dsl.adapters.flat import FlatParallelEnv, flat_vector_env
 
-LENGTH = {"ocean_plastic_collection": 400, "aerial_wildfire_suppression": 160}
+# Long enough for an agent flying straight to reach the border from any spawn, so every one dies at least once
+# whatever the seed: an AWS plane (5 m a step) crosses the +/-750 m square's diagonal (2,121 m) in 425 steps.
+LENGTH = {"ocean_plastic_collection": 400, "aerial_wildfire_suppression": 430}
 
 
 def scenario(environment: str) -> dict:
