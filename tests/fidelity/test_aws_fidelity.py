@@ -15,8 +15,8 @@ import numpy as np
 import hivex_dsl
 from hivex_dsl import published
 from hivex_dsl.envs.aerial_wildfire_suppression.params import AerialWildfireParams
+from hivex_dsl.policies import zeros_policy
 from hivex_dsl.runtime import BatchedEnv
-from hivex_dsl.spaces import placeholder_actions
 
 EPISODE_LENGTH = 3000
 WORLDS = 32
@@ -27,7 +27,7 @@ OLD_INTERVAL = 5  # the timer before the published Fire Out was read: every unfo
 
 def circling(space, shape: tuple[int, int]) -> dict[str, np.ndarray]:
     """Every plane turns at full rate (a 57 m circle) and never drops water."""
-    actions = {k: np.broadcast_to(v, shape + v.shape).copy() for k, v in placeholder_actions(space).items()}
+    actions = {k: v.copy() for k, v in zeros_policy(space, shape)(None).items()}
     actions["continuous"][...] = 1.0
     return actions
 
