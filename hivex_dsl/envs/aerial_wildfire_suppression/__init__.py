@@ -68,6 +68,12 @@ ENTRY = register(EnvironmentEntry(
         "against 7% with 18 and 6% with 21; planes that wet the forest can only shorten a fire. Fire too Close to "
         "City still fires in most episodes above level 1: 5 of 12 at level 1 and 12 of 12 at level 6, against the "
         "published 0.40 and 0.80.",
+        "Protect Village (task 4): the published policy learned to leave the world before the fire reaches the "
+        "village at levels 2-10 (Crash Count 0.99-1.0, Fire too Close to City 0.00-0.03, returns 66-190), so a "
+        "plane that crosses the border early escapes the village penalty here too. With the fitted fire timer a "
+        "random plane crosses within about 150 steps, before the fire comes near, and earns about -20 (-100 at "
+        "the border, some wet trees): above the level-1 cell only (-69.6, where the paper's planes crashed in "
+        "62% of their episodes and met the fire 42%), below every other level's.",
         "Camera: 42x42 RGB pixels of 5 m (ours), forward up, colours: ground shaded by height, sea and water ring blue, "
         "village magenta, trees green/orange/dark/blue for existing/burning/burnt/wet.",
     ),
