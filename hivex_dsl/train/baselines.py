@@ -20,7 +20,7 @@ from typing import Any
 
 from ..compiler import compile
 from ..report import collect_returns
-from .checkpoint import RESUMABLE_CHANGES, load_checkpoint
+from .checkpoint import RESUMABLE_CHANGES, load_checkpoint, older_defaults
 from .config import PPOConfig, TrainError
 from .evaluate import evaluate
 
@@ -105,8 +105,8 @@ def add_seed(record: Path, run_dir: Path) -> dict[str, Any]:
     data = json.loads(record.read_text())
     summary = json.loads((run_dir / "summary.json").read_text())
     hyperparameters = json.loads((run_dir / "config.json").read_text())["hyperparameters"]
-    # through the config model: a record made before a key existed holds that key's default
-    recorded = PPOConfig(**data["hyperparameters"]).model_dump(mode="json")
+    # through the config model: a record made before a key existed holds what the key meant then
+    recorded = PPOConfig(**older_defaults(data["hyperparameters"])).model_dump(mode="json")
     changed = sorted(k for k, v in hyperparameters.items() if k not in SEED_CHANGES and recorded.get(k) != v)
     if changed:
         listing = ", ".join(f"{k}: {recorded.get(k)!r} -> {hyperparameters[k]!r}" for k in changed)

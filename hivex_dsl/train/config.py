@@ -32,7 +32,11 @@ shared machine lose more to thread hand-offs than they gain), ``weight_init``: `
 which every recorded baseline trained with: torch's defaults, orthogonal policy and value heads with gains
 0.01 and 1) or ``ml_agents`` (its ``linear_layer`` choices: Kaiming-normal body and camera dense layers with
 gains 1 and 1.41, Xavier-uniform value heads, Kaiming-normal policy heads with gains 0.2 for Gaussian means
-and 0.1 for categorical branches, zero biases; the curiosity module's layers too).
+and 0.1 for categorical branches, zero biases; the curiosity module's layers too), ``curiosity_module``:
+``ml_agents`` (the default: ML-Agents' CuriosityNetwork, whose inverse and forward models are two Swish layers
+of 256 and whose inverse loss of continuous actions is their summed squared error) or ``hivex_v1`` (this
+project's first module: one layer, half that error; the WRM, DBR and OPC baselines recorded before the key
+existed trained with it, and a checkpoint written before then reads as it).
 """
 
 from __future__ import annotations
@@ -84,6 +88,7 @@ class PPOConfig(StrictModel):
     curiosity_encoding_size: int = Field(256, ge=1, le=8192)
     curiosity_learning_rate: float = Field(3.0e-4, ge=0.0, le=1.0)
     weight_init: Literal["cleanrl", "ml_agents"] = "cleanrl"
+    curiosity_module: Literal["ml_agents", "hivex_v1"] = "ml_agents"
 
     def rollout_length(self, slots: int) -> int:
         """Steps of every slot per update: ``buffer_size // slots`` (at least 1), at most ``time_horizon``."""

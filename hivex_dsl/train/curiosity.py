@@ -4,8 +4,8 @@ WRM (strength 0.02), DBR and OPC (0.1) configs add to the extrinsic reward.
 An encoder phi (the cameras through the run's visual encoder, then ``num_layers`` x ``encoding_size``) is
 trained by two heads on every valid transition (s, a, s'):
 
-- the inverse model predicts a from (phi(s), phi(s')): cross-entropy per categorical branch, half the squared
-  error of the continuous part;
+- the inverse model predicts a from (phi(s), phi(s')): cross-entropy per categorical branch, the summed
+  squared error of the continuous part;
 - the forward model predicts phi(s') from (phi(s), a) (a as its continuous part and one-hot branches);
   its error e = 0.5 * |f(phi(s), a) - phi(s')|^2 is both its loss and the curiosity reward.
 
@@ -14,9 +14,11 @@ constants). The reward of a transition is min(strength * e, 1), and 0 until the 
 once; it has its own value head and discount (``curiosity_gamma``) in the critic, and the advantages of
 both signals are summed, as ML-Agents does.
 
-One difference, known and kept while the recorded WRM, DBR and OPC baselines were trained with it: ML-Agents
-builds each model's hidden part as ``LinearEncoder(inputs, 1, 256)``, which (its loop adds a last layer after
-``num_layers - 2`` middle ones) is two Swish layers of 256; here it is one.
+Both models' hidden part is ML-Agents' ``LinearEncoder(inputs, 1, 256)``, which (its loop adds a last layer
+after ``num_layers - 2`` middle ones) is two Swish layers of 256 (mlagents/trainers/torch_entities/layers.py and
+components/reward_providers/curiosity_reward_provider.py). ``curiosity_module: hivex_v1`` keeps this project's
+first module, with one such layer and half the continuous squared error, which the WRM, DBR and OPC baselines
+recorded before the option existed trained with.
 """
 
 from __future__ import annotations
@@ -26,12 +28,17 @@ from gymnasium import spaces
 from torch import nn
 
 from .config import PPOConfig
-from .networks import ActionLayout, Body, ml_agents_linear, observation_keys, vector_part
+from .networks import ActionLayout, Body, ml_agents_linear, observation_keys, swish_mlp, vector_part
 
 FORWARD_WEIGHT = 0.2  # ML-Agents' CuriosityRewardProvider.beta
 LOSS_MULTIPLIER = 10.0  # ML-Agents' CuriosityRewardProvider.loss_multiplier
 MODEL_UNITS = 256  # ML-Agents' width of the inverse and forward models
 CHUNK = 4096  # transitions per no-grad pass when rewarding a whole rollout
+
+
+def _model(inputs: int, outputs: int, layers: int) -> nn.Sequential:
+    """(B, inputs) -> (B, outputs): ``layers`` Swish layers of MODEL_UNITS, then a linear output layer."""
+    return nn.Sequential(*swish_mlp(inputs, MODEL_UNITS, layers), nn.Linear(MODEL_UNITS, outputs))
 
 
 class Curiosity(nn.Module):
@@ -42,16 +49,18 @@ class Curiosity(nn.Module):
         self.encoder = Body(keys, cfg.model_copy(update={"hidden_units": size}))
         self.layout, self.strength = layout, cfg.curiosity_strength
         actions = layout.continuous + sum(layout.nvec)
-        self.inverse_model = nn.Sequential(nn.Linear(2 * size, MODEL_UNITS), nn.SiLU(),
-                                           nn.Linear(MODEL_UNITS, actions))
-        self.forward_model = nn.Sequential(nn.Linear(size + actions, MODEL_UNITS), nn.SiLU(),
-                                           nn.Linear(MODEL_UNITS, size))
+        layers = 2 if cfg.curiosity_module == "ml_agents" else 1
+        self.continuous_error_scale = 1.0 if cfg.curiosity_module == "ml_agents" else 0.5
+        self.inverse_model = _model(2 * size, actions, layers)
+        self.forward_model = _model(size + actions, size, layers)
         self.register_buffer("updated", torch.tensor(False))
         if cfg.weight_init == "ml_agents":
             self.encoder.init_like_ml_agents()
-            for model in (self.inverse_model, self.forward_model):  # a LinearEncoder layer, then a linear_layer
-                ml_agents_linear(model[0], "kaiming")
-                ml_agents_linear(model[2], "xavier")
+            for model in (self.inverse_model, self.forward_model):  # LinearEncoder layers, then a linear_layer
+                linears = [layer for layer in model if isinstance(layer, nn.Linear)]
+                for layer in linears[:-1]:
+                    ml_agents_linear(layer, "kaiming")
+                ml_agents_linear(linears[-1], "xavier")
 
     def _device(self) -> torch.device:
         return self.forward_model[0].weight.device
@@ -79,7 +88,8 @@ class Curiosity(nn.Module):
         predicted = self.inverse_model(torch.cat([phi, phi_next], dim=1))
         inverse = predicted.new_zeros(())
         if self.layout.continuous:
-            inverse = inverse + 0.5 * (predicted[:, :self.layout.continuous] - cont).square().sum(1).mean()
+            error = (predicted[:, :self.layout.continuous] - cont).square().sum(1).mean()
+            inverse = inverse + self.continuous_error_scale * error
         logits = torch.split(predicted[:, self.layout.continuous:], self.layout.nvec, dim=1)
         for i, branch in enumerate(logits):
             inverse = inverse + nn.functional.cross_entropy(branch, disc[:, i])

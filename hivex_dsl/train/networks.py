@@ -83,7 +83,8 @@ def vector_part(obs: dict[str, torch.Tensor], keys: list[str]) -> torch.Tensor |
     return parts[0] if len(parts) == 1 else torch.cat(parts, dim=1)
 
 
-def _swish_mlp(inputs: int, hidden: int, layers: int) -> nn.Sequential:
+def swish_mlp(inputs: int, hidden: int, layers: int) -> nn.Sequential:
+    """(B, inputs) -> (B, hidden): ``layers`` Linear + Swish (SiLU) layers."""
     modules: list[nn.Module] = []
     for i in range(layers):
         modules += [nn.Linear(inputs if i == 0 else hidden, hidden), nn.SiLU()]
@@ -163,7 +164,7 @@ class Body(nn.Module):
                                       for k, s in keys.items() if len(s) == 3})
         self.vectors = [k for k, s in keys.items() if len(s) != 3]
         width = sum(int(np.prod(keys[k])) for k in self.vectors) + cfg.hidden_units * len(self.cameras)
-        self.mlp = _swish_mlp(width, cfg.hidden_units, cfg.num_layers)
+        self.mlp = swish_mlp(width, cfg.hidden_units, cfg.num_layers)
 
     def init_like_ml_agents(self) -> None:
         """ML-Agents' initialisation: its LinearEncoder's Kaiming-normal (linear) layers, and the cameras' dense

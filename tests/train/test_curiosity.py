@@ -21,10 +21,11 @@ OBS = spaces.Box(-1.0, 1.0, (4,), np.float32)
 HYBRID = spaces.Dict({"continuous": spaces.Box(-1.0, 1.0, (1,), np.float32), "discrete": spaces.MultiDiscrete([3])})
 
 
-def _module(strength=0.1, seed=0):
+def _module(strength=0.1, seed=0, variant="ml_agents", actions=HYBRID):
     torch.manual_seed(seed)
-    cfg = make_config("ocean_plastic_collection", {"curiosity_strength": strength, "curiosity_encoding_size": 16})
-    return Curiosity(OBS, ActionLayout.of(HYBRID), cfg)
+    cfg = make_config("ocean_plastic_collection", {"curiosity_strength": strength, "curiosity_encoding_size": 16,
+                                                   "curiosity_module": variant})
+    return Curiosity(OBS, ActionLayout.of(actions), cfg)
 
 
 def _transitions(n=256, seed=1):
@@ -114,3 +115,30 @@ def test_the_critic_has_one_head_per_signal(strength):
     agent = ActorCritic(OBS, spaces.MultiDiscrete([3, 3]), cfg)
     value = agent.get_value({"obs": torch.zeros(5, 4)})
     assert value.shape == ((5,) if strength == 0 else (5, 2))
+
+
+@pytest.mark.parametrize("variant, hidden", [("ml_agents", 2), ("hivex_v1", 1)])
+def test_the_models_hidden_layers_are_ml_agents_linear_encoder_or_the_first_module_s(variant, hidden):
+    """ML-Agents' LinearEncoder(inputs, 1, 256) is two Swish layers of 256 (its loop always adds a last one),
+    then a linear output; hivex_v1, which the WRM, DBR and OPC records trained with, has one."""
+    module = _module(variant=variant)
+    actions = 1 + 3  # HYBRID: one continuous dimension and one branch of 3, one-hot
+    for model, inputs, outputs in ((module.inverse_model, 2 * 16, actions), (module.forward_model, 16 + actions, 16)):
+        linears = [layer for layer in model if isinstance(layer, torch.nn.Linear)]
+        assert [(layer.in_features, layer.out_features) for layer in linears] == \
+            [(inputs, 256)] + [(256, 256)] * (hidden - 1) + [(256, outputs)]
+        assert sum(isinstance(layer, torch.nn.SiLU) for layer in model) == hidden
+
+
+@pytest.mark.parametrize("variant, scale", [("ml_agents", 1.0), ("hivex_v1", 0.5)])
+def test_the_inverse_loss_of_continuous_actions_is_their_summed_squared_error(variant, scale):
+    """ML-Agents: mean over the batch of sum_j (a_j - predicted_j)^2; hivex_v1 halved it."""
+    module = _module(variant=variant, actions=spaces.Box(-1.0, 1.0, (2,), np.float32))
+    with torch.no_grad():  # the inverse model predicts (0.5, -0.25) whatever it sees
+        module.inverse_model[-1].weight.zero_()
+        module.inverse_model[-1].bias.copy_(torch.tensor([0.5, -0.25]))
+    obs, following, _, _ = _transitions(n=3)
+    cont = torch.tensor([[0.5, 0.75], [-0.5, -0.25], [1.5, 0.75]])
+    # by hand: per transition (0 + 1), (1 + 0), (1 + 1) -> mean 4/3
+    _, _, inverse = module.loss(obs, following, cont, torch.zeros(3, 0, dtype=torch.int64))
+    assert float(inverse) == pytest.approx(scale * 4.0 / 3.0)

@@ -125,3 +125,35 @@ def test_the_curve_is_on_disk_at_every_checkpoint(wrm, tiny, tmp_path):
     assert seen[0][1] is None and seen[1][1] is None  # the first checkpoint is taken after the second update
     assert [p["agent_steps"] for p in seen[2][1]] == [90, 180]
     assert len(json.loads((run / "curve.json").read_text())) == 3
+
+
+def _strip_key(checkpoint, key):
+    """Rewrite ``checkpoint`` as a version of hivex from before hyperparameter ``key`` existed wrote it."""
+    data = torch.load(checkpoint, weights_only=True)
+    del data["config"][key]
+    torch.save(data, checkpoint)
+
+
+def test_a_run_from_before_curiosity_module_goes_on_with_the_module_it_trained(wrm, tiny, tmp_path):
+    from hivex_dsl.train.checkpoint import load_checkpoint
+
+    run = tmp_path / "run"
+    first = make_config(wrm.environment, tiny, {"curiosity_module": "hivex_v1"})
+    train(wrm, first, run, progress=False, on_update=stop_after_first_update)
+    _strip_key(run / "checkpoint.pt", "curiosity_module")
+    assert load_checkpoint(run / "checkpoint.pt")["config"].curiosity_module == "hivex_v1"
+    with pytest.raises(TrainError, match=r"curiosity_module: 'hivex_v1' -> 'ml_agents'"):
+        train(wrm, make_config(wrm.environment, tiny), run, progress=False, resume=True)
+    assert train(wrm, first, run, progress=False, resume=True)["agent_steps"] == tiny["max_steps"]
+
+
+def test_a_checkpoint_without_curiosity_from_before_curiosity_module_reads_the_default(tiny, tmp_path):
+    from hivex_dsl.train.checkpoint import load_checkpoint
+
+    wfc = compile(short_scenario("wind_farm_control"))
+    run = tmp_path / "run"
+    train(wfc, make_config(wfc.environment, tiny), run, progress=False)
+    _strip_key(run / "checkpoint.pt", "curiosity_module")
+    assert load_checkpoint(run / "checkpoint.pt")["config"].curiosity_module == "ml_agents"
+    train(wfc, make_config(wfc.environment, tiny, {"max_steps": 2 * tiny["max_steps"]}), run, progress=False,
+          resume=True)

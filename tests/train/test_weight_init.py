@@ -82,9 +82,12 @@ def test_ml_agents_initialisation_of_the_curiosity_module():
     for layer in mlp:
         _kaiming(layer, 1.0)
     _kaiming(dense[0], 1.41)
-    for model in (module.inverse_model, module.forward_model):
-        _kaiming(model[0], 1.0)
-        _xavier(model[2])
+    for model in (module.inverse_model, module.forward_model):  # LinearEncoder(inputs, 1, 256), then linear_layer
+        *hidden, output = [layer for layer in model if isinstance(layer, nn.Linear)]
+        assert len(hidden) == 2
+        for layer in hidden:
+            _kaiming(layer, 1.0)
+        _xavier(output)
 
 
 def test_an_unknown_initialisation_is_refused():
