@@ -28,7 +28,7 @@ from gymnasium import spaces
 from torch import nn
 
 from .config import PPOConfig
-from .networks import ActionLayout, Body, ml_agents_linear, observation_keys, swish_mlp, vector_part
+from .networks import ActionLayout, Body, linear_encoder, ml_agents_linear, observation_keys, swish_mlp, vector_part
 
 FORWARD_WEIGHT = 0.2  # ML-Agents' CuriosityRewardProvider.beta
 LOSS_MULTIPLIER = 10.0  # ML-Agents' CuriosityRewardProvider.loss_multiplier
@@ -36,9 +36,11 @@ MODEL_UNITS = 256  # ML-Agents' width of the inverse and forward models
 CHUNK = 4096  # transitions per no-grad pass when rewarding a whole rollout
 
 
-def _model(inputs: int, outputs: int, layers: int) -> nn.Sequential:
-    """(B, inputs) -> (B, outputs): ``layers`` Swish layers of MODEL_UNITS, then a linear output layer."""
-    return nn.Sequential(*swish_mlp(inputs, MODEL_UNITS, layers), nn.Linear(MODEL_UNITS, outputs))
+def _model(inputs: int, outputs: int, variant: str) -> nn.Sequential:
+    """(B, inputs) -> (B, outputs): ML-Agents' ``LinearEncoder(inputs, 1, 256)`` (two Swish layers) or hivex_v1's
+    one Swish layer of 256, then a linear output layer."""
+    hidden = linear_encoder(inputs, 1, MODEL_UNITS) if variant == "ml_agents" else swish_mlp(inputs, MODEL_UNITS, 1)
+    return nn.Sequential(*hidden, nn.Linear(MODEL_UNITS, outputs))
 
 
 class Curiosity(nn.Module):
@@ -49,10 +51,9 @@ class Curiosity(nn.Module):
         self.encoder = Body(keys, cfg.model_copy(update={"hidden_units": size}))
         self.layout, self.strength = layout, cfg.curiosity_strength
         actions = layout.continuous + sum(layout.nvec)
-        layers = 2 if cfg.curiosity_module == "ml_agents" else 1
         self.continuous_error_scale = 1.0 if cfg.curiosity_module == "ml_agents" else 0.5
-        self.inverse_model = _model(2 * size, actions, layers)
-        self.forward_model = _model(size + actions, size, layers)
+        self.inverse_model = _model(2 * size, actions, cfg.curiosity_module)
+        self.forward_model = _model(size + actions, size, cfg.curiosity_module)
         self.register_buffer("updated", torch.tensor(False))
         if cfg.weight_init == "ml_agents":
             self.encoder.init_like_ml_agents()

@@ -91,6 +91,12 @@ def swish_mlp(inputs: int, hidden: int, layers: int) -> nn.Sequential:
     return nn.Sequential(*modules)
 
 
+def linear_encoder(inputs: int, num_layers: int, hidden: int) -> nn.Sequential:
+    """ML-Agents' ``LinearEncoder(inputs, num_layers, hidden)``: a first and a last Swish layer whatever
+    ``num_layers`` says, with ``num_layers - 2`` between, so 1 builds two layers as 2 does."""
+    return swish_mlp(inputs, hidden, max(2, num_layers))
+
+
 class ResidualBlock(nn.Module):
     def __init__(self, channels: int):
         super().__init__()
@@ -156,7 +162,8 @@ class RunningNorm(nn.Module):
 
 
 class Body(nn.Module):
-    """Cameras through their encoders, vectors concatenated, then ``num_layers`` x ``hidden_units`` (Swish)."""
+    """Cameras through their encoders, vectors concatenated, then ML-Agents' ``LinearEncoder`` of ``num_layers``
+    x ``hidden_units`` (Swish; at least two layers, as there)."""
 
     def __init__(self, keys: dict[str, tuple[int, ...]], cfg: PPOConfig):
         super().__init__()
@@ -164,7 +171,7 @@ class Body(nn.Module):
                                       for k, s in keys.items() if len(s) == 3})
         self.vectors = [k for k, s in keys.items() if len(s) != 3]
         width = sum(int(np.prod(keys[k])) for k in self.vectors) + cfg.hidden_units * len(self.cameras)
-        self.mlp = swish_mlp(width, cfg.hidden_units, cfg.num_layers)
+        self.mlp = linear_encoder(width, cfg.num_layers, cfg.hidden_units)
 
     def init_like_ml_agents(self) -> None:
         """ML-Agents' initialisation: its LinearEncoder's Kaiming-normal (linear) layers, and the cameras' dense

@@ -111,3 +111,14 @@ def test_cameras_below_the_encoders_minimum_are_refused():
         camera_encoder("resnet", (14, 20, 1), 8)
     with pytest.raises(TrainError, match="at least 20x20"):
         camera_encoder("simple", (19, 19, 1), 8)
+
+
+@pytest.mark.parametrize("num_layers, layers", [(1, 2), (2, 2), (3, 3), (4, 4)])
+def test_num_layers_counts_as_ml_agents_linear_encoder(num_layers, layers):
+    """ML-Agents' LinearEncoder builds a first and a last layer with num_layers - 2 between, so 1 means two."""
+    cfg = make_config("wind_farm_control", {"hidden_units": 16, "num_layers": num_layers})
+    agent = ActorCritic(OBS, LAYOUTS["discrete"], cfg)
+    for body in (agent.actor, agent.critic):
+        linears = [m for m in body.mlp if isinstance(m, torch.nn.Linear)]
+        assert [(m.in_features, m.out_features) for m in linears] == [(5, 16)] + [(16, 16)] * (layers - 1)
+        assert sum(isinstance(m, torch.nn.SiLU) for m in body.mlp) == layers
