@@ -105,15 +105,15 @@ def add_seed(record: Path, run_dir: Path) -> dict[str, Any]:
     data = json.loads(record.read_text())
     summary = json.loads((run_dir / "summary.json").read_text())
     hyperparameters = json.loads((run_dir / "config.json").read_text())["hyperparameters"]
+    trained = load_checkpoint(run_dir / "checkpoint.pt")
     # through the config model: a record made before a key existed holds what the key meant then
-    recorded = PPOConfig(**older_defaults(data["hyperparameters"])).model_dump(mode="json")
+    recorded = PPOConfig(**older_defaults(data["hyperparameters"], trained["model"])).model_dump(mode="json")
     changed = sorted(k for k, v in hyperparameters.items() if k not in SEED_CHANGES and recorded.get(k) != v)
     if changed:
         listing = ", ".join(f"{k}: {recorded.get(k)!r} -> {hyperparameters[k]!r}" for k in changed)
         raise TrainError(f"{run_dir} is not another seed of {record.name}: its hyperparameters differ ({listing})")
     if summary["seed"] == data["seed"]:
         raise TrainError(f"{run_dir} trained on seed {summary['seed']}, the record's own; give another seed's run")
-    trained = load_checkpoint(run_dir / "checkpoint.pt")
     if trained["fingerprint"] != compile(data["scenario"]).fingerprint:
         raise TrainError(f"{run_dir} trained scenario {trained['compiled'].name!r}, which differs from the "
                          f"record's {data['scenario']}")

@@ -44,17 +44,22 @@ def load_checkpoint(path: str | Path) -> dict[str, Any]:
         raise TrainError(f"{path} is not a hivex checkpoint: {exc}") from None
     if not isinstance(data, dict) or data.get("format") != FORMAT:
         raise TrainError(f"{path} is not a hivex checkpoint (format {FORMAT})")
-    data["config"] = PPOConfig(**older_defaults(data["config"]))
+    data["config"] = PPOConfig(**older_defaults(data["config"], data["model"]))
     data["compiled"] = compile(data["scenario"])
     return data
 
 
-def older_defaults(config: dict[str, Any]) -> dict[str, Any]:
-    """A checkpoint's hyperparameters with what a key added since meant when it was written: a curiosity
-    module from before ``curiosity_module`` existed is ``hivex_v1``."""
-    if "curiosity_module" not in config and config.get("curiosity_strength", 0) > 0:
-        return config | {"curiosity_module": "hivex_v1"}
-    return config
+def older_defaults(config: dict[str, Any], model: dict[str, Any]) -> dict[str, Any]:
+    """The hyperparameters ``config`` of a checkpoint (or record) whose network weights are ``model``, with what a
+    key added since meant when they were written: a curiosity module from before ``curiosity_module`` existed
+    is ``hivex_v1``, and continuous actions (a Gaussian head ``mu``) from before ``continuous_actions`` were
+    clipped. Keys that change nothing for this network keep their defaults."""
+    then: dict[str, Any] = {}
+    if config.get("curiosity_strength", 0) > 0:
+        then["curiosity_module"] = "hivex_v1"
+    if "mu.weight" in model:
+        then["continuous_actions"] = "clip"
+    return then | config
 
 
 def policy_for(checkpoint: dict[str, Any], compiled: CompiledScenario, device: str = "cpu") -> ActorCritic:

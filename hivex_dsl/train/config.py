@@ -36,7 +36,11 @@ and 0.1 for categorical branches, zero biases; the curiosity module's layers too
 ``ml_agents`` (the default: ML-Agents' CuriosityNetwork, whose inverse and forward models are two Swish layers
 of 256 and whose inverse loss of continuous actions is their summed squared error) or ``hivex_v1`` (this
 project's first module: one layer, half that error; the WRM, DBR and OPC baselines recorded before the key
-existed trained with it, and a checkpoint written before then reads as it).
+existed trained with it, and a checkpoint written before then reads as it), ``continuous_actions``: how a
+Gaussian sample becomes a Box action, ``ml_agents`` (the default: clamp(sample, -3, 3) / 3 onto the Box, as
+ML-Agents sends it, so the initial log-std 0 explores gently) or ``clip`` (the sample clipped into the Box,
+saturating at one standard deviation; the AWS and DBR baselines recorded before the key existed trained with
+it, and a checkpoint with continuous actions written before then reads as it).
 """
 
 from __future__ import annotations
@@ -89,6 +93,7 @@ class PPOConfig(StrictModel):
     curiosity_learning_rate: float = Field(3.0e-4, ge=0.0, le=1.0)
     weight_init: Literal["cleanrl", "ml_agents"] = "cleanrl"
     curiosity_module: Literal["ml_agents", "hivex_v1"] = "ml_agents"
+    continuous_actions: Literal["ml_agents", "clip"] = "ml_agents"
 
     def rollout_length(self, slots: int) -> int:
         """Steps of every slot per update: ``buffer_size // slots`` (at least 1), at most ``time_horizon``."""

@@ -8,7 +8,7 @@ key ``"obs"``, a Dict observation keeps its keys. A key whose single space is (H
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any, Literal
 
 import numpy as np
@@ -47,6 +47,7 @@ class ActionLayout:
     start: tuple[int, ...]
     low: np.ndarray | None = None
     high: np.ndarray | None = None
+    continuous_actions: Literal["ml_agents", "clip"] = "ml_agents"  # how a Gaussian sample becomes a Box action
 
     @classmethod
     def of(cls, space: spaces.Space) -> "ActionLayout":
@@ -63,8 +64,8 @@ class ActionLayout:
 
     def to_env(self, continuous: torch.Tensor, discrete: torch.Tensor) -> Any:
         """Sampled (S, continuous) floats and (S, len(nvec)) indices -> the vector env's action batch.
-        Continuous actions are clipped into the Box; the unclipped sample keeps its log-probability."""
-        cont = np.clip(continuous.cpu().numpy(), self.low, self.high) if self.continuous else None
+        The unclipped sample keeps its log-probability; see :meth:`box_actions` for what the env gets."""
+        cont = self.box_actions(continuous.cpu().numpy()) if self.continuous else None
         disc = discrete.cpu().numpy() + np.asarray(self.start, dtype=np.int64) if self.nvec else None
         if self.kind == "discrete":
             return disc[:, 0]
@@ -73,6 +74,15 @@ class ActionLayout:
         if self.kind == "box":
             return cont
         return {"continuous": cont, "discrete": disc}
+
+    def box_actions(self, sample: np.ndarray) -> np.ndarray:
+        """(S, continuous) Gaussian samples -> actions in [low, high]. ``ml_agents``: as ML-Agents sends them,
+        clamp(sample, -3, 3) / 3 (its AgentAction.to_action_tuple), mapped linearly onto the Box, so a policy
+        of log-std 0 saturates at 3 sigma; ``clip``: the sample clipped into the Box (saturating at 1 sigma)."""
+        if self.continuous_actions == "clip":
+            return np.clip(sample, self.low, self.high)
+        unit = np.clip(sample, -3.0, 3.0) * np.float32(1.0 / 3.0)
+        return np.clip(self.low + (unit + 1.0) * np.float32(0.5) * (self.high - self.low), self.low, self.high)
 
 
 def vector_part(obs: dict[str, torch.Tensor], keys: list[str]) -> torch.Tensor | None:
@@ -214,7 +224,7 @@ class ActorCritic(nn.Module):
     def __init__(self, observation_space: spaces.Space, action_space: spaces.Space, cfg: PPOConfig):
         super().__init__()
         keys = observation_keys(observation_space)
-        self.layout = ActionLayout.of(action_space)
+        self.layout = replace(ActionLayout.of(action_space), continuous_actions=cfg.continuous_actions)
         self.actor, self.critic = Body(keys, cfg), Body(keys, cfg)
         vector_width = sum(int(np.prod(keys[k])) for k in self.actor.vectors)
         self.norm = RunningNorm(vector_width, cfg.normalize)

@@ -122,3 +122,34 @@ def test_num_layers_counts_as_ml_agents_linear_encoder(num_layers, layers):
         linears = [m for m in body.mlp if isinstance(m, torch.nn.Linear)]
         assert [(m.in_features, m.out_features) for m in linears] == [(5, 16)] + [(16, 16)] * (layers - 1)
         assert sum(isinstance(m, torch.nn.SiLU) for m in body.mlp) == layers
+
+
+@pytest.mark.parametrize("mode, expected", [
+    ("ml_agents", [-1.0, -0.5, 0.0, 0.5, 1.0]),  # clamp(sample, -3, 3) / 3, as ML-Agents sends it
+    ("clip", [-1.0, -1.0, 0.0, 1.0, 1.0]),
+])
+def test_gaussian_samples_become_box_actions_as_the_mode_says(mode, expected):
+    from dataclasses import replace
+
+    from hivex_dsl.train.networks import ActionLayout
+
+    sample = torch.tensor([[-4.0], [-1.5], [0.0], [1.5], [4.0]])
+    unit = replace(ActionLayout.of(spaces.Box(-1.0, 1.0, (1,), np.float32)), continuous_actions=mode)
+    np.testing.assert_allclose(unit.to_env(sample, torch.zeros(5, 0, dtype=torch.int64)).ravel(), expected)
+    wide = replace(ActionLayout.of(spaces.Box(0.0, 10.0, (1,), np.float32)), continuous_actions=mode)
+    onto_wide = {"ml_agents": [0.0, 2.5, 5.0, 7.5, 10.0], "clip": [0.0, 0.0, 0.0, 1.5, 4.0]}[mode]
+    np.testing.assert_allclose(wide.to_env(sample, torch.zeros(5, 0, dtype=torch.int64)).ravel(), onto_wide, atol=1e-6)
+
+
+@pytest.mark.parametrize("mode, saturated", [("ml_agents", 0.0027), ("clip", 0.3173)])
+def test_a_fresh_gaussian_policy_saturates_the_box_at_three_or_one_sigma(mode, saturated):
+    """With log-std 0 and means near 0, P(|z| >= 3) = 0.27% of ML-Agents' actions sit at the Box's edge,
+    P(|z| >= 1) = 31.7% of clipped ones."""
+    torch.manual_seed(0)
+    cfg = make_config("aerial_wildfire_suppression", {"hidden_units": 16, "continuous_actions": mode})
+    agent = ActorCritic(OBS, LAYOUTS["hybrid"], cfg)
+    with torch.no_grad():
+        cont, disc, _ = agent.act({"obs": torch.zeros(20_000, 5)})
+    actions = agent.layout.to_env(cont, disc)["continuous"]
+    assert actions.min() >= -1.0 and actions.max() <= 1.0
+    assert np.mean(np.abs(actions) >= 1.0) == pytest.approx(saturated, abs=0.01)

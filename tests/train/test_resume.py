@@ -147,13 +147,25 @@ def test_a_run_from_before_curiosity_module_goes_on_with_the_module_it_trained(w
     assert train(wrm, first, run, progress=False, resume=True)["agent_steps"] == tiny["max_steps"]
 
 
-def test_a_checkpoint_without_curiosity_from_before_curiosity_module_reads_the_default(tiny, tmp_path):
+def test_a_checkpoint_without_curiosity_or_continuous_actions_from_before_their_keys_reads_the_defaults(tiny, tmp_path):
     from hivex_dsl.train.checkpoint import load_checkpoint
 
     wfc = compile(short_scenario("wind_farm_control"))
     run = tmp_path / "run"
     train(wfc, make_config(wfc.environment, tiny), run, progress=False)
     _strip_key(run / "checkpoint.pt", "curiosity_module")
-    assert load_checkpoint(run / "checkpoint.pt")["config"].curiosity_module == "ml_agents"
+    _strip_key(run / "checkpoint.pt", "continuous_actions")
+    config = load_checkpoint(run / "checkpoint.pt")["config"]
+    assert (config.curiosity_module, config.continuous_actions) == ("ml_agents", "ml_agents")
     train(wfc, make_config(wfc.environment, tiny, {"max_steps": 2 * tiny["max_steps"]}), run, progress=False,
           resume=True)
+
+
+def test_continuous_actions_from_before_continuous_actions_existed_were_clipped():
+    from hivex_dsl.train.checkpoint import older_defaults
+
+    gaussian, categorical = {"mu.weight": torch.zeros(1, 1)}, {"logits.weight": torch.zeros(1, 1)}
+    assert older_defaults({"seed": 3}, gaussian) == {"seed": 3, "continuous_actions": "clip"}
+    assert older_defaults({"seed": 3}, categorical) == {"seed": 3}
+    assert older_defaults({"continuous_actions": "ml_agents"}, gaussian) == {"continuous_actions": "ml_agents"}
+    assert older_defaults({"curiosity_strength": 0.1}, categorical)["curiosity_module"] == "hivex_v1"
