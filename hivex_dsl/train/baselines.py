@@ -20,7 +20,7 @@ from typing import Any
 
 from ..compiler import compile
 from ..report import collect_returns
-from .checkpoint import RESUMABLE_CHANGES, load_checkpoint, older_defaults
+from .checkpoint import RESUMABLE_CHANGES, action_space_of, load_checkpoint, older_defaults
 from .config import PPOConfig, TrainError
 from .evaluate import evaluate
 
@@ -107,7 +107,8 @@ def add_seed(record: Path, run_dir: Path) -> dict[str, Any]:
     hyperparameters = json.loads((run_dir / "config.json").read_text())["hyperparameters"]
     trained = load_checkpoint(run_dir / "checkpoint.pt")
     # through the config model: a record made before a key existed holds what the key meant then
-    recorded = PPOConfig(**older_defaults(data["hyperparameters"], trained["model"])).model_dump(mode="json")
+    then = older_defaults(data["hyperparameters"], action_space_of(trained["compiled"]))
+    recorded = PPOConfig(**then).model_dump(mode="json")
     changed = sorted(k for k, v in hyperparameters.items() if k not in SEED_CHANGES and recorded.get(k) != v)
     if changed:
         listing = ", ".join(f"{k}: {recorded.get(k)!r} -> {hyperparameters[k]!r}" for k in changed)

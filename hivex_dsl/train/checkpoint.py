@@ -9,7 +9,7 @@ import torch
 
 from ..compiler import CompiledScenario, compile
 from .config import PPOConfig, TrainError
-from .networks import ActorCritic
+from .networks import ActionLayout, ActorCritic
 
 FORMAT = "hivex-ppo/1"
 
@@ -44,22 +44,32 @@ def load_checkpoint(path: str | Path) -> dict[str, Any]:
         raise TrainError(f"{path} is not a hivex checkpoint: {exc}") from None
     if not isinstance(data, dict) or data.get("format") != FORMAT:
         raise TrainError(f"{path} is not a hivex checkpoint (format {FORMAT})")
-    data["config"] = PPOConfig(**older_defaults(data["config"], data["model"]))
     data["compiled"] = compile(data["scenario"])
+    data["config"] = PPOConfig(**older_defaults(data["config"], action_space_of(data["compiled"])))
     return data
 
 
-def older_defaults(config: dict[str, Any], model: dict[str, Any]) -> dict[str, Any]:
-    """The hyperparameters ``config`` of a checkpoint (or record) whose network weights are ``model``, with what a
-    key added since meant when they were written: a curiosity module from before ``curiosity_module`` existed
-    is ``hivex_v1``, and continuous actions (a Gaussian head ``mu``) from before ``continuous_actions`` were
-    clipped. Keys that change nothing for this network keep their defaults."""
+def older_defaults(config: dict[str, Any], action_space: Any) -> dict[str, Any]:
+    """The hyperparameters ``config`` of a checkpoint (or record) of a policy over ``action_space``, with what a
+    key added since meant when they were written, where it changes anything for this policy: a curiosity module
+    from before ``curiosity_module`` is ``hivex_v1``, continuous actions from before ``continuous_actions`` were
+    clipped, and more than one action dimension from before ``policy_loss`` shared one ``joint`` ratio."""
+    layout = ActionLayout.of(action_space)
     then: dict[str, Any] = {}
     if config.get("curiosity_strength", 0) > 0:
         then["curiosity_module"] = "hivex_v1"
-    if "mu.weight" in model:
+    if layout.continuous:
         then["continuous_actions"] = "clip"
+    if layout.continuous + len(layout.nvec) > 1:
+        then["policy_loss"] = "joint"
     return then | config
+
+
+def action_space_of(compiled: CompiledScenario) -> Any:
+    """The single-agent action space of ``compiled`` (one world built, not reset)."""
+    from ..adapters.gymnasium import HivexVectorEnv
+
+    return HivexVectorEnv(compiled, num_worlds=1).single_action_space
 
 
 def policy_for(checkpoint: dict[str, Any], compiled: CompiledScenario, device: str = "cpu") -> ActorCritic:

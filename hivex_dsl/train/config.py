@@ -40,7 +40,12 @@ existed trained with it, and a checkpoint written before then reads as it), ``co
 Gaussian sample becomes a Box action, ``ml_agents`` (the default: clamp(sample, -3, 3) / 3 onto the Box, as
 ML-Agents sends it, so the initial log-std 0 explores gently) or ``clip`` (the sample clipped into the Box,
 saturating at one standard deviation; the AWS and DBR baselines recorded before the key existed trained with
-it, and a checkpoint with continuous actions written before then reads as it).
+it, and a checkpoint with continuous actions written before then reads as it), ``policy_loss``: ``ml_agents``
+(the default: as ML-Agents' trust_region_policy_loss, one probability ratio per action dimension, each
+continuous dimension and each discrete branch, clipped on its own against the shared advantage and averaged,
+and the Gaussian part's entropy the mean over its dimensions) or ``joint`` (textbook PPO: one ratio of the
+joint probability, every entropy summed; the baselines recorded before the key existed trained with it, and a
+checkpoint with more than one action dimension written before then reads as it; with one they are the same).
 """
 
 from __future__ import annotations
@@ -94,6 +99,7 @@ class PPOConfig(StrictModel):
     weight_init: Literal["cleanrl", "ml_agents"] = "cleanrl"
     curiosity_module: Literal["ml_agents", "hivex_v1"] = "ml_agents"
     continuous_actions: Literal["ml_agents", "clip"] = "ml_agents"
+    policy_loss: Literal["ml_agents", "joint"] = "ml_agents"
 
     def rollout_length(self, slots: int) -> int:
         """Steps of every slot per update: ``buffer_size // slots`` (at least 1), at most ``time_horizon``."""

@@ -235,6 +235,9 @@ class ActorCritic(nn.Module):
         self.logits = _head(hidden, sum(self.layout.nvec), 0.01) if self.layout.nvec else None
         self.mu = _head(hidden, self.layout.continuous, 0.01) if self.layout.continuous else None
         self.log_std = nn.Parameter(torch.zeros(self.layout.continuous))
+        # ML-Agents' policy loss takes one probability ratio per action dimension; "joint" one for them all
+        self.per_dimension = cfg.policy_loss == "ml_agents"
+        self.logp_columns = self.layout.continuous + len(self.layout.nvec) if self.per_dimension else 0
         if cfg.weight_init == "ml_agents":
             self._init_like_ml_agents()
 
@@ -294,7 +297,8 @@ class ActorCritic(nn.Module):
         return cont, disc, logp
 
     def act_and_value(self, obs: dict[str, torch.Tensor]):
-        """-> sampled continuous (B, c), discrete (B, d), their log-prob (B,) and V(obs) (see get_value)."""
+        """-> sampled continuous (B, c), discrete (B, d), their log-prob (see :meth:`_log_prob_entropy`) and
+        V(obs) (see get_value)."""
         return self._act(obs, False, with_value=True)
 
     def _act(self, obs: dict[str, torch.Tensor], deterministic: bool, with_value: bool):
@@ -317,7 +321,7 @@ class ActorCritic(nn.Module):
         return cont.cpu(), disc.cpu(), logp.cpu(), value
 
     def evaluate(self, obs: dict[str, torch.Tensor], cont: torch.Tensor, disc: torch.Tensor):
-        """-> log-prob (B,), entropy (B,), value (B,) of given actions."""
+        """-> log-prob (B,) or (B, logp_columns), entropy (B,), value (B,) of given actions."""
         obs, cont, disc = self._here(obs, cont, disc)
         vector = self._normalised(obs)
         mu, log_probs = self._heads(obs, vector)
@@ -326,14 +330,22 @@ class ActorCritic(nn.Module):
 
     def _log_prob_entropy(self, mu: torch.Tensor | None, log_probs: list[torch.Tensor], cont: torch.Tensor,
                           disc: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
-        """Joint log-probability (B,) of (cont, disc) and the policy's entropy (B,): a diagonal Gaussian with
-        state-independent log-std times independent categoricals."""
+        """The log-probability of (cont, disc) and the policy's entropy (B,), for a diagonal Gaussian with
+        state-independent log-std times independent categoricals.
+
+        ``policy_loss: ml_agents``: one log-probability per action dimension, (B, c + len(nvec)), the Gaussian's
+        dimensions first, and the Gaussian part's entropy the mean over its dimensions (ML-Agents'
+        GaussianDistInstance.entropy); ``joint``: the joint log-probability (B,) and every entropy summed."""
         logps, entropies = [], []  # one term per action part, summed (no zeros to start from: a hot path)
         if mu is not None:
             log_std = self.log_std.expand_as(mu)
-            logps.append((-0.5 * ((cont - mu) / log_std.exp()).square() - log_std - HALF_LOG_2PI).sum(1))
-            entropies.append((0.5 + HALF_LOG_2PI + log_std).sum(1))
+            per_dimension = -0.5 * ((cont - mu) / log_std.exp()).square() - log_std - HALF_LOG_2PI
+            logps.append(per_dimension if self.per_dimension else per_dimension.sum(1))
+            entropy = 0.5 + HALF_LOG_2PI + log_std
+            entropies.append(entropy.mean(1) if self.per_dimension else entropy.sum(1))
         for i, lp in enumerate(log_probs):
-            logps.append(lp.gather(1, disc[:, i:i + 1]).squeeze(1))
+            chosen = lp.gather(1, disc[:, i:i + 1])
+            logps.append(chosen if self.per_dimension else chosen.squeeze(1))
             entropies.append(-(lp.exp() * lp).sum(1))
-        return sum(logps[1:], logps[0]), sum(entropies[1:], entropies[0])
+        logp = torch.cat(logps, dim=1) if self.per_dimension else sum(logps[1:], logps[0])
+        return logp, sum(entropies[1:], entropies[0])

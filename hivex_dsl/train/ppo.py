@@ -101,15 +101,17 @@ def schedule(cfg: PPOConfig, progress: float) -> tuple[float, float, float]:
 
 
 class Rollout:
-    """(T, S) storage of one rollout; observations as a dict of (T, S, ...) tensors."""
+    """(T, S) storage of one rollout; observations as a dict of (T, S, ...) tensors; log-probabilities (T, S),
+    or (T, S, logp_columns) with one per action dimension."""
 
     def __init__(self, steps: int, slots: int, first_obs: dict[str, torch.Tensor], continuous: int, discrete: int,
-                 signals: int = 1):
+                 signals: int = 1, logp_columns: int = 0):
         self.obs = {k: torch.zeros((steps,) + v.shape, dtype=v.dtype) for k, v in first_obs.items()}
         self.last_obs = first_obs  # the observation after the rollout's last step (collect sets it)
         self.cont = torch.zeros(steps, slots, continuous)
         self.disc = torch.zeros(steps, slots, discrete, dtype=torch.int64)
-        self.logp, self.rewards = torch.zeros(steps, slots), torch.zeros(steps, slots)
+        self.logp = torch.zeros((steps, slots) + ((logp_columns,) if logp_columns else ()))
+        self.rewards = torch.zeros(steps, slots)
         self.values = torch.zeros((steps, slots) + ((signals,) if signals > 1 else ()))  # one column per signal
         self.terminated, self.done, self.valid = (torch.zeros(steps, slots) for _ in range(3))
 
@@ -131,7 +133,8 @@ def start_rollouts(observations: Any, agent: ActorCritic, steps: int) -> tuple[d
     obs = to_tensors(observations)
     slots = next(iter(obs.values())).shape[0]
     state = {"obs": obs, "done": np.zeros(slots, bool), "active": np.ones(slots, bool)}
-    return state, Rollout(steps, slots, obs, agent.layout.continuous, len(agent.layout.nvec), agent.signals)
+    return state, Rollout(steps, slots, obs, agent.layout.continuous, len(agent.layout.nvec), agent.signals,
+                          agent.logp_columns)
 
 
 def merge_steps(tensor: torch.Tensor) -> torch.Tensor:
@@ -224,11 +227,14 @@ def minibatches(data: dict[str, Any], valid: np.ndarray, batch_size: int, rng: n
 def ppo_loss(agent: ActorCritic, mb: dict[str, Any], beta: float, epsilon: float
              ) -> tuple[torch.Tensor, tuple[torch.Tensor, ...]]:
     """ML-Agents' PPO loss of a minibatch: the clipped surrogate, 0.5 x the clipped value loss, minus beta x the
-    entropy; -> (loss, (policy loss, value loss, mean entropy, log-ratios (B,)))."""
+    entropy; -> (loss, (policy loss, value loss, mean entropy, log-ratios (B,) or (B, D))).
+
+    With one log-probability per action dimension (B, D), each dimension's ratio is clipped on its own against
+    the shared advantage and the surrogate is their mean (ML-Agents' trust_region_policy_loss)."""
     logp, entropy, value = agent.evaluate(mb["obs"], mb["cont"], mb["disc"])
     log_ratio = logp - mb["old_logp"]
     ratio = log_ratio.exp()
-    adv = mb["adv"]
+    adv = mb["adv"] if log_ratio.dim() == 1 else mb["adv"][:, None]
     policy_loss = torch.max(-adv * ratio, -adv * ratio.clamp(1 - epsilon, 1 + epsilon)).mean()
     clipped = mb["old_values"] + (value - mb["old_values"]).clamp(-epsilon, epsilon)
     value_loss = torch.max((value - mb["returns"]).square(), (clipped - mb["returns"]).square()).mean()

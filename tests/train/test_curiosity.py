@@ -96,7 +96,7 @@ def test_a_rollout_with_curiosity_has_two_value_columns_and_masks_reset_transiti
     module.updated.fill_(True)
     obs, _ = env.reset()
     state = {"obs": to_tensors(obs), "done": np.zeros(env.num_envs, bool), "active": np.ones(env.num_envs, bool)}
-    buf = Rollout(12, env.num_envs, state["obs"], 0, len(agent.layout.nvec), agent.signals)
+    buf = Rollout(12, env.num_envs, state["obs"], 0, len(agent.layout.nvec), agent.signals, agent.logp_columns)
     next_value = collect(env, agent, buf, state, cfg, EpisodeLog())
     assert agent.signals == 2 and buf.values.shape == (12, env.num_envs, 2) and next_value.shape == (env.num_envs, 2)
     advantages, returns, charts = advantages_and_returns(buf, next_value, cfg, module)

@@ -55,7 +55,7 @@ def _rollout(steps=12):
     agent = ActorCritic(env.single_observation_space, env.single_action_space, cfg)
     obs, _ = env.reset()
     state = {"obs": to_tensors(obs), "done": np.zeros(env.num_envs, bool), "active": np.ones(env.num_envs, bool)}
-    buf = Rollout(steps, env.num_envs, state["obs"], 0, 1)
+    buf = Rollout(steps, env.num_envs, state["obs"], 0, 1, 1, agent.logp_columns)
     next_value = collect(env, agent, buf, state, cfg, EpisodeLog())
     return agent, cfg, buf, next_value
 

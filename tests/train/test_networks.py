@@ -22,24 +22,30 @@ LAYOUTS = {
 }
 
 
-def _reference(agent: ActorCritic, obs: dict, cont: torch.Tensor, disc: torch.Tensor):
-    """Log-prob and entropy from torch.distributions objects built on the agent's own head outputs."""
+def _reference(agent: ActorCritic, obs: dict, cont: torch.Tensor, disc: torch.Tensor, per_dimension: bool):
+    """Log-prob and entropy from torch.distributions objects built on the agent's own head outputs: joint, or
+    per action dimension with the Gaussian's entropy averaged over its dimensions (ML-Agents)."""
     hidden = agent.actor(obs, obs["obs"])
-    logp, entropy = torch.zeros(cont.shape[0]), torch.zeros(cont.shape[0])
+    logps, entropy = [], torch.zeros(cont.shape[0])
     if agent.mu is not None:
         normal = Normal(agent.mu(hidden), agent.log_std.exp())
-        logp, entropy = logp + normal.log_prob(cont).sum(1), entropy + normal.entropy().sum(1)
+        logps.append(normal.log_prob(cont))
+        entropy = entropy + (normal.entropy().mean(1) if per_dimension else normal.entropy().sum(1))
     if agent.logits is not None:
         for i, chunk in enumerate(torch.split(agent.logits(hidden), agent.layout.nvec, 1)):
             cat = Categorical(logits=chunk)
-            logp, entropy = logp + cat.log_prob(disc[:, i]), entropy + cat.entropy()
-    return logp, entropy
+            logps.append(cat.log_prob(disc[:, i])[:, None])
+            entropy = entropy + cat.entropy()
+    logp = torch.cat(logps, dim=1)
+    return (logp if per_dimension else logp.sum(1)), entropy
 
 
+@pytest.mark.parametrize("policy_loss", ["ml_agents", "joint"])
 @pytest.mark.parametrize("kind", sorted(LAYOUTS))
-def test_log_prob_and_entropy_match_torch_distributions(kind):
+def test_log_prob_and_entropy_match_torch_distributions(kind, policy_loss):
     torch.manual_seed(3)
-    agent = ActorCritic(OBS, LAYOUTS[kind], make_config("wind_farm_control", {"hidden_units": 8}))
+    cfg = make_config("wind_farm_control", {"hidden_units": 8, "policy_loss": policy_loss})
+    agent = ActorCritic(OBS, LAYOUTS[kind], cfg)
     with torch.no_grad():
         agent.log_std.copy_(torch.linspace(-0.7, 0.4, agent.log_std.numel()))
         if agent.logits is not None:  # the 0.01-gain init makes every categorical nearly uniform
@@ -47,7 +53,7 @@ def test_log_prob_and_entropy_match_torch_distributions(kind):
     obs = {"obs": torch.rand(64, 5) * 2 - 1}
     cont, disc, logp = agent.act(obs)
     got_logp, got_entropy, value = agent.evaluate(obs, cont, disc)
-    want_logp, want_entropy = _reference(agent, obs, cont, disc)
+    want_logp, want_entropy = _reference(agent, obs, cont, disc, per_dimension=policy_loss == "ml_agents")
     torch.testing.assert_close(got_logp, want_logp)
     torch.testing.assert_close(logp, want_logp)
     torch.testing.assert_close(got_entropy, want_entropy)

@@ -155,17 +155,21 @@ def test_a_checkpoint_without_curiosity_or_continuous_actions_from_before_their_
     train(wfc, make_config(wfc.environment, tiny), run, progress=False)
     _strip_key(run / "checkpoint.pt", "curiosity_module")
     _strip_key(run / "checkpoint.pt", "continuous_actions")
+    _strip_key(run / "checkpoint.pt", "policy_loss")
     config = load_checkpoint(run / "checkpoint.pt")["config"]
-    assert (config.curiosity_module, config.continuous_actions) == ("ml_agents", "ml_agents")
+    assert (config.curiosity_module, config.continuous_actions, config.policy_loss) == ("ml_agents",) * 3
     train(wfc, make_config(wfc.environment, tiny, {"max_steps": 2 * tiny["max_steps"]}), run, progress=False,
           resume=True)
 
 
-def test_continuous_actions_from_before_continuous_actions_existed_were_clipped():
+def test_keys_added_since_read_as_what_they_meant_then_where_they_change_the_policy():
+    from gymnasium import spaces
+
     from hivex_dsl.train.checkpoint import older_defaults
 
-    gaussian, categorical = {"mu.weight": torch.zeros(1, 1)}, {"logits.weight": torch.zeros(1, 1)}
-    assert older_defaults({"seed": 3}, gaussian) == {"seed": 3, "continuous_actions": "clip"}
-    assert older_defaults({"seed": 3}, categorical) == {"seed": 3}
-    assert older_defaults({"continuous_actions": "ml_agents"}, gaussian) == {"continuous_actions": "ml_agents"}
-    assert older_defaults({"curiosity_strength": 0.1}, categorical)["curiosity_module"] == "hivex_v1"
+    hybrid = spaces.Dict({"continuous": spaces.Box(-1.0, 1.0, (1,)), "discrete": spaces.MultiDiscrete([2])})
+    assert older_defaults({"seed": 3}, hybrid) == {"seed": 3, "continuous_actions": "clip", "policy_loss": "joint"}
+    assert older_defaults({"seed": 3}, spaces.MultiDiscrete([2, 3])) == {"seed": 3, "policy_loss": "joint"}
+    assert older_defaults({"seed": 3}, spaces.Discrete(3)) == {"seed": 3}  # one dimension: the losses agree
+    assert older_defaults({"policy_loss": "ml_agents"}, hybrid)["policy_loss"] == "ml_agents"  # written, kept
+    assert older_defaults({"curiosity_strength": 0.1}, spaces.Discrete(3))["curiosity_module"] == "hivex_v1"
