@@ -10,7 +10,8 @@ How each maps onto the PPO of ``ppo.py`` (parameter-shared over every (world, ag
   ``buffer_size // slots`` steps of every slot (slots = ``num_worlds * agents``), at most ``time_horizon``.
 - ``time_horizon``: ML-Agents cuts trajectories there and bootstraps from the value; our rollouts are
   never longer and always bootstrap at their end, so it only caps the rollout length.
-- ``batch_size``: minibatch size of one gradient step; ``num_epoch``: passes over the buffer.
+- ``batch_size``: minibatch size of one gradient step; ``num_epoch``: passes over the buffer (its valid
+  experiences; an epoch's last, smaller minibatch is trained on too, where ML-Agents drops it).
 - ``learning_rate`` + ``learning_rate_schedule``: ``linear`` decays the rate to 0 over ``max_steps``
   (ML-Agents also decays epsilon to 0.1 and beta to 1e-5 on the same schedule; so do we).
 - ``beta``: entropy coefficient; ``epsilon``: PPO clip range of the ratio and of the value (ML-Agents
