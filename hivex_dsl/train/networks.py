@@ -347,5 +347,7 @@ class ActorCritic(nn.Module):
             chosen = lp.gather(1, disc[:, i:i + 1])
             logps.append(chosen if self.per_dimension else chosen.squeeze(1))
             entropies.append(-(lp.exp() * lp).sum(1))
-        logp = torch.cat(logps, dim=1) if self.per_dimension else sum(logps[1:], logps[0])
+        if not self.per_dimension:
+            return sum(logps[1:], logps[0]), sum(entropies[1:], entropies[0])
+        logp = torch.cat(logps, dim=1) if len(logps) > 1 else logps[0]
         return logp, sum(entropies[1:], entropies[0])
