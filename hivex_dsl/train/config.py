@@ -18,8 +18,9 @@ How each maps onto the PPO of ``ppo.py`` (parameter-shared over every (world, ag
   clips both); ``lambd``: GAE lambda; ``gamma``: the extrinsic signal's discount; ``reward_strength``:
   the extrinsic signal's strength (a reward scale).
 - ``hidden_units`` x ``num_layers``: the MLP after the encoders, separate for actor and critic as in
-  ML-Agents, and counted as its ``LinearEncoder`` counts them (1 builds two layers, as 2 does); ``vis_encode_type``: ``simple`` (2 conv layers) or ``resnet`` (ML-Agents' IMPALA-style stack),
-  both layer for layer as ML-Agents builds them; ``normalize``: running mean/std of vector observations.
+  ML-Agents, and counted as its ``LinearEncoder`` counts them (1 builds two layers, as 2 does);
+  ``vis_encode_type``: ``simple`` (2 conv layers) or ``resnet`` (ML-Agents' IMPALA-style stack), both layer
+  for layer as ML-Agents builds them; ``normalize``: running mean/std of vector observations.
 - ``reward_signals.curiosity`` (WRM, DBR, OPC) flattened: ``curiosity_strength`` (0 turns the signal off),
   ``curiosity_gamma``, ``curiosity_encoding_size``, ``curiosity_learning_rate``; its encoder uses the run's
   ``vis_encode_type`` and ``num_layers`` (the paper's curiosity network_settings name the same encoder).
