@@ -51,11 +51,12 @@ def load_checkpoint(path: str | Path) -> dict[str, Any]:
 
 def older_defaults(config: dict[str, Any], action_space: Any) -> dict[str, Any]:
     """The hyperparameters ``config`` of a checkpoint (or record) of a policy over ``action_space``, with what a
-    key added since meant when they were written, where it changes anything for this policy: a curiosity module
-    from before ``curiosity_module`` is ``hivex_v1``, continuous actions from before ``continuous_actions`` were
-    clipped, and more than one action dimension from before ``policy_loss`` shared one ``joint`` ratio."""
+    key added since meant when they were written, where it changes anything for this policy: every policy from
+    before ``weight_init`` started from ``cleanrl`` weights, a curiosity module from before ``curiosity_module``
+    is ``hivex_v1``, continuous actions from before ``continuous_actions`` were clipped, and more than one action
+    dimension from before ``policy_loss`` shared one ``joint`` ratio. (``max_grad_norm`` was always written.)"""
     layout = ActionLayout.of(action_space)
-    then: dict[str, Any] = {}
+    then: dict[str, Any] = {"weight_init": "cleanrl"}
     if config.get("curiosity_strength", 0) > 0:
         then["curiosity_module"] = "hivex_v1"
     if layout.continuous:

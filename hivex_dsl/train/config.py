@@ -27,27 +27,31 @@ How each maps onto the PPO of ``ppo.py`` (parameter-shared over every (world, ag
   ``curiosity.py`` is ML-Agents' module; the critic gets a second value head for it.
 
 Ours (ML-Agents has no such key): ``num_worlds`` (parallel copies of the scenario; the paper's AWS config
-runs 12 environments), ``max_grad_norm`` (gradient clipping, 0 disables), ``checkpoint_every`` and
-``keep_checkpoints`` (agent-steps between checkpoints, how many are kept), ``seed`` (torch and sampling;
-the environment's seeds are the scenario's), ``device``, ``torch_threads`` (1: small networks on a
-shared machine lose more to thread hand-offs than they gain), ``weight_init``: ``cleanrl`` (the default,
-which every recorded baseline trained with: torch's defaults, orthogonal policy and value heads with gains
-0.01 and 1) or ``ml_agents`` (its ``linear_layer`` choices: Kaiming-normal body and camera dense layers with
-gains 1 and 1.41, Xavier-uniform value heads, Kaiming-normal policy heads with gains 0.2 for Gaussian means
-and 0.1 for categorical branches, zero biases; the curiosity module's layers too), ``curiosity_module``:
-``ml_agents`` (the default: ML-Agents' CuriosityNetwork, whose inverse and forward models are two Swish layers
-of 256 and whose inverse loss of continuous actions is their summed squared error) or ``hivex_v1`` (this
-project's first module: one layer, half that error; the WRM, DBR and OPC baselines recorded before the key
-existed trained with it, and a checkpoint written before then reads as it), ``continuous_actions``: how a
-Gaussian sample becomes a Box action, ``ml_agents`` (the default: clamp(sample, -3, 3) / 3 onto the Box, as
-ML-Agents sends it, so the initial log-std 0 explores gently) or ``clip`` (the sample clipped into the Box,
-saturating at one standard deviation; the AWS and DBR baselines recorded before the key existed trained with
-it, and a checkpoint with continuous actions written before then reads as it), ``policy_loss``: ``ml_agents``
-(the default: as ML-Agents' trust_region_policy_loss, one probability ratio per action dimension, each
-continuous dimension and each discrete branch, clipped on its own against the shared advantage and averaged,
-and the Gaussian part's entropy the mean over its dimensions) or ``joint`` (textbook PPO: one ratio of the
-joint probability, every entropy summed; the baselines recorded before the key existed trained with it, and a
-checkpoint with more than one action dimension written before then reads as it; with one they are the same).
+runs 12 environments), ``max_grad_norm`` (gradient clipping; 0, the default, clips none, as ML-Agents; the
+baselines recorded before it became the default clipped at 0.5 and their commands say so), ``checkpoint_every``
+and ``keep_checkpoints`` (agent-steps between checkpoints, how many are kept), ``seed`` (torch and sampling;
+the environment's seeds are the scenario's), ``device``, ``torch_threads`` (1: small networks on a shared
+machine lose more to thread hand-offs than they gain).
+
+Choices where this toolkit first did otherwise than ML-Agents. Each defaults to ML-Agents; the named earlier
+choice is what the baselines recorded before the default changed trained with (their commands set it), and a
+checkpoint or record written before its key existed reads as that choice where it changes the policy
+(``checkpoint.older_defaults``):
+
+- ``weight_init``: ``ml_agents`` (its ``linear_layer`` choices: Kaiming-normal body and camera dense layers
+  with gains 1 and 1.41, Xavier-uniform value heads, Kaiming-normal policy heads with gains 0.2 for Gaussian
+  means and 0.1 for categorical branches, zero biases; the curiosity module's layers too) or ``cleanrl``
+  (torch's defaults, orthogonal policy and value heads with gains 0.01 and 1).
+- ``curiosity_module``: ``ml_agents`` (ML-Agents' CuriosityNetwork, whose inverse and forward models are two
+  Swish layers of 256 and whose inverse loss of continuous actions is their summed squared error) or
+  ``hivex_v1`` (this project's first module: one layer, half that error).
+- ``continuous_actions``: how a Gaussian sample becomes a Box action, ``ml_agents`` (clamp(sample, -3, 3) / 3
+  onto the Box, as ML-Agents sends it, so the initial log-std 0 explores gently) or ``clip`` (the sample
+  clipped into the Box, saturating at one standard deviation).
+- ``policy_loss``: ``ml_agents`` (as ML-Agents' trust_region_policy_loss, one probability ratio per action
+  dimension, each continuous dimension and each discrete branch, clipped on its own against the shared
+  advantage and averaged, and the Gaussian part's entropy the mean over its dimensions) or ``joint`` (textbook
+  PPO: one ratio of the joint probability, every entropy summed; with one action dimension they are the same).
 """
 
 from __future__ import annotations
@@ -88,7 +92,7 @@ class PPOConfig(StrictModel):
     time_horizon: int = Field(2048, ge=1)
     max_steps: int = Field(8_000_000, ge=1)
     num_worlds: int = Field(4, ge=1, le=4096)
-    max_grad_norm: float = Field(0.5, ge=0.0)
+    max_grad_norm: float = Field(0.0, ge=0.0)
     checkpoint_every: int = Field(500_000, ge=1)
     keep_checkpoints: int = Field(5, ge=1)
     seed: int = Field(0, ge=0, le=2**32 - 1)
@@ -98,7 +102,7 @@ class PPOConfig(StrictModel):
     curiosity_gamma: float = Field(0.99, ge=0.0, le=1.0)
     curiosity_encoding_size: int = Field(256, ge=1, le=8192)
     curiosity_learning_rate: float = Field(3.0e-4, ge=0.0, le=1.0)
-    weight_init: Literal["cleanrl", "ml_agents"] = "cleanrl"
+    weight_init: Literal["ml_agents", "cleanrl"] = "ml_agents"
     curiosity_module: Literal["ml_agents", "hivex_v1"] = "ml_agents"
     continuous_actions: Literal["ml_agents", "clip"] = "ml_agents"
     policy_loss: Literal["ml_agents", "joint"] = "ml_agents"

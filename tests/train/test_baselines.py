@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import json
+import shlex
+from pathlib import Path
 
 import pytest
 import yaml
@@ -10,12 +12,14 @@ import yaml
 from hivex_dsl.compiler import compile
 from hivex_dsl.docsgen import render_docs
 from hivex_dsl.docsgen.baselines import baselines_context
-from hivex_dsl.train.config import make_config
+from hivex_dsl.train.config import PPOConfig, make_config, parse_assignments
 from hivex_dsl.train.ppo import train
 
 from .conftest import short_scenario
 
 pytest.importorskip("matplotlib")
+
+ROOT = Path(__file__).resolve().parents[2]
 
 
 @pytest.fixture(scope="module")
@@ -211,3 +215,18 @@ def test_the_script_reports_a_refused_seed_without_a_traceback(seeds, monkeypatc
         script.main()
     assert exit_.value.code == 2
     assert capsys.readouterr().err == f"error: {runs['seed0']} trained on seed 0, the record's own; give another seed's run\n"
+
+
+@pytest.mark.parametrize("record", sorted((ROOT / "benchmarks" / "baselines").glob("*.json")), ids=lambda p: p.stem)
+def test_a_committed_record_s_command_trains_with_its_hyperparameters(record):
+    """The page's command reproduces a record: today's defaults with its --set values are every hyperparameter
+    the record trained with (keys added since it was written read as they meant then)."""
+    from hivex_dsl.train.checkpoint import action_space_of, older_defaults
+
+    data = json.loads(record.read_text())
+    words = shlex.split(data["command"].splitlines()[0])
+    assert words[:3] == ["hivex", "train", data["scenario"]]
+    settings = [words[i + 1] for i, word in enumerate(words) if word == "--set"]
+    now = make_config(data["environment"], parse_assignments(settings))
+    then = older_defaults(data["hyperparameters"], action_space_of(compile(ROOT / data["scenario"])))
+    assert now.model_dump() == PPOConfig(**then).model_dump()

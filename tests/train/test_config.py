@@ -31,6 +31,9 @@ def test_the_paper_values_are_the_defaults(environment):
     assert (cfg.learning_rate, cfg.learning_rate_schedule, cfg.epsilon, cfg.lambd, cfg.num_epoch, cfg.num_layers) == \
         (0.0003, "linear", 0.2, 0.95, 3, 2)
     assert cfg.normalize is False
+    # ML-Agents' PPO clips no gradient norm (ppo/optimizer_torch.py: backward, then step) and builds its layers
+    # with its own linear_layer initialisation
+    assert (cfg.max_grad_norm, cfg.weight_init) == (0.0, "ml_agents")
 
 
 def test_a_file_then_the_command_line_override(tmp_path):

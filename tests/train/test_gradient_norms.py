@@ -51,7 +51,7 @@ def test_actor_and_critic_norms_make_up_the_clipped_norm(script, tiny):
 
 def test_it_reports_a_trained_checkpoint(script, tiny, tmp_path, monkeypatch, capsys):
     compiled = compile(short_scenario("wind_farm_control"))
-    train(compiled, make_config("wind_farm_control", tiny), tmp_path, progress=False)
+    train(compiled, make_config("wind_farm_control", tiny, {"max_grad_norm": 0.5}), tmp_path, progress=False)
     monkeypatch.setattr(sys, "argv", ["gradient_norms.py", str(tmp_path / "checkpoint.pt"), "--rollouts", "2"])
     script.main()
     out = capsys.readouterr().out

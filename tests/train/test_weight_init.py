@@ -1,6 +1,7 @@
 """``weight_init: ml_agents`` starts every layer as ML-Agents' ``linear_layer`` would (the scales below are read
 from mlagents/trainers/torch_entities: layers.py, encoders.py, distributions.py, decoders.py and the curiosity
-reward provider); the default ``cleanrl`` keeps the initialisation every recorded baseline trained with."""
+reward provider), and is the default; ``cleanrl`` keeps the initialisation the baselines recorded before then
+trained with."""
 
 from __future__ import annotations
 
@@ -49,8 +50,8 @@ def _body_layers(body) -> tuple[list[nn.Linear], list[nn.Linear]]:
     return [m for m in body.mlp if isinstance(m, nn.Linear)], [enc[2] for enc in body.cameras.values()]
 
 
-def test_the_default_is_the_initialisation_the_baselines_trained_with():
-    assert make_config("ocean_plastic_collection").weight_init == "cleanrl"
+def test_ml_agents_is_the_default_and_cleanrl_the_earlier_initialisation():
+    assert make_config("ocean_plastic_collection").weight_init == "ml_agents"
     torch.manual_seed(0)
     agent = ActorCritic(OBS, HYBRID, _config("cleanrl"))
     mlp, _ = _body_layers(agent.actor)
