@@ -7,8 +7,12 @@ import argparse
 import json
 import sys
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from ..errors import HivexError
+
+if TYPE_CHECKING:
+    from .config import PPOConfig
 
 TRAIN_EXTRA = "training needs torch: pip install torch, then pip install 'hivex-dsl[train]'"
 
@@ -55,15 +59,22 @@ def _require_torch() -> None:
         raise HivexError(TRAIN_EXTRA) from None
 
 
+def train_config(environment: str, args: argparse.Namespace) -> PPOConfig:
+    """The hyperparameters `hivex train` runs ``environment`` with: the paper's, then --config, --set and the
+    flags (--steps, --seed, --device), each over the last."""
+    from .config import make_config, parse_assignments, read_overrides
+
+    layers = [read_overrides(args.config) if args.config else {}, parse_assignments(args.assignments),
+              {"max_steps": args.steps, "seed": args.seed, "device": args.device}]
+    return make_config(environment, *layers)
+
+
 def cmd_train(args) -> int:
     from ..compiler import compile_all
-    from .config import make_config, parse_assignments, read_overrides
 
     _require_torch()
     points = compile_all(args.file)
-    layers = [read_overrides(args.config) if args.config else {}, parse_assignments(args.assignments),
-              {"max_steps": args.steps, "seed": args.seed, "device": args.device}]
-    configs = [make_config(p.environment, *layers) for p in points]
+    configs = [train_config(p.environment, args) for p in points]
     if args.eval_episodes < 0:
         raise HivexError(f"--eval-episodes must be 0 or more, got {args.eval_episodes}")
     run_dir = args.output or Path("runs") / points[0].spec.name

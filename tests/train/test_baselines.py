@@ -12,7 +12,7 @@ import yaml
 from hivex_dsl.compiler import compile
 from hivex_dsl.docsgen import render_docs
 from hivex_dsl.docsgen.baselines import baselines_context
-from hivex_dsl.train.config import PPOConfig, make_config, parse_assignments
+from hivex_dsl.train.config import PPOConfig, make_config
 from hivex_dsl.train.ppo import train
 
 from .conftest import short_scenario
@@ -223,10 +223,12 @@ def test_a_committed_record_s_command_trains_with_its_hyperparameters(record):
     the record trained with (keys added since it was written read as they meant then)."""
     from hivex_dsl.train.checkpoint import action_space_of, older_defaults
 
+    from hivex_dsl.cli import _parser
+    from hivex_dsl.train.commands import train_config
+
     data = json.loads(record.read_text())
     words = shlex.split(data["command"].splitlines()[0])
     assert words[:3] == ["hivex", "train", data["scenario"]]
-    settings = [words[i + 1] for i, word in enumerate(words) if word == "--set"]
-    now = make_config(data["environment"], parse_assignments(settings))
+    now = train_config(data["environment"], _parser().parse_args(words[1:]))  # as `hivex train` reads it
     then = older_defaults(data["hyperparameters"], action_space_of(compile(ROOT / data["scenario"])))
     assert now.model_dump() == PPOConfig(**then).model_dump()
