@@ -39,11 +39,17 @@ def cell(value: object) -> str:
     return md(" ".join(str(value).split())).replace("|", "\\|")
 
 
+def words(names: list[str]) -> str:
+    """A list in prose: ``["WRM", "OPC", "DBR"]`` -> ``"WRM, OPC and DBR"``."""
+    return " and ".join([", ".join(names[:-1]), names[-1]]) if len(names) > 1 else "".join(names)
+
+
 def _jinja() -> Environment:
     env = Environment(loader=FileSystemLoader(TEMPLATES), undefined=StrictUndefined, keep_trailing_newline=True,
                       autoescape=False, trim_blocks=True, lstrip_blocks=True)
     env.filters["cell"] = cell
     env.filters["md"] = md
+    env.filters["words"] = words
     return env
 
 

@@ -129,7 +129,34 @@ def baselines_context(directory: Path) -> dict[str, Any]:
     data = _load(directory)
     rows = [_row(env_id, data.get(env_id)) for env_id in registry.environments()]
     return {"rows": rows, "trained": [r for r in rows if r["trained"]], "left": [r for r in rows if not r["trained"]],
-            **hyperparameter_table(), **throughput_table(Path(directory).parent / THROUGHPUT_FILE)}
+            **hyperparameter_table(), **earlier_choices(data),
+            **throughput_table(Path(directory).parent / THROUGHPUT_FILE)}
+
+
+# The PPO choices where this toolkit first did otherwise than ML-Agents, each now ML-Agents' by default.
+ML_AGENTS_CHOICES = ("max_grad_norm", "weight_init", "policy_loss", "continuous_actions", "curiosity_module")
+
+
+def earlier_choices(records: dict[str, dict[str, Any]]) -> dict[str, Any]:
+    """Which committed records trained with an earlier choice than today's default, read from their hyperparameters.
+
+    ``at_defaults`` and ``earlier_records``: abbreviations of the records that set none and of those that set
+    some; ``earlier``: per choice key, the abbreviations of the records that set another value (a key a record
+    lacks, such as ``continuous_actions`` where every action is discrete, does not count).
+    """
+    from ..train.config import PPOConfig
+
+    defaults = {key: PPOConfig.model_fields[key].default for key in ML_AGENTS_CHOICES}
+    earlier: dict[str, list[str]] = {key: [] for key in ML_AGENTS_CHOICES}
+    at_defaults, earlier_records = [], []
+    for env_id in [env_id for env_id in registry.environments() if env_id in records]:
+        trained_with = records[env_id]["hyperparameters"]
+        name = registry.get(env_id).info.abbreviation
+        differs = [key for key in ML_AGENTS_CHOICES if key in trained_with and trained_with[key] != defaults[key]]
+        for key in differs:
+            earlier[key].append(name)
+        (earlier_records if differs else at_defaults).append(name)
+    return {"at_defaults": at_defaults, "earlier": earlier, "earlier_records": earlier_records}
 
 
 def throughput_table(path: Path) -> dict[str, Any]:

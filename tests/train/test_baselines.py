@@ -89,6 +89,31 @@ def test_the_verdict_pools_every_seeds_test_episodes():
     assert verdict(pooled_return(unlucky), {"mean": 8.0, "std": 1.0}) == "above"
 
 
+def test_the_page_names_the_records_that_trained_with_an_earlier_choice(recorded):
+    from hivex_dsl.docsgen.baselines import earlier_choices
+
+    out, data = recorded
+    assert earlier_choices({"wind_farm_control": data}) == {
+        "at_defaults": ["WFC"], "earlier_records": [], "earlier": {key: [] for key in earlier_choices({})["earlier"]}}
+    old = {**data, "hyperparameters": {**data["hyperparameters"], "max_grad_norm": 0.5, "weight_init": "cleanrl",
+                                                            "policy_loss": "joint"}}
+    # the DBR record here lacks policy_loss (as a record older than the key would): a missing key is no earlier choice
+    older = {**data, "hyperparameters": {k: v for k, v in old["hyperparameters"].items() if k != "policy_loss"}}
+    found = earlier_choices({"drone_based_reforestation": older, "wind_farm_control": data,
+                             "wildfire_resource_management": old})
+    assert found["at_defaults"] == ["WFC"] and found["earlier_records"] == ["WRM", "DBR"]  # in the registry's order
+    assert found["earlier"]["max_grad_norm"] == found["earlier"]["weight_init"] == ["WRM", "DBR"]
+    assert found["earlier"]["policy_loss"] == ["WRM"] and found["earlier"]["curiosity_module"] == []
+    (out / "wildfire_resource_management.json").write_text(json.dumps({**old, "environment": "wildfire_resource_management"}))
+    try:
+        page = render_docs(None, baselines=out)["baselines.md"]
+    finally:
+        (out / "wildfire_resource_management.json").unlink()
+    assert "WFC is recorded at these\ndefaults; the WRM record, trained before a default changed,\nsets" in page
+    assert "0.5 was the earlier default (it trained the WRM record)." in page
+    assert "PPO's one ratio (it trained the WRM record);" in page
+
+
 def test_the_page_sets_ours_beside_the_paper(recorded):
     out, data = recorded
     context = baselines_context(out)
