@@ -95,8 +95,8 @@ def test_the_page_names_the_records_that_trained_with_an_earlier_choice(recorded
     out, data = recorded
     assert earlier_choices({"wind_farm_control": data}) == {
         "at_defaults": ["WFC"], "earlier_records": [], "earlier": {key: [] for key in earlier_choices({})["earlier"]}}
-    old = {**data, "hyperparameters": {**data["hyperparameters"], "max_grad_norm": 0.5, "weight_init": "cleanrl",
-                                                            "policy_loss": "joint"}}
+    earlier = {"max_grad_norm": 0.5, "weight_init": "cleanrl", "policy_loss": "joint"}
+    old = {**data, "hyperparameters": {**data["hyperparameters"], **earlier}}
     # the DBR record here lacks policy_loss (as a record older than the key would): a missing key is no earlier choice
     older = {**data, "hyperparameters": {k: v for k, v in old["hyperparameters"].items() if k != "policy_loss"}}
     found = earlier_choices({"drone_based_reforestation": older, "wind_farm_control": data,
