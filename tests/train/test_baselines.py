@@ -114,6 +114,19 @@ def test_the_page_names_the_records_that_trained_with_an_earlier_choice(recorded
     assert "PPO's one ratio (it trained the WRM record);" in page
 
 
+def test_the_choices_sentence_reads_whichever_records_there_are(recorded, tmp_path):
+    out, data = recorded
+    only_earlier = tmp_path / "earlier"
+    only_earlier.mkdir()
+    old = {**data, "hyperparameters": {**data["hyperparameters"], "max_grad_norm": 0.5}}
+    (only_earlier / "wind_farm_control.json").write_text(json.dumps(old))
+    page = render_docs(None, baselines=only_earlier)["baselines.md"]
+    assert "ML-Agents by default. The WFC record, trained before a default changed,\nsets" in page
+    none = tmp_path / "none"
+    none.mkdir()
+    assert "ML-Agents by default:\n" in render_docs(None, baselines=none)["baselines.md"]
+
+
 def test_the_page_sets_ours_beside_the_paper(recorded):
     out, data = recorded
     context = baselines_context(out)
