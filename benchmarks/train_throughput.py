@@ -24,13 +24,13 @@ from hivex_dsl import registry
 from hivex_dsl.adapters.gymnasium import HivexVectorEnv
 from hivex_dsl.compiler import compile
 from hivex_dsl.train.baselines import machine
-from hivex_dsl.train.config import make_config, parse_assignments
+from hivex_dsl.train.config import Overrides, make_config, parse_assignments
 from hivex_dsl.train.ppo import train
 
 SCENARIOS = Path(__file__).resolve().parents[1] / "scenarios"
 
 
-def measure(environment: str, steps: int, overrides: dict) -> dict:
+def measure(environment: str, steps: int, overrides: Overrides) -> dict:
     compiled = compile(SCENARIOS / environment / "main.yaml")
     cfg = make_config(environment, overrides, {"max_steps": steps, "checkpoint_every": 10 * steps})
     inside = [0.0]

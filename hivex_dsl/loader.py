@@ -42,6 +42,19 @@ _PLAIN_TAGS = {
 
 
 @dataclass(frozen=True)
+class Document:
+    """What a file read by this module holds, for its messages: ``noun`` ("scenario"), ``contents`` (what the
+    top level must be) and whether a file with nothing in it (comments only) reads as ``None``."""
+
+    noun: str
+    contents: str
+    may_be_empty: bool = False
+
+
+SCENARIO = Document("scenario", "a mapping with at least 'hivex' and 'environment'")
+
+
+@dataclass(frozen=True)
 class Loaded:
     """A document as plain Python values plus where each part of it was written.
 
@@ -66,11 +79,11 @@ class Loaded:
         return self.marks.get((), Location(self.source, 1, 1))
 
 
-def load_file(path: str | Path) -> Loaded:
+def load_file(path: str | Path, document: Document = SCENARIO) -> Loaded:
     """Read a YAML (or JSON) file; every failure is a located :class:`ScenarioError`."""
     path = Path(path)
     source = str(path)
-    raw = _read_bounded(path, source)
+    raw = _read_bounded(path, source, document)
     try:
         text = raw.decode("utf-8")
     except UnicodeDecodeError as exc:
@@ -78,10 +91,10 @@ def load_file(path: str | Path) -> Loaded:
         line = raw[: exc.start].count(b"\n") + 1
         col = len(raw[line_start: exc.start].decode("utf-8", errors="replace")) + 1  # in characters, not bytes
         _fail(source, line, col, f"byte 0x{raw[exc.start]:02x} is not valid UTF-8: expected UTF-8 encoded YAML")
-    return load_text(text, source)
+    return load_text(text, source, document)
 
 
-def _read_bounded(path: Path, source: str) -> bytes:
+def _read_bounded(path: Path, source: str, document: Document) -> bytes:
     """At most MAX_FILE_BYTES bytes of ``path``: a regular file's size is checked before reading it,
     and a stream (a pipe, /dev/stdin, /dev/zero) is read no further than one byte past the limit."""
     try:
@@ -91,7 +104,7 @@ def _read_bounded(path: Path, source: str) -> bytes:
                 raise IsADirectoryError
             if stat.S_ISREG(info.st_mode) and info.st_size > MAX_FILE_BYTES:
                 _fail(source, 1, 1,
-                      f"file is {info.st_size:,} bytes; a scenario may be at most {MAX_FILE_BYTES:,} bytes")
+                      f"file is {info.st_size:,} bytes; a {document.noun} may be at most {MAX_FILE_BYTES:,} bytes")
             raw = stream.read(MAX_FILE_BYTES + 1)
     except FileNotFoundError:
         _fail(source, 1, 1, f"no such file: {path}")
@@ -100,11 +113,11 @@ def _read_bounded(path: Path, source: str) -> bytes:
     except OSError as exc:
         _fail(source, 1, 1, f"cannot read {path}: {exc.strerror or exc}")
     if len(raw) > MAX_FILE_BYTES:
-        _fail(source, 1, 1, f"input is longer than {MAX_FILE_BYTES:,} bytes, the most a scenario may be")
+        _fail(source, 1, 1, f"input is longer than {MAX_FILE_BYTES:,} bytes, the most a {document.noun} may be")
     return raw
 
 
-def load_text(text: str, source: str = "<string>") -> Loaded:
+def load_text(text: str, source: str = "<string>", document: Document = SCENARIO) -> Loaded:
     """Parse YAML text named ``source`` (used in error locations)."""
     try:
         reader = _Reader(text, source)
@@ -128,12 +141,15 @@ def load_text(text: str, source: str = "<string>") -> Loaded:
         _fail(source, 1, 1, f"document nests deeper than {MAX_DEPTH} levels; refusing to read it")
     finally:
         reader.dispose()
-    if not documents:
-        _fail(source, 1, 1, "the file is empty: expected a mapping with at least 'hivex' and 'environment'")
     if len(documents) > 1:
         start = documents[1][0]
-        _fail(source, start.line + 1, start.column + 1, "a file holds one scenario; found a second YAML document")
-    builder = _Builder(source, reader.alias_marks)
+        _fail(source, start.line + 1, start.column + 1,
+              f"a file holds one {document.noun}; found a second YAML document")
+    if not documents:
+        if document.may_be_empty:
+            return Loaded(source, None, {(): Location(source, 1, 1)})
+        _fail(source, 1, 1, f"the file is empty: expected {document.contents}")
+    builder = _Builder(source, reader.alias_marks, document)
     data = builder.build(documents[0][1], (), 0)
     return Loaded(source, data, builder.marks, builder.key_marks)
 
@@ -232,8 +248,10 @@ _KEY_KINDS = {"tag:yaml.org,2002:int": "an integer", "tag:yaml.org,2002:float": 
 class _Builder:
     """Turns composed nodes into dicts, lists and scalars, recording marks."""
 
-    def __init__(self, source: str, alias_marks: dict[tuple[int, int], yaml.Mark] | None = None):
+    def __init__(self, source: str, alias_marks: dict[tuple[int, int], yaml.Mark] | None = None,
+                 document: Document = SCENARIO):
         self.source = source
+        self.document = document
         self.marks: dict[PathKey, Location] = {}
         self.key_marks: dict[PathKey, Location] = {}
         self.alias_marks = alias_marks or {}
@@ -292,7 +310,7 @@ class _Builder:
             self.fail(node, f"this value expands to more than {MAX_NODES:,} values (an alias bomb?); refusing to read it",
                       mark)
         if node.tag not in _PLAIN_TAGS:
-            self.fail(node, f"YAML tag '{_tag(node.tag)}' is not allowed: scenarios hold plain data only "
+            self.fail(node, f"YAML tag '{_tag(node.tag)}' is not allowed: a {self.document.noun} holds plain data only "
                             "(no tags that construct objects)", mark)
         fits = {yaml.MappingNode: ("tag:yaml.org,2002:map",), yaml.SequenceNode: ("tag:yaml.org,2002:seq",)}
         allowed = fits.get(type(node), tuple(_PLAIN_TAGS - {"tag:yaml.org,2002:map", "tag:yaml.org,2002:seq"}))

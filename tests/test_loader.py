@@ -95,16 +95,16 @@ def test_quoted_keys_are_names():
 
 @pytest.mark.parametrize(("text", "expected"), [
     ("a: !!python/object/apply:os.system [ls]\n",
-     "1:4: YAML tag '!!python/object/apply:os.system' is not allowed: scenarios hold plain data only "
+     "1:4: YAML tag '!!python/object/apply:os.system' is not allowed: a scenario holds plain data only "
      "(no tags that construct objects)"),
     ("a:\n  b: !!python/name:os.system ''\n",
-     "2:6: YAML tag '!!python/name:os.system' is not allowed: scenarios hold plain data only "
+     "2:6: YAML tag '!!python/name:os.system' is not allowed: a scenario holds plain data only "
      "(no tags that construct objects)"),
-    ("a: [1, !foo 2]\n", "1:8: YAML tag '!foo' is not allowed: scenarios hold plain data only "
+    ("a: [1, !foo 2]\n", "1:8: YAML tag '!foo' is not allowed: a scenario holds plain data only "
                          "(no tags that construct objects)"),
-    ("a: !!set {x: null}\n", "1:4: YAML tag '!!set' is not allowed: scenarios hold plain data only "
+    ("a: !!set {x: null}\n", "1:4: YAML tag '!!set' is not allowed: a scenario holds plain data only "
                              "(no tags that construct objects)"),
-    ("a: !!binary aGVsbG8=\n", "1:4: YAML tag '!!binary' is not allowed: scenarios hold plain data only "
+    ("a: !!binary aGVsbG8=\n", "1:4: YAML tag '!!binary' is not allowed: a scenario holds plain data only "
                                "(no tags that construct objects)"),
     ("a: !!str [1]\n", "1:4: YAML tag '!!str' cannot be put on a list"),
     ("a: !!seq x\n", "1:4: YAML tag '!!seq' cannot be put on a single value"),

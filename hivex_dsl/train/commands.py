@@ -64,8 +64,9 @@ def train_config(environment: str, args: argparse.Namespace) -> PPOConfig:
     flags (--steps, --seed, --device), each over the last."""
     from .config import make_config, parse_assignments, read_overrides
 
+    flags = {"max_steps": args.steps, "seed": args.seed, "device": args.device}
     layers = [read_overrides(args.config) if args.config else {}, parse_assignments(args.assignments),
-              {"max_steps": args.steps, "seed": args.seed, "device": args.device}]
+              {name: value for name, value in flags.items() if value is not None}]
     return make_config(environment, *layers)
 
 

@@ -10,8 +10,9 @@ How each maps onto the PPO of ``ppo.py`` (parameter-shared over every (world, ag
   ``buffer_size // slots`` steps of every slot (slots = ``num_worlds * agents``), at most ``time_horizon``.
 - ``time_horizon``: ML-Agents cuts trajectories there and bootstraps from the value; our rollouts are
   never longer and always bootstrap at their end, so it only caps the rollout length.
-- ``batch_size``: minibatch size of one gradient step; ``num_epoch``: passes over the buffer (its valid
-  experiences; an epoch's last, smaller minibatch is trained on too, where ML-Agents drops it).
+- ``batch_size``: minibatch size of one gradient step, at most ``buffer_size`` (ML-Agents would train nothing
+  over it); ``num_epoch``: passes over the buffer (its valid experiences; an epoch's last, smaller minibatch is
+  trained on too, where ML-Agents drops it).
 - ``learning_rate`` + ``learning_rate_schedule``: ``linear`` decays the rate to 0 over ``max_steps``
   (ML-Agents also decays epsilon to 0.1 and beta to 1e-5 on the same schedule; so do we).
 - ``beta``: entropy coefficient; ``epsilon``: PPO clip range of the ratio and of the value (ML-Agents
@@ -56,14 +57,16 @@ checkpoint or record written before its key existed reads as that choice where i
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Literal, Mapping, Sequence
+from typing import Any, Callable, Literal, Mapping, Sequence
 
-import yaml
 from pydantic import Field, ValidationError
 
-from ..errors import HivexError
+from ..errors import HivexError, ScenarioError, got
+from ..loader import Document, load_file, load_text
 from ..spec.common import StrictModel
+from ..spec.validate import describe
 
 HYPERPARAMS = Path(__file__).resolve().parent / "hyperparams"
 
@@ -71,9 +74,32 @@ HYPERPARAMS = Path(__file__).resolve().parent / "hyperparams"
 class TrainError(HivexError, ValueError):
     """Bad training input: an unknown hyperparameter, a value out of range, a checkpoint that does not fit."""
 
+    @classmethod
+    def listing(cls, problems: Sequence[str]) -> TrainError:
+        """Bad hyperparameters: a heading, then one problem a line (each starting with where it was written)."""
+        return cls("bad hyperparameters\n" + "\n".join(problems))
+
+
+HYPERPARAMETERS = Document("set of hyperparameters", "a mapping of hyperparameter: value (ML-Agents' key names)",
+                           may_be_empty=True)
+MINIBATCH_KEYS = ("batch_size", "buffer_size")
+ML_AGENTS_SECTIONS = frozenset({"behaviors", "hyperparameters", "network_settings", "reward_signals", "extrinsic",
+                                "curiosity"})
+
 
 class PPOConfig(StrictModel):
     """Every knob of one training run; defaults are those of the paper's WFC config."""
+
+    __hivex_key_noun__ = "hyperparameter"
+
+    @staticmethod
+    def __hivex_unknown_key_hint__(key: str, parent: tuple) -> str | None:
+        if key in ML_AGENTS_SECTIONS:  # a config pasted from ML-Agents
+            return (f"unknown hyperparameter '{key}': ML-Agents nests its keys in sections, here they are one flat "
+                    "mapping (hidden_units: 128, not network_settings: {hidden_units: 128}); the extrinsic signal's "
+                    "strength is reward_strength, the curiosity signal's keys are curiosity_strength, curiosity_gamma, "
+                    "curiosity_encoding_size and curiosity_learning_rate")
+        return None
 
     batch_size: int = Field(256, ge=1)
     buffer_size: int = Field(2048, ge=1)
@@ -117,42 +143,95 @@ def paper_defaults(environment: str) -> dict[str, Any]:
     path = HYPERPARAMS / f"{environment}.yaml"
     if not path.is_file():
         raise TrainError(f"no paper hyperparameters for environment {environment!r}")
-    return yaml.safe_load(path.read_text(encoding="utf-8"))
+    return dict(load_file(path, HYPERPARAMETERS).data or {})
 
 
-def read_overrides(path: str | Path) -> dict[str, Any]:
-    """A YAML file of hyperparameters (a flat mapping, ML-Agents' key names)."""
+@dataclass(frozen=True)
+class Overrides:
+    """Hyperparameters from one source: ``values``, and ``locate(name, key)``, where the user wrote ``name``'s
+    key (``key=True``) or its value, to begin an error message with (``hp.yaml:3:8``, ``--set``). A plain
+    mapping (from Python) has no place: its problems are named by the key alone."""
+
+    values: Mapping[str, Any]
+    locate: Callable[[str, bool], str] | None = None
+
+    @classmethod
+    def of(cls, layer: Mapping[str, Any] | Overrides) -> Overrides:
+        return layer if isinstance(layer, Overrides) else cls(dict(layer))
+
+    def where(self, name: str, key: bool = False) -> str:
+        """``"hp.yaml:3:8: "``, ``"--set: "``, or nothing for a plain mapping."""
+        return f"{self.locate(name, key)}: " if self.locate else ""
+
+    def problems(self, base: Mapping[str, Any]) -> list[str]:
+        """What is wrong with these values over ``base``, each at the place it was written."""
+        try:
+            PPOConfig.model_validate(dict(base) | dict(self.values))
+        except ValidationError as exc:
+            found = []
+            for err in exc.errors(include_url=False):
+                name = err["loc"][0]  # every field is a flat key
+                if name in self.values:  # not an earlier layer's problem, which that layer reports
+                    message, at_key = describe(err, (name,), PPOConfig)
+                    found.append(self.where(name, at_key) + message)
+            return found
+        return []
+
+
+def read_overrides(path: str | Path) -> Overrides:
+    """A YAML file of hyperparameters (a flat mapping, ML-Agents' key names), read as strictly as a scenario."""
     try:
-        data = yaml.safe_load(Path(path).read_text(encoding="utf-8"))
-    except OSError as exc:
-        raise TrainError(f"cannot read hyperparameters {path}: {exc.strerror or exc}") from None
-    except yaml.YAMLError as exc:
-        raise TrainError(f"hyperparameters {path} are not valid YAML: {exc}") from None
-    if data is None:
-        return {}
-    if not isinstance(data, dict):
-        raise TrainError(f"hyperparameters {path} must be a mapping of name: value")
-    return data
+        loaded = load_file(path, HYPERPARAMETERS)
+    except ScenarioError as exc:
+        raise TrainError.listing([str(p) for p in exc.problems]) from None
+    if loaded.data is None:  # comments only: nothing overridden
+        return Overrides({})
+    if not isinstance(loaded.data, dict):
+        raise TrainError.listing([f"{loaded.locate(())}: expected {HYPERPARAMETERS.contents}, got {got(loaded.data)}"])
+    return Overrides(loaded.data, lambda name, key=False: str(loaded.locate((name,), key=key)))
 
 
-def parse_assignments(assignments: Sequence[str]) -> dict[str, Any]:
-    """``["gamma=0.99", "normalize=true"]`` -> ``{"gamma": 0.99, "normalize": True}`` (values read as YAML)."""
-    out: dict[str, Any] = {}
+def parse_assignments(assignments: Sequence[str]) -> Overrides:
+    """``["gamma=0.99", "normalize=true"]`` -> ``{"gamma": 0.99, "normalize": True}``, each value read as a YAML
+    scalar by the scenario loader (``3e-4`` is a number; YAML 1.1's ``yes`` is refused, not made a boolean)."""
+    values: dict[str, Any] = {}
+    written: dict[str, str] = {}
     for text in assignments:
-        key, sep, value = text.partition("=")
-        if not sep or not key.strip():
-            raise TrainError(f"expected NAME=VALUE, got {text!r}")
-        out[key.strip()] = yaml.safe_load(value) if value.strip() else None
-    return out
+        name, sep, value = text.partition("=")
+        name = name.strip()
+        if not sep or not name:
+            raise TrainError(f"--set {text}: expected NAME=VALUE")
+        if not value.strip():
+            raise TrainError(f"--set {text}: expected a value after '='")
+        if name in values:
+            raise TrainError(f"--set {name} is given twice ({written[name]}, then {text}): give it once")
+        try:
+            values[name] = load_text(value, f"--set {name}", HYPERPARAMETERS).data
+        except ScenarioError as exc:
+            raise TrainError(f"--set {text}: {exc.first.message}") from None
+        written[name] = text
+    return Overrides(values, lambda name, key=False: "--set")
 
 
-def make_config(environment: str, *layers: Mapping[str, Any]) -> PPOConfig:
-    """The paper's values for ``environment`` with each override layer applied in turn."""
+def make_config(environment: str, *layers: Mapping[str, Any] | Overrides) -> PPOConfig:
+    """The paper's values for ``environment`` with each override layer applied in turn. Every problem of every
+    layer is reported at once, each where it was written; a rule between keys blames the last layer that set
+    one of them."""
     merged = paper_defaults(environment)
-    for layer in layers:
-        merged.update({k: v for k, v in layer.items() if v is not None})
-    try:
-        return PPOConfig(**merged)
-    except ValidationError as exc:
-        problems = "; ".join(f"{'.'.join(map(str, e['loc'])) or 'config'}: {e['msg']}" for e in exc.errors())
-        raise TrainError(f"bad hyperparameters: {problems}") from None
+    problems: list[str] = []
+    overrides = [Overrides.of(layer) for layer in layers]
+    for layer in overrides:
+        problems += layer.problems(merged)
+        merged |= dict(layer.values)
+    if problems:
+        raise TrainError.listing(problems)
+    cfg = PPOConfig(**merged)  # every layer was valid over the ones before it, so the whole is
+    if cfg.batch_size > cfg.buffer_size:
+        # ML-Agents trains whole minibatches only, so there a batch_size over the experiences collected trains
+        # nothing. A rule for new runs only: a checkpoint trained before it still loads and plays.
+        blamed = next((layer.where(k) for layer in reversed(overrides) for k in MINIBATCH_KEYS
+                       if k in layer.values), "")
+        raise TrainError.listing([f"{blamed}batch_size {cfg.batch_size} is larger than buffer_size {cfg.buffer_size}: "
+                                  f"a minibatch is drawn from one buffer; set batch_size to at most {cfg.buffer_size} "
+                                  f"or buffer_size to at least {cfg.batch_size}"])
+    return cfg

@@ -40,7 +40,7 @@ def test_a_file_then_the_command_line_override(tmp_path):
     path = tmp_path / "hp.yaml"
     path.write_text("gamma: 0.97\nhidden_units: 32\n")
     cfg = make_config("wind_farm_control", read_overrides(path), parse_assignments(["hidden_units=48"]),
-                      {"max_steps": 1000, "seed": None})
+                      {"max_steps": 1000})
     assert (cfg.gamma, cfg.hidden_units, cfg.max_steps, cfg.seed, cfg.batch_size) == (0.97, 48, 1000, 0, 256)
 
 
@@ -53,13 +53,83 @@ def test_bad_hyperparameters_are_named(layer, words):
         make_config("wind_farm_control", layer)
 
 
+def problems(*layers) -> list[str]:
+    with pytest.raises(TrainError) as caught:
+        make_config("wind_farm_control", *layers)
+    heading, *lines = str(caught.value).splitlines()
+    assert heading == "bad hyperparameters"
+    return lines
+
+
+def test_every_problem_is_reported_where_it_was_written_with_the_value(tmp_path):
+    path = tmp_path / "hp.yaml"
+    path.write_text("batch_size: 128\nlearning_rate: fast\ngama: 0.9\n")
+    assert problems(read_overrides(path), parse_assignments(["hidden_units=-4"])) == [
+        f"{path}:2:16: learning_rate: expected a number from 0.0 to 1.0, got 'fast' (a string)",
+        f"{path}:3:1: unknown hyperparameter 'gama'; did you mean 'gamma'?; expected one of: "
+        + ", ".join(PPOConfig.model_fields),
+        "--set: hidden_units: -4 is out of range: expected an integer from 1 to 8192",
+    ]
+
+
+def test_nothing_written_is_dropped_a_null_is_an_error_not_the_default(tmp_path):
+    path = tmp_path / "hp.yaml"
+    path.write_text("# the paper's gamma, please\ngamma:\n")
+    assert problems(read_overrides(path)) == [f"{path}:2:7: gamma: expected a number from 0.0 to 1.0, got null"]
+    assert problems({"seed": None}) == ["seed: expected an integer from 0 to 4294967295, got null"]
+    with pytest.raises(TrainError, match=r"^--set gamma=: expected a value after '='$"):
+        parse_assignments(["gamma="])
+    with pytest.raises(TrainError, match=r"^--set gamma is given twice \(gamma=0.9, then gamma=0.8\): give it once$"):
+        parse_assignments(["gamma=0.9", "gamma=0.8"])
+
+
+def test_set_values_read_as_the_scenario_loader_reads_them():
+    # PyYAML alone reads 3e-4 as the string '3e-4' (YAML 1.1 wants a dot) and 'yes' as true
+    assert parse_assignments(["learning_rate=3e-4"]).values == {"learning_rate": 3e-4}
+    assert make_config("wind_farm_control", parse_assignments(["learning_rate=3e-4"])).learning_rate == 3e-4
+    with pytest.raises(TrainError, match=r"^--set normalize=yes: yes is read by YAML 1.1 as the boolean true"):
+        parse_assignments(["normalize=yes"])
+
+
+def test_a_file_is_read_as_strictly_as_a_scenario(tmp_path):
+    path = tmp_path / "hp.yaml"
+    path.write_text("gamma: 0.9\ngamma: 0.8\n")
+    with pytest.raises(TrainError, match=r":2:1: duplicate key 'gamma'"):
+        read_overrides(path)
+    path.write_text("gamma: 0.9\n---\nbeta: 0.01\n")
+    with pytest.raises(TrainError, match=r":2:1: a file holds one set of hyperparameters; found a second YAML document"):
+        read_overrides(path)
+    path.write_text("# every override commented out\n# gamma: 0.9\n")
+    assert make_config("wind_farm_control", read_overrides(path)) == make_config("wind_farm_control")
+
+
+def test_a_config_pasted_from_ml_agents_is_told_the_keys_are_flat(tmp_path):
+    path = tmp_path / "hp.yaml"
+    path.write_text("hyperparameters:\n  batch_size: 64\n")
+    [line] = problems(read_overrides(path))
+    assert line.startswith(f"{path}:1:1: unknown hyperparameter 'hyperparameters': ML-Agents nests its keys in sections")
+
+
+def test_a_minibatch_larger_than_the_buffer_is_refused_where_it_was_set(tmp_path):
+    # ML-Agents trains whole minibatches only, so it would silently never update; ours would silently train
+    # full-buffer batches: neither is what was asked for
+    assert problems(parse_assignments(["batch_size=4096"])) == [
+        "--set: batch_size 4096 is larger than buffer_size 2048: a minibatch is drawn from one buffer; "
+        "set batch_size to at most 2048 or buffer_size to at least 4096"]
+    path = tmp_path / "hp.yaml"
+    path.write_text("gamma: 0.9\nbuffer_size: 128\n")
+    [line] = problems(read_overrides(path))
+    assert line.startswith(f"{path}:2:14: batch_size 256 is larger than buffer_size 128")
+    assert make_config("wind_farm_control", {"buffer_size": 256}).batch_size == 256  # equal is one minibatch
+
+
 def test_bad_sources_are_clear_errors(tmp_path):
     with pytest.raises(TrainError, match="NAME=VALUE"):
         parse_assignments(["gamma"])
     (tmp_path / "list.yaml").write_text("- 1\n")
-    with pytest.raises(TrainError, match="mapping"):
+    with pytest.raises(TrainError, match=r"list.yaml:1:1: expected a mapping of hyperparameter: value .*, got a list"):
         read_overrides(tmp_path / "list.yaml")
-    with pytest.raises(TrainError, match="cannot read"):
+    with pytest.raises(TrainError, match="no such file"):
         read_overrides(tmp_path / "missing.yaml")
     with pytest.raises(TrainError, match="no paper hyperparameters"):
         paper_defaults("nowhere")

@@ -55,7 +55,8 @@ def test_the_command_trains_a_sweep_file(tmp_path, capsys):
     path = tmp_path / "sweep.yaml"
     path.write_text(json.dumps(sweep))
     args = ["train", str(path), "-o", str(tmp_path / "runs"), "--steps", "64", "--no-progress",
-            "--set", "num_worlds=1", "--set", "buffer_size=32", "--set", "hidden_units=8"]
+            "--set", "num_worlds=1", "--set", "buffer_size=32", "--set", "batch_size=32",
+            "--set", "hidden_units=8"]
     assert main(args) == 0
     out = capsys.readouterr().out
     assert "wfc-main[pattern=0]" in out and "wfc-main[pattern=1]" in out

@@ -89,7 +89,7 @@ def test_the_train_command_resumes(tmp_path, capsys):
     scenario = tmp_path / "wfc.yaml"
     scenario.write_text(json.dumps(short_scenario("wind_farm_control", episode_length=16)))
     common = [str(scenario), "-o", str(tmp_path / "run"), "--no-progress", "--set", "num_worlds=1",
-              "--set", "hidden_units=8", "--set", "buffer_size=64"]
+              "--set", "hidden_units=8", "--set", "buffer_size=64", "--set", "batch_size=64"]
     assert main(["train", *common, "--steps", "128"]) == 0
     assert json.loads(capsys.readouterr().out)["agent_steps"] == 128
     assert main(["train", *common, "--steps", "256", "--resume"]) == 0

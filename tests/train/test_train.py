@@ -62,7 +62,8 @@ def test_the_commands_train_and_evaluate(tmp_path, capsys):
     scenario.write_text(json.dumps(short_scenario("wind_farm_control", episode_length=16)))
     run = tmp_path / "run"
     args = ["train", str(scenario), "-o", str(run), "--steps", "256", "--seed", "3", "--no-progress",
-            "--set", "num_worlds=1", "--set", "hidden_units=8", "--set", "buffer_size=64"]
+            "--set", "num_worlds=1", "--set", "hidden_units=8", "--set", "buffer_size=64",
+            "--set", "batch_size=64"]
     assert main(args) == 0
     summary = json.loads(capsys.readouterr().out)
     assert summary["agent_steps"] == 256 and summary["seed"] == 3
@@ -79,8 +80,8 @@ def test_bad_training_input_is_a_clear_error(tmp_path, capsys):
     (tmp_path / "x.pt").write_bytes(b"not a checkpoint")
     assert main(["evaluate", str(tmp_path / "x.pt")]) == 2
     assert "not a hivex checkpoint" in capsys.readouterr().err
-    train(compile(short_scenario("wind_farm_control")),
-          make_config("wind_farm_control", {"max_steps": 64, "num_worlds": 1, "buffer_size": 64}), tmp_path / "w",
+    small = {"max_steps": 64, "num_worlds": 1, "buffer_size": 64, "batch_size": 64}
+    train(compile(short_scenario("wind_farm_control")), make_config("wind_farm_control", small), tmp_path / "w",
           progress=False)
     assert main(["evaluate", str(tmp_path / "w" / "checkpoint.pt"),
                  "scenarios/aerial_wildfire_suppression/main.yaml"]) == 2
