@@ -40,10 +40,18 @@ def load_checkpoint(path: str | Path) -> dict[str, Any]:
         data = torch.load(Path(path), map_location="cpu", weights_only=True)
     except FileNotFoundError:
         raise TrainError(f"no checkpoint at {path}") from None
-    except Exception as exc:  # torch raises many kinds for a file that is not a checkpoint
-        raise TrainError(f"{path} is not a hivex checkpoint: {exc}") from None
-    if not isinstance(data, dict) or data.get("format") != FORMAT:
-        raise TrainError(f"{path} is not a hivex checkpoint (format {FORMAT})")
+    except IsADirectoryError:
+        raise TrainError(f"{path} is a directory: give the checkpoint file in it "
+                         f"({Path(path) / 'checkpoint.pt'})") from None
+    except Exception:  # torch raises many kinds for a file that is not a checkpoint
+        # not torch's own advice (load with weights_only=False), which would run whatever code the file holds
+        raise TrainError(f"{path} is not a hivex checkpoint: torch.load(weights_only=True) cannot read it, and a "
+                         "hivex checkpoint holds tensors and plain data only") from None
+    written = data.get("format") if isinstance(data, dict) else None
+    if written != FORMAT:
+        also = (f" (it says format {written!r}: written by another version of hivex?)"
+                if isinstance(written, str) else "")
+        raise TrainError(f"{path} is not a hivex checkpoint of format {FORMAT!r}{also}")
     data["compiled"] = compile(data["scenario"])
     data["config"] = PPOConfig(**older_defaults(data["config"], action_space_of(data["compiled"])))
     return data
@@ -74,15 +82,23 @@ def action_space_of(compiled: CompiledScenario) -> Any:
 
 
 def policy_for(checkpoint: dict[str, Any], compiled: CompiledScenario, device: str = "cpu") -> ActorCritic:
-    """The checkpoint's network, checked to fit ``compiled``'s spaces (an evaluation scenario may differ)."""
+    """The checkpoint's network, to play ``compiled``: another scenario of the environment it trained on (another
+    task, level or seeds), never another environment."""
     from ..adapters.gymnasium import HivexVectorEnv
 
+    trained = checkpoint["compiled"]
+    if trained.environment != compiled.environment:
+        raise TrainError(f"the checkpoint trained on {trained.environment} (scenario {trained.name!r}) and cannot play "
+                         f"{compiled.environment} (scenario {compiled.name!r}): a policy plays the environment it "
+                         "trained on")
     env = HivexVectorEnv(compiled, num_worlds=1)
     agent = ActorCritic(env.single_observation_space, env.single_action_space, checkpoint["config"])
     try:
         agent.load_state_dict(checkpoint["model"])
-    except RuntimeError as exc:
-        raise TrainError(f"the checkpoint does not fit scenario {compiled.name!r}: its spaces differ ({exc})") from None
+    except RuntimeError as exc:  # the same environment, so the file's weights were changed after training
+        first = str(exc).splitlines()[0]
+        raise TrainError("the checkpoint's weights do not fit the network its own hyperparameters build: "
+                         f"{first}") from None
     from .ppo import torch_device
 
     return agent.to(torch_device(device)).eval()

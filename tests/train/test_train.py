@@ -79,13 +79,26 @@ def test_bad_training_input_is_a_clear_error(tmp_path, capsys):
     assert "gama" in capsys.readouterr().err
     (tmp_path / "x.pt").write_bytes(b"not a checkpoint")
     assert main(["evaluate", str(tmp_path / "x.pt")]) == 2
-    assert "not a hivex checkpoint" in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert "not a hivex checkpoint" in err and "weights_only=False" not in err  # never advise running its code
+    torch.save({"format": "hivex-ppo/9"}, tmp_path / "later.pt")
+    assert main(["evaluate", str(tmp_path / "later.pt")]) == 2
+    assert "it says format 'hivex-ppo/9'" in capsys.readouterr().err
     small = {"max_steps": 64, "num_worlds": 1, "buffer_size": 64, "batch_size": 64}
     train(compile(short_scenario("wind_farm_control")), make_config("wind_farm_control", small), tmp_path / "w",
           progress=False)
+    assert main(["evaluate", str(tmp_path / "w")]) == 2
+    assert f"give the checkpoint file in it ({tmp_path / 'w' / 'checkpoint.pt'})" in capsys.readouterr().err
     assert main(["evaluate", str(tmp_path / "w" / "checkpoint.pt"),
                  "scenarios/aerial_wildfire_suppression/main.yaml"]) == 2
-    assert "spaces differ" in capsys.readouterr().err
+    assert capsys.readouterr().err == (
+        "hivex: the checkpoint trained on wind_farm_control (scenario 'wfc-main') and cannot play "
+        "aerial_wildfire_suppression (scenario 'aws-main'): a policy plays the environment it trained on\n")
+    edited = torch.load(tmp_path / "w" / "checkpoint.pt", weights_only=True)
+    edited["config"]["hidden_units"] = 16  # it trained with the paper's 64
+    torch.save(edited, tmp_path / "edited.pt")
+    assert main(["evaluate", str(tmp_path / "edited.pt")]) == 2
+    assert "weights do not fit the network its own hyperparameters build: Error(s)" in capsys.readouterr().err
 
 
 def test_a_device_this_machine_lacks_is_a_clear_error(monkeypatch, tmp_path, capsys):
