@@ -10,6 +10,7 @@ import sys
 from pathlib import Path
 from typing import Sequence
 
+from .argtypes import positive, seed
 from .errors import HivexError, ScenarioError
 
 EXIT_OK, EXIT_FAIL, EXIT_USAGE = 0, 1, 2
@@ -72,7 +73,7 @@ def _parser() -> argparse.ArgumentParser:
     p = sub.add_parser("run", help="run episodes with a scripted or random policy; print returns per term")
     p.add_argument("file", metavar="FILE")
     _policy_args(p)
-    p.add_argument("--episodes", type=_positive, default=1, help="episodes to run (default 1)")
+    p.add_argument("--episodes", type=positive, default=1, help="episodes to run (default 1)")
     p.add_argument("--split", choices=("train", "test"), default="train", help="seed split (default train)")
     p.set_defaults(handler=cmd_run)
 
@@ -80,9 +81,9 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("file", metavar="FILE")
     p.add_argument("-o", "--output", required=True, metavar="GIF")
     _policy_args(p)
-    p.add_argument("--steps", type=_positive, default=600, help="steps to simulate (default 600)")
-    p.add_argument("--every", type=_positive, default=5, help="keep one frame every N steps (default 5)")
-    p.add_argument("--fps", type=_positive, default=20, help="GIF frames per second (default 20)")
+    p.add_argument("--steps", type=positive, default=600, help="steps to simulate (default 600)")
+    p.add_argument("--every", type=positive, default=5, help="keep one frame every N steps (default 5)")
+    p.add_argument("--fps", type=positive, default=20, help="GIF frames per second (default 20)")
     p.set_defaults(handler=cmd_render)
 
     _audit_parser(sub)
@@ -102,8 +103,8 @@ def _parser() -> argparse.ArgumentParser:
     p = sub.add_parser("bench", help="measure steps per second of every environment on one core, against MPE")
     p.add_argument("--env", action="append", metavar="ID", help="only this environment (repeatable; default all)")
     p.add_argument("--seconds", type=float, default=3.0, help="timed seconds per run (default 3)")
-    p.add_argument("--repeats", type=_positive, default=3, help="runs per measurement; medians are reported (default 3)")
-    p.add_argument("--batch", type=_positive, default=256, help="worlds of the vector env (default 256)")
+    p.add_argument("--repeats", type=positive, default=3, help="runs per measurement; medians are reported (default 3)")
+    p.add_argument("--batch", type=positive, default=256, help="worlds of the vector env (default 256)")
     p.add_argument("--no-reference", action="store_true", help="skip PettingZoo's MPE simple_spread_v3")
     p.add_argument("--json", action="store_true", help="print the report as JSON instead of a table")
     p.add_argument("-o", "--output", type=Path, metavar="JSON", help="also write the JSON report to this file")
@@ -114,7 +115,7 @@ def _parser() -> argparse.ArgumentParser:
 
     from .train.commands import add_commands as add_train_commands
 
-    add_train_commands(sub, _positive)
+    add_train_commands(sub)
     return parser
 
 
@@ -122,7 +123,7 @@ def _audit_parser(sub) -> None:
     p = sub.add_parser("audit", help="property-test a scenario's reward terms with all-zeros, random and scripted "
                                      "policies; compare with the published results")
     p.add_argument("file", nargs="?", help="scenario file (every point of a sweep is audited)")
-    p.add_argument("--episodes", type=_positive, default=2, help="test episodes per policy (default 2)")
+    p.add_argument("--episodes", type=positive, default=2, help="test episodes per policy (default 2)")
     p.add_argument("--json", action="store_true", help="print the audit as JSON")
     p.add_argument("--strict", action="store_true", help="exit 1 when a flag is raised")
     p.add_argument("--suite", action="store_true", help="audit every task of every environment at level 1 "
@@ -156,14 +157,7 @@ def cmd_audit(args) -> int:
 
 def _policy_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("--policy", choices=("scripted", "random", "zeros"), default="scripted", help="default scripted")
-    p.add_argument("--seed", type=int, default=None, help="environment seed (default: the scenario's split seeds)")
-
-
-def _positive(text: str) -> int:
-    value = int(text)
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"expected a positive integer, got {text}")
-    return value
+    p.add_argument("--seed", type=seed, default=None, help="environment seed (default: the scenario's split seeds)")
 
 
 def cmd_validate(args) -> int:

@@ -83,6 +83,25 @@ def test_run_prints_per_agent_returns_and_terms(short, capsys):
     assert "episode 2/2: 40 steps" in captured.err
 
 
+SEED = "argument --seed: expected an integer from 0 to 4294967295, got"
+
+
+@pytest.mark.parametrize("args, message", [
+    (["run", str(MAIN), "--seed", "-1"], f"{SEED} -1"),
+    (["run", str(MAIN), "--seed", "4294967296"], f"{SEED} 4294967296"),
+    (["run", str(MAIN), "--episodes", "1.5"], "argument --episodes: expected a positive integer, got '1.5'"),
+    (["train", str(MAIN), "--seed", "x"], f"{SEED} 'x'"),
+    (["evaluate", "run/checkpoint.pt", "--seed", "-3"], f"{SEED} -3"),
+    (["evaluate", "run/checkpoint.pt", "--episodes", "0"], "argument --episodes: expected a positive integer, got 0"),
+])
+def test_a_bad_number_on_the_command_line_is_a_usage_error_naming_it(args, message, capsys):
+    # numpy raised on a negative seed (a traceback) and torch on one past 64 bits
+    with pytest.raises(SystemExit) as stopped:
+        main(args)
+    assert stopped.value.code == 2
+    assert capsys.readouterr().err.rstrip().endswith(f"error: {message}")
+
+
 def test_run_refuses_a_sweep(capsys):
     assert main(["run", str(SUITE)]) == 2
     assert "use compile_all()" in capsys.readouterr().err

@@ -9,6 +9,7 @@ import sys
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from ..argtypes import positive, seed
 from ..errors import HivexError
 
 if TYPE_CHECKING:
@@ -17,13 +18,13 @@ if TYPE_CHECKING:
 TRAIN_EXTRA = "training needs torch: pip install torch, then pip install 'hivex-dsl[train]'"
 
 
-def add_commands(sub: argparse._SubParsersAction, positive) -> None:
+def add_commands(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("train", help="train the paper's parameter-shared PPO on a scenario (a sweep trains every point)")
     p.add_argument("file", metavar="SCENARIO", help="scenario file; a sweep file trains every grid point")
     p.add_argument("-o", "--output", type=Path, default=None, metavar="RUN_DIR",
                    help="run directory (default runs/<scenario name>)")
     p.add_argument("--steps", type=positive, default=None, help="agent-steps to train (default: the paper's max_steps)")
-    p.add_argument("--seed", type=int, default=None, help="seed of the network and the action sampling (default 0)")
+    p.add_argument("--seed", type=seed, default=None, help="seed of the network and the action sampling (default 0)")
     p.add_argument("--device", default=None, help="torch device, cpu or cuda (default cpu)")
     p.add_argument("--config", type=Path, default=None, metavar="YAML",
                    help="hyperparameters overriding the paper's (ML-Agents' key names)")
@@ -45,7 +46,7 @@ def add_commands(sub: argparse._SubParsersAction, positive) -> None:
     p.add_argument("--split", choices=("train", "test"), default="test", help="seed split (default test)")
     p.add_argument("--episodes", type=positive, default=10, help="episodes (default 10)")
     p.add_argument("--deterministic", action="store_true", help="take the policy's modes instead of sampling")
-    p.add_argument("--seed", type=int, default=0, help="seed of the action sampling (default 0)")
+    p.add_argument("--seed", type=seed, default=0, help="seed of the action sampling (default 0)")
     p.add_argument("--torch-threads", type=positive, default=1, metavar="N",
                    help="torch threads of the network (default 1: one world's agents are small batches)")
     p.add_argument("--json", action="store_true", help="print the report as JSON")
