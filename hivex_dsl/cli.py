@@ -225,6 +225,8 @@ def cmd_render(args) -> int:
     from .render.gif import save_gif
     from .report import episode_frames
 
+    if Path(args.output).suffix.lower() != ".gif":
+        raise HivexError(f"-o {args.output}: expected a file name ending in .gif (hivex render writes an animated GIF)")
     compiled = compile(args.file)
     frames = episode_frames(compiled, args.policy, args.steps, args.every, args.seed)
     count = save_gif(frames, args.output, fps=args.fps)

@@ -102,6 +102,12 @@ def test_a_bad_number_on_the_command_line_is_a_usage_error_naming_it(args, messa
     assert capsys.readouterr().err.rstrip().endswith(f"error: {message}")
 
 
+def test_render_refuses_a_name_that_is_not_a_gif(short, tmp_path, capsys):
+    assert main(["render", str(short), "-o", str(tmp_path / "wfc.png"), "--steps", "2"]) == 2
+    assert "expected a file name ending in .gif" in capsys.readouterr().err
+    assert not (tmp_path / "wfc.png").exists()  # GIF bytes under a .png name would have been written
+
+
 def test_run_refuses_a_sweep(capsys):
     assert main(["run", str(SUITE)]) == 2
     assert "use compile_all()" in capsys.readouterr().err
