@@ -36,6 +36,8 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
                    help="run a sweep's points as Ray tasks: a local instance, or the cluster at ADDRESS")
     p.add_argument("--resume", action="store_true",
                    help="go on from RUN_DIR/checkpoint.pt (same scenario and hyperparameters; --steps may grow)")
+    p.add_argument("--force", action="store_true",
+                   help="replace an earlier run in RUN_DIR (without it, or --resume, a used RUN_DIR is refused)")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.set_defaults(handler=cmd_train)
 
@@ -79,18 +81,21 @@ def cmd_train(args) -> int:
     configs = [train_config(p.environment, args) for p in points]
     if args.eval_episodes < 0:
         raise HivexError(f"--eval-episodes must be 0 or more, got {args.eval_episodes}")
+    if args.resume and args.force:
+        raise HivexError("--resume goes on from RUN_DIR's run and --force replaces it: give one")
     run_dir = args.output or Path("runs") / points[0].spec.name
     if len(points) == 1 and args.ray is None:
         from .grid import train_point
 
         result = train_point(points[0].resolved(), configs[0].model_dump(mode="json"), str(run_dir),
-                             args.eval_episodes, progress=not args.no_progress, resume=args.resume)
+                             args.eval_episodes, progress=not args.no_progress, resume=args.resume,
+                             overwrite=args.force)
         print(json.dumps(result, indent=2))
         return 0
     from .grid import format_table, run_grid
 
     results = run_grid(points, configs, run_dir, args.eval_episodes, args.ray, progress=not args.no_progress,
-                       resume=args.resume)
+                       resume=args.resume, overwrite=args.force)
     print(format_table(results))
     print(f"wrote {run_dir / 'results.json'}")
     return 0

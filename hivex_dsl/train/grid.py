@@ -15,6 +15,7 @@ from typing import Any, Sequence
 
 from ..compiler import CompiledScenario, compile
 from .config import PPOConfig, TrainError
+from .rundir import earlier_run, refusal
 
 
 def point_dir(run_dir: Path, index: int, compiled: CompiledScenario) -> Path:
@@ -24,14 +25,15 @@ def point_dir(run_dir: Path, index: int, compiled: CompiledScenario) -> Path:
 
 
 def train_point(scenario: dict[str, Any], config: dict[str, Any], run_dir: str, eval_episodes: int,
-                progress: bool, resume: bool = False) -> dict[str, Any]:
+                progress: bool, resume: bool = False, overwrite: bool = False) -> dict[str, Any]:
     """Train one point (given as plain data, so it travels to a Ray worker) and evaluate it on the test seeds;
-    ``resume`` goes on from the run directory's checkpoint."""
+    ``resume`` goes on from the run directory's checkpoint, ``overwrite`` replaces an earlier run there."""
     from .evaluate import evaluate
     from .ppo import train
 
     compiled = compile(scenario)
-    summary = train(compiled, PPOConfig(**config), Path(run_dir), progress=progress, resume=resume)
+    summary = train(compiled, PPOConfig(**config), Path(run_dir), progress=progress, resume=resume,
+                    overwrite=overwrite)
     summary["run_dir"] = str(run_dir)
     if eval_episodes:
         report = evaluate(Path(run_dir) / "checkpoint.pt", split="test", episodes=eval_episodes)
@@ -43,26 +45,34 @@ def train_point(scenario: dict[str, Any], config: dict[str, Any], run_dir: str, 
 
 def run_grid(points: Sequence[CompiledScenario], configs: Sequence[PPOConfig], run_dir: Path,
              eval_episodes: int = 0, ray_address: str | None = None, ray_init: dict[str, Any] | None = None,
-             progress: bool = True, resume: bool = False) -> list[dict[str, Any]]:
+             progress: bool = True, resume: bool = False, overwrite: bool = False) -> list[dict[str, Any]]:
     """Train every point (``configs[i]`` for ``points[i]``); ``ray_address`` ``"local"`` starts a local Ray
     instance, any other value joins that cluster, ``None`` runs the points in turn. ``resume`` lets each
-    point with a checkpoint go on from it (one that finished only re-evaluates); the others start afresh.
-    -> the results table."""
+    point with a checkpoint go on from it (one that finished only re-evaluates); the others start afresh, over
+    what a point killed before its first checkpoint left. Without ``resume`` or ``overwrite`` a grid whose
+    points hold earlier runs is refused before any point trains. -> the results table."""
     run_dir = Path(run_dir)
     folders = [point_dir(run_dir, i, p).resolve() for i, p in enumerate(points)]
+    going_on = [resume and (folder / "checkpoint.pt").is_file() for folder in folders]
+    if not (resume or overwrite):
+        taken = [refusal(folder, found) for folder in folders if (found := earlier_run(folder))]
+        if taken:
+            raise TrainError("\n".join(taken))
     jobs = [(p.resolved(), c.model_dump(mode="json"), str(folder), eval_episodes)
             for p, c, folder in zip(points, configs, folders)]
-    going_on = [resume and (folder / "checkpoint.pt").is_file() for folder in folders]
+    modes = [(again, not again and (resume or overwrite)) for again in going_on]
     if ray_address is None:
-        results = [train_point(*job, progress=progress, resume=again) for job, again in zip(jobs, going_on)]
+        results = [train_point(*job, progress=progress, resume=again, overwrite=replace)
+                   for job, (again, replace) in zip(jobs, modes)]
     else:
-        results = _on_ray(jobs, going_on, ray_address, ray_init or {})
+        results = _on_ray(jobs, modes, ray_address, ray_init or {})
     run_dir.mkdir(parents=True, exist_ok=True)
     (run_dir / "results.json").write_text(json.dumps(results, indent=2) + "\n")
     return results
 
 
-def _on_ray(jobs: list[tuple], going_on: list[bool], address: str, init: dict[str, Any]) -> list[dict[str, Any]]:
+def _on_ray(jobs: list[tuple], modes: list[tuple[bool, bool]], address: str,
+            init: dict[str, Any]) -> list[dict[str, Any]]:
     try:
         import ray
     except ImportError:
@@ -73,7 +83,8 @@ def _on_ray(jobs: list[tuple], going_on: list[bool], address: str, init: dict[st
                  log_to_driver=False, **init)
     try:
         remote = ray.remote(num_cpus=1)(train_point)
-        return ray.get([remote.remote(*job, progress=False, resume=again) for job, again in zip(jobs, going_on)])
+        return ray.get([remote.remote(*job, progress=False, resume=again, overwrite=replace)
+                        for job, (again, replace) in zip(jobs, modes)])
     finally:
         if started:
             ray.shutdown()

@@ -30,6 +30,7 @@ from .config import PPOConfig, TrainError
 from .curiosity import Curiosity
 from .logs import EpisodeLog, Progress, ScalarLog
 from .networks import ActorCritic, to_tensors
+from .rundir import claim
 
 
 def gae(rewards: torch.Tensor, values: torch.Tensor, next_value: torch.Tensor, terminated: torch.Tensor,
@@ -315,15 +316,21 @@ def _slice_rows(data: dict[str, Any], start: int, stop: int) -> dict[str, Any]:
 
 
 def train(compiled: CompiledScenario, cfg: PPOConfig, run_dir: Path, progress: bool = True,
-          on_update: Callable[[dict[str, Any]], None] | None = None, resume: bool = False) -> dict[str, Any]:
+          on_update: Callable[[dict[str, Any]], None] | None = None, resume: bool = False,
+          overwrite: bool = False) -> dict[str, Any]:
     """Train one policy for ``cfg.max_steps`` agent-steps; write checkpoints, scalars and curve.json
-    under ``run_dir``; -> the run's summary (also written as summary.json).
+    under ``run_dir``; -> the run's summary (also written as summary.json). A ``run_dir`` that holds an
+    earlier run is refused unless ``resume`` goes on from it or ``overwrite`` replaces it (:mod:`.rundir`).
 
     ``resume`` goes on from ``run_dir/checkpoint.pt`` (see :func:`resume_state`): the weights, both optimizers,
     the curiosity module, the agent-steps, wall time and learning curve so far. As in ML-Agents' ``--resume``
     the environments start afresh on the train seed, so a resumed run is not bit-identical to one never
     stopped."""
     run_dir = Path(run_dir)
+    if resume and overwrite:
+        raise TrainError("resume goes on from the run directory's run and overwrite replaces it: give one")
+    if not resume:
+        claim(run_dir, overwrite)
     run_dir.mkdir(parents=True, exist_ok=True)
     resumed = resume_state(run_dir / "checkpoint.pt", compiled, cfg) if resume else None
     done_before = resumed["agent_steps"] if resumed else 0
