@@ -34,6 +34,15 @@ def save_checkpoint(path: Path, agent: ActorCritic, cfg: PPOConfig, compiled: Co
     return path
 
 
+def save_numbered_checkpoint(run_dir: Path, agent: ActorCritic, cfg: PPOConfig, compiled: CompiledScenario,
+                             steps: int, wall: float) -> None:
+    """Save ``run_dir/checkpoints/step_N.pt`` and keep only the newest ``cfg.keep_checkpoints``."""
+    folder = run_dir / "checkpoints"
+    save_checkpoint(folder / f"step_{steps:012d}.pt", agent, cfg, compiled, steps, wall)
+    for old in sorted(folder.glob("step_*.pt"))[:-cfg.keep_checkpoints]:
+        old.unlink()
+
+
 def load_checkpoint(path: str | Path) -> dict[str, Any]:
     """The checkpoint's content, with ``config`` as a PPOConfig and ``compiled`` the scenario it trained on."""
     try:

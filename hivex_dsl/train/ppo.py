@@ -25,7 +25,7 @@ from torch import nn
 
 from ..adapters.gymnasium import HivexVectorEnv
 from ..compiler import CompiledScenario
-from .checkpoint import resume_state, save_checkpoint
+from .checkpoint import resume_state, save_checkpoint, save_numbered_checkpoint
 from .config import PPOConfig, TrainError
 from .curiosity import Curiosity
 from .logs import EpisodeLog, Progress, ScalarLog
@@ -327,11 +327,7 @@ def train(compiled: CompiledScenario, cfg: PPOConfig, run_dir: Path, progress: b
     the environments start afresh on the train seed, so a resumed run is not bit-identical to one never
     stopped."""
     run_dir = Path(run_dir)
-    if resume and overwrite:
-        raise TrainError("resume goes on from the run directory's run and overwrite replaces it: give one")
-    if not resume:
-        claim(run_dir, overwrite)
-    run_dir.mkdir(parents=True, exist_ok=True)
+    claim(run_dir, resume, overwrite)
     resumed = resume_state(run_dir / "checkpoint.pt", compiled, cfg) if resume else None
     done_before = resumed["agent_steps"] if resumed else 0
     torch.set_num_threads(cfg.torch_threads)
@@ -395,7 +391,7 @@ def train(compiled: CompiledScenario, cfg: PPOConfig, run_dir: Path, progress: b
             if on_update is not None:
                 on_update({"agent_steps": agent_steps, "wall_s": wall, **summary})
             if agent_steps >= next_checkpoint:
-                _checkpoint(run_dir, agent, cfg, compiled, agent_steps, wall)
+                save_numbered_checkpoint(run_dir, agent, cfg, compiled, agent_steps, wall)
                 latest(agent_steps, wall)
                 next_checkpoint += cfg.checkpoint_every
     bar.close()
@@ -409,11 +405,3 @@ def train(compiled: CompiledScenario, cfg: PPOConfig, run_dir: Path, progress: b
     (run_dir / "summary.json").write_text(json.dumps(result, indent=2) + "\n")
     return result
 
-
-def _checkpoint(run_dir: Path, agent: ActorCritic, cfg: PPOConfig, compiled: CompiledScenario, steps: int,
-                wall: float) -> None:
-    """Save checkpoints/step_N.pt and keep only the newest ``keep_checkpoints``."""
-    folder = run_dir / "checkpoints"
-    save_checkpoint(folder / f"step_{steps:012d}.pt", agent, cfg, compiled, steps, wall)
-    for old in sorted(folder.glob("step_*.pt"))[:-cfg.keep_checkpoints]:
-        old.unlink()

@@ -23,10 +23,13 @@ def refusal(run_dir: Path, found: list[str]) -> str:
             "replace it, or give another run directory")
 
 
-def claim(run_dir: Path, overwrite: bool) -> None:
-    """Make ``run_dir`` ready for a new run. One that holds an earlier run's files is refused unless ``overwrite``,
-    which removes exactly those files (anything else in the directory stays)."""
-    found = earlier_run(run_dir)
+def claim(run_dir: Path, resume: bool, overwrite: bool) -> None:
+    """Make ``run_dir`` ready for a run (creating it). ``resume`` goes on from the run there (checked by
+    :func:`.checkpoint.resume_state`); otherwise one that holds an earlier run's files is refused unless
+    ``overwrite``, which removes exactly those files (anything else in the directory stays)."""
+    if resume and overwrite:
+        raise TrainError("resume goes on from the run directory's run and overwrite replaces it: give one")
+    found = [] if resume else earlier_run(run_dir)
     if found and not overwrite:
         raise TrainError(refusal(run_dir, found))
     for name in found:
@@ -35,3 +38,4 @@ def claim(run_dir: Path, overwrite: bool) -> None:
             shutil.rmtree(path)
         else:
             path.unlink()
+    Path(run_dir).mkdir(parents=True, exist_ok=True)
