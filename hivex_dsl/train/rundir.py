@@ -29,6 +29,8 @@ def claim(run_dir: Path, resume: bool, overwrite: bool) -> None:
     ``overwrite``, which removes exactly those files (anything else in the directory stays)."""
     if resume and overwrite:
         raise TrainError("resume goes on from the run directory's run and overwrite replaces it: give one")
+    if Path(run_dir).exists() and not Path(run_dir).is_dir():
+        raise TrainError(f"{run_dir} is a file, not a run directory: give a directory's path (it is made if new)")
     found = [] if resume else earlier_run(run_dir)
     if found and not overwrite:
         raise TrainError(refusal(run_dir, found))

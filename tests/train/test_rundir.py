@@ -56,6 +56,10 @@ def test_the_command_says_what_to_do_with_a_used_run_directory(tmp_path, capsys)
     assert "give one" in capsys.readouterr().err
     assert main(common + ["--force", "--seed", "5"]) == 0
     assert json.loads(capsys.readouterr().out)["seed"] == 5
+    (tmp_path / "file").write_text("")
+    assert main([*common[:3], str(tmp_path / "file"), *common[4:]]) == 2
+    assert capsys.readouterr().err == f"hivex: {tmp_path / 'file'} is a file, not a run directory: give a " \
+                                      "directory's path (it is made if new)\n"
 
 
 def test_a_grid_over_earlier_runs_is_refused_before_any_point_trains(tiny, tmp_path):
