@@ -35,6 +35,20 @@ def test_make_vec_takes_task_and_level_and_bundled_scenario_ids_exist():
         gymnasium.make_vec("hivex/OceanPlasticCollection-v0", level=2)
 
 
+def test_gymnasium_make_says_the_environment_is_multi_agent_and_where_to_go():
+    # without an entry_point Gymnasium said only 'registered but entry_point is not specified'
+    with pytest.raises(hivex_dsl.HivexError) as refused:
+        gymnasium.make("hivex/AerialWildfireSuppression-FindFire-v0")
+    assert str(refused.value) == (
+        "hivex/AerialWildfireSuppression-FindFire-v0 is a multi-agent environment, which gymnasium.make cannot "
+        "build: gymnasium.make_vec('hivex/AerialWildfireSuppression-FindFire-v0', num_envs=N) gives N worlds with a "
+        "slot per agent, and hivex_dsl.zoo.aerial_wildfire_suppression_v0.parallel_env() gives PettingZoo's "
+        "parallel API")
+    from hivex_dsl.zoo import aerial_wildfire_suppression_v0  # the module it names
+
+    assert aerial_wildfire_suppression_v0.parallel_env().possible_agents
+
+
 def test_the_old_num_envs_keyword_is_refused_with_the_reason():
     with pytest.raises(hivex_dsl.HivexError, match="num_worlds="):
         hivex_dsl.vector_env(WFC, num_envs=4)

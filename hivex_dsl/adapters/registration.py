@@ -85,6 +85,17 @@ def make_vector(environment: str, num_envs: int = 1, num_worlds: Optional[int] =
                                   split=split, autoreset_mode=autoreset_mode)
 
 
+def not_single_agent(environment: str, scenario: Any = None, **_: Any):
+    """The ids' ``entry_point``: ``gymnasium.make`` builds a single-agent env, which a HIVEX environment is not,
+    so it says where to go instead of Gymnasium's 'registered but entry_point is not specified'."""
+    from ..errors import HivexError
+
+    env_id = f"{NAMESPACE}/{camel(environment)}{'-' + camel(scenario) if isinstance(scenario, str) else ''}-v0"
+    raise HivexError(f"{env_id} is a multi-agent environment, which gymnasium.make cannot build: "
+                     f"gymnasium.make_vec({env_id!r}, num_envs=N) gives N worlds with a slot per agent, and "
+                     f"hivex_dsl.zoo.{environment}_v0.parallel_env() gives PettingZoo's parallel API")
+
+
 def register_gymnasium() -> None:
     """Register the ids (idempotent: a second call changes nothing)."""
     from gymnasium.envs.registration import register, registry
@@ -95,5 +106,5 @@ def register_gymnasium() -> None:
             ids[f"{NAMESPACE}/{camel(environment)}-{camel(name)}-v0"] = {"scenario": name}
         for env_id, kwargs in ids.items():
             if env_id not in registry:
-                register(id=env_id, vector_entry_point=f"{__name__}:make_vector",
-                         kwargs={"environment": environment, **kwargs})
+                register(id=env_id, entry_point=f"{__name__}:not_single_agent",
+                         vector_entry_point=f"{__name__}:make_vector", kwargs={"environment": environment, **kwargs})
