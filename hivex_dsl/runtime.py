@@ -92,6 +92,8 @@ class SeedSchedule:
     def next_rng(self, explicit: Optional[int]) -> np.random.Generator:
         """The generator for the next reset; ``explicit`` (a user's seed) restarts the stream."""
         if explicit is not None:
+            if isinstance(explicit, bool) or not isinstance(explicit, (int, np.integer)) or explicit < 0:
+                raise ValueError(f"seed must be a non-negative integer or None, got {explicit!r}")
             self.rng = np.random.default_rng(explicit)
         elif isinstance(self.seeds, tuple):
             self.rng = np.random.default_rng(self.seeds[self.episode % len(self.seeds)])

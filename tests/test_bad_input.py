@@ -253,6 +253,22 @@ def test_stepping_before_reset_says_so():
     assert issubclass(ResetNeeded, hivex_dsl.HivexError) and issubclass(ResetNeeded, RuntimeError)
 
 
+@pytest.mark.parametrize("seed", [-1, "7", True, 2.0])
+def test_a_seed_that_is_not_a_non_negative_integer_is_named(seed):
+    # numpy said 'expected non-negative integer' (or a TypeError about SeedSequence) from deep inside reset
+    message = f"seed must be a non-negative integer or None, got {seed!r}"
+    with pytest.raises(ValueError, match=f"^{message}$".replace("(", r"\(").replace(")", r"\)")):
+        hivex_dsl.parallel_env(MAIN).reset(seed=seed)
+    assert hivex_dsl.parallel_env(MAIN).reset(seed=np.int64(7))[0]  # numpy's integers are integers
+
+
+@pytest.mark.parametrize("worlds", [0, -2, 2.0])
+def test_a_vector_env_of_no_worlds_names_the_argument(worlds):
+    with pytest.raises(ValueError, match=rf"^num_worlds \(make_vec's num_envs: copies of the world\) must be an "
+                                         rf"integer >= 1, got {worlds!r}$"):
+        hivex_dsl.vector_env(MAIN, num_worlds=worlds)
+
+
 # --- the README's promises ---------------------------------------------------------------------------
 
 

@@ -100,6 +100,9 @@ class HivexVectorEnv(Rendering, VectorEnv):
                  split: Split = "train", autoreset_mode: Any = AutoresetMode.NEXT_STEP):
         check_render_mode(render_mode)
         mode = as_autoreset_mode(autoreset_mode)
+        if isinstance(num_worlds, bool) or not isinstance(num_worlds, (int, np.integer)) or num_worlds < 1:
+            raise ValueError(f"num_worlds (make_vec's num_envs: copies of the world) must be an integer >= 1, "
+                             f"got {num_worlds!r}")
         seeds = getattr(compiled.seeds, split, None)
         if isinstance(seeds, tuple):
             raise ValueError(
