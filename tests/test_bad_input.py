@@ -256,9 +256,9 @@ def test_stepping_before_reset_says_so():
 @pytest.mark.parametrize("seed", [-1, "7", True, 2.0])
 def test_a_seed_that_is_not_a_non_negative_integer_is_named(seed):
     # numpy said 'expected non-negative integer' (or a TypeError about SeedSequence) from deep inside reset
-    message = f"seed must be a non-negative integer or None, got {seed!r}"
-    with pytest.raises(ValueError, match=f"^{message}$".replace("(", r"\(").replace(")", r"\)")):
+    with pytest.raises(ValueError) as refused:
         hivex_dsl.parallel_env(MAIN).reset(seed=seed)
+    assert str(refused.value) == f"seed must be a non-negative integer or None, got {seed!r}"
     assert hivex_dsl.parallel_env(MAIN).reset(seed=np.int64(7))[0]  # numpy's integers are integers
 
 
