@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import difflib
 import math
+import numbers
 from dataclasses import dataclass
 from typing import Iterable, Sequence
 
@@ -133,3 +134,8 @@ def kind_of(value: object) -> str:
     if isinstance(value, list):
         return "a list"
     return type(value).__name__
+
+
+def is_integer(value: object) -> bool:
+    """True for a Python or NumPy integer; False for a bool, which Python counts as an int."""
+    return isinstance(value, numbers.Integral) and not isinstance(value, bool)

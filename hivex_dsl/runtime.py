@@ -13,7 +13,7 @@ import numpy as np
 from gymnasium import spaces
 
 from .compiler import CompiledScenario
-from .errors import ResetNeeded
+from .errors import ResetNeeded, is_integer
 from .numeric import all_true, constant
 from .reward.composer import RewardComposer
 from .spaces import hold_inactive, placeholder_actions
@@ -92,7 +92,7 @@ class SeedSchedule:
     def next_rng(self, explicit: Optional[int]) -> np.random.Generator:
         """The generator for the next reset; ``explicit`` (a user's seed) restarts the stream."""
         if explicit is not None:
-            if isinstance(explicit, bool) or not isinstance(explicit, (int, np.integer)) or explicit < 0:
+            if not is_integer(explicit) or explicit < 0:
                 raise ValueError(f"seed must be a non-negative integer or None, got {explicit!r}")
             self.rng = np.random.default_rng(explicit)
         elif isinstance(self.seeds, tuple):

@@ -17,6 +17,7 @@ import pytest
 import hivex_dsl
 from hivex_dsl import ResetNeeded, ScenarioError
 from hivex_dsl.cli import EXIT_PIPE, main
+from hivex_dsl.errors import is_integer
 from hivex_dsl.loader import MAX_FILE_BYTES, load_file
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -267,6 +268,14 @@ def test_a_vector_env_of_no_worlds_names_the_argument(worlds):
     with pytest.raises(ValueError, match=rf"^num_worlds \(make_vec's num_envs: copies of the world\) must be an "
                                          rf"integer >= 1, got {worlds!r}$"):
         hivex_dsl.vector_env(MAIN, num_worlds=worlds)
+
+
+@pytest.mark.parametrize("value, integer", [(3, True), (np.int64(3), True), (np.uint8(0), True), (-1, True),
+                                            (True, False), (np.bool_(True), False), (3.0, False), ("3", False),
+                                            (None, False)])
+def test_every_integer_argument_check_counts_numpy_integers_and_not_bools(value, integer):
+    # one predicate behind seeds, num_worlds, levels, layout patterns, canvas sizes and GIF loops
+    assert is_integer(value) is integer
 
 
 # --- the README's promises ---------------------------------------------------------------------------

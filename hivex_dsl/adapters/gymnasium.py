@@ -47,7 +47,7 @@ from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
 from ..compiler import CompiledScenario
-from ..errors import ActionError
+from ..errors import ActionError, is_integer
 from ..runtime import BatchedEnv, Split, Transition
 from ..spaces import check_actions
 from .human import Rendering, check_render_mode
@@ -100,7 +100,7 @@ class HivexVectorEnv(Rendering, VectorEnv):
                  split: Split = "train", autoreset_mode: Any = AutoresetMode.NEXT_STEP):
         check_render_mode(render_mode)
         mode = as_autoreset_mode(autoreset_mode)
-        if isinstance(num_worlds, bool) or not isinstance(num_worlds, (int, np.integer)) or num_worlds < 1:
+        if not is_integer(num_worlds) or num_worlds < 1:
             raise ValueError(f"num_worlds (make_vec's num_envs: copies of the world) must be an integer >= 1, "
                              f"got {num_worlds!r}")
         seeds = getattr(compiled.seeds, split, None)

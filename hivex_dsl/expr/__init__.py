@@ -25,6 +25,7 @@ from typing import Callable, Literal, Mapping
 
 import numpy as np
 
+from ..errors import is_integer
 from . import intervals, plan, units
 from .checker import Checker
 from .errors import ExpressionError
@@ -120,7 +121,7 @@ def compile_expression(source: str, vocabulary: Mapping[str, Quantity], *, want:
     """
     if want not in ("number", "bool") or per not in (None, "agent", "world"):
         raise ValueError(f"want must be 'number' or 'bool' and per None, 'agent' or 'world', got {want!r}, {per!r}")
-    if agents is not None and (isinstance(agents, bool) or not isinstance(agents, int) or agents < 1):
+    if agents is not None and (not is_integer(agents) or agents < 1):
         raise ValueError(f"agents must be a positive integer, got {agents!r}")
     if not isinstance(source, str):
         raise ExpressionError(f"an expression is text, got {type(source).__name__}", 0, 0)

@@ -30,6 +30,8 @@ import numbers
 
 import numpy as np
 
+from ..errors import is_integer
+
 __all__ = ["PATTERN_NAMES", "MAX_TURBINES", "turbine_layout", "layout_problem"]
 
 PATTERN_NAMES: tuple[str, ...] = (
@@ -150,7 +152,7 @@ def _centred(points: np.ndarray) -> np.ndarray:
 def _check_arguments(pattern: object, n: object, spacing: object, half_extent: object) -> None:
     """ValueError unless pattern is 0..8, n is 1..16 and spacing, half_extent are finite > 0."""
     for name, value in (("pattern", pattern), ("n", n)):
-        if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+        if not is_integer(value):
             raise ValueError(f"{name} must be an integer, got {value!r}")
     if not 0 <= pattern < len(PATTERN_NAMES):
         raise ValueError(f"pattern must be in 0..{len(PATTERN_NAMES) - 1}, got {pattern}")

@@ -23,6 +23,7 @@ import numbers
 
 import numpy as np
 
+from ..errors import is_integer
 from ..numeric import clamp, constant
 
 __all__ = ["draw_lattice", "perlin2d", "fractal2d", "fractal_unchecked", "octave_frequencies", "octave_points",
@@ -34,7 +35,7 @@ _RANGE_SCALE = np.sqrt(2.0)
 
 def require_int(name: str, value: object, minimum: int) -> int:
     """``value`` as a Python int, or ValueError if it is not an integer >= ``minimum``."""
-    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+    if not is_integer(value):
         raise ValueError(f"{name} must be an integer, got {value!r}")
     if value < minimum:
         raise ValueError(f"{name} must be >= {minimum}, got {value}")

@@ -19,6 +19,7 @@ from typing import Literal
 import numpy as np
 from pydantic import Field, model_validator
 
+from ..errors import is_integer
 from ..spec.common import SCHEMA_VERSION, StrictModel
 from .noise import draw_lattice, fractal2d
 from .presets import load_preset
@@ -79,7 +80,7 @@ LEVELS = LevelMapping()
 
 def height_multiplier_for_level(level: int, mapping: LevelMapping = LEVELS) -> int:
     """round(first + (level - 1) * (last - first) / (levels - 1)); 8, 10, 13, ..., 30 by default."""
-    if isinstance(level, bool) or not isinstance(level, numbers.Integral):
+    if not is_integer(level):
         raise ValueError(f"terrain level must be an integer, got {level!r}")
     if not 1 <= level <= mapping.levels:
         raise ValueError(f"terrain level must be in 1..{mapping.levels}, got {level}")

@@ -15,6 +15,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..errors import is_integer
+
 Color = tuple[int, int, int]
 
 # Seven samples of matplotlib's viridis (dark blue -> teal -> yellow); luminance rises monotonically.
@@ -81,7 +83,7 @@ class Canvas:
     """
 
     def __init__(self, size_px: int, half_extent: float, background: Color = (255, 255, 255)):
-        if isinstance(size_px, bool) or not isinstance(size_px, (int, np.integer)) or size_px < 1:
+        if not is_integer(size_px) or size_px < 1:
             raise ValueError(f"size_px must be a positive integer, got {size_px!r}")
         half_extent = float(half_extent)
         if not (np.isfinite(half_extent) and half_extent > 0):
@@ -283,6 +285,6 @@ def upscale(image: np.ndarray, factor: int) -> np.ndarray:
     image = np.asarray(image)
     if image.ndim != 3 or image.shape[2] != 3:
         raise ValueError(f"image must have shape (H, W, 3), got {image.shape}")
-    if isinstance(factor, bool) or not isinstance(factor, (int, np.integer)) or factor < 1:
+    if not is_integer(factor) or factor < 1:
         raise ValueError(f"factor must be a positive integer, got {factor!r}")
     return np.repeat(np.repeat(image, factor, axis=0), factor, axis=1)

@@ -9,6 +9,8 @@ from pathlib import Path
 
 import numpy as np
 
+from ..errors import is_integer
+
 
 def _check_frame(frame, index: int, expected_shape: tuple[int, ...] | None = None) -> np.ndarray:
     """Validate one frame: an (H, W, 3) uint8 array, matching expected_shape when given."""
@@ -45,7 +47,7 @@ def save_gif(frames: Sequence[np.ndarray] | Iterable[np.ndarray], path: str | os
     """
     if not (isinstance(fps, (int, float, np.integer, np.floating)) and math.isfinite(fps) and fps > 0):
         raise ValueError(f"fps must be a finite number > 0, got {fps!r}")
-    if isinstance(loop, bool) or not isinstance(loop, (int, np.integer)) or loop < 0:
+    if not is_integer(loop) or loop < 0:
         raise ValueError(f"loop must be an integer >= 0, got {loop!r}")
     if isinstance(frames, np.ndarray) and frames.ndim == 3:
         raise ValueError("frames must be a sequence of (H, W, 3) arrays, got a single (H, W, 3) array")
