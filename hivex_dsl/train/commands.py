@@ -25,7 +25,7 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
                    help="run directory (default runs/<scenario name>)")
     p.add_argument("--steps", type=positive, default=None, help="agent-steps to train (default: the paper's max_steps)")
     p.add_argument("--seed", type=seed, default=None, help="seed of the network and the action sampling (default 0)")
-    p.add_argument("--device", default=None, help="torch device, cpu or cuda (default cpu)")
+    p.add_argument("--device", default=None, help="torch device: cpu, cuda or cuda:N (default cpu)")
     p.add_argument("--config", type=Path, default=None, metavar="YAML",
                    help="hyperparameters overriding the paper's (ML-Agents' key names)")
     p.add_argument("--set", action="append", default=[], metavar="NAME=VALUE", dest="assignments",
@@ -65,11 +65,13 @@ def _require_torch() -> None:
 def train_config(environment: str, args: argparse.Namespace) -> PPOConfig:
     """The hyperparameters `hivex train` runs ``environment`` with: the paper's, then --config, --set and the
     flags (--steps, --seed, --device), each over the last."""
-    from .config import make_config, parse_assignments, read_overrides
+    from .config import Overrides, make_config, parse_assignments, read_overrides
 
-    flags = {"max_steps": args.steps, "seed": args.seed, "device": args.device}
-    layers = [read_overrides(args.config) if args.config else {}, parse_assignments(args.assignments),
-              {name: value for name, value in flags.items() if value is not None}]
+    flag_of = {"max_steps": "--steps", "seed": "--seed", "device": "--device"}
+    given = {name: getattr(args, flag[2:]) for name, flag in flag_of.items()}
+    flags = Overrides({name: value for name, value in given.items() if value is not None},
+                      locate=lambda name, key: flag_of[name])
+    layers = [read_overrides(args.config) if args.config else {}, parse_assignments(args.assignments), flags]
     return make_config(environment, *layers)
 
 

@@ -122,7 +122,8 @@ class PPOConfig(StrictModel):
     checkpoint_every: int = Field(500_000, ge=1)
     keep_checkpoints: int = Field(5, ge=1)
     seed: int = Field(0, ge=0, le=2**32 - 1)
-    device: str = "cpu"
+    device: str = Field("cpu", pattern=r"^(cpu|cuda(:[0-9]+)?)$",
+                        json_schema_extra={"x-expected": "cpu, cuda or cuda:N (one GPU of several)"})
     torch_threads: int = Field(1, ge=1, le=256)
     curiosity_strength: float = Field(0.0, ge=0.0, le=1.0)
     curiosity_gamma: float = Field(0.99, ge=0.0, le=1.0)

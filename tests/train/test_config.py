@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import pytest
+import torch
 
 from hivex_dsl.train.config import PPOConfig, TrainError, make_config, paper_defaults, parse_assignments, read_overrides
 
@@ -146,5 +147,18 @@ def test_a_device_that_is_not_here_is_a_clear_error():
     from hivex_dsl.train.ppo import torch_device
 
     assert torch_device("cpu").type == "cpu"
-    with pytest.raises(TrainError, match="unknown device"):
-        torch_device("abacus")
+    for name in ("abacus", "mps", "meta", "cuda:x"):  # torch's own messages list every backend it was built with
+        with pytest.raises(TrainError) as refused:
+            torch_device(name)
+        assert str(refused.value) == f"unknown device {name!r}: expected cpu, cuda or cuda:N (one GPU of several)"
+
+
+def test_a_gpu_index_past_the_last_gpu_is_a_clear_error(monkeypatch):
+    from hivex_dsl.train.ppo import torch_device
+
+    monkeypatch.setattr(torch.cuda, "is_available", lambda: True)
+    monkeypatch.setattr(torch.cuda, "device_count", lambda: 2)
+    assert torch_device("cuda:1").index == 1
+    with pytest.raises(TrainError) as refused:
+        torch_device("cuda:2")
+    assert str(refused.value) == "device cuda:2 was asked for, but torch sees 2 CUDA GPUs here (cuda:0 to cuda:1)"
