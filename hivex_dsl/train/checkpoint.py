@@ -9,6 +9,7 @@ import torch
 
 from ..compiler import CompiledScenario, compile
 from .config import PPOConfig, TrainError
+from .devices import torch_device
 from .networks import ActionLayout, ActorCritic
 
 FORMAT = "hivex-ppo/1"
@@ -108,8 +109,6 @@ def policy_for(checkpoint: dict[str, Any], compiled: CompiledScenario, device: s
         first = str(exc).splitlines()[0]
         raise TrainError("the checkpoint's weights do not fit the network its own hyperparameters build: "
                          f"{first}") from None
-    from .ppo import torch_device
-
     return agent.to(torch_device(device)).eval()
 
 

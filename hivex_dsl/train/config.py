@@ -82,6 +82,7 @@ class TrainError(HivexError, ValueError):
 
 HYPERPARAMETERS = Document("set of hyperparameters", "a mapping of hyperparameter: value (ML-Agents' key names)",
                            may_be_empty=True)
+DEVICES = "cpu, cuda or cuda:N (one GPU of several)"  # what the training loop runs on
 MINIBATCH_KEYS = ("batch_size", "buffer_size")
 ML_AGENTS_SECTIONS = frozenset({"behaviors", "hyperparameters", "network_settings", "reward_signals", "extrinsic",
                                 "curiosity"})
@@ -122,8 +123,7 @@ class PPOConfig(StrictModel):
     checkpoint_every: int = Field(500_000, ge=1)
     keep_checkpoints: int = Field(5, ge=1)
     seed: int = Field(0, ge=0, le=2**32 - 1)
-    device: str = Field("cpu", pattern=r"^(cpu|cuda(:[0-9]+)?)$",
-                        json_schema_extra={"x-expected": "cpu, cuda or cuda:N (one GPU of several)"})
+    device: str = Field("cpu", pattern=r"^(cpu|cuda(:[0-9]+)?)$", json_schema_extra={"x-expected": DEVICES})
     torch_threads: int = Field(1, ge=1, le=256)
     curiosity_strength: float = Field(0.0, ge=0.0, le=1.0)
     curiosity_gamma: float = Field(0.99, ge=0.0, le=1.0)

@@ -28,6 +28,7 @@ from ..compiler import CompiledScenario
 from .checkpoint import resume_state, save_checkpoint, save_numbered_checkpoint
 from .config import PPOConfig, TrainError
 from .curiosity import Curiosity
+from .devices import torch_device
 from .logs import EpisodeLog, Progress, ScalarLog
 from .networks import ActorCritic, to_tensors
 from .rundir import claim
@@ -65,24 +66,6 @@ def make_env(compiled: CompiledScenario, num_worlds: int, split: str) -> tuple[H
         raise TrainError(f"cannot run {compiled.name!r} on its {split} seeds: {exc}") from None
     observations, _ = env.reset(seed=int(getattr(compiled.seeds, split)))
     return env, observations
-
-
-def torch_device(name: str) -> torch.device:
-    """A torch device that exists here, or a clear error: ``cpu``, ``cuda`` or ``cuda:N``, which the
-    training loop is written and tested for (torch's other device types are refused, not tried)."""
-    try:
-        device = torch.device(name)
-    except RuntimeError:
-        device = None
-    if device is None or device.type not in ("cpu", "cuda"):
-        raise TrainError(f"unknown device {name!r}: expected cpu, cuda or cuda:N (one GPU of several)")
-    if device.type == "cuda" and not torch.cuda.is_available():
-        raise TrainError(f"device {name} was asked for, but torch sees no CUDA GPU here (use --device cpu)")
-    if device.index is not None and device.index >= torch.cuda.device_count():
-        count = torch.cuda.device_count()
-        raise TrainError(f"device {name} was asked for, but torch sees {count} CUDA GPU{'s' * (count != 1)} "
-                         f"here (cuda:0 to cuda:{count - 1})")
-    return device
 
 
 def make_optimizer(agent: nn.Module, learning_rate: float) -> torch.optim.Optimizer:

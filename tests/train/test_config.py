@@ -144,7 +144,7 @@ def test_buffer_size_counts_experiences_over_all_slots():
 
 
 def test_a_device_that_is_not_here_is_a_clear_error():
-    from hivex_dsl.train.ppo import torch_device
+    from hivex_dsl.train.devices import torch_device
 
     assert torch_device("cpu").type == "cpu"
     for name in ("abacus", "mps", "meta", "cuda:x"):  # torch's own messages list every backend it was built with
@@ -154,7 +154,7 @@ def test_a_device_that_is_not_here_is_a_clear_error():
 
 
 def test_a_gpu_index_past_the_last_gpu_is_a_clear_error(monkeypatch):
-    from hivex_dsl.train.ppo import torch_device
+    from hivex_dsl.train.devices import torch_device
 
     monkeypatch.setattr(torch.cuda, "is_available", lambda: True)
     monkeypatch.setattr(torch.cuda, "device_count", lambda: 2)
