@@ -2,6 +2,7 @@
 
     python benchmarks/record_baseline.py RUN_DIR SCENARIO [--episodes 10] [--command "..."] [--note "..."]
     python benchmarks/record_baseline.py --add-seed RUN_DIR [--add-seed RUN_DIR ...]   # other training seeds
+    python benchmarks/record_baseline.py --grid RUN_DIR SWEEP [--episodes 10]   # a trained sweep: grids/<env>.json
     python benchmarks/record_baseline.py --replot   # redraw every committed PNG from its JSON
 
 It evaluates the run's checkpoint on the test seeds (as `hivex evaluate` does), measures the random and
@@ -9,7 +10,9 @@ scripted policies on the same seeds, evaluates every intermediate checkpoint the
 (--curve-episodes each), draws the learning curve, and writes both files; then run
 `hivex docs` to regenerate docs/baselines.md. Needs the train and plots extras. --add-seed evaluates a run of
 the same scenario and hyperparameters on another training seed (`hivex train ... --seed 1`) and adds it to
-that environment's committed record, which the page then shows beside the recorded seed.
+that environment's committed record, which the page then shows beside the recorded seed. --grid records a
+sweep trained with `hivex train SWEEP -o RUN_DIR --eval-episodes N`: every point's test return beside the
+paper's published cell for its task and level (each point's own evaluation when it holds --episodes episodes).
 """
 
 from __future__ import annotations
@@ -18,7 +21,7 @@ import argparse
 import json
 from pathlib import Path
 
-from hivex_dsl.train.baselines import add_seed, record_baseline
+from hivex_dsl.train.baselines import GRIDS, add_seed, record_baseline, record_grid
 from hivex_dsl.train.config import TrainError
 from hivex_dsl.train.plots import learning_curve
 
@@ -32,6 +35,8 @@ def main() -> None:
     parser.add_argument("--replot", action="store_true", help="only redraw the committed PNGs from their JSON")
     parser.add_argument("--add-seed", action="append", type=Path, default=[], metavar="RUN_DIR",
                         help="add another training seed's run to its environment's committed record")
+    parser.add_argument("--grid", action="store_true",
+                        help="RUN_DIR is a trained sweep and SCENARIO its sweep file (writes grids/<environment>.json)")
     parser.add_argument("--episodes", type=int, default=10)
     parser.add_argument("--command", default="", help="the exact commands that trained the run (shown on the page)")
     parser.add_argument("--note", default="", help="one paragraph shown under the curve")
@@ -56,6 +61,13 @@ def main() -> None:
         return
     if args.run_dir is None or args.scenario is None:
         parser.error("RUN_DIR and SCENARIO are required (or --add-seed, or --replot)")
+    if args.grid:
+        try:
+            grid = record_grid(args.run_dir, args.scenario, OUT, args.episodes, args.command, args.note)
+        except TrainError as exc:
+            parser.exit(2, f"error: {exc}\n")
+        print(f"wrote {OUT / GRIDS / grid['environment']}.json: {len(grid['points'])} points")
+        return
     data = record_baseline(args.run_dir, args.scenario, OUT, args.episodes, args.command, args.note,
                            args.curve_episodes)
     print(f"wrote {OUT / data['environment']}.json and .png: test return "

@@ -15,6 +15,7 @@ PAGE = "baselines.md"
 # The issue's throughput targets (agent-steps/s, end to end, one 2-core CPU machine).
 THROUGHPUT_TARGETS = {"wind_farm_control": 50_000, "aerial_wildfire_suppression": 2_000}
 THROUGHPUT_FILE = Path("results") / "train_throughput.json"  # beside baselines/, under benchmarks/
+GRIDS = "grids"  # benchmarks/baselines/grids/<environment>.json: a trained sweep (train.baselines.record_grid)
 
 
 def baselines_dir(docs_dir: Path) -> Path:
@@ -129,8 +130,38 @@ def baselines_context(directory: Path) -> dict[str, Any]:
     data = _load(directory)
     rows = [_row(env_id, data.get(env_id)) for env_id in registry.environments()]
     return {"rows": rows, "trained": [r for r in rows if r["trained"]], "left": [r for r in rows if not r["trained"]],
-            **hyperparameter_table(), **earlier_choices(data),
+            **grid_context(Path(directory) / GRIDS), **hyperparameter_table(), **earlier_choices(data),
             **throughput_table(Path(directory).parent / THROUGHPUT_FILE)}
+
+
+def grid_context(directory: Path) -> dict[str, Any]:
+    """``grids`` (see :func:`grid_tables`) and ``grid_names``, their environments in words."""
+    grids = grid_tables(directory)
+    return {"grids": grids, "grid_names": ", ".join(f"`{g['environment']}`" for g in grids)}
+
+
+def grid_tables(directory: Path) -> list[dict[str, Any]]:
+    """One table per recorded grid: a row per point (task, level, ours, published, verdict) and the verdicts' counts."""
+    tables = []
+    for env_id, data in _load(directory).items():
+        names = registry.get(env_id).level_names
+        rows = []
+        for point in data["points"]:
+            published = point["published"]["return"] if point["published"] else None
+            level = point["level"]
+            rows.append({"task": f"{point['task_index']} `{point['task']}`",
+                         "level": "-" if level is None else f"{level} {names[level]}" if names else str(level),
+                         "ours": _spread(point["return"]), "published": _spread(published),
+                         "verdict": verdict(point["return"], published), "steps": f"{point['agent_steps']:,}",
+                         "wall": f"{point['wall_s'] / 60:.1f} min"})
+        counts = {word: sum(r["verdict"].startswith(word) for r in rows) for word in ("matches", "above", "below")}
+        tables.append({"environment": env_id, "sweep": data["sweep"], "rows": rows, "counts": counts,
+                       "seed": data["points"][0]["seed"], "test_seed": data["test"]["seed"],
+                       "episodes": data["test"]["episodes"], "actions": data["test"]["actions"],
+                       "machine": data["machine"], "note": data.get("note", ""),
+                       "steps": f"{data['hyperparameters']['max_steps']:,}",
+                       "commands": [data["command"]] if data.get("command") else []})
+    return tables
 
 
 # The PPO choices where this toolkit first did otherwise than ML-Agents, each now ML-Agents' by default.

@@ -9,6 +9,9 @@ after how many agent-steps and how much wall time the policy first matched the p
 ``add_seed`` adds a run of the same scenario and hyperparameters but another training seed to a record
 (``other_seeds``): its test-seed evaluation on the record's episodes. One seed can mislead where PPO finds a
 strategy in some seeds and not in others; the page shows every recorded seed and their spread.
+
+``record_grid`` turns a trained sweep (``hivex train SWEEP --eval-episodes N``) into ``grids/<environment>.json``:
+every point's test-seed return and statistics beside the paper's published cell for its task and level.
 """
 
 from __future__ import annotations
@@ -18,11 +21,12 @@ import platform
 from pathlib import Path
 from typing import Any
 
-from ..compiler import compile
+from ..compiler import compile, compile_all
 from ..report import collect_returns
 from .checkpoint import RESUMABLE_CHANGES, action_space_of, load_checkpoint, older_defaults
 from .config import PPOConfig, TrainError
 from .evaluate import evaluate
+from .grid import point_dir
 
 SEED_CHANGES = RESUMABLE_CHANGES | {"seed"}  # what another seed's run may differ in: not what it learns from
 
@@ -129,3 +133,53 @@ def add_seed(record: Path, run_dir: Path) -> dict[str, Any]:
 
     learning_curve(data, record.with_suffix(".png"))
     return data
+
+
+GRIDS = "grids"  # under the baselines folder: grids/<environment>.json
+
+
+def record_grid(grid_dir: Path, sweep: str, out_dir: Path, episodes: int = 10, command: str = "",
+                note: str = "") -> dict[str, Any]:
+    """Write ``out_dir/grids/<environment>.json`` for the grid trained in ``grid_dir`` on ``sweep`` (the bundled
+    path, e.g. ``scenarios/wind_farm_control/paper_suite.yaml``); -> the JSON's content.
+
+    Every point must have trained that sweep's point of the same index with one set of hyperparameters. Its
+    test-seed evaluation is the ``evaluation.json`` the grid wrote when that holds ``episodes`` test episodes,
+    and a fresh one otherwise."""
+    grid_dir, out_dir = Path(grid_dir), Path(out_dir)
+    points = compile_all(sweep)
+    rows, configs, test_seeds = [], [], []
+    for index, point in enumerate(points):
+        run_dir = point_dir(grid_dir, index, point)
+        if not (run_dir / "checkpoint.pt").is_file():
+            raise TrainError(f"{grid_dir} has no trained point {index} of {sweep} (no {run_dir / 'checkpoint.pt'})")
+        if load_checkpoint(run_dir / "checkpoint.pt")["fingerprint"] != point.fingerprint:
+            raise TrainError(f"{run_dir} trained another scenario than {point.name!r}, point {index} of {sweep}")
+        summary = json.loads((run_dir / "summary.json").read_text())
+        configs.append(json.loads((run_dir / "config.json").read_text())["hyperparameters"])
+        report = _test_report(run_dir, episodes)
+        test_seeds.append(report["seed"])
+        rows.append({"name": point.name, "task": point.task_name, "task_index": point.task_index,
+                     "level": point.level, "agent_steps": summary["agent_steps"], "wall_s": summary["wall_s"],
+                     "seed": summary["seed"], "resumed_at": summary.get("resumed_at", []),
+                     "return": report["return"], "statistics": report["statistics"], "published": report["published"]})
+    differing = sorted(k for k in configs[0] if any(c.get(k) != configs[0][k] for c in configs))
+    if differing:
+        raise TrainError(f"the points of {grid_dir} trained with different hyperparameters ({', '.join(differing)}): "
+                         "a grid record holds one set")
+    data = {"environment": points[0].environment, "sweep": sweep, "command": command, "note": note,
+            "machine": machine(), "hyperparameters": configs[0],
+            "test": {"seed": test_seeds[0], "episodes": episodes, "actions": "sampled"}, "points": rows}
+    (out_dir / GRIDS).mkdir(parents=True, exist_ok=True)
+    (out_dir / GRIDS / f"{data['environment']}.json").write_text(json.dumps(data, indent=1) + "\n")
+    return data
+
+
+def _test_report(run_dir: Path, episodes: int) -> dict[str, Any]:
+    """The point's test-seed evaluation of ``episodes`` episodes: the grid's own, or a fresh one."""
+    written = run_dir / "evaluation.json"
+    if written.is_file():
+        report = json.loads(written.read_text())
+        if report["split"] == "test" and report["episodes"] == episodes and report["actions"] == "sampled":
+            return report
+    return evaluate(run_dir / "checkpoint.pt", split="test", episodes=episodes)

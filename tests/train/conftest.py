@@ -25,3 +25,14 @@ def short_scenario(environment: str, episode_length: int = 24) -> dict:
 @pytest.fixture
 def tiny():
     return dict(TINY)
+
+
+def record_baseline_script():
+    """benchmarks/record_baseline.py as a module (it is a script, not part of the package)."""
+    import importlib.util
+
+    path = SCENARIOS.parent / "benchmarks" / "record_baseline.py"
+    spec = importlib.util.spec_from_file_location("record_baseline", path)
+    script = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(script)
+    return script

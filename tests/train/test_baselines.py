@@ -9,13 +9,13 @@ from pathlib import Path
 import pytest
 import yaml
 
-from hivex_dsl.compiler import compile
+from hivex_dsl.compiler import compile, compile_all
 from hivex_dsl.docsgen import render_docs
 from hivex_dsl.docsgen.baselines import baselines_context
 from hivex_dsl.train.config import PPOConfig, make_config
 from hivex_dsl.train.ppo import train
 
-from .conftest import short_scenario
+from .conftest import record_baseline_script, short_scenario
 
 pytest.importorskip("matplotlib")
 
@@ -238,15 +238,10 @@ def test_a_record_older_than_a_hyperparameter_takes_its_default(seeds, tmp_path)
 
 
 def test_the_script_reports_a_refused_seed_without_a_traceback(seeds, monkeypatch, capsys):
-    import importlib.util
     import sys
-    from pathlib import Path
 
     record, runs = seeds
-    path = Path(__file__).resolve().parents[2] / "benchmarks" / "record_baseline.py"
-    spec = importlib.util.spec_from_file_location("record_baseline", path)
-    script = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(script)
+    script = record_baseline_script()
     monkeypatch.setattr(script, "OUT", record.parent)
     monkeypatch.setattr(sys, "argv", ["record_baseline.py", "--add-seed", str(runs["seed0"])])
     with pytest.raises(SystemExit) as exit_:
@@ -255,18 +250,22 @@ def test_the_script_reports_a_refused_seed_without_a_traceback(seeds, monkeypatc
     assert capsys.readouterr().err == f"error: {runs['seed0']} trained on seed 0, the record's own; give another seed's run\n"
 
 
-@pytest.mark.parametrize("record", sorted((ROOT / "benchmarks" / "baselines").glob("*.json")), ids=lambda p: p.stem)
+@pytest.mark.parametrize("record", sorted((ROOT / "benchmarks" / "baselines").glob("*.json"))
+                         + sorted((ROOT / "benchmarks" / "baselines" / "grids").glob("*.json")),
+                         ids=lambda p: f"{p.parent.name}/{p.stem}")
 def test_a_committed_record_s_command_trains_with_its_hyperparameters(record):
-    """The page's command reproduces a record: today's defaults with its --set values are every hyperparameter
-    the record trained with (keys added since it was written read as they meant then)."""
+    """The page's command reproduces a record (or a grid record, which trained a sweep): today's defaults with its
+    --set values are every hyperparameter the record trained with (keys added since it was written read as they
+    meant then)."""
     from hivex_dsl.train.checkpoint import action_space_of, older_defaults
 
     from hivex_dsl.cli import _parser
     from hivex_dsl.train.commands import train_config
 
     data = json.loads(record.read_text())
+    scenario = data.get("scenario") or data["sweep"]
     words = shlex.split(data["command"].splitlines()[0])
-    assert words[:3] == ["hivex", "train", data["scenario"]]
+    assert words[:3] == ["hivex", "train", scenario]
     now = train_config(data["environment"], _parser().parse_args(words[1:]))  # as `hivex train` reads it
-    then = older_defaults(data["hyperparameters"], action_space_of(compile(ROOT / data["scenario"])))
+    then = older_defaults(data["hyperparameters"], action_space_of(compile_all(ROOT / scenario)[0]))
     assert now.model_dump() == PPOConfig(**then).model_dump()

@@ -1,0 +1,121 @@
+"""A trained sweep becomes committed data (grids/<environment>.json), and the baselines page shows every point."""
+
+from __future__ import annotations
+
+import json
+import shutil
+
+import pytest
+import yaml
+
+from hivex_dsl.compiler import compile_all
+from hivex_dsl.docsgen import render_docs
+from hivex_dsl.train.baselines import record_grid
+from hivex_dsl.train.config import TrainError, make_config
+from hivex_dsl.train.evaluate import evaluate
+from hivex_dsl.train.grid import run_grid
+
+from .conftest import TINY, record_baseline_script, short_scenario
+
+pytest.importorskip("matplotlib")
+
+# The paper's Generate Energy return on patterns 0 (Default) and 1 (Grid), read by hand from its results table.
+PUBLISHED = [(4611.6462, 39.952), (4605.9093, 44.3819)]
+
+
+def _sweep(patterns: list[int], episode_length: int = 12) -> dict:
+    sweep = short_scenario("wind_farm_control", episode_length) | {"sweep": {"pattern": patterns}}
+    del sweep["pattern"]
+    return sweep
+
+
+@pytest.fixture(scope="module")
+def grid(tmp_path_factory):
+    root = tmp_path_factory.mktemp("grid")
+    sweep = root / "sweep.yaml"
+    sweep.write_text(yaml.safe_dump(_sweep([0, 1])))
+    points = compile_all(sweep)
+    configs = [make_config("wind_farm_control", TINY | {"max_steps": 96}) for _ in points]
+    run_grid(points, configs, root / "runs", eval_episodes=2, progress=False)
+    return root
+
+
+def test_every_point_is_recorded_beside_its_published_cell(grid):
+    out = grid / "baselines"
+    data = record_grid(grid / "runs", str(grid / "sweep.yaml"), out, episodes=2, command="hivex train sweep.yaml")
+    assert json.loads((out / "grids" / "wind_farm_control.json").read_text()) == data
+    assert [(p["task_index"], p["level"]) for p in data["points"]] == [(0, 0), (0, 1)]
+    for point, (mean, std), folder in zip(data["points"], PUBLISHED, sorted((grid / "runs").glob("0*"))):
+        assert point["published"]["return"] == pytest.approx({"mean": mean, "std": std})
+        # the grid's own two-episode evaluation is the one recorded
+        assert point["return"] == json.loads((folder / "evaluation.json").read_text())["return"]
+        assert point["agent_steps"] >= 96 and point["seed"] == 0
+    assert data["test"] == {"seed": 6000, "episodes": 2, "actions": "sampled"}
+    assert data["hyperparameters"]["max_steps"] == 96
+
+
+def test_another_episode_count_is_evaluated_afresh(grid):
+    data = record_grid(grid / "runs", str(grid / "sweep.yaml"), grid / "fresh", episodes=1)
+    folder = sorted((grid / "runs").glob("001-*"))[0]
+    assert data["points"][1]["return"] == evaluate(folder / "checkpoint.pt", split="test", episodes=1)["return"]
+    assert data["test"]["episodes"] == 1
+
+
+def test_only_the_sweep_the_grid_trained_is_recorded(grid, tmp_path):
+    edited = tmp_path / "edited.yaml"  # the same point names, other episodes
+    edited.write_text(yaml.safe_dump(_sweep([0, 1], episode_length=13)))
+    with pytest.raises(TrainError, match=r"trained another scenario than 'wfc-main\[pattern=0\]', point 0 of"):
+        record_grid(grid / "runs", str(edited), tmp_path / "out")
+    other = tmp_path / "other.yaml"
+    other.write_text(yaml.safe_dump(_sweep([0, 2])))
+    with pytest.raises(TrainError, match=r"has no trained point 1 of .*other.yaml \(no .*001-wfc-main_pattern=2/"):
+        record_grid(grid / "runs", str(other), tmp_path / "out")
+    assert not (tmp_path / "out").exists()  # nothing half-written
+
+
+def test_a_grid_of_mixed_hyperparameters_is_refused(grid, tmp_path):
+    runs = tmp_path / "runs"
+    shutil.copytree(grid / "runs", runs)
+    config = next(runs.glob("001-*")) / "config.json"
+    written = json.loads(config.read_text())
+    written["hyperparameters"]["learning_rate"] = 0.1
+    config.write_text(json.dumps(written))
+    with pytest.raises(TrainError, match=r"trained with different hyperparameters \(learning_rate\)"):
+        record_grid(runs, str(grid / "sweep.yaml"), tmp_path / "out", episodes=2)
+
+
+def test_the_page_sets_every_point_beside_the_paper(grid, tmp_path):
+    data = record_grid(grid / "runs", str(grid / "sweep.yaml"), tmp_path, episodes=2, note="A grid note.")
+    # hand-set returns: 4,600 is within pattern 0's published 4,611.65 ± 39.95; 4,700 is 94 over pattern 1's
+    # 4,605.91 ± 44.38, so above it
+    data["points"][0]["return"] = {"mean": 4600.0, "std": 10.0}
+    data["points"][1]["return"] = {"mean": 4700.0, "std": 12.5}
+    (tmp_path / "grids" / "wind_farm_control.json").write_text(json.dumps(data))
+    page = render_docs(None, baselines=tmp_path)["baselines.md"]
+    assert "a last section per\nenvironment sets every point beside its published cell." in page
+    assert "## `wind_farm_control`: every task and level" in page
+    assert "| 0 `generate_energy` | 0 default | 4,600.00 ± 10.00 | 4,611.65 ± 39.95 | matches (within the spread) |" in page
+    assert "| 0 `generate_energy` | 1 grid | 4,700.00 ± 12.50 | 4,605.91 ± 44.38 | above |" in page
+    assert "Of the 2 points,\n1 match the published return within its spread, 1 are above it and 0 below." in page
+    assert "A grid note." in page
+    without = tmp_path / "without"
+    without.mkdir()
+    page = render_docs(None, baselines=without)["baselines.md"]
+    assert "every task and level" not in page and "a last section" not in page
+
+
+def test_the_script_reports_a_grid_it_cannot_record_without_a_traceback(grid, monkeypatch, capsys, tmp_path):
+    import sys
+
+    script = record_baseline_script()
+    monkeypatch.setattr(script, "OUT", tmp_path)
+    monkeypatch.setattr(sys, "argv", ["record_baseline.py", "--grid", str(tmp_path / "none"), str(grid / "sweep.yaml")])
+    with pytest.raises(SystemExit) as exit_:
+        script.main()
+    assert exit_.value.code == 2
+    assert capsys.readouterr().err == (f"error: {tmp_path / 'none'} has no trained point 0 of {grid / 'sweep.yaml'} "
+                                       f"(no {tmp_path / 'none' / '000-wfc-main_pattern=0' / 'checkpoint.pt'})\n")
+    monkeypatch.setattr(sys, "argv", ["record_baseline.py", "--grid", str(grid / "runs"), str(grid / "sweep.yaml"),
+                                      "--episodes", "2"])
+    script.main()
+    assert capsys.readouterr().out == f"wrote {tmp_path / 'grids' / 'wind_farm_control'}.json: 2 points\n"
