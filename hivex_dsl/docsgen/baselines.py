@@ -153,6 +153,7 @@ def grid_tables(directory: Path) -> list[dict[str, Any]]:
                          "level": "-" if level is None else f"{level} {names[level]}" if names else str(level),
                          "ours": _spread(point["return"]), "published": _spread(published),
                          "verdict": verdict(point["return"], published), "steps": f"{point['agent_steps']:,}",
+                         "random": _spread(point["random"]), "scripted": _spread(point["scripted"]),
                          "wall": f"{point['wall_s'] / 60:.1f} min"})
         counts = {word: sum(r["verdict"].startswith(word) for r in rows) for word in ("matches", "above", "below")}
         tables.append({"environment": env_id, "sweep": data["sweep"], "rows": rows, "counts": counts,

@@ -145,7 +145,7 @@ def record_grid(grid_dir: Path, sweep: str, out_dir: Path, episodes: int = 10, c
 
     Every point must have trained that sweep's point of the same index with one set of hyperparameters. Its
     test-seed evaluation is the ``evaluation.json`` the grid wrote when that holds ``episodes`` test episodes,
-    and a fresh one otherwise."""
+    and a fresh one otherwise; the random and the scripted policy play the same episodes of every point."""
     grid_dir, out_dir = Path(grid_dir), Path(out_dir)
     points = compile_all(sweep)
     rows, configs, test_seeds = [], [], []
@@ -162,7 +162,8 @@ def record_grid(grid_dir: Path, sweep: str, out_dir: Path, episodes: int = 10, c
         rows.append({"name": point.name, "task": point.task_name, "task_index": point.task_index,
                      "level": point.level, "agent_steps": summary["agent_steps"], "wall_s": summary["wall_s"],
                      "seed": summary["seed"], "resumed_at": summary.get("resumed_at", []),
-                     "return": report["return"], "statistics": report["statistics"], "published": report["published"]})
+                     "return": report["return"], "statistics": report["statistics"], "published": report["published"],
+                     "random": _level(point, "random", episodes), "scripted": _level(point, "scripted", episodes)})
     differing = sorted(k for k in configs[0] if any(c.get(k) != configs[0][k] for c in configs))
     if differing:
         raise TrainError(f"the points of {grid_dir} trained with different hyperparameters ({', '.join(differing)}): "

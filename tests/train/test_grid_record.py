@@ -50,6 +50,8 @@ def test_every_point_is_recorded_beside_its_published_cell(grid):
         # the grid's own two-episode evaluation is the one recorded
         assert point["return"] == json.loads((folder / "evaluation.json").read_text())["return"]
         assert point["agent_steps"] >= 96 and point["seed"] == 0
+        # all-scripted turbines face the wind: on every layout they beat uniformly random ones on the same episodes
+        assert point["scripted"]["mean"] > point["random"]["mean"]
     assert data["test"] == {"seed": 6000, "episodes": 2, "actions": "sampled"}
     assert data["hyperparameters"]["max_steps"] == 96
 
@@ -90,12 +92,14 @@ def test_the_page_sets_every_point_beside_the_paper(grid, tmp_path):
     # 4,605.91 ± 44.38, so above it
     data["points"][0]["return"] = {"mean": 4600.0, "std": 10.0}
     data["points"][1]["return"] = {"mean": 4700.0, "std": 12.5}
+    data["points"][1]["random"], data["points"][1]["scripted"] = {"mean": 1200.0, "std": 5.0}, {"mean": 4900.0, "std": 1.0}
     (tmp_path / "grids" / "wind_farm_control.json").write_text(json.dumps(data))
     page = render_docs(None, baselines=tmp_path)["baselines.md"]
     assert "a last section per\nenvironment sets every point beside its published cell." in page
     assert "## `wind_farm_control`: every task and level" in page
     assert "| 0 `generate_energy` | 0 default | 4,600.00 ± 10.00 | 4,611.65 ± 39.95 | matches (within the spread) |" in page
-    assert "| 0 `generate_energy` | 1 grid | 4,700.00 ± 12.50 | 4,605.91 ± 44.38 | above |" in page
+    assert ("| 0 `generate_energy` | 1 grid | 4,700.00 ± 12.50 | 4,605.91 ± 44.38 | above | 1,200.00 ± 5.00 "
+            "| 4,900.00 ± 1.00 |") in page
     assert "Of the 2 points,\n1 match the published return within its spread, 1 are above it and 0 below." in page
     assert "A grid note." in page
     without = tmp_path / "without"
