@@ -21,7 +21,7 @@ import platform
 from pathlib import Path
 from typing import Any
 
-from ..compiler import compile, compile_all
+from ..compiler import CompiledScenario, compile, compile_all
 from ..report import collect_returns
 from .checkpoint import RESUMABLE_CHANGES, action_space_of, load_checkpoint, older_defaults
 from .config import PPOConfig, TrainError
@@ -143,37 +143,48 @@ def record_grid(grid_dir: Path, sweep: str, out_dir: Path, episodes: int = 10, c
     """Write ``out_dir/grids/<environment>.json`` for the grid trained in ``grid_dir`` on ``sweep`` (the bundled
     path, e.g. ``scenarios/wind_farm_control/paper_suite.yaml``); -> the JSON's content.
 
-    Every point must have trained that sweep's point of the same index with one set of hyperparameters. Its
-    test-seed evaluation is the ``evaluation.json`` the grid wrote when that holds ``episodes`` test episodes,
-    and a fresh one otherwise; the random and the scripted policy play the same episodes of every point."""
+    Every point must have finished training that sweep's point of the same index, all with one set of
+    hyperparameters. Its test-seed evaluation is the ``evaluation.json`` the grid wrote when that holds
+    ``episodes`` test episodes, and a fresh one otherwise; the random and the scripted policy play the same
+    episodes of every point."""
     grid_dir, out_dir = Path(grid_dir), Path(out_dir)
     points = compile_all(sweep)
-    rows, configs, test_seeds = [], [], []
-    for index, point in enumerate(points):
-        run_dir = point_dir(grid_dir, index, point)
-        if not (run_dir / "checkpoint.pt").is_file():
-            raise TrainError(f"{grid_dir} has no trained point {index} of {sweep} (no {run_dir / 'checkpoint.pt'})")
-        if load_checkpoint(run_dir / "checkpoint.pt")["fingerprint"] != point.fingerprint:
-            raise TrainError(f"{run_dir} trained another scenario than {point.name!r}, point {index} of {sweep}")
-        summary = json.loads((run_dir / "summary.json").read_text())
-        configs.append(json.loads((run_dir / "config.json").read_text())["hyperparameters"])
+    run_dirs = [point_dir(grid_dir, index, point) for index, point in enumerate(points)]
+    summaries = [_finished_point(run_dir, index, point, sweep) for index, (run_dir, point)
+                 in enumerate(zip(run_dirs, points))]
+    configs = [json.loads((run_dir / "config.json").read_text())["hyperparameters"] for run_dir in run_dirs]
+    differing = sorted(k for k in configs[0] if any(c.get(k) != configs[0][k] for c in configs))
+    if differing:
+        raise TrainError(f"the points of {grid_dir} trained with different hyperparameters ({', '.join(differing)}): "
+                         "a grid record holds one set")
+    rows = []
+    for point, run_dir, summary in zip(points, run_dirs, summaries):
         report = _test_report(run_dir, episodes)
-        test_seeds.append(report["seed"])
         rows.append({"name": point.name, "task": point.task_name, "task_index": point.task_index,
                      "level": point.level, "agent_steps": summary["agent_steps"], "wall_s": summary["wall_s"],
                      "seed": summary["seed"], "resumed_at": summary.get("resumed_at", []),
                      "return": report["return"], "statistics": report["statistics"], "published": report["published"],
                      "random": _level(point, "random", episodes), "scripted": _level(point, "scripted", episodes)})
-    differing = sorted(k for k in configs[0] if any(c.get(k) != configs[0][k] for c in configs))
-    if differing:
-        raise TrainError(f"the points of {grid_dir} trained with different hyperparameters ({', '.join(differing)}): "
-                         "a grid record holds one set")
     data = {"environment": points[0].environment, "sweep": sweep, "command": command, "note": note,
             "machine": machine(), "hyperparameters": configs[0],
-            "test": {"seed": test_seeds[0], "episodes": episodes, "actions": "sampled"}, "points": rows}
+            "test": {"seed": report["seed"], "episodes": episodes, "actions": "sampled"}, "points": rows}
     (out_dir / GRIDS).mkdir(parents=True, exist_ok=True)
     (out_dir / GRIDS / f"{data['environment']}.json").write_text(json.dumps(data, indent=1) + "\n")
     return data
+
+
+def _finished_point(run_dir: Path, index: int, point: CompiledScenario, sweep: str) -> dict[str, Any]:
+    """The summary of ``run_dir``'s run, which must have trained ``point`` (of ``sweep``) to its end."""
+    if not (run_dir / "checkpoint.pt").is_file():
+        raise TrainError(f"{run_dir.parent} has no trained point {index} of {sweep} (no {run_dir / 'checkpoint.pt'})")
+    if load_checkpoint(run_dir / "checkpoint.pt")["fingerprint"] != point.fingerprint:
+        raise TrainError(f"{run_dir} trained another scenario than {point.name!r}, point {index} of {sweep}")
+    summary_file = run_dir / "summary.json"
+    summary = json.loads(summary_file.read_text()) if summary_file.is_file() else {"stopped_early": True}
+    if summary["stopped_early"]:
+        raise TrainError(f"point {index} of {sweep} ({run_dir}) did not train to its end: run the grid's "
+                         "`hivex train` command again with --resume")
+    return summary
 
 
 def _test_report(run_dir: Path, episodes: int) -> dict[str, Any]:

@@ -75,15 +75,26 @@ def test_only_the_sweep_the_grid_trained_is_recorded(grid, tmp_path):
     assert not (tmp_path / "out").exists()  # nothing half-written
 
 
+def _edited_copy(grid, tmp_path, name: str, edit) -> None:
+    """A copy of the grid's runs at tmp_path/runs with point 1's ``name`` (a JSON file) edited by ``edit``."""
+    shutil.copytree(grid / "runs", tmp_path / "runs")
+    path = next((tmp_path / "runs").glob("001-*")) / name
+    written = json.loads(path.read_text())
+    edit(written)
+    path.write_text(json.dumps(written))
+
+
 def test_a_grid_of_mixed_hyperparameters_is_refused(grid, tmp_path):
-    runs = tmp_path / "runs"
-    shutil.copytree(grid / "runs", runs)
-    config = next(runs.glob("001-*")) / "config.json"
-    written = json.loads(config.read_text())
-    written["hyperparameters"]["learning_rate"] = 0.1
-    config.write_text(json.dumps(written))
+    _edited_copy(grid, tmp_path, "config.json", lambda c: c["hyperparameters"].update(learning_rate=0.1))
     with pytest.raises(TrainError, match=r"trained with different hyperparameters \(learning_rate\)"):
-        record_grid(runs, str(grid / "sweep.yaml"), tmp_path / "out", episodes=2)
+        record_grid(tmp_path / "runs", str(grid / "sweep.yaml"), tmp_path / "out", episodes=2)
+
+
+def test_a_point_stopped_before_its_end_is_refused(grid, tmp_path):
+    _edited_copy(grid, tmp_path, "summary.json", lambda s: s.update(stopped_early=True))
+    with pytest.raises(TrainError, match=r"^point 1 of .*sweep.yaml \(.*001-wfc-main_pattern=1\) did not train to its "
+                                         r"end: run the grid's `hivex train` command again with --resume$"):
+        record_grid(tmp_path / "runs", str(grid / "sweep.yaml"), tmp_path / "out", episodes=2)
 
 
 def test_the_page_sets_every_point_beside_the_paper(grid, tmp_path):
