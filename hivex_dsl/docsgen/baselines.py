@@ -148,9 +148,7 @@ def grid_tables(directory: Path) -> list[dict[str, Any]]:
         rows = []
         for point in data["points"]:
             published = point["published"]["return"] if point["published"] else None
-            level = point["level"]
-            rows.append({"task": f"{point['task_index']} `{point['task']}`",
-                         "level": "-" if level is None else f"{level} {names[level]}" if names else str(level),
+            rows.append({"task": f"{point['task_index']} `{point['task']}`", "level": _level_label(point["level"], names),
                          "ours": _spread(point["return"]), "published": _spread(published),
                          "verdict": verdict(point["return"], published), "steps": f"{point['agent_steps']:,}",
                          "random": _spread(point["random"]), "scripted": _spread(point["scripted"]),
@@ -163,6 +161,13 @@ def grid_tables(directory: Path) -> list[dict[str, Any]]:
                        "steps": f"{data['hyperparameters']['max_steps']:,}",
                        "commands": [data["command"]] if data.get("command") else []})
     return tables
+
+
+def _level_label(level: int | None, names: tuple[str, ...]) -> str:
+    """``3 circle`` for a named level (WFC's patterns), ``3`` for a numbered one, ``-`` where there are none (OPC)."""
+    if level is None:
+        return "-"
+    return f"{level} {names[level]}" if names else str(level)
 
 
 # The PPO choices where this toolkit first did otherwise than ML-Agents, each now ML-Agents' by default.

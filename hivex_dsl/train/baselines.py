@@ -153,7 +153,7 @@ def record_grid(grid_dir: Path, sweep: str, out_dir: Path, episodes: int = 10, c
     summaries = [_finished_point(run_dir, index, point, sweep) for index, (run_dir, point)
                  in enumerate(zip(run_dirs, points))]
     configs = [json.loads((run_dir / "config.json").read_text())["hyperparameters"] for run_dir in run_dirs]
-    differing = sorted(k for k in configs[0] if any(c.get(k) != configs[0][k] for c in configs))
+    differing = sorted({k for c in configs for k in c if any(other.get(k) != c[k] for other in configs)})
     if differing:
         raise TrainError(f"the points of {grid_dir} trained with different hyperparameters ({', '.join(differing)}): "
                          "a grid record holds one set")
