@@ -35,7 +35,8 @@ def reference(node, now, before, vocabulary, then=False):
         return np.logical_not(value(node.operand)) if node.op.text == "not" else -value(node.operand)
     if isinstance(node, Binary) and node.op.text == "**":
         exponent = -node.right.operand.value if isinstance(node.right, Unary) else node.right.value
-        return value(node.left) ** (int(exponent) if exponent.is_integer() else exponent)
+        base = value(node.left)  # as an array: NumPy's array power may differ in the last bit from its scalar one
+        return (np.atleast_1d(base) ** (int(exponent) if exponent.is_integer() else exponent)).reshape(np.shape(base))
     if isinstance(node, Binary):
         return _BINARY[node.op.text](value(node.left), value(node.right))
     if isinstance(node, Compare):
