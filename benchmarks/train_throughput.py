@@ -1,23 +1,29 @@
 """End-to-end training throughput of `hivex train` (environment, policy and updates) per environment.
 
-    python benchmarks/train_throughput.py [--env ID ...] [--steps 200000] [--set NAME=VALUE ...] [-o out.json]
+    python benchmarks/train_throughput.py [--env ID ...] [--steps 200000] [--processes N] [--set NAME=VALUE ...]
+                                          [-o out.json]
 
 With -o benchmarks/results/train_throughput.json (what the baselines page shows) the rows are merged into
-the file: a row of the same environment, worlds and threads is replaced, others are kept.
+the file: a row of the same environment, worlds, threads, device and processes is replaced, others are kept.
 
 For each environment's main scenario it trains for --steps agent-steps with the paper's hyperparameters
-(overridable with --set, e.g. --set num_worlds=32) and reports agent-steps per second and the share of the
-wall time spent inside the vector env's step. Measure on a quiet machine: run nothing else, and compare
-figures only between runs on the same machine (the issue's targets: Wind Farm Control 50,000 and Aerial
-Wildfire Suppression 2,000 agent-steps/s on 2 CPU cores).
+(overridable with --set, e.g. --set num_worlds=32 or --set device=cuda) and reports agent-steps per second and
+the share of the wall time spent inside the vector env's step. With --processes N it trains N runs of the
+environment at once, each in its own process on its own training seed (how a grid's points share a machine:
+on a GPU machine the policies share the GPU and the environments the CPU cores), and reports their summed
+agent-steps over the slowest run's wall time. Measure on a quiet machine: run nothing else, and compare figures
+only between runs on the same machine (each row names its machine).
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import os
 import tempfile
 import time
+from concurrent.futures import ProcessPoolExecutor
+from multiprocessing import get_context
 from pathlib import Path
 
 from hivex_dsl import registry
@@ -31,6 +37,7 @@ SCENARIOS = Path(__file__).resolve().parents[1] / "scenarios"
 
 
 def measure(environment: str, steps: int, overrides: Overrides) -> dict:
+    """One training run of ``environment``'s main scenario for ``steps`` agent-steps, timed."""
     compiled = compile(SCENARIOS / environment / "main.yaml")
     cfg = make_config(environment, overrides, {"max_steps": steps, "checkpoint_every": 10 * steps})
     inside = [0.0]
@@ -52,34 +59,60 @@ def measure(environment: str, steps: int, overrides: Overrides) -> dict:
     wall = summary["wall_s"]
     return {"environment": environment, "agent_steps": summary["agent_steps"], "wall_s": wall,
             "agent_steps_per_s": round(summary["agent_steps"] / wall, 1), "env_share": round(inside[0] / wall, 3),
-            "num_worlds": cfg.num_worlds, "torch_threads": cfg.torch_threads,
+            "num_worlds": cfg.num_worlds, "torch_threads": cfg.torch_threads, "device": cfg.device, "processes": 1,
             "agents": compiled.agents, "buffer_size": cfg.buffer_size, "batch_size": cfg.batch_size,
-            "num_epoch": cfg.num_epoch}
+            "num_epoch": cfg.num_epoch, "machine": machine(cfg.device)}
+
+
+def measure_concurrently(environment: str, steps: int, overrides: Overrides, processes: int) -> dict:
+    """``processes`` runs of ``environment`` at once (training seeds 0, 1, ...), each in a fresh process;
+    -> one row: their summed agent-steps over the slowest one's wall time, the mean env share."""
+    if processes == 1:
+        return measure(environment, steps, overrides)
+    values = dict(overrides.values)  # a plain mapping travels to the workers (Overrides holds a lambda)
+    seeded = [values | {"seed": int(values.get("seed", 0)) + i} for i in range(processes)]
+    with ProcessPoolExecutor(processes, mp_context=get_context("spawn")) as pool:
+        runs = list(pool.map(measure, [environment] * processes, [steps] * processes, seeded))
+    wall = max(run["wall_s"] for run in runs)
+    total = sum(run["agent_steps"] for run in runs)
+    return runs[0] | {"agent_steps": total, "wall_s": wall, "agent_steps_per_s": round(total / wall, 1),
+                      "env_share": round(sum(run["env_share"] for run in runs) / processes, 3),
+                      "processes": processes}
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--env", action="append", help="environment id (repeatable; default all)")
-    parser.add_argument("--steps", type=int, default=200_000, help="agent-steps per environment")
+    parser.add_argument("--steps", type=int, default=200_000, help="agent-steps per environment (and per process)")
+    parser.add_argument("--processes", type=int, default=1, help="concurrent runs per environment (default 1)")
     parser.add_argument("--set", action="append", default=[], dest="assignments", metavar="NAME=VALUE")
     parser.add_argument("-o", "--output", type=Path)
     args = parser.parse_args()
+    if args.processes < 1 or args.processes > (os.cpu_count() or 1):
+        parser.error(f"--processes: expected 1 to {os.cpu_count()} (this machine's cores), got {args.processes}")
     overrides = parse_assignments(args.assignments)
-    rows = [measure(env, args.steps, overrides) for env in args.env or registry.environments()]
-    for row in rows:
+    rows = []
+    for env in args.env or registry.environments():
+        row = measure_concurrently(env, args.steps, overrides, args.processes)
+        rows.append(row)
         print(f"{row['environment']:32} {row['agent_steps_per_s']:>10,.0f} agent-steps/s  "
-              f"env {100 * row['env_share']:.0f}% of the time")
-    if args.output:
-        args.output.write_text(json.dumps(merged(args.output, rows), indent=2) + "\n")
+              f"env {100 * row['env_share']:.0f}% of the time  ({row['processes']} x {row['torch_threads']} "
+              f"threads, {row['device']}, {row['wall_s']:.1f} s)", flush=True)
+        if args.output:  # after each environment: a run stopped part-way keeps what it measured
+            args.output.write_text(json.dumps(merged(args.output, [row]), indent=2) + "\n")
 
 
 def merged(path: Path, rows: list[dict]) -> dict:
     """The report at ``path`` (if any) with ``rows`` replacing the rows of the same configuration."""
-    key = lambda row: (row["environment"], row["num_worlds"], row["torch_threads"])  # noqa: E731
-    old = json.loads(path.read_text())["rows"] if path.is_file() else []
+    key = lambda row: (row["environment"], row["num_worlds"], row["torch_threads"],  # noqa: E731
+                       row.get("device", "cpu"), row.get("processes", 1))
+    report = json.loads(path.read_text()) if path.is_file() else {"rows": []}
+    # rows written before rows named their machine and device: the file's machine, one process on the CPU
+    earlier = {"machine": report.get("machine", machine()), "device": "cpu", "processes": 1}
+    old = [earlier | row for row in report["rows"]]
     fresh = {key(row) for row in rows}
     kept = [row for row in old if key(row) not in fresh]
-    return {"machine": machine(), "rows": sorted(kept + rows, key=key)}
+    return {"rows": sorted(kept + rows, key=key)}
 
 
 if __name__ == "__main__":

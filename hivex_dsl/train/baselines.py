@@ -37,12 +37,17 @@ def _level(compiled, policy: str, episodes: int) -> dict[str, float]:
     return {"mean": float(per_agent.mean()), "std": float(per_agent.std())}
 
 
-def machine() -> str:
-    """The machine in words: processor, cores, OS, Python."""
+def machine(device: str = "cpu") -> str:
+    """The machine in words: processor, cores, OS, Python, and the GPU when ``device`` is a CUDA one."""
     import os
 
     processor = platform.processor() or platform.machine()
-    return f"{processor}, {os.cpu_count()} cores, {platform.system()}, Python {platform.python_version()}"
+    words = f"{processor}, {os.cpu_count()} cores, {platform.system()}, Python {platform.python_version()}"
+    if device.startswith("cuda"):
+        import torch
+
+        words += f", {torch.cuda.get_device_name(torch.device(device))} (torch {torch.__version__})"
+    return words
 
 
 def test_curve(run_dir: Path, episodes: int) -> list[list[float]]:
