@@ -14,6 +14,7 @@ from .argtypes import positive, seed
 from .errors import HivexError, ScenarioError
 
 EXIT_OK, EXIT_FAIL, EXIT_USAGE = 0, 1, 2
+EXIT_INTERRUPTED = 128 + 2  # what a shell reports for a command ended by SIGINT
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -34,7 +35,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         return EXIT_USAGE
     except KeyboardInterrupt:
         print("hivex: interrupted", file=sys.stderr)
-        return 130
+        return EXIT_INTERRUPTED
     except OSError as exc:  # an output path the system refuses (permissions, a full disk, ...)
         where = f": {exc.filename}" if exc.filename else ""
         print(f"hivex: {exc.strerror or exc}{where}", file=sys.stderr)

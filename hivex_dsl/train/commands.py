@@ -93,14 +93,25 @@ def cmd_train(args) -> int:
                              args.eval_episodes, progress=not args.no_progress, resume=args.resume,
                              overwrite=args.force)
         print(json.dumps(result, indent=2))
-        return 0
+        return _exit_code([result], run_dir)
     from .grid import format_table, run_grid
 
     results = run_grid(points, configs, run_dir, args.eval_episodes, args.ray, progress=not args.no_progress,
                        resume=args.resume, overwrite=args.force)
     print(format_table(results))
     print(f"wrote {run_dir / 'results.json'}")
-    return 0
+    return _exit_code(results, run_dir)
+
+
+def _exit_code(results: list[dict], run_dir: Path) -> int:
+    """0, or the CLI's 130 when Ctrl-C or SIGTERM stopped a run before its end (saying how to go on)."""
+    from ..cli import EXIT_INTERRUPTED
+
+    if not any(result["stopped_early"] for result in results):
+        return 0
+    print(f"hivex: interrupted: the run stopped after its update and kept its checkpoint; add --resume to the "
+          f"same command to go on in {run_dir}", file=sys.stderr)
+    return EXIT_INTERRUPTED
 
 
 def cmd_evaluate(args) -> int:

@@ -8,14 +8,13 @@ Every node of a cluster needs hivex-dsl with its train extra installed (``pip in
 
 from __future__ import annotations
 
-import json
 import re
 from pathlib import Path
 from typing import Any, Sequence
 
 from ..compiler import CompiledScenario, compile
 from .config import PPOConfig, TrainError
-from .rundir import earlier_run, refusal
+from .rundir import earlier_run, refusal, write_json
 
 
 def point_dir(run_dir: Path, index: int, compiled: CompiledScenario) -> Path:
@@ -39,7 +38,7 @@ def train_point(scenario: dict[str, Any], config: dict[str, Any], run_dir: str, 
         report = evaluate(Path(run_dir) / "checkpoint.pt", split="test", episodes=eval_episodes)
         summary["test_return"] = report["return"]
         summary["published_return"] = report["published"]["return"] if report["published"] else None
-        (Path(run_dir) / "evaluation.json").write_text(json.dumps(report, indent=2) + "\n")
+        write_json(Path(run_dir) / "evaluation.json", report)
     return summary
 
 
@@ -50,7 +49,8 @@ def run_grid(points: Sequence[CompiledScenario], configs: Sequence[PPOConfig], r
     instance, any other value joins that cluster, ``None`` runs the points in turn. ``resume`` lets each
     point with a checkpoint go on from it (one that finished only re-evaluates); the others start afresh, over
     what a point killed before its first checkpoint left. Without ``resume`` or ``overwrite`` a grid whose
-    points hold earlier runs is refused before any point trains. -> the results table."""
+    points hold earlier runs is refused before any point trains. Ctrl-C (or SIGTERM) stops the point under
+    way after its update and trains no later point. -> the results table (of the points trained)."""
     run_dir = Path(run_dir)
     folders = [point_dir(run_dir, i, p).resolve() for i, p in enumerate(points)]
     going_on = [resume and (folder / "checkpoint.pt").is_file() for folder in folders]
@@ -62,12 +62,15 @@ def run_grid(points: Sequence[CompiledScenario], configs: Sequence[PPOConfig], r
             for p, c, folder in zip(points, configs, folders)]
     modes = [(again, not again and (resume or overwrite)) for again in going_on]
     if ray_address is None:
-        results = [train_point(*job, progress=progress, resume=again, overwrite=replace)
-                   for job, (again, replace) in zip(jobs, modes)]
+        results = []
+        for job, (again, replace) in zip(jobs, modes):
+            results.append(train_point(*job, progress=progress, resume=again, overwrite=replace))
+            if results[-1]["stopped_early"]:  # Ctrl-C or SIGTERM stops the grid with its point
+                break
     else:
         results = _on_ray(jobs, modes, ray_address, ray_init or {})
     run_dir.mkdir(parents=True, exist_ok=True)
-    (run_dir / "results.json").write_text(json.dumps(results, indent=2) + "\n")
+    write_json(run_dir / "results.json", results)
     return results
 
 

@@ -12,7 +12,6 @@ Hyperparameters and their ML-Agents meaning: ``config.py``.
 
 from __future__ import annotations
 
-import json
 import signal
 import threading
 import time
@@ -31,7 +30,7 @@ from .curiosity import Curiosity
 from .devices import torch_device
 from .logs import EpisodeLog, Progress, ScalarLog
 from .networks import ActorCritic, to_tensors
-from .rundir import claim
+from .rundir import claim, write_json
 
 
 def gae(rewards: torch.Tensor, values: torch.Tensor, next_value: torch.Tensor, terminated: torch.Tensor,
@@ -338,8 +337,8 @@ def train(compiled: CompiledScenario, cfg: PPOConfig, run_dir: Path, progress: b
                 module.load_state_dict(resumed["training"][name])
     slots, steps = env.num_envs, cfg.rollout_length(env.num_envs)
     state, buf = start_rollouts(obs, agent, steps)
-    (run_dir / "config.json").write_text(json.dumps({"hyperparameters": cfg.model_dump(mode="json"),
-                                                     "scenario": compiled.resolved()}, indent=2) + "\n")
+    write_json(run_dir / "config.json", {"hyperparameters": cfg.model_dump(mode="json"),
+                                         "scenario": compiled.resolved()})
     episodes, scalars = EpisodeLog(), ScalarLog(run_dir)
     bar = Progress(cfg.max_steps, enabled=progress, label=compiled.name, start=done_before)
     agent_steps, curve = done_before, list(resumed["training"]["curve"]) if resumed else []
@@ -355,7 +354,7 @@ def train(compiled: CompiledScenario, cfg: PPOConfig, run_dir: Path, progress: b
         training = {name: module.state_dict() for name, module in modules.items() if module is not None}
         save_checkpoint(run_dir / "checkpoint.pt", agent, cfg, compiled, steps, wall,
                         training | {"curve": curve, "resumed_at": resumed_at})
-        (run_dir / "curve.json").write_text(json.dumps(curve, indent=1) + "\n")
+        write_json(run_dir / "curve.json", curve, indent=1)
 
     with StopRequests() as stop:  # Ctrl-C or SIGTERM: finish this update, then save as if done
         while agent_steps < cfg.max_steps and not stop.requested:
@@ -392,6 +391,6 @@ def train(compiled: CompiledScenario, cfg: PPOConfig, run_dir: Path, progress: b
               "level": compiled.level, "agent_steps": agent_steps, "wall_s": round(wall, 3), "seed": cfg.seed,
               "final_return": curve[-1]["return"] if curve else None, "checkpoint": "checkpoint.pt",
               "stopped_early": stop.requested, "resumed_at": resumed_at}
-    (run_dir / "summary.json").write_text(json.dumps(result, indent=2) + "\n")
+    write_json(run_dir / "summary.json", result)
     return result
 

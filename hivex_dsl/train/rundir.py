@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
+from typing import Any, Callable
 
 from .config import TrainError
 
@@ -12,7 +13,8 @@ from .config import TrainError
 # TensorBoard event files are recognised by the names the run gives them (step_<N>.pt, events.out.tfevents.*);
 # a user's own files beside them (checkpoints/best.pt, tb/other.tfevents) are not the run's.
 RUN_FILES = ("checkpoint.pt", "checkpoint.pt.partial", "checkpoints/step_*.pt", "checkpoints/step_*.pt.partial",
-             "config.json", "curve.json", "summary.json", "evaluation.json", "tb/events.out.tfevents.*")
+             "config.json", "curve.json", "summary.json", "evaluation.json", "*.json.partial",
+             "tb/events.out.tfevents.*")
 # the run's JSON files, by the top-level shape and key that say a run wrote them (a user's config.json is not)
 RUN_JSON = {"config.json": (dict, "hyperparameters"), "summary.json": (dict, "agent_steps"),
             "evaluation.json": (dict, "split"), "curve.json": (list, None)}
@@ -90,3 +92,16 @@ def claim(run_dir: Path, resume: bool, overwrite: bool) -> None:
         if found and (run_dir / folder).is_dir() and not any((run_dir / folder).iterdir()):
             (run_dir / folder).rmdir()
     run_dir.mkdir(parents=True, exist_ok=True)
+
+
+def write_atomically(path: Path, write: Callable[[Path], None]) -> None:
+    """``write(partial)`` a file beside ``path``, then rename it over ``path``: a run killed mid-write leaves
+    the old file or the new one, never half of one (a stale ``.partial`` is removed by the next claim)."""
+    partial = Path(path).with_name(Path(path).name + ".partial")
+    write(partial)
+    partial.replace(path)
+
+
+def write_json(path: Path, data: Any, indent: int = 2) -> None:
+    """``data`` as indented JSON at ``path``, atomically (:func:`write_atomically`)."""
+    write_atomically(path, lambda partial: partial.write_text(json.dumps(data, indent=indent) + "\n"))

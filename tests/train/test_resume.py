@@ -175,3 +175,71 @@ def test_keys_added_since_read_as_what_they_meant_then_where_they_change_the_pol
     assert older_defaults({"weight_init": "ml_agents"}, hybrid)["weight_init"] == "ml_agents"
     assert older_defaults({"policy_loss": "ml_agents"}, hybrid)["policy_loss"] == "ml_agents"  # written, kept
     assert older_defaults({"curiosity_strength": 0.1}, spaces.Discrete(3))["curiosity_module"] == "hivex_v1"
+
+
+@pytest.fixture
+def interrupted(monkeypatch):
+    """Every run that `hivex train` starts gets Ctrl-C after its first update."""
+    from hivex_dsl.train import ppo
+
+    real = ppo.train
+    monkeypatch.setattr(ppo, "train", lambda *a, **kw: real(*a, **kw, on_update=stop_after_first_update))
+
+
+def test_an_interrupted_command_exits_130_and_says_how_to_go_on(interrupted, tmp_path, capsys):
+    scenario = tmp_path / "wrm.yaml"
+    scenario.write_text(json.dumps(short_scenario("wildfire_resource_management", episode_length=8)))
+    sets = [arg for key, value in (TINY | ONE_MINIBATCH).items() for arg in ("--set", f"{key}={value}")]
+    assert main(["train", str(scenario), "-o", str(tmp_path / "run"), "--no-progress", *sets]) == 130
+    out, err = capsys.readouterr()
+    assert json.loads(out)["stopped_early"] is True
+    assert err == (f"hivex: interrupted: the run stopped after its update and kept its checkpoint; add --resume to "
+                   f"the same command to go on in {tmp_path / 'run'}\n")
+
+
+def test_ctrl_c_stops_a_grid_with_its_point(interrupted, wrm, tiny, tmp_path):
+    points = [wrm, compile(short_scenario("wildfire_resource_management", episode_length=9))]
+    results = run_grid(points, [make_config(p.environment, tiny) for p in points], tmp_path, progress=False)
+    assert [r["stopped_early"] for r in results] == [True]  # the second point never started
+    assert len(list(tmp_path.glob("0*"))) == 1
+    assert json.loads((tmp_path / "results.json").read_text()) == results
+
+
+def test_the_run_s_json_files_are_written_atomically(wrm, tiny, tmp_path, monkeypatch):
+    """A run killed while it writes curve.json leaves the earlier curve.json whole (it was written in place)."""
+    from pathlib import Path
+
+    cfg = make_config(wrm.environment, tiny)
+    train(wrm, cfg, tmp_path, progress=False, on_update=stop_after_first_update)
+    before = (tmp_path / "curve.json").read_text()
+    write_text = Path.write_text
+
+    def killed_halfway(path, text, *args, **kwargs):
+        if ".json" in path.name:
+            write_text(path, text[: len(text) // 2], *args, **kwargs)
+            raise KeyboardInterrupt
+        return write_text(path, text, *args, **kwargs)
+
+    monkeypatch.setattr(Path, "write_text", killed_halfway)
+    with pytest.raises(KeyboardInterrupt):
+        train(wrm, cfg, tmp_path, progress=False, resume=True)
+    monkeypatch.undo()
+    assert (tmp_path / "curve.json").read_text() == before and json.loads((tmp_path / "config.json").read_text())
+    train(wrm, cfg, tmp_path, progress=False, resume=True)  # the next claim clears the half-written .partial
+    assert not list(tmp_path.glob("*.partial"))
+
+
+def test_a_second_ctrl_c_ends_the_command_at_once_without_a_traceback(monkeypatch, tmp_path, capsys):
+    from hivex_dsl.train import ppo
+
+    def twice(*_):
+        os.kill(os.getpid(), signal.SIGINT)  # the first asks the run to stop after this update
+        os.kill(os.getpid(), signal.SIGINT)  # the second kills it
+
+    real = ppo.train
+    monkeypatch.setattr(ppo, "train", lambda *a, **kw: real(*a, **kw, on_update=twice))
+    scenario = tmp_path / "wrm.yaml"
+    scenario.write_text(json.dumps(short_scenario("wildfire_resource_management", episode_length=8)))
+    sets = [arg for key, value in (TINY | ONE_MINIBATCH).items() for arg in ("--set", f"{key}={value}")]
+    assert main(["train", str(scenario), "-o", str(tmp_path / "run"), "--no-progress", *sets]) == 130
+    assert capsys.readouterr().err == "hivex: interrupted\n"
