@@ -186,6 +186,11 @@ class Checker:
             unit = _same_unit(name, token, *args)
             ufunc, rule = (np.minimum, intervals.minimum) if name == "min" else (np.maximum, intervals.maximum)
             if name == "clip":
+                low, high = args[1].interval, args[2].interval
+                if low[0] > high[1]:  # lo above hi everywhere: the result would be hi whatever x is
+                    raise ExpressionError(f"clip's lower bound ({_bounds(low)}) is above its upper bound "
+                                          f"({_bounds(high)}): write clip(x, lo, hi) with lo <= hi",
+                                          node.offset, node.length)
                 interval = intervals.minimum(intervals.maximum(a.interval, args[1].interval), args[2].interval)
                 return Typed("number", per, unit, interval, plan.clip(*ops))
             return Typed("number", per, unit, rule(a.interval, args[1].interval), plan.apply2(ufunc, *ops))
@@ -342,3 +347,9 @@ def _refusing(token: Token, rule):
         return rule()
     except Refused as error:
         raise ExpressionError(str(error), token.offset, len(token.text)) from None
+
+
+def _bounds(interval: Interval) -> str:
+    """``(1.0, 1.0)`` -> ``1``; ``(0.0, 2.5)`` -> ``0 to 2.5``."""
+    low, high = interval
+    return f"{low:g}" if low == high else f"{low:g} to {high:g}"

@@ -20,6 +20,8 @@ CASES = [
     ("sqrt + 1", "'sqrt' is a function; call it as sqrt(x)", "sqrt"),
     ("clip(water, 0)", "clip(x, lo, hi) takes 3 arguments, got 2", "clip(water, 0)"),
     ("abs()", "abs(x) takes 1 argument, got 0", "abs()"),
+    ("clip(water, 1, -1)", "clip's lower bound (1) is above its upper bound (-1): write clip(x, lo, hi) with lo <= hi",
+     "clip(water, 1, -1)"),
     # syntax
     ("(water + 1", "unclosed '('", "("),
     ("water +", "expected a number, a name or '(', got end of expression", ""),
