@@ -23,6 +23,7 @@ from .errors import Location, Problem, ScenarioError, did_you_mean, got, kind_of
 from .blame import MISSING as _MISSING, culprit, get as _get
 from .loader import Loaded, PathKey, load_file
 from .resources import resolve_scenario_path
+from .reward.composer import return_bound_problem
 from .reward.expressions import event_names, with_expressions
 from .spec.common import SCHEMA_VERSION, StrictModel
 from .spec.expressions import WeightSchedule
@@ -387,4 +388,9 @@ def _semantic_problems(compiled: CompiledScenario, swept: list[PathKey] = ()) ->
                                 "the test split must hold seeds never used in training"))
     for check in compiled.entry.checks:
         problems.extend((path, f"{dotted(path)}: {message}") for path, message in check(compiled))
+    too_large = return_bound_problem(compiled.term_contracts, compiled.weights, compiled.schedules,
+                                     compiled.episode_length)
+    if too_large:
+        term, why = too_large
+        problems.append((("weights", term), f"weights.{term}: {why}"))
     return problems

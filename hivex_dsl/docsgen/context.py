@@ -9,6 +9,7 @@ from typing import Any
 
 from .. import compiler, loader, registry
 from ..resources import bundled_scenarios
+from ..reward.composer import RETURN_LIMIT
 from ..spec import scenario as scenario_spec
 from ..spec.catalogue import CATALOGUE
 from ..spec.common import MAX_SEED, MAX_WEIGHT, SCHEMA_VERSION
@@ -191,6 +192,8 @@ def language_context() -> dict[str, Any]:
         ("Largest seed", num(MAX_SEED), "spec.common.MAX_SEED"),
         ("Largest episode length", num(scenario_spec.MAX_EPISODE_LENGTH), "spec.scenario.MAX_EPISODE_LENGTH"),
         ("Largest weight magnitude", num(MAX_WEIGHT), "spec.common.MAX_WEIGHT"),
+        ("Largest episode return one agent's weighted terms may reach (proven from their ranges)",
+         f"{RETURN_LIMIT:g}", "reward.composer.RETURN_LIMIT"),
     ]
     return {
         "environments": envs, "schema_version": SCHEMA_VERSION, "schema_file": SCHEMA_FILE,

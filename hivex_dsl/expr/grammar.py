@@ -87,7 +87,8 @@ RULES: tuple[str, ...] = (
     "A team_* reduction needs a per-agent argument and gives a per-world value.",
     "Booleans are not numbers: turn a condition into a number with where(cond, 1, 0).",
     "Every expression's range is inferred from the vocabulary's ranges; an operation that could "
-    "divide by zero, take the log or square root of a negative, or overflow (beyond 1e300) is refused.",
+    "divide by zero, take the log or square root of a negative, or overflow (beyond 1e300) is refused, "
+    "and so is a scenario whose weighted terms' ranges allow an agent's episode return beyond 1e15.",
     "Operations run exactly as written, left to right, with no reassociation.",
     "Both branches of where are computed: guard a divisor with max(x, small), not with where.",
     "Ranges treat every occurrence of a quantity as independent: x * x may be negative for a "

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from typing import Any, Mapping
 
 import numpy as np
@@ -72,3 +73,37 @@ class RewardComposer:
 def _operand(weight: float):
     """A weight as a 0-d float64 operand, or None for 1.0 (the term's value is used as it is)."""
     return None if weight == 1.0 else constant(weight)
+
+
+# The largest |episode return| of one agent a scenario may be able to reach. Training holds returns in float32
+# (max 3.4e38) and squares their errors in the value loss, so a return must stay far below sqrt(3.4e38) = 1.8e19;
+# the bundled scenarios reach at most 5e11.
+RETURN_LIMIT = 1e15
+
+
+def term_reaches(contract: Any, weights: Mapping[str, float], schedules: Mapping[str, Any]) -> float:
+    """The largest |weight x value| a term can add to one agent's reward in a step: its contract's range times
+    its weight, or the larger end of its weight's schedule (a schedule moves linearly between its ends)."""
+    name = contract.name
+    weight = abs(weights.get(name, 0.0))
+    if name in schedules:
+        weight = max(weight, abs(schedules[name].start), abs(schedules[name].end))
+    return weight * max(abs(contract.low), abs(contract.high)) if weight else 0.0
+
+
+def return_bound_problem(contracts: Any, weights: Mapping[str, float], schedules: Mapping[str, Any],
+                         episode_length: int) -> tuple[str, str] | None:
+    """(the term to blame, why) when the terms' contracts and weights allow an agent's episode return beyond
+    :data:`RETURN_LIMIT` (a bound proven from the ranges, so a reward that passes is finite in float32); the
+    term blamed is the one that can add the most. None when the bound holds."""
+    reaches = {contract.name: term_reaches(contract, weights, schedules) for contract in contracts}
+    step = sum(reaches.values())
+    if step * episode_length <= RETURN_LIMIT:
+        return None
+    worst = max(reaches, key=reaches.get)
+    episode = step * episode_length
+    return worst, (f"the reward can reach {step:.3g} a step and "
+                   f"{'more than 1.8e+308' if math.isinf(episode) else f'{episode:.3g}'} over an episode of "
+                   f"{episode_length} steps, past the {RETURN_LIMIT:g} an agent's return may reach (training holds "
+                   f"returns in float32 and squares them); {worst!r} alone adds up to {reaches[worst]:.3g} a step: "
+                   "lower its weight or clip its value")

@@ -36,9 +36,11 @@ def test_random_rollouts_stay_inside_the_declared_ranges(env_id):
     extra, steps = ROLLOUTS[env_id]
     quantities, pairs = recorded(env_id, extra, steps)
     seen = {name: [np.inf, -np.inf] for name in quantities}
-    for now, _ in pairs:
+    for now, before in pairs:
         assert set(now) == set(quantities)
         assert input_problems(quantities, now) == []  # dtype, shape and range, as the compiler's guarantees need
+        # before: the reset state's values on a world's first step (prev() reads them), which `now` never shows
+        assert input_problems(quantities, before) == []
         for name, q in quantities.items():
             if q.kind == "number":
                 seen[name] = [min(seen[name][0], now[name].min()), max(seen[name][1], now[name].max())]

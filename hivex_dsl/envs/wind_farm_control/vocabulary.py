@@ -11,6 +11,7 @@ import math
 
 import numpy as np
 
+from ...procgen.wind import wrap_angle
 from ...reward.vocabulary import Vocabulary, quantity
 from .simulator import alignment, angle_between, wind_force
 
@@ -47,7 +48,8 @@ READERS = {
     "y_m": lambda s, e, c: s.positions[..., 1],
     "heading_rad": lambda s, e, c: s.heading,
     "wind_direction_rad": lambda s, e, c: s.local_wind,
-    "main_wind_direction_rad": lambda s, e, c: s.wind.main,
+    # the wind model draws a reset's main direction in [0, 2 pi) and wraps it from the first step on
+    "main_wind_direction_rad": lambda s, e, c: wrap_angle(s.wind.main),
     "wind_angle_deg": lambda s, e, c: np.degrees(angle_between(s.heading, s.local_wind)),
     "alignment": lambda s, e, c: alignment(s.heading, s.local_wind),
     "wind_force": lambda s, e, c: wind_force(alignment(s.heading, s.local_wind), c.params.alignment_threshold),
