@@ -13,6 +13,7 @@ from __future__ import annotations
 import copy
 import dataclasses
 import json
+import re
 from types import MappingProxyType
 from typing import Any
 
@@ -72,9 +73,21 @@ def _sweep_point(loaded: Loaded, scenario: dict) -> dict[str, Any]:
             _fail(loaded, ("sweep_point", key), f"sweep_point: '{key}' is not a field of the locked scenario", key=True)
     suffix = f"[{','.join(f'{k}={v}' for k, v in point.items())}]"
     name = scenario.get("name")
+    if not point and _named_for_a_point(scenario):
+        _fail(loaded, ("sweep_point",), f"sweep_point: {{}} but the scenario's name {show(name)} ends with a sweep "
+                                        f"point; {_EDITED}")
     if point and not (isinstance(name, str) and name.endswith(suffix) and name != suffix):
         _fail(loaded, ("scenario", "name"), f"name: {show(name)} does not end with its sweep point '{suffix}'; {_EDITED}")
     return dict(point)
+
+
+def _named_for_a_point(scenario: dict) -> bool:
+    """Whether the name ends with ``[field=value,...]`` over fields the scenario sets, as a sweep point's does."""
+    match = re.search(r"\[([^\[\]]+)\]$", str(scenario.get("name", "")))
+    if not match:
+        return False
+    pairs = [item.partition("=") for item in match.group(1).split(",")]
+    return all(sep and _get(scenario, tuple(key.split("."))) is not _MISSING for key, sep, _ in pairs)
 
 
 def _check_point_values(loaded: Loaded, scenario: dict, compiled: CompiledScenario) -> None:

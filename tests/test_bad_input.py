@@ -227,6 +227,15 @@ def test_a_lock_keeps_its_sweep_point_and_an_edited_one_is_refused(tmp_path, swe
     assert problem.location.line == text.split("\n").index('    "task": 0') + 1
 
 
+def test_an_emptied_sweep_point_is_refused(tmp_path, sweep_lock):
+    lock = json.loads(json.dumps(sweep_lock[1]))
+    lock["sweep_point"] = {}
+    text, [problem] = _problems_of_lock(tmp_path, lock)
+    assert problem.message.startswith("sweep_point: {} but the scenario's name 'wfc-paper[pattern=1,task=1]' "
+                                      "ends with a sweep point")
+    assert problem.location.line == _line_of(text, "sweep_point")
+
+
 def test_a_sweep_inserted_into_a_lock_is_refused(tmp_path, sweep_lock):
     lock = json.loads(json.dumps(sweep_lock[1]))
     lock["scenario"]["sweep"] = {"agents": [1, 2]}
