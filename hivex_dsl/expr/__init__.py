@@ -17,6 +17,7 @@ inputs inside their quantities' ranges, and every value lies in ``[low, high]``.
 
 from __future__ import annotations
 
+import functools
 import keyword
 import math
 import re
@@ -39,6 +40,7 @@ Per = Literal["agent", "world"]
 Kind = Literal["number", "bool"]
 _IDENTIFIER = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 _MEAN_AGENTS = 1024  # the agent count team_mean's rounding allowance assumes when none is given
+_CACHED_EXPRESSIONS = 4096  # compiled expressions (and their syntax trees) remembered; a few MB at most
 
 
 @dataclass(frozen=True)
@@ -128,8 +130,18 @@ def compile_expression(source: str, vocabulary: Mapping[str, Quantity], *, want:
     for name, quantity in vocabulary.items():
         if name != quantity.name:
             raise ValueError(f"vocabulary key {name!r} holds quantity {quantity.name!r}")
+    return _compiled(source, tuple(vocabulary.values()), want, per, agents)
+
+
+@functools.lru_cache(maxsize=_CACHED_EXPRESSIONS)
+def _compiled(source: str, quantities: tuple[Quantity, ...], want: Kind, per: Per | None,
+              agents: int | None) -> Expression:
+    """:func:`compile_expression` of checked arguments, remembered: a sweep compiles the same expressions over
+    the same vocabulary at every point (an Expression is immutable and its plan keeps no state, so points
+    share it). Errors are not remembered: they propagate from each call."""
+    vocabulary = {q.name: q for q in quantities}
     checker = Checker(vocabulary, agents, agents or _MEAN_AGENTS)
-    typed = checker.check(parse(source))
+    typed = checker.check(_parsed(source))
     whole = (0, len(source))
     if typed.kind != want:
         wanted, found = ("a number", "a boolean") if want == "number" else ("a boolean (e.g. a comparison)", "a number")
@@ -146,6 +158,13 @@ def compile_expression(source: str, vocabulary: Mapping[str, Quantity], *, want:
     assert math.isfinite(low) and math.isfinite(high)
     return Expression(source, typed.kind, typed.per, unit, low, high, frozenset(checker.reads),
                       frozenset(checker.reads_prev), plan.result(typed.op), (dict(vocabulary), want, per, agents))
+
+
+@functools.lru_cache(maxsize=_CACHED_EXPRESSIONS)
+def _parsed(source: str):
+    """The syntax tree of ``source`` (frozen nodes), remembered: a sweep whose points change the vocabulary's
+    ranges checks the same text again, and parsing is half the cost of compiling."""
+    return parse(source)
 
 
 def _recompile(source, vocabulary, want, per, agents) -> Expression:
