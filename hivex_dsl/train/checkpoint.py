@@ -1,18 +1,68 @@
-"""Checkpoints: the network's weights with everything needed to rebuild it and replay its scenario."""
+"""Checkpoints: the network's weights with everything needed to rebuild it and replay its scenario.
+
+A checkpoint is read back through one validation step (:func:`load_checkpoint`): its layout (every field
+present with its type, :class:`Layout`), its checksums, its weights finite, its scenario and hyperparameters
+valid. Whatever is wrong with a file is one :class:`TrainError` sentence naming it, never a traceback."""
 
 from __future__ import annotations
 
+import hashlib
 from pathlib import Path
-from typing import Any
+from typing import Any, Iterator, Mapping
 
 import torch
+from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from ..compiler import CompiledScenario, compile
+from ..errors import ScenarioError, got
+from ..spec.validate import describe
 from .config import PPOConfig, TrainError
 from .devices import torch_device
 from .networks import ActionLayout, ActorCritic
+from .rundir import write_atomically
 
 FORMAT = "hivex-ppo/1"
+# the sections a SHA-256 checksum guards, and what a mismatch means
+CHECKSUMMED = {"model": "its weights do not match their checksum",
+               "training": "its training state (optimizers, curiosity module, curve) does not match its checksum"}
+
+
+class LayoutPart(BaseModel):
+    """A part of a checkpoint's layout: strictly typed, and blind to keys it does not read."""
+
+    model_config = ConfigDict(strict=True, arbitrary_types_allowed=True, allow_inf_nan=False, extra="ignore")
+
+
+class OptimizerState(LayoutPart):
+    """``torch.optim.Optimizer.state_dict()``."""
+
+    state: dict[int, dict[str, torch.Tensor]]
+    param_groups: list[dict[str, Any]]
+
+
+class TrainingState(LayoutPart):
+    """What a run goes on from (``--resume``): the optimizers, the curiosity module and the curve so far."""
+
+    optimizer: OptimizerState
+    curiosity: dict[str, torch.Tensor] | None = None
+    curiosity_optimizer: OptimizerState | None = None
+    curve: list[dict[str, float]]
+    resumed_at: list[int] = []
+
+
+class Layout(LayoutPart):
+    """A checkpoint file's fields and their types (``wall_s``, ``training`` and ``checksums`` came later or
+    are optional: a file without them is a checkpoint of an older version, or of weights only)."""
+
+    format: str
+    model: dict[str, torch.Tensor]
+    config: dict[str, Any]
+    scenario: dict[str, Any]
+    fingerprint: str
+    agent_steps: int = Field(ge=0)
+    wall_s: float | None = Field(None, ge=0)
+    training: TrainingState | None = None
+    checksums: dict[str, str] | None = None
 
 
 def save_checkpoint(path: Path, agent: ActorCritic, cfg: PPOConfig, compiled: CompiledScenario,
@@ -20,6 +70,7 @@ def save_checkpoint(path: Path, agent: ActorCritic, cfg: PPOConfig, compiled: Co
     """Write one checkpoint (weights, hyperparameters, the resolved scenario and its fingerprint, and the
     training's agent-steps and wall seconds when it was taken). ``training`` (optimizer states, the curiosity
     module, the learning curve so far) makes it resumable: the run directory's ``checkpoint.pt`` carries it.
+    The weights and the training state each carry a SHA-256 checksum (:func:`checksum`), checked on load.
 
     The file is written beside and then renamed over ``path``, so a run killed mid-write leaves the previous
     checkpoint whole."""
@@ -29,9 +80,8 @@ def save_checkpoint(path: Path, agent: ActorCritic, cfg: PPOConfig, compiled: Co
             "agent_steps": int(agent_steps), "wall_s": None if wall_s is None else round(float(wall_s), 3)}
     if training is not None:
         data["training"] = training
-    partial = path.with_name(path.name + ".partial")
-    torch.save(data, partial)
-    partial.replace(path)
+    data["checksums"] = {section: checksum(data[section]) for section in CHECKSUMMED if section in data}
+    write_atomically(path, lambda partial: torch.save(data, partial))
     return path
 
 
@@ -44,15 +94,57 @@ def save_numbered_checkpoint(run_dir: Path, agent: ActorCritic, cfg: PPOConfig, 
         old.unlink()
 
 
+def checksum(section: Any) -> str:
+    """The SHA-256 hex digest of a checkpoint's section: every tensor's dtype, shape and bytes and every plain
+    value, each with its place, in sorted key order (so it does not depend on how the mapping was built)."""
+    digest = hashlib.sha256()
+    for place, leaf in _leaves(section, ()):
+        digest.update(repr(place).encode())
+        digest.update(_leaf_bytes(leaf))
+    return digest.hexdigest()
+
+
+def _leaves(tree: Any, place: tuple) -> Iterator[tuple[tuple, Any]]:
+    """(place, value) of every tensor and plain value in nested mappings and sequences, keys sorted."""
+    if isinstance(tree, Mapping):
+        for key in sorted(tree, key=repr):
+            yield from _leaves(tree[key], place + (key,))
+    elif isinstance(tree, (list, tuple)):
+        for index, item in enumerate(tree):
+            yield from _leaves(item, place + (index,))
+    else:
+        yield place, tree
+
+
+def _leaf_bytes(leaf: Any) -> bytes:
+    """A tensor's dtype, shape and raw bytes; a plain value's repr."""
+    if not isinstance(leaf, torch.Tensor):
+        return repr(leaf).encode()
+    flat = leaf.detach().cpu().contiguous().reshape(-1)
+    return f"{flat.dtype}{tuple(leaf.shape)}".encode() + flat.view(torch.uint8).numpy().tobytes()
+
+
 def load_checkpoint(path: str | Path) -> dict[str, Any]:
-    """The checkpoint's content, with ``config`` as a PPOConfig and ``compiled`` the scenario it trained on."""
+    """The checkpoint's content, with ``config`` as a PPOConfig, ``compiled`` the scenario it trained on and
+    ``path`` where it was read; a file that is not a whole, valid checkpoint is a :class:`TrainError`."""
+    data = _read(Path(path))
+    _check_layout(path, data)
+    _check_checksums(path, data)
+    _check_finite(path, data["model"])
+    data["compiled"] = _compiled(path, data["scenario"])
+    data["config"] = _hyperparameters(path, data["config"], data["compiled"])
+    data["path"] = Path(path)
+    return data
+
+
+def _read(path: Path) -> dict[str, Any]:
+    """What ``torch.load`` reads (tensors and plain data only), which says it is of this :data:`FORMAT`."""
     try:
-        data = torch.load(Path(path), map_location="cpu", weights_only=True)
+        data = torch.load(path, map_location="cpu", weights_only=True)
     except FileNotFoundError:
         raise TrainError(f"no checkpoint at {path}") from None
     except IsADirectoryError:
-        raise TrainError(f"{path} is a directory: give the checkpoint file in it "
-                         f"({Path(path) / 'checkpoint.pt'})") from None
+        raise TrainError(f"{path} is a directory: give the checkpoint file in it ({path / 'checkpoint.pt'})") from None
     except Exception:  # torch raises many kinds for a file that is not a checkpoint
         # not torch's own advice (load with weights_only=False), which would run whatever code the file holds
         raise TrainError(f"{path} is not a hivex checkpoint: torch.load(weights_only=True) cannot read it, and a "
@@ -62,9 +154,84 @@ def load_checkpoint(path: str | Path) -> dict[str, Any]:
         also = (f" (it says format {written!r}: written by another version of hivex?)"
                 if isinstance(written, str) else "")
         raise TrainError(f"{path} is not a hivex checkpoint of format {FORMAT!r}{also}")
-    data["compiled"] = compile(data["scenario"])
-    data["config"] = PPOConfig(**older_defaults(data["config"], action_space_of(data["compiled"])))
     return data
+
+
+def _check_layout(path: str | Path, data: dict[str, Any]) -> None:
+    """Every field :class:`Layout` names is there with its type, or a TrainError says which is not."""
+    try:
+        Layout.model_validate(data)
+    except ValidationError as exc:
+        problems = "; ".join(dict.fromkeys(_layout_problem(err) for err in exc.errors(include_url=False)))
+        raise TrainError(_one_line(f"{path} is not a valid hivex checkpoint: {problems}")) from None
+
+
+# what a value of each pydantic error kind should have been
+EXPECTED_KIND = {"dict_type": "a mapping", "model_type": "a mapping", "int_type": "an integer",
+                 "float_type": "a number", "string_type": "a string", "list_type": "a list",
+                 "is_instance_of": "a tensor", "finite_number": "a finite number"}
+
+
+def _layout_problem(err: dict[str, Any]) -> str:
+    """One pydantic error of :class:`Layout` as a clause: "its 'config' is a list, expected a mapping"."""
+    loc, kind, value = err["loc"], err["type"], err.get("input")
+    if kind == "missing":
+        return f"it has no {_place(loc)}"
+    expected = EXPECTED_KIND.get(kind) or err["msg"].removeprefix("Input should be ")
+    if loc and loc[-1] == "[key]":
+        return f"its {_place(loc[:-2])} has the key {_got(loc[-2])}, expected {expected}"
+    return f"its {_place(loc)} is {_got(value)}, expected {expected}"
+
+
+def _place(loc: tuple) -> str:
+    """``('training', 'curve', 3, 'return')`` -> ``'training.curve.3.return'``."""
+    return repr(".".join(str(part) for part in loc))
+
+
+def _got(value: Any) -> str:
+    """What a value is, in a message: ``'x' (a string)``, ``a list``, ``a tensor``."""
+    return "a tensor" if isinstance(value, torch.Tensor) else got(value)
+
+
+def _one_line(message: str) -> str:
+    """``message`` with every character visible and on one line (keys read from a file may hold anything)."""
+    return "".join(c if c.isprintable() else c.encode("unicode_escape").decode() for c in message)
+
+
+def _check_checksums(path: str | Path, data: dict[str, Any]) -> None:
+    """Each :data:`CHECKSUMMED` section is what was saved (a checkpoint from before checksums has none)."""
+    saved = data.get("checksums")
+    if saved is None:
+        return
+    for section, mismatch in CHECKSUMMED.items():
+        if section in data and saved.get(section) != checksum(data[section]):
+            raise TrainError(f"{path} is corrupt: {mismatch}")
+
+
+def _check_finite(path: str | Path, model: dict[str, torch.Tensor]) -> None:
+    """No weight is NaN or infinite (a policy of such weights acts on NaN probabilities)."""
+    for name, tensor in model.items():
+        if tensor.is_floating_point() and not bool(torch.isfinite(tensor).all()):
+            what = "NaN" if bool(torch.isnan(tensor).any()) else "an infinite value"
+            raise TrainError(_one_line(f"{path} is corrupt: its weight tensor {name!r} holds {what}"))
+
+
+def _compiled(path: str | Path, scenario: dict[str, Any]) -> CompiledScenario:
+    """The scenario the checkpoint trained on, compiled."""
+    try:
+        return compile(scenario)
+    except ScenarioError as exc:
+        problems = "; ".join(problem.message for problem in exc.problems)
+        raise TrainError(_one_line(f"{path} holds a scenario that does not compile: {problems}")) from None
+
+
+def _hyperparameters(path: str | Path, config: dict[str, Any], compiled: CompiledScenario) -> PPOConfig:
+    """The checkpoint's hyperparameters, keys added since it was written read as they meant then."""
+    try:
+        return PPOConfig.model_validate(older_defaults(config, action_space_of(compiled)))
+    except ValidationError as exc:
+        problems = "; ".join(describe(err, err["loc"][:1], PPOConfig)[0] for err in exc.errors(include_url=False))
+        raise TrainError(_one_line(f"{path} holds bad hyperparameters: {problems}")) from None
 
 
 def older_defaults(config: dict[str, Any], action_space: Any) -> dict[str, Any]:
@@ -75,7 +242,8 @@ def older_defaults(config: dict[str, Any], action_space: Any) -> dict[str, Any]:
     dimension from before ``policy_loss`` shared one ``joint`` ratio. (``max_grad_norm`` was always written.)"""
     layout = ActionLayout.of(action_space)
     then: dict[str, Any] = {"weight_init": "cleanrl"}
-    if config.get("curiosity_strength", 0) > 0:
+    strength = config.get("curiosity_strength", 0)
+    if isinstance(strength, (int, float)) and strength > 0:  # not a number: PPOConfig says so
         then["curiosity_module"] = "hivex_v1"
     if layout.continuous:
         then["continuous_actions"] = "clip"
@@ -94,6 +262,12 @@ def action_space_of(compiled: CompiledScenario) -> Any:
 def policy_for(checkpoint: dict[str, Any], compiled: CompiledScenario, device: str = "cpu") -> ActorCritic:
     """The checkpoint's network, to play ``compiled``: another scenario of the environment it trained on (another
     task, level or seeds), never another environment."""
+    agent, _ = _network_of(checkpoint, compiled)
+    return agent.to(torch_device(device)).eval()
+
+
+def _network_of(checkpoint: dict[str, Any], compiled: CompiledScenario) -> tuple[ActorCritic, Any]:
+    """The checkpoint's network for ``compiled``, its weights loaded, and the observation space it was built for."""
     from ..adapters.gymnasium import HivexVectorEnv
 
     trained = checkpoint["compiled"]
@@ -106,10 +280,16 @@ def policy_for(checkpoint: dict[str, Any], compiled: CompiledScenario, device: s
     try:
         agent.load_state_dict(checkpoint["model"])
     except RuntimeError as exc:  # the same environment, so the file's weights were changed after training
-        first = str(exc).splitlines()[0]
-        raise TrainError("the checkpoint's weights do not fit the network its own hyperparameters build: "
-                         f"{first}") from None
-    return agent.to(torch_device(device)).eval()
+        whose = f"{checkpoint['path']}'s" if "path" in checkpoint else "the checkpoint's"
+        raise TrainError(_one_line(f"{whose} weights do not fit the network its own hyperparameters build: "
+                                   f"{_first_lines(exc)}")) from None
+    return agent, env.single_observation_space
+
+
+def _first_lines(exc: Exception) -> str:
+    """The first two lines of torch's message, as one ("Error(s) in loading ...: size mismatch for ...")."""
+    lines = [line.strip() for line in str(exc).splitlines() if line.strip()]
+    return " ".join(lines[:2])
 
 
 # what may change when a run goes on: how long it trains and where and how it runs, not what it learns
@@ -118,11 +298,12 @@ RESUMABLE_CHANGES = frozenset({"max_steps", "device", "torch_threads", "checkpoi
 
 def resume_state(path: Path, compiled: CompiledScenario, cfg: PPOConfig) -> dict[str, Any]:
     """The checkpoint a run goes on from, checked to be resumable with ``compiled`` and ``cfg``: the same
-    scenario (fingerprint) and the same hyperparameters but for :data:`RESUMABLE_CHANGES`."""
+    scenario (fingerprint) and the same hyperparameters but for :data:`RESUMABLE_CHANGES`, and weights and
+    training state that the run's modules take."""
     if not path.is_file():
         raise TrainError(f"cannot resume: no checkpoint at {path} (train without --resume first)")
     data = load_checkpoint(path)
-    if "training" not in data:
+    if data.get("training") is None:
         raise TrainError(f"cannot resume from {path}: it holds weights only, not the optimizer state")
     if data["fingerprint"] != compiled.fingerprint:
         raise TrainError(f"cannot resume from {path}: it trained scenario {data['compiled'].name!r}, which differs "
@@ -133,4 +314,38 @@ def resume_state(path: Path, compiled: CompiledScenario, cfg: PPOConfig) -> dict
         listing = ", ".join(f"{k}: {before[k]!r} -> {now[k]!r}" for k in changed)
         raise TrainError(f"cannot resume from {path}: hyperparameters differ from the run's ({listing}); "
                          f"only {', '.join(sorted(RESUMABLE_CHANGES))} may change")
+    _check_resumable(path, data, compiled)
     return data
+
+
+def _check_resumable(path: Path, data: dict[str, Any], compiled: CompiledScenario) -> None:
+    """The modules a run builds take the checkpoint's weights, optimizer states and curiosity module (a file
+    edited after training may hold states of other shapes)."""
+    from .curiosity import Curiosity
+
+    agent, observations = _network_of(data, compiled)
+    modules: dict[str, Any] = {"optimizer": torch.optim.Adam(agent.parameters())}
+    if data["config"].curiosity_strength > 0:
+        curiosity = Curiosity(observations, agent.layout, data["config"])
+        modules |= {"curiosity": curiosity, "curiosity_optimizer": torch.optim.Adam(curiosity.parameters())}
+    for name, module in modules.items():
+        state = data["training"].get(name)
+        if state is None:
+            raise TrainError(f"cannot resume from {path}: it holds no {name} state, which its hyperparameters train")
+        try:
+            module.load_state_dict(state)
+            if isinstance(module, torch.optim.Optimizer):
+                _check_moments(module)
+        except (RuntimeError, ValueError, KeyError, TypeError, IndexError) as exc:  # torch's kinds for a bad state
+            raise TrainError(_one_line(f"cannot resume from {path}: its {name} state does not fit the run's: "
+                                       f"{_first_lines(exc) or type(exc).__name__}")) from None
+
+
+def _check_moments(optimizer: torch.optim.Optimizer) -> None:
+    """Every per-parameter state tensor (Adam's moments) has its parameter's shape (loading does not check)."""
+    for group in optimizer.param_groups:
+        for parameter in group["params"]:
+            for key, value in optimizer.state.get(parameter, {}).items():
+                if isinstance(value, torch.Tensor) and value.dim() and value.shape != parameter.shape:
+                    raise ValueError(f"{key} of a parameter of shape {tuple(parameter.shape)} has shape "
+                                     f"{tuple(value.shape)}")
