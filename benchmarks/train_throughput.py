@@ -59,7 +59,7 @@ def measure(environment: str, steps: int, overrides: Overrides) -> dict:
     wall = summary["wall_s"]
     return {"environment": environment, "agent_steps": summary["agent_steps"], "wall_s": wall,
             "agent_steps_per_s": round(summary["agent_steps"] / wall, 1), "env_share": round(inside[0] / wall, 3),
-            "num_worlds": cfg.num_worlds, "torch_threads": cfg.torch_threads, "device": cfg.device, "processes": 1,
+            "num_worlds": cfg.num_worlds, "torch_threads": cfg.threads(), "device": cfg.device, "processes": 1,
             "agents": compiled.agents, "buffer_size": cfg.buffer_size, "batch_size": cfg.batch_size,
             "num_epoch": cfg.num_epoch, "machine": machine(cfg.device)}
 

@@ -316,6 +316,7 @@ def train(compiled: CompiledScenario, cfg: PPOConfig, run_dir: Path, progress: b
     the environments start afresh on the train seed, so a resumed run is not bit-identical to one never
     stopped."""
     run_dir = Path(run_dir)
+    cfg = cfg.model_copy(update={"torch_threads": cfg.threads()})  # `auto` written down as the count it ran on
     claim(run_dir, resume, overwrite)
     resumed = resume_state(run_dir / "checkpoint.pt", compiled, cfg) if resume else None
     done_before = resumed["agent_steps"] if resumed else 0
