@@ -9,7 +9,11 @@ The mapping, for every environment:
   becomes one Box(-1, 1, (k + len(n),)): the first k values are the continuous part as they are;
   value k + i in [-1, 1] picks discrete choice ``min(n_i - 1, floor((x + 1) / 2 * n_i))``, i.e.
   splits [-1, 1] into n_i equal bins (for n_i = 2: x < 0 -> 0, x >= 0 -> 1). Discrete and
-  MultiDiscrete actions stay as they are (every library here takes them).
+  MultiDiscrete actions stay as they are (every library here takes them). Flat actions are checked as
+  actions of the flat Box on the unwrapped env's own path (:mod:`hivex_dsl.spaces`) before they are
+  split: a value outside [-1, 1], NaN, a boolean, a wrong shape or a torch tensor that requires grad
+  raises the same :class:`~hivex_dsl.errors.ActionError` as the unwrapped env (SB3 and RLlib clip
+  their actions into the Box first).
 
 :func:`flat_vector_env` wraps the Gymnasium vector env, :class:`FlatParallelEnv` a PettingZoo
 ParallelEnv (before SuperSuit's vector conversion); both keep our infos.
@@ -24,6 +28,8 @@ from gymnasium import spaces
 from gymnasium.vector import VectorActionWrapper, VectorEnv, VectorWrapper
 from gymnasium.vector.utils import batch_space
 from pettingzoo.utils.wrappers import BaseParallelWrapper
+
+from ..spaces import check_slot_actions, stack_agent_actions
 
 
 def is_hybrid(space: spaces.Space) -> bool:
@@ -53,6 +59,17 @@ def flat_action_space(space: spaces.Space) -> spaces.Space:
         return space
     size = space["continuous"].shape[0] + len(space["discrete"].nvec)
     return spaces.Box(-1.0, 1.0, (size,), np.float32)
+
+
+def flat_action_meanings(space: spaces.Space) -> str:
+    """The flat Box's layout for a hybrid space, as the hint of an ActionError: 'values 0-2 continuous, ...'."""
+    k, nvec = space["continuous"].shape[0], space["discrete"].nvec.tolist()
+    return (f"{_positions(0, k)}: the continuous part; {_positions(k, k + len(nvec))}: the discrete part "
+            f"MultiDiscrete({nvec}), [-1, 1] split into equal bins")
+
+
+def _positions(start: int, stop: int) -> str:
+    return f"value {start}" if stop == start + 1 else f"values {start}..{stop - 1}"
 
 
 def unflatten_action(space: spaces.Space, action: Any) -> Any:
@@ -96,14 +113,22 @@ class _FlatObservations(VectorWrapper):
 
 
 class _FlatActions(VectorActionWrapper):
+    """Flat actions (slots, k + m) of a hybrid :class:`~hivex_dsl.adapters.gymnasium.HivexVectorEnv`."""
+
     def __init__(self, env: VectorEnv):
         super().__init__(env)
         self._hybrid_space = env.single_action_space
         self.single_action_space = flat_action_space(self._hybrid_space)
         self.action_space = batch_space(self.single_action_space, self.num_envs)
+        self._shape, self._agent_names = env.unwrapped.core.shape, env.unwrapped.compiled.agent_names
 
     def actions(self, actions: Any) -> Any:
-        return unflatten_action(self._hybrid_space, actions)
+        """(slots, k + m) flat actions -> the hybrid dict of (slots, k) and (slots, m) arrays; checked first,
+        on the vector env's path, as actions of the flat Box (a value outside [-1, 1], NaN, a boolean...
+        raises an ActionError naming the slot's agent and world)."""
+        checked = check_slot_actions(self.single_action_space, actions, self._shape, self._agent_names,
+                                     flat_action_meanings(self._hybrid_space))
+        return unflatten_action(self._hybrid_space, checked.reshape((self.num_envs,) + checked.shape[2:]))
 
 
 def flat_vector_env(env: VectorEnv) -> VectorEnv:
@@ -139,9 +164,18 @@ class FlatParallelEnv(BaseParallelWrapper):
         return self._flat(observations), infos
 
     def step(self, actions: dict):
-        actions = {a: unflatten_action(self._hybrid, x) for a, x in actions.items()}
+        if is_hybrid(self._hybrid) and self.env.agents:  # no live agent: the env says why it cannot step
+            actions = self._unflattened(actions)
         observations, rewards, terminations, truncations, infos = self.env.step(actions)
         for info in infos.values():
             if "terminal_observation" in info:
                 info["terminal_observation"] = flatten_observation(self._dict_obs, info["terminal_observation"])
         return self._flat(observations), rewards, terminations, truncations, infos
+
+    def _unflattened(self, actions: Any) -> dict:
+        """{agent: flat action (k + m,)} -> {agent: hybrid dict action}; checked first, on the parallel env's
+        path, as actions of the flat Box (an ActionError names the agent)."""
+        live = self.env.agents
+        flat = stack_agent_actions(self._act_space, actions, live, flat_action_meanings(self._hybrid))[0]
+        parts = unflatten_action(self._hybrid, flat)
+        return {a: {"continuous": c, "discrete": d} for a, c, d in zip(live, parts["continuous"], parts["discrete"])}

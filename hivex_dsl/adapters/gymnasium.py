@@ -46,10 +46,11 @@ import numpy as np
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
+from ..action_arrays import Unreadable, as_array
 from ..compiler import CompiledScenario
 from ..errors import ActionError, is_integer
 from ..runtime import BatchedEnv, Split, Transition
-from ..spaces import check_actions
+from ..spaces import check_slot_actions
 from .human import Rendering, check_render_mode
 
 _MODES = {"next_step": AutoresetMode.NEXT_STEP, "same_step": AutoresetMode.SAME_STEP}
@@ -69,9 +70,9 @@ def unflatten_slots(tree: Any, shape: tuple[int, int]) -> Any:
     if isinstance(tree, dict):
         return {k: unflatten_slots(v, shape) for k, v in tree.items()}
     try:
-        array = np.asarray(tree)
-    except (ValueError, TypeError):
-        raise ActionError(f"actions are ragged; expected an array of {shape[0] * shape[1]} slots") from None
+        array = as_array(tree)
+    except Unreadable as exc:
+        raise ActionError(f"actions are {exc}; expected an array of {shape[0] * shape[1]} slots") from None
     if array.shape[:1] != (shape[0] * shape[1],):
         raise ActionError(f"actions have leading size {array.shape[:1]}; expected {shape[0] * shape[1]} slots "
                           f"({shape[0]} worlds x {shape[1]} agents)")
@@ -135,8 +136,17 @@ class HivexVectorEnv(Rendering, VectorEnv):
         return flatten_slots(observations, self.num_envs), {}
 
     def step(self, actions: Any):
-        batched = check_actions(self.single_action_space, unflatten_slots(actions, self.core.shape),
-                                self.compiled.agent_names, self.core.sim.action_meanings)
+        """Step every world with (num_envs, ...) actions, slot = world * agents + agent (for a Dict space, a
+        dict of such arrays).
+
+        Actions are checked by :func:`hivex_dsl.spaces.check_slot_actions`, on the parallel env's path:
+        anything that is not an action of the space (NaN, out of range, a fraction for a discrete space,
+        a boolean in an array or a list, a string, None, a wrong shape or slot count, a torch tensor that
+        requires grad) raises :class:`~hivex_dsl.errors.ActionError` naming the space and the culprit
+        slot's agent and world. A tensor without grad on the CPU is read as NumPy reads it.
+        """
+        batched = check_slot_actions(self.single_action_space, actions, self.core.shape, self.compiled.agent_names,
+                                     self.core.sim.action_meanings)
         if self.autoreset_mode is AutoresetMode.SAME_STEP:
             out = self._step_same(batched)
         else:

@@ -10,7 +10,7 @@ from pettingzoo import ParallelEnv
 from ..compiler import CompiledScenario
 from ..errors import ResetNeeded
 from ..runtime import BatchedEnv, Split
-from ..spaces import check_actions, stack_agent_actions
+from ..spaces import stack_agent_actions
 from .human import Rendering, check_render_mode
 
 
@@ -87,16 +87,24 @@ class HivexParallelEnv(Rendering, ParallelEnv):
         return obs, {a: {} for a in self.agents}
 
     def step(self, actions: dict[str, Any]):
+        """Step the world with ``{agent: action}`` for exactly the live agents (``self.agents``).
+
+        Actions go through :func:`hivex_dsl.spaces.stack_agent_actions`, which ends on the vector env's
+        :func:`~hivex_dsl.spaces.check_actions`: anything that is not an action of the space (NaN, out
+        of range, a fraction for a discrete space, a boolean, a string, None, a wrong shape, a torch
+        tensor that requires grad, a missing or extra agent) raises
+        :class:`~hivex_dsl.errors.ActionError` naming the agent and the space. A tensor without grad
+        on the CPU is read as NumPy reads it.
+        """
         if not self.agents:
             if self.core.state is None:
                 raise ResetNeeded("call reset() before step(): the environment has not been reset yet")
             raise ResetNeeded("every agent is done: call reset() before step()")
         live = self.agents
         space = self.core.sim.action_space
-        batched = stack_agent_actions(space, actions, live)
-        full = self._fill_inactive(batched, live)
-        full = check_actions(space, full, self.possible_agents, self.core.sim.action_meanings)
-        result = self.core.step(full)
+        # checked before the placeholders fill the slots of agents that left: filling casts to the space's dtype
+        batched = stack_agent_actions(space, actions, live, self.core.sim.action_meanings)
+        result = self.core.step(self._fill_inactive(batched, live))
         everyone = len(live) == len(self.possible_agents)
         rows = None if everyone else [self._index[a] for a in live]
 
