@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import importlib
 import os
+import sys
 from functools import partial
 
 import pytest
@@ -59,3 +60,21 @@ def test_raw_env_is_the_aec_class(env_id):
     aec = mod.raw_env(max_cycles=5)
     aec.reset(seed=0)
     assert isinstance(aec, mod.raw_env) and aec.unwrapped.possible_agents == aec.possible_agents
+
+
+@pytest.mark.parametrize("env_id", ENV_IDS)
+def test_without_pygame_human_is_not_advertised_and_asking_for_it_says_what_to_install(env_id, monkeypatch):
+    """Every listed render mode works on the install: without the window extra the metadata lists rgb_array
+    alone (it listed "human", which then raised). PettingZoo's render_test builds a "human" env before it reads
+    the metadata, so it needs the window extra whatever the metadata says."""
+    import importlib.util
+
+    real = importlib.util.find_spec
+    monkeypatch.setattr(importlib.util, "find_spec", lambda name, *a: None if name == "pygame" else real(name, *a))
+    monkeypatch.setitem(sys.modules, "pygame", None)  # `import pygame` fails as on an install without it
+    env = module(env_id).parallel_env(max_cycles=CYCLES, render_mode="rgb_array")
+    assert env.metadata["render_modes"] == ["rgb_array"]
+    env.reset(seed=0)
+    assert env.render().ndim == 3
+    with pytest.raises(ImportError, match=r'render_mode="human" needs pygame: pip install "hivex-dsl\[window\]"'):
+        module(env_id).parallel_env(max_cycles=CYCLES, render_mode="human")

@@ -51,7 +51,7 @@ from ..compiler import CompiledScenario
 from ..errors import ActionError, is_integer
 from ..runtime import BatchedEnv, Split, Transition
 from ..spaces import check_slot_actions
-from .human import Rendering, check_render_mode
+from .human import Rendering, available_render_modes, check_render_mode
 
 _MODES = {"next_step": AutoresetMode.NEXT_STEP, "same_step": AutoresetMode.SAME_STEP}
 
@@ -121,7 +121,7 @@ class HivexVectorEnv(Rendering, VectorEnv):
         self.action_space = batch_space(self.single_action_space, self.num_envs)
         self.render_mode = render_mode
         self.autoreset_mode = mode
-        self.metadata = {"autoreset_mode": mode, "render_modes": ["rgb_array", "human"],
+        self.metadata = {"autoreset_mode": mode, "render_modes": available_render_modes(),
                          "render_fps": self.core.sim.render_fps}
         self._pending_worlds = np.zeros(num_worlds, bool)  # NEXT_STEP: worlds that restart on the next step
         self._pending_agents = np.zeros(self.core.shape, bool)  # NEXT_STEP: agents that respawn on the next step

@@ -7,12 +7,20 @@ PettingZoo expect.
 
 from __future__ import annotations
 
+import importlib.util
 import warnings
 from typing import Optional
 
 import numpy as np
 
 RENDER_MODES = (None, "rgb_array", "human")
+
+
+def available_render_modes() -> list[str]:
+    """The render modes this install can give, as ``metadata["render_modes"]`` lists them: "human" only where
+    pygame (the ``window`` extra) imports, so a suite that tries every listed mode (PettingZoo's
+    ``render_test``) does not meet an ImportError for a mode the environment advertised."""
+    return ["rgb_array", "human"] if importlib.util.find_spec("pygame") is not None else ["rgb_array"]
 
 
 def check_render_mode(render_mode: Optional[str]) -> None:

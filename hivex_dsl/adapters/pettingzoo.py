@@ -11,7 +11,7 @@ from ..compiler import CompiledScenario
 from ..errors import ResetNeeded
 from ..runtime import BatchedEnv, Split
 from ..spaces import stack_agent_actions
-from .human import Rendering, check_render_mode
+from .human import Rendering, available_render_modes, check_render_mode
 
 
 def _unbatch(observations: Any, world: int, agent: int) -> Any:
@@ -67,7 +67,7 @@ class HivexParallelEnv(Rendering, ParallelEnv):
         self.respawn = respawn
         self.possible_agents = list(compiled.agent_names)
         self.agents: list[str] = []
-        self.metadata = {"name": f"hivex_{compiled.environment}_v0", "render_modes": ["rgb_array", "human"],
+        self.metadata = {"name": f"hivex_{compiled.environment}_v0", "render_modes": available_render_modes(),
                          "is_parallelizable": True, "render_fps": self.core.sim.render_fps}
         self._index = {name: i for i, name in enumerate(self.possible_agents)}
         self.observation_spaces = {a: self.core.sim.observation_space for a in self.possible_agents}
