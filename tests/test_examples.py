@@ -4,6 +4,7 @@ without them these tests skip). RLlib's example runs in CI's optional RLlib step
 from __future__ import annotations
 
 import importlib.util
+import json
 import math
 from pathlib import Path
 
@@ -45,3 +46,19 @@ def test_rllib_example_is_importable_without_ray_only_when_ray_is_there():
     results = load("rllib_ppo").main(["--scenario", "wind_farm_control/main", "--episode-length", "20",
                                       "--iterations", "1", "--batch-size", "100"])
     assert len(results) == 1
+
+
+def test_first_run_trains_evaluates_and_compares_with_the_paper(tmp_path, capsys):
+    """`make run`'s script, on a tiny budget: a run directory, a curve, and a verdict beside the paper."""
+    pytest.importorskip("torch")
+    result = load("first_run").main(["--steps", "256", "--episodes", "1", "-o", str(tmp_path / "run"),
+                                     "--set", "num_worlds=1", "--set", "buffer_size=128", "--set", "batch_size=64",
+                                     "--set", "hidden_units=8"])
+    out = capsys.readouterr().out
+    assert result["published"]["mean"] == pytest.approx(4611.6462)  # WFC's main task in the paper
+    assert result["scripted"]["mean"] > result["random"]["mean"]  # turbines facing the wind beat random ones
+    assert f"the paper's PPO (published)       4611.6 ± 40.0" in out
+    assert "verdict: below the paper's return" in out  # 256 agent-steps learn nothing yet
+    assert (tmp_path / "run" / "checkpoint.pt").is_file() and json.loads((tmp_path / "run" / "first_run.json").read_text())
+    if importlib.util.find_spec("matplotlib"):
+        assert (tmp_path / "run" / "curve.png").read_bytes()[:4] == b"\x89PNG"

@@ -31,7 +31,12 @@ from .grid import point_dir
 SEED_CHANGES = RESUMABLE_CHANGES | {"seed"}  # what another seed's run may differ in: not what it learns from
 
 
-def _level(compiled, policy: str, episodes: int) -> dict[str, float]:
+LEVEL_POLICIES = ("random", "scripted")  # the trivial and the hand-written policy every record sets beside PPO
+
+
+def level_of(compiled, policy: str, episodes: int) -> dict[str, float]:
+    """The per-agent return (mean, std) of ``policy`` (one of :data:`LEVEL_POLICIES`) on the test seeds'
+    first ``episodes`` episodes, the ones ``evaluate`` plays."""
     returns, _ = collect_returns(compiled, policy, episodes, "test")
     per_agent = returns.reshape(-1)
     return {"mean": float(per_agent.mean()), "std": float(per_agent.std())}
@@ -90,7 +95,7 @@ def record_baseline(run_dir: Path, scenario: str, out_dir: Path, episodes: int =
         "hyperparameters": json.loads((run_dir / "config.json").read_text())["hyperparameters"],
         "test": {k: report[k] for k in ("seed", "episodes", "agent_episodes", "actions", "return", "statistics")},
         "published": report["published"],
-        "random": _level(compiled, "random", episodes), "scripted": _level(compiled, "scripted", episodes),
+        **{policy: level_of(compiled, policy, episodes) for policy in LEVEL_POLICIES},
         "curve": [[point["agent_steps"], point["wall_s"], round(point["return"], 4)] for point in curve],
         "test_curve": test_curve(run_dir, curve_episodes), "test_curve_episodes": curve_episodes,
     }
@@ -169,7 +174,7 @@ def record_grid(grid_dir: Path, sweep: str, out_dir: Path, episodes: int = 10, c
                      "level": point.level, "agent_steps": summary["agent_steps"], "wall_s": summary["wall_s"],
                      "seed": summary["seed"], "resumed_at": summary.get("resumed_at", []),
                      "return": report["return"], "statistics": report["statistics"], "published": report["published"],
-                     "random": _level(point, "random", episodes), "scripted": _level(point, "scripted", episodes)})
+                     **{policy: level_of(point, policy, episodes) for policy in LEVEL_POLICIES}})
     data = {"environment": points[0].environment, "sweep": sweep, "command": command, "note": note,
             "machine": machine(), "hyperparameters": configs[0],
             "test": {"seed": report["seed"], "episodes": episodes, "actions": "sampled"}, "points": rows}

@@ -35,7 +35,7 @@ def learning_curve(data: dict[str, Any], path: Path) -> Path:
     window = max(1, len(returns) // 50)
     if window > 1:  # a few episodes per update make the raw curve noisy: draw it faint under its running mean
         ax.plot(steps, returns, color="tab:blue", alpha=0.2, linewidth=0.8)
-    ax.plot(steps, running_mean(returns, window), color="tab:blue",
+    ax.plot(steps, running_mean(returns, window), color="tab:blue", marker="o" if len(steps) < 20 else None,
             label="PPO (this toolkit), training return" + (f" (mean of {window} updates)" if window > 1 else ""))
     if data.get("test_curve"):
         points = data["test_curve"]
