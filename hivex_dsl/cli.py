@@ -82,8 +82,9 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("file", metavar="FILE")
     p.add_argument("-o", "--output", required=True, metavar="GIF")
     _policy_args(p)
-    p.add_argument("--steps", type=positive, default=600, help="steps to simulate (default 600)")
-    p.add_argument("--every", type=positive, default=5, help="keep one frame every N steps (default 5)")
+    p.add_argument("--steps", type=positive, default=600,
+                   help="decisions to play (default 600; each is decision_period physics steps)")
+    p.add_argument("--every", type=positive, default=5, help="keep one frame every N decisions (default 5)")
     p.add_argument("--fps", type=positive, default=20, help="GIF frames per second (default 20)")
     p.set_defaults(handler=cmd_render)
 
@@ -245,6 +246,10 @@ def cmd_schema(args) -> int:
 def cmd_docs(args) -> int:
     from .docsgen import stale_docs, write_docs
 
+    if args.check and not args.dir.is_dir():
+        print(f"hivex: no {args.dir}/ here to check: run `hivex docs --check` in a checkout of hivex-dsl (docs/ is "
+              "generated there), or give --dir", file=sys.stderr)
+        return EXIT_USAGE
     if args.check:
         stale = stale_docs(args.dir)
         for path in stale:

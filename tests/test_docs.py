@@ -284,3 +284,12 @@ def test_pictures_are_compared_by_pixels_and_referenced(tmp_path, docs):
     pixels[5:40, 5:40] = 0                                   # a real change: stale
     Image.fromarray(pixels).save(target)
     assert stale_docs(tmp_path) == [images[0]]
+
+
+def test_checking_docs_where_there_are_none_says_so(tmp_path, monkeypatch, capsys):
+    """Outside a checkout `hivex docs --check` reported every page stale instead of saying there is no docs/."""
+    from hivex_dsl.cli import main
+
+    monkeypatch.chdir(tmp_path)
+    assert main(["docs", "--check"]) == 2
+    assert capsys.readouterr().err.startswith("hivex: no docs/ here to check: run `hivex docs --check` in a checkout")

@@ -4,6 +4,7 @@ so the rest of the CLI never needs torch)."""
 from __future__ import annotations
 
 import argparse
+import importlib.util
 import json
 import sys
 from pathlib import Path
@@ -16,6 +17,7 @@ if TYPE_CHECKING:
     from .config import PPOConfig
 
 TRAIN_EXTRA = "training needs torch: pip install torch, then pip install 'hivex-dsl[train]'"
+TRAIN_MODULES = ("tensorboard", "tqdm")  # the train extra's packages besides torch
 
 
 def add_commands(sub: argparse._SubParsersAction) -> None:
@@ -23,7 +25,9 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
     p.add_argument("file", metavar="SCENARIO", help="scenario file; a sweep file trains every grid point")
     p.add_argument("-o", "--output", type=Path, default=None, metavar="RUN_DIR",
                    help="run directory (default runs/<scenario name>)")
-    p.add_argument("--steps", type=positive, default=None, help="agent-steps to train (default: the paper's max_steps)")
+    p.add_argument("--steps", type=positive, default=None,
+                   help="agent-steps to train: decisions of every agent, as ML-Agents counts them "
+                        "(default: the paper's max_steps)")
     p.add_argument("--seed", type=seed, default=None, help="seed of the network and the action sampling (default 0)")
     p.add_argument("--device", default=None, help="torch device: cpu, cuda or cuda:N (default cpu)")
     p.add_argument("--config", type=Path, default=None, metavar="YAML",
@@ -56,10 +60,15 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
 
 
 def _require_torch() -> None:
+    """torch and the rest of the ``train`` extra (tensorboard writes the scalars, tqdm the progress bar), or one
+    sentence naming what to install: torch alone gave a ModuleNotFoundError traceback for tensorboard."""
     try:
         import torch  # noqa: F401
     except ImportError:
         raise HivexError(TRAIN_EXTRA) from None
+    missing = [name for name in TRAIN_MODULES if importlib.util.find_spec(name) is None]
+    if missing:
+        raise HivexError(f"training needs {' and '.join(missing)} beside torch: pip install 'hivex-dsl[train]'")
 
 
 def train_config(environment: str, args: argparse.Namespace) -> PPOConfig:
@@ -93,6 +102,7 @@ def cmd_train(args) -> int:
                              args.eval_episodes, progress=not args.no_progress, resume=args.resume,
                              overwrite=args.force)
         print(json.dumps(result, indent=2))
+        _say_if_no_episode_ended(result, points[0], configs[0])
         return _exit_code([result], run_dir)
     from .grid import format_table, run_grid
 
@@ -101,6 +111,17 @@ def cmd_train(args) -> int:
     print(format_table(results))
     print(f"wrote {run_dir / 'results.json'}")
     return _exit_code(results, run_dir)
+
+
+def _say_if_no_episode_ended(result: dict, compiled, cfg: PPOConfig) -> None:
+    """A run too short for any episode to end has no return to show (final_return null, curve.json empty):
+    say so, and how long an episode is, rather than leave a null to puzzle over."""
+    if result["final_return"] is not None or result["stopped_early"]:
+        return
+    slots = cfg.num_worlds * compiled.agents
+    print(f"hivex: no episode ended within {result['agent_steps']:,} agent-steps, so the run has no return yet: an "
+          f"episode of {compiled.name} lasts {compiled.episode_length:,} steps of each of its {slots} slots "
+          f"({compiled.episode_length * slots:,} agent-steps); train longer with --steps", file=sys.stderr)
 
 
 def _exit_code(results: list[dict], run_dir: Path) -> int:

@@ -129,6 +129,28 @@ def test_training_on_cuda_updates_the_policy_and_evaluates_on_the_cpu(tiny, tmp_
         assert report["agent_episodes"] == compiled.agents
 
 
+def test_torch_without_the_rest_of_the_train_extra_is_named(monkeypatch, capsys):
+    import importlib.util
+
+    real = importlib.util.find_spec
+    monkeypatch.setattr(importlib.util, "find_spec", lambda name, *a: None if name == "tensorboard" else real(name, *a))
+    assert main(["train", "scenarios/wind_farm_control/main.yaml"]) == 2
+    assert capsys.readouterr().err == "hivex: training needs tensorboard beside torch: pip install 'hivex-dsl[train]'\n"
+
+
+def test_a_run_too_short_for_an_episode_says_so(tmp_path, capsys):
+    scenario = tmp_path / "wfc.yaml"
+    scenario.write_text(json.dumps(short_scenario("wind_farm_control", episode_length=100)))
+    assert main(["train", str(scenario), "-o", str(tmp_path / "run"), "--no-progress", "--steps", "64",
+                 "--set", "num_worlds=1", "--set", "hidden_units=8", "--set", "buffer_size=64",
+                 "--set", "batch_size=64"]) == 0
+    out, err = capsys.readouterr()
+    assert json.loads(out)["final_return"] is None
+    # 64 agent-steps of 8 turbines in 1 world: 8 of the episode's 100 steps
+    assert err == ("hivex: no episode ended within 64 agent-steps, so the run has no return yet: an episode of "
+                   "wfc-main lasts 100 steps of each of its 8 slots (800 agent-steps); train longer with --steps\n")
+
+
 def test_without_torch_the_commands_say_what_to_install(monkeypatch, capsys):
     import sys
 
