@@ -9,10 +9,12 @@ from typing import Any
 
 from .. import compiler, loader, registry
 from ..resources import bundled_scenarios
+from ..expr import syntax
 from ..reward.composer import RETURN_LIMIT
 from ..spec import scenario as scenario_spec
 from ..spec.catalogue import CATALOGUE
 from ..spec.common import MAX_SEED, MAX_WEIGHT, SCHEMA_VERSION
+from ..spec.expressions import MAX_EXPRESSION_CHARS
 from ..spec.reward_table import RewardTable, TaskColumn
 from .expressions import expression_language_context, vocabulary_context
 from .fields import field_rows, num, show_value, source_tag
@@ -192,6 +194,10 @@ def language_context() -> dict[str, Any]:
         ("Largest seed", num(MAX_SEED), "spec.common.MAX_SEED"),
         ("Largest episode length", num(scenario_spec.MAX_EPISODE_LENGTH), "spec.scenario.MAX_EPISODE_LENGTH"),
         ("Largest weight magnitude", num(MAX_WEIGHT), "spec.common.MAX_WEIGHT"),
+        ("Characters per expression", num(MAX_EXPRESSION_CHARS), "spec.expressions.MAX_EXPRESSION_CHARS"),
+        ("Parentheses, calls and prefix operators open at once in an expression", num(syntax.MAX_NESTING),
+         "expr.syntax.MAX_NESTING"),
+        ("Depth of an expression's tree", num(syntax.MAX_DEPTH), "expr.syntax.MAX_DEPTH"),
         ("Largest episode return one agent's weighted terms may reach (proven from their ranges)",
          f"{RETURN_LIMIT:g}", "reward.composer.RETURN_LIMIT"),
     ]

@@ -24,6 +24,7 @@ _ARITHMETIC = {"+": (np.add, intervals.add), "-": (np.subtract, intervals.subtra
                "*": (np.multiply, intervals.multiply), "/": (np.true_divide, intervals.divide)}
 _REDUCTIONS = {"team_min": np.minimum, "team_max": np.maximum, "team_sum": np.add}
 _BOOL = (0.0, 1.0)
+_BOOLEAN_CONSTANTS = {"true": True, "false": False}
 MAX_EXPONENT = 1024
 _REFINEMENTS = 64
 
@@ -75,6 +76,9 @@ class Checker:
 
     def name(self, node: Name, before: bool) -> Typed:
         quantity = self.vocabulary.get(node.name)
+        if quantity is None and node.name in _BOOLEAN_CONSTANTS:  # the grammar's `true` and `false`
+            value = _BOOLEAN_CONSTANTS[node.name]
+            return Typed("bool", None, None, (float(value), float(value)), plan.const(value))
         if quantity is None:
             if node.name in FUNCTIONS:
                 raise ExpressionError(f"{node.name!r} is a function; call it as {FUNCTIONS[node.name].signature}",
@@ -126,6 +130,10 @@ class Checker:
         base = self.check(node.left, before)
         self.need_number("'**'", base, node.left)
         exponent = written_number(node.right)
+        if isinstance(node.right, Binary) and node.right.op.text == "**":
+            raise ExpressionError("'**' groups to the right, so a ** b ** c is a ** (b ** c), and the exponent of "
+                                  "'**' must be a number written out: write b ** c's value, e.g. 2 ** 3 as 8",
+                                  node.right.offset, node.right.length)
         if exponent is None or _unit_written(node.right):
             raise ExpressionError("the exponent of '**' must be a number written out, e.g. x ** 2",
                                   node.right.offset, node.right.length)

@@ -149,3 +149,13 @@ def test_input_problems_names_each_input_that_voids_the_guarantees(states):
     assert "dropped: shape (2, 3) disagrees with the other quantities" in problems
     assert any(p.startswith("burning: values in [nan") for p in problems)
     assert "extra: not in the vocabulary" in problems
+
+
+def test_true_and_false_are_the_boolean_constants_the_grammar_names(states):
+    """They were 'unknown quantity' though the grammar lists them beside numbers and names."""
+    now, before = states
+    e = compiled("where(water > 0.5, true, false)", want="bool")
+    np.testing.assert_array_equal(e.evaluate(now, before), now["water"] > 0.5)
+    e = compiled("where(false or water > 0.5, 1, 0)")
+    np.testing.assert_array_equal(e.evaluate(now, before), np.where(now["water"] > 0.5, 1.0, 0.0))
+    assert (e.low, e.high) == (0.0, 1.0)

@@ -88,6 +88,8 @@ CASES = [
     ("water ** 2000", "the exponent of '**' is too large (at most 1024 in size)", "2000"),
     ("water ** speed_ms", "the exponent of '**' must be a number written out, e.g. x ** 2", "speed_ms"),
     ("water ** 2{m}", "the exponent of '**' must be a number written out, e.g. x ** 2", "2{m}"),
+    ("water * 2 ** 2 ** 3", "'**' groups to the right, so a ** b ** c is a ** (b ** c), and the exponent of '**' must "
+     "be a number written out: write b ** c's value, e.g. 2 ** 3 as 8", "2 ** 3"),
 ]
 
 
