@@ -18,6 +18,7 @@ THROUGHPUT_TARGETS = {"wind_farm_control": 60_000, "ocean_plastic_collection": 4
                       "drone_based_reforestation": 1_200, "aerial_wildfire_suppression": 3_500}
 GPU_THROUGHPUT_TARGET = 50_000
 THROUGHPUT_FILE = Path("results") / "train_throughput.json"  # beside baselines/, under benchmarks/
+COMPUTE_BOUND_FILE = Path("results") / "compute_bound.json"  # benchmarks/compute_bound.py -o
 GRIDS = "grids"  # benchmarks/baselines/grids/<environment>.json: a trained sweep (train.baselines.record_grid)
 
 
@@ -208,18 +209,30 @@ def throughput_table(path: Path) -> dict[str, Any]:
     from ..train.config import paper_defaults
 
     report = json.loads(path.read_text(encoding="utf-8"))
+    bounds = _compute_bounds(path.parent.parent / COMPUTE_BOUND_FILE)
     tables: dict[str, list[dict[str, Any]]] = {}
     for row in report["rows"]:
         words = row.get("machine", report.get("machine", "an unnamed machine"))
         rate, budget = row["agent_steps_per_s"], paper_defaults(row["environment"])["max_steps"]
         target = _throughput_target(row, words)
+        bound = bounds.get((words, row["environment"], row["torch_threads"])) if row.get("device", "cpu") == "cpu" \
+            and row.get("processes", 1) == 1 else None
         tables.setdefault(words, []).append({
+            "bound": "-" if bound is None else f"{bound:,.0f} ({100 * rate / bound:.0f}%)",
             **row, "device": row.get("device", "cpu"), "processes": row.get("processes", 1),
             "rate": f"{rate:,.0f}", "env_share": f"{100 * row['env_share']:.0f}%",
             "budget": f"{budget / 1e6:g}M in {_duration(budget * row.get('processes', 1) / rate)}",
             "target": "-" if target is None else f"{target:,}",
             "met": "-" if target is None else ("yes" if rate >= target else "no")})
     return {"throughput": [{"machine": words, "rows": rows} for words, rows in tables.items()]}
+
+
+def _compute_bounds(path: Path) -> dict[tuple[str, str, int], float]:
+    """(machine, environment, threads) -> agent-steps/s at the attained FLOP rate (benchmarks/compute_bound.py)."""
+    if not path.is_file():
+        return {}
+    rows = json.loads(path.read_text(encoding="utf-8"))["rows"]
+    return {(row["machine"], row["environment"], row["threads"]): row["compute_bound_agent_steps_per_s"] for row in rows}
 
 
 def _throughput_target(row: dict[str, Any], machine_words: str) -> int | None:
