@@ -20,6 +20,11 @@ return). It raises a :class:`Flag` for what usually means a reward bug:
   in size (a scripted policy may well outdo the paper's PPO).
 
 Notes are findings that are not flags: they are printed and stored but do not fail ``--strict``.
+
+With a ``decision_period`` k the policies act once per decision and a step's values are a decision's, the
+sums of k physics steps: a term's declared range is read as that of such a sum (k times it, or one step's
+where an agent ends early), and an event counts as paid on most steps only where even k physics steps per
+paying decision could not make it the rest (paid on more than k times half the live decisions).
 """
 
 from __future__ import annotations
@@ -211,23 +216,32 @@ def _contracts(audit: ScenarioAudit) -> list[Flag]:
             trace = done.traces[term]
             if trace.live == 0:
                 continue
-            flags += _contract_flags(contract, trace, policy)
+            flags += _contract_flags(contract, trace, policy, audit.compiled.decision_period)
     return flags
 
 
-def _contract_flags(contract, trace, policy: str) -> list[Flag]:
+def decision_range(contract, period: int) -> tuple[float, float]:
+    """The values a term can pay over one decision of ``period`` physics steps: the sum of 1 to ``period`` values
+    of its declared range (an agent may end inside the period)."""
+    return min(contract.low, period * contract.low), max(contract.high, period * contract.high)
+
+
+def _contract_flags(contract, trace, policy: str, period: int = 1) -> list[Flag]:
     term, flags = contract.name, []
+    low, high = decision_range(contract, period)
     if (contract.sign == "bonus" and trace.low < 0) or (contract.sign == "penalty" and trace.high > 0):
         flags.append(Flag("contract_sign", term=term, policy=policy, message=(
             f"{term} is declared a {contract.sign} but paid values in [{trace.low:.4g}, {trace.high:.4g}]")))
-    elif trace.low < contract.low - TOLERANCE or trace.high > contract.high + TOLERANCE:
+    elif trace.low < low - TOLERANCE or trace.high > high + TOLERANCE:
+        allowed = (f"its declared [{low:g}, {high:g}]" if period == 1 else
+                   f"[{low:g}, {high:g}], what its declared [{contract.low:g}, {contract.high:g}] allows over {period} steps")
         flags.append(Flag("contract_range", term=term, policy=policy, message=(
-            f"{term} paid per-step values in [{trace.low:.4g}, {trace.high:.4g}] outside its declared "
-            f"[{contract.low:g}, {contract.high:g}]")))
+            f"{term} paid per-{'step' if period == 1 else 'decision'} values in [{trace.low:.4g}, {trace.high:.4g}] "
+            f"outside {allowed}")))
     if contract.timing == "terminal" and trace.before_end:
         flags.append(Flag("contract_timing", term=term, policy=policy, message=(
             f"{term} is terminal but paid on {trace.before_end} agent-steps that did not end an episode")))
-    if contract.timing == "event" and trace.nonzero > EVENT_MOST_STEPS * trace.live:
+    if contract.timing == "event" and trace.nonzero > EVENT_MOST_STEPS * trace.live * period:
         flags.append(Flag("contract_timing", term=term, policy=policy, message=(
             f"{term} is an event but paid on {trace.nonzero / trace.live:.0%} of the agent-steps")))
     return flags

@@ -85,6 +85,16 @@ class CompiledScenario:
         return self.spec.episode_length
 
     @property
+    def decision_period(self) -> int:
+        """Physics steps per decision (ML-Agents' DecisionPeriod): one ``step`` of an env runs this many."""
+        return self.spec.decision_period
+
+    @property
+    def episode_decisions(self) -> int:
+        """Decisions (policy steps) in an episode that runs to its length: episode_length / decision_period."""
+        return self.spec.episode_length // self.spec.decision_period
+
+    @property
     def seeds(self) -> Seeds:
         return self.spec.seeds
 
@@ -102,8 +112,10 @@ class CompiledScenario:
                                "task": self.task_name}
         if self.entry.info.level_field:
             out[self.entry.info.level_field] = self.level
-        out |= {"agents": self.agents, "episode_length": self.episode_length,
-                "seeds": {"train": _plain(self.seeds.train), "test": _plain(self.seeds.test)},
+        out |= {"agents": self.agents, "episode_length": self.episode_length}
+        if self.decision_period != 1:  # written only when set, so scenarios, locks and fingerprints of before stay
+            out["decision_period"] = self.decision_period
+        out |= {"seeds": {"train": _plain(self.seeds.train), "test": _plain(self.seeds.test)},
                 "weights": {name: self.schedules[name].as_dict() if name in self.schedules else weight
                             for name, weight in self.weights.items()},
                 "params": self.params.model_dump(mode="json")}
@@ -386,6 +398,12 @@ def _semantic_problems(compiled: CompiledScenario, swept: list[PathKey] = ()) ->
         where = ("seeds", split) if isinstance(seeds, int) else ("seeds", split, min(seeds.index(s) for s in shared))
         problems.append((where, f"seeds: train and test share {one_of(shared[:5])}; "
                                 "the test split must hold seeds never used in training"))
+    period, length = compiled.decision_period, compiled.episode_length
+    if length % period:
+        fits = " or ".join(map(str, sorted({max(period, length - length % period), length - length % period + period})))
+        problems.append((("decision_period",), f"decision_period: episode_length {length} is not a multiple of "
+                         f"decision_period {period}: an episode ends on a decision; write episode_length {fits}, "
+                         "or a decision_period that divides it"))
     for check in compiled.entry.checks:
         problems.extend((path, f"{dotted(path)}: {message}") for path, message in check(compiled))
     too_large = return_bound_problem(compiled.term_contracts, compiled.weights, compiled.schedules,

@@ -40,6 +40,9 @@ def describe_compiled(compiled: CompiledScenario) -> str:
     rows += [
         ("agents", f"{compiled.agents} ({names[0]} .. {names[-1]})" if len(names) > 1 else f"1 ({names[0]})"),
         ("episode_length", str(compiled.episode_length)),
+        *([("decision_period", f"{compiled.decision_period} physics steps per decision "
+                               f"({compiled.episode_decisions} decisions per episode)")]
+          if compiled.decision_period != 1 else []),
         ("seeds", _seeds(compiled)),
         ("ends on", ", ".join(compiled.ends_on) or "episode length only"),
         ("observation", describe_space(sim.observation_space)),

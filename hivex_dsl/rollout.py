@@ -43,7 +43,8 @@ class TermTrace:
 
 @dataclass
 class Rollout:
-    """``episodes`` whole episodes of one policy: every array is (episodes, agents)."""
+    """``episodes`` whole episodes of one policy: every array is (episodes, agents); ``lengths`` in physics steps,
+    traces per decision (see :meth:`hivex_dsl.runtime.BatchedEnv.step`)."""
 
     compiled: CompiledScenario
     policy: str  # the policy's name ('scripted', 'random', 'zeros', or a callable's __name__)
@@ -65,7 +66,8 @@ def rollout(compiled: CompiledScenario, policy: str | Policy, episodes: int, spl
     Every policy given the same split and ``seed`` plays the same episodes, so their returns compare.
 
     ``seed`` (optional) restarts the split's seed stream and seeds the random policy (0 otherwise);
-    ``progress`` (a :class:`hivex_dsl.report.Progress`) is told of steps and episodes.
+    ``progress`` (a :class:`hivex_dsl.report.Progress`) is told of steps and episodes. The policy acts once per
+    decision (every ``decision_period`` physics steps); its steps are decisions.
     """
     core = BatchedEnv(compiled, batch=1, split=split)
     space = core.sim.action_space
@@ -90,7 +92,7 @@ def rollout(compiled: CompiledScenario, policy: str | Policy, episodes: int, spl
                 tracer.add(result.terms[name][0], live, result.ended[0], step == 0)
             step += 1
             if progress:
-                progress.step(episode, step, compiled.episode_length)
+                progress.step(episode, step, compiled.episode_decisions)
         returns[episode], lengths[episode] = core.returns[0], core.lengths[0]
         for name in terms:
             terms[name][episode] = core.term_sums[name][0]

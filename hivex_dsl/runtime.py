@@ -2,7 +2,9 @@
 
 The simulator moves the world; this module adds what every environment shares: the reward
 composer, episode clocks and truncation, task endings declared as events in the reward table,
-per-agent episode sums of every active term and of the environment's logged statistics, and the seed schedule of the train/test split.
+per-agent episode sums of every active term and of the environment's logged statistics, the seed schedule of
+the train/test split, and the decision period (ML-Agents' DecisionRequester: one ``step`` is one decision of
+``decision_period`` physics steps, see :meth:`BatchedEnv.step`).
 """
 
 from __future__ import annotations
@@ -13,9 +15,10 @@ import numpy as np
 from gymnasium import spaces
 
 from .compiler import CompiledScenario
-from .errors import ResetNeeded, is_integer
+from .errors import ResetNeeded
 from .numeric import all_true, constant
 from .reward.composer import RewardComposer
+from .seeding import SeedSchedule
 from .spaces import hold_inactive, placeholder_actions
 from .statistics import StatisticSet, episode_statistics
 
@@ -60,51 +63,10 @@ class Simulator(Protocol):
     # last step that the adapters put in infos under "env" (e.g. WRM's impossible resource moves).
 
 
-_UNSEEDED_STREAMS: dict[int, int] = {}  # scenario seed -> unseeded streams started from it in this process
-
-
-def copy_stream(seed: int) -> np.random.Generator:
-    """The stream of the next unseeded copy of a scenario whose integer seed is ``seed``.
-
-    The first copy in a process plays the scenario's own stream; copy k (k >= 1) a child stream
-    ``SeedSequence(seed, spawn_key=(k,))``. So copies (SuperSuit's concatenation, several adapters
-    of one scenario) are different worlds unless seeded, and a program is still reproducible.
-    """
-    k = _UNSEEDED_STREAMS.get(seed, 0)
-    _UNSEEDED_STREAMS[seed] = k + 1
-    return np.random.default_rng(seed if k == 0 else np.random.SeedSequence(seed, spawn_key=(k,)))
-
-
-class SeedSchedule:
-    """Seeds of one split: an integer seeds a stream that episodes continue; a list seeds each episode.
-
-    ``distinct_copies`` (the adapters): an integer stream started without a user's seed is the
-    scenario's own for the first such copy in the process and a child of it for later ones
-    (:func:`copy_stream`); without it (``hivex run``, the report) always the scenario's own.
-    """
-
-    def __init__(self, seeds: int | tuple[int, ...], distinct_copies: bool = False):
-        self.seeds = seeds
-        self.episode = 0
-        self.rng: Optional[np.random.Generator] = None
-        self.distinct_copies = distinct_copies
-
-    def next_rng(self, explicit: Optional[int]) -> np.random.Generator:
-        """The generator for the next reset; ``explicit`` (a user's seed) restarts the stream."""
-        if explicit is not None:
-            if not is_integer(explicit) or explicit < 0:
-                raise ValueError(f"seed must be a non-negative integer or None, got {explicit!r}")
-            self.rng = np.random.default_rng(explicit)
-        elif isinstance(self.seeds, tuple):
-            self.rng = np.random.default_rng(self.seeds[self.episode % len(self.seeds)])
-        elif self.rng is None:
-            self.rng = copy_stream(self.seeds) if self.distinct_copies else np.random.default_rng(self.seeds)
-        self.episode += 1
-        return self.rng
-
-
 class Transition(NamedTuple):
-    """One batched step. Arrays are (batch, agents); ``ended`` marks agents whose episode ended now.
+    """One batched decision (``decision_period`` physics steps). Arrays are (batch, agents); ``ended`` marks
+    agents whose episode ended in it. Rewards and term values are the decision's sums over its physics steps,
+    the endings what happened in any of them; ``env_info`` is the simulator's facts after the last one.
 
     A named tuple for the same reason as :class:`StepOutcome`.
     """
@@ -129,6 +91,11 @@ class BatchedEnv:
     once, and is reported in ``Transition.world_terminated``. Consumers that respawn agents (the vector
     env, ``parallel_env(respawn=True)``) restart a world only at :meth:`world_endings`: never because
     its agents' own endings happen to coincide.
+
+    Clocks: ``clock`` (batch,) and ``lengths`` (batch, agents) count physics steps (``episode_length`` is in
+    physics steps, as ML-Agents' MaxStep), ``decisions`` (batch, agents) counts each agent's decisions in its
+    episode (the same array as ``lengths`` when ``decision_period`` is 1). ``env_steps``, the expression feed
+    (``prev()`` is the value one physics step before) and the statistics counters tick per physics step.
     """
 
     def __init__(self, compiled: CompiledScenario, batch: int = 1, split: Split = "train",
@@ -158,6 +125,8 @@ class BatchedEnv:
         self._counters = tuple((s.name, s.counter) for s in self.statistics.counters)
         self.counter_sums = {name: np.zeros(shape) for name, _ in self._counters}
         self.lengths = np.zeros(shape, np.int64)
+        self.period = compiled.decision_period
+        self.decisions = self.lengths if self.period == 1 else np.zeros(shape, np.int64)
         self.everyone_playing = False  # == bool(self.alive.all()), kept so a step needs no reduction for it
         self.oldest_clock = 0  # == int(self.clock.max()): a step knows without a reduction whether a world truncates
         self._step_info = getattr(self.sim, "step_info", None)
@@ -238,6 +207,8 @@ class BatchedEnv:
         self.alive[mask] = True
         self.returns[mask] = 0.0
         self.lengths[mask] = 0
+        if self.decisions is not self.lengths:
+            self.decisions[mask] = 0
         for sums in self.term_sums.values():
             sums[mask] = 0.0
         for sums in self.counter_sums.values():
@@ -250,16 +221,44 @@ class BatchedEnv:
 
     def step(self, actions: Any, restart: Optional[np.ndarray] = None, respawn: Optional[np.ndarray] = None,
              ) -> Transition:
-        """Advance every world one step with already validated (batch, agents, ...) actions.
+        """Advance every world one decision with already validated (batch, agents, ...) actions.
+
+        A decision is ``decision_period`` physics steps with the same actions held (ML-Agents' DecisionRequester
+        with TakeActionsBetweenDecisions): rewards and term values are summed over them, an agent ending at
+        one of them plays a placeholder and earns nothing for the rest, and the endings are those of any of
+        them. Observations are taken once, after the last (observing costs as much as a step with a camera).
 
         ``restart`` (batch,) bool, if given, starts new episodes in those worlds right after the
-        step (continuing the random stream), so the returned observations are their first ones;
+        decision (continuing the random stream), so the returned observations are their first ones;
         observing once after the restart spares a second observation of every world, which for
         camera environments costs as much as the step. Their transition values (rewards, ended,
-        ...) are the step's, for the caller to discard. ``respawn`` (batch, agents) bool, if given,
-        respawns those agents (:meth:`respawn_agents`) after the step, before any restart.
+        ...) are the decision's, for the caller to discard. ``respawn`` (batch, agents) bool, if given,
+        respawns those agents (:meth:`respawn_agents`) after the decision, before any restart.
         """
         self._require_reset()
+        if self.period > 1:
+            self.decisions += self.alive  # an agent ending inside the period ends on this decision
+        summed = self._physics_step(actions)
+        if self.period > 1:  # a term may hand out an array of the state, which the next physics step may change
+            summed = (summed[0], {name: np.array(value) for name, value in summed[1].items()}) + summed[2:]
+        for _ in range(1, self.period):
+            summed = _summed(summed, self._physics_step(actions))
+        rewards, terms, terminated, truncated, ended, world_terminated = summed
+        env_info = self._step_info(self.state) if self._step_info is not None else {}
+        if respawn is not None:
+            self.respawn_agents(respawn)
+        if restart is not None and np.count_nonzero(restart):
+            self.state = self.sim.reset_where(self.state, restart, self.rng)
+            self._clear(restart)
+            if self.feed is not None:
+                self.feed.start(self.state, restart)
+        return Transition(self.sim.observe(self.state), rewards, terminated, truncated, terms, ended, env_info,
+                          world_terminated)
+
+    def _physics_step(self, actions: Any) -> tuple:
+        """One physics step of every world: -> (rewards, terms, terminated, truncated, ended, world_terminated),
+        (batch, agents) arrays, ``terms`` a dict of them, and world_terminated (batch,). Agents out of their
+        episode play the placeholder and earn nothing."""
         live, everyone = self.alive, self.everyone_playing
         if not everyone:  # an agent whose episode ended does nothing until its world resets
             actions = hold_inactive(actions, live, self.placeholder)
@@ -281,17 +280,7 @@ class BatchedEnv:
         for name, value in terms.items():
             self.term_sums[name] += value
         self._count(prev, actions, live, everyone)
-        terminated, truncated, ended, world_terminated = self._endings(live, outcome)
-        env_info = self._step_info(self.state) if self._step_info is not None else {}
-        if respawn is not None:
-            self.respawn_agents(respawn)
-        if restart is not None and np.count_nonzero(restart):
-            self.state = self.sim.reset_where(self.state, restart, self.rng)
-            self._clear(restart)
-            if self.feed is not None:
-                self.feed.start(self.state, restart)
-        return Transition(self.sim.observe(self.state), rewards, terminated, truncated, terms, ended, env_info,
-                          world_terminated)
+        return (rewards, terms) + self._endings(live, outcome)
 
     def _count(self, prev: Any, actions: Any, live: np.ndarray, everyone: bool) -> None:
         """Add this step's value of every counter statistic to its episode sums (ended agents add nothing)."""
@@ -350,10 +339,12 @@ class BatchedEnv:
         return terminated, truncated, ended, world
 
     def episode_summary(self, world: int, agent: int) -> dict[str, Any]:
-        """Return, length, per-term sums and statistics of one agent's current (or just ended) episode."""
+        """Return, length (physics steps), decisions, per-term sums and statistics of one agent's current (or
+        just ended) episode."""
         return {
             "return": float(self.returns[world, agent]),
             "length": int(self.lengths[world, agent]),
+            "decisions": int(self.decisions[world, agent]),
             "reward_terms": {name: float(s[world, agent]) for name, s in self.term_sums.items()},
             "statistics": {name: float(s[world, agent]) for name, s in self.statistic_sums().items()},
         }
@@ -361,3 +352,11 @@ class BatchedEnv:
     def render(self, world: int = 0) -> np.ndarray:
         self._require_reset()
         return self.sim.render(self.state, world)
+
+
+def _summed(first: tuple, then: tuple) -> tuple:
+    """Two consecutive physics steps of a decision as one (see :meth:`BatchedEnv._physics_step`): rewards and
+    term values added (in step order, so a decision's sum is the left-to-right sum of its steps'), endings OR-ed."""
+    rewards, terms, terminated, truncated, ended, world = first
+    return (rewards + then[0], {name: value + then[1][name] for name, value in terms.items()},
+            terminated | then[2], truncated | then[3], ended | then[4], world | then[5])

@@ -95,7 +95,7 @@ def test_infos_carry_reward_terms_and_episode_sums_at_the_end():
     assert all(truncs.values()) and not any(terms.values())
     assert env.agents == []
     for a in env.possible_agents:
-        assert infos[a]["hivex_episode"] == {"return": pytest.approx(total[a]), "length": 5,
+        assert infos[a]["hivex_episode"] == {"return": pytest.approx(total[a]), "length": 5, "decisions": 5,
                                        "reward_terms": {"avoid_damage": pytest.approx(total[a])},
                                        "statistics": {"Individual Performance": 0.0,
                                                       "Avoid Damage Reward": pytest.approx(total[a])}}

@@ -31,7 +31,7 @@ follows the parallel env episode after episode as long as no agent's own episode
 then lets the agent leave, the vector env respawns it).
 
 ``infos["hivex_episode"]`` (mask ``infos["_hivex_episode"]``) holds each ended slot's return,
-length and per-term sums, never colliding with the wrappers' ``episode`` key; there is no
+length (physics steps), decisions (step() calls) and per-term sums, never colliding with the wrappers' ``episode`` key; there is no
 ``infos["active"]``: every slot is always live. Observations are fresh writable arrays every
 step. A reset without a seed follows the scenario's seed (the first copy of a scenario in a
 process plays its stream, later copies child streams of it: copies are different worlds unless
@@ -208,7 +208,8 @@ class HivexVectorEnv(Rendering, VectorEnv):
         if ended.any():
             infos["hivex_episode"] = {
                 "return": np.where(ended, core.returns, 0.0).reshape(-1),
-                "length": np.where(ended, core.lengths, 0).reshape(-1),
+                "length": np.where(ended, core.lengths, 0).reshape(-1),  # physics steps
+                "decisions": np.where(ended, core.decisions, 0).reshape(-1),  # step() calls, as RecordEpisodeStatistics
                 "reward_terms": {k: np.where(ended, s, 0.0).reshape(-1) for k, s in core.term_sums.items()},
                 "statistics": {k: np.where(ended, s, 0.0).reshape(-1) for k, s in core.statistic_sums().items()},
             }

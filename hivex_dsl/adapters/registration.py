@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import Any, Optional
 
 from ..compiler import CompiledScenario, compile
+from ..errors import is_integer
 from ..loader import load_file
 from ..resources import data_dir, resolve_scenario_path
 from ..spec.catalogue import CATALOGUE
@@ -34,23 +35,23 @@ def make_scenario(environment: Optional[str], scenario: Any = None, task: Option
     """A compiled scenario: ``scenario`` (a bundled scenario's name such as ``"main"`` -- the
     default --, ``"<env>/<name>"``, a path, a dict or a CompiledScenario) with ``task``, ``level``
     (the environment's level field: ``pattern`` or ``terrain_level``), ``max_cycles`` (the episode
-    length) and other top-level ``fields`` put over it. ``environment`` may be None when the
+    length in ``step()`` calls, each a decision: ``episode_length`` is ``max_cycles x decision_period``)
+    and other top-level ``fields`` put over it. ``environment`` may be None when the
     scenario names it."""
     overrides = dict(fields)
     if task is not None:
         overrides["task"] = task
-    if max_cycles is not None:
-        overrides["episode_length"] = max_cycles
     if isinstance(scenario, CompiledScenario):
-        if overrides or level is not None:
-            raise ValueError(f"a compiled scenario cannot take {sorted(overrides)}: change its source instead")
+        if overrides or level is not None or max_cycles is not None:
+            taken = sorted(overrides) + ["max_cycles"] * (max_cycles is not None) + ["level"] * (level is not None)
+            raise ValueError(f"a compiled scenario cannot take {taken}: change its source instead")
         return scenario
     if environment is not None and (scenario is None or (isinstance(scenario, str) and "/" not in scenario
                                                          and not scenario.endswith(".yaml"))):
         scenario = f"{environment}/{scenario or 'main'}"
     if isinstance(scenario, dict):
         data = dict(scenario)
-    elif overrides or level is not None:
+    elif overrides or level is not None or max_cycles is not None:
         data = load_file(resolve_scenario_path(str(scenario))).data
     else:
         return compile(scenario)
@@ -63,6 +64,10 @@ def make_scenario(environment: Optional[str], scenario: Any = None, task: Option
         if level_field is None:
             raise ValueError(f"{environment} has no difficulty levels; leave level out")
         overrides[level_field] = level
+    if max_cycles is not None:  # PettingZoo's cycles are step() calls: decisions of decision_period physics steps
+        period = overrides.get("decision_period", data.get("decision_period", 1))
+        overrides["episode_length"] = max_cycles * period if is_integer(max_cycles) and is_integer(period) \
+            else max_cycles
     return compile({**data, **overrides})
 
 

@@ -79,7 +79,8 @@ class WeightSchedule(StrictModel):
     """A weight that moves from ``from`` to ``to`` over ``over_steps`` environment steps.
 
     linear: from + (to - from) * min(1, steps / over_steps); step: from until over_steps, then to.
-    ``steps`` is the environment-step clock of the env (see BatchedEnv.env_steps).
+    ``steps`` is the environment-step clock of the env (see BatchedEnv.env_steps): physics steps of all worlds
+    together, k per world and decision with a scenario's ``decision_period`` k.
     """
 
     start: float = Field(alias="from", ge=-MAX_WEIGHT, le=MAX_WEIGHT, description="The weight at step 0.")

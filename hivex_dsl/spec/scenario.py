@@ -20,9 +20,17 @@ from .expressions import WEIGHT_SCHEMA, EndsOn, ShapingSpec, TermsMapping, Weigh
 MAX_SEEDS_PER_SPLIT = 10_000
 TERRAIN_LEVELS = (1, 10)
 MAX_EPISODE_LENGTH = 1_000_000
+MAX_DECISION_PERIOD = 100
+DECISION_PERIOD_DESCRIPTION = (
+    "Physics steps per decision, as ML-Agents' DecisionRequester's DecisionPeriod: the policy acts on every "
+    "k-th step, its action is held in between, the rewards and term values of the k steps are summed into the "
+    "decision's, and an agent whose episode ends inside the period ends on that decision. episode_length stays "
+    "in physics steps and must be a multiple of it (an episode holds episode_length / decision_period "
+    "decisions); every step budget of training (max_steps, --steps, checkpoints, curves) counts decisions. "
+    "prev(), delta(), weight schedules and statistics tick per physics step.")
 
 # Fields a sweep may range over; "params.<name>", "weights.<term>" and "seeds.<split>" too.
-SWEEPABLE_FIELDS = ("task", "pattern", "terrain_level", "agents", "episode_length")
+SWEEPABLE_FIELDS = ("task", "pattern", "terrain_level", "agents", "episode_length", "decision_period")
 SWEEPABLE_PREFIXES = ("params", "weights", "seeds")
 
 
@@ -178,7 +186,9 @@ def scenario_model(vocab: ScenarioVocabulary) -> type[StrictModel]:
         "agents": (int, Field(info.default_agents, ge=info.min_agents, le=info.max_agents,
                               description=f"Number of {info.agent_name}s.")),
         "episode_length": (int, Field(info.default_episode_length, ge=1, le=MAX_EPISODE_LENGTH,
-                                      description="Steps before an episode is truncated.")),
+                                      description="Physics steps before an episode is truncated "
+                                                  "(ML-Agents' MaxStep).")),
+        "decision_period": (int, Field(1, ge=1, le=MAX_DECISION_PERIOD, description=DECISION_PERIOD_DESCRIPTION)),
         "seeds": (Seeds, Field(default_factory=Seeds, description="Seeds of the train and test splits.")),
         "weights": (weights, Field(default_factory=weights,
                     description="Overrides of single cells of the task's reward column.")),

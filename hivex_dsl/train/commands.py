@@ -118,10 +118,11 @@ def _say_if_no_episode_ended(result: dict, compiled, cfg: PPOConfig) -> None:
     say so, and how long an episode is, rather than leave a null to puzzle over."""
     if result["final_return"] is not None or result["stopped_early"]:
         return
-    slots = cfg.num_worlds * compiled.agents
+    slots, decisions = cfg.num_worlds * compiled.agents, compiled.episode_decisions
     print(f"hivex: no episode ended within {result['agent_steps']:,} agent-steps, so the run has no return yet: an "
-          f"episode of {compiled.name} lasts {compiled.episode_length:,} steps of each of its {slots} slots "
-          f"({compiled.episode_length * slots:,} agent-steps); train longer with --steps", file=sys.stderr)
+          f"episode of {compiled.name} lasts {decisions:,} {'steps' if compiled.decision_period == 1 else 'decisions'} "
+          f"of each of its {slots} slots ({decisions * slots:,} agent-steps); train longer with --steps",
+          file=sys.stderr)
 
 
 def _exit_code(results: list[dict], run_dir: Path) -> int:

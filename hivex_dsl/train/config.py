@@ -5,7 +5,8 @@ The paper trained with ML-Agents; its appendix lists one trainer config per envi
 How each maps onto the PPO of ``ppo.py`` (parameter-shared over every (world, agent) slot):
 
 - ``max_steps``: agent-steps (experiences over all agents), as ML-Agents counts them; every slot-step
-  counts, the masked reset steps after an ending included.
+  counts, the masked reset steps after an ending included. A step is a decision: with a scenario's
+  ``decision_period`` k it spans k physics steps, and so do ``checkpoint_every`` and the curves.
 - ``buffer_size``: experiences collected over all slots before an update. A rollout is
   ``buffer_size // slots`` steps of every slot (slots = ``num_worlds * agents``), at most ``time_horizon``.
 - ``time_horizon``: ML-Agents cuts trajectories there and bootstraps from the value; our rollouts are

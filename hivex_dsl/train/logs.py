@@ -13,13 +13,16 @@ EPISODE_KEYS = (("hivex_episode", "_hivex_episode"), ("episode", "_episode"))
 def episode_summaries(infos: dict[str, Any]) -> dict[str, Any] | None:
     """The vector env's per-agent summaries of episodes that ended this step, restricted to those slots:
     ``{"return": (n,), "length": (n,), "reward_terms": {name: (n,)}, "statistics": {name: (n,)}}``.
-    Reads ``hivex_episode`` (the new name) or ``episode`` (the old one)."""
+    Reads ``hivex_episode`` (the new name) or ``episode`` (the old one). ``length`` counts decisions, as
+    ML-Agents' episode length does: a summary's ``decisions``, or its ``length`` where it has none (a summary
+    of before decision periods, whose steps were all decisions)."""
     for key, mask_key in EPISODE_KEYS:
         if key in infos:
             summary = infos[key]
+            length = np.asarray(summary["decisions"] if "decisions" in summary else summary["length"])
             # a slot restarting on the very step its world ends reports an empty episode: no experience
-            ended = np.asarray(infos[mask_key], dtype=bool) & (np.asarray(summary["length"]) > 0)
-            return {"return": np.asarray(summary["return"])[ended], "length": np.asarray(summary["length"])[ended],
+            ended = np.asarray(infos[mask_key], dtype=bool) & (length > 0)
+            return {"return": np.asarray(summary["return"])[ended], "length": length[ended],
                     "reward_terms": {k: np.asarray(v)[ended] for k, v in summary.get("reward_terms", {}).items()},
                     "statistics": {k: np.asarray(v)[ended] for k, v in summary.get("statistics", {}).items()}}
     return None
