@@ -332,7 +332,10 @@ class BatchedEnv:
                 return terminated, truncated, terminated.copy(), world
             ended = terminated.copy()
         else:
-            truncated = live & ~terminated & (self.clock >= self.compiled.episode_length)[:, None]
+            # the clock's end truncates every agent still playing, one that also terminated on this step too:
+            # terminated decides its bootstrap, and "all truncated" (RLlib's, TorchRL's, SuperSuit's test of a
+            # world's end) holds, which a crash on the last step would otherwise hide from them
+            truncated = live & (self.clock >= self.compiled.episode_length)[:, None]
             ended = terminated | truncated
         self.alive = live & ~ended
         self.everyone_playing = all_true(self.alive)

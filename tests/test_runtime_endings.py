@@ -51,7 +51,7 @@ def test_endings_follow_the_rules_step_by_step(restepped, batch, length, chance,
         lengths += alive
         terminated = result.terminated
         assert not (terminated & ~alive).any(), "only playing agents terminate"
-        expected_truncated = alive & ~terminated & (clock >= length)[:, None]
+        expected_truncated = alive & (clock >= length)[:, None]  # a terminated agent too, at the clock's end
         np.testing.assert_array_equal(result.truncated, expected_truncated)
         np.testing.assert_array_equal(result.ended, terminated | expected_truncated)
         alive = alive & ~result.ended
@@ -85,3 +85,44 @@ def test_terminations_are_those_the_simulator_reports_for_playing_agents(restepp
         result = env.step(np.zeros((2, 3), np.int64))
         np.testing.assert_array_equal(result.terminated, reported[-1] & alive)
         alive &= ~result.ended
+
+
+def crash_on_the_last_step(length: int):
+    """A WFC step after which turbine 0 terminates on step ``length`` of its episode (the clock's end)."""
+    steps = [0]
+
+    def step(sim, state, actions, rng):
+        new, outcome = sim.step(state, actions, rng)
+        steps[0] += 1
+        crashed = np.zeros(outcome.terminated.shape, bool)
+        crashed[:, 0] = steps[0] % length == 0
+        return new, StepOutcome(crashed, {})
+
+    return step
+
+
+def test_an_agent_that_terminates_on_the_last_step_is_truncated_too_so_every_library_sees_the_world_end(restepped):
+    """The RLlib crash: a plane crashing on the world's last step came back terminated and its teammates
+    truncated, so neither RLlib's "all terminated" nor its "all truncated" held and it stepped a finished
+    world. Now every agent is truncated at the clock's end; the crashed one is terminated too."""
+    from hivex_dsl.adapters.pettingzoo import HivexParallelEnv
+
+    length = 4
+    compiled = hivex_dsl.compile({"hivex": 1, "environment": "wind_farm_control", "agents": 3, "episode_length": length})
+    env = HivexParallelEnv(restepped(compiled, crash_on_the_last_step(length)))
+    env.reset(seed=0)
+    for _ in range(length):
+        _, _, terminations, truncations, _ = env.step({agent: 0 for agent in env.agents})
+    assert terminations == {"turbine_0": True, "turbine_1": False, "turbine_2": False}
+    assert all(truncations.values()) and not env.agents  # RLlib's __all__: all(truncations.values())
+    try:
+        from ray.rllib.env.wrappers.pettingzoo_env import ParallelPettingZooEnv
+    except ImportError:  # the rllib extra (its own CI step)
+        return
+    from hivex_dsl.adapters.flat import FlatParallelEnv
+
+    rllib = ParallelPettingZooEnv(FlatParallelEnv(HivexParallelEnv(restepped(compiled, crash_on_the_last_step(length)))))
+    rllib.reset(seed=0)
+    for _ in range(length):
+        _, _, terminateds, truncateds, _ = rllib.step({agent: 0 for agent in rllib.par_env.agents})
+    assert truncateds["__all__"]
