@@ -85,7 +85,15 @@ def unflatten_action(space: spaces.Space, action: Any) -> Any:
             "discrete": np.minimum(bins, nvec - 1)}
 
 
-class _FlatObservations(VectorWrapper):
+class KeepsAutoresetMode:
+    """``autoreset_mode`` of the wrapped env, which TorchRL's GymWrapper reads from the env it is given."""
+
+    @property
+    def autoreset_mode(self):
+        return self.env.unwrapped.autoreset_mode
+
+
+class _FlatObservations(KeepsAutoresetMode, VectorWrapper):
     """Not a VectorObservationWrapper: that refuses SAME_STEP, whose ``final_obs`` this one flattens too."""
 
     def __init__(self, env: VectorEnv):
@@ -112,7 +120,7 @@ class _FlatObservations(VectorWrapper):
         return obs, rewards, terminated, truncated, infos
 
 
-class _FlatActions(VectorActionWrapper):
+class _FlatActions(KeepsAutoresetMode, VectorActionWrapper):
     """Flat actions (slots, k + m) of a hybrid :class:`~hivex_dsl.adapters.gymnasium.HivexVectorEnv`."""
 
     def __init__(self, env: VectorEnv):

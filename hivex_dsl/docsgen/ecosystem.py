@@ -5,7 +5,7 @@ from __future__ import annotations
 import inspect
 
 from .. import registry
-from ..adapters import flat, gymnasium as vector_adapter, pettingzoo as parallel_adapter, sb3_doc
+from ..adapters import flat, joint, gymnasium as vector_adapter, pettingzoo as parallel_adapter, sb3_doc
 from ..adapters.registration import bundled_scenarios, camel
 
 
@@ -19,4 +19,5 @@ def ecosystem_context() -> dict:
             "vector_doc": inspect.getdoc(vector_adapter),
             "parallel_doc": inspect.getdoc(parallel_adapter.HivexParallelEnv),
             "flat_doc": inspect.getdoc(flat),
+            "joint_doc": inspect.getdoc(joint),
             "sb3_doc": sb3_doc()}

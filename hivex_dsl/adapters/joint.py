@@ -1,0 +1,87 @@
+"""Joint-Discrete views of the MultiDiscrete environments, for libraries whose models take one Discrete action
+(BenchMARL's and TorchRL's categorical heads, many MARL codebases).
+
+The mapping: MultiDiscrete(nvec) becomes Discrete(prod(nvec)); joint action ``j`` is the branches' choices
+``(a_0, ..., a_{n-1})`` read as the digits of ``j`` in the mixed radix ``nvec``, the first branch most
+significant (``numpy.unravel_index(j, nvec)``): Wildfire Resource Management's four ternary branches give 81
+joint actions (``j = 27 a_0 + 9 a_1 + 3 a_2 + a_3``), Ocean Plastic Collection's (2, 3) six (``j = 3 a_0 + a_1``).
+Observations, rewards, endings and infos are the wrapped env's. A joint action is checked as an action of the
+Discrete space on the unwrapped env's own path (:mod:`hivex_dsl.spaces`), so a bad one raises the same
+:class:`~hivex_dsl.errors.ActionError` naming the agent (or slot) and the space.
+
+:func:`joint_vector_env` wraps the Gymnasium vector env, :class:`JointDiscreteParallelEnv` a PettingZoo
+ParallelEnv. The environments with Discrete or hybrid actions have nothing to join (the flat views of
+:mod:`.flat` serve the hybrid ones): both refuse them with a ValueError that says so.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from gymnasium import spaces
+from gymnasium.vector import VectorActionWrapper, VectorEnv
+from gymnasium.vector.utils import batch_space
+from pettingzoo.utils.wrappers import BaseParallelWrapper
+
+from ..spaces import check_slot_actions, stack_agent_actions
+from .flat import KeepsAutoresetMode
+
+
+def joint_action_space(space: spaces.Space) -> spaces.Discrete:
+    """Discrete(prod(nvec)) of a MultiDiscrete(nvec) space; a ValueError for any other space."""
+    if not isinstance(space, spaces.MultiDiscrete) or space.nvec.ndim != 1:
+        raise ValueError(f"a joint-Discrete view joins the branches of a MultiDiscrete action; this environment's "
+                         f"action space is {space} (use it as it is, or hivex_dsl.adapters.flat for a hybrid one)")
+    return spaces.Discrete(int(np.prod(space.nvec)))
+
+
+def joint_meanings(space: spaces.MultiDiscrete) -> str:
+    """The mapping in words, as the hint of an ActionError."""
+    return f"joint action j picks the MultiDiscrete({space.nvec.tolist()}) choices numpy.unravel_index(j, nvec)"
+
+
+def split_joint(space: spaces.MultiDiscrete, joint: np.ndarray) -> np.ndarray:
+    """(...) joint actions -> (..., branches) MultiDiscrete actions, int64."""
+    return np.stack(np.unravel_index(np.asarray(joint, np.int64), tuple(space.nvec.tolist())), axis=-1)
+
+
+class _JointActions(KeepsAutoresetMode, VectorActionWrapper):
+    """Joint Discrete actions (slots,) of a MultiDiscrete :class:`~hivex_dsl.adapters.gymnasium.HivexVectorEnv`."""
+
+    def __init__(self, env: VectorEnv):
+        super().__init__(env)
+        self._branches = env.single_action_space
+        self.single_action_space = joint_action_space(self._branches)
+        self.action_space = batch_space(self.single_action_space, self.num_envs)
+        self._shape, self._agent_names = env.unwrapped.core.shape, env.unwrapped.compiled.agent_names
+
+    def actions(self, actions: Any) -> np.ndarray:
+        """(slots,) joint actions -> (slots, branches); checked first as actions of the Discrete space."""
+        checked = check_slot_actions(self.single_action_space, actions, self._shape, self._agent_names,
+                                     joint_meanings(self._branches))
+        return split_joint(self._branches, checked.reshape(self.num_envs))
+
+
+def joint_vector_env(env: VectorEnv) -> VectorEnv:
+    """The vector env with one Discrete action per slot (see the module)."""
+    return _JointActions(env)
+
+
+class JointDiscreteParallelEnv(BaseParallelWrapper):
+    """A PettingZoo ParallelEnv of a MultiDiscrete environment with one Discrete action per agent."""
+
+    def __init__(self, env):
+        super().__init__(env)
+        self._branches = env.action_space(env.possible_agents[0])
+        self._joint = joint_action_space(self._branches)
+
+    def action_space(self, agent: str) -> spaces.Space:
+        return self._joint
+
+    def step(self, actions: dict):
+        live = self.env.agents
+        if live:  # no live agent: the env says why it cannot step
+            joint = stack_agent_actions(self._joint, actions, live, joint_meanings(self._branches))[0]
+            actions = dict(zip(live, split_joint(self._branches, joint)))
+        return self.env.step(actions)
