@@ -11,7 +11,7 @@ from pathlib import Path
 from typing import Sequence
 
 from .argtypes import positive, seed
-from .errors import HivexError, ScenarioError
+from .errors import HivexError, ScenarioError, did_you_mean
 
 EXIT_OK, EXIT_FAIL, EXIT_USAGE = 0, 1, 2
 EXIT_INTERRUPTED = 128 + 2  # what a shell reports for a command ended by SIGINT
@@ -114,6 +114,13 @@ def _parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("list", help="list the bundled scenarios")
     p.set_defaults(handler=cmd_list)
+
+    p = sub.add_parser("vocab", help="list the quantities an environment's expressions may read, with their "
+                                     "units, ranges and meanings")
+    p.add_argument("scenario", metavar="ENV_OR_SCENARIO",
+                   help="an environment (its main scenario's ranges) or a scenario file (its own ranges)")
+    p.add_argument("--json", action="store_true", help="print the quantities as JSON")
+    p.set_defaults(handler=cmd_vocab)
 
     from .train.commands import add_commands as add_train_commands
 
@@ -309,6 +316,35 @@ def cmd_list(args) -> int:
 
     for path in bundled_scenarios():
         print(f"{path.parent.name}/{path.name}")
+    return EXIT_OK
+
+
+def cmd_vocab(args) -> int:
+    """Every quantity of the scenario's vocabulary: ranges follow its params, so a scenario file gives its own."""
+    from . import registry
+    from .compiler import compile
+    from .reward.vocabulary import vocabulary_of
+
+    environments = registry.environments()
+    if args.scenario in environments:
+        source = f"{args.scenario}/main"
+    elif not Path(args.scenario).exists() and "/" not in args.scenario and not args.scenario.endswith(".yaml"):
+        raise HivexError(f"no environment or scenario file {args.scenario!r}"
+                         f"{did_you_mean(args.scenario, environments)}; environments: {', '.join(environments)}")
+    else:
+        source = args.scenario
+    compiled = compile(source)
+    quantities = vocabulary_of(compiled.environment).quantities(compiled)
+    rows = [{"name": q.name, "per": q.per, "kind": q.kind, "unit": q.unit, "low": q.low, "high": q.high,
+             "meaning": q.description} for q in quantities.values()]
+    if args.json:
+        print(json.dumps(rows, indent=2))
+        return EXIT_OK
+    print(f"{compiled.environment} ({compiled.name}): {len(rows)} quantities; prev(x) and delta(x) read them one "
+          "physics step before")
+    for row in rows:
+        span = "true/false" if row["kind"] == "bool" else f"[{row['low']:g}, {row['high']:g}] {row['unit']}"
+        print(f"  {row['name']:34} per {row['per']:5}  {span:28} {row['meaning']}")
     return EXIT_OK
 
 

@@ -153,3 +153,31 @@ def test_preview_writes_the_sample_figures(tmp_path, capsys):
     assert written == ["ocean_pollution.png", "terrain_levels.png", "wind_farm_control_layouts.png"]
     with Image.open(tmp_path / "figs" / "wind_farm_control_layouts.png") as image:
         assert image.size[0] > 300
+
+
+def test_vocab_lists_every_quantity_with_its_unit_range_and_meaning(capsys):
+    from hivex_dsl import registry
+    from hivex_dsl.compiler import compile
+    from hivex_dsl.reward.vocabulary import vocabulary_of
+
+    for env_id in registry.environments():
+        assert main(["vocab", env_id, "--json"]) == 0
+        rows = json.loads(capsys.readouterr().out)
+        declared = vocabulary_of(env_id).quantities(compile(f"{env_id}/main"))
+        assert [row["name"] for row in rows] == list(declared)
+        assert all(row["meaning"] and row["low"] <= row["high"] for row in rows)
+    assert main(["vocab", "wind_farm_control"]) == 0
+    out = capsys.readouterr().out
+    assert "  alignment                          per agent  [0, 1] 1" in out
+
+def test_vocab_of_a_scenario_file_gives_its_own_ranges(tmp_path, capsys):
+    small = tmp_path / "small.yaml"
+    small.write_text("hivex: 1\nenvironment: wind_farm_control\nagents: 4\nparams: {farm_half_extent_m: 300}\n")
+    assert main(["vocab", str(small)]) == 0
+    assert "  x_m                                per agent  [-300, 300] m" in capsys.readouterr().out
+
+
+def test_vocab_of_an_unknown_environment_names_the_environments(capsys):
+    assert main(["vocab", "wind_farm_contrl"]) == 2
+    assert capsys.readouterr().err.startswith("hivex: no environment or scenario file 'wind_farm_contrl'; did you mean "
+                                              "'wind_farm_control'?; environments: wind_farm_control, ")
