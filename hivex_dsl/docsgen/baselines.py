@@ -79,12 +79,14 @@ def pooled_return(data: dict[str, Any]) -> dict[str, float]:
 
 
 def verdict(ours: dict[str, float], published: dict[str, float] | None) -> str:
-    """"matches (within the spread)" when ours is within the published std of the published mean (the issue's
-    "within its published spread"), else "above" or "below"."""
+    """"matches" when our mean return lies within one standard deviation of the published mean, else "above" or
+    "below". The published standard deviation is taken over TensorBoard summary points, each a mean of whole
+    episodes of all agents, so it is a spread of means: the verdict compares our mean (over many agent-episodes)
+    with that band, a mean with means; our own ± is over single agent-episodes and never enters it."""
     if published is None:
         return "-"
     if abs(ours["mean"] - published["mean"]) <= published["std"]:
-        return "matches (within the spread)"
+        return "matches (within the summary points' spread)"
     return "above" if ours["mean"] > published["mean"] else "below"
 
 

@@ -76,7 +76,7 @@ def test_the_verdict_pools_every_seeds_test_episodes():
     data = {"test": {"return": {"mean": 0.0, "std": 3.0}}, "other_seeds": [{"return": {"mean": 4.0, "std": 1.0}}]}
     assert pooled_return(data) == pytest.approx({"mean": 2.0, "std": 3.0})
     assert pooled_return({"test": data["test"]}) == data["test"]["return"]
-    assert verdict(pooled_return(data), {"mean": 3.0, "std": 1.0}) == "matches (within the spread)"
+    assert verdict(pooled_return(data), {"mean": 3.0, "std": 1.0}) == "matches (within the summary points' spread)"
     # our own spread (3) does not widen the published one (1)
     assert verdict(pooled_return(data), {"mean": 3.5, "std": 1.0}) == "below"
     assert verdict(pooled_return(data), {"mean": 5.5, "std": 1.0}) == "below"
@@ -133,7 +133,7 @@ def test_the_page_sets_ours_beside_the_paper(recorded):
     context = baselines_context(out)
     (row,) = context["trained"]
     assert row["environment"] == "wind_farm_control" and row["commands"] == ["hivex train x"]
-    assert row["verdict"] in ("matches (within the spread)", "above", "below")
+    assert row["verdict"] in ("matches (within the summary points' spread)", "above", "below")
     assert {r["environment"] for r in context["left"]} == {
         "wildfire_resource_management", "drone_based_reforestation", "ocean_plastic_collection",
         "aerial_wildfire_suppression"}

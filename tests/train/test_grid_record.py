@@ -108,10 +108,10 @@ def test_the_page_sets_every_point_beside_the_paper(grid, tmp_path):
     page = render_docs(None, baselines=tmp_path)["baselines.md"]
     assert "a last section per\nenvironment sets every point beside its published cell." in page
     assert "## `wind_farm_control`: every task and level" in page
-    assert "| 0 `generate_energy` | 0 default | 4,600.00 ± 10.00 | 4,611.65 ± 39.95 | matches (within the spread) |" in page
+    assert "| 0 `generate_energy` | 0 default | 4,600.00 ± 10.00 | 4,611.65 ± 39.95 | matches (within the summary points' spread) |" in page
     assert ("| 0 `generate_energy` | 1 grid | 4,700.00 ± 12.50 | 4,605.91 ± 44.38 | above | 1,200.00 ± 5.00 "
             "| 4,900.00 ± 1.00 |") in page
-    assert "Of the 2 points, 1 match the published return within its\nspread, 1 are above it and 0 below." in page
+    assert "Of the 2 points, 1 match the published return within its\nsummary points' spread, 1 are above it and 0 below." in page
     assert "A grid note." in page
     without = tmp_path / "without"
     without.mkdir()
