@@ -167,6 +167,12 @@ def cmd_audit(args) -> int:
 def _policy_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("--policy", choices=("scripted", "random", "zeros"), default="scripted", help="default scripted")
     p.add_argument("--seed", type=seed, default=None, help="environment seed (default: the scenario's split seeds)")
+    _point_arg(p)
+
+
+def _point_arg(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--point", metavar="INDEX|KEY=VALUE,...", default=None,
+                   help="one point of a sweep file: its index (as `hivex compile` numbers them) or its swept values")
 
 
 def cmd_validate(args) -> int:
@@ -221,22 +227,22 @@ def _lock_paths(count: int, output: Path) -> list[Path]:
 
 
 def cmd_run(args) -> int:
-    from .compiler import compile
+    from .points import one_point
     from .report import run_episodes
 
-    compiled = compile(args.file)
+    compiled = one_point(args.file, args.point)
     print(run_episodes(compiled, args.policy, args.episodes, args.split, args.seed))
     return EXIT_OK
 
 
 def cmd_render(args) -> int:
-    from .compiler import compile
+    from .points import one_point
     from .render.gif import save_gif
     from .report import episode_frames
 
     if Path(args.output).suffix.lower() != ".gif":
         raise HivexError(f"-o {args.output}: expected a file name ending in .gif (hivex render writes an animated GIF)")
-    compiled = compile(args.file)
+    compiled = one_point(args.file, args.point)
     frames = episode_frames(compiled, args.policy, args.steps, args.every, args.seed)
     count = save_gif(frames, args.output, fps=args.fps)
     print(f"wrote {args.output} ({count} frames)")

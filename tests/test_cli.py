@@ -108,11 +108,6 @@ def test_render_refuses_a_name_that_is_not_a_gif(short, tmp_path, capsys):
     assert not (tmp_path / "wfc.png").exists()  # GIF bytes under a .png name would have been written
 
 
-def test_run_refuses_a_sweep(capsys):
-    assert main(["run", str(SUITE)]) == 2
-    assert "use compile_all()" in capsys.readouterr().err
-
-
 def test_render_writes_an_animated_gif(short, tmp_path):
     out = tmp_path / "wfc.gif"
     assert main(["render", str(short), "-o", str(out), "--steps", "30", "--every", "10"]) == 0
@@ -181,3 +176,40 @@ def test_vocab_of_an_unknown_environment_names_the_environments(capsys):
     assert main(["vocab", "wind_farm_contrl"]) == 2
     assert capsys.readouterr().err.startswith("hivex: no environment or scenario file 'wind_farm_contrl'; did you mean "
                                               "'wind_farm_control'?; environments: wind_farm_control, ")
+
+
+PAPER_SUITE = "scenarios/wind_farm_control/paper_suite.yaml"  # 9 patterns x 2 tasks
+
+
+def test_run_of_a_sweep_asks_for_a_point_and_plays_the_one_chosen(capsys):
+    """`hivex run` refused a sweep with a message naming a Python function, and no point could be picked."""
+    assert main(["run", PAPER_SUITE, "--episodes", "1"]) == 2
+    assert capsys.readouterr().err == (f"hivex: {PAPER_SUITE} sweeps over 18 points: choose one with --point INDEX (0 to 17) "
+                                       f"or --point pattern=0,task=0; `hivex compile {PAPER_SUITE}` lists them\n")
+    from hivex_dsl.compiler import compile_all
+
+    names = [p.name for p in compile_all(PAPER_SUITE)]
+    for selector in ("3", "pattern=1,task=1", " task=1 , pattern=1 "):
+        point = names[3] if selector == "3" else next(n for n in names if n.endswith("[pattern=1,task=1]"))
+        assert main(["run", PAPER_SUITE, "--point", selector, "--seed", "1"]) == 0
+        assert capsys.readouterr().out.startswith(f"{point}: 1 episode(s)")
+
+
+@pytest.mark.parametrize("selector, message", [
+    ("99", "--point 99: scenarios/wind_farm_control/paper_suite.yaml has 18 points (0 to 17)"),
+    ("pattern=1", "--point pattern=1: 2 points of scenarios/wind_farm_control/paper_suite.yaml match; give every "
+                  "swept value (pattern, task) or the point's index"),
+    ("patern=1", "--point patern=1: scenarios/wind_farm_control/paper_suite.yaml does not sweep 'patern'; did you "
+                 "mean 'pattern'?; it sweeps pattern, task"),
+    ("pattern", "--point pattern: expected an index or key=value pairs joined by commas, got 'pattern'"),
+])
+def test_a_point_that_names_no_single_point_is_refused(selector, message, capsys):
+    assert main(["run", PAPER_SUITE, "--point", selector]) == 2
+    assert capsys.readouterr().err == f"hivex: {message}\n"
+
+
+def test_evaluate_takes_a_point_only_of_a_scenario_it_is_given(tmp_path, capsys):
+    pytest.importorskip("torch")
+    assert main(["evaluate", str(tmp_path / "checkpoint.pt"), "--point", "3"]) == 2
+    assert capsys.readouterr().err == ("hivex: --point chooses a point of a sweep SCENARIO: give the SCENARIO after the "
+                                       "CHECKPOINT\n")

@@ -49,6 +49,8 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
     p.add_argument("checkpoint", type=Path, metavar="CHECKPOINT")
     p.add_argument("file", nargs="?", default=None, metavar="SCENARIO",
                    help="scenario to evaluate on (default: the one the checkpoint trained on)")
+    p.add_argument("--point", metavar="INDEX|KEY=VALUE,...", default=None,
+                   help="one point of a sweep SCENARIO: its index or its swept values")
     p.add_argument("--split", choices=("train", "test"), default="test", help="seed split (default test)")
     p.add_argument("--episodes", type=positive, default=10, help="episodes (default 10)")
     p.add_argument("--deterministic", action="store_true", help="take the policy's modes instead of sampling")
@@ -137,11 +139,13 @@ def _exit_code(results: list[dict], run_dir: Path) -> int:
 
 
 def cmd_evaluate(args) -> int:
-    from ..compiler import compile
+    from ..points import one_point
     from .evaluate import evaluate, format_report
 
     _require_torch()
-    scenario = compile(args.file) if args.file else None
+    if args.point is not None and not args.file:
+        raise HivexError("--point chooses a point of a sweep SCENARIO: give the SCENARIO after the CHECKPOINT")
+    scenario = one_point(args.file, args.point) if args.file else None
     report = evaluate(args.checkpoint, scenario, args.split, args.episodes, args.deterministic, args.seed,
                       args.torch_threads)
     sys.stdout.write(json.dumps(report, indent=2) + "\n" if args.json else format_report(report) + "\n")
