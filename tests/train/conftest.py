@@ -27,12 +27,16 @@ def tiny():
     return dict(TINY)
 
 
-def record_baseline_script():
-    """benchmarks/record_baseline.py as a module (it is a script, not part of the package)."""
+def benchmark_script(name: str):
+    """benchmarks/<name>.py as a module (the benchmarks are scripts, not part of the package)."""
     import importlib.util
 
-    path = SCENARIOS.parent / "benchmarks" / "record_baseline.py"
-    spec = importlib.util.spec_from_file_location("record_baseline", path)
+    spec = importlib.util.spec_from_file_location(name, SCENARIOS.parent / "benchmarks" / f"{name}.py")
     script = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(script)
     return script
+
+
+def record_baseline_script():
+    """benchmarks/record_baseline.py as a module."""
+    return benchmark_script("record_baseline")

@@ -2,22 +2,17 @@
 
 from __future__ import annotations
 
-import importlib.util
-from pathlib import Path
-
 import pytest
 from torch import nn
 
-BENCHMARK = Path(__file__).resolve().parents[2] / "benchmarks" / "compute_bound.py"
+from .conftest import benchmark_script
+
 TINY = {"num_worlds": 1, "buffer_size": 64, "batch_size": 32, "num_epoch": 2, "hidden_units": 16}
 
 
 @pytest.fixture(scope="module")
 def benchmark():
-    spec = importlib.util.spec_from_file_location("compute_bound", BENCHMARK)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return benchmark_script("compute_bound")
 
 
 def test_the_iteration_s_flops_are_the_dense_layers_shapes(benchmark):

@@ -3,10 +3,8 @@ the norm that clipping sees."""
 
 from __future__ import annotations
 
-import importlib.util
 import math
 import sys
-from pathlib import Path
 
 import pytest
 import torch
@@ -18,17 +16,12 @@ from hivex_dsl.train.config import make_config
 from hivex_dsl.train.networks import ActorCritic, to_tensors
 from hivex_dsl.train.ppo import train
 
-from .conftest import short_scenario
-
-SCRIPT = Path(__file__).resolve().parents[2] / "benchmarks" / "gradient_norms.py"
+from .conftest import benchmark_script, short_scenario
 
 
 @pytest.fixture(scope="module")
 def script():
-    spec = importlib.util.spec_from_file_location("gradient_norms", SCRIPT)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return benchmark_script("gradient_norms")
 
 
 def test_actor_and_critic_norms_make_up_the_clipped_norm(script, tiny):
