@@ -44,7 +44,7 @@ def describe_compiled(compiled: CompiledScenario) -> str:
                                f"({compiled.episode_decisions} decisions per episode)")]
           if compiled.decision_period != 1 else []),
         ("seeds", _seeds(compiled)),
-        ("ends on", ", ".join(compiled.ends_on) or "episode length only"),
+        ("ends on", _endings(compiled)),
         ("observation", describe_space(sim.observation_space)),
         ("action", f"{describe_space(sim.action_space)}: {sim.action_meanings}"),
         ("fingerprint", compiled.fingerprint),
@@ -59,6 +59,13 @@ def describe_compiled(compiled: CompiledScenario) -> str:
     lines.append("  params:")
     lines += [f"    {k} = {_fmt(v)}" for k, v in compiled.params.model_dump().items()]
     return "\n".join(lines)
+
+
+def _endings(compiled: CompiledScenario) -> str:
+    """Every ending: the task's and the scenario's events, then their expressions (each as written)."""
+    expressions = compiled.expressions.endings if compiled.expressions is not None else ()
+    endings = [*dict.fromkeys(compiled.ends_on), *(f"`{e.source}` ({'world' if e.per == 'world' else 'agent'})" for e in expressions)]
+    return "; ".join(endings) + ("; the episode length" if endings else "the episode length only")
 
 
 def _weight_note(compiled: CompiledScenario, term: str, weight: float) -> str:

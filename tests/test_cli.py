@@ -213,3 +213,13 @@ def test_evaluate_takes_a_point_only_of_a_scenario_it_is_given(tmp_path, capsys)
     assert main(["evaluate", str(tmp_path / "checkpoint.pt"), "--point", "3"]) == 2
     assert capsys.readouterr().err == ("hivex: --point chooses a point of a sweep SCENARIO: give the SCENARIO after the "
                                        "CHECKPOINT\n")
+
+
+def test_compile_shows_every_ending_the_expressions_too(tmp_path, capsys):
+    """Three ends_on entries (an event and two expressions) were shown as the event alone."""
+    scenario = tmp_path / "aws.yaml"
+    scenario.write_text("hivex: 1\nenvironment: aerial_wildfire_suppression\n"
+                        "ends_on: [fire_out, distance_to_village_m < 100, team_max(x_m) > 500]\n")
+    assert main(["compile", str(scenario)]) == 0
+    assert ("  ends on         fire_out; `distance_to_village_m < 100` (agent); `team_max(x_m) > 500` (world); "
+            "the episode length\n") in capsys.readouterr().out
