@@ -40,6 +40,7 @@ from . import published
 from .compiler import CompiledScenario
 from .report import Progress
 from .rollout import Rollout, rollout
+from .spec.catalogue import CATALOGUE
 
 AUDIT_POLICIES = ("zeros", "random", "scripted")
 ACTING = ("random", "scripted")  # under all-zeros actions any action-independent term is the whole return
@@ -108,6 +109,9 @@ class ScenarioAudit:
             out["published"] = {"return": {"mean": self.cell.return_mean, "std": self.cell.return_std},
                                 "statistics": {published.short_name(k): {"mean": m, "std": s}
                                                for k, (m, s) in self.cell.statistics.items() if k != published.RETURN}}
+        caveat = published.caveat(c)
+        if caveat:
+            out["caveat"] = caveat
         return out
 
 
@@ -290,7 +294,8 @@ def _ratio(ours: float, theirs: float) -> str:
 
 def describe(audit: dict[str, Any]) -> str:
     """The text report of one scenario's audit (from :meth:`ScenarioAudit.as_dict`)."""
-    level = "" if audit["level"] is None else f", level {audit['level']}"
+    field = CATALOGUE[audit["environment"]].level_field if audit["environment"] in CATALOGUE else None
+    level = "" if audit["level"] is None else f", {(field or 'level').replace('_', ' ')} {audit['level']}"
     lines = [f"{audit['scenario']} ({audit['source']}): {audit['environment']} task {audit['task_index']} "
              f"{audit['task']}{level}; {audit['episodes']} test episode(s) per policy",
              "  per agent and episode: mean ± std over agents and episodes (share of what the terms paid)"]
@@ -312,7 +317,8 @@ def describe(audit: dict[str, Any]) -> str:
                                                          f"{v['mean']:.4g}{_ratio(v['mean'], value['mean'])}" for v in ours])
         lines += _table(rows)
     else:
-        lines.append("  no published result for this environment, task and level")
+        lines.append(f"  no published result: {audit['caveat']}" if audit.get("caveat") else
+                     "  no published result for this environment, task and level")
     flags = audit["flags"]
     lines += [f"  note {f['kind']}: {f['message']}" for f in audit.get("notes", [])]
     lines += [f"  FLAG {f['kind']}: {f['message']}" + (f" [{f['policy']}]" if f["policy"] else "") for f in flags]

@@ -102,9 +102,52 @@ def cells(environment: str) -> list[PublishedCell]:
 
 
 def cell_for(compiled: "CompiledScenario") -> PublishedCell | None:
-    """The published cell a compiled scenario reproduces, if any (its task's paper index and its level)."""
+    """The published cell a compiled scenario reproduces, if any: its task's paper index and its level, and the
+    paper's setting of that task otherwise (see :func:`differences_from_paper`). A scenario that changes the
+    agents, the episode, the weights, the terms or the params has no published result of its own."""
+    if differences_from_paper(compiled):
+        return None
+    return paper_cell(compiled)
+
+
+def paper_cell(compiled: "CompiledScenario") -> PublishedCell | None:
+    """The published cell of the scenario's task and level, whatever else the scenario changes."""
     task_index = compiled.entry.reward_table.tasks[compiled.task_index].index
     return cell(compiled.environment, task_index, compiled.level)
 
 
-__all__ = ["PublishedCell", "RETURN", "cell", "cell_for", "cells", "environments", "notes", "raw", "short_name"]
+# what a scenario may change and still reproduce its cell: its name and the seeds it plays
+_NOT_COMPARED = ("name", "seeds")
+
+
+def differences_from_paper(compiled: "CompiledScenario") -> list[str]:
+    """The top-level keys (agents, episode_length, decision_period, weights, terms, params, ...) in which the
+    scenario's resolved content differs from the paper's scenario of the same task and level; empty when it
+    reproduces the paper's setting."""
+    mine = compiled.resolved()
+    paper = _paper_setting(compiled.environment, compiled.task_index, compiled.entry.info.level_field, compiled.level)
+    return sorted(k for k in set(mine) | set(paper) if k not in _NOT_COMPARED and mine.get(k) != paper.get(k))
+
+
+@lru_cache(maxsize=256)
+def _paper_setting(environment: str, task_index: int, level_field: str | None, level: int | None) -> dict:
+    from .compiler import compile
+
+    data: dict[str, Any] = {"hivex": 1, "environment": environment, "task": task_index}
+    if level_field:
+        data[level_field] = level
+    return compile(data).resolved()
+
+
+def caveat(compiled: "CompiledScenario") -> str | None:
+    """Why the paper's cell of this task and level is not set beside the scenario, if one exists; else None."""
+    cell_of_task = paper_cell(compiled)
+    changed = differences_from_paper(compiled)
+    if cell_of_task is None or not changed:
+        return None
+    return (f"the paper's result for this task and level (return {cell_of_task.return_mean:.4g}) is not this "
+            f"scenario's: it differs from the paper's setting in {', '.join(changed)}")
+
+
+__all__ = ["PublishedCell", "RETURN", "caveat", "cell", "cell_for", "cells", "differences_from_paper", "environments",
+           "notes", "paper_cell", "raw", "short_name"]

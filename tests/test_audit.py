@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 import hivex_dsl
+from hivex_dsl import published
 from hivex_dsl.audit import AUDIT_POLICIES, ScenarioAudit, audit_scenario, describe, find_flags
 from hivex_dsl.cli import main
 from hivex_dsl.reward.terms import TermRegistry
@@ -54,7 +55,14 @@ def energy(prev, state, actions, params):
     return np.clip(state.performance, 0.0, 1.0)
 
 
-def test_a_well_behaved_reward_raises_no_flag():
+@pytest.fixture
+def as_if_reproduced(monkeypatch):
+    """These short, few-agent scenarios with terms of their own reproduce no published cell (their audit says so,
+    below); to test the flags that compare with a cell, they are audited as if they reproduced their task's."""
+    monkeypatch.setattr(published, "cell_for", published.paper_cell)
+
+
+def test_a_well_behaved_reward_raises_no_flag(as_if_reproduced):
     audit = audit_scenario(_compiled(_terms(("turning", turning, DENSE), ("energy", energy, DENSE)),
                                      {"turning": 0.2, "energy": 1.0}))
     assert audit.flags == []
@@ -129,7 +137,7 @@ def test_contract_violations(value, contract, kind):
     assert contract_kinds == ({kind} if kind else set())
 
 
-def test_a_trivial_policy_beating_published_ppo_and_a_far_scale_are_flagged():
+def test_a_trivial_policy_beating_published_ppo_and_a_far_scale_are_flagged(as_if_reproduced):
     big = audit_scenario(_compiled(_terms(("turning", turning, DENSE), ("steady", steady, DENSE)),
                                    {"turning": 1.0, "steady": 200.0}))  # 6000 per episode > 4611.6 + 10%
     assert {f.policy for f in big.flags if f.kind == "beats_published"} == {"zeros", "random"}
@@ -139,7 +147,7 @@ def test_a_trivial_policy_beating_published_ppo_and_a_far_scale_are_flagged():
     assert {f.policy for f in huge.flags if f.kind == "published_scale"} == {"zeros", "random"}
 
 
-def test_text_and_json_reports_show_published_statistics_beside_ours():
+def test_text_and_json_reports_show_published_statistics_beside_ours(as_if_reproduced):
     audit = audit_scenario(hivex_dsl.compile({"hivex": 1, "environment": "wind_farm_control", "agents": 2,
                                               "episode_length": EPISODE}), episodes=1)
     data = audit.as_dict()
@@ -192,3 +200,14 @@ def test_a_term_paid_on_the_event_that_ends_the_episode_depends_on_when_the_acti
     assert [f.kind for f in _ending_term_audit([30, 30, 30])] == ["action_independent"]
     # paid before the episode ended too (a step that did not end it): equal sums are action-independence
     assert [f.kind for f in _ending_term_audit([400, 250, 40], before_end=2)] == ["action_independent"]
+
+
+def test_a_scenario_that_is_not_the_paper_s_gets_no_published_cell_and_says_why():
+    audit = audit_scenario(hivex_dsl.compile({"hivex": 1, "environment": "wind_farm_control", "agents": 2,
+                                              "episode_length": EPISODE}), episodes=1)
+    data = audit.as_dict()
+    assert audit.cell is None and data["published"] is None
+    assert not {f.kind for f in audit.flags} & {"beats_published", "published_scale"}
+    assert ("  no published result: the paper's result for this task and level (return 4612) is not this scenario's: "
+            "it differs from the paper's setting in agents, episode_length") in describe(data)
+    assert ", pattern 0;" in describe(data)  # WFC's levels are layout patterns

@@ -72,3 +72,26 @@ def test_cell_for_a_task_without_a_published_result():
 @pytest.mark.skipif(not SHARED.exists(), reason="the shared paper folder is not on this machine")
 def test_the_packaged_file_is_the_shared_one():
     assert published.raw() == json.loads(SHARED.read_text())
+
+
+@pytest.mark.parametrize("changes, differs", [
+    ({"agents": 6, "episode_length": 200}, ["agents", "episode_length"]),
+    ({"weights": {"generate_energy": 2.0}}, ["weights"]),
+    ({"decision_period": 5}, ["decision_period"]),
+    ({"params": {"farm_half_extent_m": 300.0}}, ["params"]),
+])
+def test_a_scenario_that_changes_the_paper_s_setting_reproduces_no_cell(changes, differs):
+    """audit and evaluate set the paper's main-task result beside a 200-step, 6-turbine task ('return 4606
+    58.22 (0.01x)') with no caveat: that cell is not such a scenario's result."""
+    scenario = compile_scenario({"hivex": 1, "environment": "wind_farm_control", **changes})
+    assert published.differences_from_paper(scenario) == differs
+    assert published.cell_for(scenario) is None and published.paper_cell(scenario).return_mean == pytest.approx(4611.6462)
+    assert published.caveat(scenario) == ("the paper's result for this task and level (return 4612) is not this "
+                                          f"scenario's: it differs from the paper's setting in {', '.join(differs)}")
+
+
+def test_other_seeds_and_another_name_still_reproduce_the_cell():
+    scenario = compile_scenario({"hivex": 1, "environment": "wind_farm_control", "name": "mine",
+                                 "seeds": {"train": 1, "test": 2}})
+    assert published.differences_from_paper(scenario) == [] and published.caveat(scenario) is None
+    assert published.cell_for(scenario).return_mean == pytest.approx(4611.6462)

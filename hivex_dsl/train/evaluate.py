@@ -11,6 +11,7 @@ import torch
 
 from ..adapters.gymnasium import flatten_slots, unflatten_slots
 from ..compiler import CompiledScenario
+from .. import published
 from ..rollout import rollout
 from .checkpoint import load_checkpoint, policy_for
 from .networks import to_tensors
@@ -21,9 +22,8 @@ def _spread(values: np.ndarray) -> dict[str, float]:
 
 
 def _published(compiled: CompiledScenario) -> dict[str, Any] | None:
-    from ..published import cell_for
 
-    cell = cell_for(compiled)
+    cell = published.cell_for(compiled)
     if cell is None:
         return None
     return {"return": {"mean": cell.return_mean, "std": cell.return_std},
@@ -79,12 +79,12 @@ def evaluate(checkpoint: str | Path, scenario: CompiledScenario | None = None, s
             "return": _spread(played["return"]),
             "statistics": {k: _spread(v) for k, v in played["statistics"].items()},
             "reward_terms": {k: _spread(v) for k, v in played["reward_terms"].items()},
-            "published": _published(compiled)}
+            "published": _published(compiled), "caveat": published.caveat(compiled)}
 
 
 def format_report(report: dict[str, Any]) -> str:
     """A table: ours (mean, std) beside the published (mean, std) of the return and every statistic."""
-    published = report["published"] or {"return": None, "statistics": {}}
+    cell = report["published"] or {"return": None, "statistics": {}}
     lines = [f"{report['scenario']}  {report['split']} seed {report['seed']}, {report['episodes']} episodes "
              f"({report['agent_episodes']} agent episodes), {report['actions']} actions, "
              f"policy trained {report['trained_agent_steps']} agent-steps",
@@ -94,12 +94,13 @@ def format_report(report: dict[str, Any]) -> str:
         theirs = f"{paper['mean']:12.3f} {paper['std']:10.3f}" if paper else f"{'-':>12} {'-':>10}"
         return f"{name[:36]:36} {ours['mean']:12.3f} {ours['std']:10.3f}   {theirs}"
 
-    lines.append(row("return", report["return"], published["return"]))
+    lines.append(row("return", report["return"], cell["return"]))
     for name, ours in report["statistics"].items():
-        paper = next((v for k, v in published["statistics"].items() if k.split("/", 1)[-1] == name), None)
+        paper = next((v for k, v in cell["statistics"].items() if k.split("/", 1)[-1] == name), None)
         lines.append(row(name, ours, paper))
     for name, ours in report["reward_terms"].items():
         lines.append(row(f"term {name}", ours, None))
     if report["published"] is None:
-        lines.append("(the paper published no result for this task and level)")
+        lines.append(f"(no published result: {report['caveat']})" if report.get("caveat") else
+                     "(the paper published no result for this task and level)")
     return "\n".join(lines)

@@ -40,3 +40,14 @@ def benchmark_script(name: str):
 def record_baseline_script():
     """benchmarks/record_baseline.py as a module."""
     return benchmark_script("record_baseline")
+
+
+@pytest.fixture(scope="module")
+def as_if_reproduced():
+    """The module's short test scenarios (a dozen steps) reproduce no published cell; records and pages are
+    tested as if each reproduced its task's and level's (hivex_dsl.published.paper_cell)."""
+    from hivex_dsl import published
+
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(published, "cell_for", published.paper_cell)
+        yield

@@ -23,6 +23,8 @@ pytest.importorskip("matplotlib")
 ROOT = Path(__file__).resolve().parents[2]
 
 
+pytestmark = pytest.mark.usefixtures("as_if_reproduced")
+
 @pytest.fixture(scope="module")
 def recorded(tmp_path_factory):
     from hivex_dsl.train.baselines import record_baseline

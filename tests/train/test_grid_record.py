@@ -29,6 +29,8 @@ def _sweep(patterns: list[int], episode_length: int = 12) -> dict:
     return sweep
 
 
+pytestmark = pytest.mark.usefixtures("as_if_reproduced")
+
 @pytest.fixture(scope="module")
 def grid(tmp_path_factory):
     root = tmp_path_factory.mktemp("grid")
