@@ -8,6 +8,7 @@ checks every step against the textbook rules computed here from scratch.
 from __future__ import annotations
 
 import numpy as np
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -126,3 +127,23 @@ def test_an_agent_that_terminates_on_the_last_step_is_truncated_too_so_every_lib
     for _ in range(length):
         _, _, terminateds, truncateds, _ = rllib.step({agent: 0 for agent in rllib.par_env.agents})
     assert truncateds["__all__"]
+
+
+def test_an_action_for_an_agent_that_ended_is_accepted_and_ignored(restepped):
+    """TorchRL sends actions for every agent of a group: 'action for turbine_0, which is not a live agent' ended
+    its rollouts at the first crash. A name that is no agent is still refused."""
+    from hivex_dsl.adapters.pettingzoo import HivexParallelEnv
+    from hivex_dsl.errors import ActionError
+
+    compiled = hivex_dsl.compile({"hivex": 1, "environment": "wind_farm_control", "agents": 3, "episode_length": 6})
+    every, live_only = (HivexParallelEnv(restepped(compiled, crash_on_the_last_step(2))) for _ in range(2))
+    every.reset(seed=4)
+    live_only.reset(seed=4)
+    for step in range(5):
+        got = every.step({agent: 1 for agent in every.possible_agents})
+        expected = live_only.step({agent: 1 for agent in live_only.agents})
+        assert got[1:4] == expected[1:4]
+        if step >= 1:
+            assert "turbine_0" not in every.agents  # it crashed on step 2; its action is ignored since
+    with pytest.raises(ActionError, match="action for 'turbine_7', which is not a live agent"):
+        every.step({agent: 1 for agent in [*every.possible_agents, "turbine_7"]})

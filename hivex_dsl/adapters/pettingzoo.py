@@ -94,13 +94,18 @@ class HivexParallelEnv(Rendering, ParallelEnv):
         of range, a fraction for a discrete space, a boolean, a string, None, a wrong shape, a torch
         tensor that requires grad, a missing or extra agent) raises
         :class:`~hivex_dsl.errors.ActionError` naming the agent and the space. A tensor without grad
-        on the CPU is read as NumPy reads it.
+        on the CPU is read as NumPy reads it. An action for an agent that ended earlier in this world's
+        episode is accepted and ignored, as its placeholder plays anyway: TorchRL's PettingZooWrapper (and
+        BenchMARL on it) sends an action for every agent of a group, dead or alive. A name that is no agent
+        of the environment is refused.
         """
         if not self.agents:
             if self.core.state is None:
                 raise ResetNeeded("call reset() before step(): the environment has not been reset yet")
             raise ResetNeeded("every agent is done: call reset() before step()")
         live = self.agents
+        if isinstance(actions, dict) and len(actions) > len(live):
+            actions = {a: action for a, action in actions.items() if a in live or a not in self._index}
         space = self.core.sim.action_space
         # checked before the placeholders fill the slots of agents that left: filling casts to the space's dtype
         batched = stack_agent_actions(space, actions, live, self.core.sim.action_meanings)
