@@ -27,8 +27,9 @@ def _check(results, points, run_dir):
     for r in results:
         assert r["test_return"]["std"] >= 0
         assert (run_dir / r["run_dir"].rsplit("/", 1)[-1] / "checkpoint.pt").is_file()
-    assert results[0]["published_return"]["mean"] == pytest.approx(4611.6462)
-    assert results[1]["published_return"]["mean"] == pytest.approx(4605.9093)  # pattern 1 (Grid), read by hand
+    # a few steps' episodes are not the paper's 5,000: no published cell beside them (test_grid_record.py sets
+    # the cells beside a grid as if its points reproduced them)
+    assert [r["published_return"] for r in results] == [None, None]
     assert format_table(results).count("\n") == 2
 
 
