@@ -47,15 +47,17 @@ def iteration_flops(environment: str, overrides) -> dict:
     torch.manual_seed(cfg.seed)
     env, obs = make_env(compiled, cfg.num_worlds, "train")
     agent = ActorCritic(env.single_observation_space, env.single_action_space, cfg)
-    curiosity = Curiosity(env.single_observation_space, agent.layout, cfg) if cfg.curiosity_strength > 0 else None
-    optimizers = make_optimizer(agent, cfg.learning_rate), curiosity and make_optimizer(curiosity, cfg.learning_rate)
+    optimizer, curiosity, trained = make_optimizer(agent, cfg.learning_rate), None, None
+    if cfg.curiosity_strength > 0:  # as ppo.train builds it
+        curiosity = Curiosity(env.single_observation_space, agent.layout, cfg)
+        trained = (curiosity, make_optimizer(curiosity, cfg.curiosity_learning_rate))
     state, buf = start_rollouts(obs, agent, cfg.rollout_length(env.num_envs))
     with FlopCounterMode(display=False) as rollout:
         next_value = collect(env, agent, buf, state, cfg, EpisodeLog())
     with FlopCounterMode(display=False) as learning:
         advantages, returns, _ = advantages_and_returns(buf, next_value, cfg, curiosity)
-        update(agent, optimizers[0], buf, advantages, returns, cfg, cfg.beta, cfg.epsilon, np.random.default_rng(0),
-               None if curiosity is None else (curiosity, optimizers[1]))
+        update(agent, optimizer, buf, advantages, returns, cfg, cfg.beta, cfg.epsilon, np.random.default_rng(0),
+               trained)
     steps = buf.rewards.numel()
     return {"environment": environment, "agent_steps": steps,
             "rollout_flop_per_agent_step": rollout.get_total_flops() / steps,

@@ -56,8 +56,7 @@ def main(argv=None) -> dict:
     result = {"scenario": compiled.name, "agent_steps": summary["agent_steps"], "wall_s": summary["wall_s"],
               "episodes": args.episodes,
               "trained": report["return"], "published": (report["published"] or {}).get("return"), **levels,
-              "run_dir": str(args.output), "curve": str(args.output / "curve.png"),
-              "tensorboard": str(args.output / "tb")}
+              "run_dir": str(args.output), "tensorboard": str(args.output / "tb")}
     result["curve"] = draw_curve(result, args.output)
     (args.output / "first_run.json").write_text(json.dumps(result, indent=2) + "\n")
     print(verdict(result))

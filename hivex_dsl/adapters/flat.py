@@ -120,23 +120,36 @@ class _FlatObservations(KeepsAutoresetMode, VectorWrapper):
         return obs, rewards, terminated, truncated, infos
 
 
-class _FlatActions(KeepsAutoresetMode, VectorActionWrapper):
+class SlotActionView(KeepsAutoresetMode, VectorActionWrapper):
+    """A vector env seen through another action space per slot: ``single_action_space`` is the view's, the
+    wrapped env's is ``self.wrapped_space``, and :meth:`checked` validates the view's actions on the vector env's
+    own path (an ActionError names the slot's agent and world, with ``meanings`` as its hint)."""
+
+    def __init__(self, env: VectorEnv, single_action_space: spaces.Space, meanings: str):
+        super().__init__(env)
+        self.wrapped_space = env.single_action_space
+        self.single_action_space = single_action_space
+        self.action_space = batch_space(single_action_space, self.num_envs)
+        self._shape, self._agent_names = env.unwrapped.core.shape, env.unwrapped.compiled.agent_names
+        self._meanings = meanings
+
+    def checked(self, actions: Any) -> np.ndarray:
+        """(slots, ...) actions of the view -> (worlds, agents, ...), checked as actions of its space."""
+        return check_slot_actions(self.single_action_space, actions, self._shape, self._agent_names, self._meanings)
+
+
+class _FlatActions(SlotActionView):
     """Flat actions (slots, k + m) of a hybrid :class:`~hivex_dsl.adapters.gymnasium.HivexVectorEnv`."""
 
     def __init__(self, env: VectorEnv):
-        super().__init__(env)
-        self._hybrid_space = env.single_action_space
-        self.single_action_space = flat_action_space(self._hybrid_space)
-        self.action_space = batch_space(self.single_action_space, self.num_envs)
-        self._shape, self._agent_names = env.unwrapped.core.shape, env.unwrapped.compiled.agent_names
+        hybrid = env.single_action_space
+        super().__init__(env, flat_action_space(hybrid), flat_action_meanings(hybrid))
 
     def actions(self, actions: Any) -> Any:
-        """(slots, k + m) flat actions -> the hybrid dict of (slots, k) and (slots, m) arrays; checked first,
-        on the vector env's path, as actions of the flat Box (a value outside [-1, 1], NaN, a boolean...
-        raises an ActionError naming the slot's agent and world)."""
-        checked = check_slot_actions(self.single_action_space, actions, self._shape, self._agent_names,
-                                     flat_action_meanings(self._hybrid_space))
-        return unflatten_action(self._hybrid_space, checked.reshape((self.num_envs,) + checked.shape[2:]))
+        """(slots, k + m) flat actions -> the hybrid dict of (slots, k) and (slots, m) arrays; checked first
+        (a value outside [-1, 1], NaN, a boolean... raises an ActionError naming the slot's agent and world)."""
+        checked = self.checked(actions)
+        return unflatten_action(self.wrapped_space, checked.reshape((self.num_envs,) + checked.shape[2:]))
 
 
 def flat_vector_env(env: VectorEnv) -> VectorEnv:

@@ -20,12 +20,11 @@ from typing import Any
 
 import numpy as np
 from gymnasium import spaces
-from gymnasium.vector import VectorActionWrapper, VectorEnv
-from gymnasium.vector.utils import batch_space
+from gymnasium.vector import VectorEnv
 from pettingzoo.utils.wrappers import BaseParallelWrapper
 
-from ..spaces import check_slot_actions, stack_agent_actions
-from .flat import KeepsAutoresetMode
+from ..spaces import stack_agent_actions
+from .flat import SlotActionView
 
 
 def joint_action_space(space: spaces.Space) -> spaces.Discrete:
@@ -46,21 +45,16 @@ def split_joint(space: spaces.MultiDiscrete, joint: np.ndarray) -> np.ndarray:
     return np.stack(np.unravel_index(np.asarray(joint, np.int64), tuple(space.nvec.tolist())), axis=-1)
 
 
-class _JointActions(KeepsAutoresetMode, VectorActionWrapper):
+class _JointActions(SlotActionView):
     """Joint Discrete actions (slots,) of a MultiDiscrete :class:`~hivex_dsl.adapters.gymnasium.HivexVectorEnv`."""
 
     def __init__(self, env: VectorEnv):
-        super().__init__(env)
-        self._branches = env.single_action_space
-        self.single_action_space = joint_action_space(self._branches)
-        self.action_space = batch_space(self.single_action_space, self.num_envs)
-        self._shape, self._agent_names = env.unwrapped.core.shape, env.unwrapped.compiled.agent_names
+        branches = env.single_action_space
+        super().__init__(env, joint_action_space(branches), joint_meanings(branches))
 
     def actions(self, actions: Any) -> np.ndarray:
         """(slots,) joint actions -> (slots, branches); checked first as actions of the Discrete space."""
-        checked = check_slot_actions(self.single_action_space, actions, self._shape, self._agent_names,
-                                     joint_meanings(self._branches))
-        return split_joint(self._branches, checked.reshape(self.num_envs))
+        return split_joint(self.wrapped_space, self.checked(actions).reshape(self.num_envs))
 
 
 def joint_vector_env(env: VectorEnv) -> VectorEnv:
