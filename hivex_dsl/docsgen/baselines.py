@@ -52,6 +52,7 @@ def _row(env_id: str, data: dict[str, Any] | None) -> dict[str, Any]:
         "ours": _spread(test), "published": _spread(published), "random": _spread(data["random"]),
         "scripted": _spread(data["scripted"]), "steps": f"{data['agent_steps']:,}",
         "paper_steps": f"{data['hyperparameters'].get('max_steps', 0):,}",
+        "precision": data["hyperparameters"].get("precision", "exact"),
         "wall": f"{data['wall_s'] / 60:.1f} min" + "".join(f" (resumed at {n:,})" for n in data.get("resumed_at", [])),
         "machine": data["machine"], "seed": data["seed"],
         "test_seed": data["test"]["seed"], "episodes": data["test"]["episodes"], "actions": data["test"]["actions"],

@@ -35,7 +35,11 @@ and ``keep_checkpoints`` (agent-steps between checkpoints, how many are kept), `
 the environment's seeds are the scenario's), ``device``, ``torch_threads`` (``auto``, the default: the
 machine's cores up to 8, :meth:`PPOConfig.threads`; on 2 cores the camera environments train 1.4-1.8x faster
 on both than on one; set 1 for concurrent runs on a shared machine, and a number to reproduce a record exactly,
-since the thread count can change the last bits of torch's reductions).
+since the thread count can change the last bits of torch's reductions), ``precision`` (``exact``, the
+default: float32 everywhere; ``bf16``: the update's and the rollout's forward passes under bfloat16
+autocast, on CPU or GPU, faster where convolutions dominate and not bit-identical;
+``tf32``: float32 storage with TensorFloat-32 matrix products and convolutions, a GPU mode. An approximate run
+says so in its config.json and on the baselines page).
 
 Choices where this toolkit first did otherwise than ML-Agents. Each defaults to ML-Agents; the named earlier
 choice is what the baselines recorded before the default changed trained with (their commands set it), and a
@@ -88,6 +92,8 @@ HYPERPARAMETERS = Document("set of hyperparameters", "a mapping of hyperparamete
                            may_be_empty=True)
 DEVICES = "cpu, cuda or cuda:N (one GPU of several)"  # what the training loop runs on
 THREADS = "an integer from 1 to 256, or auto (this machine's cores, at most 8)"
+PRECISIONS = ("exact", "bf16", "tf32")
+Precision = Literal["exact", "bf16", "tf32"]
 MAX_AUTO_THREADS = 8  # past 8 the small networks' updates gain little; more belongs to concurrent runs
 MINIBATCH_KEYS = ("batch_size", "buffer_size")
 ML_AGENTS_SECTIONS = frozenset({"behaviors", "hyperparameters", "network_settings", "reward_signals", "extrinsic",
@@ -132,6 +138,7 @@ class PPOConfig(StrictModel):
     device: str = Field("cpu", pattern=r"^(cpu|cuda(:[0-9]+)?)$", json_schema_extra={"x-expected": DEVICES})
     torch_threads: Union[Annotated[int, Field(ge=1, le=256)], Literal["auto"]] = Field(
         "auto", json_schema_extra={"x-expected": THREADS})
+    precision: Precision = "exact"
     curiosity_strength: float = Field(0.0, ge=0.0, le=1.0)
     curiosity_gamma: float = Field(0.99, ge=0.0, le=1.0)
     curiosity_encoding_size: int = Field(256, ge=1, le=8192)
@@ -140,6 +147,13 @@ class PPOConfig(StrictModel):
     curiosity_module: Literal["ml_agents", "hivex_v1"] = "ml_agents"
     continuous_actions: Literal["ml_agents", "clip"] = "ml_agents"
     policy_loss: Literal["ml_agents", "joint"] = "ml_agents"
+
+    def precision_problem(self) -> str | None:
+        """Why ``precision`` cannot run on ``device`` (tf32 is a GPU mode), or None."""
+        if self.precision == "tf32" and not self.device.startswith("cuda"):
+            return (f"precision tf32 is a GPU mode (TensorFloat-32 tensor cores), but device is {self.device}: "
+                    "on a CPU use precision bf16 for an approximate run, or exact")
+        return None
 
     def threads(self) -> int:
         """The torch threads this run uses: ``torch_threads``, or for ``auto`` this machine's cores (at most
@@ -253,4 +267,8 @@ def make_config(environment: str, *layers: Mapping[str, Any] | Overrides) -> PPO
         raise TrainError.listing([f"{blamed}batch_size {cfg.batch_size} is larger than buffer_size {cfg.buffer_size}: "
                                   f"a minibatch is drawn from one buffer; set batch_size to at most {cfg.buffer_size} "
                                   f"or buffer_size to at least {cfg.batch_size}"])
+    if cfg.precision_problem():
+        blamed = next((layer.where(k) for layer in reversed(overrides) for k in ("precision", "device")
+                       if k in layer.values), "")
+        raise TrainError.listing([blamed + cfg.precision_problem()])
     return cfg

@@ -27,7 +27,7 @@ from ..compiler import CompiledScenario
 from .checkpoint import resume_state, save_checkpoint, save_numbered_checkpoint
 from .config import PPOConfig, TrainError
 from .curiosity import Curiosity
-from .devices import torch_device
+from .devices import autocast, matmul_precision, torch_device
 from .logs import EpisodeLog, Progress, ScalarLog
 from .networks import ActorCritic, to_tensors
 from .rundir import claim, write_json
@@ -127,6 +127,11 @@ def start_rollouts(observations: Any, agent: ActorCritic, steps: int) -> tuple[d
                           agent.logp_columns)
 
 
+def forward_precision(cfg: PPOConfig):
+    """The context of a forward pass under ``cfg.precision``: bfloat16 autocast for ``bf16``, else none."""
+    return autocast(cfg.precision, torch_device(cfg.device))
+
+
 def merge_steps(tensor: torch.Tensor) -> torch.Tensor:
     """(T, S, ...) -> (T * S, ...)."""
     return tensor.reshape((tensor.shape[0] * tensor.shape[1],) + tensor.shape[2:])
@@ -140,7 +145,7 @@ def collect(env: HivexVectorEnv, agent: ActorCritic, buf: Rollout, state: dict[s
         for k, v in obs.items():
             buf.obs[k][t] = v
         buf.valid[t] = torch.as_tensor(acting_mask(state["done"], state["active"]), dtype=torch.float32)
-        with torch.no_grad():
+        with torch.no_grad(), forward_precision(cfg):
             cont, disc, logp, buf.values[t] = agent.act_and_value(obs)
         buf.cont[t], buf.disc[t], buf.logp[t] = cont, disc, logp
         next_obs, reward, terminated, truncated, infos = env.step(agent.layout.to_env(cont, disc))
@@ -172,14 +177,15 @@ def update(agent: ActorCritic, optimizer: torch.optim.Optimizer, buf: Rollout, a
     log_ratios = []  # detached, for approx_kl and clipfrac once per update (not a dozen small ops per minibatch)
     for _ in range(cfg.num_epoch):
         for mb in minibatches(data, valid, cfg.batch_size, rng):
-            loss, (policy_loss, value_loss, entropy, log_ratio) = ppo_loss(agent, mb, beta, epsilon)
+            with forward_precision(cfg):
+                loss, (policy_loss, value_loss, entropy, log_ratio) = ppo_loss(agent, mb, beta, epsilon)
             optimizer.zero_grad()
             loss.backward()
             if cfg.max_grad_norm > 0:
                 nn.utils.clip_grad_norm_(params, cfg.max_grad_norm, foreach=True)
             optimizer.step()
             if curiosity is not None:
-                forward, inverse = _train_curiosity(*curiosity, mb)
+                forward, inverse = _train_curiosity(*curiosity, mb, cfg)
                 losses.setdefault("curiosity_forward", []).append(forward)
                 losses.setdefault("curiosity_inverse", []).append(inverse)
             # kept as tensors: one .item() per minibatch each would sync a GPU
@@ -240,10 +246,11 @@ def _ratio_stats(log_ratio: torch.Tensor, epsilon: float) -> dict[str, float]:
             "clipfrac": float(((ratio - 1).abs() > epsilon).float().mean())}
 
 
-def _train_curiosity(module: Curiosity, optimizer: torch.optim.Optimizer, mb: dict[str, Any]
+def _train_curiosity(module: Curiosity, optimizer: torch.optim.Optimizer, mb: dict[str, Any], cfg: PPOConfig
                      ) -> tuple[torch.Tensor, torch.Tensor]:
     """One gradient step of the curiosity module on a minibatch; -> its (forward, inverse) losses."""
-    total, forward, inverse = module.loss(mb["obs"], mb["next_obs"], mb["cont"], mb["disc"])
+    with forward_precision(cfg):
+        total, forward, inverse = module.loss(mb["obs"], mb["next_obs"], mb["cont"], mb["disc"])
     optimizer.zero_grad()
     total.backward()
     optimizer.step()
@@ -316,6 +323,8 @@ def train(compiled: CompiledScenario, cfg: PPOConfig, run_dir: Path, progress: b
     the environments start afresh on the train seed, so a resumed run is not bit-identical to one never
     stopped."""
     run_dir = Path(run_dir)
+    if cfg.precision_problem():
+        raise TrainError(cfg.precision_problem())
     cfg = cfg.model_copy(update={"torch_threads": cfg.threads()})  # `auto` written down as the count it ran on
     claim(run_dir, resume, overwrite)
     resumed = resume_state(run_dir / "checkpoint.pt", compiled, cfg) if resume else None
@@ -357,7 +366,7 @@ def train(compiled: CompiledScenario, cfg: PPOConfig, run_dir: Path, progress: b
                         training | {"curve": curve, "resumed_at": resumed_at})
         write_json(run_dir / "curve.json", curve, indent=1)
 
-    with StopRequests() as stop:  # Ctrl-C or SIGTERM: finish this update, then save as if done
+    with StopRequests() as stop, matmul_precision(cfg.precision):  # Ctrl-C or SIGTERM: finish this update, then save
         while agent_steps < cfg.max_steps and not stop.requested:
             lr, beta, epsilon = schedule(cfg, agent_steps / cfg.max_steps)
             for group in optimizer.param_groups:

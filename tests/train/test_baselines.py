@@ -311,3 +311,17 @@ def test_a_committed_record_s_command_trains_with_its_hyperparameters(record):
     now = train_config(data["environment"], _parser().parse_args(words[1:]))  # as `hivex train` reads it
     then = older_defaults(data["hyperparameters"], action_space_of(compile_all(ROOT / scenario)[0]))
     assert now.model_dump() == PPOConfig(**then).model_dump()
+
+
+def test_an_approximate_record_says_so_beside_its_return(recorded, tmp_path):
+    _, data = recorded
+    assert data["hyperparameters"]["precision"] == "exact"
+    (tmp_path / "wind_farm_control.json").write_text(json.dumps(data))
+    exact_page = render_docs(None, baselines=tmp_path)["baselines.md"]
+    approximate = data | {"hyperparameters": data["hyperparameters"] | {"precision": "bf16"}}
+    (tmp_path / "wind_farm_control.json").write_text(json.dumps(approximate))
+    (row,) = baselines_context(tmp_path)["trained"]
+    assert row["precision"] == "bf16"
+    page = render_docs(None, baselines=tmp_path)["baselines.md"]
+    assert f"| `wind_farm_control` | {row['ours']} (bf16, approximate) |" in page
+    assert "(bf16, approximate)" not in exact_page and f"| `wind_farm_control` | {row['ours']} |" in exact_page
