@@ -1,10 +1,12 @@
-"""The fidelity suite: every task of every environment at level 1, audited against the published results.
+"""The fidelity suite: every task of every environment at every published level, audited against the paper.
 
-Rolling all 26 tasks for the three audit policies takes minutes, too long for `hivex docs --check`
-in CI, so the measured numbers are stored: ``hivex audit --suite -o benchmarks/results/fidelity.json``
-writes them (:func:`measure_suite`), docs/fidelity.md is rendered from that file, and
-tests/test_fidelity.py re-measures the cheap tasks (WFC, WRM, DBR Pick-up Seed) and checks every
-scenario's fingerprint to prove the file is not stale.
+The suite is the whole published grid (222 cells: each environment, task and level or pattern the paper
+published a PPO result for) plus each task at its first level where no cell exists (Drone-Based
+Reforestation's Drop Seed). Rolling it for the three audit policies takes minutes, too long for
+`hivex docs --check` in CI, so the measured numbers are stored: ``hivex audit --suite -o
+benchmarks/results/fidelity.json`` writes them (:func:`measure_suite`), docs/fidelity.md is rendered from
+that file, and tests/test_fidelity.py re-measures the cheap tasks (WFC, WRM, DBR Pick-up Seed at their
+first level) and checks every scenario's fingerprint to prove the file is not stale.
 """
 
 from __future__ import annotations
@@ -29,18 +31,36 @@ def first_level(entry: registry.EnvironmentEntry) -> Optional[int]:
     return {"pattern": 0, "terrain_level": 1}.get(entry.info.level_field or "")
 
 
-def suite_scenarios(environments: Optional[list[str]] = None) -> list[CompiledScenario]:
-    """Each environment's bundled main scenario with each of its tasks, at the first level."""
+def suite_levels(env_id: str, entry: registry.EnvironmentEntry, task_index: int) -> list[Optional[int]]:
+    """The levels the suite rolls for a task: every published one, else the first level."""
+    published_levels = sorted((c.level for c in published.cells(env_id) if c.task_index == task_index),
+                              key=lambda level: -1 if level is None else level)
+    return published_levels or [first_level(entry)]
+
+
+def scenario_name(entry: registry.EnvironmentEntry, task: str, level: Optional[int]) -> str:
+    """A suite row's name: ``wrm-main-l1`` (terrain level 1), ``wfc-avoid-damage-p3`` (pattern 3), ``opc-group-up``."""
+    base = f"{entry.info.abbreviation.lower()}-{task.replace('_', '-')}"
+    if level is None:
+        return base
+    return f"{base}-{'p' if entry.info.level_field == 'pattern' else 'l'}{level}"
+
+
+def suite_scenarios(environments: Optional[list[str]] = None, first_only: bool = False) -> list[CompiledScenario]:
+    """Each environment's bundled main scenario with each of its tasks at each suite level (only the first
+    level with ``first_only``), in environment, task, level order."""
     out = []
     for env_id, entry in registry.environments().items():
         if environments is not None and env_id not in environments:
             continue
         main = load_file(data_dir("scenarios") / env_id / "main.yaml").data
         for task in entry.reward_table.tasks:
-            data = dict(main, task=task.name, name=f"{entry.info.abbreviation.lower()}-{task.name.replace('_', '-')}")
-            if entry.info.level_field:
-                data[entry.info.level_field] = first_level(entry)
-            out.append(compile_scenario(data))
+            levels = [first_level(entry)] if first_only else suite_levels(env_id, entry, task.index)
+            for level in levels:
+                data = dict(main, task=task.name, name=scenario_name(entry, task.name, level))
+                if entry.info.level_field:
+                    data[entry.info.level_field] = level
+                out.append(compile_scenario(data))
     return out
 
 
@@ -52,14 +72,18 @@ def measure_suite(episodes: int = SUITE_EPISODES, environments: Optional[list[st
     rows = []
     for scenario, audit in zip(compiled, audits):
         row = audit.as_dict()
-        row["source"] = f"{scenario.environment}/main.yaml (task {scenario.task_name})"
+        row["source"] = f"{scenario.environment}/main.yaml (task {scenario.task_name}, level {scenario.level})"
         rows.append(row | {"fingerprint": scenario.fingerprint})
     return {"hivex_fidelity": FIDELITY_VERSION, "episodes": episodes, "split": "test", "scenarios": rows}
 
 
 def write_suite(report: dict[str, Any], output: Path) -> None:
+    """The report as JSON, one scenario a line (a re-measured row shows as one changed line in a diff)."""
     output.parent.mkdir(parents=True, exist_ok=True)
-    output.write_text(json.dumps(report, indent=1, sort_keys=False) + "\n", encoding="utf-8")
+    head = {k: v for k, v in report.items() if k != "scenarios"}
+    rows = ",\n".join(json.dumps(row, sort_keys=False) for row in report["scenarios"])
+    text = json.dumps(head)[:-1] + ', "scenarios": [\n' + rows + "\n]}\n"
+    output.write_text(text, encoding="utf-8")
 
 
 def load_suite(path: Path) -> Optional[dict[str, Any]]:
@@ -81,4 +105,4 @@ def published_level_mean(environment: str, task_index: int) -> Optional[dict[str
 
 
 __all__ = ["FIDELITY_FILE", "measure_suite", "load_suite", "published_level_mean", "suite_scenarios",
-           "write_suite", "first_level"]
+           "write_suite", "first_level", "suite_levels", "scenario_name"]

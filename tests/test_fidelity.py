@@ -15,18 +15,26 @@ ROOT = Path(__file__).resolve().parents[1]
 STORED = load_suite(ROOT / FIDELITY_FILE)
 # re-measured on every test run: whole environments whose episodes are cheap, and one cheap DBR task (its
 # episode ends when the drones are back at the station); a few seconds of CPU in all
-CHEAP = ("wrm-main", "wrm-keep-all", "wrm-distribute-all", "wfc-generate-energy", "wfc-avoid-damage",
-         "dbr-pick-up-seed")
+CHEAP = ("wrm-main-l1", "wrm-keep-all-l1", "wrm-distribute-all-l1", "wfc-generate-energy-p0",
+         "wfc-avoid-damage-p0", "dbr-pick-up-seed-l1")
 
 
-def test_the_suite_is_every_task_of_every_environment_at_level_1():
+def test_the_suite_is_the_whole_published_grid_and_every_task_at_its_first_level():
     compiled = suite_scenarios()
-    expected = sum(len(entry.reward_table.tasks) for entry in registry.environments().values())
-    assert len(compiled) == expected == 26
-    assert {(c.environment, c.level) for c in compiled if c.environment == "wind_farm_control"} == {
-        ("wind_farm_control", 0)}
-    assert all(c.level in (None, 0, 1) for c in compiled)
+    # the published file: WFC 2 tasks x 9 patterns, WRM 3 x 10 levels, OPC 4 tasks, DBR 7 x 10, AWS 9 x 10
+    published_cells = 18 + 30 + 4 + 70 + 90
+    assert sum(len(published.cells(env)) for env in published.environments()) == published_cells
+    # and Drone-Based Reforestation's Drop Seed, which the paper published nothing for, at terrain level 1
+    assert len(compiled) == published_cells + 1
+    keys = {(c.environment, c.task_index, c.level) for c in compiled}
+    assert len(keys) == len(compiled)
+    assert {c.level for c in compiled if c.environment == "wind_farm_control"} == set(range(9))
+    assert {c.level for c in compiled if c.environment == "aerial_wildfire_suppression"} == set(range(1, 11))
+    assert ("drone_based_reforestation", 4, 1) in keys
     assert all(c.seeds.test == 6000 for c in compiled)
+    first = suite_scenarios(first_only=True)
+    assert len(first) == sum(len(entry.reward_table.tasks) for entry in registry.environments().values()) == 26
+    assert all(c.level in (None, 0, 1) for c in first)
 
 
 def test_the_stored_suite_was_measured_on_the_scenarios_as_they_are_now():
@@ -39,7 +47,7 @@ def test_the_stored_suite_was_measured_on_the_scenarios_as_they_are_now():
 def test_the_stored_numbers_are_what_the_code_measures_now():
     """The cheap part of the suite re-measured: any change of its terms, simulator or policies shows here."""
     rows = {row["scenario"]: row for row in STORED["scenarios"] if row["scenario"] in CHEAP}
-    compiled = [c for c in suite_scenarios() if c.name in CHEAP]
+    compiled = [c for c in suite_scenarios(first_only=True) if c.name in CHEAP]
     fresh = [a.as_dict() for a in audit_all(compiled, STORED["episodes"], quiet=True)]
     assert len(fresh) == len(rows) == len(CHEAP)
     for audit in fresh:
@@ -80,3 +88,40 @@ def test_the_page_shows_ours_beside_the_published_cell_and_the_readings():
         for note in entry.reward_table.notes:
             assert note.split()[0] in page
     assert published.notes()[1][:60] in page
+
+
+def test_a_cell_is_beaten_when_a_trivial_policy_earns_more_than_the_published_ppo():
+    from hivex_dsl.docsgen.fidelity_page import beaten
+
+    ppo = published.cell("aerial_wildfire_suppression", 5, 3).return_mean  # Pick Up Water, level 3: 94.67
+    audit = {"environment": "aerial_wildfire_suppression", "task_index": 5, "level": 3,
+             "policies": {"zeros": {"return": {"mean": ppo - 1}}, "random": {"return": {"mean": ppo + 0.01}}}}
+    assert beaten(audit)
+    audit["policies"]["random"]["return"]["mean"] = ppo
+    assert not beaten(audit)  # a tie is not beaten
+    assert not beaten(audit | {"environment": "drone_based_reforestation", "task_index": 4, "level": 1})  # no cell
+
+
+def test_evidence_is_stated_exactly_for_the_tasks_with_a_beaten_cell():
+    """Every task where the stored audit finds a trivial policy above the paper's PPO says why in its reward table
+    (`trivial_beats_ppo`), and no task keeps such a statement after its cells stop being beaten."""
+    from hivex_dsl.docsgen.fidelity_page import beaten
+
+    beaten_tasks = {(row["environment"], row["task"]) for row in STORED["scenarios"] if beaten(row)}
+    stated = {(env_id, task.name) for env_id, entry in registry.environments().items()
+              for task in entry.reward_table.tasks if task.trivial_beats_ppo}
+    assert beaten_tasks == stated
+    assert ("ocean_plastic_collection", "avoid_plastic") in beaten_tasks  # 0 is Avoid Plastic's best return
+
+
+def test_the_page_shows_the_whole_grid_with_the_beaten_cells_marked():
+    page = render_docs(None, ROOT / FIDELITY_FILE)["fidelity.md"]
+    assert "### Aerial Wildfire Suppression: 90 published cells," in page
+    assert "### Wind Farm Control: 18 published cells, 0 beaten by a trivial policy" in page
+    rows = {row["scenario"]: row for row in STORED["scenarios"]}
+    avoid = rows["opc-avoid-plastic"]
+    assert f"| 3 `avoid_plastic` | **-2.039 / 0 / {avoid['policies']['scripted']['return']['mean']:,.4g}** ⚠ |" in page
+    # one row per task, one column per pattern: WFC's nine
+    (header,) = [line for line in page.splitlines() if line.startswith("| Task | pattern 0 |")]
+    assert header.count("pattern") == 9
+    assert "- Task 5 `pick_up_water`, beaten by a trivial policy: The island" in page

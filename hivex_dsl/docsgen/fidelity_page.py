@@ -7,6 +7,8 @@ from typing import Any, Optional
 
 from .. import published, registry
 from ..audit import AUDIT_POLICIES
+
+TRIVIAL_POLICIES = ("zeros", "random")
 from ..fidelity import FIDELITY_FILE, first_level, load_suite, published_level_mean
 
 
@@ -41,11 +43,48 @@ def _task_row(audit: dict[str, Any]) -> dict[str, Any]:
     }
 
 
-def _environment(env_id: str, entry: registry.EnvironmentEntry, rows: list[dict[str, Any]]) -> dict[str, Any]:
+def trivial_best(audit: dict[str, Any]) -> float:
+    """The higher mean return of the two trivial policies (all-zeros, random)."""
+    return max(audit["policies"][p]["return"]["mean"] for p in TRIVIAL_POLICIES)
+
+
+def beaten(audit: dict[str, Any]) -> bool:
+    """Whether a trivial policy's mean return is above the published PPO return of the audit's cell."""
+    cell = published.cell(audit["environment"], audit["task_index"], audit["level"])
+    return cell is not None and trivial_best(audit) > cell.return_mean
+
+
+def _grid_cell(audit: dict[str, Any]) -> str:
+    cell = published.cell(audit["environment"], audit["task_index"], audit["level"])
+    if cell is None:
+        return "-"
+    text = f"{_num(cell.return_mean)} / {_num(trivial_best(audit))} / {_num(audit['policies']['scripted']['return']['mean'])}"
+    return f"**{text}** ⚠" if beaten(audit) else text
+
+
+def _grid(entry: registry.EnvironmentEntry, audits: list[dict[str, Any]]) -> dict[str, Any]:
+    """The task x level table of one environment: PPO / best trivial / scripted in each published cell."""
+    levels = sorted({a["level"] for a in audits if a["level"] is not None})
+    by_key = {(a["task_index"], a["level"]): a for a in audits}
+    rows = []
+    for task in entry.reward_table.tasks:
+        cells = [_grid_cell(by_key[(task.index, level)]) if (task.index, level) in by_key else "-"
+                 for level in (levels or [None])]
+        rows.append({"task_index": task.index, "task": task.name, "cells": cells})
+    published_audits = [a for a in audits if published.cell(a["environment"], a["task_index"], a["level"])]
+    evidence = [{"task_index": task.index, "task": task.name, "text": task.trivial_beats_ppo}
+                for task in entry.reward_table.tasks if task.trivial_beats_ppo]
+    return {"levels": levels, "rows": rows, "cells": len(published_audits),
+            "beaten": [a["scenario"] for a in published_audits if beaten(a)], "evidence": evidence}
+
+
+def _environment(env_id: str, entry: registry.EnvironmentEntry, audits: list[dict[str, Any]]) -> dict[str, Any]:
     statistics = entry.statistics
+    first = first_level(entry)
+    rows = [_task_row(a) for a in audits if a["level"] == first]
     return {
         "id": env_id, "title": entry.info.title, "abbreviation": entry.info.abbreviation,
-        "level": first_level(entry), "level_field": entry.info.level_field, "tasks": rows,
+        "level": first, "level_field": entry.info.level_field, "tasks": rows, "grid": _grid(entry, audits),
         "not_computed": sorted(statistics.not_computed.items()) if statistics else [],
         "readings": list(entry.reward_table.notes) + list(entry.notes) + list(statistics.notes if statistics else ()),
     }
@@ -56,7 +95,7 @@ def fidelity_context(results: Path) -> dict[str, Any]:
     report = load_suite(results)
     by_env: dict[str, list[dict[str, Any]]] = {}
     for audit in (report or {}).get("scenarios", []):
-        by_env.setdefault(audit["environment"], []).append(_task_row(audit))
+        by_env.setdefault(audit["environment"], []).append(audit)
     environments = [_environment(env_id, entry, by_env.get(env_id, []))
                     for env_id, entry in registry.environments().items()]
     return {"measured": report is not None, "episodes": (report or {}).get("episodes"), "file": FIDELITY_FILE,

@@ -24,6 +24,11 @@ class TaskColumn(StrictModel):
     description: str = Field("", max_length=2000, description="What the agents should learn.")
     ends_on: tuple[str, ...] = Field((), description=(
         "What ends an agent's episode in this task: event names of the environment or boolean expressions."))
+    trivial_beats_ppo: str = Field("", max_length=3000, description=(
+        "Where a trivial policy (all-zeros or random) earns more than the paper's published PPO in this task "
+        "at some level: the evidence that this is not a reward bug (that the original shares it). The fidelity "
+        "page shows it beside the grid; tests/test_fidelity.py requires it exactly where the stored audit "
+        "finds a beaten cell."))
 
     @field_validator("ends_on", mode="before")
     @classmethod
