@@ -54,13 +54,14 @@ def vocabulary_context(entry: registry.EnvironmentEntry) -> dict[str, Any]:
     """The quantities of an environment (ranges under the default scenario) and its YAML-only tasks."""
     compiled = compiler.compile({"hivex": SCHEMA_VERSION, "environment": entry.id})
     try:
-        quantities = vocabulary_of(entry.id).quantities(compiled)
+        vocabulary = vocabulary_of(entry.id)
     except ModuleNotFoundError:
-        return {"quantities": [], "expression_scenarios": []}
+        return {"quantities": [], "not_modelled": [], "expression_scenarios": []}
     rows = [{"name": q.name, "per": q.per, "kind": q.kind, "unit": q.unit or "-",
              "range": "false / true" if q.kind == "bool" else f"[{num(float(q.low))}, {num(float(q.high))}]",
-             "description": q.description} for q in quantities.values()]
-    return {"quantities": rows, "expression_scenarios": _expression_scenarios(entry)}
+             "description": q.description} for q in vocabulary.quantities(compiled).values()]
+    absent = [{"name": name, "why": why} for name, why in vocabulary.not_modelled.items()]
+    return {"quantities": rows, "not_modelled": absent, "expression_scenarios": _expression_scenarios(entry)}
 
 
 def expression_language_context() -> dict[str, Any]:

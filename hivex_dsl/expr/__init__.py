@@ -31,10 +31,10 @@ from . import intervals, plan, units
 from .checker import Checker
 from .errors import ExpressionError
 from .grammar import describe_grammar
-from .syntax import parse
+from .syntax import calls_of, parse
 
 __all__ = ["Expression", "ExpressionError", "Kind", "Per", "Quantity", "compile_expression", "describe_grammar",
-           "input_problems"]
+           "input_problems", "timed_calls"]
 
 Per = Literal["agent", "world"]
 Kind = Literal["number", "bool"]
@@ -165,6 +165,12 @@ def _parsed(source: str):
     """The syntax tree of ``source`` (frozen nodes), remembered: a sweep whose points change the vocabulary's
     ranges checks the same text again, and parsing is half the cost of compiling."""
     return parse(source)
+
+
+def timed_calls(source: str) -> tuple[int, ...]:
+    """0-based offsets of the ``prev(`` and ``delta(`` calls in ``source`` (an expression that parses), in the
+    order they are written: where an expression that may not look back in time does."""
+    return tuple(sorted(call.function.offset for call in calls_of(_parsed(source), ("prev", "delta"))))
 
 
 def _recompile(source, vocabulary, want, per, agents) -> Expression:

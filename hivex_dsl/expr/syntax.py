@@ -112,6 +112,21 @@ def written_number(node: Node) -> float | None:
     return None
 
 
+def calls_of(node: Node, names: tuple[str, ...]) -> list[Call]:
+    """The calls of the functions ``names`` in the tree ``node``, outermost first, left to right."""
+    found: list[Call] = []
+    pending = [node]
+    while pending:
+        current = pending.pop()
+        if isinstance(current, Call) and current.function.text in names:
+            found.append(current)
+        children = (current.args if isinstance(current, Call) else (current.operand,) if isinstance(current, Unary)
+                    else (current.left, current.right) if isinstance(current, Binary)
+                    else current.operands if isinstance(current, Compare) else ())
+        pending.extend(reversed(children))
+    return found
+
+
 def tokenize(source: str) -> list[Token]:
     """The tokens of ``source``, ending in an ``end`` token; ExpressionError at the first bad character."""
     tokens: list[Token] = []

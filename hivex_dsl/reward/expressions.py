@@ -16,8 +16,8 @@ from typing import Any, Callable, Mapping, Optional, Sequence
 import numpy as np
 
 from ..errors import Location, Problem, ScenarioError
-from ..expr import Expression, ExpressionError, compile_expression
-from ..spec.expr_location import expression_location
+from ..expr import Expression, ExpressionError, compile_expression, timed_calls
+from ..spec.expr_location import traced_location
 from ..spec.expression_keys import split_ends_on
 from ..spec.validate import dotted
 from ..spec.expressions import ExpressionTermSpec, ShapingSpec
@@ -142,8 +142,8 @@ def compile_expressions(compiled: Any, vocabulary: Optional[Vocabulary],
         try:
             return compile_expression(source, quantities, want=want, agents=compiled.agents)
         except ExpressionError as exc:
-            where = expression_location(where_is(path), source, exc.offset)
-            problems.append(Problem(where, f"{dotted(path)}: {exc.message}"))
+            problems.append(located(where_is, path, source, exc.offset,
+                                    f"{dotted(path)}: {_explained(exc, source, vocabulary)}"))
             return None
 
     for name, spec, where_is in terms:
@@ -161,6 +161,25 @@ def compile_expressions(compiled: Any, vocabulary: Optional[Vocabulary],
     if problems:
         raise ScenarioError(problems)
     return ScenarioExpressions(vocabulary, tuple(built), tuple(compiled_endings))
+
+
+UNTRACED = ("reported at the start of the value: the YAML quoting of this expression could not be followed "
+            "to the offending character")
+
+
+def located(where_is: Locate, path: PathKey, source: str, offset: int, message: str) -> Problem:
+    """``message`` at the file, line and column where ``source[offset]`` is written (the expression at ``path``
+    of the file ``where_is`` reads); at the start of its value, saying so, when its quoting cannot be followed."""
+    start = where_is(path)
+    where = traced_location(start, source, offset)
+    return Problem(where, message) if where is not None else Problem(start, f"{message} ({UNTRACED})")
+
+
+def _explained(error: ExpressionError, source: str, vocabulary: Vocabulary) -> str:
+    """The error's message; for an unknown quantity the simulator does not model, why it does not."""
+    name = source[error.offset: error.offset + error.length]
+    why = vocabulary.absence(name) if error.message.startswith("unknown quantity") else None
+    return f"unknown quantity {name!r}: {why}" if why else error.message
 
 
 def _contract(name: str, spec: ExpressionTermSpec, expression: Expression, quantities: Mapping[str, Any],
@@ -209,9 +228,10 @@ def _shaping_term(spec: ShapingSpec, attempt, quantities, locate: Locate, proble
     potential = attempt(path, spec.potential, "number")
     if potential is None:
         return []
-    if potential.reads_prev:
-        problems.append(Problem(locate(path), "shaping.potential: a potential is a function of the state alone; "
-                                              "it may not use prev() or delta()"))
+    if potential.reads_prev:  # blamed on the first prev( or delta( written
+        problems.append(located(locate, path, spec.potential, timed_calls(spec.potential)[0],
+                                "shaping.potential: a potential is a function of the state alone; "
+                                "it may not use prev() or delta()"))
         return []
     g, low, high = spec.gamma, float(potential.low), float(potential.high)
     # gamma * phi' - phi over phi, phi' in [low, high]

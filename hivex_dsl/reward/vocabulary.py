@@ -10,7 +10,7 @@ only the quantities its expressions use, each once per step.
 from __future__ import annotations
 
 import importlib
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import lru_cache
 from typing import Any, Callable, Iterable, Mapping
 
@@ -24,12 +24,18 @@ Reader = Callable[[Any, Mapping[str, np.ndarray], Any], np.ndarray]
 
 @dataclass(frozen=True)
 class Vocabulary:
-    """``declare(compiled) -> {name: Quantity}`` (ranges follow the params) and ``readers[name]``."""
+    """``declare(compiled) -> {name: Quantity}`` (ranges follow the params) and ``readers[name]``.
+
+    ``not_modelled``: quantities a researcher may reach for that the simulator does not have, name ->
+    why (the docs list them; an expression that reads one, or the name with a unit suffix such as
+    ``wind_speed_m_s``, is told why instead of "unknown quantity").
+    """
 
     environment: str
     declare: Callable[[Any], dict[str, Quantity]]
     readers: Mapping[str, Reader]
     events: tuple[str, ...] = ()  # event names the readers take from the step's events
+    not_modelled: Mapping[str, str] = field(default_factory=dict)
 
     def quantities(self, compiled: Any) -> dict[str, Quantity]:
         declared = self.declare(compiled)
@@ -37,6 +43,14 @@ class Vocabulary:
             raise ValueError(f"{self.environment}: declared quantities and readers differ: "
                              f"{sorted(set(declared) ^ set(self.readers))}")
         return declared
+
+    def absence(self, name: str) -> str | None:
+        """Why ``name`` (or ``name`` less a unit suffix: ``wind_speed_m_s`` for ``wind_speed``) is not a
+        quantity, when it is one the simulator does not model; else None."""
+        for missing, why in self.not_modelled.items():
+            if name == missing or name.startswith(missing + "_"):
+                return f"{missing} is not modelled in {self.environment}: {why}"
+        return None
 
     def values(self, state: Any, events: Mapping[str, np.ndarray], compiled: Any,
                names: Iterable[str]) -> dict[str, np.ndarray]:

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from hivex_dsl.expr import ExpressionError, compile_expression
+from hivex_dsl.expr import ExpressionError, compile_expression, timed_calls
 from hivex_dsl.expr.syntax import Binary, Call, Compare, Name, Number, Unary, parse
 
 from .conftest import AGENTS, VOCABULARY
@@ -80,3 +80,9 @@ def test_offsets_are_characters_not_bytes():
 
 def test_names_are_identifiers():
     assert parse("team_mean") == Name(0, 9, "team_mean")
+
+
+def test_timed_calls_are_found_where_they_are_written_in_every_kind_of_node():
+    source = "where(x > 1 and -delta(y) < 2, prev(x), 0) + abs(x) * delta(prev(y))"
+    assert timed_calls(source) == tuple(source.index(word) for word in ("delta(y)", "prev(x)", "delta(prev", "prev(y)"))
+    assert timed_calls("team_mean(x) + 1") == ()

@@ -30,6 +30,11 @@ class Grid:
     n: int
 
 
+def forest_grid(forest) -> Grid:
+    """The grid of a forest generator spec's cell centres, on which the tree-distance raster lives."""
+    return Grid(-forest.half_extent_m + forest.spacing_m / 2.0, forest.spacing_m, forest.cells)
+
+
 def sample_bilinear(grids: np.ndarray, grid: Grid, xy: np.ndarray) -> np.ndarray:
     """Bilinear value (B, A) of fields ``grids`` (B, n, n) at points ``xy`` (B, A, 2), clamped at the border.
 

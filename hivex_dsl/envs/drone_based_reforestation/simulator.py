@@ -19,7 +19,7 @@ from ...procgen.terrain import TerrainSpec, generate_terrain
 from ...procgen.wind import wrap_angle
 from ...runtime import StepOutcome
 from .camera import NEW_TREE_GRAY, STATION_GRAY, TREE_GRAY, Raster, camera_images, ground_shade, stamp_disks, to_byte
-from .fertility import (FAR_M, Grid, GridSet, distance_reward, fertility, interpolation_matrix,
+from .fertility import (FAR_M, Grid, GridSet, distance_reward, fertility, forest_grid, interpolation_matrix,
                         nearest_new_tree_distance, nearest_tree_distance, same_step_distance, sample_bilinear,
                         seed_reward, storage_slots, tree_distance_raster)
 from .params import DroneBasedReforestationParams
@@ -69,7 +69,7 @@ class DroneReforestationSimulator:
         t, f = self.terrain_spec, self.forest_spec
         self.half = t.extent_m / 2.0
         self.terrain_grid = Grid(-self.half, t.extent_m / (t.size - 1), t.size)
-        self.forest_grid = Grid(-f.half_extent_m + f.spacing_m / 2.0, f.spacing_m, f.cells)
+        self.forest_grid = forest_grid(f)
         self._below = GridSet((self.terrain_grid, self.forest_grid))  # sampled under every drone each step
         self.raster = Raster.covering(self.half, p.camera_cell_m)
         self._to_raster = interpolation_matrix(self.raster.centres(), self.terrain_grid)

@@ -1,7 +1,8 @@
 """What an expression may read in Drone-Based Reforestation: drones, battery, seeds, the station, planting.
 
 Readers take the simulator's state; the distance to the station is the hypotenuse of the state's
-positions (the state keeps positions, not that distance).
+positions (the state keeps positions, not that distance), and the fertility under a drone is sampled
+from the state's tree-distance raster as the simulator samples it each step.
 """
 
 from __future__ import annotations
@@ -11,6 +12,7 @@ import math
 import numpy as np
 
 from ...reward.vocabulary import Vocabulary, flag, quantity
+from .fertility import fertility, forest_grid, sample_bilinear
 
 
 def declare(compiled) -> dict:
@@ -33,6 +35,11 @@ def declare(compiled) -> dict:
         flag("returned_to_station", "agent", "The drone came back to the station after a trip this step."),
         flag("found_close_tree", "agent", "An existing tree is within close_tree_radius_m of the drone."),
         flag("planted_tree", "agent", "The drone released its seed this step (planted as a new tree)."),
+        quantity("fertility", "agent", "number", "1", 0.0, 1.0,
+                 "Soil fertility under the drone: Remap(det, min_tree_distance_m, max_tree_distance_m, 1, 0) of the "
+                 "distance det to the nearest existing tree, 0 outside that band (highest just outside the forest "
+                 "edge); det is read from the reset's tree-distance raster, bilinearly, as the fertility terms read "
+                 "it, and planted trees do not change it."),
     ]
     return {q.name: q for q in items}
 
@@ -40,6 +47,14 @@ def declare(compiled) -> dict:
 def _station_distance(state, events, compiled) -> np.ndarray:
     gap = state.position[..., :2] - state.station[:, None, :2]
     return np.hypot(gap[..., 0], gap[..., 1])
+
+
+def _fertility(state, events, compiled) -> np.ndarray:
+    """(B, A) the hidden fertility field at each drone's (x, y): the simulator's per-step sample of the state's
+    (B, m, m) tree-distance raster, remapped by the paper's seed-quality band."""
+    p = compiled.params
+    det = sample_bilinear(state.tree_distance, forest_grid(compiled.generators["forest"]), state.position[..., :2])
+    return fertility(det, p.min_tree_distance_m, p.max_tree_distance_m)
 
 
 READERS = {
@@ -56,6 +71,7 @@ READERS = {
     "returned_to_station": lambda s, e, c: s.returned,
     "found_close_tree": lambda s, e, c: s.found_tree,
     "planted_tree": lambda s, e, c: s.dropped,
+    "fertility": _fertility,
 }
 
 VOCABULARY = Vocabulary("drone_based_reforestation", declare, READERS)

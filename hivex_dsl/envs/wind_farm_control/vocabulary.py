@@ -2,7 +2,7 @@
 
 Each reader takes the value from the state the simulator built; the wind angle and the force are
 the simulator's own functions of that state (the state keeps the heading and the local wind, not
-the angle between them).
+the angle between them). The wind has no speed (see NOT_MODELLED).
 """
 
 from __future__ import annotations
@@ -56,4 +56,12 @@ READERS = {
     "performance": lambda s, e, c: s.performance,
 }
 
-VOCABULARY = Vocabulary("wind_farm_control", declare, READERS)
+# the wind of the HIVEX Wind component (and of the paper) is a direction field without a speed: a turbine's
+# performance follows its alignment alone
+NOT_MODELLED = {
+    "wind_speed": "the wind (the original's Wind component) has a direction and no speed, and a turbine's "
+                  "performance follows its alignment alone; read wind_direction_rad, wind_angle_deg, alignment or "
+                  "wind_force.",
+}
+
+VOCABULARY = Vocabulary("wind_farm_control", declare, READERS, not_modelled=NOT_MODELLED)
