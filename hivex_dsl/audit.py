@@ -19,6 +19,10 @@ return). It raises a :class:`Flag` for what usually means a reward bug:
 - ``published_scale``: the all-zeros or random policy's mean return is more than 10 times the published one
   in size (a scripted policy may well outdo the paper's PPO).
 
+With ``--checkpoint`` a policy trained by `hivex train` is rolled beside them (as 'trained'): its column shows what
+the reward paid a learner, and the contract flags check its values too (the published ones concern only the
+all-zeros and random policies).
+
 Notes are findings that are not flags: they are printed and stored but do not fail ``--strict``.
 
 With a ``decision_period`` k the policies act once per decision and a step's values are a decision's, the
@@ -29,20 +33,21 @@ paying decision could not make it the rest (paid on more than k times half the l
 
 from __future__ import annotations
 
-import sys
-import time
 from dataclasses import dataclass, field
-from typing import Any, Optional, Sequence, TextIO
+from typing import Any, Callable, Optional, Sequence, TextIO, Union
 
 import numpy as np
 
 from . import published
 from .compiler import CompiledScenario
-from .report import Progress
+from .policies import Policy
+from .progress import EpisodeBar, bar
 from .rollout import Rollout, rollout
 from .spec.catalogue import CATALOGUE
 
 AUDIT_POLICIES = ("zeros", "random", "scripted")
+TRIVIAL = ("zeros", "random")  # the policies that should not beat the paper's trained PPO
+TRAINED = "trained"  # the name of a checkpoint's policy (`hivex audit --checkpoint`)
 ACTING = ("random", "scripted")  # under all-zeros actions any action-independent term is the whole return
 MATTERS_SHARE = 0.05  # an action-independent term is flagged only if it is at least this share of a return
 DOMINANT_SHARE = 0.9
@@ -115,22 +120,30 @@ class ScenarioAudit:
         return out
 
 
-def audit_scenario(compiled: CompiledScenario, episodes: int = 2, stream: Optional[TextIO] = None,
-                   label: str = "") -> ScenarioAudit:
-    """Roll every audit policy for ``episodes`` test episodes and check the terms; progress goes to ``stream``."""
+def audit_scenario(compiled: CompiledScenario, episodes: int = 2, progress=None, label: str = "",
+                   trained: Optional[Callable[[CompiledScenario], Policy]] = None) -> ScenarioAudit:
+    """Roll every audit policy for ``episodes`` test episodes and check the terms. ``trained`` (optional) makes a
+    trained policy for the scenario, rolled too as policy 'trained'; ``progress`` (a bar of
+    :func:`hivex_dsl.progress.bar`, optional) advances over the decisions played."""
     rollouts = {}
-    for policy in AUDIT_POLICIES:
-        started = time.monotonic()
-        if stream is not None:
-            stream.write(f"audit {label}{compiled.name}: policy {policy}, {episodes} episode(s)\n")
-        rollouts[policy] = rollout(compiled, policy, episodes, split="test", trace=True,
-                                   progress=Progress(episodes, stream) if stream is not None else None)
-        if stream is not None:
-            stream.write(f"  done in {time.monotonic() - started:.1f} s\n")
+    for name, policy in _policies(compiled, trained).items():
+        tracker = None
+        if progress is not None:
+            progress.set_description(f"audit {label}{compiled.name}: {name}")
+            tracker = EpisodeBar(progress, compiled.episode_decisions)
+        rollouts[name] = rollout(compiled, policy, episodes, split="test", trace=True, progress=tracker)
     result = ScenarioAudit(compiled, rollouts, published.cell_for(compiled))
     found = find_flags(result)
     result.flags, result.notes = [f for f in found if not f.note], [f for f in found if f.note]
     return result
+
+
+def _policies(compiled: CompiledScenario, trained) -> dict[str, Union[str, Policy]]:
+    """The audit's policies by name: the trivial and scripted ones, then the trained one if given."""
+    policies: dict[str, Union[str, Policy]] = {name: name for name in AUDIT_POLICIES}
+    if trained is not None:
+        policies[TRAINED] = trained(compiled)
+    return policies
 
 
 def find_flags(audit: ScenarioAudit) -> list[Flag]:
@@ -258,24 +271,28 @@ def _against_published(audit: ScenarioAudit) -> list[Flag]:
     target = cell.return_mean
     for policy, done in audit.rollouts.items():
         ours = float(done.returns.mean())
-        if policy != "scripted" and target > PUBLISHED_MIN and ours > target + PUBLISHED_MARGIN * abs(target):
+        if policy in TRIVIAL and target > PUBLISHED_MIN and ours > target + PUBLISHED_MARGIN * abs(target):
             flags.append(Flag("beats_published", policy=policy, message=(
                 f"the {policy} policy earns {ours:.4g} per agent and episode, more than the paper's trained PPO "
                 f"({target:.4g}): a reward bug until proven otherwise")))
-        if policy != "scripted" and abs(target) >= PUBLISHED_MIN and abs(ours) > SCALE_FACTOR * abs(target):
+        if policy in TRIVIAL and abs(target) >= PUBLISHED_MIN and abs(ours) > SCALE_FACTOR * abs(target):
             flags.append(Flag("published_scale", policy=policy, message=(
                 f"the {policy} policy's return {ours:.4g} is {abs(ours / target):.0f} times the published "
                 f"{target:.4g} in size: the reward scale differs from the paper's")))
     return flags
 
 
-def audit_all(compiled: Sequence[CompiledScenario], episodes: int = 2,
-              stream: Optional[TextIO] = None, quiet: bool = False) -> list[ScenarioAudit]:
-    """Audit every scenario (every point of a sweep), with progress on ``stream`` (stderr unless ``quiet``)."""
-    stream = None if quiet else (stream or sys.stderr)
+def audit_all(compiled: Sequence[CompiledScenario], episodes: int = 2, stream: Optional[TextIO] = None,
+              quiet: bool = False, trained: Optional[Callable[[CompiledScenario], Policy]] = None
+              ) -> list[ScenarioAudit]:
+    """Audit every scenario (every point of a sweep), with a progress bar on ``stream`` (stderr) where it is a
+    terminal and not ``quiet``; ``trained`` as in :func:`audit_scenario`."""
     total = len(compiled)
-    return [audit_scenario(sc, episodes, stream, label=f"[{i + 1}/{total}] " if total > 1 else "")
-            for i, sc in enumerate(compiled)]
+    policies = len(AUDIT_POLICIES) + (trained is not None)
+    decisions = sum(sc.episode_decisions for sc in compiled) * episodes * policies
+    label = lambda i: f"[{i + 1}/{total}] " if total > 1 else ""  # noqa: E731
+    with bar(decisions, "audit", unit="decision", enabled=not quiet, stream=stream) as shown:
+        return [audit_scenario(sc, episodes, shown, label(i), trained) for i, sc in enumerate(compiled)]
 
 
 def _pm(value: dict[str, float]) -> str:
@@ -300,6 +317,8 @@ def describe(audit: dict[str, Any]) -> str:
              f"{audit['task']}{level}; {audit['episodes']} test episode(s) per policy",
              "  per agent and episode: mean ± std over agents and episodes (share of what the terms paid)"]
     runs = audit["policies"]
+    if audit.get("checkpoint"):
+        lines.append(f"  trained: the policy of {audit['checkpoint']}")
     rows = [["term (weighted)"] + list(runs), ["return"] + [_pm(run["return"]) for run in runs.values()]]
     for term in next(iter(runs.values()))["terms"]:
         rows.append([term] + [f"{_pm(run['terms'][term])} ({run['terms'][term]['share']:+.0%})" for run in runs.values()])

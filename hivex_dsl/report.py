@@ -10,6 +10,7 @@ import numpy as np
 
 from .compiler import CompiledScenario
 from .policies import make_policy
+from .progress import EpisodeBar, bar, echo
 from .runtime import BatchedEnv, Split
 from .spaces import check_actions, describe_space
 
@@ -68,6 +69,25 @@ def _endings(compiled: CompiledScenario) -> str:
     return "; ".join(endings) + ("; the episode length" if endings else "the episode length only")
 
 
+def weight_label(compiled: CompiledScenario, term: str) -> str:
+    """A term's weight as a column header shows it: ``x0.5``, or a schedule as written, not the value it starts
+    from: ``x0→-0.2 over 1e6`` (linear over 1,000,000 env steps), ``x0→-0.2 at 1e6`` (a step schedule)."""
+    schedule = compiled.schedules.get(term)
+    if schedule is None:
+        return f"x{compiled.weights[term]:g}"
+    when = "over" if schedule.kind == "linear" else "at"
+    return f"x{schedule.start:g}→{schedule.end:g} {when} {_count(schedule.over_steps)}"
+
+
+def _count(steps: int) -> str:
+    """A step count, short where that is exact (``1e6``, ``2.5e5``), else in full (``1,234,567``)."""
+    short = f"{steps:.3g}"
+    if steps >= 10_000 and "e" in short and float(short) == steps:
+        mantissa, exponent = short.split("e")
+        return f"{mantissa}e{int(exponent)}"
+    return f"{steps:,}"
+
+
 def _weight_note(compiled: CompiledScenario, term: str, weight: float) -> str:
     schedule = compiled.schedules.get(term)
     if schedule is not None:
@@ -88,32 +108,32 @@ def describe_sweep(compiled: list[CompiledScenario]) -> str:
                       "first point:", describe_compiled(first)])
 
 
-class Progress:
-    """Progress of long runs on stderr: a live line on a terminal, a line per episode otherwise."""
+class Progress(EpisodeBar):
+    """Progress of `hivex run` on stderr: the shared bar over the episodes' decisions on a terminal, and a line per
+    finished episode (its steps and mean return) in any case."""
 
-    def __init__(self, total_episodes: int, stream: Optional[TextIO] = None):
+    def __init__(self, total_episodes: int, decisions: int, stream: Optional[TextIO] = None):
         self.total, self.stream = total_episodes, stream or sys.stderr
-        self.live = self.stream.isatty()
         self.started = time.monotonic()
+        super().__init__(bar(total_episodes * decisions, "run", unit="decision", stream=self.stream), decisions,
+                         say=self._line)
 
-    def step(self, episode: int, step: int, length: int) -> None:
-        if self.live and step % 250 == 0:
-            self.stream.write(f"\r  episode {episode + 1}/{self.total}  step {step}/{length}   ")
-            self.stream.flush()
-
-    def episode_done(self, episode: int, mean_return: float, steps: int) -> None:
-        end = "\r" if self.live else ""
-        self.stream.write(f"{end}  episode {episode + 1}/{self.total}: {steps} steps, mean return per agent "
-                          f"{mean_return:.2f} ({time.monotonic() - self.started:.1f} s)\n")
-        self.stream.flush()
+    def _line(self, episode: int, mean_return: float, steps: int) -> None:
+        echo(f"  episode {episode + 1}/{self.total}: {steps} steps, mean return per agent {mean_return:.2f} "
+             f"({time.monotonic() - self.started:.1f} s)", self.stream)
 
 
 def run_episodes(compiled: CompiledScenario, policy_name: str, episodes: int, split: Split = "train",
                  seed: Optional[int] = None, progress: Optional[Progress] = None) -> str:
     """Run whole episodes in one world; returns the per-agent table of returns and term sums."""
-    returns, sums = collect_returns(compiled, policy_name, episodes, split, seed, progress or Progress(episodes))
+    shown = progress or Progress(episodes, compiled.episode_decisions)
+    try:
+        returns, sums = collect_returns(compiled, policy_name, episodes, split, seed, shown)
+    finally:
+        if progress is None:  # a caller's own progress stays the caller's to close
+            shown.close()
     terms = list(sums)
-    header = ["agent", "return"] + [f"{t} (x{compiled.weights[t]:g})" for t in terms]
+    header = ["agent", "return"] + [f"{t} ({weight_label(compiled, t)})" for t in terms]
     rows = [[name, returns[:, i].mean()] + [sums[t][:, i].mean() for t in terms]
             for i, name in enumerate(compiled.agent_names)]
     rows.append(["mean", returns.mean()] + [sums[t].mean() for t in terms])
@@ -139,8 +159,9 @@ def collect_returns(compiled: CompiledScenario, policy_name: str, episodes: int,
 
 
 def episode_frames(compiled: CompiledScenario, policy_name: str, steps: int, every: int,
-                   seed: Optional[int] = None) -> Iterator[np.ndarray]:
-    """Frames of one world every ``every`` steps for up to ``steps`` steps (stops when the episode ends)."""
+                   seed: Optional[int] = None, progress=None) -> Iterator[np.ndarray]:
+    """Frames of one world every ``every`` steps for up to ``steps`` steps (stops when the episode ends);
+    ``progress`` (a tqdm bar, optional) advances one per step."""
     core = BatchedEnv(compiled, batch=1)
     space = core.sim.action_space
     policy = make_policy(policy_name, compiled, space, core.shape, seed=0 if seed is None else seed)
@@ -149,6 +170,8 @@ def episode_frames(compiled: CompiledScenario, policy_name: str, steps: int, eve
     for step in range(1, steps + 1):
         actions = check_actions(space, policy(observations), compiled.agent_names, core.sim.action_meanings)
         observations = core.step(actions).observations
+        if progress is not None:
+            progress.update(1)
         if step % every == 0:
             yield core.render(0)
         if not core.alive.any():

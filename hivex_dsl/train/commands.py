@@ -17,7 +17,7 @@ if TYPE_CHECKING:
     from .config import PPOConfig
 
 TRAIN_EXTRA = "training needs torch: pip install torch, then pip install 'hivex-dsl[train]'"
-TRAIN_MODULES = ("tensorboard", "tqdm")  # the train extra's packages besides torch
+TRAIN_MODULES = ("tensorboard",)  # the train extra's packages besides torch
 
 
 def add_commands(sub: argparse._SubParsersAction) -> None:
@@ -42,7 +42,8 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
                    help="go on from RUN_DIR/checkpoint.pt (same scenario and hyperparameters; --steps may grow)")
     p.add_argument("--force", action="store_true",
                    help="replace an earlier run in RUN_DIR (without it, or --resume, a used RUN_DIR is refused)")
-    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.add_argument("--no-progress", action="store_true",
+                   help="no progress bars (of training and of --eval-episodes; shown only on a terminal anyway)")
     p.set_defaults(handler=cmd_train)
 
     p = sub.add_parser("evaluate", help="test a trained checkpoint on the test seeds, beside the published result")
@@ -61,8 +62,8 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(handler=cmd_evaluate)
 
 
-def _require_torch() -> None:
-    """torch and the rest of the ``train`` extra (tensorboard writes the scalars, tqdm the progress bar), or one
+def require_torch() -> None:
+    """torch and the rest of the ``train`` extra (tensorboard writes the scalars), or one
     sentence naming what to install: torch alone gave a ModuleNotFoundError traceback for tensorboard."""
     try:
         import torch  # noqa: F401
@@ -89,7 +90,7 @@ def train_config(environment: str, args: argparse.Namespace) -> PPOConfig:
 def cmd_train(args) -> int:
     from ..compiler import compile_all
 
-    _require_torch()
+    require_torch()
     points = compile_all(args.file)
     configs = [train_config(p.environment, args) for p in points]
     if args.eval_episodes < 0:
@@ -142,11 +143,11 @@ def cmd_evaluate(args) -> int:
     from ..points import one_point
     from .evaluate import evaluate, format_report
 
-    _require_torch()
+    require_torch()
     if args.point is not None and not args.file:
         raise HivexError("--point chooses a point of a sweep SCENARIO: give the SCENARIO after the CHECKPOINT")
     scenario = one_point(args.file, args.point) if args.file else None
     report = evaluate(args.checkpoint, scenario, args.split, args.episodes, args.deterministic, args.seed,
-                      args.torch_threads)
+                      args.torch_threads, progress=not args.json)
     sys.stdout.write(json.dumps(report, indent=2) + "\n" if args.json else format_report(report) + "\n")
     return 0

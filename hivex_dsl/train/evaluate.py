@@ -3,8 +3,9 @@ the mean and spread of the per-agent return and of every published statistic, be
 
 from __future__ import annotations
 
+from contextlib import contextmanager
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any, Callable, Iterator
 
 import numpy as np
 import torch
@@ -12,6 +13,7 @@ import torch
 from ..adapters.gymnasium import flatten_slots, unflatten_slots
 from ..compiler import CompiledScenario
 from .. import published
+from ..progress import EpisodeBar, bar
 from ..rollout import rollout
 from .checkpoint import load_checkpoint, policy_for
 from .networks import to_tensors
@@ -41,8 +43,20 @@ def network_policy(agent: torch.nn.Module, agents: int, deterministic: bool = Fa
     return ppo
 
 
+@contextmanager
+def limited_threads(count: int) -> Iterator[None]:
+    """torch on ``count`` threads inside the block, its own count restored after."""
+    threads = torch.get_num_threads()
+    torch.set_num_threads(count)
+    try:
+        yield
+    finally:
+        torch.set_num_threads(threads)
+
+
 def play(compiled: CompiledScenario, agent: torch.nn.Module, episodes: int, split: str = "test",
-         deterministic: bool = False, seed: int = 0, torch_threads: int = 1) -> dict[str, Any]:
+         deterministic: bool = False, seed: int = 0, torch_threads: int = 1, progress: bool = False
+         ) -> dict[str, Any]:
     """The policy's first ``episodes`` episodes of ``split``, one after another in one world: the same episodes
     the random and scripted levels play (:func:`hivex_dsl.rollout.rollout`), every one whole, however long.
 
@@ -51,26 +65,42 @@ def play(compiled: CompiledScenario, agent: torch.nn.Module, episodes: int, spli
 
     The network runs on ``torch_threads`` threads (torch's count is restored after): one world's few agents
     are batches too small to share, and on a machine busy with training torch's default of one thread per
-    core made every step twenty times slower (threads spinning for cores they could not get)."""
+    core made every step twenty times slower (threads spinning for cores they could not get). ``progress``
+    shows a bar over the decisions on stderr where it is a terminal."""
     torch.manual_seed(seed)
-    threads = torch.get_num_threads()
-    torch.set_num_threads(torch_threads)
-    try:
-        done = rollout(compiled, network_policy(agent, compiled.agents, deterministic), episodes, split)
-    finally:
-        torch.set_num_threads(threads)
+    decisions = compiled.episode_decisions
+    with limited_threads(torch_threads), bar(episodes * decisions, f"evaluate {compiled.name}", unit="decision",
+                                      enabled=progress) as shown:
+        done = rollout(compiled, network_policy(agent, compiled.agents, deterministic), episodes, split,
+                       progress=EpisodeBar(shown, decisions))
     return {"return": done.returns.reshape(-1), "reward_terms": {k: v.reshape(-1) for k, v in done.terms.items()},
             "statistics": {k: v.reshape(-1) for k, v in done.statistics.items()}}
 
 
+def checkpoint_policies(checkpoint: str | Path, deterministic: bool = False, seed: int = 0
+                        ) -> Callable[[CompiledScenario], Callable[[Any], Any]]:
+    """The checkpoint (read and checked once) as a maker of batched policies, one per scenario it plays: each
+    scenario must be of the environment it trained on (:func:`policy_for` says why not otherwise). Making one
+    seeds torch's action sampling with ``seed``, so a scenario's episodes do not depend on those played before."""
+    loaded = load_checkpoint(checkpoint)
+
+    def for_scenario(compiled: CompiledScenario) -> Callable[[Any], Any]:
+        agent = policy_for(loaded, compiled)
+        torch.manual_seed(seed)
+        return network_policy(agent, compiled.agents, deterministic)
+
+    return for_scenario
+
+
 def evaluate(checkpoint: str | Path, scenario: CompiledScenario | None = None, split: str = "test",
-             episodes: int = 10, deterministic: bool = False, seed: int = 0, torch_threads: int = 1
-             ) -> dict[str, Any]:
-    """The report of one checkpoint on its own scenario (or ``scenario``, whose spaces must match)."""
+             episodes: int = 10, deterministic: bool = False, seed: int = 0, torch_threads: int = 1,
+             progress: bool = False) -> dict[str, Any]:
+    """The report of one checkpoint on its own scenario (or ``scenario``, whose spaces must match); ``progress``
+    shows a bar on stderr where it is a terminal."""
     loaded = load_checkpoint(checkpoint)
     compiled = scenario if scenario is not None else loaded["compiled"]
     agent = policy_for(loaded, compiled)
-    played = play(compiled, agent, episodes, split, deterministic, seed, torch_threads)
+    played = play(compiled, agent, episodes, split, deterministic, seed, torch_threads, progress)
     return {"checkpoint": str(checkpoint), "scenario": compiled.name, "environment": compiled.environment,
             "task_index": compiled.task_index, "level": compiled.level, "trained_agent_steps": loaded["agent_steps"],
             "trained_wall_s": loaded.get("wall_s"),

@@ -35,7 +35,7 @@ def train_point(scenario: dict[str, Any], config: dict[str, Any], run_dir: str, 
                     overwrite=overwrite)
     summary["run_dir"] = str(run_dir)
     if eval_episodes:
-        report = evaluate(Path(run_dir) / "checkpoint.pt", split="test", episodes=eval_episodes)
+        report = evaluate(Path(run_dir) / "checkpoint.pt", split="test", episodes=eval_episodes, progress=progress)
         summary["test_return"] = report["return"]
         summary["published_return"] = report["published"]["return"] if report["published"] else None
         write_json(Path(run_dir) / "evaluation.json", report)

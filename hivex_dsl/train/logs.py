@@ -85,13 +85,14 @@ class ScalarLog:
 
 
 class Progress:
-    """A tqdm bar over agent-steps: rate, time left, and the latest mean episode return."""
+    """The shared bar (:func:`hivex_dsl.progress.bar`) over agent-steps: rate, time left, and the latest mean
+    episode return; shown only where stderr is a terminal."""
 
     def __init__(self, total: int, enabled: bool, label: str, start: int = 0):
-        from tqdm import tqdm
+        from ..progress import bar
 
-        self.bar = tqdm(total=total, initial=min(start, total), unit="step", unit_scale=True, disable=not enabled,
-                        desc=label, dynamic_ncols=True)
+        self.bar = bar(total, label, unit="step", enabled=enabled, initial=min(start, total), unit_scale=True,
+                       leave=True)
         self.last_return: float | None = None
 
     def advance(self, steps: int, episode_return: float | None) -> None:

@@ -1,0 +1,78 @@
+"""`hivex audit`: its arguments and its command; the work is in :mod:`hivex_dsl.audit` (and, for ``--suite``,
+:mod:`hivex_dsl.fidelity`), a trained policy's in :mod:`hivex_dsl.train.evaluate`."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from contextlib import nullcontext
+from pathlib import Path
+
+from .argtypes import positive
+from .errors import HivexError
+
+
+def add_command(sub: argparse._SubParsersAction) -> None:
+    """The `audit` subcommand's parser."""
+    p = sub.add_parser("audit", help="property-test a scenario's reward terms with all-zeros, random and scripted "
+                                     "policies (and a trained one); compare with the published results")
+    p.add_argument("file", nargs="?", help="scenario file (every point of a sweep is audited)")
+    p.add_argument("--episodes", type=positive, default=2, help="test episodes per policy (default 2)")
+    p.add_argument("--checkpoint", type=Path, metavar="CHECKPOINT",
+                   help="also audit the policy of a checkpoint `hivex train` wrote (of the scenario's environment; "
+                        "needs the train extra)")
+    p.add_argument("--json", action="store_true", help="print the audit as JSON")
+    p.add_argument("--strict", action="store_true", help="exit 1 when a flag is raised")
+    p.add_argument("--suite", action="store_true", help="audit every task of every environment at level 1 "
+                                                        "(the fidelity page's numbers) instead of FILE")
+    p.add_argument("-o", "--output", type=Path, help="with --suite: write the report as JSON to this file")
+    p.set_defaults(handler=cmd_audit)
+
+
+def cmd_audit(args) -> int:
+    from .audit import describe
+    from .cli import EXIT_FAIL, EXIT_OK, EXIT_USAGE
+
+    if args.suite == bool(args.file):
+        print("hivex audit: give a scenario FILE or --suite (not both)", file=sys.stderr)
+        return EXIT_USAGE
+    if args.suite and args.checkpoint:
+        raise HivexError("--checkpoint audits a trained policy on a scenario FILE of its environment, not --suite")
+    audits = _suite(args) if args.suite else _scenario(args)
+    print(json.dumps(audits, indent=2) if args.json else "\n\n".join(describe(a) for a in audits))
+    flagged = any(a["flags"] for a in audits)
+    return EXIT_FAIL if args.strict and flagged else EXIT_OK
+
+
+def _suite(args) -> list[dict]:
+    """Every suite scenario's audit (written to --output if given)."""
+    from .fidelity import measure_suite, write_suite
+
+    report = measure_suite(args.episodes, quiet=args.json)
+    if args.output:
+        write_suite(report, args.output)
+        print(f"wrote {args.output}", file=sys.stderr)
+    return report["scenarios"]
+
+
+def _scenario(args) -> list[dict]:
+    """The audits of FILE's points, with the checkpoint's policy beside the others if one is given."""
+    from .audit import audit_all
+    from .compiler import compile_all
+
+    compiled = compile_all(args.file)
+    trained, threads = None, nullcontext()
+    if args.checkpoint:
+        from .train.commands import require_torch
+
+        require_torch()
+        from .train.evaluate import checkpoint_policies, limited_threads
+
+        trained, threads = checkpoint_policies(args.checkpoint), limited_threads(1)
+    with threads:  # one world's few agents are batches too small to share among torch's threads
+        audits = [a.as_dict() for a in audit_all(compiled, args.episodes, quiet=args.json, trained=trained)]
+    if args.checkpoint:
+        for audit in audits:
+            audit["checkpoint"] = str(args.checkpoint)
+    return audits
