@@ -2,11 +2,13 @@
 #   make run    installs what is needed in .venv, trains PPO on Wind Farm Control's main task, evaluates it on the
 #               test seeds beside the paper, the random and the scripted policy, and says where everything is
 #   make test   installs the test set-up in .venv and runs the tests and the docs check
-# torch==2.13.0 is installed before the extras that need torch: a bare range would pull GBs of CUDA wheels.
+# Every install takes .ci/constraints.txt (torch==2.13.0) as a pip constraint: a bare range, or torchvision's exact
+# pin (BenchMARL needs torchvision), would pull another torch and GBs of CUDA wheels.
 
 PYTHON ?= python3
 VENV ?= .venv
 BIN := $(VENV)/bin
+CONSTRAINTS := .ci/constraints.txt
 SCENARIO ?= wind_farm_control/main
 STEPS ?= 2560000
 
@@ -16,14 +18,14 @@ $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
 
-$(VENV)/.installed-run: pyproject.toml | $(BIN)/python
-	$(BIN)/pip install --quiet torch==2.13.0
-	$(BIN)/pip install --quiet -e ".[train,plots]"
+$(VENV)/.installed-run: pyproject.toml $(CONSTRAINTS) | $(BIN)/python
+	$(BIN)/pip install --quiet -c $(CONSTRAINTS) torch
+	$(BIN)/pip install --quiet -c $(CONSTRAINTS) -e ".[train,plots]"
 	touch $@
 
-$(VENV)/.installed-test: pyproject.toml | $(BIN)/python
-	$(BIN)/pip install --quiet torch==2.13.0
-	$(BIN)/pip install --quiet -e ".[dev,train,sb3,window,ray,plots]"
+$(VENV)/.installed-test: pyproject.toml $(CONSTRAINTS) | $(BIN)/python
+	$(BIN)/pip install --quiet -c $(CONSTRAINTS) torch
+	$(BIN)/pip install --quiet -c $(CONSTRAINTS) -e ".[dev,train,sb3,window,ray,plots,torchrl,benchmarl]"
 	touch $@
 
 run: $(VENV)/.installed-run
@@ -35,7 +37,7 @@ test: $(VENV)/.installed-test
 
 # RLlib's install is heavy (ray, ~80 MB wheel plus dependencies): its own target and CI step.
 rllib: $(VENV)/.installed-test
-	$(BIN)/pip install --quiet -e ".[rllib]"
+	$(BIN)/pip install --quiet -c $(CONSTRAINTS) -e ".[rllib]"
 	$(BIN)/python examples/rllib_ppo.py --scenario $(SCENARIO) --episode-length 50 --iterations 1 --batch-size 200
 
 clean:

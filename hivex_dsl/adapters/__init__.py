@@ -1,9 +1,10 @@
 """PettingZoo and Gymnasium views of the batched runtime."""
 
 
-def sb3_doc() -> str:
-    """The docstring of :mod:`hivex_dsl.adapters.sb3` without importing SB3 (for the docs)."""
+def module_doc(name: str) -> str:
+    """The docstring of the adapter module ``name`` (``"sb3"``, ``"benchmarl"``...) without importing it, nor the
+    library it needs (for the docs)."""
     import ast
     from pathlib import Path
 
-    return ast.get_docstring(ast.parse((Path(__file__).parent / "sb3.py").read_text())) or ""
+    return ast.get_docstring(ast.parse((Path(__file__).parent / f"{name}.py").read_text())) or ""

@@ -1,4 +1,4 @@
-"""Flat views for libraries that refuse Dict spaces (SB3's and RLlib's default models).
+"""Flat views for libraries that refuse Dict spaces (SB3's and RLlib's default models, TorchRL's MLPs).
 
 The mapping, for every environment:
 
@@ -9,14 +9,16 @@ The mapping, for every environment:
   becomes one Box(-1, 1, (k + len(n),)): the first k values are the continuous part as they are;
   value k + i in [-1, 1] picks discrete choice ``min(n_i - 1, floor((x + 1) / 2 * n_i))``, i.e.
   splits [-1, 1] into n_i equal bins (for n_i = 2: x < 0 -> 0, x >= 0 -> 1). Discrete and
-  MultiDiscrete actions stay as they are (every library here takes them). Flat actions are checked as
+  MultiDiscrete actions stay as they are (SB3 and RLlib take them; for TorchRL's and BenchMARL's one categorical
+  head, :mod:`.joint` joins MultiDiscrete branches). Flat actions are checked as
   actions of the flat Box on the unwrapped env's own path (:mod:`hivex_dsl.spaces`) before they are
   split: a value outside [-1, 1], NaN, a boolean, a wrong shape or a torch tensor that requires grad
   raises the same :class:`~hivex_dsl.errors.ActionError` as the unwrapped env (SB3 and RLlib clip
   their actions into the Box first).
 
 :func:`flat_vector_env` wraps the Gymnasium vector env, :class:`FlatParallelEnv` a PettingZoo
-ParallelEnv (before SuperSuit's vector conversion); both keep our infos.
+ParallelEnv (before SuperSuit's vector conversion); both keep our infos. Like the parallel env, the views accept
+and ignore an action for an agent that ended earlier in its world's episode (TorchRL sends one for every agent).
 """
 
 from __future__ import annotations
@@ -30,6 +32,18 @@ from gymnasium.vector.utils import batch_space
 from pettingzoo.utils.wrappers import BaseParallelWrapper
 
 from ..spaces import check_slot_actions, stack_agent_actions
+
+
+def live_agents_actions(env, actions: Any) -> Any:
+    """``actions`` without those for agents that ended earlier in this world's episode, as the parallel env itself
+    accepts and ignores them (TorchRL's PettingZooWrapper, and BenchMARL on it, send one for every agent of a group):
+    a view checks its own actions before the env does, so it drops them first. A name that is no agent stays, to be
+    refused."""
+    live = env.agents
+    if isinstance(actions, dict) and len(actions) > len(live):
+        possible = env.possible_agents
+        return {a: action for a, action in actions.items() if a in live or a not in possible}
+    return actions
 
 
 def is_hybrid(space: spaces.Space) -> bool:
@@ -197,6 +211,7 @@ class FlatParallelEnv(BaseParallelWrapper):
         """{agent: flat action (k + m,)} -> {agent: hybrid dict action}; checked first, on the parallel env's
         path, as actions of the flat Box (an ActionError names the agent)."""
         live = self.env.agents
+        actions = live_agents_actions(self.env, actions)
         flat = stack_agent_actions(self._act_space, actions, live, flat_action_meanings(self._hybrid))[0]
         parts = unflatten_action(self._hybrid, flat)
         return {a: {"continuous": c, "discrete": d} for a, c, d in zip(live, parts["continuous"], parts["discrete"])}

@@ -24,7 +24,7 @@ from gymnasium.vector import VectorEnv
 from pettingzoo.utils.wrappers import BaseParallelWrapper
 
 from ..spaces import stack_agent_actions
-from .flat import SlotActionView
+from .flat import SlotActionView, live_agents_actions
 
 
 def joint_action_space(space: spaces.Space) -> spaces.Discrete:
@@ -76,6 +76,7 @@ class JointDiscreteParallelEnv(BaseParallelWrapper):
     def step(self, actions: dict):
         live = self.env.agents
         if live:  # no live agent: the env says why it cannot step
+            actions = live_agents_actions(self.env, actions)
             joint = stack_agent_actions(self._joint, actions, live, joint_meanings(self._branches))[0]
             actions = dict(zip(live, split_joint(self._branches, joint)))
         return self.env.step(actions)

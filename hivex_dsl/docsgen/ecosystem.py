@@ -5,7 +5,7 @@ from __future__ import annotations
 import inspect
 
 from .. import registry
-from ..adapters import flat, joint, gymnasium as vector_adapter, pettingzoo as parallel_adapter, sb3_doc
+from ..adapters import flat, joint, gymnasium as vector_adapter, module_doc, pettingzoo as parallel_adapter
 from ..adapters.registration import bundled_scenarios, camel
 
 
@@ -20,4 +20,6 @@ def ecosystem_context() -> dict:
             "parallel_doc": inspect.getdoc(parallel_adapter.HivexParallelEnv),
             "flat_doc": inspect.getdoc(flat),
             "joint_doc": inspect.getdoc(joint),
-            "sb3_doc": sb3_doc()}
+            "sb3_doc": module_doc("sb3"),
+            "torchrl_doc": module_doc("torchrl"),
+            "benchmarl_doc": module_doc("benchmarl")}
