@@ -24,8 +24,10 @@ def add_command(sub: argparse._SubParsersAction) -> None:
                         "needs the train extra)")
     p.add_argument("--json", action="store_true", help="print the audit as JSON")
     p.add_argument("--strict", action="store_true", help="exit 1 when a flag is raised")
-    p.add_argument("--suite", action="store_true", help="audit every task of every environment at level 1 "
-                                                        "(the fidelity page's numbers) instead of FILE")
+    p.add_argument("--suite", action="store_true", help="audit every published cell (every task of every "
+                                                        "environment at every published level or pattern, and each "
+                                                        "task's first level) instead of FILE: the fidelity page's "
+                                                        "numbers")
     p.add_argument("-o", "--output", type=Path, help="with --suite: write the report as JSON to this file")
     p.set_defaults(handler=cmd_audit)
 

@@ -328,6 +328,8 @@ def cmd_vocab(args) -> int:
     for row in rows:
         span = "true/false" if row["kind"] == "bool" else f"[{row['low']:g}, {row['high']:g}] {row['unit']}"
         print(f"  {row['name']:34} per {row['per']:5}  {span:28} {row['meaning']}")
+    for name, why in vocabulary_of(compiled.environment).not_modelled.items():
+        print(f"  {name:34} not modelled: {why}")
     return EXIT_OK
 
 

@@ -164,6 +164,7 @@ def test_vocab_lists_every_quantity_with_its_unit_range_and_meaning(capsys):
     assert main(["vocab", "wind_farm_control"]) == 0
     out = capsys.readouterr().out
     assert "  alignment                          per agent  [0, 1] 1" in out
+    assert "  wind_speed                         not modelled: " in out  # the wind model has a direction only
 
 def test_vocab_of_a_scenario_file_gives_its_own_ranges(tmp_path, capsys):
     small = tmp_path / "small.yaml"
