@@ -6,8 +6,8 @@ The original environments log, besides the return, statistics such as Aerial Wil
 declares here, in its ``statistics.py``, how it computes every name it logs:
 
 - a **counter**: ``fn(prev, state, actions, params) -> (batch, agents)`` numbers or bools (an event
-  counts 1) read from the simulator's state each step (like a reward term), summed per agent over the episode, optionally multiplied by the task's
-  weight of a reward term (a logged "... Reward" is what the task paid);
+  counts 1) read from the simulator's state each step (like a reward term), summed per agent over the episode,
+  whatever the task pays (the original logs a drop's reward where its task weighs drops 0);
 - a **mirror**: the weighted sum of some reward terms' episode sums (no per-step cost);
 - **not computed**: a logged name this toolkit cannot compute, with the reason.
 
@@ -37,7 +37,6 @@ class Statistic:
     name: str
     description: str
     counter: StatisticFn | None = None
-    weighted_by: str | None = None  # counters only: multiply the episode sum by this term's task weight
     mirror: tuple[str, ...] = ()  # the reward terms whose weighted episode sums this statistic adds up
 
     @property
@@ -55,15 +54,14 @@ class StatisticSet:
         self._stats: dict[str, Statistic] = {}
         self.not_computed: dict[str, str] = {}  # logged name -> why this toolkit cannot compute it
 
-    def counter(self, name: str, description: str, weighted_by: str | None = None
-                ) -> Callable[[StatisticFn], StatisticFn]:
+    def counter(self, name: str, description: str) -> Callable[[StatisticFn], StatisticFn]:
         """Decorator: ``fn(prev, state, actions, params) -> (batch, agents)`` summed over the episode."""
 
         def register(fn: StatisticFn) -> StatisticFn:
             params = tuple(inspect.signature(fn).parameters)
             if params != TERM_SIGNATURE:
                 raise TypeError(f"{self.environment}: statistic {name!r} must take {TERM_SIGNATURE}, takes {params}")
-            self._add(Statistic(name, description, counter=fn, weighted_by=weighted_by))
+            self._add(Statistic(name, description, counter=fn))
             return fn
 
         return register
@@ -89,7 +87,7 @@ class StatisticSet:
 
     def problems(self, term_names: tuple[str, ...]) -> list[str]:
         """Names of reward terms that the statistics refer to but the environment lacks."""
-        wanted = [t for s in self for t in s.mirror + ((s.weighted_by,) if s.weighted_by else ())]
+        wanted = [t for s in self for t in s.mirror]
         return [f"{self.environment}: a statistic refers to unknown reward term {t!r}" for t in wanted
                 if t not in term_names]
 
@@ -124,8 +122,7 @@ def episode_statistics(statistics: StatisticSet, weights: Mapping[str, float],
     out: dict[str, np.ndarray] = {}
     for stat in statistics:
         if stat.counter is not None:
-            weight = 1.0 if stat.weighted_by is None else weights.get(stat.weighted_by, 0.0)
-            out[stat.name] = weight * counter_sums[stat.name]
+            out[stat.name] = counter_sums[stat.name]
             continue
         total = np.zeros(shape)
         for term in stat.mirror:

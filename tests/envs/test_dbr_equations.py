@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 import hivex_dsl
+from hivex_dsl.rollout import rollout
 from hivex_dsl.envs.drone_based_reforestation.camera import NEW_TREE_GRAY, to_byte
 from hivex_dsl.envs.drone_based_reforestation.fertility import (FAR_M, distance_reward, sample_bilinear, seed_reward,
                                                                 tree_distance_raster)
@@ -227,12 +228,28 @@ def test_drones_start_at_the_station_with_a_seed_and_a_full_battery():
     assert state.inside.all() and state.holding.all() and (state.energy == 1.0).all() and not state.away.any()
 
 
-def test_pick_up_seed_task_starts_drones_away_without_a_seed():
+def test_pick_up_seed_task_starts_drones_away_holding_a_seed():
+    """The paper starts Pick-up Seed's drones at random positions; its published cell logs 0.93 drops before the
+    return that ends the episode, so they hold a seed from the start. Group Up's start without one."""
     compiled = hivex_dsl.compile(f"{ENV}/pick_up_seed")
     sim = compiled.entry.make_simulator(compiled)
     state = sim.reset(np.random.default_rng(4), 4)
     horizontal = np.linalg.norm(state.position[..., :2] - state.station[:, None, :2], axis=-1)
-    assert (horizontal >= 20.0 - 1e-9).all() and not state.holding.any() and state.away.all()
+    assert (horizontal >= 20.0 - 1e-9).all() and state.holding.all() and state.away.all()
+
+
+def test_a_drop_s_reward_statistics_are_logged_where_the_task_weighs_drops_0():
+    """Pick-up Seed weighs drop_seed 0, yet its published cell logs Tree Drop Reward 3.87: the statistic is the drop's
+    reward as computed. The scripted pilot drops its seed, comes back, and its episode ends on the +100."""
+    compiled = hivex_dsl.compile({"hivex": 1, "environment": ENV, "task": "pick_up_seed", "terrain_level": 1})
+    assert compiled.weights.get("drop_seed", 0.0) == 0.0
+    done = rollout(compiled, "scripted", 1)
+    drops = done.statistics["Tree Drop Count"]
+    assert (drops >= 1).all()
+    assert (done.statistics["Cumulative Tree Drop Reward"] > 0).all()
+    assert done.terms["pick_up_seed"].tolist() == [[1.0] * compiled.agents]  # one return each, which ends it
+    # a drop's statistic is the simulator's r_s, as the main task (weight 1) pays it
+    assert "drop_seed" not in done.terms or (done.weighted("drop_seed") == 0).all()
 
 
 # ------------------------------------------------------------------ energy

@@ -32,6 +32,8 @@ RUNNING_BACK_REWARD = 20.0  # [paper] r_p
 # [paper] Pick-up Seed: "the initial position of drones is random instead of at the station"; [ours] Group Up too
 # (the reward table's notes give the evidence: drones that start together would be grouped from the first step)
 RANDOM_SPAWN_TASKS = ("pick_up_seed", "group_up")
+# [ours] Group Up's drones start without a seed; Pick-up Seed's hold one, as its published drops show (its notes)
+SEEDLESS_START_TASKS = ("group_up",)
 STATION_PAD_M = 3.0  # radius of the pad the camera and renderer draw
 VECTOR_SIZE = 10
 
@@ -66,6 +68,7 @@ class DroneReforestationSimulator:
         self.terrain_spec: TerrainSpec = compiled.generators["terrain"]
         self.forest_spec: ForestSpec = compiled.generators["forest"]
         self.random_spawn = compiled.task_name in RANDOM_SPAWN_TASKS
+        self.start_with_seed = compiled.task_name not in SEEDLESS_START_TASKS
         t, f = self.terrain_spec, self.forest_spec
         self.half = t.extent_m / 2.0
         self.terrain_grid = Grid(-self.half, t.extent_m / (t.size - 1), t.size)
@@ -127,7 +130,7 @@ class DroneReforestationSimulator:
         ground = sample_bilinear(heights, self.terrain_grid, xy)
         z = np.clip(z, ground + p.min_clearance_m, p.height_bound_m)
         heading = rng.uniform(-np.pi, np.pi, (batch, count))
-        return np.concatenate([xy, z[..., None]], axis=-1), heading, ground, not self.random_spawn
+        return np.concatenate([xy, z[..., None]], axis=-1), heading, ground, self.start_with_seed
 
     def reset(self, rng: np.random.Generator, batch: int) -> DroneState:
         n, m = self.terrain_grid.n, self.forest_grid.n

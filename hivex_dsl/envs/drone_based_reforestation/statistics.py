@@ -31,14 +31,14 @@ def out_of_energy_count(prev, state, actions, params):
     return prev.alive & ~state.alive
 
 
-@STATISTICS.counter("Cumulative Tree Drop Reward", "The seed-quality part r_s of what drops paid (weighted).",
-                    weighted_by="drop_seed")
+@STATISTICS.counter("Cumulative Tree Drop Reward", "The seed-quality part r_s of each drop's reward, whatever "
+                    "the task pays for drops (the original logs it where drops are weighted 0).")
 def tree_drop_reward(prev, state, actions, params):
     return state.seed_reward
 
 
-@STATISTICS.counter("Cumulative Distance Reward", "The station-distance part r_d of what drops paid (weighted).",
-                    weighted_by="drop_seed")
+@STATISTICS.counter("Cumulative Distance Reward", "The station-distance part r_d of each drop's reward, whatever "
+                    "the task pays for drops.")
 def distance_reward(prev, state, actions, params):
     return state.distance_reward
 
