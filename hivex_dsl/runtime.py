@@ -61,6 +61,8 @@ class Simulator(Protocol):
     def render(self, state: Any, index: int) -> np.ndarray: ...
     # Optional: ``step_info(state) -> {name: (batch, agents) array}``, extra per-agent facts of the
     # last step that the adapters put in infos under "env" (e.g. WRM's impossible resource moves).
+    # For the global state (hivex_dsl.global_state): ``state_components()`` and ``world_state(state) -> (vectors
+    # (batch, agents, D), world (batch, W))``.
 
 
 class Transition(NamedTuple):
@@ -119,6 +121,7 @@ class BatchedEnv:
         shape = (batch, self.agents)
         self.clock = np.zeros(batch, np.int64)
         self.alive = np.zeros(shape, bool)
+        self.ended_last = np.zeros(shape, bool)  # agents whose episode ended on the last decision (see step)
         self.returns = np.zeros(shape)
         self.term_sums = {name: np.zeros(shape) for name in self.composer.active}
         self.statistics: StatisticSet = compiled.entry.statistics or StatisticSet(compiled.environment, "")
@@ -244,6 +247,7 @@ class BatchedEnv:
         for _ in range(1, self.period):
             summed = _summed(summed, self._physics_step(actions))
         rewards, terms, terminated, truncated, ended, world_terminated = summed
+        self.ended_last = ended  # their last observation is this decision's (the global state shows it)
         env_info = self._step_info(self.state) if self._step_info is not None else {}
         if respawn is not None:
             self.respawn_agents(respawn)

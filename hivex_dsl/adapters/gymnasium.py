@@ -36,6 +36,19 @@ length (physics steps), decisions (step() calls) and per-term sums, never collid
 step. A reset without a seed follows the scenario's seed (the first copy of a scenario in a
 process plays its stream, later copies child streams of it: copies are different worlds unless
 seeded, and a seeded reset is deterministic).
+
+Global state (centralised critics): ``env.unwrapped.state()`` is every world's (num_worlds, K) float32 state at the
+last decision (``state(per_slot=True)``: (num_envs, K), each slot its world's row), ``single_state_space`` one
+world's Box and ``state_space`` the worlds'; see :mod:`hivex_dsl.global_state`. On demand rather than in the infos:
+nothing is computed for a consumer that does not ask, and a (num_worlds, K) array is no per-slot info. It matches
+the observations just returned: NEXT_STEP (the default) shows an ended slot's last observation and its world's last
+state, which a truncated episode bootstraps from; SAME_STEP shows the new first observation and the restarted world
+(the last state of a world that restarted is not kept there).
+
+Dict observations (OPC, DBR, AWS: ``vector`` + ``visual``) come as :class:`DictObservations`, a dict that refuses
+to be read as one array: a wrapper made for Box observations (``gymnasium.wrappers.vector.NormalizeObservation``,
+which builds on a Dict space without complaint) fails at the first ``reset`` with an error naming the flat view
+(:func:`hivex_dsl.adapters.flat.flat_vector_env`) instead of NumPy's AxisError.
 """
 
 from __future__ import annotations
@@ -48,12 +61,33 @@ from gymnasium.vector.utils import batch_space
 
 from ..action_arrays import Unreadable, as_array
 from ..compiler import CompiledScenario
-from ..errors import ActionError, is_integer
+from ..errors import ActionError, HivexError, is_integer
+from ..global_state import GlobalState
 from ..runtime import BatchedEnv, Split, Transition
 from ..spaces import check_slot_actions
 from .human import Rendering, available_render_modes, check_render_mode
 
 _MODES = {"next_step": AutoresetMode.NEXT_STEP, "same_step": AutoresetMode.SAME_STEP}
+
+
+class DictObservationError(HivexError, TypeError):
+    """Dict observations were read as one array (see :class:`DictObservations`)."""
+
+
+class DictObservations(dict):
+    """The vector env's Dict observations ({key: (num_envs, ...) array}): a plain dict, except that NumPy cannot
+    read it as one array (``np.asarray``, ``np.mean``...): that raises a DictObservationError (a TypeError) naming
+    the flat view, where NumPy made a 0-d object array that failed later (an AxisError in NormalizeObservation)."""
+
+    __slots__ = ()
+
+    def __array__(self, dtype: Any = None, copy: Any = None):
+        raise DictObservationError(
+            f"these observations are a dict of arrays ({', '.join(map(repr, self))}), not one array: a wrapper "
+            "made for Box observations (gymnasium.wrappers.vector.NormalizeObservation, a TransformObservation "
+            "calling NumPy...) cannot take them. Wrap the flat view first, "
+            "hivex_dsl.adapters.flat.flat_vector_env(env): one float32 Box per slot, the vector then the visual "
+            "flattened, e.g. NormalizeObservation(flat_vector_env(gymnasium.make_vec(env_id, num_envs=N)))")
 
 
 def flatten_slots(tree: Any, slots: int) -> Any:
@@ -125,6 +159,20 @@ class HivexVectorEnv(Rendering, VectorEnv):
                          "render_fps": self.core.sim.render_fps}
         self._pending_worlds = np.zeros(num_worlds, bool)  # NEXT_STEP: worlds that restart on the next step
         self._pending_agents = np.zeros(self.core.shape, bool)  # NEXT_STEP: agents that respawn on the next step
+        self.global_state = GlobalState.of(self.core)
+        self.single_state_space = self.global_state.space
+        self.state_space = batch_space(self.single_state_space, num_worlds)
+
+    def state(self, per_slot: bool = False) -> np.ndarray:
+        """(num_worlds, K) float32: every world's global state at the last decision (see the module and
+        :mod:`hivex_dsl.global_state`); ``per_slot``: (num_envs, K), slot s holding its world's (s // agents)."""
+        states = self.global_state(self.core)
+        return np.repeat(states, self.agents_per_world, axis=0) if per_slot else states
+
+    def _slots(self, observations: Any) -> Any:
+        """(worlds, agents, ...) observations -> the (num_envs, ...) ones returned (a dict as DictObservations)."""
+        slots = flatten_slots(observations, self.num_envs)
+        return DictObservations(slots) if isinstance(slots, dict) else slots
 
     def reset(self, *, seed: Optional[int] = None, options: Optional[dict] = None):
         if seed is not None and not isinstance(seed, (int, np.integer)):
@@ -133,7 +181,7 @@ class HivexVectorEnv(Rendering, VectorEnv):
         self._pending_worlds[:] = False
         self._pending_agents[:] = False
         self._show()
-        return flatten_slots(observations, self.num_envs), {}
+        return self._slots(observations), {}
 
     def step(self, actions: Any):
         """Step every world with (num_envs, ...) actions, slot = world * agents + agent (for a Dict space, a
@@ -163,7 +211,7 @@ class HivexVectorEnv(Rendering, VectorEnv):
             self._pending_agents = np.zeros(shape, bool)
             zeros = np.zeros(self.num_envs, bool)
             infos = {"reward_terms": {name: np.zeros(self.num_envs) for name in core.term_sums}}
-            return flatten_slots(observations, self.num_envs), np.zeros(self.num_envs), zeros, zeros.copy(), infos
+            return self._slots(observations), np.zeros(self.num_envs), zeros, zeros.copy(), infos
         respawning = self._pending_agents & ~restart[:, None]
         restarting = restart if restart.any() else None
         result = core.step(batched, restart=restarting, respawn=respawning if respawning.any() else None)
@@ -173,13 +221,14 @@ class HivexVectorEnv(Rendering, VectorEnv):
         if empty.any():
             truncated, ended = truncated | empty, ended | empty
             core.alive[empty] = False
+            core.ended_last = core.ended_last | empty  # the global state shows them, as the observations do
         counted = ~restart[:, None]
         terminated, truncated, ended = terminated & counted, truncated & counted, ended & counted
         rewards = np.where(counted, result.rewards, 0.0)
         infos = self._infos(result, ended)
         self._pending_worlds = ending
         self._pending_agents = ended & ~ending[:, None]
-        return (flatten_slots(result.observations, self.num_envs), rewards.reshape(-1), terminated.reshape(-1),
+        return (self._slots(result.observations), rewards.reshape(-1), terminated.reshape(-1),
                 truncated.reshape(-1), infos)
 
     def _step_same(self, batched: Any):
@@ -197,7 +246,7 @@ class HivexVectorEnv(Rendering, VectorEnv):
             infos["_final_obs"] = done
             core.respawn_agents(result.ended & ~ending[:, None])
             observations = core.reset_worlds(ending) if ending.any() else core.observe()
-        return (flatten_slots(observations, self.num_envs), result.rewards.reshape(-1), result.terminated.reshape(-1),
+        return (self._slots(observations), result.rewards.reshape(-1), result.terminated.reshape(-1),
                 result.truncated.reshape(-1), infos)
 
     def _infos(self, result: Transition, ended: np.ndarray) -> dict[str, Any]:

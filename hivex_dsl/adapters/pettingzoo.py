@@ -9,6 +9,7 @@ from pettingzoo import ParallelEnv
 
 from ..compiler import CompiledScenario
 from ..errors import ResetNeeded
+from ..global_state import GlobalState
 from ..runtime import BatchedEnv, Split
 from ..spaces import stack_agent_actions
 from .human import Rendering, available_render_modes, check_render_mode
@@ -56,6 +57,10 @@ class HivexParallelEnv(Rendering, ParallelEnv):
     leaves ``agents``) only when its clock runs out or a world-level ending happens (a world event
     such as ``fire_out``, a per-world ending expression), never because agents' own endings coincide:
     a one-agent world's agent, or drones whose batteries empty on one step, respawn.
+
+    Global state (centralised critics): :meth:`state` is the world's (K,) float32 state at the last decision and
+    ``state_space`` its Box (see :mod:`hivex_dsl.global_state`: every agent's vector observation in agent order,
+    zeros for an agent that left ``agents`` before this step, then the world facts no agent observes).
     """
 
     def __init__(self, compiled: CompiledScenario, render_mode: Optional[str] = None, split: Split = "train",
@@ -72,12 +77,19 @@ class HivexParallelEnv(Rendering, ParallelEnv):
         self._index = {name: i for i, name in enumerate(self.possible_agents)}
         self.observation_spaces = {a: self.core.sim.observation_space for a in self.possible_agents}
         self.action_spaces = {a: self.core.sim.action_space for a in self.possible_agents}
+        self.global_state = GlobalState.of(self.core)
+        self.state_space = self.global_state.space
 
     def observation_space(self, agent: str):
         return self.observation_spaces[agent]
 
     def action_space(self, agent: str):
         return self.action_spaces[agent]
+
+    def state(self) -> np.ndarray:
+        """(K,) float32: the world's global state at the last decision, in ``state_space`` (see
+        :mod:`hivex_dsl.global_state`; ``global_state.components`` names its parts)."""
+        return self.global_state(self.core)[0]
 
     def reset(self, seed: Optional[int] = None, options: Optional[dict] = None):
         observations = self.core.reset(seed)

@@ -18,7 +18,7 @@ from ..spec.expressions import MAX_EXPRESSION_CHARS
 from ..spec.reward_table import RewardTable, TaskColumn
 from .expressions import expression_language_context, vocabulary_context
 from .fields import field_rows, num, show_value, source_tag
-from .spaces_table import specification
+from .spaces_table import global_state_table, specification
 
 SCHEMA_FILE = "hivex.schema.json"
 MAX_LISTED_VALUES = 6
@@ -148,6 +148,7 @@ def environment_context(entry: registry.EnvironmentEntry) -> dict[str, Any]:
     return {
         "info": entry.info,
         "spec": specification(entry.info, compiled, simulator),
+        "global_state": global_state_table(compiled, simulator),
         "matrix": _matrix(entry),
         "events": sorted(entry.events.items()),
         "world_events": sorted(entry.world_events),

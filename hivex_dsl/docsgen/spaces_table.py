@@ -85,3 +85,16 @@ def specification(info: EnvironmentInfo, compiled: Any, simulator: Any) -> list[
         {"category": f"Continuous Actions ({sum(flat_size(s) for s in continuous)})", "rows": continuous_rows},
         {"category": f"Discrete Actions ({branches})", "rows": discrete_rows},
     ]
+
+
+def global_state_table(compiled: Any, simulator: Any) -> dict[str, Any]:
+    """The global state's components (hivex_dsl.global_state) for the default scenario: its size, and per component
+    the indices it takes, whether it repeats per agent, its range and meaning."""
+    from ..global_state import GlobalState
+
+    state = GlobalState(simulator, compiled.agents, compiled.episode_length)
+    rows = [{"name": row["name"], "indices": f"{row['first']}" if row["size"] == 1 else f"{row['first']}-{row['last']}",
+             "per_agent": f"{row['size'] // compiled.agents} per agent" if row["per_agent"] else "world",
+             "range": f"[{num(row['low'])}, {num(row['high'])}]", "description": row["description"]}
+            for row in state.component_rows()]
+    return {"size": state.size, "agents": compiled.agents, "rows": rows}

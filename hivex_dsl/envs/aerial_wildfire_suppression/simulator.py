@@ -17,6 +17,7 @@ from ...procgen.weather import weather_step
 from ...procgen.wind import wind_step, wrap_angle
 from ...runtime import StepOutcome
 from .camera import pixel_offsets
+from .global_state import state_components, world_state
 from .params import CAMERA_PIXELS, AerialWildfireParams
 from .respawn import respawn_where
 from .types import AerialWildfireState, Sighting
@@ -328,6 +329,9 @@ class AerialWildfireSimulator:
         vector[..., 7] = sighting.plane_found
         # the state's own camera array (drawn in step): read-only, so an in-place edit raises
         return {"vector": vector, "visual": read_only(state.visual)}
+
+    state_components = state_components  # the global state's world facts: see global_state.py
+    world_state = world_state
 
     def render(self, state: AerialWildfireState, index: int) -> np.ndarray:
         from .render import draw_island

@@ -22,6 +22,7 @@ from .camera import NEW_TREE_GRAY, STATION_GRAY, TREE_GRAY, Raster, camera_image
 from .fertility import (FAR_M, Grid, GridSet, distance_reward, fertility, forest_grid, interpolation_matrix,
                         nearest_new_tree_distance, nearest_tree_distance, same_step_distance, sample_bilinear,
                         seed_reward, storage_slots, tree_distance_raster)
+from .global_state import state_components, world_state
 from .params import DroneBasedReforestationParams
 from .respawn import respawn_where
 from .types import DroneState
@@ -355,6 +356,9 @@ class DroneReforestationSimulator:
         """vector (B, A, 20) float32 (two stacks, newest first); visual (B, A, 16, 16, 1) float32."""
         visual = camera_images(state.camera, self.raster, state.position[..., :2], self.camera_half_width(state))
         return {"vector": read_only(state.frames), "visual": visual}
+
+    state_components = state_components  # the global state's world facts: see global_state.py
+    world_state = world_state
 
     def render(self, state: DroneState, index: int) -> np.ndarray:
         from .render import draw_reforestation

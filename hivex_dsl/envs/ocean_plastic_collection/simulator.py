@@ -21,6 +21,7 @@ from ...procgen.wind import wrap_angle
 from ...numeric import all_true, clamp
 from ...runtime import StepOutcome
 from .camera import CAMERA_CELLS, Geometry, Sensing, as_pairs, build_field, sense
+from .global_state import state_components, world_state
 from .params import OceanPlasticCollectionParams
 from .respawn import respawn_where
 from .types import OceanState
@@ -237,6 +238,9 @@ class OceanPlasticSimulator:
         """The state's own observation arrays (built once per step in ``step``), read-only: an in-place edit
         would change the older stack of the next observation, so it raises instead."""
         return {"vector": read_only(state.vector), "visual": read_only(state.visual)}
+
+    state_components = state_components  # the global state's world facts: see global_state.py
+    world_state = world_state
 
     def render(self, state: OceanState, index: int) -> np.ndarray:
         from .render import draw_ocean

@@ -22,6 +22,7 @@ from ...procgen.wind import wind_step
 from ...runtime import StepOutcome
 from ..island import (IslandMaps, IslandSpecs, grid_lookup, restart_where, sample_points, start_islands,
                       weather_grid_points)
+from .global_state import state_components, world_state
 from .params import WildfireResourceParams
 from .resources import (MAX_SUPPORT_TENTHS, TARGETS_PER_AGENT, TENTHS, TOWERS, apply_actions, grid_offsets,
                         initial_resources, total_support)
@@ -224,6 +225,9 @@ class WildfireResourceSimulator:
     def observe(self, state: WildfireResourceState) -> np.ndarray:
         """(B, A, 16) float32 built in ``step``: 2 stacks (newest first) of the 8 labelled values (read-only: the state keeps it)."""
         return read_only(state.frame)
+
+    state_components = state_components  # the global state's world facts: see global_state.py
+    world_state = world_state
 
     def render(self, state: WildfireResourceState, index: int) -> np.ndarray:
         from .render import draw_towers

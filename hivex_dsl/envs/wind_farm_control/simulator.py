@@ -10,6 +10,7 @@ from ...numeric import clamp, constant
 from ...procgen.layouts import turbine_layout
 from ...procgen.wind import probe_wind, wind_reset, wind_reset_where, wind_step, wrap_angle
 from ...runtime import StepOutcome
+from .global_state import state_components, world_state
 from .params import WindFarmControlParams
 from .types import WindFarmState
 
@@ -117,6 +118,9 @@ class WindFarmSimulator:
         np.cos(state.local_wind, out=out[..., 4])
         np.sin(state.local_wind, out=out[..., 5])
         return out
+
+    state_components = state_components  # the global state's world facts: see global_state.py
+    world_state = world_state
 
     def render(self, state: WindFarmState, index: int) -> np.ndarray:
         from .render import draw_wind_farm

@@ -1,0 +1,49 @@
+"""The world facts of Aerial Wildfire Suppression's global state (:mod:`hivex_dsl.global_state`)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ...fire.summary import FIRE_FACTS, SQRT2, fire_summary, nearest_burning_distance
+from ...global_state import StateComponent
+from .types import AerialWildfireState
+
+
+def state_components(self) -> tuple[StateComponent, ...]:
+    """The main wind, the fire as a whole (a plane sees only the nearest burning tree in its view square) and the
+    village (where it lies, how close the fire is to it)."""
+    return (
+        StateComponent("main wind", 2, -1.0, 1.0, "Direction the main wind blows to (cos, sin); fire spreads "
+                       "downwind."),
+        StateComponent("fire burning", 1, 0.0, 1.0, "Burning trees n on the C x C forest grid, log(1 + n) / "
+                       "log(1 + C^2)."),
+        StateComponent("fire front centre", 2, -1.0, 1.0, "Mean (x, y) of the burning trees / island half extent "
+                       "(0 without fire)."),
+        StateComponent("fire front spread", 1, 0.0, 1.0, "Root-mean-square distance of the burning trees from "
+                       "their centre / (sqrt(2) x island half extent)."),
+        StateComponent("fire out", 1, 0.0, 1.0, "1 once the island's fire is out, else 0."),
+        StateComponent("village", 2, -1.0, 1.0, "The village centre (x, y) / border half extent, as the planes' "
+                       "positions are observed."),
+        StateComponent("fire to village", 1, 0.0, 1.0, "Distance from the village centre to the nearest burning "
+                       "tree / the island's diagonal (1 without fire)."),
+        StateComponent("village threatened", 1, 0.0, 1.0, "1 while a burning tree lies within village_radius_m "
+                       "of the village, else 0."),
+    )
+
+
+def world_state(self, state: AerialWildfireState) -> tuple[np.ndarray, np.ndarray]:
+    """(vectors (B, A, 8) float32 the planes' vector observations, world (B, 11) float64: main wind (2), fire
+    summary (5, see :func:`hivex_dsl.fire.summary.fire_summary`), village (2), fire to village, village
+    threatened)."""
+    p, fire, village = self.params, state.fire, state.maps.village
+    half = p.island_half_extent_m
+    world = np.empty((fire.batch, 2 + FIRE_FACTS + 4))
+    world[:, 0] = np.cos(state.wind.main)
+    world[:, 1] = np.sin(state.wind.main)
+    world[:, 2:2 + FIRE_FACTS] = fire_summary(fire, half, self.cell_m)
+    end = 2 + FIRE_FACTS
+    world[:, end:end + 2] = np.clip(village / p.border_half_extent_m, -1.0, 1.0)
+    distance = nearest_burning_distance(fire, village, half, self.cell_m)
+    world[:, end + 2] = np.minimum(distance / (2.0 * SQRT2 * half), 1.0)
+    world[:, end + 3] = state.sighting.village_threat
+    return self.observe(state)["vector"], world
