@@ -7,8 +7,9 @@ The tasks ship in the package (:mod:`hivex_dsl.adapters.benchmarl`): one BenchMA
 one member per task of its reward table (``OceanPlasticCollectionTask.GROUP_UP``...), whose env is TorchRL's
 ``PettingZooWrapper`` over one world with flat observations, WRM's and OPC's MultiDiscrete actions as one joint
 Discrete action and DBR's and AWS's hybrid actions as one Box(-1, 1). BenchMARL batches
-``--envs`` copies (a SerialEnv), runs its MAPPO with MLP actor and critic, and logs to ``--folder``. There is no
-global state yet: MAPPO's centralised critic reads every agent's observation. A callback keeps what each iteration
+``--envs`` copies (a SerialEnv), runs its MAPPO with MLP actor and critic, and logs to ``--folder``. MAPPO's
+centralised critic reads the world's global state (every agent's observation and the world's facts no agent
+observes). A callback keeps what each iteration
 collected and its losses, which ``main`` returns.
 """
 

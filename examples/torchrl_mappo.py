@@ -5,8 +5,9 @@
 
 It follows TorchRL's multi-agent PPO tutorial: a ``Collector`` over the env, a ``MultiAgentMLP`` policy
 shared by every agent (a categorical head for Discrete actions, a TanhNormal one for Box actions), a
-``MultiAgentMLP`` critic that is centralised (MAPPO: it reads every agent's observation; there is no global state
-yet) or not (IPPO), GAE and ``ClipPPOLoss`` from ``torchrl.objectives``.
+critic that is centralised (MAPPO: one MLP reads the world's global state, every agent's observation and the
+world's facts no agent observes, and gives each agent its value) or not (IPPO: a ``MultiAgentMLP`` over each
+agent's own observation), GAE and ``ClipPPOLoss`` from ``torchrl.objectives``.
 
 The env is :func:`hivex_dsl.adapters.torchrl.torchrl_env`: TorchRL's ``PettingZooWrapper(env, use_mask=True,
 done_on_any=False)`` over one world, every agent in the group ``"agents"``, flat observations (OPC's, DBR's and
@@ -30,7 +31,7 @@ from torchrl.data import Categorical as CategoricalSpec
 from torchrl.data import LazyTensorStorage, ReplayBuffer
 from torchrl.data.replay_buffers.samplers import SamplerWithoutReplacement
 from torchrl.envs import RewardSum, TransformedEnv
-from torchrl.modules import MultiAgentMLP, ProbabilisticActor, TanhNormal
+from torchrl.modules import MLP, MultiAgentMLP, ProbabilisticActor, TanhNormal
 from torchrl.objectives import ClipPPOLoss, ValueEstimators
 
 from hivex_dsl.adapters.torchrl import torchrl_env
@@ -95,9 +96,16 @@ def main(argv=None) -> list[dict]:
                                     distribution_kwargs={"low": action_spec.space.low, "high": action_spec.space.high},
                                     return_log_prob=True)
 
-    # --- the critic: MAPPO's reads every agent's observation (centralised), IPPO's each agent's own
-    critic = TensorDictModule(mlp(1, centralised=not args.ippo), in_keys=[("agents", "observation")],
-                              out_keys=[("agents", "state_value")])
+    # --- the critic: MAPPO's reads the world's global state and gives every agent a value; IPPO's each agent's own
+    if args.ippo:
+        critic = TensorDictModule(mlp(1, centralised=False), in_keys=[("agents", "observation")],
+                                  out_keys=[("agents", "state_value")])
+    else:
+        n_state = env.observation_spec["state"].shape[-1]
+        critic = TensorDictModule(nn.Sequential(MLP(in_features=n_state, out_features=n_agents, depth=2,
+                                                    num_cells=args.hidden, activation_class=nn.Tanh),
+                                                nn.Unflatten(-1, (n_agents, 1))),
+                                  in_keys=["state"], out_keys=[("agents", "state_value")])
 
     # --- collection, the PPO loss with GAE, and the optimiser
     collector = Collector(env, policy, frames_per_batch=args.frames_per_batch,

@@ -74,6 +74,7 @@ def test_the_views_accept_the_action_torchrl_sends_for_an_agent_that_ended(env_i
     assert first not in env.agents and env.agents == env.possible_agents[1:]
 
 
+@pytest.mark.ecosystem("torchrl")
 @pytest.mark.parametrize("env_id", ENV_IDS)
 def test_an_agent_that_ended_is_masked_out_and_its_world_goes_on_in_torchrl(env_id, restepped):
     pytest.importorskip("torchrl")
@@ -88,6 +89,7 @@ def test_an_agent_that_ended_is_masked_out_and_its_world_goes_on_in_torchrl(env_
     assert mask[6:].all() and not done[6:11].any()  # the world reset: agent 0 is back (and crashes no more)
 
 
+@pytest.mark.ecosystem("torchrl")
 @pytest.mark.parametrize("env_id", ENV_IDS)
 def test_torchrl_mappo_trains_a_few_iterations(env_id):
     pytest.importorskip("torchrl")
@@ -106,6 +108,7 @@ def test_torchrl_ippo_trains_too():
     assert_trained(history, 40, ("loss",))
 
 
+@pytest.mark.ecosystem("benchmarl")
 @pytest.mark.parametrize("env_id", ENV_IDS)
 def test_benchmarl_mappo_trains_a_few_iterations(env_id, tmp_path):
     pytest.importorskip("benchmarl")
@@ -149,6 +152,7 @@ def test_benchmarl_has_a_task_for_every_environment_and_task():
         task("wind_farm_control", episodes=3)
 
 
+@pytest.mark.ecosystem("benchmarl")
 @pytest.mark.parametrize("env_id", ENV_IDS)
 def test_a_benchmarl_task_builds_the_torchrl_env_with_the_actions_it_says(env_id):
     pytest.importorskip("benchmarl")
@@ -163,7 +167,10 @@ def test_a_benchmarl_task_builds_the_torchrl_env_with_the_actions_it_says(env_id
     assert hivex.supports_discrete_actions() == discrete != hivex.supports_continuous_actions()
     assert hivex.max_steps(env) == 7
     assert hivex.group_map(env) == {"agents": hivex_dsl.parallel_env(f"{env_id}/main").possible_agents}
-    assert hivex.state_spec(env) is None and hivex.action_mask_spec(env) is None
+    # the global state for MAPPO's critic: the parallel env's state_space, one vector per world
+    state_size = hivex_dsl.parallel_env(f"{env_id}/main").state_space.shape[0]
+    assert hivex.has_state() and hivex.state_spec(env)["state"].shape == (state_size,)
+    assert hivex.action_mask_spec(env) is None
     assert list(hivex.observation_spec(env)["agents"].keys()) == ["observation"]
 
 

@@ -18,8 +18,9 @@ follows PettingZoo's parallel API: an agent whose own episode ends (a crash, an 
 world resets; TorchRL's ``("agents", "mask")`` is then False for it, its ``("agents", "done")`` stays True, its
 observation and reward are zeros, and the action TorchRL still sends for it is accepted and ignored. The root
 ``done`` is every agent's (``done_on_any=False``): the world resets when its clock runs out or a world-level ending
-(such as AWS's and WRM's ``fire_out``) ends every agent, never at one agent's crash. There is no global state yet,
-so MAPPO's centralised critic reads the agents' observations together. The infos are not passed on: TorchRL builds
+(such as AWS's and WRM's ``fire_out``) ends every agent, never at one agent's crash. The world's global state
+(PettingZoo's ``state()``, :mod:`hivex_dsl.global_state`: every agent's vector observation and the world's facts
+no agent observes) is the root ``"state"`` key (``return_state=True``), for a centralised critic. The infos are not passed on: TorchRL builds
 its info spec from the reset infos, which are empty; the per-step reward terms and ``hivex_episode`` summaries stay
 in the parallel env's infos.
 """
@@ -47,7 +48,8 @@ def marl_view(env):
 
 def torchrl_env(scenario: Any = None, environment: Optional[str] = None, task: Optional[str] = None,
                 level: Any = None, max_cycles: Optional[int] = None, seed: Optional[int] = None,
-                device: Any = "cpu", render_mode: Optional[str] = None, split: str = "train", **fields: Any):
+                device: Any = "cpu", render_mode: Optional[str] = None, split: str = "train",
+                return_state: bool = True, **fields: Any):
     """One world of a scenario as a TorchRL ``PettingZooWrapper`` (see the module).
 
     ``scenario``, ``environment``, ``task``, ``level``, ``max_cycles`` (the episode length in ``step()`` calls)
@@ -65,4 +67,4 @@ def torchrl_env(scenario: Any = None, environment: Optional[str] = None, task: O
     compiled = make_scenario(environment, scenario, task=task, level=level, max_cycles=max_cycles, **fields)
     env = marl_view(hivex_dsl.parallel_env(compiled, render_mode=render_mode, split=split))
     return PettingZooWrapper(env, group_map=MarlGroupMapType.ALL_IN_ONE_GROUP, use_mask=True, done_on_any=False,
-                             categorical_actions=True, seed=seed, device=device)
+                             categorical_actions=True, seed=seed, device=device, return_state=return_state)
