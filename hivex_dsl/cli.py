@@ -88,6 +88,9 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--frame-step", "--every", type=positive, default=FRAME_STEP, dest="frame_step", metavar="N",
                    help=f"keep every N-th decision's frame (default {FRAME_STEP}; --every is its old name)")
     p.add_argument("--fps", type=positive, default=10, help="GIF frames per second (default 10)")
+    p.add_argument("--checkpoint", type=Path, metavar="CHECKPOINT",
+                   help="play the policy of a checkpoint `hivex train` wrote (of FILE's environment) instead of "
+                        "--policy; its actions are sampled, as `hivex evaluate` samples them")
     p.set_defaults(handler=cmd_render)
 
     from .audit_command import add_command as add_audit_command
@@ -215,8 +218,16 @@ def cmd_render(args) -> int:
         raise HivexError(f"--frame-step {args.frame_step} is more than --steps {args.steps}: the GIF would hold the "
                          f"first frame only; give a step of at most {args.steps}")
     compiled = one_point(args.file, args.point)
+    policy = args.policy
+    if args.checkpoint is not None:
+        from .train.commands import require_torch
+
+        require_torch()
+        from .train.evaluate import checkpoint_policies
+
+        policy = checkpoint_policies(args.checkpoint)(compiled)
     with bar(args.steps, f"render {compiled.name}", unit="decision") as shown:
-        frames = episode_frames(compiled, args.policy, args.steps, args.frame_step, args.seed, progress=shown)
+        frames = episode_frames(compiled, policy, args.steps, args.frame_step, args.seed, progress=shown)
         count = save_gif(frames, args.output, fps=args.fps)
     print(f"wrote {args.output} ({count} frames)")
     return EXIT_OK

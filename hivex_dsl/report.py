@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import sys
 import time
-from typing import Iterator, Optional, TextIO
+from typing import Any, Callable, Iterator, Optional, TextIO
 
 import numpy as np
 
@@ -158,13 +158,15 @@ def collect_returns(compiled: CompiledScenario, policy_name: str, episodes: int,
     return done.returns, done.terms
 
 
-def episode_frames(compiled: CompiledScenario, policy_name: str, steps: int, every: int,
+def episode_frames(compiled: CompiledScenario, policy_name: str | Callable[[Any], Any], steps: int, every: int,
                    seed: Optional[int] = None, progress=None) -> Iterator[np.ndarray]:
     """Frames of one world every ``every`` steps for up to ``steps`` steps (stops when the episode ends);
+    ``policy_name`` is 'scripted', 'random', 'zeros' or a batched policy (a trained network's, say);
     ``progress`` (a tqdm bar, optional) advances one per step."""
     core = BatchedEnv(compiled, batch=1)
     space = core.sim.action_space
-    policy = make_policy(policy_name, compiled, space, core.shape, seed=0 if seed is None else seed)
+    policy = policy_name if callable(policy_name) else make_policy(
+        policy_name, compiled, space, core.shape, seed=0 if seed is None else seed)
     observations = core.reset(seed)
     yield core.render(0)
     for step in range(1, steps + 1):
