@@ -6,7 +6,8 @@
 RLlib's default models take Box observations and Box/Discrete/MultiDiscrete actions, so the
 PettingZoo env is wrapped flat (:mod:`hivex_dsl.adapters.flat`: one Box observation; one Box
 action for the hybrid environments). RLlib's multi-agent episodes follow PettingZoo's semantics:
-an agent whose episode ends leaves until its world resets.
+an agent whose episode ends leaves until its world resets. It runs on RLlib's new API stack (RLModule,
+Learner, EnvRunner and connectors v2), its default since Ray 2.40; ``main`` refuses the old one.
 """
 
 from __future__ import annotations
@@ -48,6 +49,8 @@ def main(argv=None) -> list[dict]:
         .training(train_batch_size=args.batch_size, minibatch_size=min(128, args.batch_size), num_epochs=2)
         .debugging(seed=args.seed)
     )
+    if not (config.enable_rl_module_and_learner and config.enable_env_runner_and_connector_v2):
+        raise RuntimeError("this example is written for RLlib's new API stack (Ray 2.40 or newer)")
     algo = config.build_algo()
     results = []
     for iteration in range(args.iterations):
