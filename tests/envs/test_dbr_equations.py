@@ -206,6 +206,7 @@ def test_returning_drone_recharges_picks_up_a_seed_and_earns_the_pick_up_reward(
     newer, outcome = sim.step(new, act(throttle=1.0), np.random.default_rng(1))  # 6.5 m, 2 m up: 6.80 m
     assert newer.inside[0, 0] and newer.returned[0, 0] and outcome.events["returned_to_station"][0, 0]
     assert newer.holding[0, 0] and newer.energy[0, 0] == 1.0
+    assert new.flown[0, 0] == pytest.approx(1.0) and newer.flown[0, 0] == 0.0  # the new seed's path starts here
     assert term(compiled, "pick_up_seed", new, newer, act())[0, 0] == 1.0
     assert term(compiled, "pick_up_seed_explored", new, newer, act())[0, 0] == 60.0
     after, _ = sim.step(newer, act(), np.random.default_rng(1))  # staying at the pad is no new return
@@ -429,3 +430,27 @@ def test_explore_furthest_pays_the_explored_distance_over_the_half_extent():
     rewards, terms = composer(state, new, act(), compiled.params, (1, 1))
     assert terms["far_distance_explored_delta"][0, 0] == pytest.approx(30.0)  # the term stays in metres
     assert rewards[0, 0] == pytest.approx(30.0 / 200.0 - 1.0 / 1000.0)  # holding a seed: -1/1000 a step
+
+
+def test_distance_until_tree_drop_is_the_path_flown_since_the_seed_was_taken():
+    """The published ratio of "Cumulative Distance Until Tree Drop" to its normalised station distance (x 200 for a
+    straight line) is 303 in the main task and 389 in Pick-up Seed: the original logs the path flown, not the
+    station distance. By hand: 6 steps east at full throttle, a U-turn leg back west, then the drop."""
+    from hivex_dsl.envs.drone_based_reforestation.statistics import STATISTICS
+
+    compiled, sim = simulator()
+    state = hand_world(sim, [(100.0, 0.0, 10.0)])
+    assert state.flown.tolist() == [[0.0]]
+    rng = np.random.default_rng(1)
+    path = 0.0
+    for actions in [act(throttle=1.0)] * 6 + [act(throttle=1.0, steer=1.0)] * 3:
+        before = state.position.copy()
+        state, _ = sim.step(state, actions, rng)
+        path += float(np.linalg.norm(state.position - before))
+    assert path > 6 * sim.params.drone_speed_m * 0.99  # it flew, at about drone_speed_m a step
+    prev, (state, _) = state, sim.step(state, act(drop=1), rng)
+    assert state.dropped[0, 0]
+    counter = STATISTICS["Cumulative Distance Until Tree Drop"].counter
+    assert counter(prev, state, act(drop=1), compiled.params)[0, 0] == pytest.approx(path)  # hovering adds nothing
+    straight = np.hypot(*(state.position[0, 0, :2] - state.station[0, :2]))
+    assert path != pytest.approx(straight)

@@ -40,7 +40,7 @@ def respawn_where(sim, state: DroneState, mask: np.ndarray, rng: np.random.Gener
                   best_fertility=state.best_fertility * off, best_height=state.best_height * off,
                   best_distance=state.best_distance * off, back_active=state.back_active & off,
                   back_init=state.back_init * off, back_best=state.back_best * off,
-                  back_multiplier=state.back_multiplier * off, dropped=state.dropped & off,
+                  back_multiplier=state.back_multiplier * off, flown=state.flown * off, dropped=state.dropped & off,
                   seed_reward=state.seed_reward * off, distance_reward=state.distance_reward * off,
                   returned=state.returned & off, found_tree=state.found_tree & off,
                   running_back=state.running_back * off, frames=np.where(mask[..., None], first, state.frames))

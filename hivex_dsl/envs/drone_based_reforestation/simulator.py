@@ -158,7 +158,7 @@ class DroneReforestationSimulator:
             best_fertility=fertility(det, p.min_tree_distance_m, p.max_tree_distance_m),
             best_height=position[..., 2].copy(), best_distance=np.minimum(reach, self.half), back_active=false,
             back_init=np.zeros(shape, np.int64), back_best=np.zeros(shape, np.int64), back_multiplier=zeros,
-            dropped=false, seed_reward=zeros, distance_reward=zeros, returned=false,
+            flown=zeros, dropped=false, seed_reward=zeros, distance_reward=zeros, returned=false,
             found_tree=false, running_back=zeros, frames=np.zeros(shape + (2 * VECTOR_SIZE,), np.float32))
         flight = Flight(position, position[..., :2], position[..., 2], heading,
                         np.stack([np.cos(heading), np.sin(heading)], axis=-1), ground, None)
@@ -315,11 +315,13 @@ class DroneReforestationSimulator:
         holding = (state.holding & ~drops) if dropping else state.holding
         holding = holding | returned if returning else holding
         away = state.away | (distance >= p.return_min_distance_m)
+        # the path since the last seed taken, this step's leg included (a drop reads it); a return starts it anew
+        flown = state.flown + _zero_unless_alive(np.linalg.norm(flight.position - state.position, axis=-1), alive)
         energy = self._energy(state, docked, alive)
         new = evolve(
             state, new_count=new_count, position=flight.position, heading=flight.heading, ground=flight.ground,
             energy=energy, holding=holding, alive=energy > 0.0, inside=inside,
-            away=away & ~returned if returning else away,
+            away=away & ~returned if returning else away, flown=np.where(returned, 0.0, flown) if returning else flown,
             best_fertility=self._best_fertility(state, flight.xy, flight.tree_distance, alive),
             best_height=np.maximum(state.best_height, _zero_unless_alive(flight.z, alive)),
             best_distance=np.maximum(state.best_distance, _zero_unless_alive(np.minimum(reach, self.half), alive)),

@@ -43,12 +43,12 @@ def distance_reward(prev, state, actions, params):
     return state.distance_reward
 
 
-@STATISTICS.counter("Cumulative Distance Until Tree Drop", "Metres from the station to each drop point.")
+@STATISTICS.counter("Cumulative Distance Until Tree Drop", "Metres the drone flew (its 3-D path) from taking "
+                    "its seed (its spawn or its last return) to each drop.")
 def distance_until_tree_drop(prev, state, actions, params):
     if not np.count_nonzero(state.dropped):  # most steps: nobody dropped (counts 0 for everyone)
         return state.dropped
-    offset = state.position[..., :2] - state.station[:, None, :2]
-    return np.where(state.dropped, np.hypot(offset[..., 0], offset[..., 1]), 0.0)
+    return np.where(state.dropped, state.flown, 0.0)
 
 
 @STATISTICS.counter("Cumulative Normalized Distance Until Tree Drop",

@@ -42,6 +42,7 @@ class DroneState:
     back_init: np.ndarray  # (B, A) int64 d_init: station distance increment at the drop
     back_best: np.ndarray  # (B, A) int64 d_-1: closest increment reached since the drop
     back_multiplier: np.ndarray  # (B, A) rbm of the last drop
+    flown: np.ndarray  # (B, A) metres flown (3-D path) since the drone last took a seed: its spawn or a return
     # what happened in the last step (all zero / false after a reset)
     dropped: np.ndarray  # (B, A) bool, released a seed (planted as a new tree at the ground below)
     seed_reward: np.ndarray  # (B, A) r_s of the drop
