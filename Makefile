@@ -39,7 +39,7 @@ test: $(VENV)/.installed-test
 # ray[rllib] pins an older gymnasium (1.2.2 for ray 2.60) that would replace the test venv's. There the example runs,
 # and the Gymnasium, PettingZoo, endings and examples tests run again on RLlib's gymnasium.
 RLLIB_VENV ?= .venv-rllib
-RLLIB_TESTS := tests/test_gymnasium_conformance.py tests/test_pettingzoo_suite.py tests/test_runtime_endings.py \
+RLLIB_TESTS := tests/test_gymnasium_conformance.py tests/test_pettingzoo_suite.py tests/test_runtime_endings.py tests/test_supersuit.py \
 	tests/test_examples.py tests/test_vector_env.py tests/test_parallel_env.py
 
 rllib:

@@ -13,6 +13,12 @@ settings.register_profile("dev", deadline=None)
 settings.load_profile("ci" if os.environ.get("CI") else "dev")
 
 
+def pytest_configure(config):
+    config.addinivalue_line(
+        "markers", "ecosystem(library): the test proves the library runs on each environment it is parametrized by; "
+                   "docs/ecosystem.md's library x environment table is read from these (hivex_dsl.docsgen.ecosystem_matrix)")
+
+
 @pytest.fixture
 def wfc_dict():
     """A minimal valid Wind Farm Control scenario as a plain dict."""

@@ -86,6 +86,7 @@ def assert_summed_as_by_hand(record, mode) -> int:
     return sum(len(step) for step in by_hand)
 
 
+@pytest.mark.ecosystem("gymnasium")
 @pytest.mark.parametrize("environment", list(LENGTH))
 @pytest.mark.parametrize("mode", ["next_step", "same_step"])
 @pytest.mark.parametrize("flat", [False, True])
@@ -126,6 +127,7 @@ def test_a_dead_slot_comes_back_with_a_first_observation_and_plays_on(environmen
     assert not terminated[slot]  # it plays on: its steps count in its new episode
 
 
+@pytest.mark.ecosystem("supersuit")
 @pytest.mark.parametrize("environment", list(LENGTH))
 def test_supersuit_vector_conversion_counts_per_agent_returns_including_deaths(environment):
     supersuit = pytest.importorskip("supersuit")
@@ -166,6 +168,7 @@ def test_the_parallel_env_keeps_pettingzoo_semantics_by_default(environment):
     assert left is not None and left not in env.agents and "hivex_episode" in infos[left]
 
 
+@pytest.mark.ecosystem("sb3")
 @pytest.mark.parametrize("environment", list(LENGTH))
 def test_sb3_vec_monitor_counts_per_agent_returns_including_deaths(environment):
     pytest.importorskip("stable_baselines3")

@@ -23,6 +23,7 @@ def load(name: str):
     return module
 
 
+@pytest.mark.ecosystem("cleanrl")
 @pytest.mark.parametrize("env_id", ENV_IDS)
 def test_cleanrl_ppo_trains_a_few_hundred_steps(env_id):
     pytest.importorskip("torch")
@@ -31,6 +32,7 @@ def test_cleanrl_ppo_trains_a_few_hundred_steps(env_id):
     assert returns and all(math.isfinite(r) for r in returns)  # episodes ended and were summed
 
 
+@pytest.mark.ecosystem("sb3")
 @pytest.mark.parametrize("env_id", ENV_IDS)
 def test_sb3_ppo_trains_a_few_hundred_steps(env_id):
     pytest.importorskip("stable_baselines3")
@@ -41,11 +43,16 @@ def test_sb3_ppo_trains_a_few_hundred_steps(env_id):
     assert episodes and all(e["l"] <= 20 and math.isfinite(e["r"]) for e in episodes)
 
 
-def test_rllib_example_is_importable_without_ray_only_when_ray_is_there():
+@pytest.mark.ecosystem("rllib")
+@pytest.mark.parametrize("env_id", ENV_IDS)
+def test_rllib_ppo_trains_an_iteration(env_id):
     pytest.importorskip("ray.rllib")
-    results = load("rllib_ppo").main(["--scenario", "wind_farm_control/main", "--episode-length", "20",
+    results = load("rllib_ppo").main(["--scenario", f"{env_id}/main", "--episode-length", "20",
                                       "--iterations", "1", "--batch-size", "100"])
     assert len(results) == 1
+    sampled, learned = results[0]["env_runners"], results[0]["learners"]["shared"]
+    assert sampled["num_env_steps_sampled"] >= 100 and sampled["num_episodes"] >= 1  # 20-step episodes ended
+    assert math.isfinite(sampled["episode_return_mean"]) and math.isfinite(learned["total_loss"])
 
 
 def test_first_run_trains_evaluates_and_compares_with_the_paper(tmp_path, capsys):

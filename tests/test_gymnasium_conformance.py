@@ -16,6 +16,7 @@ ENV_IDS = list(registry.environments())
 WFC = {"hivex": 1, "environment": "wind_farm_control", "agents": 3, "episode_length": 4}
 
 
+@pytest.mark.ecosystem("gymnasium")
 @pytest.mark.parametrize("env_id", ENV_IDS)
 def test_make_vec_with_an_id_and_scenario_keywords(env_id):
     venv = gymnasium.make_vec(f"hivex/{camel(env_id)}-v0", num_envs=2, episode_length=5)
@@ -81,6 +82,7 @@ def test_same_step_returns_first_observations_at_once_and_the_last_in_infos():
     np.testing.assert_array_equal(s_obs, restarted)
 
 
+@pytest.mark.ecosystem("gymnasium")
 @pytest.mark.parametrize("env_id", ENV_IDS)
 def test_observations_are_fresh_writable_arrays(env_id):
     scenario = {"hivex": 1, "environment": env_id, "episode_length": 5}
@@ -107,6 +109,7 @@ def test_copies_of_one_scenario_are_different_worlds_unless_seeded():
     assert not np.array_equal(p1.reset()[0]["turbine_0"], p2.reset()[0]["turbine_0"])
 
 
+@pytest.mark.ecosystem("gymnasium")
 @pytest.mark.parametrize("env_id", ["wind_farm_control", "wildfire_resource_management", "aerial_wildfire_suppression"])
 def test_one_world_follows_the_parallel_env_across_episodes(env_id):
     """Issue 16: the autoreset step no longer steps the simulator on discarded actions."""

@@ -22,31 +22,37 @@ def module(env_id: str):
     return importlib.import_module(f"hivex_dsl.zoo.{env_id}_v0")
 
 
+@pytest.mark.ecosystem("pettingzoo")
 @pytest.mark.parametrize("env_id", ENV_IDS)
 def test_api_test(env_id):
     api_test(module(env_id).env(max_cycles=CYCLES), num_cycles=CYCLES + 10)
 
 
+@pytest.mark.ecosystem("pettingzoo")
 @pytest.mark.parametrize("env_id", ENV_IDS)
 def test_parallel_api_test(env_id):
     parallel_api_test(module(env_id).parallel_env(max_cycles=CYCLES), num_cycles=CYCLES + 10)
 
 
+@pytest.mark.ecosystem("pettingzoo")
 @pytest.mark.parametrize("env_id", ENV_IDS)
 def test_seed_test(env_id):
     seed_test(partial(module(env_id).env, max_cycles=CYCLES), num_cycles=CYCLES)
 
 
+@pytest.mark.ecosystem("pettingzoo")
 @pytest.mark.parametrize("env_id", ENV_IDS)
 def test_parallel_seed_test(env_id):
     parallel_seed_test(partial(module(env_id).parallel_env, max_cycles=CYCLES), num_cycles=CYCLES)
 
 
+@pytest.mark.ecosystem("pettingzoo")
 @pytest.mark.parametrize("env_id", ENV_IDS)
 def test_max_cycles_test(env_id):
     max_cycles_test(module(env_id))
 
 
+@pytest.mark.ecosystem("pettingzoo")
 @pytest.mark.parametrize("env_id", ENV_IDS)
 def test_render_test(env_id, monkeypatch):
     pytest.importorskip("pygame", reason='render_mode="human" needs the window extra (pygame)')

@@ -54,12 +54,15 @@ def _jinja() -> Environment:
 
 
 def render_docs(results: Path | None = None, fidelity: Path | None = None,
-                baselines: Path | None = None) -> dict[str, Content]:
+                baselines: Path | None = None, tests: Path | None = None,
+                overhead: Path | None = None) -> dict[str, Content]:
     """Relative path under docs/ -> file content (text, bytes, or an (H, W, 3) uint8 picture saved as PNG).
 
     ``results`` is a `hivex bench --json` report; when the file exists, performance.md shows it.
     ``fidelity`` is the stored `hivex audit --suite` report fidelity.md shows (see hivex_dsl.fidelity).
     ``baselines`` is the folder of committed baselines (benchmarks/baselines); baselines.md shows them.
+    ``tests`` (the checkout's tests/) and ``overhead`` (benchmarks/results/ecosystem.json) feed ecosystem.md's
+    library x environment table and its overhead table.
     """
     jinja = _jinja()
     has_baselines = baselines is not None and Path(baselines).is_dir()
@@ -72,7 +75,7 @@ def render_docs(results: Path | None = None, fidelity: Path | None = None,
     }
     from .ecosystem import ecosystem_context
 
-    docs["ecosystem.md"] = jinja.get_template("ecosystem.md.j2").render(**ecosystem_context())
+    docs["ecosystem.md"] = jinja.get_template("ecosystem.md.j2").render(**ecosystem_context(tests, overhead))
     figures = preview_figures()
     docs["generators.md"] = jinja.get_template("generators.md.j2").render(
         figures=[{"path": rel, "caption": caption} for rel, (caption, _) in figures.items()])
@@ -136,7 +139,7 @@ def write_docs(docs_dir: Path) -> list[str]:
     """Write render_docs() into docs_dir (creating dirs), delete generated files no longer produced
     (only files listed in docs/.generated), return the relative paths written or removed."""
     docs_dir = Path(docs_dir)
-    rendered = render_docs(bench_results(docs_dir), fidelity_results(docs_dir), baselines_dir(docs_dir))
+    rendered = render_docs(*_inputs(docs_dir))
     changed: list[str] = []
     for rel in sorted(set(_read_manifest(docs_dir) or ()) - set(rendered)):
         target = docs_dir / rel
@@ -166,6 +169,15 @@ def bench_results(docs_dir: Path) -> Path:
     return Path(docs_dir).resolve().parent / RESULTS_FILE
 
 
+def _inputs(docs_dir: Path) -> tuple[Path, ...]:
+    """render_docs()'s inputs of the checkout docs_dir is in: the stored reports, baselines and tests beside it."""
+    from .ecosystem import OVERHEAD_FILE
+
+    root = Path(docs_dir).resolve().parent
+    return (bench_results(docs_dir), fidelity_results(docs_dir), baselines_dir(docs_dir), root / "tests",
+            root / OVERHEAD_FILE)
+
+
 def fidelity_results(docs_dir: Path) -> Path:
     """The committed fidelity suite beside docs/ (benchmarks/results/fidelity.json of the same checkout)."""
     from ..fidelity import FIDELITY_FILE
@@ -186,7 +198,7 @@ def stale_docs(docs_dir: Path) -> list[str]:
     no longer produced (docs/.generated itself if it is missing or omits a produced file).
     Empty list == docs are fresh."""
     docs_dir = Path(docs_dir)
-    rendered = render_docs(bench_results(docs_dir), fidelity_results(docs_dir), baselines_dir(docs_dir))
+    rendered = render_docs(*_inputs(docs_dir))
     stale = [rel for rel, content in rendered.items() if not _is_fresh(docs_dir / rel, content)]
     listed = _read_manifest(docs_dir)
     if listed is None:
