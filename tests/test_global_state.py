@@ -21,7 +21,8 @@ from hivex_dsl import registry
 from hivex_dsl.errors import ResetNeeded
 from hivex_dsl.fire import TreeState
 from hivex_dsl.global_state import AGENT_OBSERVATIONS, EPISODE_PROGRESS, vector_space
-from hivex_dsl.runtime import StepOutcome
+
+from .crashes import first_agent_crashes_on
 
 ENV_IDS = list(registry.environments())
 CYCLES = 30
@@ -204,20 +205,6 @@ def test_random_rollouts_stay_in_the_state_space_and_match_the_returned_observat
         np.testing.assert_array_equal(agent_part(venv, states).reshape(venv.num_envs, -1), vectors_of(obs))
         np.testing.assert_array_equal(venv.state(per_slot=True), np.repeat(states, venv.agents_per_world, axis=0))
         obs, *_ = venv.step(venv.action_space.sample())
-
-
-def first_agent_crashes_on(step_number: int):
-    """A simulator step after which agent 0 terminates on the world's ``step_number``-th step (its world goes on)."""
-    steps = [0]
-
-    def step(sim, state, actions, rng):
-        new, outcome = sim.step(state, actions, rng)
-        steps[0] += 1
-        terminated = np.array(outcome.terminated, bool)
-        terminated[:, 0] |= steps[0] == step_number
-        return new, StepOutcome(terminated, outcome.events)
-
-    return step
 
 
 @pytest.mark.parametrize("env_id", ["ocean_plastic_collection", "wind_farm_control"])

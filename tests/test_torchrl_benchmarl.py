@@ -17,7 +17,8 @@ import pytest
 import hivex_dsl
 from hivex_dsl import registry
 from hivex_dsl.adapters.torchrl import marl_view
-from hivex_dsl.runtime import StepOutcome
+
+from .crashes import first_agent_crashes_on
 
 ENV_IDS = list(registry.environments())
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
@@ -30,20 +31,6 @@ def load(name: str):
     sys.modules[spec.name] = module  # BenchMARL pickles the experiment's callbacks, a class of the example's
     spec.loader.exec_module(module)
     return module
-
-
-def first_agent_crashes_on(step_number: int):
-    """A simulator step after which agent 0 terminates on the world's ``step_number``-th step (its world goes on)."""
-    steps = [0]
-
-    def step(sim, state, actions, rng):
-        new, outcome = sim.step(state, actions, rng)
-        steps[0] += 1
-        terminated = np.array(outcome.terminated, bool)
-        terminated[:, 0] |= steps[0] == step_number
-        return new, StepOutcome(terminated, outcome.events)
-
-    return step
 
 
 def crashing(restepped, env_id: str, length: int = 6):

@@ -22,7 +22,23 @@ from ..batching import put_worlds, replace_worlds, select_worlds
 from ..fire import FireState, fire_put_worlds, fire_reset
 from ..procgen.weather import weather_reset
 from ..procgen.wind import WindSpec, WindState, wind_reset
+from ..global_state import StateComponent
 from ..registry import GeneratorSlot
+
+
+# The wind and fire facts of an island world's global state (hivex_dsl.global_state), first in both environments'
+# world facts; fire_summary (hivex_dsl.fire.summary) computes the fire's five.
+ISLAND_STATE_COMPONENTS = (
+    StateComponent("main wind", 2, -1.0, 1.0, "Direction the main wind blows to (cos, sin); fire spreads "
+                   "downwind."),
+    StateComponent("fire burning", 1, 0.0, 1.0, "Burning trees n on the C x C forest grid, log(1 + n) / "
+                   "log(1 + C^2)."),
+    StateComponent("fire front centre", 2, -1.0, 1.0, "Mean (x, y) of the burning trees / island half extent "
+                   "(0 without fire)."),
+    StateComponent("fire front spread", 1, 0.0, 1.0, "Root-mean-square distance of the burning trees from "
+                   "their centre / (sqrt(2) x island half extent)."),
+    StateComponent("fire out", 1, 0.0, 1.0, "1 once the island's fire is out, else 0."),
+)
 
 # Ground palette indices (uint8); tree states are drawn over them (see palette.py).
 LAND_SHADES = 32

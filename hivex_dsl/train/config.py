@@ -92,7 +92,6 @@ HYPERPARAMETERS = Document("set of hyperparameters", "a mapping of hyperparamete
                            may_be_empty=True)
 DEVICES = "cpu, cuda or cuda:N (one GPU of several)"  # what the training loop runs on
 THREADS = "an integer from 1 to 256, or auto (this machine's cores, at most 8)"
-PRECISIONS = ("exact", "bf16", "tf32")
 Precision = Literal["exact", "bf16", "tf32"]
 MAX_AUTO_THREADS = 8  # past 8 the small networks' updates gain little; more belongs to concurrent runs
 MINIBATCH_KEYS = ("batch_size", "buffer_size")

@@ -6,6 +6,7 @@ import numpy as np
 
 from ...fire.summary import FIRE_FACTS, SQRT2, fire_summary, nearest_burning_distance
 from ...global_state import StateComponent
+from ..island import ISLAND_STATE_COMPONENTS
 from .types import AerialWildfireState
 
 
@@ -13,15 +14,7 @@ def state_components(self) -> tuple[StateComponent, ...]:
     """The main wind, the fire as a whole (a plane sees only the nearest burning tree in its view square) and the
     village (where it lies, how close the fire is to it)."""
     return (
-        StateComponent("main wind", 2, -1.0, 1.0, "Direction the main wind blows to (cos, sin); fire spreads "
-                       "downwind."),
-        StateComponent("fire burning", 1, 0.0, 1.0, "Burning trees n on the C x C forest grid, log(1 + n) / "
-                       "log(1 + C^2)."),
-        StateComponent("fire front centre", 2, -1.0, 1.0, "Mean (x, y) of the burning trees / island half extent "
-                       "(0 without fire)."),
-        StateComponent("fire front spread", 1, 0.0, 1.0, "Root-mean-square distance of the burning trees from "
-                       "their centre / (sqrt(2) x island half extent)."),
-        StateComponent("fire out", 1, 0.0, 1.0, "1 once the island's fire is out, else 0."),
+        *ISLAND_STATE_COMPONENTS,
         StateComponent("village", 2, -1.0, 1.0, "The village centre (x, y) / border half extent, as the planes' "
                        "positions are observed."),
         StateComponent("fire to village", 1, 0.0, 1.0, "Distance from the village centre to the nearest burning "

@@ -6,6 +6,7 @@ import numpy as np
 
 from ...fire.summary import FIRE_FACTS, fire_summary
 from ...global_state import StateComponent
+from ..island import ISLAND_STATE_COMPONENTS
 from .types import WildfireResourceState
 
 
@@ -13,15 +14,7 @@ def state_components(self) -> tuple[StateComponent, ...]:
     """The main wind, the fire as a whole (the towers see only the nearest burning tree within their detection
     radius) and the weather over the whole island (the towers read it at their own feet)."""
     return (
-        StateComponent("main wind", 2, -1.0, 1.0, "Direction the main wind blows to (cos, sin); fire spreads "
-                       "downwind."),
-        StateComponent("fire burning", 1, 0.0, 1.0, "Burning trees n on the C x C forest grid, log(1 + n) / "
-                       "log(1 + C^2)."),
-        StateComponent("fire front centre", 2, -1.0, 1.0, "Mean (x, y) of the burning trees / island half extent "
-                       "(0 without fire)."),
-        StateComponent("fire front spread", 1, 0.0, 1.0, "Root-mean-square distance of the burning trees from "
-                       "their centre / (sqrt(2) x island half extent)."),
-        StateComponent("fire out", 1, 0.0, 1.0, "1 once the island's fire is out, else 0."),
+        *ISLAND_STATE_COMPONENTS,
         StateComponent("island weather", 3, 0.0, 1.0, "Temperature, humidity and overcast averaged over the "
                        "weather grid (as the fire's spread factors read them)."),
     )
