@@ -9,7 +9,7 @@ from gymnasium import spaces
 
 from hivex_dsl.adapters.gymnasium import HivexVectorEnv
 from hivex_dsl.compiler import compile
-from hivex_dsl.train.config import make_config
+from hivex_dsl.train.config import PPOConfig, make_config
 from hivex_dsl.train.curiosity import Curiosity
 from hivex_dsl.train.logs import EpisodeLog
 from hivex_dsl.train.networks import ActionLayout, ActorCritic, to_tensors
@@ -67,9 +67,9 @@ def test_training_lowers_the_forward_error_of_seen_transitions():
     optimizer = torch.optim.Adam(module.parameters(), lr=3e-3)
     obs, following, cont, disc = _transitions()
     batch = {"obs": obs, "next_obs": following, "cont": cont, "disc": disc}
-    first = [_train_curiosity(module, optimizer, batch) for _ in range(3)][0]
+    first = [_train_curiosity(module, optimizer, batch, PPOConfig()) for _ in range(3)][0]
     for _ in range(300):
-        last = _train_curiosity(module, optimizer, batch)
+        last = _train_curiosity(module, optimizer, batch, PPOConfig())
     assert last[0] < 0.2 * first[0]  # forward loss
     assert last[1] < 0.5 * first[1]  # inverse loss: the action is readable from (s, s')
     assert bool(module.updated)
