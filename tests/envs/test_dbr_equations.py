@@ -198,19 +198,39 @@ def test_running_back_ends_at_the_station_and_pays_nothing_for_a_drop_near_it():
 
 # ------------------------------------------------------------------ the station
 def test_returning_drone_recharges_picks_up_a_seed_and_earns_the_pick_up_reward():
+    """Docked, the battery gains charge_per_step (0.1) a step; the return (the seed and its reward) comes on the step
+    it is full: from 0.2995, 8 charging steps, each counted by Recharge Energy Count."""
+    from hivex_dsl.envs.drone_based_reforestation.statistics import STATISTICS
+
     compiled, sim = simulator()
+    recharges = STATISTICS["Recharge Energy Count"].counter
     state = hand_world(sim, [(8.5, 0.0, 2.0)], holding=False, energy=0.3, heading=np.pi)
     state = replace(state, best_distance=np.array([[60.0]]))
     new, outcome = sim.step(state, act(throttle=1.0), np.random.default_rng(1))  # to 7.5 m, 2 m up: 7.77 m
     assert not new.inside[0, 0] and new.energy[0, 0] == pytest.approx(0.3 - 1 / 2000)
-    newer, outcome = sim.step(new, act(throttle=1.0), np.random.default_rng(1))  # 6.5 m, 2 m up: 6.80 m
-    assert newer.inside[0, 0] and newer.returned[0, 0] and outcome.events["returned_to_station"][0, 0]
-    assert newer.holding[0, 0] and newer.energy[0, 0] == 1.0
-    assert new.flown[0, 0] == pytest.approx(1.0) and newer.flown[0, 0] == 0.0  # the new seed's path starts here
-    assert term(compiled, "pick_up_seed", new, newer, act())[0, 0] == 1.0
-    assert term(compiled, "pick_up_seed_explored", new, newer, act())[0, 0] == 60.0
-    after, _ = sim.step(newer, act(), np.random.default_rng(1))  # staying at the pad is no new return
-    assert not after.returned[0, 0] and term(compiled, "pick_up_seed", newer, after, act())[0, 0] == 0.0
+    charged, counted = new, 0
+    for step in range(1, 9):  # docked at 6.5 m, then drifting to the pad; 0.2995 + 0.1 k, at most 1
+        prev, (charged, outcome) = charged, sim.step(charged, act(throttle=1.0 if step == 1 else 0.0),
+                                                     np.random.default_rng(1))
+        counted += int(recharges(prev, charged, act(), compiled.params)[0, 0])
+        assert charged.inside[0, 0]
+        full = step == 8
+        assert charged.energy[0, 0] == pytest.approx(min(1.0, 0.2995 + 0.1 * step))
+        assert charged.returned[0, 0] == full and bool(outcome.events["returned_to_station"][0, 0]) == full
+        assert charged.holding[0, 0] == full
+    assert counted == 8
+    assert new.flown[0, 0] == pytest.approx(1.0) and charged.flown[0, 0] == 0.0  # the new seed's path starts here
+    assert term(compiled, "pick_up_seed", prev, charged, act())[0, 0] == 1.0
+    assert term(compiled, "pick_up_seed_explored", prev, charged, act())[0, 0] == 60.0
+    after, _ = sim.step(charged, act(), np.random.default_rng(1))  # staying at the pad is no new return
+    assert not after.returned[0, 0] and term(compiled, "pick_up_seed", charged, after, act())[0, 0] == 0.0
+
+
+def test_charge_per_step_1_refills_at_once():
+    compiled, sim = simulator(charge_per_step=1.0)
+    state = hand_world(sim, [(7.0, 0.0, 2.0)], holding=False, energy=0.3)
+    state, _ = sim.step(state, act(), np.random.default_rng(1))
+    assert state.inside[0, 0] and state.energy[0, 0] == 1.0 and state.returned[0, 0] and state.holding[0, 0]
 
 
 def test_hovering_across_the_charge_radius_recharges_but_is_no_return():
@@ -219,7 +239,7 @@ def test_hovering_across_the_charge_radius_recharges_but_is_no_return():
     for throttle in (1.0, 1.0, 1.0, -1.0, -1.0, -1.0, 1.0, 1.0):
         state, _ = sim.step(state, act(throttle=throttle), np.random.default_rng(1))
         assert not state.returned[0, 0] and not state.holding[0, 0]
-    assert state.inside[0, 0] and state.energy[0, 0] == 1.0
+    assert state.inside[0, 0] and state.energy[0, 0] > 0.5  # charging while inside, never a return
 
 
 def test_drones_start_at_the_station_with_a_seed_and_a_full_battery():

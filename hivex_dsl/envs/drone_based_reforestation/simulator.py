@@ -264,11 +264,12 @@ class DroneReforestationSimulator:
                                             state.back_multiplier)}
 
     def _energy(self, state: DroneState, docked: np.ndarray, alive: np.ndarray | None) -> np.ndarray:
-        """(B, A) battery after this step: full when ``docked`` (alive within the charge radius), else less the
-        step's cost (with or without a seed) for a living drone; 0 once (nearly) empty."""
+        """(B, A) battery after this step: ``charge_per_step`` more (at most full) when ``docked`` (alive within the
+        charge radius), else less the step's cost (with or without a seed) for a living drone; 0 once (nearly)
+        empty."""
         cost = self._depletion[state.holding.astype(np.intp)]
         energy = state.energy - (cost if alive is None else cost * alive)
-        np.putmask(energy, docked, 1.0)
+        np.putmask(energy, docked, np.minimum(state.energy + self.params.charge_per_step, 1.0))
         np.putmask(energy, energy <= 1e-9, 0.0)
         return energy
 
@@ -310,14 +311,14 @@ class DroneReforestationSimulator:
             back = self._back(state, drops, increment, outside, r_s, r_d, dropping)
 
         docked = _alive_only(inside, alive)
-        returned = docked & state.away
+        energy = self._energy(state, docked, alive)
+        returned = docked & state.away & (energy >= 1.0)  # back, and charged full: the seed is taken then
         returning = np.count_nonzero(returned) > 0  # rare: most steps skip the ops with it
         holding = (state.holding & ~drops) if dropping else state.holding
         holding = holding | returned if returning else holding
         away = state.away | (distance >= p.return_min_distance_m)
         # the path since the last seed taken, this step's leg included (a drop reads it); a return starts it anew
         flown = state.flown + _zero_unless_alive(np.linalg.norm(flight.position - state.position, axis=-1), alive)
-        energy = self._energy(state, docked, alive)
         new = evolve(
             state, new_count=new_count, position=flight.position, heading=flight.heading, ground=flight.ground,
             energy=energy, holding=holding, alive=energy > 0.0, inside=inside,
