@@ -15,7 +15,7 @@ from typing import Callable
 import numpy as np
 
 from hivex_dsl.expr import Quantity, compile_expression
-from hivex_dsl.numeric import clamp, constant
+from hivex_dsl.base.numeric import clamp, constant
 
 AGENTS = 8
 QUANTITIES = (

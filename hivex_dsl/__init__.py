@@ -10,8 +10,11 @@ from __future__ import annotations
 import os
 from typing import Any, Mapping, Optional, Union
 
+from . import _moved
+from .base.errors import ActionError, HivexError, ResetNeeded, ScenarioError
 from .compiler import CompiledScenario, compile, compile_all
-from .errors import ActionError, HivexError, ResetNeeded, ScenarioError
+
+_moved.install()  # old module paths (hivex_dsl.errors, hivex_dsl.spec, ...) import their moved modules
 
 __version__ = "0.1.0"
 
@@ -60,6 +63,11 @@ def _register_gymnasium_ids() -> None:
 
 
 _register_gymnasium_ids()
+
+
+def __getattr__(name: str):
+    """``hivex_dsl.errors`` and the other old top-level paths of :mod:`hivex_dsl._moved`, as attributes."""
+    return _moved.moved_attribute(name)
 
 
 __all__ = ["ActionError", "CompiledScenario", "HivexError", "ResetNeeded", "ScenarioError", "compile",

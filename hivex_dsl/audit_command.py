@@ -10,7 +10,7 @@ from contextlib import nullcontext
 from pathlib import Path
 
 from .argtypes import positive
-from .errors import HivexError
+from .base.errors import HivexError
 
 
 def add_command(sub: argparse._SubParsersAction) -> None:

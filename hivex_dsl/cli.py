@@ -11,7 +11,7 @@ from pathlib import Path
 from typing import Sequence
 
 from .argtypes import positive, seed
-from .errors import HivexError, ScenarioError, did_you_mean
+from .base.errors import HivexError, ScenarioError, did_you_mean
 
 EXIT_OK, EXIT_FAIL, EXIT_USAGE = 0, 1, 2
 EXIT_INTERRUPTED = 128 + 2  # what a shell reports for a command ended by SIGINT
@@ -306,7 +306,7 @@ def cmd_bench(args) -> int:
 
 
 def cmd_list(args) -> int:
-    from .resources import bundled_scenarios
+    from .base.resources import bundled_scenarios
 
     for path in bundled_scenarios():
         print(f"{path.parent.name}/{path.name}")

@@ -19,10 +19,10 @@ from types import MappingProxyType
 from typing import Any, Mapping, Union
 
 from . import registry
-from .errors import Location, Problem, ScenarioError, did_you_mean, got, kind_of, one_of, show
+from .base.errors import Location, Problem, ScenarioError, did_you_mean, got, kind_of, one_of, show
 from .blame import MISSING as _MISSING, culprit, get as _get
 from .loader import Loaded, PathKey, load_file
-from .resources import resolve_scenario_path
+from .base.resources import resolve_scenario_path
 from .reward.composer import return_bound_problem
 from .reward.expressions import event_names, with_expressions
 from .spec.common import SCHEMA_VERSION, StrictModel

@@ -19,7 +19,7 @@ from . import published, registry
 from .audit import audit_all
 from .compiler import CompiledScenario, compile as compile_scenario
 from .loader import load_file
-from .resources import data_dir
+from .base.resources import data_dir
 
 FIDELITY_VERSION = 1
 FIDELITY_FILE = "benchmarks/results/fidelity.json"

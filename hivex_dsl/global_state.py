@@ -37,7 +37,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from gymnasium import spaces
 
-from .errors import ResetNeeded
+from .base.errors import ResetNeeded
 
 if TYPE_CHECKING:
     from .runtime import BatchedEnv

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from typing import Any, Optional, Sequence
 
-from .errors import HivexError, did_you_mean
+from .base.errors import HivexError, did_you_mean
 
 
 def one_point(source: Any, selector: Optional[str]) -> Any:

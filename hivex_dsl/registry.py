@@ -13,9 +13,9 @@ from dataclasses import dataclass, field
 from functools import cached_property
 from typing import TYPE_CHECKING, Any, Callable, Mapping
 
-from .errors import Problem, ScenarioError, did_you_mean
+from .base.errors import Problem, ScenarioError, did_you_mean
 from .loader import Loaded, load_file
-from .resources import data_dir
+from .base.resources import data_dir
 from .reward.terms import TermRegistry
 from .spec.catalogue import CATALOGUE, EnvironmentInfo
 from .spec.common import StrictModel

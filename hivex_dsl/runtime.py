@@ -15,15 +15,15 @@ import numpy as np
 from gymnasium import spaces
 
 from .compiler import CompiledScenario
-from .errors import ResetNeeded
-from .numeric import all_true, constant
+from .base.errors import ResetNeeded
+from .base.numeric import all_true, constant
 from .reward.composer import RewardComposer
 from .seeding import SeedSchedule
 from .spaces import hold_inactive, placeholder_actions
 from .statistics import StatisticSet, episode_statistics
 
 Split = Literal["train", "test"]
-_ZERO = constant(0.0)  # rewards and terms are float64 (see hivex_dsl.numeric)
+_ZERO = constant(0.0)  # rewards and terms are float64 (see hivex_dsl.base.numeric)
 
 
 class StepOutcome(NamedTuple):

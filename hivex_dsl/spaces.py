@@ -9,7 +9,7 @@ import numpy as np
 from gymnasium import spaces
 
 from .action_arrays import NUMBER_KINDS, Unreadable, as_array, holds_a_boolean, short
-from .errors import ActionError
+from .base.errors import ActionError
 
 
 def describe_space(space: spaces.Space) -> str:

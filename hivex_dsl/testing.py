@@ -36,7 +36,7 @@ from gymnasium import spaces
 
 from . import registry
 from .compiler import CompiledScenario, compile as compile_scenario
-from .errors import ScenarioError
+from .base.errors import ScenarioError
 from .policies import random_policy
 from .runtime import BatchedEnv
 from .spaces import check_actions

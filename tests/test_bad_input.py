@@ -17,7 +17,7 @@ import pytest
 import hivex_dsl
 from hivex_dsl import ResetNeeded, ScenarioError
 from hivex_dsl.cli import EXIT_PIPE, main
-from hivex_dsl.errors import is_integer
+from hivex_dsl.base.errors import is_integer
 from hivex_dsl.loader import MAX_FILE_BYTES, load_file
 
 ROOT = Path(__file__).resolve().parents[1]

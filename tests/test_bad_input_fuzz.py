@@ -15,7 +15,7 @@ import hivex_dsl
 from hivex_dsl import ScenarioError
 from hivex_dsl.cli import main
 from hivex_dsl.loader import load_text
-from hivex_dsl.resources import bundled_scenarios
+from hivex_dsl.base.resources import bundled_scenarios
 
 SCENARIOS = sorted(bundled_scenarios())
 # every character YAML refuses or treats specially, among the ones a scenario is made of

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import hivex_dsl
-from hivex_dsl.errors import ScenarioError
+from hivex_dsl.base.errors import ScenarioError
 from hivex_dsl.runtime import BatchedEnv, StepOutcome
 
 # generate energy and avoid damage both paid, a yaw term reading delta(), a schedule over env steps

@@ -16,7 +16,7 @@ from hivex_dsl.docsgen import MANIFEST, render_docs, stale_docs, write_docs
 from hivex_dsl.docsgen.schema import SCHEMA_DIALECT, schema_of, scenario_json_schema, schema_text
 from hivex_dsl.envs.wind_farm_control.simulator import WindFarmSimulator
 from hivex_dsl.loader import load_file
-from hivex_dsl.resources import bundled_scenarios
+from hivex_dsl.base.resources import bundled_scenarios
 from hivex_dsl.spec.catalogue import CATALOGUE
 
 WFC = "wind_farm_control"

@@ -11,7 +11,7 @@ import dataclasses
 import pytest
 
 from hivex_dsl import compiler, registry
-from hivex_dsl.errors import ScenarioError
+from hivex_dsl.base.errors import ScenarioError
 from hivex_dsl.procgen.pollution import PollutionSpec
 from hivex_dsl.procgen.terrain import TerrainSpec, terrain_spec_for_level
 from hivex_dsl.registry import GeneratorSlot

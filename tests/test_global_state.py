@@ -18,7 +18,7 @@ from pettingzoo.test import state_test
 
 import hivex_dsl
 from hivex_dsl import registry
-from hivex_dsl.errors import ResetNeeded
+from hivex_dsl.base.errors import ResetNeeded
 from hivex_dsl.fire import TreeState
 from hivex_dsl.global_state import AGENT_OBSERVATIONS, EPISODE_PROGRESS, vector_space
 

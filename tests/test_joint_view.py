@@ -10,7 +10,7 @@ from pettingzoo.test import parallel_api_test
 import hivex_dsl
 from hivex_dsl.adapters.flat import flat_vector_env
 from hivex_dsl.adapters.joint import JointDiscreteParallelEnv, joint_vector_env, split_joint
-from hivex_dsl.errors import ActionError
+from hivex_dsl.base.errors import ActionError
 
 
 

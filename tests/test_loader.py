@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from hivex_dsl.errors import Location, ScenarioError
+from hivex_dsl.base.errors import Location, ScenarioError
 from hivex_dsl.loader import MAX_DEPTH, load_file, load_text
 
 

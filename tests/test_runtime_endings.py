@@ -133,7 +133,7 @@ def test_an_action_for_an_agent_that_ended_is_accepted_and_ignored(restepped):
     """TorchRL sends actions for every agent of a group: 'action for turbine_0, which is not a live agent' ended
     its rollouts at the first crash. A name that is no agent is still refused."""
     from hivex_dsl.adapters.pettingzoo import HivexParallelEnv
-    from hivex_dsl.errors import ActionError
+    from hivex_dsl.base.errors import ActionError
 
     compiled = hivex_dsl.compile({"hivex": 1, "environment": "wind_farm_control", "agents": 3, "episode_length": 6})
     every, live_only = (HivexParallelEnv(restepped(compiled, crash_on_the_last_step(2))) for _ in range(2))

@@ -8,7 +8,7 @@ from gymnasium import spaces
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from hivex_dsl.errors import ActionError
+from hivex_dsl.base.errors import ActionError
 from hivex_dsl.spaces import check_actions, describe_space, stack_agent_actions
 
 AGENTS = ["a", "b", "c"]

@@ -13,7 +13,7 @@ The mapping, for every environment:
   head, :mod:`.joint` joins MultiDiscrete branches). Flat actions are checked as
   actions of the flat Box on the unwrapped env's own path (:mod:`hivex_dsl.spaces`) before they are
   split: a value outside [-1, 1], NaN, a boolean, a wrong shape or a torch tensor that requires grad
-  raises the same :class:`~hivex_dsl.errors.ActionError` as the unwrapped env (SB3 and RLlib clip
+  raises the same :class:`~hivex_dsl.base.errors.ActionError` as the unwrapped env (SB3 and RLlib clip
   their actions into the Box first).
 
 :func:`flat_vector_env` wraps the Gymnasium vector env, :class:`FlatParallelEnv` a PettingZoo

@@ -61,7 +61,7 @@ from gymnasium.vector.utils import batch_space
 
 from ..action_arrays import Unreadable, as_array
 from ..compiler import CompiledScenario
-from ..errors import ActionError, HivexError, is_integer
+from ..base.errors import ActionError, HivexError, is_integer
 from ..global_state import GlobalState
 from ..runtime import BatchedEnv, Split, Transition
 from ..spaces import check_slot_actions
@@ -190,7 +190,7 @@ class HivexVectorEnv(Rendering, VectorEnv):
         Actions are checked by :func:`hivex_dsl.spaces.check_slot_actions`, on the parallel env's path:
         anything that is not an action of the space (NaN, out of range, a fraction for a discrete space,
         a boolean in an array or a list, a string, None, a wrong shape or slot count, a torch tensor that
-        requires grad) raises :class:`~hivex_dsl.errors.ActionError` naming the space and the culprit
+        requires grad) raises :class:`~hivex_dsl.base.errors.ActionError` naming the space and the culprit
         slot's agent and world. A tensor without grad on the CPU is read as NumPy reads it.
         """
         batched = check_slot_actions(self.single_action_space, actions, self.core.shape, self.compiled.agent_names,

@@ -7,7 +7,7 @@ significant (``numpy.unravel_index(j, nvec)``): Wildfire Resource Management's f
 joint actions (``j = 27 a_0 + 9 a_1 + 3 a_2 + a_3``), Ocean Plastic Collection's (2, 3) six (``j = 3 a_0 + a_1``).
 Observations, rewards, endings and infos are the wrapped env's. A joint action is checked as an action of the
 Discrete space on the unwrapped env's own path (:mod:`hivex_dsl.spaces`), so a bad one raises the same
-:class:`~hivex_dsl.errors.ActionError` naming the agent (or slot) and the space.
+:class:`~hivex_dsl.base.errors.ActionError` naming the agent (or slot) and the space.
 
 :func:`joint_vector_env` wraps the Gymnasium vector env, :class:`JointDiscreteParallelEnv` a PettingZoo
 ParallelEnv. The environments with Discrete or hybrid actions have nothing to join (the flat views of

@@ -8,7 +8,7 @@ import numpy as np
 from pettingzoo import ParallelEnv
 
 from ..compiler import CompiledScenario
-from ..errors import ResetNeeded
+from ..base.errors import ResetNeeded
 from ..global_state import GlobalState
 from ..runtime import BatchedEnv, Split
 from ..spaces import stack_agent_actions
@@ -105,7 +105,7 @@ class HivexParallelEnv(Rendering, ParallelEnv):
         :func:`~hivex_dsl.spaces.check_actions`: anything that is not an action of the space (NaN, out
         of range, a fraction for a discrete space, a boolean, a string, None, a wrong shape, a torch
         tensor that requires grad, a missing or extra agent) raises
-        :class:`~hivex_dsl.errors.ActionError` naming the agent and the space. A tensor without grad
+        :class:`~hivex_dsl.base.errors.ActionError` naming the agent and the space. A tensor without grad
         on the CPU is read as NumPy reads it. An action for an agent that ended earlier in this world's
         episode is accepted and ignored, as its placeholder plays anyway: TorchRL's PettingZooWrapper (and
         BenchMARL on it) sends an action for every agent of a group, dead or alive. A name that is no agent

@@ -17,9 +17,9 @@ from pathlib import Path
 from typing import Any, Optional
 
 from ..compiler import CompiledScenario, compile
-from ..errors import is_integer
+from ..base.errors import is_integer
 from ..loader import load_file
-from ..resources import data_dir, resolve_scenario_path
+from ..base.resources import data_dir, resolve_scenario_path
 from ..spec.catalogue import CATALOGUE
 
 NAMESPACE = "hivex"
@@ -93,7 +93,7 @@ def make_vector(environment: str, num_envs: int = 1, num_worlds: Optional[int] =
 def not_single_agent(environment: str, scenario: Any = None, **_: Any):
     """The ids' ``entry_point``: ``gymnasium.make`` builds a single-agent env, which a HIVEX environment is not,
     so it says where to go instead of Gymnasium's 'registered but entry_point is not specified'."""
-    from ..errors import HivexError
+    from ..base.errors import HivexError
 
     env_id = f"{NAMESPACE}/{camel(environment)}{'-' + camel(scenario) if isinstance(scenario, str) else ''}-v0"
     raise HivexError(f"{env_id} is a multi-agent environment, which gymnasium.make cannot build: "

@@ -8,7 +8,7 @@ from pathlib import Path
 from typing import Any
 
 from .. import compiler, loader, registry
-from ..resources import bundled_scenarios
+from ..base.resources import bundled_scenarios
 from ..expr import syntax
 from ..reward.composer import RETURN_LIMIT
 from ..spec import scenario as scenario_spec

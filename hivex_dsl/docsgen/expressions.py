@@ -6,7 +6,7 @@ from typing import Any
 
 from .. import compiler, registry
 from ..expr import describe_grammar
-from ..resources import bundled_scenarios
+from ..base.resources import bundled_scenarios
 from ..reward.vocabulary import vocabulary_of
 from ..spec.common import SCHEMA_VERSION
 from ..spec.expressions import ExpressionTermSpec, ShapingSpec, WeightSchedule

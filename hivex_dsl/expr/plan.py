@@ -8,7 +8,7 @@ constant operand costs no Python call of its own: ``x * 2`` runs as one closure 
 exactly as written, in the written order; nothing is reassociated, so a formula re-expressed here
 gives the bits of the same NumPy calls written by hand.
 Number constants are 0-d float64 arrays, which promote like a Python float on float64 operands
-and skip NumPy's per-call resolution of Python scalars (see :mod:`hivex_dsl.numeric`).
+and skip NumPy's per-call resolution of Python scalars (see :mod:`hivex_dsl.base.numeric`).
 """
 
 from __future__ import annotations
@@ -17,7 +17,7 @@ from typing import Any, Callable
 
 import numpy as np
 
-from ..numeric import constant
+from ..base.numeric import constant
 
 Op = tuple[str, Any]
 Fn = Callable[[Any, Any], Any]

@@ -23,8 +23,8 @@ import numbers
 
 import numpy as np
 
-from ..errors import is_integer
-from ..numeric import clamp, constant
+from ..base.errors import is_integer
+from ..base.numeric import clamp, constant
 
 __all__ = ["draw_lattice", "perlin2d", "fractal2d", "fractal_unchecked", "octave_frequencies", "octave_points",
            "corner_gradients", "blend_corners", "sum_octaves"]
@@ -101,7 +101,7 @@ def _fade(t: np.ndarray) -> np.ndarray:
     return t * t * t * (t * (t * _SIX - _FIFTEEN) + _TEN)
 
 
-# Operands of the float64 hot paths below, as 0-d arrays (see hivex_dsl.numeric).
+# Operands of the float64 hot paths below, as 0-d arrays (see hivex_dsl.base.numeric).
 _SIX, _FIFTEEN, _TEN = constant(6.0), constant(15.0), constant(10.0)
 _ONE, _MINUS_ONE, _RANGE_SCALE_0D = constant(1.0), constant(-1.0), constant(_RANGE_SCALE)
 

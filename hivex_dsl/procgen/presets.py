@@ -7,7 +7,7 @@ from typing import TypeVar
 from pydantic import BaseModel
 
 from ..loader import load_file
-from ..resources import data_dir
+from ..base.resources import data_dir
 from ..spec.validate import validate_loaded
 
 M = TypeVar("M", bound=BaseModel)

@@ -19,7 +19,7 @@ from typing import Literal
 import numpy as np
 from pydantic import Field, model_validator
 
-from ..errors import is_integer
+from ..base.errors import is_integer
 from ..spec.common import SCHEMA_VERSION, StrictModel
 from .noise import draw_lattice, fractal2d
 from .presets import load_preset

@@ -18,7 +18,7 @@ import numpy as np
 from pydantic import Field
 
 from ..batching import assemble, replace_worlds, select_worlds
-from ..numeric import constant
+from ..base.numeric import constant
 from ..spec.common import StrictModel
 from .noise import blend_corners, corner_gradients, draw_lattice, octave_frequencies, sum_octaves
 
@@ -44,7 +44,7 @@ class WindSpec:
 
 
 class _WindOperands:
-    """The spec's numbers as 0-d float64 arrays, the cheap operands of a step (see :mod:`hivex_dsl.numeric`)."""
+    """The spec's numbers as 0-d float64 arrays, the cheap operands of a step (see :mod:`hivex_dsl.base.numeric`)."""
 
     def __init__(self, spec: WindSpec):
         self.ease_rate = constant(spec.ease_rate)
@@ -87,7 +87,7 @@ class WindState:
 def wrap_angle(angle: np.ndarray) -> np.ndarray:
     """Angles mapped into [-pi, pi)."""
     angle = np.asarray(angle)
-    if angle.dtype.type is np.float64:  # 0-d float64 operands: the same result, cheaper (see hivex_dsl.numeric)
+    if angle.dtype.type is np.float64:  # 0-d float64 operands: the same result, cheaper (see hivex_dsl.base.numeric)
         return (angle + _PI) % _TWO_PI - _PI
     return (angle + np.pi) % TWO_PI - np.pi
 

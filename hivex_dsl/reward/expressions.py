@@ -15,7 +15,7 @@ from typing import Any, Callable, Mapping, Optional, Sequence
 
 import numpy as np
 
-from ..errors import Location, Problem, ScenarioError
+from ..base.errors import Location, Problem, ScenarioError
 from ..expr import Expression, ExpressionError, compile_expression, timed_calls
 from ..spec.expr_location import traced_location
 from ..spec.expression_keys import split_ends_on

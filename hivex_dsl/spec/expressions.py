@@ -14,7 +14,7 @@ from typing import Annotated, Any, Literal, Optional, Union
 from pydantic import (BeforeValidator, Field, PlainValidator, ValidationError, WithJsonSchema, field_validator,
                       model_validator)
 
-from ..errors import ItemValueError, got, show
+from ..base.errors import ItemValueError, got, show
 from .common import MAX_WEIGHT, StrictModel
 
 SNAKE = r"^[a-z][a-z0-9_]*$"

@@ -14,7 +14,7 @@ import torch
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from ..compiler import CompiledScenario, compile
-from ..errors import ScenarioError, got
+from ..base.errors import ScenarioError, got
 from ..spec.validate import describe
 from .config import PPOConfig, TrainError
 from .devices import torch_device

@@ -11,7 +11,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from ..argtypes import positive, seed
-from ..errors import HivexError
+from ..base.errors import HivexError
 
 if TYPE_CHECKING:
     from .config import PPOConfig

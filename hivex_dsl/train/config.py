@@ -72,7 +72,7 @@ from typing import Annotated, Any, Callable, Literal, Mapping, Sequence, Union
 
 from pydantic import Field, ValidationError
 
-from ..errors import HivexError, ScenarioError, got
+from ..base.errors import HivexError, ScenarioError, got
 from ..loader import Document, load_file, load_text
 from ..spec.common import StrictModel
 from ..spec.validate import describe

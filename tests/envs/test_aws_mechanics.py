@@ -211,7 +211,7 @@ def test_the_camera_looks_down_with_forward_up_and_right_to_the_right(base):
     ({"generators": {"terrain": {"extent_m": 1150.0}}}, "generators.terrain.extent_m: 1150 m does not cover the forest"),
 ])
 def test_worlds_that_cannot_work_are_compile_errors(override, message):
-    from hivex_dsl.errors import ScenarioError
+    from hivex_dsl.base.errors import ScenarioError
 
     with pytest.raises(ScenarioError) as info:
         hivex_dsl.compile({"hivex": 1, "environment": "aerial_wildfire_suppression", **override})
@@ -292,7 +292,7 @@ def test_a_plane_whose_task_ended_stops_flying_and_changing_the_world():
     ({"ignition": {"min_burning": 100000}}, "generators.ignition.min_burning: 100000 trees can never burn"),
 ])
 def test_ignition_that_can_never_work_is_a_compile_error(generators, message):
-    from hivex_dsl.errors import ScenarioError
+    from hivex_dsl.base.errors import ScenarioError
 
     with pytest.raises(ScenarioError) as info:
         hivex_dsl.compile({"hivex": 1, "environment": "aerial_wildfire_suppression", "generators": generators})

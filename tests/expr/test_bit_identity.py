@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from hivex_dsl.expr import Quantity, compile_expression
-from hivex_dsl.numeric import clamp, constant
+from hivex_dsl.base.numeric import clamp, constant
 
 QUANTITIES = (
     Quantity("theta_deg", "agent", "number", "deg", 0.0, 180.0, "angle between wind and rotor facing"),

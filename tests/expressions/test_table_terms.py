@@ -10,9 +10,9 @@ import pytest
 
 import hivex_dsl
 from hivex_dsl import registry
-from hivex_dsl.errors import ScenarioError
+from hivex_dsl.base.errors import ScenarioError
 from hivex_dsl.loader import load_file
-from hivex_dsl.resources import data_dir
+from hivex_dsl.base.resources import data_dir
 from hivex_dsl.runtime import BatchedEnv
 
 WFC = "wind_farm_control"

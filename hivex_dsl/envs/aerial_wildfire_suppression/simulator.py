@@ -12,7 +12,7 @@ from gymnasium import spaces
 from ...batching import assemble, read_only, replace_worlds
 from ...fire import any_burning, douse, fire_step_unchecked
 from ...fire.search import closest_burning_at
-from ...numeric import and_not, clamp, constant
+from ...base.numeric import and_not, clamp, constant
 from ...procgen.weather import weather_step
 from ...procgen.wind import wind_step, wrap_angle
 from ...runtime import StepOutcome

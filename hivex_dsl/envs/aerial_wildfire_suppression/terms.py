@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...numeric import and_not, constant
+from ...base.numeric import and_not, constant
 from ...reward.terms import TermRegistry
 
 TERMS = TermRegistry("aerial_wildfire_suppression")

@@ -13,7 +13,7 @@ import numpy as np
 from gymnasium import spaces
 
 from ...batching import evolve, read_only, replace_worlds
-from ...numeric import all_true, clamp
+from ...base.numeric import all_true, clamp
 from ...procgen.forest import ForestSpec, place_forest
 from ...procgen.terrain import TerrainSpec, generate_terrain
 from ...procgen.wind import wrap_angle

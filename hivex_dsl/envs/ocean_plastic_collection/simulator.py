@@ -18,7 +18,7 @@ from gymnasium import spaces
 from ...batching import assemble, read_only, replace_worlds
 from ...procgen.pollution import PollutionSpec, SpawnSpec, pollution_map, sample_pebbles, spawn_vessels
 from ...procgen.wind import wrap_angle
-from ...numeric import all_true, clamp
+from ...base.numeric import all_true, clamp
 from ...runtime import StepOutcome
 from .camera import CAMERA_CELLS, Geometry, Sensing, as_pairs, build_field, sense
 from .global_state import state_components, world_state

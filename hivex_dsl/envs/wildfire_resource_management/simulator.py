@@ -16,7 +16,7 @@ from gymnasium import spaces
 
 from ...batching import assemble, read_only, replace_worlds
 from ...fire import FactorGrid, count_factors, fire_step_unchecked, grid_cell_table
-from ...numeric import clamp
+from ...base.numeric import clamp
 from ...procgen.weather import weather_step
 from ...procgen.wind import wind_step
 from ...runtime import StepOutcome

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...numeric import clamp
+from ...base.numeric import clamp
 from ...reward.terms import TermRegistry
 from .resources import NEIGHBOURS, NEIGHBOURS_PER_TOWER, TENTHS
 

@@ -6,7 +6,7 @@ import numpy as np
 from gymnasium import spaces
 
 from ...batching import assemble
-from ...numeric import clamp, constant
+from ...base.numeric import clamp, constant
 from ...procgen.layouts import turbine_layout
 from ...procgen.wind import probe_wind, wind_reset, wind_reset_where, wind_step, wrap_angle
 from ...runtime import StepOutcome
@@ -17,7 +17,7 @@ from .types import WindFarmState
 RANDOM_PATTERN = 8
 # action -> rotation sign: 0 do nothing, 1 rotate left (counter-clockwise), 2 rotate right
 ROTATION_SIGN = np.array([0.0, 1.0, -1.0])
-# float64 operands as 0-d arrays (see hivex_dsl.numeric)
+# float64 operands as 0-d arrays (see hivex_dsl.base.numeric)
 _ZERO, _ONE, _MINUS_ONE, _PI = constant(0.0), constant(1.0), constant(-1.0), constant(np.pi)
 
 
@@ -38,7 +38,7 @@ def alignment(heading: np.ndarray, wind: np.ndarray) -> np.ndarray:
 def wind_force(align: np.ndarray, threshold: float, span: float | None = None) -> np.ndarray:
     """The paper's W(theta): 0 below the threshold, Map(theta, threshold, 1, 0, 1) above it.
 
-    ``span`` is 1 - threshold, for a caller that keeps both as 0-d operands (see hivex_dsl.numeric)."""
+    ``span`` is 1 - threshold, for a caller that keeps both as 0-d operands (see hivex_dsl.base.numeric)."""
     return clamp((align - threshold) / (1.0 - threshold if span is None else span), _ZERO, _ONE)
 
 

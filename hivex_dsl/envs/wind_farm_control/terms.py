@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...numeric import clamp, constant
+from ...base.numeric import clamp, constant
 from ...reward.terms import TermRegistry
 from .simulator import angle_between
 

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-_PACKAGE = Path(__file__).resolve().parent
+_PACKAGE = Path(__file__).resolve().parent.parent  # hivex_dsl/ (this file is hivex_dsl/base/resources.py)
 _KINDS = ("scenarios", "rewards", "generators")
 
 
