@@ -14,7 +14,7 @@ from typing import Callable
 
 import numpy as np
 
-from hivex_dsl.expr import Quantity, compile_expression
+from hivex_dsl.lang.expr import Quantity, compile_expression
 from hivex_dsl.base.numeric import clamp, constant
 
 AGENTS = 8

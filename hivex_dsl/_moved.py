@@ -26,6 +26,12 @@ MOVED: dict[str, str] = {
     "errors": "base.errors",
     "numeric": "base.numeric",
     "resources": "base.resources",
+    # lang/
+    "yaml11": "lang.yaml11",
+    "loader": "lang.loader",
+    "blame": "lang.blame",
+    "spec": "lang.spec",
+    "expr": "lang.expr",
 }
 
 # old paths that stay public without a warning

@@ -43,7 +43,7 @@ from .compiler import CompiledScenario
 from .policies import Policy
 from .progress import EpisodeBar, bar
 from .rollout import Rollout, rollout
-from .spec.catalogue import CATALOGUE
+from .lang.spec.catalogue import CATALOGUE
 
 AUDIT_POLICIES = ("zeros", "random", "scripted")
 TRIVIAL = ("zeros", "random")  # the policies that should not beat the paper's trained PPO

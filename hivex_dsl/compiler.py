@@ -20,17 +20,17 @@ from typing import Any, Mapping, Union
 
 from . import registry
 from .base.errors import Location, Problem, ScenarioError, did_you_mean, got, kind_of, one_of, show
-from .blame import MISSING as _MISSING, culprit, get as _get
-from .loader import Loaded, PathKey, load_file
+from .lang.blame import MISSING as _MISSING, culprit, get as _get
+from .lang.loader import Loaded, PathKey, load_file
 from .base.resources import resolve_scenario_path
 from .reward.composer import return_bound_problem
 from .reward.expressions import event_names, with_expressions
-from .spec.common import SCHEMA_VERSION, StrictModel
-from .spec.expressions import WeightSchedule
-from .spec.expression_keys import (clashing_terms, declared_term_names, expression_keys, expression_term_names,
-                                   split_ends_on)
-from .spec.scenario import SWEEPABLE_PREFIXES, Seeds, scenario_model, sweepable_fields
-from .spec.validate import dotted, validate_model
+from .lang.spec.common import SCHEMA_VERSION, StrictModel
+from .lang.spec.expressions import WeightSchedule
+from .lang.spec.expression_keys import (clashing_terms, declared_term_names, expression_keys, expression_term_names,
+                                        split_ends_on)
+from .lang.spec.scenario import SWEEPABLE_PREFIXES, Seeds, scenario_model, sweepable_fields
+from .lang.spec.validate import dotted, validate_model
 
 MAX_SWEEP_POINTS = 10_000
 MAX_SWEEP_VALUES = 1_000

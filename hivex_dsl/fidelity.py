@@ -18,7 +18,7 @@ from typing import Any, Optional, TextIO
 from . import published, registry
 from .audit import audit_all
 from .compiler import CompiledScenario, compile as compile_scenario
-from .loader import load_file
+from .lang.loader import load_file
 from .base.resources import data_dir
 
 FIDELITY_VERSION = 1

@@ -14,14 +14,14 @@ from functools import cached_property
 from typing import TYPE_CHECKING, Any, Callable, Mapping
 
 from .base.errors import Problem, ScenarioError, did_you_mean
-from .loader import Loaded, load_file
+from .lang.loader import Loaded, load_file
 from .base.resources import data_dir
 from .reward.terms import TermRegistry
-from .spec.catalogue import CATALOGUE, EnvironmentInfo
-from .spec.common import StrictModel
-from .spec.reward_table import RewardTable, table_problems
-from .spec.scenario import ScenarioVocabulary, scenario_model
-from .spec.validate import validate_loaded
+from .lang.spec.catalogue import CATALOGUE, EnvironmentInfo
+from .lang.spec.common import StrictModel
+from .lang.spec.reward_table import RewardTable, table_problems
+from .lang.spec.scenario import ScenarioVocabulary, scenario_model
+from .lang.spec.validate import validate_loaded
 from .statistics import StatisticSet
 
 if TYPE_CHECKING:

@@ -18,7 +18,7 @@ import hivex_dsl
 from hivex_dsl import ResetNeeded, ScenarioError
 from hivex_dsl.cli import EXIT_PIPE, main
 from hivex_dsl.base.errors import is_integer
-from hivex_dsl.loader import MAX_FILE_BYTES, load_file
+from hivex_dsl.lang.loader import MAX_FILE_BYTES, load_file
 
 ROOT = Path(__file__).resolve().parents[1]
 MAIN = ROOT / "scenarios" / "wind_farm_control" / "main.yaml"
@@ -309,7 +309,7 @@ def test_the_readme_error_examples_are_what_validate_prints(tmp_path, capsys):
 def test_the_readme_yaml_1_1_readings_are_refused_as_it_says(written, reading):
     assert f"`{written}`" in (ROOT / "README.md").read_text()
     with pytest.raises(ScenarioError) as caught:
-        hivex_dsl.compile_all(hivex_dsl.loader.load_text(f"hivex: 1\nenvironment: wind_farm_control\n"
+        hivex_dsl.compile_all(hivex_dsl.lang.loader.load_text(f"hivex: 1\nenvironment: wind_farm_control\n"
                                                          f"episode_length: {written}\n", "s.yaml").data)
     assert f"{written} is read by YAML 1.1 as" in str(caught.value) or "leading zero" in str(caught.value)
     assert reading in str(caught.value)

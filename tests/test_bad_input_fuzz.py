@@ -14,7 +14,7 @@ from hypothesis import strategies as st
 import hivex_dsl
 from hivex_dsl import ScenarioError
 from hivex_dsl.cli import main
-from hivex_dsl.loader import load_text
+from hivex_dsl.lang.loader import load_text
 from hivex_dsl.base.resources import bundled_scenarios
 
 SCENARIOS = sorted(bundled_scenarios())

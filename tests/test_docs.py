@@ -15,9 +15,9 @@ from hivex_dsl import registry
 from hivex_dsl.docsgen import MANIFEST, render_docs, stale_docs, write_docs
 from hivex_dsl.docsgen.schema import SCHEMA_DIALECT, schema_of, scenario_json_schema, schema_text
 from hivex_dsl.envs.wind_farm_control.simulator import WindFarmSimulator
-from hivex_dsl.loader import load_file
+from hivex_dsl.lang.loader import load_file
 from hivex_dsl.base.resources import bundled_scenarios
-from hivex_dsl.spec.catalogue import CATALOGUE
+from hivex_dsl.lang.spec.catalogue import CATALOGUE
 
 WFC = "wind_farm_control"
 WFC_PAGE = f"environments/{WFC}.md"

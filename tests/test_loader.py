@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 
 from hivex_dsl.base.errors import Location, ScenarioError
-from hivex_dsl.loader import MAX_DEPTH, load_file, load_text
+from hivex_dsl.lang.loader import MAX_DEPTH, load_file, load_text
 
 
 def first_problem(text: str) -> str:
@@ -280,7 +280,7 @@ def test_escaped_control_characters_in_double_quotes_are_read():
 
 
 def test_control_characters_are_named():
-    from hivex_dsl.yaml11 import character_name
+    from hivex_dsl.lang.yaml11 import character_name
 
     assert character_name(0x0C) == "U+000C FORM FEED"
     assert character_name(0x1B) == "U+001B ESCAPE"

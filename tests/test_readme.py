@@ -25,7 +25,7 @@ def test_the_language_example_compiles(tmp_path):
 
 def test_the_generators_example_changes_only_what_it_writes():
     _, example = blocks("yaml")
-    compiled = hivex_dsl.compile(hivex_dsl.loader.load_text(example, "README.md").data)
+    compiled = hivex_dsl.compile(hivex_dsl.lang.loader.load_text(example, "README.md").data)
     plain = hivex_dsl.compile({"hivex": 1, "environment": "aerial_wildfire_suppression", "terrain_level": 7})
     assert compiled.generators["forest"].ideal_height_m == 80.0
     assert compiled.generators["weather"].humidity_mean == 0.3

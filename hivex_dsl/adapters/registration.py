@@ -18,9 +18,9 @@ from typing import Any, Optional
 
 from ..compiler import CompiledScenario, compile
 from ..base.errors import is_integer
-from ..loader import load_file
+from ..lang.loader import load_file
 from ..base.resources import data_dir, resolve_scenario_path
-from ..spec.catalogue import CATALOGUE
+from ..lang.spec.catalogue import CATALOGUE
 
 NAMESPACE = "hivex"
 

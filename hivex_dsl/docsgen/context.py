@@ -7,15 +7,16 @@ import json
 from pathlib import Path
 from typing import Any
 
-from .. import compiler, loader, registry
+from .. import compiler, registry
+from ..lang import loader
 from ..base.resources import bundled_scenarios
-from ..expr import syntax
+from ..lang.expr import syntax
 from ..reward.composer import RETURN_LIMIT
-from ..spec import scenario as scenario_spec
-from ..spec.catalogue import CATALOGUE
-from ..spec.common import MAX_SEED, MAX_WEIGHT, SCHEMA_VERSION
-from ..spec.expressions import MAX_EXPRESSION_CHARS
-from ..spec.reward_table import RewardTable, TaskColumn
+from ..lang.spec import scenario as scenario_spec
+from ..lang.spec.catalogue import CATALOGUE
+from ..lang.spec.common import MAX_SEED, MAX_WEIGHT, SCHEMA_VERSION
+from ..lang.spec.expressions import MAX_EXPRESSION_CHARS
+from ..lang.spec.reward_table import RewardTable, TaskColumn
 from .expressions import expression_language_context, vocabulary_context
 from .fields import field_rows, num, show_value, source_tag
 from .spaces_table import global_state_table, specification
@@ -186,19 +187,19 @@ def language_context() -> dict[str, Any]:
                          "seeds": list(scenario_spec.Seeds.model_fields)},
         })
     limits = [
-        ("Scenario file size", f"{num(loader.MAX_FILE_BYTES)} bytes", "loader.MAX_FILE_BYTES"),
-        ("YAML nodes per file", num(loader.MAX_NODES), "loader.MAX_NODES"),
-        ("YAML nesting depth", num(loader.MAX_DEPTH), "loader.MAX_DEPTH"),
+        ("Scenario file size", f"{num(loader.MAX_FILE_BYTES)} bytes", "lang.loader.MAX_FILE_BYTES"),
+        ("YAML nodes per file", num(loader.MAX_NODES), "lang.loader.MAX_NODES"),
+        ("YAML nesting depth", num(loader.MAX_DEPTH), "lang.loader.MAX_DEPTH"),
         ("Values per swept field", num(compiler.MAX_SWEEP_VALUES), "compiler.MAX_SWEEP_VALUES"),
         ("Scenarios per sweep (grid points)", num(compiler.MAX_SWEEP_POINTS), "compiler.MAX_SWEEP_POINTS"),
-        ("Seeds per split", num(scenario_spec.MAX_SEEDS_PER_SPLIT), "spec.scenario.MAX_SEEDS_PER_SPLIT"),
-        ("Largest seed", num(MAX_SEED), "spec.common.MAX_SEED"),
-        ("Largest episode length", num(scenario_spec.MAX_EPISODE_LENGTH), "spec.scenario.MAX_EPISODE_LENGTH"),
-        ("Largest weight magnitude", num(MAX_WEIGHT), "spec.common.MAX_WEIGHT"),
-        ("Characters per expression", num(MAX_EXPRESSION_CHARS), "spec.expressions.MAX_EXPRESSION_CHARS"),
+        ("Seeds per split", num(scenario_spec.MAX_SEEDS_PER_SPLIT), "lang.spec.scenario.MAX_SEEDS_PER_SPLIT"),
+        ("Largest seed", num(MAX_SEED), "lang.spec.common.MAX_SEED"),
+        ("Largest episode length", num(scenario_spec.MAX_EPISODE_LENGTH), "lang.spec.scenario.MAX_EPISODE_LENGTH"),
+        ("Largest weight magnitude", num(MAX_WEIGHT), "lang.spec.common.MAX_WEIGHT"),
+        ("Characters per expression", num(MAX_EXPRESSION_CHARS), "lang.spec.expressions.MAX_EXPRESSION_CHARS"),
         ("Parentheses, calls and prefix operators open at once in an expression", num(syntax.MAX_NESTING),
-         "expr.syntax.MAX_NESTING"),
-        ("Depth of an expression's tree", num(syntax.MAX_DEPTH), "expr.syntax.MAX_DEPTH"),
+         "lang.expr.syntax.MAX_NESTING"),
+        ("Depth of an expression's tree", num(syntax.MAX_DEPTH), "lang.expr.syntax.MAX_DEPTH"),
         ("Largest episode return one agent's weighted terms may reach (proven from their ranges)",
          f"{RETURN_LIMIT:g}", "reward.composer.RETURN_LIMIT"),
     ]

@@ -5,11 +5,11 @@ from __future__ import annotations
 from typing import Any
 
 from .. import compiler, registry
-from ..expr import describe_grammar
+from ..lang.expr import describe_grammar
 from ..base.resources import bundled_scenarios
 from ..reward.vocabulary import vocabulary_of
-from ..spec.common import SCHEMA_VERSION
-from ..spec.expressions import ExpressionTermSpec, ShapingSpec, WeightSchedule
+from ..lang.spec.common import SCHEMA_VERSION
+from ..lang.spec.expressions import ExpressionTermSpec, ShapingSpec, WeightSchedule
 from .fields import field_rows, num, schema_type
 
 

@@ -7,7 +7,7 @@ from typing import Any
 from gymnasium import spaces
 
 from ..spaces import describe_space, flat_size
-from ..spec.catalogue import EnvironmentInfo
+from ..lang.spec.catalogue import EnvironmentInfo
 from .fields import num
 
 VECTOR_COMPONENT_SUFFIXES = ("x", "y", "z")

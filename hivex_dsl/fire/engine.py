@@ -28,7 +28,7 @@ from pydantic import Field
 
 from ..batching import put_worlds
 from ..procgen.forest import ForestSpec
-from ..spec.common import StrictModel
+from ..lang.spec.common import StrictModel
 
 
 class TreeState(enum.IntEnum):

@@ -20,7 +20,7 @@ import numpy as np
 from pydantic import Field, model_validator
 
 from ..base.errors import is_integer
-from ..spec.common import SCHEMA_VERSION, StrictModel
+from ..lang.spec.common import SCHEMA_VERSION, StrictModel
 from .noise import draw_lattice, fractal2d
 from .presets import load_preset
 

@@ -19,7 +19,7 @@ from pydantic import Field
 
 from ..batching import assemble
 from ..base.numeric import all_true, clamp
-from ..spec.common import SCHEMA_VERSION, StrictModel
+from ..lang.spec.common import SCHEMA_VERSION, StrictModel
 from .noise import blend_corners, draw_lattice, octave_frequencies, sum_octaves
 from .presets import load_preset
 

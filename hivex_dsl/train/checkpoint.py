@@ -15,7 +15,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from ..compiler import CompiledScenario, compile
 from ..base.errors import ScenarioError, got
-from ..spec.validate import describe
+from ..lang.spec.validate import describe
 from .config import PPOConfig, TrainError
 from .devices import torch_device
 from .networks import ActionLayout, ActorCritic

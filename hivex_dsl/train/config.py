@@ -73,9 +73,9 @@ from typing import Annotated, Any, Callable, Literal, Mapping, Sequence, Union
 from pydantic import Field, ValidationError
 
 from ..base.errors import HivexError, ScenarioError, got
-from ..loader import Document, load_file, load_text
-from ..spec.common import StrictModel
-from ..spec.validate import describe
+from ..lang.loader import Document, load_file, load_text
+from ..lang.spec.common import StrictModel
+from ..lang.spec.validate import describe
 
 HYPERPARAMS = Path(__file__).resolve().parent / "hyperparams"
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from hivex_dsl.expr import Quantity
+from hivex_dsl.lang.expr import Quantity
 
 QUANTITIES = (
     Quantity("distance_m", "agent", "number", "m", 0.0, 1000.0, "distance to the fire"),

@@ -7,7 +7,7 @@ import pickle
 import numpy as np
 import pytest
 
-from hivex_dsl.expr import ExpressionError, Quantity, compile_expression
+from hivex_dsl.lang.expr import ExpressionError, Quantity, compile_expression
 
 from .conftest import AGENTS, VOCABULARY
 
@@ -137,7 +137,7 @@ def test_a_reduction_combined_with_its_own_agents_broadcasts_back(states):
 
 
 def test_input_problems_names_each_input_that_voids_the_guarantees(states):
-    from hivex_dsl.expr import input_problems
+    from hivex_dsl.lang.expr import input_problems
 
     now, _ = states
     assert input_problems(VOCABULARY, now) == []

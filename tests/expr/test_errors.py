@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from hivex_dsl.expr import ExpressionError, compile_expression
+from hivex_dsl.lang.expr import ExpressionError, compile_expression
 
 from .conftest import AGENTS, VOCABULARY
 

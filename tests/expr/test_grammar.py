@@ -6,8 +6,8 @@ import re
 
 import numpy as np
 
-from hivex_dsl.expr import compile_expression, describe_grammar
-from hivex_dsl.expr.grammar import FUNCTIONS
+from hivex_dsl.lang.expr import compile_expression, describe_grammar
+from hivex_dsl.lang.expr.grammar import FUNCTIONS
 
 from .conftest import AGENTS, VOCABULARY
 

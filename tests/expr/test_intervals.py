@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from hivex_dsl.expr import Quantity, compile_expression
+from hivex_dsl.lang.expr import Quantity, compile_expression
 
 from .conftest import AGENTS, VOCABULARY
 

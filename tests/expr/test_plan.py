@@ -8,8 +8,8 @@ import operator
 import numpy as np
 from hypothesis import HealthCheck, assume, given, settings
 
-from hivex_dsl.expr import ExpressionError, compile_expression
-from hivex_dsl.expr.syntax import Binary, Call, Compare, Name, Number, Unary, parse
+from hivex_dsl.lang.expr import ExpressionError, compile_expression
+from hivex_dsl.lang.expr.syntax import Binary, Call, Compare, Name, Number, Unary, parse
 
 from .test_totality import AGENTS, cases, inputs
 
@@ -82,7 +82,7 @@ TEMPLATES = ("{a} - {b}", "{a} / ({b} + 10)", "min({a}, {b})", "{a} < {b}", "whe
 
 
 def test_every_operand_mode_of_every_combinator_matches_the_reference():
-    from hivex_dsl.expr import Quantity
+    from hivex_dsl.lang.expr import Quantity
 
     vocabulary = {"q": Quantity("q", "agent", "number", "1", 0.0, 2.0, ""),
                   "w": Quantity("w", "world", "number", "1", 0.0, 2.0, "")}

@@ -8,8 +8,8 @@ from pathlib import Path
 
 import pytest
 
-import hivex_dsl.expr
-from hivex_dsl.expr import ExpressionError, compile_expression
+import hivex_dsl.lang.expr
+from hivex_dsl.lang.expr import ExpressionError, compile_expression
 
 from .conftest import VOCABULARY
 
@@ -18,7 +18,7 @@ _FORBIDDEN_METHODS = {"eval", "exec", "import_module", "literal_eval", "__import
 
 
 def test_the_package_never_calls_eval_exec_compile_or_getattr():
-    for path in Path(hivex_dsl.expr.__file__).parent.glob("*.py"):
+    for path in Path(hivex_dsl.lang.expr.__file__).parent.glob("*.py"):
         for node in ast.walk(ast.parse(path.read_text(), str(path))):
             if isinstance(node, ast.Call) and isinstance(node.func, ast.Name):
                 assert node.func.id not in _FORBIDDEN_BUILTINS, f"{path.name}:{node.lineno} calls {node.func.id}"

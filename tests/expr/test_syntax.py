@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from hivex_dsl.expr import ExpressionError, compile_expression, timed_calls
-from hivex_dsl.expr.syntax import Binary, Call, Compare, Name, Number, Unary, parse
+from hivex_dsl.lang.expr import ExpressionError, compile_expression, timed_calls
+from hivex_dsl.lang.expr.syntax import Binary, Call, Compare, Name, Number, Unary, parse
 
 from .conftest import AGENTS, VOCABULARY
 

@@ -8,7 +8,7 @@ import numpy as np
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
-from hivex_dsl.expr import ExpressionError, Quantity, compile_expression
+from hivex_dsl.lang.expr import ExpressionError, Quantity, compile_expression
 
 AGENTS = 3
 LITERALS = ("0", "0.5", "1", "2", "3", "10", "0.001", "1000", "1e-300", "1e200")

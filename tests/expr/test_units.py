@@ -6,8 +6,8 @@ from fractions import Fraction
 
 import pytest
 
-from hivex_dsl.expr import compile_expression
-from hivex_dsl.expr.units import divide, format_unit, multiply, parse_unit, power
+from hivex_dsl.lang.expr import compile_expression
+from hivex_dsl.lang.expr.units import divide, format_unit, multiply, parse_unit, power
 
 from .conftest import VOCABULARY
 

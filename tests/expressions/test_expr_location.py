@@ -6,9 +6,9 @@ import pytest
 
 import hivex_dsl
 from hivex_dsl import ScenarioError
-from hivex_dsl.loader import load_file
+from hivex_dsl.lang.loader import load_file
 from hivex_dsl.reward.expressions import UNTRACED
-from hivex_dsl.spec.expr_location import expression_location
+from hivex_dsl.lang.spec.expr_location import expression_location
 
 STYLES = {
     "plain": "expr: max(x_m, 2) + abs(y_m)\n",

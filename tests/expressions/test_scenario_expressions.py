@@ -7,7 +7,7 @@ import pytest
 
 import hivex_dsl
 from hivex_dsl.compiler import compile_loaded
-from hivex_dsl.loader import Loaded
+from hivex_dsl.lang.loader import Loaded
 from hivex_dsl.runtime import BatchedEnv
 
 WFC = {"hivex": 1, "environment": "wind_farm_control", "agents": 3, "episode_length": 50}

@@ -6,7 +6,7 @@ from __future__ import annotations
 import tracemalloc
 
 import hivex_dsl
-from hivex_dsl.expr import checker
+from hivex_dsl.lang.expr import checker
 
 TERMS = 10
 POINTS = 1_000  # 10 seeds x 100 episode lengths
@@ -24,7 +24,7 @@ def _sweep(terms: dict) -> dict:
 
 
 def test_each_distinct_expression_is_checked_once_across_the_sweep(monkeypatch):
-    import hivex_dsl.expr as expr
+    import hivex_dsl.lang.expr as expr
 
     checked = []
 

@@ -11,7 +11,7 @@ import pytest
 import hivex_dsl
 from hivex_dsl import registry
 from hivex_dsl.base.errors import ScenarioError
-from hivex_dsl.loader import load_file
+from hivex_dsl.lang.loader import load_file
 from hivex_dsl.base.resources import data_dir
 from hivex_dsl.runtime import BatchedEnv
 

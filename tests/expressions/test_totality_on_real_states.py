@@ -8,7 +8,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from hivex_dsl.expr import ExpressionError, compile_expression
+from hivex_dsl.lang.expr import ExpressionError, compile_expression
 
 from .rollouts import recorded
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 
 from ...registry import EnvironmentEntry, register
-from ...spec.catalogue import CATALOGUE
+from ...lang.spec.catalogue import CATALOGUE
 from ..island import ISLAND_GENERATORS, island_problems
 from .params import AerialWildfireParams
 from .scripted import scripted_policy

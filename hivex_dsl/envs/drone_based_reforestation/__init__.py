@@ -5,7 +5,7 @@ from __future__ import annotations
 from ...procgen.forest import ForestSpec
 from ...procgen.terrain import TerrainSpec
 from ...registry import EnvironmentEntry, GeneratorSlot, register
-from ...spec.catalogue import CATALOGUE
+from ...lang.spec.catalogue import CATALOGUE
 from .params import DroneBasedReforestationParams, forest_preset, terrain_preset
 from .scripted import scripted_policy
 from .simulator import DroneReforestationSimulator, world_problems

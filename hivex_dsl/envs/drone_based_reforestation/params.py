@@ -12,7 +12,7 @@ from pydantic import Field, model_validator
 
 from ...procgen.forest import ForestSpec
 from ...procgen.terrain import TerrainSpec, terrain_spec_for_level
-from ...spec.common import StrictModel
+from ...lang.spec.common import StrictModel
 
 
 class DroneBasedReforestationParams(StrictModel):

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from ...procgen.pollution import PollutionSpec, SpawnSpec, load_pollution_preset, spawn_problem
 from ...registry import EnvironmentEntry, GeneratorSlot, register
-from ...spec.catalogue import CATALOGUE
+from ...lang.spec.catalogue import CATALOGUE
 from .params import OceanPlasticCollectionParams
 from .scripted import scripted_policy
 from .simulator import OceanPlasticSimulator

@@ -12,7 +12,7 @@ from typing import Literal
 
 from pydantic import Field
 
-from ...spec.common import StrictModel
+from ...lang.spec.common import StrictModel
 
 CrashOutcome = Literal["end", "respawn"]
 

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from ...registry import EnvironmentEntry, register
-from ...spec.catalogue import CATALOGUE
+from ...lang.spec.catalogue import CATALOGUE
 from ..island import ISLAND_GENERATORS, island_problems
 from .params import WildfireResourceParams
 from .resources import neighbour_rows

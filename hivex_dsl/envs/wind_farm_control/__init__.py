@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from ...procgen.layouts import layout_problem
 from ...registry import EnvironmentEntry, register
-from ...spec.catalogue import CATALOGUE
+from ...lang.spec.catalogue import CATALOGUE
 from .layouts_preset import load_layout_preset
 from .params import WindFarmControlParams
 from .scripted import scripted_policy

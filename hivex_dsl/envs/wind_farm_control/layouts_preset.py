@@ -8,7 +8,7 @@ from pydantic import Field
 
 from ...procgen.layouts import PATTERN_NAMES
 from ...procgen.presets import load_preset
-from ...spec.common import SCHEMA_VERSION, StrictModel
+from ...lang.spec.common import SCHEMA_VERSION, StrictModel
 
 
 PRESET_FILE = "wind_farm_control_layouts.yaml"

@@ -11,7 +11,7 @@ from typing import Mapping
 
 import numpy as np
 
-from ..base.errors import did_you_mean
+from ...base.errors import did_you_mean
 from . import intervals, narrowing, plan, units
 from .errors import ExpressionError
 from .grammar import FUNCTIONS

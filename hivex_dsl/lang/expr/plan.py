@@ -17,7 +17,7 @@ from typing import Any, Callable
 
 import numpy as np
 
-from ..base.numeric import constant
+from ...base.numeric import constant
 
 Op = tuple[str, Any]
 Fn = Callable[[Any, Any], Any]

@@ -7,7 +7,7 @@ from typing import Literal
 
 from pydantic import Field, field_validator
 
-from ..base.errors import did_you_mean
+from ...base.errors import did_you_mean
 from .common import MAX_WEIGHT, SCHEMA_VERSION, StrictModel
 from .expressions import TermsMapping
 

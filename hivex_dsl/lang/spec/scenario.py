@@ -12,7 +12,7 @@ from typing import Annotated, Any, Literal, Mapping, Optional, Union
 
 from pydantic import ConfigDict, Field, PlainValidator, WithJsonSchema, create_model
 
-from ..base.errors import ItemValueError, did_you_mean, got, one_of, show
+from ...base.errors import ItemValueError, did_you_mean, got, one_of, show
 from .catalogue import CATALOGUE, LEVEL_FIELDS, EnvironmentInfo, environments_with
 from .common import MAX_SEED, NAME_EXPECTED, NAME_PATTERN, SCHEMA_VERSION, StrictModel
 from .expressions import WEIGHT_SCHEMA, EndsOn, ShapingSpec, TermsMapping, Weight

@@ -2,7 +2,7 @@
 
 A scenario (or a reward table) declares ``terms:`` (name -> expression and an optional contract),
 ``shaping:`` (a potential and a discount) and extra ``ends_on:`` entries; a weight may be a
-:class:`WeightSchedule`. The expressions themselves are checked by :mod:`hivex_dsl.expr` when the
+:class:`WeightSchedule`. The expressions themselves are checked by :mod:`hivex_dsl.lang.expr` when the
 scenario compiles (see :mod:`hivex_dsl.reward.expressions`); these models check the shape around them.
 """
 
@@ -14,7 +14,7 @@ from typing import Annotated, Any, Literal, Optional, Union
 from pydantic import (BeforeValidator, Field, PlainValidator, ValidationError, WithJsonSchema, field_validator,
                       model_validator)
 
-from ..base.errors import ItemValueError, got, show
+from ...base.errors import ItemValueError, got, show
 from .common import MAX_WEIGHT, StrictModel
 
 SNAKE = r"^[a-z][a-z0-9_]*$"

@@ -26,7 +26,7 @@ from typing import Callable, Literal, Mapping
 
 import numpy as np
 
-from ..base.errors import is_integer
+from ...base.errors import is_integer
 from . import intervals, plan, units
 from .checker import Checker
 from .errors import ExpressionError

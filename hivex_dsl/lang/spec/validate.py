@@ -10,7 +10,7 @@ import annotated_types as at
 from pydantic import BaseModel, ValidationError
 from pydantic.fields import FieldInfo
 
-from ..base.errors import ItemValueError, Location, Problem, ScenarioError, did_you_mean, got, one_of, show
+from ...base.errors import ItemValueError, Location, Problem, ScenarioError, did_you_mean, got, one_of, show
 from ..loader import Loaded, PathKey
 
 M = TypeVar("M", bound=BaseModel)

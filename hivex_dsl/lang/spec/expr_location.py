@@ -23,7 +23,7 @@ from functools import lru_cache
 from pathlib import Path
 from typing import Optional
 
-from ..base.errors import Location
+from ...base.errors import Location
 
 Positions = list[tuple[int, int]]  # (0-based line, 0-based column) of each character of the value
 _BLANKS = " \t\r"  # a CRLF file's lines end in "\r", which YAML reads as part of the line break

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from ..base.errors import HivexError
+from ...base.errors import HivexError
 
 
 class ExpressionError(HivexError, ValueError):

@@ -10,7 +10,7 @@ from __future__ import annotations
 import copy
 from typing import Any, Callable
 
-from .base.errors import Location, ScenarioError
+from ..base.errors import Location, ScenarioError
 from .loader import Loaded, PathKey
 
 MISSING = object()

@@ -19,7 +19,7 @@ from typing import Any, Union
 
 import yaml
 
-from .base.errors import Location, Problem, ScenarioError, show
+from ..base.errors import Location, Problem, ScenarioError, show
 from .yaml11 import character_name, line_and_column, refusal, refused_character
 
 PathKey = tuple[Union[str, int], ...]
