@@ -11,8 +11,8 @@ from typing import Callable
 
 import numpy as np
 
-from hivex_dsl.procgen.terrain import generate_terrain, terrain_spec_for_level
-from hivex_dsl.procgen.weather import WeatherSpec, weather_at, weather_reset, weather_step
+from hivex_dsl.sim.procgen.terrain import generate_terrain, terrain_spec_for_level
+from hivex_dsl.sim.procgen.weather import WeatherSpec, weather_at, weather_reset, weather_step
 
 
 def median_ms(call: Callable[[], object], runs: int) -> float:

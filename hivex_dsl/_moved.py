@@ -32,6 +32,15 @@ MOVED: dict[str, str] = {
     "blame": "lang.blame",
     "spec": "lang.spec",
     "expr": "lang.expr",
+    # sim/
+    "spaces": "sim.spaces",
+    "action_arrays": "sim.action_arrays",
+    "batching": "sim.batching",
+    "statistics": "sim.statistics",
+    "reward": "sim.reward",
+    "fire": "sim.fire",
+    "procgen": "sim.procgen",
+    "render": "sim.render",
 }
 
 # old paths that stay public without a warning

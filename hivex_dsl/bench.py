@@ -89,7 +89,7 @@ def measure_parallel(env_id: str, seconds: float) -> Measurement:
     the same loop with the environment's work replayed (:func:`replay_one_step`) for ``api_floor_us``."""
     import hivex_dsl
     from hivex_dsl.policies import random_policy
-    from hivex_dsl.spaces import stack_agent_actions
+    from hivex_dsl.sim.spaces import stack_agent_actions
 
     compiled = hivex_dsl.compile(f"{env_id}/main")
     env = hivex_dsl.parallel_env(compiled)

@@ -209,7 +209,7 @@ def cmd_run(args) -> int:
 def cmd_render(args) -> int:
     from .points import one_point
     from .progress import bar
-    from .render.gif import save_gif
+    from .sim.render.gif import save_gif
     from .report import episode_frames
 
     if Path(args.output).suffix.lower() != ".gif":
@@ -264,7 +264,7 @@ def cmd_docs(args) -> int:
 def cmd_preview(args) -> int:
     from .docsgen.figures import FIGURES, preview_figure
     from .progress import bar, echo
-    from .render.gif import save_png
+    from .sim.render.gif import save_png
 
     args.output.mkdir(parents=True, exist_ok=True)
     with bar(len(FIGURES), "preview", unit="figure") as shown:
@@ -317,7 +317,7 @@ def cmd_vocab(args) -> int:
     """Every quantity of the scenario's vocabulary: ranges follow its params, so a scenario file gives its own."""
     from . import registry
     from .compiler import compile
-    from .reward.vocabulary import vocabulary_of
+    from .sim.reward.vocabulary import vocabulary_of
 
     environments = registry.environments()
     if args.scenario in environments:

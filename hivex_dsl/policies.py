@@ -9,7 +9,7 @@ import numpy as np
 from gymnasium import spaces
 
 from .compiler import CompiledScenario
-from .spaces import placeholder_actions
+from .sim.spaces import placeholder_actions
 
 Policy = Callable[[Any], Any]
 POLICIES = ("scripted", "random", "zeros")

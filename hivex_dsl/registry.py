@@ -16,13 +16,13 @@ from typing import TYPE_CHECKING, Any, Callable, Mapping
 from .base.errors import Problem, ScenarioError, did_you_mean
 from .lang.loader import Loaded, load_file
 from .base.resources import data_dir
-from .reward.terms import TermRegistry
+from .sim.reward.terms import TermRegistry
 from .lang.spec.catalogue import CATALOGUE, EnvironmentInfo
 from .lang.spec.common import StrictModel
 from .lang.spec.reward_table import RewardTable, table_problems
 from .lang.spec.scenario import ScenarioVocabulary, scenario_model
 from .lang.spec.validate import validate_loaded
-from .statistics import StatisticSet
+from .sim.statistics import StatisticSet
 
 if TYPE_CHECKING:
     from .compiler import CompiledScenario
@@ -64,7 +64,7 @@ class EnvironmentEntry:
     checks: tuple[ScenarioCheck, ...] = ()
     notes: tuple[str, ...] = ()
     generators: Mapping[str, GeneratorSlot] = field(default_factory=dict)
-    # the per-episode statistics the original logged (hivex_dsl.statistics); None: it declares none
+    # the per-episode statistics the original logged (hivex_dsl.sim.statistics); None: it declares none
     statistics: StatisticSet | None = None
 
     @property
@@ -153,7 +153,7 @@ def load_reward_table(entry: EnvironmentEntry) -> RewardTable:
 
 def _quantity_names(env_id: str) -> tuple[str, ...]:
     """Names an environment's expressions may read (none without a vocabulary module)."""
-    from .reward.vocabulary import vocabulary_of
+    from .sim.reward.vocabulary import vocabulary_of
 
     try:
         return tuple(vocabulary_of(env_id).readers)

@@ -12,7 +12,7 @@ from .compiler import CompiledScenario
 from .policies import make_policy
 from .progress import EpisodeBar, bar, echo
 from .runtime import BatchedEnv, Split
-from .spaces import check_actions, describe_space
+from .sim.spaces import check_actions, describe_space
 
 
 def _fmt(value: object) -> str:

@@ -15,7 +15,7 @@ import numpy as np
 from .compiler import CompiledScenario
 from .policies import Policy, make_policy
 from .runtime import BatchedEnv, Split
-from .spaces import check_actions
+from .sim.spaces import check_actions
 
 
 @dataclass
@@ -51,7 +51,7 @@ class Rollout:
     returns: np.ndarray
     lengths: np.ndarray
     terms: dict[str, np.ndarray]  # unweighted per-term episode sums of the active terms
-    statistics: dict[str, np.ndarray]  # logged statistics (see hivex_dsl.statistics)
+    statistics: dict[str, np.ndarray]  # logged statistics (see hivex_dsl.sim.statistics)
     traces: dict[str, TermTrace] = field(default_factory=dict)  # per active term, when traced
 
     def weighted(self, term: str) -> np.ndarray:

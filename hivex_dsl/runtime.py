@@ -17,10 +17,10 @@ from gymnasium import spaces
 from .compiler import CompiledScenario
 from .base.errors import ResetNeeded
 from .base.numeric import all_true, constant
-from .reward.composer import RewardComposer
+from .sim.reward.composer import RewardComposer
 from .seeding import SeedSchedule
-from .spaces import hold_inactive, placeholder_actions
-from .statistics import StatisticSet, episode_statistics
+from .sim.spaces import hold_inactive, placeholder_actions
+from .sim.statistics import StatisticSet, episode_statistics
 
 Split = Literal["train", "test"]
 _ZERO = constant(0.0)  # rewards and terms are float64 (see hivex_dsl.base.numeric)
@@ -295,7 +295,7 @@ class BatchedEnv:
 
     def statistic_sums(self) -> dict[str, np.ndarray]:
         """Every statistic's (batch, agents) sum over the current (or just ended) episodes, by logged name
-        without the environment prefix (see :mod:`hivex_dsl.statistics`)."""
+        without the environment prefix (see :mod:`hivex_dsl.sim.statistics`)."""
         return episode_statistics(self.statistics, self.compiled.weights, self.counter_sums, self.term_sums,
                                   self.shape)
 

@@ -39,7 +39,7 @@ from .compiler import CompiledScenario, compile as compile_scenario
 from .base.errors import ScenarioError
 from .policies import random_policy
 from .runtime import BatchedEnv
-from .spaces import check_actions
+from .sim.spaces import check_actions
 
 MAX_SEED = 2**32 - 1
 SMALL_AGENTS = 4  # default upper bound of drawn agent counts: rollouts stay cheap

@@ -24,7 +24,7 @@ from gymnasium import spaces
 import hivex_dsl
 from hivex_dsl import ActionError, registry
 from hivex_dsl.adapters.flat import FlatParallelEnv, flat_vector_env
-from hivex_dsl.spaces import describe_space
+from hivex_dsl.sim.spaces import describe_space
 
 from .action_fuzz_cases import Case, bad_leaf, parallel_case, vector_case
 

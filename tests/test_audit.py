@@ -13,7 +13,7 @@ import hivex_dsl
 from hivex_dsl import published
 from hivex_dsl.audit import AUDIT_POLICIES, ScenarioAudit, audit_scenario, describe, find_flags
 from hivex_dsl.cli import main
-from hivex_dsl.reward.terms import TermRegistry
+from hivex_dsl.sim.reward.terms import TermRegistry
 from hivex_dsl.rollout import Rollout, TermTrace
 
 EPISODE = 30

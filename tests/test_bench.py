@@ -76,7 +76,7 @@ def test_a_replayed_step_keeps_the_api_layer_and_drops_the_environment_work():
     import numpy as np
 
     import hivex_dsl
-    from hivex_dsl.spaces import stack_agent_actions
+    from hivex_dsl.sim.spaces import stack_agent_actions
 
     env = hivex_dsl.parallel_env(hivex_dsl.compile("wildfire_resource_management/main"))
     env.reset(seed=0)

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from hypothesis import given, strategies as st
 
-from hivex_dsl.reward import RewardComposer, TermRegistry
+from hivex_dsl.sim.reward import RewardComposer, TermRegistry
 
 SHAPE = (2, 3)
 weights = st.floats(-100, 100, allow_nan=False)

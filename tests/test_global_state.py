@@ -19,7 +19,7 @@ from pettingzoo.test import state_test
 import hivex_dsl
 from hivex_dsl import registry
 from hivex_dsl.base.errors import ResetNeeded
-from hivex_dsl.fire import TreeState
+from hivex_dsl.sim.fire import TreeState
 from hivex_dsl.global_state import AGENT_OBSERVATIONS, EPISODE_PROGRESS, vector_space
 
 from .crashes import first_agent_crashes_on

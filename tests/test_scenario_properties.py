@@ -21,7 +21,7 @@ from hypothesis import strategies as st
 import hivex_dsl
 from hivex_dsl import ScenarioError
 from hivex_dsl.envs.wind_farm_control.params import WindFarmControlParams
-from hivex_dsl.procgen.layouts import PATTERN_NAMES, layout_problem
+from hivex_dsl.sim.procgen.layouts import PATTERN_NAMES, layout_problem
 
 ENV = "wind_farm_control"
 # rewards/wind_farm_control.yaml: the columns (tasks) and their weights per term

@@ -9,7 +9,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from hivex_dsl.base.errors import ActionError
-from hivex_dsl.spaces import check_actions, describe_space, stack_agent_actions
+from hivex_dsl.sim.spaces import check_actions, describe_space, stack_agent_actions
 
 AGENTS = ["a", "b", "c"]
 PLANE = spaces.Dict({"continuous": spaces.Box(-1.0, 1.0, (1,), np.float32), "discrete": spaces.MultiDiscrete([2])})
@@ -158,7 +158,7 @@ def test_any_value_for_one_agent_is_accepted_or_an_action_error_naming_that_agen
 
 def test_valid_actions_never_look_for_a_culprit(monkeypatch):
     import hivex_dsl
-    from hivex_dsl import spaces as module
+    from hivex_dsl.sim import spaces as module
 
     monkeypatch.setattr(module, "culprit", lambda *args: pytest.fail("searched for a culprit on a valid step"))
     env = hivex_dsl.parallel_env({"hivex": 1, "environment": "wind_farm_control", "agents": 3})

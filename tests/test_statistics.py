@@ -11,7 +11,7 @@ import hivex_dsl
 from hivex_dsl import published, registry
 from hivex_dsl.policies import make_policy
 from hivex_dsl.runtime import BatchedEnv
-from hivex_dsl.statistics import StatisticSet
+from hivex_dsl.sim.statistics import StatisticSet
 
 
 @pytest.mark.parametrize("env_id", published.environments())

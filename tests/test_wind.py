@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 from hypothesis import given, strategies as st
 
-from hivex_dsl.procgen.wind import (WindSpec, local_wind, probe_wind, wind_reset, wind_reset_where, wind_step,
-                                   wrap_angle)
+from hivex_dsl.sim.procgen.wind import (WindSpec, local_wind, probe_wind, wind_reset, wind_reset_where, wind_step,
+                                        wrap_angle)
 
 SPEC = WindSpec(ease_rate=0.01, target_shift_deg=60.0, retarget_tolerance_deg=5.0, deviation_max_deg=90.0,
                 noise_scale_m=400.0, noise_octaves=2, drift_m=1.0)
@@ -94,7 +94,7 @@ def test_a_kept_probe_gives_exactly_the_fresh_wind(seed, drift_m):
 @given(st.integers(0, 2**31 - 1), st.integers(1, 4))
 def test_local_wind_is_the_main_direction_turned_by_the_shared_fractal_noise(seed, octaves):
     """The wind's own octave layout against noise.fractal_unchecked, the field it stands for."""
-    from hivex_dsl.procgen.noise import fractal_unchecked
+    from hivex_dsl.sim.procgen.noise import fractal_unchecked
 
     rng = np.random.default_rng(seed)
     spec = dataclasses.replace(SPEC, noise_octaves=octaves)

@@ -11,7 +11,7 @@ The mapping, for every environment:
   splits [-1, 1] into n_i equal bins (for n_i = 2: x < 0 -> 0, x >= 0 -> 1). Discrete and
   MultiDiscrete actions stay as they are (SB3 and RLlib take them; for TorchRL's and BenchMARL's one categorical
   head, :mod:`.joint` joins MultiDiscrete branches). Flat actions are checked as
-  actions of the flat Box on the unwrapped env's own path (:mod:`hivex_dsl.spaces`) before they are
+  actions of the flat Box on the unwrapped env's own path (:mod:`hivex_dsl.sim.spaces`) before they are
   split: a value outside [-1, 1], NaN, a boolean, a wrong shape or a torch tensor that requires grad
   raises the same :class:`~hivex_dsl.base.errors.ActionError` as the unwrapped env (SB3 and RLlib clip
   their actions into the Box first).
@@ -31,7 +31,7 @@ from gymnasium.vector import VectorActionWrapper, VectorEnv, VectorWrapper
 from gymnasium.vector.utils import batch_space
 from pettingzoo.utils.wrappers import BaseParallelWrapper
 
-from ..spaces import check_slot_actions, stack_agent_actions
+from ..sim.spaces import check_slot_actions, stack_agent_actions
 
 
 def live_agents_actions(env, actions: Any) -> Any:

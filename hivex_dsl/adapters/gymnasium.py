@@ -59,12 +59,12 @@ import numpy as np
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
-from ..action_arrays import Unreadable, as_array
+from ..sim.action_arrays import Unreadable, as_array
 from ..compiler import CompiledScenario
 from ..base.errors import ActionError, HivexError, is_integer
 from ..global_state import GlobalState
 from ..runtime import BatchedEnv, Split, Transition
-from ..spaces import check_slot_actions
+from ..sim.spaces import check_slot_actions
 from .human import Rendering, available_render_modes, check_render_mode
 
 _MODES = {"next_step": AutoresetMode.NEXT_STEP, "same_step": AutoresetMode.SAME_STEP}
@@ -187,7 +187,7 @@ class HivexVectorEnv(Rendering, VectorEnv):
         """Step every world with (num_envs, ...) actions, slot = world * agents + agent (for a Dict space, a
         dict of such arrays).
 
-        Actions are checked by :func:`hivex_dsl.spaces.check_slot_actions`, on the parallel env's path:
+        Actions are checked by :func:`hivex_dsl.sim.spaces.check_slot_actions`, on the parallel env's path:
         anything that is not an action of the space (NaN, out of range, a fraction for a discrete space,
         a boolean in an array or a list, a string, None, a wrong shape or slot count, a torch tensor that
         requires grad) raises :class:`~hivex_dsl.base.errors.ActionError` naming the space and the culprit

@@ -6,7 +6,7 @@ The mapping: MultiDiscrete(nvec) becomes Discrete(prod(nvec)); joint action ``j`
 significant (``numpy.unravel_index(j, nvec)``): Wildfire Resource Management's four ternary branches give 81
 joint actions (``j = 27 a_0 + 9 a_1 + 3 a_2 + a_3``), Ocean Plastic Collection's (2, 3) six (``j = 3 a_0 + a_1``).
 Observations, rewards, endings and infos are the wrapped env's. A joint action is checked as an action of the
-Discrete space on the unwrapped env's own path (:mod:`hivex_dsl.spaces`), so a bad one raises the same
+Discrete space on the unwrapped env's own path (:mod:`hivex_dsl.sim.spaces`), so a bad one raises the same
 :class:`~hivex_dsl.base.errors.ActionError` naming the agent (or slot) and the space.
 
 :func:`joint_vector_env` wraps the Gymnasium vector env, :class:`JointDiscreteParallelEnv` a PettingZoo
@@ -23,7 +23,7 @@ from gymnasium import spaces
 from gymnasium.vector import VectorEnv
 from pettingzoo.utils.wrappers import BaseParallelWrapper
 
-from ..spaces import stack_agent_actions
+from ..sim.spaces import stack_agent_actions
 from .flat import SlotActionView, live_agents_actions
 
 

@@ -11,7 +11,7 @@ from ..compiler import CompiledScenario
 from ..base.errors import ResetNeeded
 from ..global_state import GlobalState
 from ..runtime import BatchedEnv, Split
-from ..spaces import stack_agent_actions
+from ..sim.spaces import stack_agent_actions
 from .human import Rendering, available_render_modes, check_render_mode
 
 
@@ -101,8 +101,8 @@ class HivexParallelEnv(Rendering, ParallelEnv):
     def step(self, actions: dict[str, Any]):
         """Step the world with ``{agent: action}`` for exactly the live agents (``self.agents``).
 
-        Actions go through :func:`hivex_dsl.spaces.stack_agent_actions`, which ends on the vector env's
-        :func:`~hivex_dsl.spaces.check_actions`: anything that is not an action of the space (NaN, out
+        Actions go through :func:`hivex_dsl.sim.spaces.stack_agent_actions`, which ends on the vector env's
+        :func:`~hivex_dsl.sim.spaces.check_actions`: anything that is not an action of the space (NaN, out
         of range, a fraction for a discrete space, a boolean, a string, None, a wrong shape, a torch
         tensor that requires grad, a missing or extra agent) raises
         :class:`~hivex_dsl.base.errors.ActionError` naming the agent and the space. A tensor without grad

@@ -11,7 +11,7 @@ from .. import compiler, registry
 from ..lang import loader
 from ..base.resources import bundled_scenarios
 from ..lang.expr import syntax
-from ..reward.composer import RETURN_LIMIT
+from ..sim.reward.composer import RETURN_LIMIT
 from ..lang.spec import scenario as scenario_spec
 from ..lang.spec.catalogue import CATALOGUE
 from ..lang.spec.common import MAX_SEED, MAX_WEIGHT, SCHEMA_VERSION
@@ -201,7 +201,7 @@ def language_context() -> dict[str, Any]:
          "lang.expr.syntax.MAX_NESTING"),
         ("Depth of an expression's tree", num(syntax.MAX_DEPTH), "lang.expr.syntax.MAX_DEPTH"),
         ("Largest episode return one agent's weighted terms may reach (proven from their ranges)",
-         f"{RETURN_LIMIT:g}", "reward.composer.RETURN_LIMIT"),
+         f"{RETURN_LIMIT:g}", "sim.reward.composer.RETURN_LIMIT"),
     ]
     return {
         "environments": envs, "schema_version": SCHEMA_VERSION, "schema_file": SCHEMA_FILE,

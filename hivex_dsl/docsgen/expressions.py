@@ -7,7 +7,7 @@ from typing import Any
 from .. import compiler, registry
 from ..lang.expr import describe_grammar
 from ..base.resources import bundled_scenarios
-from ..reward.vocabulary import vocabulary_of
+from ..sim.reward.vocabulary import vocabulary_of
 from ..lang.spec.common import SCHEMA_VERSION
 from ..lang.spec.expressions import ExpressionTermSpec, ShapingSpec, WeightSchedule
 from .fields import field_rows, num, schema_type

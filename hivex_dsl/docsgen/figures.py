@@ -6,7 +6,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from ..procgen.preview import layout_figure, pollution_figure, terrain_figure
+from ..sim.procgen.preview import layout_figure, pollution_figure, terrain_figure
 
 
 FIGURES = {  # docs-relative PNG path -> (caption, the function drawing it)

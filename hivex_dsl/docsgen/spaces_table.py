@@ -6,7 +6,7 @@ from typing import Any
 
 from gymnasium import spaces
 
-from ..spaces import describe_space, flat_size
+from ..sim.spaces import describe_space, flat_size
 from ..lang.spec.catalogue import EnvironmentInfo
 from .fields import num
 

@@ -14,20 +14,20 @@ from typing import Any, Callable, Literal
 import numpy as np
 from pydantic import Field
 
-from ..procgen.forest import (ForestSpec, IgnitionSpec, cell_centre_xy, ignition_candidates, load_forest_preset,
-                              place_forest, rank_by_weather, ranked_ignition_mask)
-from ..procgen.terrain import TerrainSpec, generate_terrain, terrain_spec_for_level
-from ..procgen.weather import WeatherSpec, WeatherState, load_weather_preset, weather_fields
-from ..batching import put_worlds, replace_worlds, select_worlds
-from ..fire import FireState, fire_put_worlds, fire_reset
-from ..procgen.weather import weather_reset
-from ..procgen.wind import WindSpec, WindState, wind_reset
+from ..sim.procgen.forest import (ForestSpec, IgnitionSpec, cell_centre_xy, ignition_candidates, load_forest_preset,
+                                  place_forest, rank_by_weather, ranked_ignition_mask)
+from ..sim.procgen.terrain import TerrainSpec, generate_terrain, terrain_spec_for_level
+from ..sim.procgen.weather import WeatherSpec, WeatherState, load_weather_preset, weather_fields
+from ..sim.batching import put_worlds, replace_worlds, select_worlds
+from ..sim.fire import FireState, fire_put_worlds, fire_reset
+from ..sim.procgen.weather import weather_reset
+from ..sim.procgen.wind import WindSpec, WindState, wind_reset
 from ..global_state import StateComponent
 from ..registry import GeneratorSlot
 
 
 # The wind and fire facts of an island world's global state (hivex_dsl.global_state), first in both environments'
-# world facts; fire_summary (hivex_dsl.fire.summary) computes the fire's five.
+# world facts; fire_summary (hivex_dsl.sim.fire.summary) computes the fire's five.
 ISLAND_STATE_COMPONENTS = (
     StateComponent("main wind", 2, -1.0, 1.0, "Direction the main wind blows to (cos, sin); fire spreads "
                    "downwind."),
@@ -203,7 +203,7 @@ def kept_maps(maps: IslandMaps, mask: np.ndarray, redraw: str) -> IslandMaps | N
 def restart_islands(state: Any, mask: np.ndarray, fresh: Any, kept: IslandMaps | None) -> dict[str, Any]:
     """maps, fire, wind, weather (and conditions, if it keeps them) of ``state`` with the masked worlds from ``fresh``.
 
-    The fire's tree grid is updated in place (see hivex_dsl.fire), so ``state`` is used up.
+    The fire's tree grid is updated in place (see hivex_dsl.sim.fire), so ``state`` is used up.
     """
     fire = fire_put_worlds(state.fire, mask, fresh.fire)
     weather = replace(state.weather, offsets=put_worlds(state.weather.offsets, mask, fresh.weather.offsets),
@@ -321,7 +321,7 @@ def ignition_of(exists: np.ndarray, village: np.ndarray, conditions: np.ndarray,
                 ignition_spec: IgnitionSpec) -> np.ndarray:
     """(C, C) bool cells set burning on a forest ``exists`` (C, C) under the weather grid ``conditions`` (G, G, 3).
 
-    :func:`~hivex_dsl.procgen.forest.ignition_mask` with each forest cell's weather read from the weather
+    :func:`~hivex_dsl.sim.procgen.forest.ignition_mask` with each forest cell's weather read from the weather
     cell holding it (the grid is not upsampled to the forest's: only the candidate cells are read).
     """
     cells = ignition_candidates(forest_spec, ignition_spec, village)

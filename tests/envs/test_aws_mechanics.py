@@ -13,7 +13,7 @@ import pytest
 
 import hivex_dsl
 from hivex_dsl.envs.aerial_wildfire_suppression.simulator import AerialWildfireSimulator
-from hivex_dsl.fire import TreeState, fire_reset
+from hivex_dsl.sim.fire import TreeState, fire_reset
 from hivex_dsl.runtime import BatchedEnv
 
 CELL = 3.0

@@ -21,8 +21,8 @@ import hivex_dsl
 from hivex_dsl.envs.aerial_wildfire_suppression import terms, view
 from hivex_dsl.envs.aerial_wildfire_suppression.camera import cameras
 from hivex_dsl.envs.aerial_wildfire_suppression.simulator import AerialWildfireSimulator
-from hivex_dsl.fire import FireState, TreeState, closest_burning
-from hivex_dsl.fire.search import closest_burning_at, closest_burning_unchecked
+from hivex_dsl.sim.fire import FireState, TreeState, closest_burning
+from hivex_dsl.sim.fire.search import closest_burning_at, closest_burning_unchecked
 
 CELLS = 400
 

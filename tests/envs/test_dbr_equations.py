@@ -16,7 +16,7 @@ from hivex_dsl.rollout import rollout
 from hivex_dsl.envs.drone_based_reforestation.camera import NEW_TREE_GRAY, to_byte
 from hivex_dsl.envs.drone_based_reforestation.fertility import (FAR_M, distance_reward, sample_bilinear, seed_reward,
                                                                 tree_distance_raster)
-from hivex_dsl.reward.composer import RewardComposer
+from hivex_dsl.sim.reward.composer import RewardComposer
 
 ENV = "drone_based_reforestation"
 

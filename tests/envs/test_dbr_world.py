@@ -15,7 +15,7 @@ from hivex_dsl.envs.drone_based_reforestation.camera import STATION_GRAY
 from hivex_dsl.envs.drone_based_reforestation.fertility import (FAR_M, Grid, nearest_tree_distance, sample_bilinear,
                                                                 tree_distance_raster)
 from hivex_dsl.envs.drone_based_reforestation.params import forest_preset, terrain_preset
-from hivex_dsl.procgen.terrain import Terrain, generate_terrain
+from hivex_dsl.sim.procgen.terrain import Terrain, generate_terrain
 
 ENV = "drone_based_reforestation"
 

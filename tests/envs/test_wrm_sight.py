@@ -24,7 +24,7 @@ from hivex_dsl.envs.wildfire_resource_management.sight import (key_cells, key_ta
 from hivex_dsl.envs.wildfire_resource_management.terms import (broken_power_law, collective_performance, remapped_distance,
                                                                tower_performance)
 from hivex_dsl.envs.wildfire_resource_management.types import Sighting
-from hivex_dsl.fire import TreeState, closest_burning, fire_reset
+from hivex_dsl.sim.fire import TreeState, closest_burning, fire_reset
 
 ENV = "wildfire_resource_management"
 

@@ -15,8 +15,8 @@ from hypothesis import strategies as st
 import hivex_dsl
 from hivex_dsl.envs.island import IslandSpecs, sample_conditions, sample_points, start_islands
 from hivex_dsl.base.numeric import clamp
-from hivex_dsl.procgen.noise import fractal_unchecked
-from hivex_dsl.procgen.weather import FIELDS, WeatherSpec, WeatherState, weather_at, weather_fields, weather_reset
+from hivex_dsl.sim.procgen.noise import fractal_unchecked
+from hivex_dsl.sim.procgen.weather import FIELDS, WeatherSpec, WeatherState, weather_at, weather_fields, weather_reset
 
 
 def reference_fields(state: WeatherState, points: np.ndarray, spec: WeatherSpec) -> np.ndarray:

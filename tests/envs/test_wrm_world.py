@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 import hivex_dsl
-from hivex_dsl.fire import TreeState, fire_reset
-from hivex_dsl.procgen.weather import weather_at
+from hivex_dsl.sim.fire import TreeState, fire_reset
+from hivex_dsl.sim.procgen.weather import weather_at
 
 ENV = "wildfire_resource_management"
 TOWERS_M = np.array([[x, y] for y in (-450.0, 0.0, 450.0) for x in (-450.0, 0.0, 450.0)])

@@ -7,7 +7,7 @@ import pytest
 import hivex_dsl
 from hivex_dsl import ScenarioError
 from hivex_dsl.lang.loader import load_file
-from hivex_dsl.reward.expressions import UNTRACED
+from hivex_dsl.sim.reward.expressions import UNTRACED
 from hivex_dsl.lang.spec.expr_location import expression_location
 
 STYLES = {

@@ -17,7 +17,7 @@ from hivex_dsl.cli import main
 from hivex_dsl.envs.drone_based_reforestation.simulator import DroneReforestationSimulator
 from hivex_dsl.envs.wildfire_resource_management.simulator import WildfireResourceSimulator
 from hivex_dsl.lang.expr import input_problems
-from hivex_dsl.reward.vocabulary import vocabulary_of
+from hivex_dsl.sim.reward.vocabulary import vocabulary_of
 
 DOCS = Path(__file__).resolve().parents[2] / "docs" / "environments"
 NEIGHBOUR_NAMES = [f"{prefix}{k}{suffix}" for k in (1, 2, 3) for prefix, suffix in (

@@ -10,7 +10,7 @@ import pytest
 import hivex_dsl
 from hivex_dsl import registry
 from hivex_dsl.lang.expr import input_problems
-from hivex_dsl.reward.vocabulary import vocabulary_of
+from hivex_dsl.sim.reward.vocabulary import vocabulary_of
 from hivex_dsl.runtime import BatchedEnv
 
 from .rollouts import recorded

@@ -1,4 +1,4 @@
-"""Spread, burn-out, the end of the fire and resets of ``hivex_dsl.fire`` on hand-drawn grids.
+"""Spread, burn-out, the end of the fire and resets of ``hivex_dsl.sim.fire`` on hand-drawn grids.
 
 The rule (ENVIRONMENTS.md, AWS "Spread"): each burning tree tries each existing tree of its 5x5
 block with probability min(1, 0.2 x n), n = [downwind within 45 deg] + [uphill] + [hot] + [dry] +
@@ -14,10 +14,9 @@ import numpy as np
 import pytest
 from pydantic import ValidationError
 
-from hivex_dsl.fire import (
-    FireSpec, TreeState, burning_count, cell_coords, cell_xy, fire_reset, fire_reset_where, fire_step, length_in_cells,
-)
-from hivex_dsl.procgen.forest import ForestSpec, cell_centres
+from hivex_dsl.sim.fire import (FireSpec, TreeState, burning_count, cell_coords, cell_xy, fire_reset, fire_reset_where,
+                                fire_step, length_in_cells)
+from hivex_dsl.sim.procgen.forest import ForestSpec, cell_centres
 
 SYMBOLS = {".": TreeState.NONE, "T": TreeState.EXISTING, "B": TreeState.BURNING}
 FULL_7 = ["TTTTTTT"] * 3 + ["TTTBTTT"] + ["TTTTTTT"] * 3  # a burning tree amid a full 7x7 forest

@@ -15,12 +15,12 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from hivex_dsl.fire import (FactorGrid, FireSpec, FireState, TreeState, count_factors, douse, fire_copy,
-                            fire_put_worlds, fire_reset, fire_reset_where, fire_step, fire_step_unchecked,
-                            grid_cell_table)
-from hivex_dsl.fire import engine as engine_module
-from hivex_dsl.fire import spread as spread_module
-from hivex_dsl.fire.spread import block_offsets
+from hivex_dsl.sim.fire import (FactorGrid, FireSpec, FireState, TreeState, count_factors, douse, fire_copy,
+                                fire_put_worlds, fire_reset, fire_reset_where, fire_step, fire_step_unchecked,
+                                grid_cell_table)
+from hivex_dsl.sim.fire import engine as engine_module
+from hivex_dsl.sim.fire import spread as spread_module
+from hivex_dsl.sim.fire.spread import block_offsets
 
 
 @st.composite

@@ -1,4 +1,4 @@
-"""Invariants of ``hivex_dsl.fire`` over random sequences of fire steps, water drops and resets.
+"""Invariants of ``hivex_dsl.sim.fire`` over random sequences of fire steps, water drops and resets.
 
 After every call: the burning list is exactly the set of BURNING cells (no duplicates), ages are
 below burn_steps, no tree marked spent has an existing tree in its block, trees only move forward
@@ -13,7 +13,7 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from hivex_dsl.fire import FireSpec, TreeState, burning_count, douse, fire_reset, fire_reset_where, fire_step
+from hivex_dsl.sim.fire import FireSpec, TreeState, burning_count, douse, fire_reset, fire_reset_where, fire_step
 
 E, B, X, W = TreeState.EXISTING, TreeState.BURNING, TreeState.BURNT, TreeState.WET
 FORWARD = {(E, B), (B, X), (E, W), (B, W)}  # every allowed change of one cell

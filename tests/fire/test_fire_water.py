@@ -1,4 +1,4 @@
-"""Water drops (``douse``) and the closest-fire search (``closest_burning``) of ``hivex_dsl.fire``.
+"""Water drops (``douse``) and the closest-fire search (``closest_burning``) of ``hivex_dsl.sim.fire``.
 
 ENVIRONMENTS.md, AWS "Drop water": every existing or burning tree within the radius of a drop point
 becomes wet; prepared (existing -> wet) and extinguished (burning -> wet) trees are credited per
@@ -18,9 +18,9 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from hivex_dsl.fire import FireSpec, FireState, TreeState, closest_burning, douse, fire_reset, fire_step
-from hivex_dsl.fire import blocks as blocks_module
-from hivex_dsl.fire import search as search_module
+from hivex_dsl.sim.fire import FireSpec, FireState, TreeState, closest_burning, douse, fire_reset, fire_step
+from hivex_dsl.sim.fire import blocks as blocks_module
+from hivex_dsl.sim.fire import search as search_module
 
 SYMBOLS = {".": TreeState.NONE, "T": TreeState.EXISTING, "B": TreeState.BURNING, "X": TreeState.BURNT, "W": TreeState.WET}
 

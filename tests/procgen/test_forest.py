@@ -1,4 +1,4 @@
-"""Forest placement and fire ignition of Aerial Wildfire Suppression (``hivex_dsl.procgen.forest``).
+"""Forest placement and fire ignition of Aerial Wildfire Suppression (``hivex_dsl.sim.procgen.forest``).
 
 Facts are re-derived here from ENVIRONMENTS.md: cell centres at -600 + 1.5 + 3k, the height rule
 "10 <= h <= 100 and a uniform draw exceeds 2 |55 - h| / 100", and the ignition rule "among every
@@ -16,11 +16,9 @@ from pydantic import ValidationError
 
 from hivex_dsl.envs.island import grid_lookup, ignition_of
 
-from hivex_dsl.procgen.forest import (
-    ForestPreset, ForestSpec, IgnitionSpec, ignition_mask, load_forest_preset, place_forest, rank_ignition_cells,
-    select_ignition,
-)
-from hivex_dsl.procgen.presets import load_preset
+from hivex_dsl.sim.procgen.forest import (ForestPreset, ForestSpec, IgnitionSpec, ignition_mask, load_forest_preset,
+                                          place_forest, rank_ignition_cells, select_ignition)
+from hivex_dsl.sim.procgen.presets import load_preset
 
 SPEC = ForestSpec()
 IGNITION = IgnitionSpec()

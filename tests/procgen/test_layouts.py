@@ -1,4 +1,4 @@
-"""Geometry guarantees of the Wind Farm Control turbine layouts in ``hivex_dsl.procgen.layouts``."""
+"""Geometry guarantees of the Wind Farm Control turbine layouts in ``hivex_dsl.sim.procgen.layouts``."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ import itertools
 import numpy as np
 import pytest
 
-from hivex_dsl.procgen.layouts import PATTERN_NAMES, layout_problem, turbine_layout
+from hivex_dsl.sim.procgen.layouts import PATTERN_NAMES, layout_problem, turbine_layout
 
 SPACING = 70.0  # simulator defaults
 HALF_EXTENT = 600.0
@@ -180,7 +180,7 @@ def test_random_spreads_over_the_farm():
 
 
 def test_random_gives_up_with_value_error_after_bounded_rounds(monkeypatch):
-    import hivex_dsl.procgen.layouts as layouts
+    import hivex_dsl.sim.procgen.layouts as layouts
 
     monkeypatch.setattr(layouts, "_RANDOM_CANDIDATES_PER_ROUND", 1)
     monkeypatch.setattr(layouts, "_RANDOM_MAX_ROUNDS", 3)  # at most 3 turbines can be placed

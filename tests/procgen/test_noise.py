@@ -1,4 +1,4 @@
-"""Properties of the batched Perlin noise in ``hivex_dsl.procgen.noise``."""
+"""Properties of the batched Perlin noise in ``hivex_dsl.sim.procgen.noise``."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from hivex_dsl.procgen.noise import draw_lattice, fractal2d, perlin2d
+from hivex_dsl.sim.procgen.noise import draw_lattice, fractal2d, perlin2d
 
 
 def lattice(seed: int, batch: int = 1, period: int = 16) -> tuple[np.ndarray, np.ndarray]:

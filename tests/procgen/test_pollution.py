@@ -1,4 +1,4 @@
-"""Ocean Plastic Collection content in ``hivex_dsl.procgen.pollution``: heat maps, pebbles, spawns."""
+"""Ocean Plastic Collection content in ``hivex_dsl.sim.procgen.pollution``: heat maps, pebbles, spawns."""
 
 from __future__ import annotations
 
@@ -8,17 +8,9 @@ import numpy as np
 import pytest
 from pydantic import ValidationError
 
-from hivex_dsl.procgen.pollution import (
-    PollutionPreset,
-    PollutionSpec,
-    SpawnSpec,
-    load_pollution_preset,
-    pollution_map,
-    sample_pebbles,
-    spawn_problem,
-    spawn_vessels,
-)
-from hivex_dsl.procgen.presets import load_preset
+from hivex_dsl.sim.procgen.pollution import (PollutionPreset, PollutionSpec, SpawnSpec, load_pollution_preset,
+                                             pollution_map, sample_pebbles, spawn_problem, spawn_vessels)
+from hivex_dsl.sim.procgen.presets import load_preset
 
 H = 200.0  # [orig] world half extent in metres (ENVIRONMENTS.md)
 SPEC = PollutionSpec()

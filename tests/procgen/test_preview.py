@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from hivex_dsl.procgen.preview import SEA, pollution_figure, resample, terrain_figure, tile
+from hivex_dsl.sim.procgen.preview import SEA, pollution_figure, resample, terrain_figure, tile
 
 
 def test_tile_places_images_row_by_row_with_gaps():

@@ -1,4 +1,4 @@
-"""Facts about the drifting weather fields of ``hivex_dsl.procgen.weather``."""
+"""Facts about the drifting weather fields of ``hivex_dsl.sim.procgen.weather``."""
 
 from __future__ import annotations
 
@@ -7,15 +7,8 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from hivex_dsl.procgen.weather import (
-    FIELDS,
-    WeatherSpec,
-    load_weather_preset,
-    weather_at,
-    weather_reset,
-    weather_reset_where,
-    weather_step,
-)
+from hivex_dsl.sim.procgen.weather import (FIELDS, WeatherSpec, load_weather_preset, weather_at, weather_reset,
+                                           weather_reset_where, weather_step)
 
 SPEC = WeatherSpec()
 

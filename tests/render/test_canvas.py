@@ -1,4 +1,4 @@
-"""Tests for hivex_dsl.render.canvas.
+"""Tests for hivex_dsl.sim.render.canvas.
 
 Most tests use a 20 x 20 px canvas over [-10, 10]^2 m, i.e. exactly 1 px per metre, so the pixel in
 row r, column c has its centre at world x = c - 9.5, y = 9.5 - r.
@@ -9,7 +9,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from hivex_dsl.render.canvas import VIRIDIS_STOPS, Canvas, colormap, hue_wheel, upscale
+from hivex_dsl.sim.render.canvas import VIRIDIS_STOPS, Canvas, colormap, hue_wheel, upscale
 
 WHITE = np.array([255, 255, 255], dtype=np.uint8)
 RED = np.array([255, 0, 0], dtype=np.uint8)

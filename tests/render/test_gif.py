@@ -1,11 +1,11 @@
-"""Tests for hivex_dsl.render.gif: round trips through Pillow and argument checking."""
+"""Tests for hivex_dsl.sim.render.gif: round trips through Pillow and argument checking."""
 
 import numpy as np
 import pytest
 from PIL import Image
 
-from hivex_dsl.render.canvas import Canvas
-from hivex_dsl.render.gif import save_gif, save_png
+from hivex_dsl.sim.render.canvas import Canvas
+from hivex_dsl.sim.render.gif import save_gif, save_png
 
 FLAT_COLOURS = [(255, 255, 255), (200, 30, 30), (30, 30, 200), (20, 160, 60)]
 

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...fire import TreeState
+from ...sim.fire import TreeState
 from ..island import LAND_SHADES, SEA, VILLAGE
 
 WATER_RING = VILLAGE + 1

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...fire.summary import FIRE_FACTS, SQRT2, fire_summary, nearest_burning_distance
+from ...sim.fire.summary import FIRE_FACTS, SQRT2, fire_summary, nearest_burning_distance
 from ...global_state import StateComponent
 from ..island import ISLAND_STATE_COMPONENTS
 from .types import AerialWildfireState
@@ -26,7 +26,7 @@ def state_components(self) -> tuple[StateComponent, ...]:
 
 def world_state(self, state: AerialWildfireState) -> tuple[np.ndarray, np.ndarray]:
     """(vectors (B, A, 8) float32 the planes' vector observations, world (B, 11) float64: main wind (2), fire
-    summary (5, see :func:`hivex_dsl.fire.summary.fire_summary`), village (2), fire to village, village
+    summary (5, see :func:`hivex_dsl.sim.fire.summary.fire_summary`), village (2), fire to village, village
     threatened)."""
     p, fire, village = self.params, state.fire, state.maps.village
     half = p.island_half_extent_m

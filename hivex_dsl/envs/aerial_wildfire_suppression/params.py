@@ -2,7 +2,7 @@
 
 [paper] values come from the paper, [orig] from the original release (ENVIRONMENTS.md), [ours]
 are this project's defaults where neither says. The wind fields come from the shared wind model,
-the fire fields from the shared fire engine (hivex_dsl.fire); terrain, forest, ignition and
+the fire fields from the shared fire engine (hivex_dsl.sim.fire); terrain, forest, ignition and
 weather are generators (a scenario overrides them under `generators:`).
 """
 
@@ -12,8 +12,8 @@ from typing import Literal
 
 from pydantic import Field, model_validator
 
-from ...fire import FireSpec
-from ...procgen.wind import WindParams
+from ...sim.fire import FireSpec
+from ...sim.procgen.wind import WindParams
 from ..island import RedrawIsland, redraw_island_field
 
 CAMERA_PIXELS = 42  # [paper] 42x42x3 downward camera

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...render.canvas import Canvas
+from ...sim.render.canvas import Canvas
 from .camera import PALETTE, palette_index_at
 from .params import AerialWildfireParams
 from .types import AerialWildfireState

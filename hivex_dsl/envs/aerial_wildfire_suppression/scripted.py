@@ -10,7 +10,7 @@ from typing import Callable
 
 import numpy as np
 
-from ...procgen.wind import wrap_angle
+from ...sim.procgen.wind import wrap_angle
 
 PATROL_RADIUS_M = 380.0  # middle of the forested band between village surroundings and coast
 PATROL_LEAD_RAD = np.radians(35.0)  # aim this far ahead along the patrol circle (counter-clockwise)

@@ -9,12 +9,12 @@ from typing import NamedTuple
 import numpy as np
 from gymnasium import spaces
 
-from ...batching import assemble, read_only, replace_worlds
-from ...fire import any_burning, douse, fire_step_unchecked
-from ...fire.search import closest_burning_at
+from ...sim.batching import assemble, read_only, replace_worlds
+from ...sim.fire import any_burning, douse, fire_step_unchecked
+from ...sim.fire.search import closest_burning_at
 from ...base.numeric import and_not, clamp, constant
-from ...procgen.weather import weather_step
-from ...procgen.wind import wind_step, wrap_angle
+from ...sim.procgen.weather import weather_step
+from ...sim.procgen.wind import wind_step, wrap_angle
 from ...runtime import StepOutcome
 from .camera import pixel_offsets
 from .global_state import state_components, world_state

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...statistics import StatisticSet
+from ...sim.statistics import StatisticSet
 
 STATISTICS = StatisticSet("aerial_wildfire_suppression", "AerialWildfireSuppression")
 

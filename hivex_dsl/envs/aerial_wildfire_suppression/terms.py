@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from ...base.numeric import and_not, constant
-from ...reward.terms import TermRegistry
+from ...sim.reward.terms import TermRegistry
 
 TERMS = TermRegistry("aerial_wildfire_suppression")
 

@@ -6,10 +6,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...fire import FireState
+from ...sim.fire import FireState
 from ..island import IslandMaps
-from ...procgen.weather import WeatherState
-from ...procgen.wind import WindState
+from ...sim.procgen.weather import WeatherState
+from ...sim.procgen.wind import WindState
 
 
 @dataclass(frozen=True)

@@ -23,7 +23,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from ...fire import FireState, TreeState
+from ...sim.fire import FireState, TreeState
 from .camera import OUTSIDE, PALETTE_FLOAT, TREE_BASE, WATER_RING, cameras
 
 MIXED = TREE_BASE  # palette index of tree state NONE: never drawn (a cell without a tree shows its ground)

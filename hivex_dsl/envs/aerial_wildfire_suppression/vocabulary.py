@@ -10,8 +10,8 @@ import math
 
 import numpy as np
 
-from ...fire import TreeState, burning_count
-from ...reward.vocabulary import Vocabulary, flag, quantity
+from ...sim.fire import TreeState, burning_count
+from ...sim.reward.vocabulary import Vocabulary, flag, quantity
 from .simulator import EVENTS
 from .terms import MAX_TREES_PER_DROP
 

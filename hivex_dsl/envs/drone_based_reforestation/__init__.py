@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
-from ...procgen.forest import ForestSpec
-from ...procgen.terrain import TerrainSpec
+from ...sim.procgen.forest import ForestSpec
+from ...sim.procgen.terrain import TerrainSpec
 from ...registry import EnvironmentEntry, GeneratorSlot, register
 from ...lang.spec.catalogue import CATALOGUE
 from .params import DroneBasedReforestationParams, forest_preset, terrain_preset

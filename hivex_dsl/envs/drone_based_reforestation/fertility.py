@@ -2,7 +2,7 @@
 
 Fields live on square grids of nodes (:class:`Grid`); ``grids[b, i, j]`` is the value of world
 ``b`` at ``x = origin + j * cell``, ``y = origin + i * cell`` (row i follows y, column j
-follows x), the convention of :class:`hivex_dsl.procgen.terrain.Terrain`. Lengths in metres.
+follows x), the convention of :class:`hivex_dsl.sim.procgen.terrain.Terrain`. Lengths in metres.
 
 The fertility of a point is the paper's seed quality without its new-tree condition:
 ``Remap(det, dot_min, dot_max, 1, 0)`` where ``dot_min <= det <= dot_max`` and 0 elsewhere,

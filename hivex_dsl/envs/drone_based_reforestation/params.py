@@ -10,8 +10,8 @@ from __future__ import annotations
 
 from pydantic import Field, model_validator
 
-from ...procgen.forest import ForestSpec
-from ...procgen.terrain import TerrainSpec, terrain_spec_for_level
+from ...sim.procgen.forest import ForestSpec
+from ...sim.procgen.terrain import TerrainSpec, terrain_spec_for_level
 from ...lang.spec.common import StrictModel
 
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...render.canvas import Canvas, colormap
+from ...sim.render.canvas import Canvas, colormap
 from .fertility import FAR_M, sample_bilinear
 from .simulator import STATION_PAD_M
 from .types import DroneState

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...batching import evolve
+from ...sim.batching import evolve
 from .types import DroneState
 
 

@@ -12,7 +12,7 @@ from typing import Callable
 
 import numpy as np
 
-from ...procgen.wind import wrap_angle
+from ...sim.procgen.wind import wrap_angle
 from .camera import NEW_TREE_BELOW, TREE_BELOW, pixel_offsets
 
 CRUISE_HEIGHT_M = 22.0  # above ground while searching: a ~44 m wide view at the default 90 degrees

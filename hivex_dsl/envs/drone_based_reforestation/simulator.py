@@ -12,11 +12,11 @@ from typing import NamedTuple
 import numpy as np
 from gymnasium import spaces
 
-from ...batching import evolve, read_only, replace_worlds
+from ...sim.batching import evolve, read_only, replace_worlds
 from ...base.numeric import all_true, clamp
-from ...procgen.forest import ForestSpec, place_forest
-from ...procgen.terrain import TerrainSpec, generate_terrain
-from ...procgen.wind import wrap_angle
+from ...sim.procgen.forest import ForestSpec, place_forest
+from ...sim.procgen.terrain import TerrainSpec, generate_terrain
+from ...sim.procgen.wind import wrap_angle
 from ...runtime import StepOutcome
 from .camera import NEW_TREE_GRAY, STATION_GRAY, TREE_GRAY, Raster, camera_images, ground_shade, stamp_disks, to_byte
 from .fertility import (FAR_M, Grid, GridSet, distance_reward, fertility, forest_grid, interpolation_matrix,

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...statistics import StatisticSet
+from ...sim.statistics import StatisticSet
 from .simulator import DISTANCE_REWARD_MULTIPLIER
 
 STATISTICS = StatisticSet("drone_based_reforestation", "DroneBasedReforestation")

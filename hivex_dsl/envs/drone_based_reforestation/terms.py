@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...reward.terms import TermRegistry
+from ...sim.reward.terms import TermRegistry
 from .simulator import DISTANCE_REWARD_MULTIPLIER, RUNNING_BACK_REWARD, SEED_REWARD_MULTIPLIER
 
 TERMS = TermRegistry("drone_based_reforestation")

@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 
-from ...reward.vocabulary import Vocabulary, flag, quantity
+from ...sim.reward.vocabulary import Vocabulary, flag, quantity
 from .fertility import fertility, forest_grid, sample_bilinear
 
 

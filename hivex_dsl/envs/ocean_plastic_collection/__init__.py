@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from ...procgen.pollution import PollutionSpec, SpawnSpec, load_pollution_preset, spawn_problem
+from ...sim.procgen.pollution import PollutionSpec, SpawnSpec, load_pollution_preset, spawn_problem
 from ...registry import EnvironmentEntry, GeneratorSlot, register
 from ...lang.spec.catalogue import CATALOGUE
 from .params import OceanPlasticCollectionParams

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...procgen.preview import resample
-from ...render.canvas import Canvas, colormap
+from ...sim.procgen.preview import resample
+from ...sim.render.canvas import Canvas, colormap
 from .params import OceanPlasticCollectionParams
 from .types import OceanState
 

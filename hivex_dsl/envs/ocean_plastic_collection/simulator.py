@@ -15,9 +15,9 @@ from typing import NamedTuple
 import numpy as np
 from gymnasium import spaces
 
-from ...batching import assemble, read_only, replace_worlds
-from ...procgen.pollution import PollutionSpec, SpawnSpec, pollution_map, sample_pebbles, spawn_vessels
-from ...procgen.wind import wrap_angle
+from ...sim.batching import assemble, read_only, replace_worlds
+from ...sim.procgen.pollution import PollutionSpec, SpawnSpec, pollution_map, sample_pebbles, spawn_vessels
+from ...sim.procgen.wind import wrap_angle
 from ...base.numeric import all_true, clamp
 from ...runtime import StepOutcome
 from .camera import CAMERA_CELLS, Geometry, Sensing, as_pairs, build_field, sense

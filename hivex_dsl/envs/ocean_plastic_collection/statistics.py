@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from ...statistics import StatisticSet
+from ...sim.statistics import StatisticSet
 from .terms import TERMS
 
 STATISTICS = StatisticSet("ocean_plastic_collection", "OceanPlasticCollector", notes=(

@@ -7,8 +7,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...procgen.pollution import PollutionSpec
-from ...reward.terms import TermRegistry
+from ...sim.procgen.pollution import PollutionSpec
+from ...sim.reward.terms import TermRegistry
 
 TERMS = TermRegistry("ocean_plastic_collection")
 

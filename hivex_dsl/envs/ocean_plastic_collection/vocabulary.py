@@ -10,7 +10,7 @@ import math
 
 import numpy as np
 
-from ...reward.vocabulary import Vocabulary, flag, quantity
+from ...sim.reward.vocabulary import Vocabulary, flag, quantity
 
 
 def _reach(compiled) -> tuple[float, float]:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...fire.summary import FIRE_FACTS, fire_summary
+from ...sim.fire.summary import FIRE_FACTS, fire_summary
 from ...global_state import StateComponent
 from ..island import ISLAND_STATE_COMPONENTS
 from .types import WildfireResourceState
@@ -22,7 +22,7 @@ def state_components(self) -> tuple[StateComponent, ...]:
 
 def world_state(self, state: WildfireResourceState) -> tuple[np.ndarray, np.ndarray]:
     """(vectors (B, 9, 16) float32 the towers' observations, world (B, 9) float64: main wind (2), fire summary
-    (5, see :func:`hivex_dsl.fire.summary.fire_summary`), island weather (3))."""
+    (5, see :func:`hivex_dsl.sim.fire.summary.fire_summary`), island weather (3))."""
     batch = len(state.budget)
     world = np.empty((batch, 2 + FIRE_FACTS + 3))
     world[:, 0] = np.cos(state.wind.main)

@@ -2,7 +2,7 @@
 
 [paper] values come from the paper, [orig] from the original release (ENVIRONMENTS.md), [ours]
 are this project's defaults where neither says. The wind fields come from the shared wind model,
-the fire fields from the shared fire engine (hivex_dsl.fire), exactly as in Aerial Wildfire
+the fire fields from the shared fire engine (hivex_dsl.sim.fire), exactly as in Aerial Wildfire
 Suppression; terrain, forest, ignition and weather are the island's generators (a scenario
 overrides them under `generators:`).
 """
@@ -11,8 +11,8 @@ from __future__ import annotations
 
 from pydantic import Field, model_validator
 
-from ...fire import FireSpec
-from ...procgen.wind import WindParams
+from ...sim.fire import FireSpec
+from ...sim.procgen.wind import WindParams
 from ..island import RedrawIsland, redraw_island_field
 
 

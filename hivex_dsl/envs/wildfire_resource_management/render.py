@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...render.canvas import Canvas, colormap
+from ...sim.render.canvas import Canvas, colormap
 from ..aerial_wildfire_suppression.camera import PALETTE, palette_index_at
 from .params import WildfireResourceParams
 from .resources import TARGETS, TENTHS

@@ -9,7 +9,7 @@ axis holds the trees of age ``j``.
 
 Distances are squared cell distances between a tree's cell centre and the tower's fractional cell
 coordinates, inside the tower's square search box, with ties to the lower flat index: exactly
-:func:`hivex_dsl.fire.closest_burning`'s answer (tests/envs/test_wrm_sight.py checks it).
+:func:`hivex_dsl.sim.fire.closest_burning`'s answer (tests/envs/test_wrm_sight.py checks it).
 
 An answer is one complex128 *key*: the squared distance (inf: no tree in the box) as the real part,
 the cell row * C + col (exact in a float64) as the imaginary part, negative for a key outside the box.

@@ -1,10 +1,10 @@
 """Wildfire Resource Management as a batched NumPy simulator (no Python loop over worlds or towers in step).
 
 The island, forest, weather, wind and fire are those of Aerial Wildfire Suppression (hivex_dsl.envs.island
-and hivex_dsl.fire); nine watchtowers watch the fire burn and shift resources between each other. Trees
+and hivex_dsl.sim.fire); nine watchtowers watch the fire burn and shift resources between each other. Trees
 change only on fire steps (nothing douses them), so the towers' sighting is recomputed only then, and
 only this step's ignitions need searching (see .sight). The weather factors of spread are counted once
-per weather refresh on the coarse weather grid (hivex_dsl.fire.FactorGrid).
+per weather refresh on the coarse weather grid (hivex_dsl.sim.fire.FactorGrid).
 """
 
 from __future__ import annotations
@@ -14,11 +14,11 @@ from dataclasses import replace
 import numpy as np
 from gymnasium import spaces
 
-from ...batching import assemble, read_only, replace_worlds
-from ...fire import FactorGrid, count_factors, fire_step_unchecked, grid_cell_table
+from ...sim.batching import assemble, read_only, replace_worlds
+from ...sim.fire import FactorGrid, count_factors, fire_step_unchecked, grid_cell_table
 from ...base.numeric import clamp
-from ...procgen.weather import weather_step
-from ...procgen.wind import wind_step
+from ...sim.procgen.weather import weather_step
+from ...sim.procgen.wind import wind_step
 from ...runtime import StepOutcome
 from ..island import (IslandMaps, IslandSpecs, grid_lookup, restart_where, sample_points, start_islands,
                       weather_grid_points)

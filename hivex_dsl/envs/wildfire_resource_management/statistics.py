@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from ...statistics import StatisticSet
+from ...sim.statistics import StatisticSet
 from .terms import tower_performance
 
 STATISTICS = StatisticSet("wildfire_resource_management", "WildfireResourceManagement", notes=(

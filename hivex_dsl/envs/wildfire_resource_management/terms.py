@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from ...base.numeric import clamp
-from ...reward.terms import TermRegistry
+from ...sim.reward.terms import TermRegistry
 from .resources import NEIGHBOURS, NEIGHBOURS_PER_TOWER, TENTHS
 
 TERMS = TermRegistry("wildfire_resource_management")

@@ -6,9 +6,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...fire import FireState
-from ...procgen.weather import WeatherState
-from ...procgen.wind import WindState
+from ...sim.fire import FireState
+from ...sim.procgen.weather import WeatherState
+from ...sim.procgen.wind import WindState
 from ..island import IslandMaps
 
 

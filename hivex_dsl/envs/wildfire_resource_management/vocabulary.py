@@ -10,8 +10,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...fire import burning_count
-from ...reward.vocabulary import Vocabulary, flag, quantity
+from ...sim.fire import burning_count
+from ...sim.reward.vocabulary import Vocabulary, flag, quantity
 from .resources import NEIGHBOURS, NEIGHBOURS_PER_TOWER, TARGETS_PER_AGENT
 from .terms import performance_of
 

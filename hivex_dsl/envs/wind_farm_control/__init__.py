@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from ...procgen.layouts import layout_problem
+from ...sim.procgen.layouts import layout_problem
 from ...registry import EnvironmentEntry, register
 from ...lang.spec.catalogue import CATALOGUE
 from .layouts_preset import load_layout_preset

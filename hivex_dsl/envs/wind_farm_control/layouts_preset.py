@@ -6,8 +6,8 @@ from typing import Literal
 
 from pydantic import Field
 
-from ...procgen.layouts import PATTERN_NAMES
-from ...procgen.presets import load_preset
+from ...sim.procgen.layouts import PATTERN_NAMES
+from ...sim.procgen.presets import load_preset
 from ...lang.spec.common import SCHEMA_VERSION, StrictModel
 
 

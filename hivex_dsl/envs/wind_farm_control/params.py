@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from pydantic import Field
 
-from ...procgen.wind import WindParams
+from ...sim.procgen.wind import WindParams
 
 
 class WindFarmControlParams(WindParams):

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...procgen.wind import WindSpec, local_wind, wind_worlds
-from ...render.canvas import Canvas, colormap, hue_wheel, upscale
+from ...sim.procgen.wind import WindSpec, local_wind, wind_worlds
+from ...sim.render.canvas import Canvas, colormap, hue_wheel, upscale
 from .params import WindFarmControlParams
 from .types import WindFarmState
 

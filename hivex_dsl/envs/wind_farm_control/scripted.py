@@ -6,7 +6,7 @@ from typing import Callable
 
 import numpy as np
 
-from ...procgen.wind import wrap_angle
+from ...sim.procgen.wind import wrap_angle
 
 
 def ideal_heading(heading: np.ndarray, wind: np.ndarray, perpendicular: bool) -> np.ndarray:

@@ -5,10 +5,10 @@ from __future__ import annotations
 import numpy as np
 from gymnasium import spaces
 
-from ...batching import assemble
+from ...sim.batching import assemble
 from ...base.numeric import clamp, constant
-from ...procgen.layouts import turbine_layout
-from ...procgen.wind import probe_wind, wind_reset, wind_reset_where, wind_step, wrap_angle
+from ...sim.procgen.layouts import turbine_layout
+from ...sim.procgen.wind import probe_wind, wind_reset, wind_reset_where, wind_step, wrap_angle
 from ...runtime import StepOutcome
 from .global_state import state_components, world_state
 from .params import WindFarmControlParams

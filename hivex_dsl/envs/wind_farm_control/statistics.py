@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from ...statistics import StatisticSet
+from ...sim.statistics import StatisticSet
 
 STATISTICS = StatisticSet("wind_farm_control", "WindFarmControl")
 

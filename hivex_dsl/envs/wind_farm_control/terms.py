@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from ...base.numeric import clamp, constant
-from ...reward.terms import TermRegistry
+from ...sim.reward.terms import TermRegistry
 from .simulator import angle_between
 
 TERMS = TermRegistry("wind_farm_control")

@@ -7,7 +7,7 @@ from typing import Optional
 
 import numpy as np
 
-from ...procgen.wind import WindProbe, WindState
+from ...sim.procgen.wind import WindProbe, WindState
 
 
 @dataclass(frozen=True)

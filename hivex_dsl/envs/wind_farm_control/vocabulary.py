@@ -11,8 +11,8 @@ import math
 
 import numpy as np
 
-from ...procgen.wind import wrap_angle
-from ...reward.vocabulary import Vocabulary, quantity
+from ...sim.procgen.wind import wrap_angle
+from ...sim.reward.vocabulary import Vocabulary, quantity
 from .simulator import alignment, angle_between, wind_force
 
 

@@ -3,7 +3,7 @@
 A scenario (or a reward table) declares ``terms:`` (name -> expression and an optional contract),
 ``shaping:`` (a potential and a discount) and extra ``ends_on:`` entries; a weight may be a
 :class:`WeightSchedule`. The expressions themselves are checked by :mod:`hivex_dsl.lang.expr` when the
-scenario compiles (see :mod:`hivex_dsl.reward.expressions`); these models check the shape around them.
+scenario compiles (see :mod:`hivex_dsl.sim.reward.expressions`); these models check the shape around them.
 """
 
 from __future__ import annotations

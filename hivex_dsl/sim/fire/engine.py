@@ -1,6 +1,6 @@
 """The fire engine's state, constants, resets and coordinate helpers (ENVIRONMENTS.md, AWS).
 
-Grid: the forest grid of :mod:`hivex_dsl.procgen.forest`, ``trees[b, row, col]`` with ``row``
+Grid: the forest grid of :mod:`hivex_dsl.sim.procgen.forest`, ``trees[b, row, col]`` with ``row``
 indexing y and ``col`` indexing x. Cell coordinates are fractional (row, col) with the centre of
 cell ``(row, col)`` at exactly ``(row, col)``; a point (x, y) in metres lies at
 ``row = (y + half_extent_m) / spacing_m - 0.5``, ``col = (x + half_extent_m) / spacing_m - 0.5``
@@ -28,7 +28,7 @@ from pydantic import Field
 
 from ..batching import put_worlds
 from ..procgen.forest import ForestSpec
-from ..lang.spec.common import StrictModel
+from ...lang.spec.common import StrictModel
 
 
 class TreeState(enum.IntEnum):

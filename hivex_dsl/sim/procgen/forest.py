@@ -17,7 +17,7 @@ from typing import Callable, Literal, NamedTuple
 import numpy as np
 from pydantic import Field, model_validator
 
-from ..lang.spec.common import SCHEMA_VERSION, StrictModel
+from ...lang.spec.common import SCHEMA_VERSION, StrictModel
 from .presets import load_preset
 
 HeightAt = Callable[[np.ndarray], np.ndarray]

@@ -6,9 +6,9 @@ from typing import TypeVar
 
 from pydantic import BaseModel
 
-from ..lang.loader import load_file
-from ..base.resources import data_dir
-from ..lang.spec.validate import validate_loaded
+from ...lang.loader import load_file
+from ...base.resources import data_dir
+from ...lang.spec.validate import validate_loaded
 
 M = TypeVar("M", bound=BaseModel)
 

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..base.errors import is_integer
+from ...base.errors import is_integer
 
 PALETTE_SAMPLES = 16  # frames the shared palette is drawn from
 

@@ -26,7 +26,7 @@ from typing import Literal
 import numpy as np
 from pydantic import Field, model_validator
 
-from ..lang.spec.common import SCHEMA_VERSION, StrictModel
+from ...lang.spec.common import SCHEMA_VERSION, StrictModel
 from .noise import draw_lattice, fractal2d, require_int
 from .presets import load_preset
 

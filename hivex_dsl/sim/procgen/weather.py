@@ -18,8 +18,8 @@ import numpy as np
 from pydantic import Field
 
 from ..batching import assemble
-from ..base.numeric import all_true, clamp
-from ..lang.spec.common import SCHEMA_VERSION, StrictModel
+from ...base.numeric import all_true, clamp
+from ...lang.spec.common import SCHEMA_VERSION, StrictModel
 from .noise import blend_corners, draw_lattice, octave_frequencies, sum_octaves
 from .presets import load_preset
 
@@ -107,7 +107,7 @@ def _check_batch(name: str, array: object, batch: int, tail: tuple[int, ...]) ->
 def weather_reset(rng: np.random.Generator, batch: int, spec: WeatherSpec) -> WeatherState:
     """Fresh weather for ``batch`` worlds: one lattice per field and world, zero offsets.
 
-    Draws one :func:`~hivex_dsl.procgen.noise.draw_lattice` of ``F * batch`` rows (field-major).
+    Draws one :func:`~hivex_dsl.sim.procgen.noise.draw_lattice` of ``F * batch`` rows (field-major).
     """
     perm, grads = draw_lattice(rng, len(FIELDS) * batch, spec.noise_period)
     period = spec.noise_period
@@ -152,7 +152,7 @@ def weather_at(state: WeatherState, points: np.ndarray, spec: WeatherSpec) -> di
 def weather_fields(state: WeatherState, points: np.ndarray, spec: WeatherSpec) -> np.ndarray:
     """(F, B, N) float64 fields in :data:`FIELDS` order at finite ``points`` (B, N, 2) metres (unchecked).
 
-    Each field is the fractal Perlin noise of :func:`~hivex_dsl.procgen.noise.fractal_unchecked` on its own
+    Each field is the fractal Perlin noise of :func:`~hivex_dsl.sim.procgen.noise.fractal_unchecked` on its own
     lattice, with the same floating-point operations; the fields share their sample points, so where the
     points fall in the lattice (cells, offsets, fades) is worked out once for all three. Arrays keep the x/y
     and octave axes first, so every operation runs along the long (B, N) axes.
@@ -190,7 +190,7 @@ def _lattice_rows(fields: int, batch: int, period: int) -> tuple[np.ndarray, np.
 def _corner_gradients(perm: np.ndarray, grads: np.ndarray, lower: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Gradient components (4, F, K, B, N) at the corners (0, 0), (1, 0), (0, 1), (1, 1) of the lattice cells
     with lower-left corners ``lower`` (2, K, B, N), from every field's lattice perm (F, B, 2P), grads
-    (F, B, P, 2): :func:`~hivex_dsl.procgen.noise.corner_gradients` with the cell indices computed once."""
+    (F, B, P, 2): :func:`~hivex_dsl.sim.procgen.noise.corner_gradients` with the cell indices computed once."""
     fields, batch, period = grads.shape[:3]
     perm_rows, grad_rows = _lattice_rows(fields, batch, period)
     cell = _cell_indices(lower, period)  # (2 lower/next, 2 x/y, K, B, N)

@@ -79,7 +79,7 @@ def _chances(chance_per_factor: float) -> np.ndarray:
 
 def _downwind(downwind_rad: np.ndarray, direction: np.ndarray, cone_deg: float) -> np.ndarray:
     """(B, N) bool: the offsets' directions (N,) lie within ``cone_deg`` of each world's downwind direction
-    ``downwind_rad`` (B,); :func:`hivex_dsl.procgen.wind.wrap_angle`'s operations, done in place."""
+    ``downwind_rad`` (B,); :func:`hivex_dsl.sim.procgen.wind.wrap_angle`'s operations, done in place."""
     gap = direction - downwind_rad[:, None]
     gap += np.pi
     gap %= TWO_PI

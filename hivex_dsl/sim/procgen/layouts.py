@@ -30,7 +30,7 @@ import numbers
 
 import numpy as np
 
-from ..base.errors import is_integer
+from ...base.errors import is_integer
 
 __all__ = ["PATTERN_NAMES", "MAX_TURBINES", "turbine_layout", "layout_problem"]
 

@@ -16,7 +16,7 @@ from typing import Any, Callable, Iterable, Mapping
 
 import numpy as np
 
-from ..lang.expr import Quantity
+from ...lang.expr import Quantity
 
 # reader(state, events, compiled scenario) -> (batch, agents) for per-agent quantities, (batch,) for per-world ones
 Reader = Callable[[Any, Mapping[str, np.ndarray], Any], np.ndarray]

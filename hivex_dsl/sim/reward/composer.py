@@ -7,8 +7,8 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from ..base.errors import did_you_mean
-from ..base.numeric import constant
+from ...base.errors import did_you_mean
+from ...base.numeric import constant
 from .terms import TermRegistry
 
 

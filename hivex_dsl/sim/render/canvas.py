@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..base.errors import is_integer
+from ...base.errors import is_integer
 
 Color = tuple[int, int, int]
 

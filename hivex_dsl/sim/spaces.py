@@ -9,7 +9,7 @@ import numpy as np
 from gymnasium import spaces
 
 from .action_arrays import NUMBER_KINDS, Unreadable, as_array, holds_a_boolean, short
-from .base.errors import ActionError
+from ..base.errors import ActionError
 
 
 def describe_space(space: spaces.Space) -> str:
@@ -68,7 +68,7 @@ def stack_agent_actions(space: spaces.Space, actions: Any, agents: Sequence[str]
     """Per-agent actions (PettingZoo style) {agent: action} -> one checked array shaped (1, agents) +
     space.shape of the space's dtype, or {part: such an array} for a Dict space.
 
-    Valid actions cost one :func:`~hivex_dsl.action_arrays.as_array` and a dtype and shape comparison
+    Valid actions cost one :func:`~hivex_dsl.sim.action_arrays.as_array` and a dtype and shape comparison
     per part, then :func:`check_actions`' vectorised range check (``meanings`` is its hint); only when
     those fail does a per-agent pass look for the culprit, named in the :class:`ActionError`.
     """

@@ -19,8 +19,8 @@ from typing import Literal
 import numpy as np
 from pydantic import Field, model_validator
 
-from ..base.errors import is_integer
-from ..lang.spec.common import SCHEMA_VERSION, StrictModel
+from ...base.errors import is_integer
+from ...lang.spec.common import SCHEMA_VERSION, StrictModel
 from .noise import draw_lattice, fractal2d
 from .presets import load_preset
 

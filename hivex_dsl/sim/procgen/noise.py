@@ -23,8 +23,8 @@ import numbers
 
 import numpy as np
 
-from ..base.errors import is_integer
-from ..base.numeric import clamp, constant
+from ...base.errors import is_integer
+from ...base.numeric import clamp, constant
 
 __all__ = ["draw_lattice", "perlin2d", "fractal2d", "fractal_unchecked", "octave_frequencies", "octave_points",
            "corner_gradients", "blend_corners", "sum_octaves"]
