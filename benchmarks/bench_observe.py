@@ -16,7 +16,7 @@ import numpy as np
 
 import hivex_dsl
 from hivex_dsl.policies import random_policy
-from hivex_dsl.registry import environments
+from hivex_dsl.compiler.registry import environments
 
 from bench_procgen import median_ms
 

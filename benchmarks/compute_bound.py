@@ -27,7 +27,7 @@ import numpy as np
 import torch
 from torch.utils.flop_counter import FlopCounterMode
 
-from hivex_dsl import registry
+from hivex_dsl.compiler import registry
 from hivex_dsl.compiler import compile
 from hivex_dsl.train.baselines import machine
 from hivex_dsl.train.config import make_config, parse_assignments

@@ -41,7 +41,7 @@ from typing import Callable
 import numpy as np
 
 import hivex_dsl
-from hivex_dsl import registry
+from hivex_dsl.compiler import registry
 from hivex_dsl.adapters.registration import make_scenario
 
 OUT = Path(__file__).resolve().parent / "results" / "ecosystem.json"

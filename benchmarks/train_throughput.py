@@ -26,7 +26,7 @@ from concurrent.futures import ProcessPoolExecutor
 from multiprocessing import get_context
 from pathlib import Path
 
-from hivex_dsl import registry
+from hivex_dsl.compiler import registry
 from hivex_dsl.adapters.gymnasium import HivexVectorEnv
 from hivex_dsl.compiler import compile
 from hivex_dsl.train.baselines import machine

@@ -14,7 +14,7 @@ from . import _moved
 from .base.errors import ActionError, HivexError, ResetNeeded, ScenarioError
 from .compiler import CompiledScenario, compile, compile_all
 
-_moved.install()  # old module paths (hivex_dsl.errors, hivex_dsl.lang.spec, ...) import their moved modules
+_moved.install()  # old module paths (hivex_dsl.errors, hivex_dsl.spec, ...) import their moved modules
 
 __version__ = "0.1.0"
 

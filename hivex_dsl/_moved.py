@@ -41,6 +41,9 @@ MOVED: dict[str, str] = {
     "fire": "sim.fire",
     "procgen": "sim.procgen",
     "render": "sim.render",
+    # compiler/
+    "registry": "compiler.registry",
+    "locks": "compiler.locks",
 }
 
 # old paths that stay public without a warning

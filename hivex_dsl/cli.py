@@ -147,7 +147,7 @@ def _point_arg(p: argparse.ArgumentParser) -> None:
 
 
 def cmd_validate(args) -> int:
-    from .compiler import compile_all
+    from .compiler.scenario import compile_all
 
     failed = 0
     for file in args.files:
@@ -163,7 +163,7 @@ def cmd_validate(args) -> int:
 
 
 def cmd_compile(args) -> int:
-    from .compiler import compile_all
+    from .compiler.scenario import compile_all
     from .report import describe_compiled, describe_sweep
 
     compiled = compile_all(args.file)
@@ -278,7 +278,8 @@ def cmd_preview(args) -> int:
 
 
 def cmd_bench(args) -> int:
-    from . import bench, bench_expressions, registry
+    from . import bench, bench_expressions
+    from .compiler import registry
 
     available = list(registry.environments())
     unknown = [e for e in args.env or [] if e not in available]
@@ -315,8 +316,8 @@ def cmd_list(args) -> int:
 
 def cmd_vocab(args) -> int:
     """Every quantity of the scenario's vocabulary: ranges follow its params, so a scenario file gives its own."""
-    from . import registry
-    from .compiler import compile
+    from .compiler import registry
+    from .compiler.scenario import compile
     from .sim.reward.vocabulary import vocabulary_of
 
     environments = registry.environments()

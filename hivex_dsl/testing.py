@@ -34,8 +34,8 @@ except ImportError as exc:  # pragma: no cover - depends on the installation
     raise ImportError("hivex_dsl.testing needs hypothesis: pip install 'hivex-dsl[testing]'") from exc
 from gymnasium import spaces
 
-from . import registry
-from .compiler import CompiledScenario, compile as compile_scenario
+from .compiler import registry
+from .compiler.scenario import CompiledScenario, compile as compile_scenario
 from .base.errors import ScenarioError
 from .policies import random_policy
 from .runtime import BatchedEnv

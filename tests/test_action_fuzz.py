@@ -22,7 +22,8 @@ import pytest
 from gymnasium import spaces
 
 import hivex_dsl
-from hivex_dsl import ActionError, registry
+from hivex_dsl import ActionError
+from hivex_dsl.compiler import registry
 from hivex_dsl.adapters.flat import FlatParallelEnv, flat_vector_env
 from hivex_dsl.sim.spaces import describe_space
 

@@ -386,7 +386,7 @@ def test_the_parallel_env_ends_a_one_drone_world_only_with_respawn_off(respawn):
 def test_only_the_fire_going_out_is_declared_an_ending_of_the_whole_world():
     import dataclasses
 
-    from hivex_dsl import registry
+    from hivex_dsl.compiler import registry
 
     declared = {env: registry.get(env).world_events for env in LAYOUT | {"wind_farm_control": None}}
     assert declared == {"aerial_wildfire_suppression": {"fire_out"}, "wildfire_resource_management": {"fire_out"},

@@ -339,7 +339,7 @@ def test_a_message_never_hides_a_character():
 
 
 def test_finding_the_cause_of_a_problem_is_bounded_over_a_whole_sweep(monkeypatch):
-    from hivex_dsl import compiler
+    from hivex_dsl.compiler import scenario as compiler
 
     calls = []
     validated = compiler._validated

@@ -61,7 +61,7 @@ def test_compile_reports_the_same_first_problem(path: Path):
 
 
 def test_an_environment_of_the_catalogue_without_a_simulator_is_named_as_not_available(monkeypatch):
-    from hivex_dsl import registry
+    from hivex_dsl.compiler import registry
 
     registry.environments()
     monkeypatch.delitem(registry._REGISTRY, "ocean_plastic_collection")

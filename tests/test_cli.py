@@ -151,7 +151,7 @@ def test_preview_writes_the_sample_figures(tmp_path, capsys):
 
 
 def test_vocab_lists_every_quantity_with_its_unit_range_and_meaning(capsys):
-    from hivex_dsl import registry
+    from hivex_dsl.compiler import registry
     from hivex_dsl.compiler import compile
     from hivex_dsl.sim.reward.vocabulary import vocabulary_of
 

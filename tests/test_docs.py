@@ -11,7 +11,7 @@ from typing import Any
 
 import pytest
 
-from hivex_dsl import registry
+from hivex_dsl.compiler import registry
 from hivex_dsl.docsgen import MANIFEST, render_docs, stale_docs, write_docs
 from hivex_dsl.docsgen.schema import SCHEMA_DIALECT, schema_of, scenario_json_schema, schema_text
 from hivex_dsl.envs.wind_farm_control.simulator import WindFarmSimulator

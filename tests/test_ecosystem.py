@@ -13,7 +13,7 @@ from pathlib import Path
 
 import pytest
 
-from hivex_dsl import registry
+from hivex_dsl.compiler import registry
 from hivex_dsl.docsgen import render_docs
 from hivex_dsl.docsgen.ecosystem_matrix import LIBRARIES, EcosystemScanError, cells, matrix_context, read_proofs
 

@@ -13,7 +13,7 @@ from pettingzoo.test import api_test, parallel_api_test
 from pettingzoo.utils.conversions import parallel_to_aec
 
 import hivex_dsl
-from hivex_dsl import registry
+from hivex_dsl.compiler import registry
 
 ENV_IDS = list(registry.environments())
 

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from hivex_dsl import registry
+from hivex_dsl.compiler import registry
 
 ENV_IDS = list(registry.environments())
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"

@@ -6,7 +6,8 @@ from pathlib import Path
 
 import pytest
 
-from hivex_dsl import published, registry
+from hivex_dsl import published
+from hivex_dsl.compiler import registry
 from hivex_dsl.audit import AUDIT_POLICIES, audit_all
 from hivex_dsl.docsgen import render_docs
 from hivex_dsl.fidelity import FIDELITY_FILE, load_suite, published_level_mean, suite_scenarios

@@ -10,11 +10,12 @@ import dataclasses
 
 import pytest
 
-from hivex_dsl import compiler, registry
+from hivex_dsl import compiler
+from hivex_dsl.compiler import registry
 from hivex_dsl.base.errors import ScenarioError
 from hivex_dsl.sim.procgen.pollution import PollutionSpec
 from hivex_dsl.sim.procgen.terrain import TerrainSpec, terrain_spec_for_level
-from hivex_dsl.registry import GeneratorSlot
+from hivex_dsl.compiler.registry import GeneratorSlot
 
 BASE = {"hivex": 1, "environment": "wind_farm_control"}
 

@@ -17,7 +17,7 @@ from hypothesis import strategies as st
 from pettingzoo.test import state_test
 
 import hivex_dsl
-from hivex_dsl import registry
+from hivex_dsl.compiler import registry
 from hivex_dsl.base.errors import ResetNeeded
 from hivex_dsl.sim.fire import TreeState
 from hivex_dsl.global_state import AGENT_OBSERVATIONS, EPISODE_PROGRESS, vector_space

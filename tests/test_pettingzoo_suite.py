@@ -12,7 +12,7 @@ import pytest
 from pettingzoo.test import (api_test, max_cycles_test, parallel_api_test, parallel_seed_test, render_test,
                              seed_test)
 
-from hivex_dsl import registry
+from hivex_dsl.compiler import registry
 
 ENV_IDS = list(registry.environments())
 CYCLES = 40  # steps per episode in these tests: enough for every agent to act, small enough for CI

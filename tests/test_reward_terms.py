@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from hivex_dsl.registry import environments
+from hivex_dsl.compiler.registry import environments
 from hivex_dsl.testing import term_inputs
 
 TERMS = [(env_id, term.name) for env_id, entry in environments().items() for term in entry.terms]

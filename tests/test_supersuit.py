@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import hivex_dsl
-from hivex_dsl import registry
+from hivex_dsl.compiler import registry
 from hivex_dsl.adapters.flat import FlatParallelEnv
 from hivex_dsl.adapters.registration import make_scenario
 

@@ -11,7 +11,7 @@ from gymnasium import spaces
 from hypothesis import given, settings, strategies as st
 
 import hivex_dsl
-from hivex_dsl.registry import environments
+from hivex_dsl.compiler.registry import environments
 from hivex_dsl.testing import actions, compiled_scenarios, scenarios, term_inputs
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 import hivex_dsl
-from hivex_dsl import registry
+from hivex_dsl.compiler import registry
 from hivex_dsl.adapters.torchrl import marl_view
 
 from .crashes import first_agent_crashes_on

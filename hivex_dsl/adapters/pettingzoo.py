@@ -7,7 +7,7 @@ from typing import Any, Optional
 import numpy as np
 from pettingzoo import ParallelEnv
 
-from ..compiler import CompiledScenario
+from ..compiler.scenario import CompiledScenario
 from ..base.errors import ResetNeeded
 from ..global_state import GlobalState
 from ..runtime import BatchedEnv, Split

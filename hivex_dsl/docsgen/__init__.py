@@ -14,7 +14,7 @@ from typing import Union
 import numpy as np
 from jinja2 import Environment, FileSystemLoader, StrictUndefined
 
-from .. import registry
+from ..compiler import registry
 from .baselines import PAGE as BASELINES_PAGE, baseline_images, baselines_context, baselines_dir
 from .context import SCHEMA_FILE, env_page, environment_context, index_context, language_context, performance_context
 from .fidelity_page import fidelity_context

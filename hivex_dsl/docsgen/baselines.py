@@ -8,7 +8,7 @@ import statistics
 from pathlib import Path
 from typing import Any
 
-from .. import registry
+from ..compiler import registry
 
 BASELINES_DIR = Path("benchmarks") / "baselines"
 PAGE = "baselines.md"

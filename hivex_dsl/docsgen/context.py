@@ -7,7 +7,7 @@ import json
 from pathlib import Path
 from typing import Any
 
-from .. import compiler, registry
+from ..compiler import registry, scenario as compiler
 from ..lang import loader
 from ..base.resources import bundled_scenarios
 from ..lang.expr import syntax

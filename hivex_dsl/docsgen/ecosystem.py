@@ -8,7 +8,7 @@ import inspect
 import json
 from pathlib import Path
 
-from .. import registry
+from ..compiler import registry
 from ..adapters import flat, joint, gymnasium as vector_adapter, module_doc, pettingzoo as parallel_adapter
 from ..adapters.registration import bundled_scenarios, camel
 from .ecosystem_matrix import matrix_context

@@ -16,7 +16,7 @@ import ast
 from dataclasses import dataclass
 from pathlib import Path
 
-from .. import registry
+from ..compiler import registry
 
 MARKER = "ecosystem"
 ENV_PARAMETERS = ("env_id", "environment")

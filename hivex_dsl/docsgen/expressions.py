@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from .. import compiler, registry
+from ..compiler import registry, scenario as compiler
 from ..lang.expr import describe_grammar
 from ..base.resources import bundled_scenarios
 from ..sim.reward.vocabulary import vocabulary_of

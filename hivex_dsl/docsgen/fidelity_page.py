@@ -5,7 +5,8 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any, Optional
 
-from .. import published, registry
+from .. import published
+from ..compiler import registry
 from ..audit import AUDIT_POLICIES
 
 TRIVIAL_POLICIES = ("zeros", "random")

@@ -7,7 +7,7 @@ from typing import Annotated, Any, Sequence, Union
 
 from pydantic import BaseModel, Field, TypeAdapter
 
-from .. import registry
+from ..compiler import registry
 
 SCHEMA_DIALECT = "https://json-schema.org/draft/2020-12/schema"
 SCHEMA_TITLE = "hivex-dsl scenario"

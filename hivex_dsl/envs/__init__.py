@@ -1,1 +1,1 @@
-"""One package per environment; each registers itself with :mod:`hivex_dsl.registry` on import."""
+"""One package per environment; each registers itself with :mod:`hivex_dsl.compiler.registry` on import."""

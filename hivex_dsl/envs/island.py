@@ -23,7 +23,7 @@ from ..sim.fire import FireState, fire_put_worlds, fire_reset
 from ..sim.procgen.weather import weather_reset
 from ..sim.procgen.wind import WindSpec, WindState, wind_reset
 from ..global_state import StateComponent
-from ..registry import GeneratorSlot
+from ..compiler.registry import GeneratorSlot
 
 
 # The wind and fire facts of an island world's global state (hivex_dsl.global_state), first in both environments'

@@ -11,7 +11,7 @@ import numpy as np
 import torch
 
 from ..adapters.gymnasium import flatten_slots, unflatten_slots
-from ..compiler import CompiledScenario
+from ..compiler.scenario import CompiledScenario
 from .. import published
 from ..progress import EpisodeBar, bar
 from ..rollout import rollout

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import hivex_dsl
-from hivex_dsl import registry
+from hivex_dsl.compiler import registry
 from hivex_dsl.base.errors import ScenarioError
 from hivex_dsl.lang.loader import load_file
 from hivex_dsl.base.resources import data_dir

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import hivex_dsl
-from hivex_dsl import registry
+from hivex_dsl.compiler import registry
 from hivex_dsl.lang.expr import input_problems
 from hivex_dsl.sim.reward.vocabulary import vocabulary_of
 from hivex_dsl.runtime import BatchedEnv

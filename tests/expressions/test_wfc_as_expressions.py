@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 import hivex_dsl
-from hivex_dsl import registry
+from hivex_dsl.compiler import registry
 from hivex_dsl.runtime import BatchedEnv
 
 # The paper's equations as wind_farm_control/terms.py implements them, written over the vocabulary

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 
-from ...registry import EnvironmentEntry, register
+from ...compiler.registry import EnvironmentEntry, register
 from ...lang.spec.catalogue import CATALOGUE
 from ..island import ISLAND_GENERATORS, island_problems
 from .params import AerialWildfireParams

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from ...sim.procgen.forest import ForestSpec
 from ...sim.procgen.terrain import TerrainSpec
-from ...registry import EnvironmentEntry, GeneratorSlot, register
+from ...compiler.registry import EnvironmentEntry, GeneratorSlot, register
 from ...lang.spec.catalogue import CATALOGUE
 from .params import DroneBasedReforestationParams, forest_preset, terrain_preset
 from .scripted import scripted_policy

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from ...sim.procgen.pollution import PollutionSpec, SpawnSpec, load_pollution_preset, spawn_problem
-from ...registry import EnvironmentEntry, GeneratorSlot, register
+from ...compiler.registry import EnvironmentEntry, GeneratorSlot, register
 from ...lang.spec.catalogue import CATALOGUE
 from .params import OceanPlasticCollectionParams
 from .scripted import scripted_policy

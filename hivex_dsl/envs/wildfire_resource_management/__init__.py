@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from ...registry import EnvironmentEntry, register
+from ...compiler.registry import EnvironmentEntry, register
 from ...lang.spec.catalogue import CATALOGUE
 from ..island import ISLAND_GENERATORS, island_problems
 from .params import WildfireResourceParams

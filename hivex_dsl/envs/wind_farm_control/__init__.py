@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from ...sim.procgen.layouts import layout_problem
-from ...registry import EnvironmentEntry, register
+from ...compiler.registry import EnvironmentEntry, register
 from ...lang.spec.catalogue import CATALOGUE
 from .layouts_preset import load_layout_preset
 from .params import WindFarmControlParams

@@ -2,7 +2,7 @@
 
 This is the one place for each environment's identity, agent bounds, episode length and which
 difficulty axis it has (layout `pattern` or `terrain_level`). An environment is *available*
-once its package registers a simulator (see :mod:`hivex_dsl.registry`).
+once its package registers a simulator (see :mod:`hivex_dsl.compiler.registry`).
 """
 
 from __future__ import annotations

@@ -13,19 +13,19 @@ from dataclasses import dataclass, field
 from functools import cached_property
 from typing import TYPE_CHECKING, Any, Callable, Mapping
 
-from .base.errors import Problem, ScenarioError, did_you_mean
-from .lang.loader import Loaded, load_file
-from .base.resources import data_dir
-from .sim.reward.terms import TermRegistry
-from .lang.spec.catalogue import CATALOGUE, EnvironmentInfo
-from .lang.spec.common import StrictModel
-from .lang.spec.reward_table import RewardTable, table_problems
-from .lang.spec.scenario import ScenarioVocabulary, scenario_model
-from .lang.spec.validate import validate_loaded
-from .sim.statistics import StatisticSet
+from ..base.errors import Problem, ScenarioError, did_you_mean
+from ..lang.loader import Loaded, load_file
+from ..base.resources import data_dir
+from ..sim.reward.terms import TermRegistry
+from ..lang.spec.catalogue import CATALOGUE, EnvironmentInfo
+from ..lang.spec.common import StrictModel
+from ..lang.spec.reward_table import RewardTable, table_problems
+from ..lang.spec.scenario import ScenarioVocabulary, scenario_model
+from ..lang.spec.validate import validate_loaded
+from ..sim.statistics import StatisticSet
 
 if TYPE_CHECKING:
-    from .compiler import CompiledScenario
+    from .scenario import CompiledScenario
 
 _REGISTRY: dict[str, "EnvironmentEntry"] = {}
 
@@ -118,7 +118,7 @@ def register(entry: EnvironmentEntry) -> EnvironmentEntry:
 
 def _load_all() -> None:
     """Import every package under hivex_dsl/envs/ whose name is a catalogue id; each registers itself."""
-    from . import envs
+    from .. import envs
 
     for module in pkgutil.iter_modules(envs.__path__):
         if module.ispkg and module.name in CATALOGUE:
@@ -153,7 +153,7 @@ def load_reward_table(entry: EnvironmentEntry) -> RewardTable:
 
 def _quantity_names(env_id: str) -> tuple[str, ...]:
     """Names an environment's expressions may read (none without a vocabulary module)."""
-    from .sim.reward.vocabulary import vocabulary_of
+    from ..sim.reward.vocabulary import vocabulary_of
 
     try:
         return tuple(vocabulary_of(env_id).readers)

@@ -19,18 +19,18 @@ from types import MappingProxyType
 from typing import Any, Mapping, Union
 
 from . import registry
-from .base.errors import Location, Problem, ScenarioError, did_you_mean, got, kind_of, one_of, show
-from .lang.blame import MISSING as _MISSING, culprit, get as _get
-from .lang.loader import Loaded, PathKey, load_file
-from .base.resources import resolve_scenario_path
-from .sim.reward.composer import return_bound_problem
-from .sim.reward.expressions import event_names, with_expressions
-from .lang.spec.common import SCHEMA_VERSION, StrictModel
-from .lang.spec.expressions import WeightSchedule
-from .lang.spec.expression_keys import (clashing_terms, declared_term_names, expression_keys, expression_term_names,
-                                        split_ends_on)
-from .lang.spec.scenario import SWEEPABLE_PREFIXES, Seeds, scenario_model, sweepable_fields
-from .lang.spec.validate import dotted, validate_model
+from ..base.errors import Location, Problem, ScenarioError, did_you_mean, got, kind_of, one_of, show
+from ..lang.blame import MISSING as _MISSING, culprit, get as _get
+from ..lang.loader import Loaded, PathKey, load_file
+from ..base.resources import resolve_scenario_path
+from ..sim.reward.composer import return_bound_problem
+from ..sim.reward.expressions import event_names, with_expressions
+from ..lang.spec.common import SCHEMA_VERSION, StrictModel
+from ..lang.spec.expressions import WeightSchedule
+from ..lang.spec.expression_keys import (clashing_terms, declared_term_names, expression_keys, expression_term_names,
+                                         split_ends_on)
+from ..lang.spec.scenario import SWEEPABLE_PREFIXES, Seeds, scenario_model, sweepable_fields
+from ..lang.spec.validate import dotted, validate_model
 
 MAX_SWEEP_POINTS = 10_000
 MAX_SWEEP_VALUES = 1_000
@@ -133,7 +133,7 @@ class CompiledScenario:
         return "sha256:" + hashlib.sha256(canonical.encode()).hexdigest()
 
     def to_lock(self) -> dict[str, Any]:
-        from .sim.spaces import describe_space
+        from ..sim.spaces import describe_space
 
         simulator = self.entry.make_simulator(self)
         return {

@@ -17,9 +17,9 @@ import re
 from types import MappingProxyType
 from typing import Any
 
-from .compiler import _MISSING, LOCK_VERSION, CompiledScenario, _get, compile_loaded
-from .base.errors import Problem, ScenarioError, did_you_mean, show
-from .lang.loader import Loaded, PathKey, load_text
+from .scenario import _MISSING, LOCK_VERSION, CompiledScenario, _get, compile_loaded
+from ..base.errors import Problem, ScenarioError, did_you_mean, show
+from ..lang.loader import Loaded, PathKey, load_text
 
 LOCK_KEYS = ("hivex_lock", "fingerprint", "scenario", "task_index", "ends_on", "sweep_point",
              "term_contracts", "spaces")
