@@ -44,6 +44,9 @@ MOVED: dict[str, str] = {
     # compiler/
     "registry": "compiler.registry",
     "locks": "compiler.locks",
+    # runtime/
+    "global_state": "runtime.global_state",
+    "seeding": "runtime.seeding",
 }
 
 # old paths that stay public without a warning

@@ -46,7 +46,7 @@ def _interleaved_us(first, second, seconds: float) -> tuple[float, float]:
 def measure(term: str, batch: int, seconds: float) -> dict[str, Any]:
     """Microseconds per step of the registered ``term`` and of its expression twin, on the same states."""
     import hivex_dsl
-    from hivex_dsl.runtime import BatchedEnv
+    from hivex_dsl.runtime.batched import BatchedEnv
 
     name = f"{term}_expr"
     compiled = hivex_dsl.compile({"hivex": 1, "environment": ENVIRONMENT, "terms": {name: {"expr": PAIRS[term]}},

@@ -11,7 +11,7 @@ import numpy as np
 from .compiler.scenario import CompiledScenario
 from .policies import make_policy
 from .progress import EpisodeBar, bar, echo
-from .runtime import BatchedEnv, Split
+from .runtime.batched import BatchedEnv, Split
 from .sim.spaces import check_actions, describe_space
 
 

@@ -14,7 +14,7 @@ import numpy as np
 
 from .compiler.scenario import CompiledScenario
 from .policies import Policy, make_policy
-from .runtime import BatchedEnv, Split
+from .runtime.batched import BatchedEnv, Split
 from .sim.spaces import check_actions
 
 

@@ -38,7 +38,7 @@ from .compiler import registry
 from .compiler.scenario import CompiledScenario, compile as compile_scenario
 from .base.errors import ScenarioError
 from .policies import random_policy
-from .runtime import BatchedEnv
+from .runtime.batched import BatchedEnv
 from .sim.spaces import check_actions
 
 MAX_SEED = 2**32 - 1

@@ -1,4 +1,4 @@
-"""The global state for centralised critics (hivex_dsl.global_state) on every environment, through PettingZoo's
+"""The global state for centralised critics (hivex_dsl.runtime.global_state) on every environment, through PettingZoo's
 ``state()`` / ``state_space`` and the vector env's ``state()``: its layout, its bounds (PettingZoo's own state_test
 and a property test over random rollouts), the agents' part against their observations, one world fact per
 environment against a value computed by hand from the simulator state, determinism, dead agents and the decision
@@ -20,7 +20,7 @@ import hivex_dsl
 from hivex_dsl.compiler import registry
 from hivex_dsl.base.errors import ResetNeeded
 from hivex_dsl.sim.fire import TreeState
-from hivex_dsl.global_state import AGENT_OBSERVATIONS, EPISODE_PROGRESS, vector_space
+from hivex_dsl.runtime.global_state import AGENT_OBSERVATIONS, EPISODE_PROGRESS, vector_space
 
 from .crashes import first_agent_crashes_on
 

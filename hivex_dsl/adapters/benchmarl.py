@@ -24,7 +24,7 @@ own tasks read theirs from YAML files inside the benchmarl package, ours need no
 Wind Farm Control, Wildfire Resource Management and Ocean Plastic Collection have discrete actions, Drone Based
 Reforestation and Aerial Wildfire Suppression continuous ones (their discrete branches binned, see
 :mod:`hivex_dsl.adapters.flat`). Every agent is one group, ``"agents"``. Every task has a global state (the
-root ``"state"`` key, :mod:`hivex_dsl.global_state`), which MAPPO's centralised critic reads. With several environments per worker, the i-th copy is
+root ``"state"`` key, :mod:`hivex_dsl.runtime.global_state`), which MAPPO's centralised critic reads. With several environments per worker, the i-th copy is
 seeded ``seed + i`` (BenchMARL's ``SerialEnv`` builds them one by one; with ``parallel_collection=True`` each
 worker process counts from ``seed`` again, so seed the copies otherwise there).
 """
@@ -82,7 +82,7 @@ class HivexTaskClass(PettingZooClass):
         return not self.continuous
 
     def has_state(self) -> bool:
-        return True  # hivex_dsl.global_state; BenchMARL's state_spec reads the env's "state" key
+        return True  # hivex_dsl.runtime.global_state; BenchMARL's state_spec reads the env's "state" key
 
     def max_steps(self, env: EnvBase) -> int:
         compiled = self.compiled()

@@ -9,8 +9,8 @@ from pettingzoo import ParallelEnv
 
 from ..compiler.scenario import CompiledScenario
 from ..base.errors import ResetNeeded
-from ..global_state import GlobalState
-from ..runtime import BatchedEnv, Split
+from ..runtime.global_state import GlobalState
+from ..runtime.batched import BatchedEnv, Split
 from ..sim.spaces import stack_agent_actions
 from .human import Rendering, available_render_modes, check_render_mode
 
@@ -59,7 +59,7 @@ class HivexParallelEnv(Rendering, ParallelEnv):
     a one-agent world's agent, or drones whose batteries empty on one step, respawn.
 
     Global state (centralised critics): :meth:`state` is the world's (K,) float32 state at the last decision and
-    ``state_space`` its Box (see :mod:`hivex_dsl.global_state`: every agent's vector observation in agent order,
+    ``state_space`` its Box (see :mod:`hivex_dsl.runtime.global_state`: every agent's vector observation in agent order,
     zeros for an agent that left ``agents`` before this step, then the world facts no agent observes).
     """
 
@@ -88,7 +88,7 @@ class HivexParallelEnv(Rendering, ParallelEnv):
 
     def state(self) -> np.ndarray:
         """(K,) float32: the world's global state at the last decision, in ``state_space`` (see
-        :mod:`hivex_dsl.global_state`; ``global_state.components`` names its parts)."""
+        :mod:`hivex_dsl.runtime.global_state`; ``global_state.components`` names its parts)."""
         return self.global_state(self.core)[0]
 
     def reset(self, seed: Optional[int] = None, options: Optional[dict] = None):

@@ -19,7 +19,7 @@ world resets; TorchRL's ``("agents", "mask")`` is then False for it, its ``("age
 observation and reward are zeros, and the action TorchRL still sends for it is accepted and ignored. The root
 ``done`` is every agent's (``done_on_any=False``): the world resets when its clock runs out or a world-level ending
 (such as AWS's and WRM's ``fire_out``) ends every agent, never at one agent's crash. The world's global state
-(PettingZoo's ``state()``, :mod:`hivex_dsl.global_state`: every agent's vector observation and the world's facts
+(PettingZoo's ``state()``, :mod:`hivex_dsl.runtime.global_state`: every agent's vector observation and the world's facts
 no agent observes) is the root ``"state"`` key (``return_state=True``), for a centralised critic. The infos are not passed on: TorchRL builds
 its info spec from the reset infos, which are empty; the per-step reward terms and ``hivex_episode`` summaries stay
 in the parallel env's infos.

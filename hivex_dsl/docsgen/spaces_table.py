@@ -88,9 +88,9 @@ def specification(info: EnvironmentInfo, compiled: Any, simulator: Any) -> list[
 
 
 def global_state_table(compiled: Any, simulator: Any) -> dict[str, Any]:
-    """The global state's components (hivex_dsl.global_state) for the default scenario: its size, and per component
+    """The global state's components (hivex_dsl.runtime.global_state) for the default scenario: its size, and per component
     the indices it takes, whether it repeats per agent, its range and meaning."""
-    from ..global_state import GlobalState
+    from ..runtime.global_state import GlobalState
 
     state = GlobalState(simulator, compiled.agents, compiled.episode_length)
     rows = [{"name": row["name"], "indices": f"{row['first']}" if row["size"] == 1 else f"{row['first']}-{row['last']}",

@@ -22,11 +22,11 @@ from ..sim.batching import put_worlds, replace_worlds, select_worlds
 from ..sim.fire import FireState, fire_put_worlds, fire_reset
 from ..sim.procgen.weather import weather_reset
 from ..sim.procgen.wind import WindSpec, WindState, wind_reset
-from ..global_state import StateComponent
+from ..runtime.global_state import StateComponent
 from ..compiler.registry import GeneratorSlot
 
 
-# The wind and fire facts of an island world's global state (hivex_dsl.global_state), first in both environments'
+# The wind and fire facts of an island world's global state (hivex_dsl.runtime.global_state), first in both environments'
 # world facts; fire_summary (hivex_dsl.sim.fire.summary) computes the fire's five.
 ISLAND_STATE_COMPONENTS = (
     StateComponent("main wind", 2, -1.0, 1.0, "Direction the main wind blows to (cos, sin); fire spreads "

@@ -1,11 +1,11 @@
-"""The world facts of Aerial Wildfire Suppression's global state (:mod:`hivex_dsl.global_state`)."""
+"""The world facts of Aerial Wildfire Suppression's global state (:mod:`hivex_dsl.runtime.global_state`)."""
 
 from __future__ import annotations
 
 import numpy as np
 
 from ...sim.fire.summary import FIRE_FACTS, SQRT2, fire_summary, nearest_burning_distance
-from ...global_state import StateComponent
+from ...runtime.global_state import StateComponent
 from ..island import ISLAND_STATE_COMPONENTS
 from .types import AerialWildfireState
 

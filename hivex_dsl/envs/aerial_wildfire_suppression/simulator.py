@@ -15,7 +15,7 @@ from ...sim.fire.search import closest_burning_at
 from ...base.numeric import and_not, clamp, constant
 from ...sim.procgen.weather import weather_step
 from ...sim.procgen.wind import wind_step, wrap_angle
-from ...runtime import StepOutcome
+from ...runtime.batched import StepOutcome
 from .camera import pixel_offsets
 from .global_state import state_components, world_state
 from .params import CAMERA_PIXELS, AerialWildfireParams

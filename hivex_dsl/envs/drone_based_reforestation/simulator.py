@@ -17,7 +17,7 @@ from ...base.numeric import all_true, clamp
 from ...sim.procgen.forest import ForestSpec, place_forest
 from ...sim.procgen.terrain import TerrainSpec, generate_terrain
 from ...sim.procgen.wind import wrap_angle
-from ...runtime import StepOutcome
+from ...runtime.batched import StepOutcome
 from .camera import NEW_TREE_GRAY, STATION_GRAY, TREE_GRAY, Raster, camera_images, ground_shade, stamp_disks, to_byte
 from .fertility import (FAR_M, Grid, GridSet, distance_reward, fertility, forest_grid, interpolation_matrix,
                         nearest_new_tree_distance, nearest_tree_distance, same_step_distance, sample_bilinear,

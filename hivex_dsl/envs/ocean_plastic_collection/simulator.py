@@ -19,7 +19,7 @@ from ...sim.batching import assemble, read_only, replace_worlds
 from ...sim.procgen.pollution import PollutionSpec, SpawnSpec, pollution_map, sample_pebbles, spawn_vessels
 from ...sim.procgen.wind import wrap_angle
 from ...base.numeric import all_true, clamp
-from ...runtime import StepOutcome
+from ...runtime.batched import StepOutcome
 from .camera import CAMERA_CELLS, Geometry, Sensing, as_pairs, build_field, sense
 from .global_state import state_components, world_state
 from .params import OceanPlasticCollectionParams

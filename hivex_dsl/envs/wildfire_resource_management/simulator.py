@@ -19,7 +19,7 @@ from ...sim.fire import FactorGrid, count_factors, fire_step_unchecked, grid_cel
 from ...base.numeric import clamp
 from ...sim.procgen.weather import weather_step
 from ...sim.procgen.wind import wind_step
-from ...runtime import StepOutcome
+from ...runtime.batched import StepOutcome
 from ..island import (IslandMaps, IslandSpecs, grid_lookup, restart_where, sample_points, start_islands,
                       weather_grid_points)
 from .global_state import state_components, world_state

@@ -1,10 +1,10 @@
-"""The world facts of Wind Farm Control's global state (:mod:`hivex_dsl.global_state`)."""
+"""The world facts of Wind Farm Control's global state (:mod:`hivex_dsl.runtime.global_state`)."""
 
 from __future__ import annotations
 
 import numpy as np
 
-from ...global_state import StateComponent
+from ...runtime.global_state import StateComponent
 from .types import WindFarmState
 
 

@@ -1,4 +1,4 @@
-"""A summary of each world's fire for the global state (:mod:`hivex_dsl.global_state`): size, front, status.
+"""A summary of each world's fire for the global state (:mod:`hivex_dsl.runtime.global_state`): size, front, status.
 
 Computed from the burning list alone (O(K) for K burning trees, never a scan of the (B, C, C) grid), at the cell
 centres of the burning trees (their jitter ignored, as the engine's searches do).

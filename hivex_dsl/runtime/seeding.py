@@ -6,7 +6,7 @@ from typing import Optional
 
 import numpy as np
 
-from .base.errors import is_integer
+from ..base.errors import is_integer
 
 _UNSEEDED_STREAMS: dict[int, int] = {}  # scenario seed -> unseeded streams started from it in this process
 

@@ -14,13 +14,13 @@ from typing import Any, Literal, NamedTuple, Optional, Protocol
 import numpy as np
 from gymnasium import spaces
 
-from .compiler.scenario import CompiledScenario
-from .base.errors import ResetNeeded
-from .base.numeric import all_true, constant
-from .sim.reward.composer import RewardComposer
+from ..compiler.scenario import CompiledScenario
+from ..base.errors import ResetNeeded
+from ..base.numeric import all_true, constant
+from ..sim.reward.composer import RewardComposer
 from .seeding import SeedSchedule
-from .sim.spaces import hold_inactive, placeholder_actions
-from .sim.statistics import StatisticSet, episode_statistics
+from ..sim.spaces import hold_inactive, placeholder_actions
+from ..sim.statistics import StatisticSet, episode_statistics
 
 Split = Literal["train", "test"]
 _ZERO = constant(0.0)  # rewards and terms are float64 (see hivex_dsl.base.numeric)
@@ -61,7 +61,7 @@ class Simulator(Protocol):
     def render(self, state: Any, index: int) -> np.ndarray: ...
     # Optional: ``step_info(state) -> {name: (batch, agents) array}``, extra per-agent facts of the
     # last step that the adapters put in infos under "env" (e.g. WRM's impossible resource moves).
-    # For the global state (hivex_dsl.global_state): ``state_components()`` and ``world_state(state) -> (vectors
+    # For the global state (hivex_dsl.runtime.global_state): ``state_components()`` and ``world_state(state) -> (vectors
     # (batch, agents, D), world (batch, W))``.
 
 

@@ -37,10 +37,10 @@ from typing import TYPE_CHECKING
 import numpy as np
 from gymnasium import spaces
 
-from .base.errors import ResetNeeded
+from ..base.errors import ResetNeeded
 
 if TYPE_CHECKING:
-    from .runtime import BatchedEnv
+    from .batched import BatchedEnv
 
 AGENT_OBSERVATIONS = "agent observations"
 EPISODE_PROGRESS = "episode progress"
