@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 import hivex_dsl
-from hivex_dsl.policies import random_policy
+from hivex_dsl.evaluation.policies import random_policy
 from hivex_dsl.compiler.registry import environments
 
 from bench_procgen import median_ms

@@ -47,10 +47,21 @@ MOVED: dict[str, str] = {
     # runtime/
     "global_state": "runtime.global_state",
     "seeding": "runtime.seeding",
+    # evaluation/
+    "rollout": "evaluation.rollout",
+    "policies": "evaluation.policies",
+    "report": "evaluation.report",
+    "audit": "evaluation.audit",
+    "published": "evaluation.published",
+    "fidelity": "evaluation.fidelity",
+    "bench": "evaluation.bench",
+    "bench_expressions": "evaluation.bench_expressions",
+    "progress": "evaluation.progress",
+    "testing": "evaluation.testing",
 }
 
 # old paths that stay public without a warning
-PUBLIC: frozenset[str] = frozenset()
+PUBLIC: frozenset[str] = frozenset({"testing"})
 
 
 def new_name(fullname: str) -> str | None:

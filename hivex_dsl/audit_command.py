@@ -1,5 +1,5 @@
-"""`hivex audit`: its arguments and its command; the work is in :mod:`hivex_dsl.audit` (and, for ``--suite``,
-:mod:`hivex_dsl.fidelity`), a trained policy's in :mod:`hivex_dsl.train.evaluate`."""
+"""`hivex audit`: its arguments and its command; the work is in :mod:`hivex_dsl.evaluation.audit` (and, for ``--suite``,
+:mod:`hivex_dsl.evaluation.fidelity`), a trained policy's in :mod:`hivex_dsl.train.evaluate`."""
 
 from __future__ import annotations
 
@@ -33,7 +33,7 @@ def add_command(sub: argparse._SubParsersAction) -> None:
 
 
 def cmd_audit(args) -> int:
-    from .audit import describe
+    from .evaluation.audit import describe
     from .cli import EXIT_FAIL, EXIT_OK, EXIT_USAGE
 
     if args.suite == bool(args.file):
@@ -49,7 +49,7 @@ def cmd_audit(args) -> int:
 
 def _suite(args) -> list[dict]:
     """Every suite scenario's audit (written to --output if given)."""
-    from .fidelity import measure_suite, write_suite
+    from .evaluation.fidelity import measure_suite, write_suite
 
     report = measure_suite(args.episodes, quiet=args.json)
     if args.output:
@@ -60,7 +60,7 @@ def _suite(args) -> list[dict]:
 
 def _scenario(args) -> list[dict]:
     """The audits of FILE's points, with the checkpoint's policy beside the others if one is given."""
-    from .audit import audit_all
+    from .evaluation.audit import audit_all
     from .compiler.scenario import compile_all
 
     compiled = compile_all(args.file)

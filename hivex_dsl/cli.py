@@ -164,7 +164,7 @@ def cmd_validate(args) -> int:
 
 def cmd_compile(args) -> int:
     from .compiler.scenario import compile_all
-    from .report import describe_compiled, describe_sweep
+    from .evaluation.report import describe_compiled, describe_sweep
 
     compiled = compile_all(args.file)
     locks = _lock_paths(len(compiled), Path(args.output)) if args.output else []
@@ -199,7 +199,7 @@ def _lock_paths(count: int, output: Path) -> list[Path]:
 
 def cmd_run(args) -> int:
     from .points import one_point
-    from .report import run_episodes
+    from .evaluation.report import run_episodes
 
     compiled = one_point(args.file, args.point)
     print(run_episodes(compiled, args.policy, args.episodes, args.split, args.seed))
@@ -208,9 +208,9 @@ def cmd_run(args) -> int:
 
 def cmd_render(args) -> int:
     from .points import one_point
-    from .progress import bar
+    from .evaluation.progress import bar
     from .sim.render.gif import save_gif
-    from .report import episode_frames
+    from .evaluation.report import episode_frames
 
     if Path(args.output).suffix.lower() != ".gif":
         raise HivexError(f"-o {args.output}: expected a file name ending in .gif (hivex render writes an animated GIF)")
@@ -263,7 +263,7 @@ def cmd_docs(args) -> int:
 
 def cmd_preview(args) -> int:
     from .docsgen.figures import FIGURES, preview_figure
-    from .progress import bar, echo
+    from .evaluation.progress import bar, echo
     from .sim.render.gif import save_png
 
     args.output.mkdir(parents=True, exist_ok=True)
@@ -278,7 +278,7 @@ def cmd_preview(args) -> int:
 
 
 def cmd_bench(args) -> int:
-    from . import bench, bench_expressions
+    from .evaluation import bench, bench_expressions
     from .compiler import registry
 
     available = list(registry.environments())

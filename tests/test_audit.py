@@ -10,11 +10,11 @@ import numpy as np
 import pytest
 
 import hivex_dsl
-from hivex_dsl import published
-from hivex_dsl.audit import AUDIT_POLICIES, ScenarioAudit, audit_scenario, describe, find_flags
+from hivex_dsl.evaluation import published
+from hivex_dsl.evaluation.audit import AUDIT_POLICIES, ScenarioAudit, audit_scenario, describe, find_flags
 from hivex_dsl.cli import main
 from hivex_dsl.sim.reward.terms import TermRegistry
-from hivex_dsl.rollout import Rollout, TermTrace
+from hivex_dsl.evaluation.rollout import Rollout, TermTrace
 
 EPISODE = 30
 

@@ -6,7 +6,7 @@ import json
 
 import pytest
 
-from hivex_dsl import bench
+from hivex_dsl.evaluation import bench
 from hivex_dsl.cli import main
 from hivex_dsl.docsgen import render_docs
 
@@ -106,7 +106,7 @@ def test_a_replayed_step_keeps_the_api_layer_and_drops_the_environment_work():
 
 def test_expression_terms_are_timed_against_their_hand_written_twins():
     """Structure only: the ratios are for `hivex bench` on a quiet machine, never asserted here."""
-    from hivex_dsl import bench_expressions
+    from hivex_dsl.evaluation import bench_expressions
 
     results = bench_expressions.run(0.05, 1, bench.ONE_CORE)
     assert [(r["term"], r["batch"]) for r in results] == [

@@ -249,7 +249,7 @@ def test_the_trainer_counts_decisions(tmp_path, monkeypatch):
 
 
 def test_the_audit_reads_a_terms_range_as_that_of_a_decisions_sum():
-    from hivex_dsl.audit import _contract_flags, audit_scenario, decision_range
+    from hivex_dsl.evaluation.audit import _contract_flags, audit_scenario, decision_range
 
     audit = audit_scenario(scenario(episode_length=100, decision_period=5), episodes=1)
     assert not audit.flags

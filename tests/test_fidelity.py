@@ -6,11 +6,11 @@ from pathlib import Path
 
 import pytest
 
-from hivex_dsl import published
+from hivex_dsl.evaluation import published
 from hivex_dsl.compiler import registry
-from hivex_dsl.audit import AUDIT_POLICIES, audit_all
+from hivex_dsl.evaluation.audit import AUDIT_POLICIES, audit_all
 from hivex_dsl.docsgen import render_docs
-from hivex_dsl.fidelity import FIDELITY_FILE, load_suite, published_level_mean, suite_scenarios
+from hivex_dsl.evaluation.fidelity import FIDELITY_FILE, load_suite, published_level_mean, suite_scenarios
 
 ROOT = Path(__file__).resolve().parents[1]
 STORED = load_suite(ROOT / FIDELITY_FILE)

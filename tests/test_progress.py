@@ -1,4 +1,4 @@
-"""Progress bars (hivex_dsl.progress): the time left on stderr where it is a terminal, nothing under --json or when
+"""Progress bars (hivex_dsl.evaluation.progress): the time left on stderr where it is a terminal, nothing under --json or when
 stderr is piped or logged, for every long command."""
 
 from __future__ import annotations
@@ -10,7 +10,7 @@ import sys
 import pytest
 
 from hivex_dsl.cli import main
-from hivex_dsl.progress import EpisodeBar, bar
+from hivex_dsl.evaluation.progress import EpisodeBar, bar
 
 BAR = re.compile(r"\d+/\d+ \[\d\d:\d\d<")  # tqdm's "n/total [elapsed<remaining": a bar with its time left
 SCENARIO = "hivex: 1\nname: tiny\nenvironment: wind_farm_control\nagents: 2\nepisode_length: 20\n"

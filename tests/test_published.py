@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from hivex_dsl import published
+from hivex_dsl.evaluation import published
 from hivex_dsl.compiler import compile as compile_scenario
 
 SHARED = Path("/work/shared/paper/published-test-results.json")

@@ -6,7 +6,7 @@ import pytest
 
 import hivex_dsl
 from hivex_dsl.cli import main
-from hivex_dsl.report import weight_label
+from hivex_dsl.evaluation.report import weight_label
 
 YAW = {"title": "Yaw Change", "expr": "where(abs(delta(heading_rad)) > 0.001, 1, 0)", "sign": "bonus"}
 

@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 
 import hivex_dsl
-from hivex_dsl import published
+from hivex_dsl.evaluation import published
 from hivex_dsl.compiler import registry
-from hivex_dsl.policies import make_policy
+from hivex_dsl.evaluation.policies import make_policy
 from hivex_dsl.runtime import BatchedEnv
 from hivex_dsl.sim.statistics import StatisticSet
 

@@ -95,7 +95,7 @@ def test_an_agent_whose_episode_ended_gets_the_placeholder_action_until_its_worl
 def test_restarting_worlds_observe_as_a_separate_reset_would(environment):
     """The vector env restarts pending worlds inside the step and observes once; that must give what
     stepping, then resetting those worlds on their own, then observing gives."""
-    from hivex_dsl.policies import random_policy
+    from hivex_dsl.evaluation.policies import random_policy
     from hivex_dsl.runtime import BatchedEnv
 
     compiled = hivex_dsl.compile({"hivex": 1, "environment": environment, "episode_length": 6, "seeds": {"train": 4}})

@@ -59,7 +59,7 @@ def render_docs(results: Path | None = None, fidelity: Path | None = None,
     """Relative path under docs/ -> file content (text, bytes, or an (H, W, 3) uint8 picture saved as PNG).
 
     ``results`` is a `hivex bench --json` report; when the file exists, performance.md shows it.
-    ``fidelity`` is the stored `hivex audit --suite` report fidelity.md shows (see hivex_dsl.fidelity).
+    ``fidelity`` is the stored `hivex audit --suite` report fidelity.md shows (see hivex_dsl.evaluation.fidelity).
     ``baselines`` is the folder of committed baselines (benchmarks/baselines); baselines.md shows them.
     ``tests`` (the checkout's tests/) and ``overhead`` (benchmarks/results/ecosystem.json) feed ecosystem.md's
     library x environment table and its overhead table.
@@ -164,7 +164,7 @@ def write_docs(docs_dir: Path) -> list[str]:
 
 def bench_results(docs_dir: Path) -> Path:
     """The committed benchmark report beside docs/ (benchmarks/results/latest.json of the same checkout)."""
-    from ..bench import RESULTS_FILE
+    from ..evaluation.bench import RESULTS_FILE
 
     return Path(docs_dir).resolve().parent / RESULTS_FILE
 
@@ -180,7 +180,7 @@ def _inputs(docs_dir: Path) -> tuple[Path, ...]:
 
 def fidelity_results(docs_dir: Path) -> Path:
     """The committed fidelity suite beside docs/ (benchmarks/results/fidelity.json of the same checkout)."""
-    from ..fidelity import FIDELITY_FILE
+    from ..evaluation.fidelity import FIDELITY_FILE
 
     return Path(docs_dir).resolve().parent / FIDELITY_FILE
 

@@ -220,7 +220,7 @@ def _doc(model: type) -> str:
 
 def performance_context(results: Path) -> dict[str, Any]:
     """The rows of a `hivex bench --json` report, formatted, with each environment's target."""
-    from ..bench import MEMORY_LIMIT_MB, REFERENCE, step_us
+    from ..evaluation.bench import MEMORY_LIMIT_MB, REFERENCE, step_us
 
     report = json.loads(Path(results).read_text(encoding="utf-8"))
     rows = []

@@ -5,12 +5,12 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any, Optional
 
-from .. import published
+from ..evaluation import published
 from ..compiler import registry
-from ..audit import AUDIT_POLICIES
+from ..evaluation.audit import AUDIT_POLICIES
 
 TRIVIAL_POLICIES = ("zeros", "random")
-from ..fidelity import FIDELITY_FILE, first_level, load_suite, published_level_mean
+from ..evaluation.fidelity import FIDELITY_FILE, first_level, load_suite, published_level_mean
 
 
 def _num(value: Optional[float]) -> str:

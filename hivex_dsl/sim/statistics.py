@@ -2,7 +2,7 @@
 
 The original environments log, besides the return, statistics such as Aerial Wildfire Suppression's
 "Water Pickup" or Drone-Based Reforestation's "Tree Drop Count"; the published test results
-(:mod:`hivex_dsl.published`) give each as the per-agent sum over a test episode. Each environment
+(:mod:`hivex_dsl.evaluation.published`) give each as the per-agent sum over a test episode. Each environment
 declares here, in its ``statistics.py``, how it computes every name it logs:
 
 - a **counter**: ``fn(prev, state, actions, params) -> (batch, agents)`` numbers or bools (an event
@@ -13,7 +13,7 @@ declares here, in its ``statistics.py``, how it computes every name it logs:
 
 Names are the logged ones **without** the ``"<Environment>/"`` prefix (``"Water Pickup"``, not
 ``"AerialWildfireSuppression/Water Pickup"``): :meth:`StatisticSet.logged_name` adds it back, and
-:meth:`hivex_dsl.published.PublishedCell.statistic` accepts either form. The return
+:meth:`hivex_dsl.evaluation.published.PublishedCell.statistic` accepts either form. The return
 ("Environment/Cumulative Reward") is the episode's ``return`` and is not a statistic here.
 """
 

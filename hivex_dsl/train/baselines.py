@@ -22,7 +22,7 @@ from pathlib import Path
 from typing import Any
 
 from ..compiler.scenario import CompiledScenario, compile, compile_all
-from ..report import collect_returns
+from ..evaluation.report import collect_returns
 from .checkpoint import RESUMABLE_CHANGES, action_space_of, load_checkpoint, older_defaults
 from .config import PPOConfig, TrainError
 from .evaluate import evaluate

@@ -12,9 +12,9 @@ import torch
 
 from ..adapters.gymnasium import flatten_slots, unflatten_slots
 from ..compiler.scenario import CompiledScenario
-from .. import published
-from ..progress import EpisodeBar, bar
-from ..rollout import rollout
+from ..evaluation import published
+from ..evaluation.progress import EpisodeBar, bar
+from ..evaluation.rollout import rollout
 from .checkpoint import load_checkpoint, policy_for
 from .networks import to_tensors
 
@@ -58,7 +58,7 @@ def play(compiled: CompiledScenario, agent: torch.nn.Module, episodes: int, spli
          deterministic: bool = False, seed: int = 0, torch_threads: int = 1, progress: bool = False
          ) -> dict[str, Any]:
     """The policy's first ``episodes`` episodes of ``split``, one after another in one world: the same episodes
-    the random and scripted levels play (:func:`hivex_dsl.rollout.rollout`), every one whole, however long.
+    the random and scripted levels play (:func:`hivex_dsl.evaluation.rollout.rollout`), every one whole, however long.
 
     (Counting the first episodes to end across parallel worlds would favour short ones: in WRM, where an
     episode ends when its fire goes out, that halved the measured return.) -> flat per-agent arrays.

@@ -85,11 +85,11 @@ class ScalarLog:
 
 
 class Progress:
-    """The shared bar (:func:`hivex_dsl.progress.bar`) over agent-steps: rate, time left, and the latest mean
+    """The shared bar (:func:`hivex_dsl.evaluation.progress.bar`) over agent-steps: rate, time left, and the latest mean
     episode return; shown only where stderr is a terminal."""
 
     def __init__(self, total: int, enabled: bool, label: str, start: int = 0):
-        from ..progress import bar
+        from ..evaluation.progress import bar
 
         self.bar = bar(total, label, unit="step", enabled=enabled, initial=min(start, total), unit_scale=True,
                        leave=True)

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import hivex_dsl
-from hivex_dsl.report import collect_returns
+from hivex_dsl.evaluation.report import collect_returns
 
 SEEDS = (6000, 6001)
 

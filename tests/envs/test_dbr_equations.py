@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import hivex_dsl
-from hivex_dsl.rollout import rollout
+from hivex_dsl.evaluation.rollout import rollout
 from hivex_dsl.envs.drone_based_reforestation.camera import NEW_TREE_GRAY, to_byte
 from hivex_dsl.envs.drone_based_reforestation.fertility import (FAR_M, distance_reward, sample_bilinear, seed_reward,
                                                                 tree_distance_raster)

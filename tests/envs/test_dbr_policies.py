@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 
 import hivex_dsl
-from hivex_dsl.policies import make_policy
-from hivex_dsl.report import collect_returns
+from hivex_dsl.evaluation.policies import make_policy
+from hivex_dsl.evaluation.report import collect_returns
 from hivex_dsl.runtime import BatchedEnv
 
 ENV = "drone_based_reforestation"

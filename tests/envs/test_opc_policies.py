@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 
 import hivex_dsl
-from hivex_dsl.report import collect_returns
+from hivex_dsl.evaluation.report import collect_returns
 
 ENV = "ocean_plastic_collection"
 STEPS = 1000

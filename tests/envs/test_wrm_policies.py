@@ -9,7 +9,7 @@ import hivex_dsl
 from hivex_dsl.envs.wildfire_resource_management.params import WildfireResourceParams
 from hivex_dsl.envs.wildfire_resource_management.scripted import (candidate_distances, candidate_offsets,
                                                                    estimated_performance, keep_all)
-from hivex_dsl.report import collect_returns
+from hivex_dsl.evaluation.report import collect_returns
 
 SEEDS = (6000, 6001)
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 import hivex_dsl
-from hivex_dsl.policies import random_policy
+from hivex_dsl.evaluation.policies import random_policy
 from hivex_dsl.sim.reward.vocabulary import QuantityFeed, vocabulary_of
 from hivex_dsl.runtime import BatchedEnv
 

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import hivex_dsl
-from hivex_dsl.audit import audit_scenario
+from hivex_dsl.evaluation.audit import audit_scenario
 
 
 def test_the_audit_flags_an_expression_term_the_actions_do_not_change():

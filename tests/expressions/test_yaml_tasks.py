@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import hivex_dsl
-from hivex_dsl.policies import make_policy
+from hivex_dsl.evaluation.policies import make_policy
 from hivex_dsl.runtime import BatchedEnv
 
 GUARD = "scenarios/aerial_wildfire_suppression/guard_the_village.yaml"

@@ -13,9 +13,9 @@ from functools import lru_cache
 import numpy as np
 
 import hivex_dsl
-from hivex_dsl import published
+from hivex_dsl.evaluation import published
 from hivex_dsl.envs.aerial_wildfire_suppression.params import AerialWildfireParams
-from hivex_dsl.policies import zeros_policy
+from hivex_dsl.evaluation.policies import zeros_policy
 from hivex_dsl.runtime import BatchedEnv
 
 EPISODE_LENGTH = 3000

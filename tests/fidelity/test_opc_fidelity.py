@@ -3,7 +3,7 @@
 For every published cell whose PPO return is above 0.5 (tasks 0-2; Avoid Plastic's is -2.0), trivial
 policies (all-zeros, uniform random) must stay below the published return plus 10%, and the scripted
 policy must reach half of it. The two episodes are those of the paper's test protocol: one world on
-the test seed stream (6000), its first two episodes in a row (``hivex_dsl.rollout.rollout``), each
+the test seed stream (6000), its first two episodes in a row (``hivex_dsl.evaluation.rollout.rollout``), each
 policy's mean per-agent return over both.
 """
 
@@ -16,8 +16,8 @@ import numpy as np
 import pytest
 
 import hivex_dsl
-from hivex_dsl.published import cell, cells
-from hivex_dsl.rollout import rollout
+from hivex_dsl.evaluation.published import cell, cells
+from hivex_dsl.evaluation.rollout import rollout
 
 ENVIRONMENT = "ocean_plastic_collection"
 EPISODES = 2

@@ -15,8 +15,8 @@ from functools import lru_cache
 import pytest
 
 import hivex_dsl
-from hivex_dsl import published
-from hivex_dsl.rollout import rollout
+from hivex_dsl.evaluation import published
+from hivex_dsl.evaluation.rollout import rollout
 
 EPISODES = 2
 LEVEL_KEY = {"wind_farm_control": ("pattern", 0), "drone_based_reforestation": ("terrain_level", 1),

@@ -3,7 +3,7 @@
 For every published cell at level 1 whose PPO return is above 0.5, trivial policies (all-zeros,
 uniform random) must stay below the published return plus 10%, and the scripted policy must reach
 half of it. The two episodes are those of the paper's test protocol: one world on the test seed
-stream (6000), its first two episodes in a row (``hivex_dsl.rollout.rollout``: the second keeps the
+stream (6000), its first two episodes in a row (``hivex_dsl.evaluation.rollout.rollout``: the second keeps the
 island and lights a new fire), each policy's mean per-agent return over both.
 """
 
@@ -14,8 +14,8 @@ from functools import lru_cache
 import pytest
 
 import hivex_dsl
-from hivex_dsl.published import cells
-from hivex_dsl.rollout import rollout
+from hivex_dsl.evaluation.published import cells
+from hivex_dsl.evaluation.rollout import rollout
 
 ENVIRONMENT = "wildfire_resource_management"
 EPISODES = 2

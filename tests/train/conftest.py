@@ -45,8 +45,8 @@ def record_baseline_script():
 @pytest.fixture(scope="module")
 def as_if_reproduced():
     """The module's short test scenarios (a dozen steps) reproduce no published cell; records and pages are
-    tested as if each reproduced its task's and level's (hivex_dsl.published.paper_cell)."""
-    from hivex_dsl import published
+    tested as if each reproduced its task's and level's (hivex_dsl.evaluation.published.paper_cell)."""
+    from hivex_dsl.evaluation import published
 
     with pytest.MonkeyPatch.context() as patch:
         patch.setattr(published, "cell_for", published.paper_cell)

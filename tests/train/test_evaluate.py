@@ -10,7 +10,7 @@ import yaml
 
 from hivex_dsl.adapters.gymnasium import HivexVectorEnv
 from hivex_dsl.compiler import compile
-from hivex_dsl.rollout import rollout
+from hivex_dsl.evaluation.rollout import rollout
 from hivex_dsl.train.config import make_config
 from hivex_dsl.train.evaluate import play
 from hivex_dsl.train.networks import ActorCritic

@@ -11,7 +11,7 @@ import yaml
 
 from hivex_dsl.cli import main
 from hivex_dsl.compiler import compile
-from hivex_dsl.rollout import rollout
+from hivex_dsl.evaluation.rollout import rollout
 from hivex_dsl.train.config import PPOConfig, TrainError, make_config
 from hivex_dsl.train.curiosity import Curiosity
 from hivex_dsl.train.evaluate import evaluate

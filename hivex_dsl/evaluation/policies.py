@@ -8,8 +8,8 @@ from typing import Any, Callable
 import numpy as np
 from gymnasium import spaces
 
-from .compiler.scenario import CompiledScenario
-from .sim.spaces import placeholder_actions
+from ..compiler.scenario import CompiledScenario
+from ..sim.spaces import placeholder_actions
 
 Policy = Callable[[Any], Any]
 POLICIES = ("scripted", "random", "zeros")

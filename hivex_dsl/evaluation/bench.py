@@ -88,7 +88,7 @@ def measure_parallel(env_id: str, seconds: float) -> Measurement:
     """PettingZoo ParallelEnv (batch 1) of the environment's bundled main scenario, random actions; then
     the same loop with the environment's work replayed (:func:`replay_one_step`) for ``api_floor_us``."""
     import hivex_dsl
-    from hivex_dsl.policies import random_policy
+    from hivex_dsl.evaluation.policies import random_policy
     from hivex_dsl.sim.spaces import stack_agent_actions
 
     compiled = hivex_dsl.compile(f"{env_id}/main")
@@ -163,7 +163,7 @@ def replay_one_step(env: Any, actions: Any) -> None:
 def measure_vector(env_id: str, seconds: float, batch: int) -> Measurement:
     """Gymnasium vector env of ``batch`` worlds (autoreset included), random actions for every slot."""
     import hivex_dsl
-    from hivex_dsl.policies import random_policy
+    from hivex_dsl.evaluation.policies import random_policy
 
     compiled = hivex_dsl.compile(f"{env_id}/main")
     env = hivex_dsl.vector_env(compiled, num_worlds=batch)

@@ -8,11 +8,11 @@ from typing import Any, Callable, Iterator, Optional, TextIO
 
 import numpy as np
 
-from .compiler.scenario import CompiledScenario
+from ..compiler.scenario import CompiledScenario
 from .policies import make_policy
 from .progress import EpisodeBar, bar, echo
-from .runtime.batched import BatchedEnv, Split
-from .sim.spaces import check_actions, describe_space
+from ..runtime.batched import BatchedEnv, Split
+from ..sim.spaces import check_actions, describe_space
 
 
 def _fmt(value: object) -> str:
@@ -151,7 +151,7 @@ def run_episodes(compiled: CompiledScenario, policy_name: str, episodes: int, sp
 def collect_returns(compiled: CompiledScenario, policy_name: str, episodes: int, split: Split = "train",
                     seed: Optional[int] = None, progress: Optional[Progress] = None
                     ) -> tuple[np.ndarray, dict[str, np.ndarray]]:
-    """(episodes, agents) returns and unweighted per-term sums of whole episodes (see :func:`hivex_dsl.rollout.rollout`)."""
+    """(episodes, agents) returns and unweighted per-term sums of whole episodes (see :func:`hivex_dsl.evaluation.rollout.rollout`)."""
     from .rollout import rollout
 
     done = rollout(compiled, policy_name, episodes, split, seed, progress)

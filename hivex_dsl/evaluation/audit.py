@@ -39,11 +39,11 @@ from typing import Any, Callable, Optional, Sequence, TextIO, Union
 import numpy as np
 
 from . import published
-from .compiler.scenario import CompiledScenario
+from ..compiler.scenario import CompiledScenario
 from .policies import Policy
 from .progress import EpisodeBar, bar
 from .rollout import Rollout, rollout
-from .lang.spec.catalogue import CATALOGUE
+from ..lang.spec.catalogue import CATALOGUE
 
 AUDIT_POLICIES = ("zeros", "random", "scripted")
 TRIVIAL = ("zeros", "random")  # the policies that should not beat the paper's trained PPO
@@ -124,7 +124,7 @@ def audit_scenario(compiled: CompiledScenario, episodes: int = 2, progress=None,
                    trained: Optional[Callable[[CompiledScenario], Policy]] = None) -> ScenarioAudit:
     """Roll every audit policy for ``episodes`` test episodes and check the terms. ``trained`` (optional) makes a
     trained policy for the scenario, rolled too as policy 'trained'; ``progress`` (a bar of
-    :func:`hivex_dsl.progress.bar`, optional) advances over the decisions played."""
+    :func:`hivex_dsl.evaluation.progress.bar`, optional) advances over the decisions played."""
     rollouts = {}
     for name, policy in _policies(compiled, trained).items():
         tracker = None

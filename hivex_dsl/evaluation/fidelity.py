@@ -16,11 +16,11 @@ from pathlib import Path
 from typing import Any, Optional, TextIO
 
 from . import published
-from .compiler import registry
+from ..compiler import registry
 from .audit import audit_all
-from .compiler.scenario import CompiledScenario, compile as compile_scenario
-from .lang.loader import load_file
-from .base.resources import data_dir
+from ..compiler.scenario import CompiledScenario, compile as compile_scenario
+from ..lang.loader import load_file
+from ..base.resources import data_dir
 
 FIDELITY_VERSION = 1
 FIDELITY_FILE = "benchmarks/results/fidelity.json"
