@@ -58,6 +58,11 @@ MOVED: dict[str, str] = {
     "bench_expressions": "evaluation.bench_expressions",
     "progress": "evaluation.progress",
     "testing": "evaluation.testing",
+    # cli/
+    "audit_command": "cli.audit_command",
+    "argtypes": "cli.argtypes",
+    "points": "cli.points",
+    "train.commands": "cli.train_commands",
 }
 
 # old paths that stay public without a warning

@@ -302,7 +302,7 @@ def test_a_committed_record_s_command_trains_with_its_hyperparameters(record):
     from hivex_dsl.train.checkpoint import action_space_of, older_defaults
 
     from hivex_dsl.cli import _parser
-    from hivex_dsl.train.commands import train_config
+    from hivex_dsl.cli.train_commands import train_config
 
     data = json.loads(record.read_text())
     scenario = data.get("scenario") or data["sweep"]

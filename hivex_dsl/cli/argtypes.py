@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from .lang.spec.common import MAX_SEED
+from ..lang.spec.common import MAX_SEED
 
 
 def positive(text: str) -> int:

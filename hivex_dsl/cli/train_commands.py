@@ -1,5 +1,5 @@
-"""`hivex train` and `hivex evaluate`: argument parsing here, the work in ppo/grid/evaluate (imported lazily,
-so the rest of the CLI never needs torch)."""
+"""`hivex train` and `hivex evaluate`: argument parsing here, the work in train's ppo/grid/evaluate (imported
+lazily, so the rest of the CLI never needs torch). Moved here from train/ so that train never imports the CLI."""
 
 from __future__ import annotations
 
@@ -10,11 +10,12 @@ import sys
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from ..argtypes import positive, seed
 from ..base.errors import HivexError
+from .argtypes import positive, seed
+from .exits import EXIT_INTERRUPTED
 
 if TYPE_CHECKING:
-    from .config import PPOConfig
+    from ..train.config import PPOConfig
 
 TRAIN_EXTRA = "training needs torch: pip install torch, then pip install 'hivex-dsl[train]'"
 TRAIN_MODULES = ("tensorboard",)  # the train extra's packages besides torch
@@ -77,7 +78,7 @@ def require_torch() -> None:
 def train_config(environment: str, args: argparse.Namespace) -> PPOConfig:
     """The hyperparameters `hivex train` runs ``environment`` with: the paper's, then --config, --set and the
     flags (--steps, --seed, --device), each over the last."""
-    from .config import Overrides, make_config, parse_assignments, read_overrides
+    from ..train.config import Overrides, make_config, parse_assignments, read_overrides
 
     flag_of = {"max_steps": "--steps", "seed": "--seed", "device": "--device"}
     given = {name: getattr(args, flag[2:]) for name, flag in flag_of.items()}
@@ -99,7 +100,7 @@ def cmd_train(args) -> int:
         raise HivexError("--resume goes on from RUN_DIR's run and --force replaces it: give one")
     run_dir = args.output or Path("runs") / points[0].spec.name
     if len(points) == 1 and args.ray is None:
-        from .grid import train_point
+        from ..train.grid import train_point
 
         result = train_point(points[0].resolved(), configs[0].model_dump(mode="json"), str(run_dir),
                              args.eval_episodes, progress=not args.no_progress, resume=args.resume,
@@ -107,7 +108,7 @@ def cmd_train(args) -> int:
         print(json.dumps(result, indent=2))
         _say_if_no_episode_ended(result, points[0], configs[0])
         return _exit_code([result], run_dir)
-    from .grid import format_table, run_grid
+    from ..train.grid import format_table, run_grid
 
     results = run_grid(points, configs, run_dir, args.eval_episodes, args.ray, progress=not args.no_progress,
                        resume=args.resume, overwrite=args.force)
@@ -130,8 +131,6 @@ def _say_if_no_episode_ended(result: dict, compiled, cfg: PPOConfig) -> None:
 
 def _exit_code(results: list[dict], run_dir: Path) -> int:
     """0, or the CLI's 130 when Ctrl-C or SIGTERM stopped a run before its end (saying how to go on)."""
-    from ..cli import EXIT_INTERRUPTED
-
     if not any(result["stopped_early"] for result in results):
         return 0
     print(f"hivex: interrupted: the run stopped after its update and kept its checkpoint; add --resume to the "
@@ -140,8 +139,8 @@ def _exit_code(results: list[dict], run_dir: Path) -> int:
 
 
 def cmd_evaluate(args) -> int:
-    from ..points import one_point
-    from .evaluate import evaluate, format_report
+    from .points import one_point
+    from ..train.evaluate import evaluate, format_report
 
     require_torch()
     if args.point is not None and not args.file:

@@ -1,5 +1,9 @@
-"""The `hivex` command: validate | compile | run | render | audit | schema | docs | preview | bench | list |
-train | evaluate."""
+"""Layer 11, cli: the `hivex` command, the top layer.
+
+This module parses the arguments and runs the commands; audit_command.py and train_commands.py hold `hivex audit`'s
+and `hivex train`/`evaluate`'s, argtypes.py and points.py what several commands read, exits.py the exit codes.
+Imports: every layer below (each command imports the work it needs when it runs, so the CLI never needs torch).
+"""
 
 from __future__ import annotations
 
@@ -10,11 +14,12 @@ import sys
 from pathlib import Path
 from typing import Sequence
 
+from ..base.errors import HivexError, ScenarioError, did_you_mean
 from .argtypes import positive, seed
-from .base.errors import HivexError, ScenarioError, did_you_mean
+from .exits import EXIT_FAIL, EXIT_INTERRUPTED, EXIT_OK, EXIT_PIPE, EXIT_USAGE
 
-EXIT_OK, EXIT_FAIL, EXIT_USAGE = 0, 1, 2
-EXIT_INTERRUPTED = 128 + 2  # what a shell reports for a command ended by SIGINT
+DESCRIPTION = ("The `hivex` command: validate | compile | run | render | audit | schema | docs | preview | bench | "
+               "list |\ntrain | evaluate.")
 FRAME_STEP = 10  # `hivex render`'s default: 61 frames of 600 decisions, 1.1 MB for WFC (the largest; 6.3 MB before)
 
 
@@ -43,9 +48,6 @@ def main(argv: Sequence[str] | None = None) -> int:
         return EXIT_FAIL
 
 
-EXIT_PIPE = 128 + 13  # what a shell reports for a writer ended by SIGPIPE
-
-
 def _reader_gone() -> int:
     """stdout's reader closed the pipe: stop quietly, as `yes | head -1` does; point stdout at /dev/null so
     Python's own flush at exit does not report the broken pipe again."""
@@ -60,7 +62,7 @@ def _reader_gone() -> int:
 
 
 def _parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="hivex", description=__doc__)
+    parser = argparse.ArgumentParser(prog="hivex", description=DESCRIPTION)
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
     p = sub.add_parser("validate", help="check scenario files; report every problem as path:line:col")
@@ -129,7 +131,7 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--json", action="store_true", help="print the quantities as JSON")
     p.set_defaults(handler=cmd_vocab)
 
-    from .train.commands import add_commands as add_train_commands
+    from .train_commands import add_commands as add_train_commands
 
     add_train_commands(sub)
     return parser
@@ -147,7 +149,7 @@ def _point_arg(p: argparse.ArgumentParser) -> None:
 
 
 def cmd_validate(args) -> int:
-    from .compiler.scenario import compile_all
+    from ..compiler.scenario import compile_all
 
     failed = 0
     for file in args.files:
@@ -163,8 +165,8 @@ def cmd_validate(args) -> int:
 
 
 def cmd_compile(args) -> int:
-    from .compiler.scenario import compile_all
-    from .evaluation.report import describe_compiled, describe_sweep
+    from ..compiler.scenario import compile_all
+    from ..evaluation.report import describe_compiled, describe_sweep
 
     compiled = compile_all(args.file)
     locks = _lock_paths(len(compiled), Path(args.output)) if args.output else []
@@ -199,7 +201,7 @@ def _lock_paths(count: int, output: Path) -> list[Path]:
 
 def cmd_run(args) -> int:
     from .points import one_point
-    from .evaluation.report import run_episodes
+    from ..evaluation.report import run_episodes
 
     compiled = one_point(args.file, args.point)
     print(run_episodes(compiled, args.policy, args.episodes, args.split, args.seed))
@@ -208,9 +210,9 @@ def cmd_run(args) -> int:
 
 def cmd_render(args) -> int:
     from .points import one_point
-    from .evaluation.progress import bar
-    from .sim.render.gif import save_gif
-    from .evaluation.report import episode_frames
+    from ..evaluation.progress import bar
+    from ..sim.render.gif import save_gif
+    from ..evaluation.report import episode_frames
 
     if Path(args.output).suffix.lower() != ".gif":
         raise HivexError(f"-o {args.output}: expected a file name ending in .gif (hivex render writes an animated GIF)")
@@ -220,10 +222,10 @@ def cmd_render(args) -> int:
     compiled = one_point(args.file, args.point)
     policy = args.policy
     if args.checkpoint is not None:
-        from .train.commands import require_torch
+        from .train_commands import require_torch
 
         require_torch()
-        from .train.evaluate import checkpoint_policies
+        from ..train.evaluate import checkpoint_policies
 
         policy = checkpoint_policies(args.checkpoint)(compiled)
     with bar(args.steps, f"render {compiled.name}", unit="decision") as shown:
@@ -234,14 +236,14 @@ def cmd_render(args) -> int:
 
 
 def cmd_schema(args) -> int:
-    from .docsgen.schema import schema_text
+    from ..docsgen.schema import schema_text
 
     sys.stdout.write(schema_text())
     return EXIT_OK
 
 
 def cmd_docs(args) -> int:
-    from .docsgen import stale_docs, write_docs
+    from ..docsgen import stale_docs, write_docs
 
     if args.check and not args.dir.is_dir():
         print(f"hivex: no {args.dir}/ here to check: run `hivex docs --check` in a checkout of hivex-dsl (docs/ is "
@@ -262,9 +264,9 @@ def cmd_docs(args) -> int:
 
 
 def cmd_preview(args) -> int:
-    from .docsgen.figures import FIGURES, preview_figure
-    from .evaluation.progress import bar, echo
-    from .sim.render.gif import save_png
+    from ..docsgen.figures import FIGURES, preview_figure
+    from ..evaluation.progress import bar, echo
+    from ..sim.render.gif import save_png
 
     args.output.mkdir(parents=True, exist_ok=True)
     with bar(len(FIGURES), "preview", unit="figure") as shown:
@@ -278,8 +280,8 @@ def cmd_preview(args) -> int:
 
 
 def cmd_bench(args) -> int:
-    from .evaluation import bench, bench_expressions
-    from .compiler import registry
+    from ..evaluation import bench, bench_expressions
+    from ..compiler import registry
 
     available = list(registry.environments())
     unknown = [e for e in args.env or [] if e not in available]
@@ -307,7 +309,7 @@ def cmd_bench(args) -> int:
 
 
 def cmd_list(args) -> int:
-    from .base.resources import bundled_scenarios
+    from ..base.resources import bundled_scenarios
 
     for path in bundled_scenarios():
         print(f"{path.parent.name}/{path.name}")
@@ -316,9 +318,9 @@ def cmd_list(args) -> int:
 
 def cmd_vocab(args) -> int:
     """Every quantity of the scenario's vocabulary: ranges follow its params, so a scenario file gives its own."""
-    from .compiler import registry
-    from .compiler.scenario import compile
-    from .sim.reward.vocabulary import vocabulary_of
+    from ..compiler import registry
+    from ..compiler.scenario import compile
+    from ..sim.reward.vocabulary import vocabulary_of
 
     environments = registry.environments()
     if args.scenario in environments:
@@ -343,7 +345,3 @@ def cmd_vocab(args) -> int:
     for name, why in vocabulary_of(compiled.environment).not_modelled.items():
         print(f"  {name:34} not modelled: {why}")
     return EXIT_OK
-
-
-if __name__ == "__main__":  # pragma: no cover
-    sys.exit(main())

@@ -9,8 +9,9 @@ import sys
 from contextlib import nullcontext
 from pathlib import Path
 
+from ..base.errors import HivexError
 from .argtypes import positive
-from .base.errors import HivexError
+from .exits import EXIT_FAIL, EXIT_OK, EXIT_USAGE
 
 
 def add_command(sub: argparse._SubParsersAction) -> None:
@@ -33,8 +34,7 @@ def add_command(sub: argparse._SubParsersAction) -> None:
 
 
 def cmd_audit(args) -> int:
-    from .evaluation.audit import describe
-    from .cli import EXIT_FAIL, EXIT_OK, EXIT_USAGE
+    from ..evaluation.audit import describe
 
     if args.suite == bool(args.file):
         print("hivex audit: give a scenario FILE or --suite (not both)", file=sys.stderr)
@@ -49,7 +49,7 @@ def cmd_audit(args) -> int:
 
 def _suite(args) -> list[dict]:
     """Every suite scenario's audit (written to --output if given)."""
-    from .evaluation.fidelity import measure_suite, write_suite
+    from ..evaluation.fidelity import measure_suite, write_suite
 
     report = measure_suite(args.episodes, quiet=args.json)
     if args.output:
@@ -60,16 +60,16 @@ def _suite(args) -> list[dict]:
 
 def _scenario(args) -> list[dict]:
     """The audits of FILE's points, with the checkpoint's policy beside the others if one is given."""
-    from .evaluation.audit import audit_all
-    from .compiler.scenario import compile_all
+    from ..evaluation.audit import audit_all
+    from ..compiler.scenario import compile_all
 
     compiled = compile_all(args.file)
     trained, threads = None, nullcontext()
     if args.checkpoint:
-        from .train.commands import require_torch
+        from .train_commands import require_torch
 
         require_torch()
-        from .train.evaluate import checkpoint_policies, limited_threads
+        from ..train.evaluate import checkpoint_policies, limited_threads
 
         trained, threads = checkpoint_policies(args.checkpoint), limited_threads(1)
     with threads:  # one world's few agents are batches too small to share among torch's threads
