@@ -1,36 +1,40 @@
 """Registered environments: catalogue entry + params + reward terms + simulator factory.
 
 Each environment package (a folder hivex_dsl/envs/<catalogue id>/) calls :func:`register` once
-on import; :func:`get` finds and loads every such package on first use so users never import
-them by hand.
+on import; :func:`get` loads every such package on first use so users never import them by hand.
+It finds them by module name, as Gymnasium's entry-point strings name environments
+(:data:`ENVIRONMENT_MODULES`, imported with ``importlib``): the registry, in the compiler layer, has
+no import of the environments layer above it, which imports the registry to register.
 """
 
 from __future__ import annotations
 
 import importlib
-import pkgutil
 from dataclasses import dataclass, field
 from functools import cached_property
-from typing import TYPE_CHECKING, Any, Callable, Mapping
+from typing import Any, Callable, Mapping
 
 from ..base.errors import Problem, ScenarioError, did_you_mean
-from ..lang.loader import Loaded, load_file
 from ..base.resources import data_dir
-from ..sim.reward.terms import TermRegistry
+from ..lang.loader import Loaded, load_file
 from ..lang.spec.catalogue import CATALOGUE, EnvironmentInfo
 from ..lang.spec.common import StrictModel
 from ..lang.spec.reward_table import RewardTable, table_problems
 from ..lang.spec.scenario import ScenarioVocabulary, scenario_model
 from ..lang.spec.validate import validate_loaded
+from ..sim.reward.terms import TermRegistry
 from ..sim.statistics import StatisticSet
 
-if TYPE_CHECKING:
-    from .scenario import CompiledScenario
+# Each catalogue environment's package, by module name; one this version does not have is "not available yet".
+ENVIRONMENT_MODULES: dict[str, str] = {env_id: f"{__name__.split('.')[0]}.envs.{env_id}" for env_id in CATALOGUE}
+
+# A CompiledScenario (compiler/scenario.py), named in the annotations below only: that module imports this one.
+Compiled = Any
 
 _REGISTRY: dict[str, "EnvironmentEntry"] = {}
 
 # A compile-time check: resolved scenario -> [(path in the file, message)].
-ScenarioCheck = Callable[["CompiledScenario"], list[tuple[tuple, str]]]
+ScenarioCheck = Callable[[Compiled], list[tuple[tuple, str]]]
 
 
 @dataclass(frozen=True)
@@ -53,8 +57,8 @@ class EnvironmentEntry:
     info: EnvironmentInfo
     params_model: type[StrictModel]
     terms: TermRegistry
-    make_simulator: Callable[["CompiledScenario"], Any]
-    scripted_policy: Callable[["CompiledScenario"], Callable[[Any], Any]]
+    make_simulator: Callable[[Compiled], Any]
+    scripted_policy: Callable[[Compiled], Callable[[Any], Any]]
     events: Mapping[str, str] = field(default_factory=dict)
     # events of the whole world (e.g. the fire went out): a task that ends on one restarts the world,
     # where the other events (and the simulator's own ``terminated``) end single agents' episodes
@@ -117,12 +121,13 @@ def register(entry: EnvironmentEntry) -> EnvironmentEntry:
 
 
 def _load_all() -> None:
-    """Import every package under hivex_dsl/envs/ whose name is a catalogue id; each registers itself."""
-    from .. import envs
-
-    for module in pkgutil.iter_modules(envs.__path__):
-        if module.ispkg and module.name in CATALOGUE:
-            importlib.import_module(f"{envs.__name__}.{module.name}")
+    """Import every package of :data:`ENVIRONMENT_MODULES` that this version has; each registers itself."""
+    for module in ENVIRONMENT_MODULES.values():
+        try:
+            importlib.import_module(module)
+        except ModuleNotFoundError as exc:
+            if exc.name != module:  # the package is there, and something it imports is missing
+                raise
 
 
 def environments() -> dict[str, EnvironmentEntry]:
