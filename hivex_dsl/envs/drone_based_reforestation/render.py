@@ -7,8 +7,7 @@ import numpy as np
 
 from ...sim.render.canvas import Canvas, colormap
 from .fertility import FAR_M, sample_bilinear
-from .simulator import STATION_PAD_M
-from .types import DroneState
+from .types import STATION_PAD_M, DroneState
 
 SIZE_PX = 480
 # low ground olive -> dry grass -> bare rock, by height over the height bound

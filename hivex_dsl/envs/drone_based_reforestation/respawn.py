@@ -11,15 +11,13 @@ from __future__ import annotations
 import numpy as np
 
 from ...sim.batching import evolve
-from .types import DroneState
+from .types import VECTOR_SIZE, DroneState, Flight
 
 
 def respawn_where(sim, state: DroneState, mask: np.ndarray, rng: np.random.Generator) -> DroneState:
     """``state`` with the drones where ``mask`` (B, A) is true respawned; the rest untouched."""
     if not np.count_nonzero(mask):
         return state
-    from .simulator import VECTOR_SIZE, Flight
-
     p = sim.params
     spawn, spawn_heading, spawn_ground, holding_at_start = sim._spawn(rng, state.heights, state.station)
     position = np.where(mask[..., None], spawn, state.position)

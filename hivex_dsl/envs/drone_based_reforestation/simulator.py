@@ -7,8 +7,6 @@ at reset: distances to the forest (the hidden fertility field) and the camera's 
 
 from __future__ import annotations
 
-from typing import NamedTuple
-
 import numpy as np
 from gymnasium import spaces
 
@@ -25,7 +23,7 @@ from .fertility import (FAR_M, Grid, GridSet, distance_reward, fertility, forest
 from .global_state import state_components, world_state
 from .params import DroneBasedReforestationParams
 from .respawn import respawn_where
-from .types import DroneState
+from .types import STATION_PAD_M, VECTOR_SIZE, DroneState, Flight
 
 SEED_REWARD_MULTIPLIER = 20.0  # [paper] sdrm
 DISTANCE_REWARD_MULTIPLIER = 10.0  # [paper] drm
@@ -35,20 +33,6 @@ RUNNING_BACK_REWARD = 20.0  # [paper] r_p
 RANDOM_SPAWN_TASKS = ("pick_up_seed", "group_up")
 # [ours] Group Up's drones start without a seed; Pick-up Seed's hold one, as its published drops show (its notes)
 SEEDLESS_START_TASKS = ("group_up",)
-STATION_PAD_M = 3.0  # radius of the pad the camera and renderer draw
-VECTOR_SIZE = 10
-
-
-class Flight(NamedTuple):
-    """The drones after one step of flight, B worlds of A drones."""
-
-    position: np.ndarray  # (B, A, 3)
-    xy: np.ndarray  # (B, A, 2) the horizontal position (position[..., :2], a view or the array it was built from)
-    z: np.ndarray  # (B, A) the height (position[..., 2], likewise)
-    heading: np.ndarray  # (B, A)
-    direction: np.ndarray  # (B, A, 2) cos and sin of the heading
-    ground: np.ndarray  # (B, A) terrain height below each drone
-    tree_distance: np.ndarray | None  # (B, A) sampled from the state's tree_distance raster (None at reset)
 
 
 class DroneReforestationSimulator:

@@ -1,10 +1,26 @@
-"""The batched state of Drone-Based Reforestation."""
+"""The batched state of Drone-Based Reforestation, and the shapes the simulator, render and respawn share."""
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
+
+STATION_PAD_M = 3.0  # radius of the pad the camera and renderer draw
+VECTOR_SIZE = 10
+
+
+class Flight(NamedTuple):
+    """The drones after one step of flight, B worlds of A drones."""
+
+    position: np.ndarray  # (B, A, 3)
+    xy: np.ndarray  # (B, A, 2) the horizontal position (position[..., :2], a view or the array it was built from)
+    z: np.ndarray  # (B, A) the height (position[..., 2], likewise)
+    heading: np.ndarray  # (B, A)
+    direction: np.ndarray  # (B, A, 2) cos and sin of the heading
+    ground: np.ndarray  # (B, A) terrain height below each drone
+    tree_distance: np.ndarray | None  # (B, A) sampled from the state's tree_distance raster (None at reset)
 
 
 @dataclass(frozen=True)

@@ -12,6 +12,7 @@ import numpy as np
 
 from ...sim.batching import evolve
 from .camera import sense
+from .neighbours import neighbour_distances
 from .types import OceanState
 
 
@@ -19,8 +20,6 @@ def respawn_where(sim, state: OceanState, mask: np.ndarray, rng: np.random.Gener
     """``state`` with the vessels where ``mask`` (B, A) is true respawned; the rest untouched."""
     if not np.count_nonzero(mask):
         return state
-    from .simulator import neighbour_distances
-
     position, heading, speed = sim._respawn(state.position, state.heading, state.speed, mask, rng)
     active = state.active | mask
     facing = np.exp(1j * heading)

@@ -22,6 +22,7 @@ from ...base.numeric import all_true, clamp
 from ...runtime.batched import StepOutcome
 from .camera import CAMERA_CELLS, Geometry, Sensing, as_pairs, build_field, sense
 from .global_state import state_components, world_state
+from .neighbours import neighbour_distances
 from .params import OceanPlasticCollectionParams
 from .respawn import respawn_where
 from .types import OceanState
@@ -46,33 +47,11 @@ class Motion(NamedTuple):
 
 
 @lru_cache(maxsize=16)
-def _others(agents: int) -> tuple[np.ndarray, np.ndarray]:
-    """(A, A) read-only masks leaving each vessel out of its own distances: True off the diagonal,
-    and inf on the diagonal with 0 elsewhere (to add)."""
-    others = ~np.eye(agents, dtype=bool)
-    self_distance = np.where(others, 0.0, np.inf)
-    for array in (others, self_distance):
-        array.setflags(write=False)
-    return others, self_distance
-
-
-@lru_cache(maxsize=16)
 def _worlds(batch: int) -> np.ndarray:
     """(B, 1) read-only world indices, to pick one agent per world with an index array (B, A)."""
     worlds = np.arange(batch)[:, None]
     worlds.setflags(write=False)
     return worlds
-
-
-def neighbour_distances(position: np.ndarray, active: np.ndarray) -> np.ndarray:
-    """(B, A, A) distances between active vessels; inf on the diagonal and for inactive vessels."""
-    gap = position[:, :, None, :] - position[:, None, :, :]  # (B, A, A, 2)
-    square = gap * gap
-    distance = np.sqrt(square[..., 0] + square[..., 1])
-    others, self_distance = _others(position.shape[1])
-    if all_true(active):
-        return distance + self_distance
-    return np.where(active[:, :, None] & active[:, None, :] & others, distance, np.inf)
 
 
 def crossed_border(position: np.ndarray, active: np.ndarray, half_extent: float) -> np.ndarray:
