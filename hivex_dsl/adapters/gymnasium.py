@@ -60,7 +60,7 @@ from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
 from ..sim.action_arrays import Unreadable, as_array
-from ..compiler.scenario import CompiledScenario
+from ..compiler import CompiledScenario
 from ..base.errors import ActionError, HivexError, is_integer
 from ..runtime.global_state import GlobalState
 from ..runtime.batched import BatchedEnv, Split, Transition

@@ -7,7 +7,7 @@ from typing import Any, Optional
 import numpy as np
 from pettingzoo import ParallelEnv
 
-from ..compiler.scenario import CompiledScenario
+from ..compiler import CompiledScenario
 from ..base.errors import ResetNeeded
 from ..runtime.global_state import GlobalState
 from ..runtime.batched import BatchedEnv, Split

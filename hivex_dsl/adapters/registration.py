@@ -16,7 +16,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any, Optional
 
-from ..compiler.scenario import CompiledScenario, compile
+from ..compiler import CompiledScenario, compile
 from ..base.errors import is_integer
 from ..lang.loader import load_file
 from ..base.resources import data_dir, resolve_scenario_path

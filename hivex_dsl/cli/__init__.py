@@ -149,7 +149,7 @@ def _point_arg(p: argparse.ArgumentParser) -> None:
 
 
 def cmd_validate(args) -> int:
-    from ..compiler.scenario import compile_all
+    from ..compiler import compile_all
 
     failed = 0
     for file in args.files:
@@ -165,7 +165,7 @@ def cmd_validate(args) -> int:
 
 
 def cmd_compile(args) -> int:
-    from ..compiler.scenario import compile_all
+    from ..compiler import compile_all
     from ..evaluation.report import describe_compiled, describe_sweep
 
     compiled = compile_all(args.file)
@@ -319,7 +319,7 @@ def cmd_list(args) -> int:
 def cmd_vocab(args) -> int:
     """Every quantity of the scenario's vocabulary: ranges follow its params, so a scenario file gives its own."""
     from ..compiler import registry
-    from ..compiler.scenario import compile
+    from ..compiler import compile
     from ..sim.reward.vocabulary import vocabulary_of
 
     environments = registry.environments()

@@ -61,7 +61,7 @@ def _suite(args) -> list[dict]:
 def _scenario(args) -> list[dict]:
     """The audits of FILE's points, with the checkpoint's policy beside the others if one is given."""
     from ..evaluation.audit import audit_all
-    from ..compiler.scenario import compile_all
+    from ..compiler import compile_all
 
     compiled = compile_all(args.file)
     trained, threads = None, nullcontext()

@@ -11,7 +11,7 @@ from ..base.errors import HivexError, did_you_mean
 def one_point(source: Any, selector: Optional[str]) -> Any:
     """The compiled scenario of ``source`` that ``selector`` names; a file without a sweep is its one scenario
     (a selector other than 0 is refused). Without a selector a sweep is refused, with how to choose."""
-    from ..compiler.scenario import compile_all
+    from ..compiler import compile_all
 
     points = compile_all(source)
     if selector is None:

@@ -89,7 +89,7 @@ def train_config(environment: str, args: argparse.Namespace) -> PPOConfig:
 
 
 def cmd_train(args) -> int:
-    from ..compiler.scenario import compile_all
+    from ..compiler import compile_all
 
     require_torch()
     points = compile_all(args.file)

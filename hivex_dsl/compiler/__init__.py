@@ -1,12 +1,14 @@
 """Layer 4, compiler: a scenario (file, dict or lock) into frozen, fingerprinted CompiledScenarios.
 
-registry.py (the environments: catalogue entry, params, reward terms, simulator factory; found by module
-name), scenario.py (CompiledScenario, validation, sweeps and the semantic checks) and locks.py (lock files,
-checked field by field). Imports: base, lang, sim; environments register themselves from above.
+dispatch.py (compile, compile_all: a path, name or dict read, and sent to locks.py if it is a lock file, else to
+scenario.py), scenario.py (CompiledScenario, validation, sweeps and the semantic checks), locks.py (lock files,
+checked field by field) and registry.py (the environments: catalogue entry, params, reward terms, simulator
+factory; their packages are found by module name). Imports: base, lang, sim. The environments (layer 6)
+register themselves here when the registry imports them by name; no module here imports them.
 """
 
-from .scenario import (LOCK_VERSION, MAX_SWEEP_POINTS, MAX_SWEEP_VALUES, CompiledScenario, compile, compile_all,
-                       compile_loaded)
+from .dispatch import compile, compile_all, compile_loaded
+from .scenario import LOCK_VERSION, MAX_SWEEP_POINTS, MAX_SWEEP_VALUES, CompiledScenario
 
 __all__ = ["CompiledScenario", "LOCK_VERSION", "MAX_SWEEP_POINTS", "MAX_SWEEP_VALUES", "compile", "compile_all",
            "compile_loaded"]

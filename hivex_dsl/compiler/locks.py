@@ -17,9 +17,10 @@ import re
 from types import MappingProxyType
 from typing import Any
 
-from .scenario import _MISSING, LOCK_VERSION, CompiledScenario, _get, compile_loaded
 from ..base.errors import Problem, ScenarioError, did_you_mean, show
+from ..lang.blame import MISSING as _MISSING, get as _get
 from ..lang.loader import Loaded, PathKey, load_text
+from .scenario import LOCK_VERSION, CompiledScenario, compile_scenario
 
 LOCK_KEYS = ("hivex_lock", "fingerprint", "scenario", "task_index", "ends_on", "sweep_point",
              "term_contracts", "spaces")
@@ -48,7 +49,7 @@ def compile_lock(loaded: Loaded) -> CompiledScenario:
     inner = Loaded(loaded.source, _without_point_suffix(scenario, point),
                    {path[1:]: loc for path, loc in loaded.marks.items() if path[:1] == ("scenario",)},
                    {path[1:]: loc for path, loc in loaded.key_marks.items() if path[:1] == ("scenario",)})
-    compiled = dataclasses.replace(compile_loaded(inner)[0], sweep_point=MappingProxyType(point))
+    compiled = dataclasses.replace(compile_scenario(inner)[0], sweep_point=MappingProxyType(point))
     stored = data["fingerprint"]
     if stored != compiled.fingerprint:
         _fail(loaded, ("fingerprint",), f"fingerprint {show(stored)} does not match the content ({compiled.fingerprint}): "
@@ -98,7 +99,7 @@ def _check_point_values(loaded: Loaded, scenario: dict, compiled: CompiledScenar
         path = key.split(".")
         _get(variant, tuple(path[:-1]))[path[-1]] = value
         try:
-            same = compile_loaded(Loaded(loaded.source, variant))[0].fingerprint == compiled.fingerprint
+            same = compile_scenario(Loaded(loaded.source, variant))[0].fingerprint == compiled.fingerprint
         except ScenarioError:
             same = False
         if not same:

@@ -1,7 +1,8 @@
-"""YAML -> validated spec -> CompiledScenario (frozen), one per sweep grid point.
+"""Scenario document -> validated spec -> CompiledScenario (frozen), one per sweep grid point.
 
 Compilation is total: every check that could fail later (names, bounds, seeds, layouts that
-must fit) runs here, so a scenario that compiles always resets and steps.
+must fit) runs here, so a scenario that compiles always resets and steps. Reading a source and
+telling a lock from a scenario is :mod:`.dispatch`'s work.
 """
 
 from __future__ import annotations
@@ -14,30 +15,26 @@ import itertools
 import json
 from dataclasses import dataclass, field
 from functools import cached_property
-from pathlib import Path
 from types import MappingProxyType
-from typing import Any, Mapping, Union
+from typing import Any, Mapping
 
-from . import registry
 from ..base.errors import Location, Problem, ScenarioError, did_you_mean, got, kind_of, one_of, show
 from ..lang.blame import MISSING as _MISSING, culprit, get as _get
-from ..lang.loader import Loaded, PathKey, load_file
-from ..base.resources import resolve_scenario_path
-from ..sim.reward.composer import return_bound_problem
-from ..sim.reward.expressions import event_names, with_expressions
+from ..lang.loader import Loaded, PathKey
 from ..lang.spec.common import SCHEMA_VERSION, StrictModel
-from ..lang.spec.expressions import WeightSchedule
 from ..lang.spec.expression_keys import (clashing_terms, declared_term_names, expression_keys, expression_term_names,
                                          split_ends_on)
+from ..lang.spec.expressions import WeightSchedule
 from ..lang.spec.scenario import SWEEPABLE_PREFIXES, Seeds, scenario_model, sweepable_fields
 from ..lang.spec.validate import dotted, validate_model
+from ..sim.reward.composer import return_bound_problem
+from ..sim.reward.expressions import event_names, with_expressions
+from . import registry
 
 MAX_SWEEP_POINTS = 10_000
 MAX_SWEEP_VALUES = 1_000
 MAX_BLAME_TRIALS = 1_000  # recompilations a sweep may spend finding which written value causes a problem
 LOCK_VERSION = 1
-
-Source = Union[str, Path, Mapping[str, Any]]
 
 
 @dataclass(frozen=True, eq=False)
@@ -149,54 +146,15 @@ class CompiledScenario:
         }
 
 
-def compile(source: Source) -> CompiledScenario:  # noqa: A001 - the public verb of this package
-    """Compile a file (or dict) that describes exactly one scenario."""
-    loaded = _load(source)
-    if isinstance(loaded.data, dict) and loaded.data.get("sweep") is not None:
-        raise ScenarioError([Problem(loaded.locate(("sweep",), key=True),
-                                     "this file sweeps over a grid; use compile_all() (or `hivex compile`) to get every point")])
-    return compile_loaded(loaded)[0]
-
-
-def compile_all(source: Source) -> list[CompiledScenario]:
-    """Compile a file (or dict) into one scenario per sweep grid point (one if it does not sweep)."""
-    return compile_loaded(_load(source))
-
-
-def _load(source: Source) -> Loaded:
-    if isinstance(source, Mapping):
-        return Loaded("<dict>", _plain_data(source, ()))
-    if not isinstance(source, (str, Path)) or not str(source):
-        raise ScenarioError([Problem(Location("<input>", 1, 1),
-                                     f"expected a scenario file path or dict, got {source!r}")])
-    return load_file(resolve_scenario_path(str(source)))
-
-
-def _plain_data(value: Any, path: PathKey) -> Any:
-    """A copy of dict input as YAML would give it: string keys only, tuples as lists."""
-    if isinstance(value, Mapping):
-        for key in value:
-            if not isinstance(key, str):
-                raise ScenarioError([Problem(Location("<dict>", 1, 1), f"{dotted(path + (str(key),))}: "
-                                             f"a key must be a name (a string), got {got(key)}")])
-        return {key: _plain_data(item, path + (key,)) for key, item in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [_plain_data(item, path + (i,)) for i, item in enumerate(value)]
-    return copy.deepcopy(value)
-
-
 def _plain(seeds: Any) -> Any:
     return list(seeds) if isinstance(seeds, tuple) else seeds
 
 
-def compile_loaded(loaded: Loaded) -> list[CompiledScenario]:
+def compile_scenario(loaded: Loaded) -> list[CompiledScenario]:
+    """A scenario document (not a lock: :mod:`.dispatch` sends those to :mod:`.locks`), one per sweep point."""
     data = loaded.data
     if not isinstance(data, dict):
         _fail(loaded, (), f"the top level must be a mapping of keys such as 'hivex' and 'environment', got {got(data)}")
-    if "hivex_lock" in data:
-        from .locks import compile_lock
-
-        return [compile_lock(loaded)]
     entry = _environment(loaded)
     points = _sweep_points(loaded, entry)
     compiled, problems, budget = [], [], [MAX_BLAME_TRIALS]

@@ -7,7 +7,8 @@ import json
 from pathlib import Path
 from typing import Any
 
-from ..compiler import registry, scenario as compiler
+from .. import compiler
+from ..compiler import registry
 from ..lang import loader
 from ..base.resources import bundled_scenarios
 from ..lang.expr import syntax

@@ -4,7 +4,8 @@ from __future__ import annotations
 
 from typing import Any
 
-from ..compiler import registry, scenario as compiler
+from .. import compiler
+from ..compiler import registry
 from ..lang.expr import describe_grammar
 from ..base.resources import bundled_scenarios
 from ..sim.reward.vocabulary import vocabulary_of

@@ -39,7 +39,7 @@ from typing import Any, Callable, Optional, Sequence, TextIO, Union
 import numpy as np
 
 from . import published
-from ..compiler.scenario import CompiledScenario
+from ..compiler import CompiledScenario
 from .policies import Policy
 from .progress import EpisodeBar, bar
 from .rollout import Rollout, rollout

@@ -18,7 +18,7 @@ from typing import Any, Optional, TextIO
 from . import published
 from ..compiler import registry
 from .audit import audit_all
-from ..compiler.scenario import CompiledScenario, compile as compile_scenario
+from ..compiler import CompiledScenario, compile as compile_scenario
 from ..lang.loader import load_file
 from ..base.resources import data_dir
 

@@ -8,7 +8,7 @@ from typing import Any, Callable
 import numpy as np
 from gymnasium import spaces
 
-from ..compiler.scenario import CompiledScenario
+from ..compiler import CompiledScenario
 from ..sim.spaces import placeholder_actions
 
 Policy = Callable[[Any], Any]

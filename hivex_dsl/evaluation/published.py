@@ -20,7 +20,7 @@ from importlib import resources
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
-    from ..compiler.scenario import CompiledScenario
+    from ..compiler import CompiledScenario
 
 RETURN = "Environment/Cumulative Reward"
 DATA_FILE = "published-test-results.json"
@@ -131,7 +131,7 @@ def differences_from_paper(compiled: "CompiledScenario") -> list[str]:
 
 @lru_cache(maxsize=256)
 def _paper_setting(environment: str, task_index: int, level_field: str | None, level: int | None) -> dict:
-    from ..compiler.scenario import compile
+    from ..compiler import compile
 
     data: dict[str, Any] = {"hivex": 1, "environment": environment, "task": task_index}
     if level_field:

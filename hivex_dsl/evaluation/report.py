@@ -8,7 +8,7 @@ from typing import Any, Callable, Iterator, Optional, TextIO
 
 import numpy as np
 
-from ..compiler.scenario import CompiledScenario
+from ..compiler import CompiledScenario
 from .policies import make_policy
 from .progress import EpisodeBar, bar, echo
 from ..runtime.batched import BatchedEnv, Split

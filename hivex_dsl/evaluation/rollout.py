@@ -12,7 +12,7 @@ from typing import Optional
 
 import numpy as np
 
-from ..compiler.scenario import CompiledScenario
+from ..compiler import CompiledScenario
 from .policies import Policy, make_policy
 from ..runtime.batched import BatchedEnv, Split
 from ..sim.spaces import check_actions

@@ -35,7 +35,7 @@ except ImportError as exc:  # pragma: no cover - depends on the installation
 from gymnasium import spaces
 
 from ..compiler import registry
-from ..compiler.scenario import CompiledScenario, compile as compile_scenario
+from ..compiler import CompiledScenario, compile as compile_scenario
 from ..base.errors import ScenarioError
 from .policies import random_policy
 from ..runtime.batched import BatchedEnv

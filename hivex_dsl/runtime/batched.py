@@ -14,7 +14,7 @@ from typing import Any, Literal, NamedTuple, Optional, Protocol
 import numpy as np
 from gymnasium import spaces
 
-from ..compiler.scenario import CompiledScenario
+from ..compiler import CompiledScenario
 from ..base.errors import ResetNeeded
 from ..base.numeric import all_true, constant
 from ..sim.reward.composer import RewardComposer

@@ -21,7 +21,7 @@ import platform
 from pathlib import Path
 from typing import Any
 
-from ..compiler.scenario import CompiledScenario, compile, compile_all
+from ..compiler import CompiledScenario, compile, compile_all
 from ..evaluation.report import collect_returns
 from .checkpoint import RESUMABLE_CHANGES, action_space_of, load_checkpoint, older_defaults
 from .config import PPOConfig, TrainError

@@ -13,7 +13,7 @@ from typing import Any, Iterator, Mapping
 import torch
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
-from ..compiler.scenario import CompiledScenario, compile
+from ..compiler import CompiledScenario, compile
 from ..base.errors import ScenarioError, got
 from ..lang.spec.validate import describe
 from .config import PPOConfig, TrainError

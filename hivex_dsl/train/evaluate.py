@@ -11,7 +11,7 @@ import numpy as np
 import torch
 
 from ..adapters.gymnasium import flatten_slots, unflatten_slots
-from ..compiler.scenario import CompiledScenario
+from ..compiler import CompiledScenario
 from ..evaluation import published
 from ..evaluation.progress import EpisodeBar, bar
 from ..evaluation.rollout import rollout

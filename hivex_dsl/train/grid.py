@@ -12,7 +12,7 @@ import re
 from pathlib import Path
 from typing import Any, Sequence
 
-from ..compiler.scenario import CompiledScenario, compile
+from ..compiler import CompiledScenario, compile
 from .config import PPOConfig, TrainError
 from .rundir import earlier_run, refusal, write_json
 

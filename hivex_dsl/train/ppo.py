@@ -23,7 +23,7 @@ import torch
 from torch import nn
 
 from ..adapters.gymnasium import HivexVectorEnv
-from ..compiler.scenario import CompiledScenario
+from ..compiler import CompiledScenario
 from .checkpoint import resume_state, save_checkpoint, save_numbered_checkpoint
 from .config import PPOConfig, TrainError
 from .curiosity import Curiosity
