@@ -16,9 +16,10 @@ from jinja2 import Environment, FileSystemLoader, StrictUndefined
 
 from ..compiler import registry
 from .baselines import PAGE as BASELINES_PAGE, baseline_images, baselines_context, baselines_dir
-from .context import SCHEMA_FILE, env_page, environment_context, index_context, language_context, performance_context
+from .context import environment_context, index_context, language_context, performance_context
 from .fidelity_page import fidelity_context
 from .figures import preview_figures
+from .pages import SCHEMA_FILE, env_page
 from .schema import scenario_json_schema, schema_text
 
 MANIFEST = ".generated"

@@ -20,14 +20,10 @@ from ..lang.spec.expressions import MAX_EXPRESSION_CHARS
 from ..lang.spec.reward_table import RewardTable, TaskColumn
 from .expressions import expression_language_context, vocabulary_context
 from .fields import field_rows, num, show_value, source_tag
+from .pages import SCHEMA_FILE, env_page
 from .spaces_table import global_state_table, specification
 
-SCHEMA_FILE = "hivex.schema.json"
 MAX_LISTED_VALUES = 6
-
-
-def env_page(env_id: str) -> str:
-    return f"environments/{env_id}.md"
 
 
 def index_context() -> dict[str, Any]:

@@ -12,6 +12,7 @@ from ..sim.reward.vocabulary import vocabulary_of
 from ..lang.spec.common import SCHEMA_VERSION
 from ..lang.spec.expressions import ExpressionTermSpec, ShapingSpec, WeightSchedule
 from .fields import field_rows, num, schema_type
+from .pages import env_page
 
 
 def _rows(model) -> list[dict[str, str]]:
@@ -67,8 +68,6 @@ def vocabulary_context(entry: registry.EnvironmentEntry) -> dict[str, Any]:
 
 def expression_language_context() -> dict[str, Any]:
     """Grammar (from the core), the models of terms, shaping and schedules, and the bundled examples."""
-    from .context import env_page
-
     examples = [s for entry in registry.environments().values() for s in _expression_scenarios(entry)]
     return {"grammar": describe_grammar(), "term_fields": _rows(ExpressionTermSpec),
             "shaping_fields": _rows(ShapingSpec), "schedule_fields": _rows(WeightSchedule),
