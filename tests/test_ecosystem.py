@@ -80,7 +80,7 @@ def write_tests(folder: Path, source: str) -> Path:
 
 MARKED = """
     import pytest
-    from hivex_dsl import registry
+    from hivex_dsl.compiler import registry
 
     ENV_IDS = list(registry.environments())
     LENGTH = {"ocean_plastic_collection": 4}
@@ -131,7 +131,7 @@ def test_a_removed_test_removes_its_claim(tmp_path):
      "are no environments"),
 ])
 def test_what_the_reader_cannot_read_is_an_error_never_a_claim(tmp_path, source, message):
-    tests = write_tests(tmp_path, "import pytest\nfrom hivex_dsl import registry\n"
+    tests = write_tests(tmp_path, "import pytest\nfrom hivex_dsl.compiler import registry\n"
                                   "ENV_IDS = list(registry.environments())\n" + source)
     with pytest.raises(EcosystemScanError, match=message):
         read_proofs(tests)

@@ -22,9 +22,9 @@ class SB3VecEnv(VecEnv):
     """One SB3 slot per (world, agent) of a :class:`~hivex_dsl.adapters.gymnasium.HivexVectorEnv`."""
 
     def __init__(self, scenario: Any, num_worlds: int = 1, flat: bool = True, split: str = "train"):
-        import hivex_dsl
+        from .factory import vector_env
 
-        env = hivex_dsl.vector_env(scenario, num_worlds=num_worlds, autoreset_mode="same_step", split=split)
+        env = vector_env(scenario, num_worlds=num_worlds, autoreset_mode="same_step", split=split)
         self.env = flat_vector_env(env) if flat else env
         super().__init__(self.env.num_envs, self.env.single_observation_space, self.env.single_action_space)
         self._actions: Any = None

@@ -60,11 +60,10 @@ def torchrl_env(scenario: Any = None, environment: Optional[str] = None, task: O
     from torchrl.envs.libs.pettingzoo import PettingZooWrapper
     from torchrl.envs.utils import MarlGroupMapType
 
-    import hivex_dsl
-
+    from .factory import parallel_env
     from .registration import make_scenario
 
     compiled = make_scenario(environment, scenario, task=task, level=level, max_cycles=max_cycles, **fields)
-    env = marl_view(hivex_dsl.parallel_env(compiled, render_mode=render_mode, split=split))
+    env = marl_view(parallel_env(compiled, render_mode=render_mode, split=split))
     return PettingZooWrapper(env, group_map=MarlGroupMapType.ALL_IN_ONE_GROUP, use_mask=True, done_on_any=False,
                              categorical_actions=True, seed=seed, device=device, return_state=return_state)

@@ -73,6 +73,10 @@ class ResetNeeded(HivexError, RuntimeError):
     """An environment was stepped before its first ``reset()``, or after every agent's episode ended."""
 
 
+class KeywordError(HivexError, TypeError):
+    """A keyword argument the function does not take (e.g. vector_env's old ``num_envs``)."""
+
+
 def did_you_mean(word: str, choices: Iterable[str]) -> str:
     """`` (did you mean 'x'?)`` for the closest of ``choices``, or an empty string."""
     close = difflib.get_close_matches(str(word), list(choices), n=1, cutoff=0.6)

@@ -87,12 +87,13 @@ def _live_only(actions: dict, live: list) -> dict:
 def measure_parallel(env_id: str, seconds: float) -> Measurement:
     """PettingZoo ParallelEnv (batch 1) of the environment's bundled main scenario, random actions; then
     the same loop with the environment's work replayed (:func:`replay_one_step`) for ``api_floor_us``."""
-    import hivex_dsl
-    from hivex_dsl.evaluation.policies import random_policy
-    from hivex_dsl.sim.spaces import stack_agent_actions
+    from ..adapters.factory import parallel_env
+    from ..compiler import compile
+    from ..sim.spaces import stack_agent_actions
+    from .policies import random_policy
 
-    compiled = hivex_dsl.compile(f"{env_id}/main")
-    env = hivex_dsl.parallel_env(compiled)
+    compiled = compile(f"{env_id}/main")
+    env = parallel_env(compiled)
     names = list(env.possible_agents)
     draw = random_policy(env.core.sim.action_space, (ACTION_BLOCK, len(names)), np.random.default_rng(0))
     block = {"actions": None, "at": ACTION_BLOCK}
@@ -162,11 +163,12 @@ def replay_one_step(env: Any, actions: Any) -> None:
 
 def measure_vector(env_id: str, seconds: float, batch: int) -> Measurement:
     """Gymnasium vector env of ``batch`` worlds (autoreset included), random actions for every slot."""
-    import hivex_dsl
-    from hivex_dsl.evaluation.policies import random_policy
+    from ..adapters.factory import vector_env
+    from ..compiler import compile
+    from .policies import random_policy
 
-    compiled = hivex_dsl.compile(f"{env_id}/main")
-    env = hivex_dsl.vector_env(compiled, num_worlds=batch)
+    compiled = compile(f"{env_id}/main")
+    env = vector_env(compiled, num_worlds=batch)
     draw = random_policy(env.single_action_space, (env.num_envs,), np.random.default_rng(0))
 
     def step() -> bool:
@@ -203,7 +205,7 @@ def measure_reference(seconds: float) -> Measurement:
 
 def _child(kind: str, target: str, seconds: float, batch: int) -> dict[str, Any]:
     """Run one measurement in a fresh one-core process and return its fields."""
-    code = ("import json, sys; from hivex_dsl import bench; "
+    code = ("import json, sys; from hivex_dsl.evaluation import bench; "
             "print(json.dumps(bench._measure_here(*json.loads(sys.argv[1]))))")
     env = dict(os.environ, **ONE_CORE)
     out = subprocess.run([sys.executable, "-c", code, json.dumps([kind, target, seconds, batch])],

@@ -45,12 +45,12 @@ def _interleaved_us(first, second, seconds: float) -> tuple[float, float]:
 
 def measure(term: str, batch: int, seconds: float) -> dict[str, Any]:
     """Microseconds per step of the registered ``term`` and of its expression twin, on the same states."""
-    import hivex_dsl
-    from hivex_dsl.runtime.batched import BatchedEnv
+    from ..compiler import compile
+    from ..runtime import BatchedEnv
 
     name = f"{term}_expr"
-    compiled = hivex_dsl.compile({"hivex": 1, "environment": ENVIRONMENT, "terms": {name: {"expr": PAIRS[term]}},
-                                  "weights": {term: 1.0}})
+    compiled = compile({"hivex": 1, "environment": ENVIRONMENT, "terms": {name: {"expr": PAIRS[term]}},
+                        "weights": {term: 1.0}})
     env = BatchedEnv(compiled, batch=batch)
     env.reset(seed=0)
     prev = env.state
@@ -71,7 +71,7 @@ def measure(term: str, batch: int, seconds: float) -> dict[str, Any]:
 
 def run(seconds: float, repeats: int, env: dict[str, str]) -> list[dict[str, Any]]:
     """Every pair at every batch, each ``repeats`` times in a fresh process with ``env``; medians."""
-    code = ("import json, sys; from hivex_dsl import bench_expressions as b; "
+    code = ("import json, sys; from hivex_dsl.evaluation import bench_expressions as b; "
             "print(json.dumps(b.measure(*json.loads(sys.argv[1]))))")
     results = []
     for term in PAIRS:
