@@ -1,4 +1,10 @@
-"""PettingZoo and Gymnasium views of the batched runtime."""
+"""Layer 7, adapters (with zoo/): PettingZoo and Gymnasium views of the batched runtime, and the RL libraries' own.
+
+factory.py (``parallel_env``, ``vector_env``), pettingzoo.py and gymnasium.py (ParallelEnv and VectorEnv),
+flat.py and joint.py (flat and joint-action views), human.py (the window), registration.py (Gymnasium ids and
+PettingZoo's module convention), sb3.py, torchrl.py and benchmarl.py. Imports: base, lang, sim, compiler,
+runtime; an environment only through the registry.
+"""
 
 
 def module_doc(name: str) -> str:

@@ -1,8 +1,10 @@
-"""docs/ generated from the live code with jinja2: nothing in it is written by hand.
+"""Layer 10, docsgen: docs/ generated from the live code with jinja2: nothing in it is written by hand.
 
 Tables come from the registry, the reward tables, the term contracts, the params models, the
 real spaces of a compiled default scenario and the bundled scenario files. ``docs/.generated``
 lists every file this generator owns, so files it no longer produces can be removed safely.
+Imports: every layer below it (base, lang, sim, compiler, runtime, envs through the registry, adapters,
+evaluation, train); only the CLI imports docsgen.
 """
 
 from __future__ import annotations

@@ -1,4 +1,6 @@
-"""PettingZoo's module convention, one module per environment::
+"""Layer 7, adapters: zoo/ belongs to the adapters layer; it stays at ``hivex_dsl.zoo``, a public path.
+
+PettingZoo's module convention, one module per environment::
 
     from hivex_dsl.zoo import ocean_plastic_collection_v0
     env = ocean_plastic_collection_v0.parallel_env(task="plastic_collection", max_cycles=500)
@@ -7,7 +9,7 @@
 Each module has ``env(**kwargs)`` (AEC), ``parallel_env(**kwargs)``, ``raw_env`` (the AEC class) and
 takes ``scenario``, ``task``, ``level``, ``max_cycles`` (the episode length), ``render_mode``,
 ``split``, ``respawn`` and any top-level scenario field (see
-:func:`hivex_dsl.adapters.registration.make_scenario`).
+:func:`hivex_dsl.adapters.registration.make_scenario`). Imports: adapters (and, through them, the layers below).
 """
 
 from __future__ import annotations
