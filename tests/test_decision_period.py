@@ -249,14 +249,14 @@ def test_the_trainer_counts_decisions(tmp_path, monkeypatch):
 
 
 def test_the_audit_reads_a_terms_range_as_that_of_a_decisions_sum():
-    from hivex_dsl.evaluation.audit import _contract_flags, audit_scenario, decision_range
+    from hivex_dsl.evaluation.audit import audit_scenario, contract_flags, decision_range
 
     audit = audit_scenario(scenario(episode_length=100, decision_period=5), episodes=1)
     assert not audit.flags
     trace = audit.rollouts["scripted"].traces["generate_energy"]
     contract = next(c for c in audit.compiled.term_contracts if c.name == "generate_energy")
     assert trace.high > contract.high  # five steps of up to 1 each: read per step, the range would be broken
-    assert [f.kind for f in _contract_flags(contract, trace, "scripted", 1)] == ["contract_range"]
+    assert [f.kind for f in contract_flags(contract, trace, "scripted", 1)] == ["contract_range"]
     assert decision_range(contract, 5) == (0.0, 5.0)
 
 

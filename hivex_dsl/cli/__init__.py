@@ -24,7 +24,7 @@ FRAME_STEP = 10  # `hivex render`'s default: 61 frames of 600 decisions, 1.1 MB 
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    parser = _parser()
+    parser = build_parser()
     args = parser.parse_args(argv)
     try:
         code = args.handler(args)
@@ -61,7 +61,7 @@ def _reader_gone() -> int:
     return EXIT_PIPE
 
 
-def _parser() -> argparse.ArgumentParser:
+def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="hivex", description=DESCRIPTION)
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 

@@ -233,7 +233,7 @@ def _contracts(audit: ScenarioAudit) -> list[Flag]:
             trace = done.traces[term]
             if trace.live == 0:
                 continue
-            flags += _contract_flags(contract, trace, policy, audit.compiled.decision_period)
+            flags += contract_flags(contract, trace, policy, audit.compiled.decision_period)
     return flags
 
 
@@ -243,7 +243,7 @@ def decision_range(contract, period: int) -> tuple[float, float]:
     return min(contract.low, period * contract.low), max(contract.high, period * contract.high)
 
 
-def _contract_flags(contract, trace, policy: str, period: int = 1) -> list[Flag]:
+def contract_flags(contract, trace, policy: str, period: int = 1) -> list[Flag]:
     term, flags = contract.name, []
     low, high = decision_range(contract, period)
     if (contract.sign == "bonus" and trace.low < 0) or (contract.sign == "penalty" and trace.high > 0):

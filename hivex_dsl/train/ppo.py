@@ -185,14 +185,14 @@ def update(agent: ActorCritic, optimizer: torch.optim.Optimizer, buf: Rollout, a
                 nn.utils.clip_grad_norm_(params, cfg.max_grad_norm, foreach=True)
             optimizer.step()
             if curiosity is not None:
-                forward, inverse = _train_curiosity(*curiosity, mb, cfg)
+                forward, inverse = train_curiosity(*curiosity, mb, cfg)
                 losses.setdefault("curiosity_forward", []).append(forward)
                 losses.setdefault("curiosity_inverse", []).append(inverse)
             # kept as tensors: one .item() per minibatch each would sync a GPU
             for name, term in (("policy", policy_loss), ("value", value_loss), ("entropy", entropy)):
                 losses[name].append(term.detach())
             log_ratios.append(log_ratio.detach())
-    return {k: float(torch.stack(v).mean()) for k, v in losses.items()} | _ratio_stats(torch.cat(log_ratios), epsilon)
+    return {k: float(torch.stack(v).mean()) for k, v in losses.items()} | ratio_stats(torch.cat(log_ratios), epsilon)
 
 
 def update_data(buf: Rollout, advantages: torch.Tensor, returns: torch.Tensor, with_next_obs: bool = False
@@ -238,7 +238,7 @@ def ppo_loss(agent: ActorCritic, mb: dict[str, Any], beta: float, epsilon: float
     return policy_loss + 0.5 * value_loss - beta * entropy, (policy_loss, value_loss, entropy, log_ratio)
 
 
-def _ratio_stats(log_ratio: torch.Tensor, epsilon: float) -> dict[str, float]:
+def ratio_stats(log_ratio: torch.Tensor, epsilon: float) -> dict[str, float]:
     """Over every (epoch, sample) log probability ratio log(pi/pi_old) (N,): the approximate KL divergence
     from the rollout's policy, E[(r - 1) - log r] (CleanRL's k3 estimator), and the share of ratios clipped."""
     ratio = log_ratio.exp()
@@ -246,8 +246,8 @@ def _ratio_stats(log_ratio: torch.Tensor, epsilon: float) -> dict[str, float]:
             "clipfrac": float(((ratio - 1).abs() > epsilon).float().mean())}
 
 
-def _train_curiosity(module: Curiosity, optimizer: torch.optim.Optimizer, mb: dict[str, Any], cfg: PPOConfig
-                     ) -> tuple[torch.Tensor, torch.Tensor]:
+def train_curiosity(module: Curiosity, optimizer: torch.optim.Optimizer, mb: dict[str, Any], cfg: PPOConfig
+                    ) -> tuple[torch.Tensor, torch.Tensor]:
     """One gradient step of the curiosity module on a minibatch; -> its (forward, inverse) losses."""
     with forward_precision(cfg):
         total, forward, inverse = module.loss(mb["obs"], mb["next_obs"], mb["cont"], mb["disc"])

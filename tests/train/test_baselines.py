@@ -301,14 +301,14 @@ def test_a_committed_record_s_command_trains_with_its_hyperparameters(record):
     meant then)."""
     from hivex_dsl.train.checkpoint import action_space_of, older_defaults
 
-    from hivex_dsl.cli import _parser
+    from hivex_dsl.cli import build_parser
     from hivex_dsl.cli.train_commands import train_config
 
     data = json.loads(record.read_text())
     scenario = data.get("scenario") or data["sweep"]
     words = shlex.split(data["command"].splitlines()[0])
     assert words[:3] == ["hivex", "train", scenario]
-    now = train_config(data["environment"], _parser().parse_args(words[1:]))  # as `hivex train` reads it
+    now = train_config(data["environment"], build_parser().parse_args(words[1:]))  # as `hivex train` reads it
     then = older_defaults(data["hyperparameters"], action_space_of(compile_all(ROOT / scenario)[0]))
     assert now.model_dump() == PPOConfig(**then).model_dump()
 

@@ -13,7 +13,7 @@ from hivex_dsl.train.config import PPOConfig, make_config
 from hivex_dsl.train.curiosity import Curiosity
 from hivex_dsl.train.logs import EpisodeLog
 from hivex_dsl.train.networks import ActionLayout, ActorCritic, to_tensors
-from hivex_dsl.train.ppo import Rollout, _train_curiosity, advantages_and_returns, collect, gae
+from hivex_dsl.train.ppo import Rollout, advantages_and_returns, collect, gae, train_curiosity
 
 from .conftest import short_scenario
 
@@ -67,9 +67,9 @@ def test_training_lowers_the_forward_error_of_seen_transitions():
     optimizer = torch.optim.Adam(module.parameters(), lr=3e-3)
     obs, following, cont, disc = _transitions()
     batch = {"obs": obs, "next_obs": following, "cont": cont, "disc": disc}
-    first = [_train_curiosity(module, optimizer, batch, PPOConfig()) for _ in range(3)][0]
+    first = [train_curiosity(module, optimizer, batch, PPOConfig()) for _ in range(3)][0]
     for _ in range(300):
-        last = _train_curiosity(module, optimizer, batch, PPOConfig())
+        last = train_curiosity(module, optimizer, batch, PPOConfig())
     assert last[0] < 0.2 * first[0]  # forward loss
     assert last[1] < 0.5 * first[1]  # inverse loss: the action is readable from (s, s')
     assert bool(module.updated)

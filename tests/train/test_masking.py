@@ -14,7 +14,7 @@ from hivex_dsl.compiler import compile
 from hivex_dsl.train.config import make_config
 from hivex_dsl.train.logs import EpisodeLog
 from hivex_dsl.train.networks import ActorCritic, to_tensors
-from hivex_dsl.train.ppo import Rollout, _ratio_stats, acting_mask, collect, gae, update
+from hivex_dsl.train.ppo import Rollout, acting_mask, collect, gae, ratio_stats, update
 
 from .conftest import short_scenario
 
@@ -108,6 +108,6 @@ def test_every_valid_experience_is_trained_on_once_per_epoch():
 
 def test_ratio_statistics_by_hand():
     # ratios 1, 1.5, 0.5, 1.1: (r - 1) - log r = 0, 0.094535, 0.193147, 0.004690; |r - 1| > 0.2 for 1.5 and 0.5
-    stats = _ratio_stats(torch.log(torch.tensor([1.0, 1.5, 0.5, 1.1])), epsilon=0.2)
+    stats = ratio_stats(torch.log(torch.tensor([1.0, 1.5, 0.5, 1.1])), epsilon=0.2)
     assert stats["approx_kl"] == pytest.approx((0.0 + 0.094535 + 0.193147 + 0.004690) / 4, abs=1e-6)
     assert stats["clipfrac"] == 0.5
