@@ -1,0 +1,153 @@
+"""The public API the layered layout (issue 37) keeps: the package's names, hivex_dsl.testing, the zoo modules, the
+adapters, the `hivex` command, and every module path the README, docs/ and examples/ mentioned before the move."""
+
+from __future__ import annotations
+
+import importlib
+import inspect
+import pkgutil
+import re
+import subprocess
+import sys
+import warnings
+from pathlib import Path
+
+import pytest
+
+import hivex_dsl
+from hivex_dsl import _moved
+from hivex_dsl.lang.spec.catalogue import CATALOGUE
+
+ROOT = Path(__file__).resolve().parents[1]
+
+# Every hivex_dsl path that README.md, docs/ and examples/ named before the package took its layers.
+DOCUMENTED_BEFORE = """
+hivex_dsl.ActionError hivex_dsl.ResetNeeded hivex_dsl.ScenarioError hivex_dsl.compile hivex_dsl.compile_all
+hivex_dsl.parallel_env hivex_dsl.vector_env
+hivex_dsl.adapters.benchmarl hivex_dsl.adapters.benchmarl.OceanPlasticCollectionTask.GROUP_UP.get_task
+hivex_dsl.adapters.flat hivex_dsl.adapters.flat.flat_vector_env hivex_dsl.adapters.joint
+hivex_dsl.adapters.registration hivex_dsl.adapters.sb3 hivex_dsl.adapters.sb3.SB3VecEnv hivex_dsl.adapters.torchrl
+hivex_dsl.adapters.torchrl.torchrl_env
+hivex_dsl.compiler hivex_dsl.compiler.MAX_SWEEP_POINTS hivex_dsl.compiler.MAX_SWEEP_VALUES
+hivex_dsl.docsgen hivex_dsl.docsgen.ecosystem_matrix
+hivex_dsl.errors.ActionError hivex_dsl.expr.syntax.MAX_DEPTH hivex_dsl.expr.syntax.MAX_NESTING hivex_dsl.global_state
+hivex_dsl.loader.MAX_DEPTH hivex_dsl.loader.MAX_FILE_BYTES hivex_dsl.loader.MAX_NODES hivex_dsl.published.cell
+hivex_dsl.reward.composer.RETURN_LIMIT hivex_dsl.runtime.BatchedEnv hivex_dsl.spaces
+hivex_dsl.spec.common.MAX_SEED hivex_dsl.spec.common.MAX_WEIGHT hivex_dsl.spec.expressions.MAX_EXPRESSION_CHARS
+hivex_dsl.spec.scenario.MAX_EPISODE_LENGTH hivex_dsl.spec.scenario.MAX_SEEDS_PER_SPLIT
+hivex_dsl.testing hivex_dsl.train.baselines hivex_dsl.train.config hivex_dsl.train.evaluate hivex_dsl.train.plots
+hivex_dsl.train.ppo hivex_dsl.zoo
+""".split()
+
+
+def resolve(path: str) -> object:
+    """The object a dotted path names: its longest importable module, then attributes."""
+    parts = path.split(".")
+    for i in range(len(parts), 0, -1):
+        name = ".".join(parts[:i])
+        try:
+            found: object = importlib.import_module(name)
+        except ModuleNotFoundError as exc:
+            if not (exc.name or "").startswith("hivex_dsl"):
+                pytest.skip(f"{path} needs {exc.name}, not installed here")
+            continue  # no such module: the rest are attributes
+        for attribute in parts[i:]:
+            found = getattr(found, attribute)
+        return found
+    raise ModuleNotFoundError(path)
+
+
+def test_the_package_names():
+    assert sorted(hivex_dsl.__all__) == sorted(["ActionError", "CompiledScenario", "HivexError", "ResetNeeded",
+                                                "ScenarioError", "compile", "compile_all", "parallel_env",
+                                                "vector_env", "__version__"])
+    for name in ("compile", "compile_all", "parallel_env", "vector_env"):
+        assert callable(getattr(hivex_dsl, name)), name
+    for name in ("ScenarioError", "ActionError", "ResetNeeded"):
+        error = getattr(hivex_dsl, name)
+        assert inspect.isclass(error) and issubclass(error, hivex_dsl.HivexError), name
+    assert inspect.isclass(hivex_dsl.CompiledScenario) and isinstance(hivex_dsl.__version__, str)
+    assert issubclass(hivex_dsl.KeywordError, TypeError)
+
+
+def test_the_functions_keep_their_parameters():
+    parameters = {name: list(inspect.signature(getattr(hivex_dsl, name)).parameters)
+                  for name in ("compile", "compile_all", "parallel_env", "vector_env")}
+    assert parameters == {"compile": ["source"], "compile_all": ["source"],
+                          "parallel_env": ["scenario", "render_mode", "split", "respawn"],
+                          "vector_env": ["scenario", "num_worlds", "render_mode", "split", "autoreset_mode",
+                                         "unexpected"]}
+
+
+def test_the_compiler_and_runtime_packages_keep_their_public_names():
+    from hivex_dsl import compiler, runtime
+
+    assert compiler.compile is hivex_dsl.compile and compiler.compile_all is hivex_dsl.compile_all
+    assert compiler.CompiledScenario is hivex_dsl.CompiledScenario
+    assert compiler.MAX_SWEEP_POINTS > 0 and compiler.MAX_SWEEP_VALUES > 0
+    assert inspect.isclass(runtime.BatchedEnv) and inspect.isclass(runtime.StepOutcome)
+
+
+def test_hivex_dsl_testing_is_public_without_a_warning(monkeypatch):
+    monkeypatch.delitem(sys.modules, "hivex_dsl.testing", raising=False)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", DeprecationWarning)
+        testing = importlib.import_module("hivex_dsl.testing")
+    for name in ("term_inputs", "actions", "scenarios", "compiled_scenarios"):
+        assert callable(getattr(testing, name)), name
+
+
+@pytest.mark.parametrize("env_id", list(CATALOGUE))
+def test_every_zoo_module_has_the_pettingzoo_functions(env_id):
+    module = importlib.import_module(f"hivex_dsl.zoo.{env_id}_v0")
+    assert callable(module.env) and callable(module.parallel_env) and inspect.isclass(module.raw_env)
+
+
+@pytest.mark.parametrize("name", sorted(info.name for info in pkgutil.iter_modules(
+    [str(ROOT / "hivex_dsl" / "adapters")])))
+def test_every_adapter_module_imports(name):
+    resolve(f"hivex_dsl.adapters.{name}")
+
+
+def test_the_hivex_command_is_the_cli_main():
+    text = (ROOT / "pyproject.toml").read_text()
+    scripts = re.search(r"^\[project\.scripts\]\n(.*?)(?:\n\[|\Z)", text, re.M | re.S).group(1)
+    assert re.findall(r'^hivex = "(.*)"$', scripts, re.M) == ["hivex_dsl.cli:main"]
+    module, function = "hivex_dsl.cli:main".split(":")
+    main = getattr(importlib.import_module(module), function)
+    assert callable(main) and main(["list"]) == 0
+
+
+def test_python_dash_m_hivex_dsl_cli_runs_the_command():
+    done = subprocess.run([sys.executable, "-m", "hivex_dsl.cli", "--help"], capture_output=True, text=True)
+    assert done.returncode == 0 and done.stdout.startswith("usage: hivex"), done.stderr
+
+
+@pytest.mark.parametrize("path", DOCUMENTED_BEFORE)
+def test_a_path_the_docs_named_before_still_resolves(path):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", DeprecationWarning)
+        assert resolve(path) is not None
+
+
+def test_the_old_compiler_path_is_the_same_object():
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", DeprecationWarning)
+        assert resolve("hivex_dsl.compiler.compile") is resolve("hivex_dsl.compiler.dispatch.compile")
+        assert resolve("hivex_dsl.errors.ActionError") is hivex_dsl.ActionError
+        assert resolve("hivex_dsl.spaces") is importlib.import_module("hivex_dsl.sim.spaces")
+
+
+def _mentioned_now() -> list[str]:
+    files = [ROOT / "README.md", *sorted((ROOT / "docs").rglob("*.md")), *sorted((ROOT / "examples").glob("*.py"))]
+    found = {m for f in files for m in re.findall(r"hivex_dsl(?:\.[A-Za-z_]\w*)+", f.read_text())}
+    return sorted(found)
+
+
+@pytest.mark.parametrize("path", _mentioned_now())
+def test_every_path_the_docs_name_now_is_a_new_one_and_resolves(path):
+    parts = path.split(".")
+    prefixes = [".".join(parts[:i]) for i in range(2, len(parts) + 1)]
+    old = [p for p in prefixes if _moved.new_name(p) and not _moved.is_public(p)]
+    assert not old, f"{path}: an old path; write {_moved.new_name(old[0])}"
+    assert resolve(path) is not None
