@@ -10,6 +10,7 @@
 from __future__ import annotations
 
 import ast
+import re
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -183,3 +184,14 @@ def test_each_layer_says_what_it_holds_and_what_it_may_import(layer):
     assert doc.startswith(f"Layer {rank + 1}, {named}"), f"{NAME}/{layer}/__init__.py: its docstring starts " \
                                                          f"with 'Layer {rank + 1}, {named}'"
     assert "Imports:" in doc, f"{NAME}/{layer}/__init__.py: its docstring says which layers it imports ('Imports:')"
+
+
+@pytest.mark.parametrize("page, section", [("docs/architecture.md", "# Architecture"), ("README.md", "## Layout")])
+def test_the_architecture_page_and_the_readme_list_the_layers_in_order(page, section):
+    text = (PACKAGE.parent / page).read_text()
+    block = re.search(r"```\n(.*?)```", text[text.index(section):], re.S).group(1)
+    found = {layer: re.search(rf"(?<![\w/]){layer}/", block) for layer in LAYERS}
+    missing = [layer for layer, match in found.items() if match is None]
+    assert not missing, f"{page}: its tree does not name {missing}"
+    assert sorted(LAYERS, key=lambda layer: found[layer].start()) == list(LAYERS), \
+        f"{page}: its tree lists the layers out of order; bottom to top they are {', '.join(LAYERS)}"
