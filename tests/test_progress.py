@@ -1,5 +1,5 @@
-"""Progress bars (hivex_dsl.evaluation.progress): the time left on stderr where it is a terminal, nothing under --json or when
-stderr is piped or logged, for every long command."""
+"""Progress bars (hivex_dsl.evaluation.progress): the time left on stderr where it is a terminal, nothing under --json
+or when stderr is piped or logged, for every long command."""
 
 from __future__ import annotations
 

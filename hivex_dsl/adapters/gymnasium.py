@@ -39,8 +39,8 @@ seeded, and a seeded reset is deterministic).
 
 Global state (centralised critics): ``env.unwrapped.state()`` is every world's (num_worlds, K) float32 state at the
 last decision (``state(per_slot=True)``: (num_envs, K), each slot its world's row), ``single_state_space`` one
-world's Box and ``state_space`` the worlds'; see :mod:`hivex_dsl.runtime.global_state`. On demand rather than in the infos:
-nothing is computed for a consumer that does not ask, and a (num_worlds, K) array is no per-slot info. It matches
+world's Box and ``state_space`` the worlds'; see :mod:`hivex_dsl.runtime.global_state`. On demand rather than in the
+infos: nothing is computed for a consumer that does not ask, and a (num_worlds, K) array is no per-slot info. It matches
 the observations just returned: NEXT_STEP (the default) shows an ended slot's last observation and its world's last
 state, which a truncated episode bootstraps from; SAME_STEP shows the new first observation and the restarted world
 (the last state of a world that restarted is not kept there).
@@ -59,11 +59,11 @@ import numpy as np
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
-from ..sim.action_arrays import Unreadable, as_array
-from ..compiler import CompiledScenario
 from ..base.errors import ActionError, HivexError, is_integer
-from ..runtime.global_state import GlobalState
+from ..compiler import CompiledScenario
 from ..runtime.batched import BatchedEnv, Split, Transition
+from ..runtime.global_state import GlobalState
+from ..sim.action_arrays import Unreadable, as_array
 from ..sim.spaces import check_slot_actions
 from .human import Rendering, available_render_modes, check_render_mode
 
@@ -165,7 +165,8 @@ class HivexVectorEnv(Rendering, VectorEnv):
 
     def state(self, per_slot: bool = False) -> np.ndarray:
         """(num_worlds, K) float32: every world's global state at the last decision (see the module and
-        :mod:`hivex_dsl.runtime.global_state`); ``per_slot``: (num_envs, K), slot s holding its world's (s // agents)."""
+        :mod:`hivex_dsl.runtime.global_state`); ``per_slot``: (num_envs, K), slot s holding its world's
+        (s // agents)."""
         states = self.global_state(self.core)
         return np.repeat(states, self.agents_per_world, axis=0) if per_slot else states
 

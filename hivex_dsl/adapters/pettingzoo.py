@@ -7,10 +7,10 @@ from typing import Any, Optional
 import numpy as np
 from pettingzoo import ParallelEnv
 
-from ..compiler import CompiledScenario
 from ..base.errors import ResetNeeded
-from ..runtime.global_state import GlobalState
+from ..compiler import CompiledScenario
 from ..runtime.batched import BatchedEnv, Split
+from ..runtime.global_state import GlobalState
 from ..sim.spaces import stack_agent_actions
 from .human import Rendering, available_render_modes, check_render_mode
 

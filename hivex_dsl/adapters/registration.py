@@ -16,10 +16,10 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any, Optional
 
-from ..compiler import CompiledScenario, compile
 from ..base.errors import is_integer
-from ..lang.loader import load_file
 from ..base.resources import data_dir, resolve_scenario_path
+from ..compiler import CompiledScenario, compile
+from ..lang.loader import load_file
 from ..lang.spec.catalogue import CATALOGUE
 
 NAMESPACE = "hivex"

@@ -8,16 +8,16 @@ from pathlib import Path
 from typing import Any
 
 from .. import compiler
+from ..base.resources import bundled_scenarios
 from ..compiler import registry
 from ..lang import loader
-from ..base.resources import bundled_scenarios
 from ..lang.expr import syntax
-from ..sim.reward.composer import RETURN_LIMIT
 from ..lang.spec import scenario as scenario_spec
 from ..lang.spec.catalogue import CATALOGUE
 from ..lang.spec.common import MAX_SEED, MAX_WEIGHT, SCHEMA_VERSION
 from ..lang.spec.expressions import MAX_EXPRESSION_CHARS
 from ..lang.spec.reward_table import RewardTable, TaskColumn
+from ..sim.reward.composer import RETURN_LIMIT
 from .expressions import expression_language_context, vocabulary_context
 from .fields import field_rows, num, show_value, source_tag
 from .pages import SCHEMA_FILE, env_page

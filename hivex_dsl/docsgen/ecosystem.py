@@ -8,9 +8,9 @@ import inspect
 import json
 from pathlib import Path
 
-from ..compiler import registry
 from ..adapters import flat, joint, gymnasium as vector_adapter, module_doc, pettingzoo as parallel_adapter
 from ..adapters.registration import bundled_scenarios, camel
+from ..compiler import registry
 from .ecosystem_matrix import matrix_context
 
 OVERHEAD_FILE = "benchmarks/results/ecosystem.json"  # benchmarks/ecosystem_overhead.py writes it

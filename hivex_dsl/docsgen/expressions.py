@@ -5,12 +5,12 @@ from __future__ import annotations
 from typing import Any
 
 from .. import compiler
+from ..base.resources import bundled_scenarios
 from ..compiler import registry
 from ..lang.expr import describe_grammar
-from ..base.resources import bundled_scenarios
-from ..sim.reward.vocabulary import vocabulary_of
 from ..lang.spec.common import SCHEMA_VERSION
 from ..lang.spec.expressions import ExpressionTermSpec, ShapingSpec, WeightSchedule
+from ..sim.reward.vocabulary import vocabulary_of
 from .fields import field_rows, num, schema_type
 from .pages import env_page
 

@@ -5,8 +5,8 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any, Optional
 
-from ..evaluation import published
 from ..compiler import registry
+from ..evaluation import published
 from ..evaluation.audit import AUDIT_POLICIES
 
 TRIVIAL_POLICIES = ("zeros", "random")

@@ -6,8 +6,8 @@ from typing import Any
 
 from gymnasium import spaces
 
-from ..sim.spaces import describe_space, flat_size
 from ..lang.spec.catalogue import EnvironmentInfo
+from ..sim.spaces import describe_space, flat_size
 from .fields import num
 
 VECTOR_COMPONENT_SUFFIXES = ("x", "y", "z")
@@ -88,8 +88,8 @@ def specification(info: EnvironmentInfo, compiled: Any, simulator: Any) -> list[
 
 
 def global_state_table(compiled: Any, simulator: Any) -> dict[str, Any]:
-    """The global state's components (hivex_dsl.runtime.global_state) for the default scenario: its size, and per component
-    the indices it takes, whether it repeats per agent, its range and meaning."""
+    """The global state's components (hivex_dsl.runtime.global_state) for the default scenario: its size, and per
+    component the indices it takes, whether it repeats per agent, its range and meaning."""
     from ..runtime.global_state import GlobalState
 
     state = GlobalState(simulator, compiled.agents, compiled.episode_length)

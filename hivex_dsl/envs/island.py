@@ -14,20 +14,20 @@ from typing import Any, Callable, Literal
 import numpy as np
 from pydantic import Field
 
+from ..compiler.registry import GeneratorSlot
+from ..runtime.global_state import StateComponent
+from ..sim.batching import put_worlds, replace_worlds, select_worlds
+from ..sim.fire import FireState, fire_put_worlds, fire_reset
 from ..sim.procgen.forest import (ForestSpec, IgnitionSpec, cell_centre_xy, ignition_candidates, load_forest_preset,
                                   place_forest, rank_by_weather, ranked_ignition_mask)
 from ..sim.procgen.terrain import TerrainSpec, generate_terrain, terrain_spec_for_level
 from ..sim.procgen.weather import WeatherSpec, WeatherState, load_weather_preset, weather_fields
-from ..sim.batching import put_worlds, replace_worlds, select_worlds
-from ..sim.fire import FireState, fire_put_worlds, fire_reset
 from ..sim.procgen.weather import weather_reset
 from ..sim.procgen.wind import WindSpec, WindState, wind_reset
-from ..runtime.global_state import StateComponent
-from ..compiler.registry import GeneratorSlot
 
 
-# The wind and fire facts of an island world's global state (hivex_dsl.runtime.global_state), first in both environments'
-# world facts; fire_summary (hivex_dsl.sim.fire.summary) computes the fire's five.
+# The wind and fire facts of an island world's global state (hivex_dsl.runtime.global_state), first in both
+# environments' world facts; fire_summary (hivex_dsl.sim.fire.summary) computes the fire's five.
 ISLAND_STATE_COMPONENTS = (
     StateComponent("main wind", 2, -1.0, 1.0, "Direction the main wind blows to (cos, sin); fire spreads "
                    "downwind."),

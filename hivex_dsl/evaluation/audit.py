@@ -38,12 +38,12 @@ from typing import Any, Callable, Optional, Sequence, TextIO, Union
 
 import numpy as np
 
-from . import published
 from ..compiler import CompiledScenario
+from ..lang.spec.catalogue import CATALOGUE
+from . import published
 from .policies import Policy
 from .progress import EpisodeBar, bar
 from .rollout import Rollout, rollout
-from ..lang.spec.catalogue import CATALOGUE
 
 AUDIT_POLICIES = ("zeros", "random", "scripted")
 TRIVIAL = ("zeros", "random")  # the policies that should not beat the paper's trained PPO

@@ -15,12 +15,12 @@ import json
 from pathlib import Path
 from typing import Any, Optional, TextIO
 
-from . import published
+from ..base.resources import data_dir
 from ..compiler import registry
-from .audit import audit_all
 from ..compiler import CompiledScenario, compile as compile_scenario
 from ..lang.loader import load_file
-from ..base.resources import data_dir
+from . import published
+from .audit import audit_all
 
 FIDELITY_VERSION = 1
 FIDELITY_FILE = "benchmarks/results/fidelity.json"

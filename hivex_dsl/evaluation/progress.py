@@ -38,8 +38,8 @@ def echo(text: str, stream: Optional[TextIO] = None) -> None:
 
 
 class EpisodeBar:
-    """What :func:`hivex_dsl.evaluation.rollout.rollout` reports of its episodes, on ``shown``, a bar over decisions: each
-    episode counts as ``decisions`` long (the most it can last), and one that ends early jumps to its end.
+    """What :func:`hivex_dsl.evaluation.rollout.rollout` reports of its episodes, on ``shown``, a bar over decisions:
+    each episode counts as ``decisions`` long (the most it can last), and one that ends early jumps to its end.
 
     ``say`` (optional) is called with each finished episode's line (``hivex run`` prints them on stderr)."""
 

@@ -9,10 +9,10 @@ from typing import Any, Callable, Iterator, Optional, TextIO
 import numpy as np
 
 from ..compiler import CompiledScenario
-from .policies import make_policy
-from .progress import EpisodeBar, bar, echo
 from ..runtime.batched import BatchedEnv, Split
 from ..sim.spaces import check_actions, describe_space
+from .policies import make_policy
+from .progress import EpisodeBar, bar, echo
 
 
 def _fmt(value: object) -> str:

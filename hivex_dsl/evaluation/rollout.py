@@ -13,9 +13,9 @@ from typing import Optional
 import numpy as np
 
 from ..compiler import CompiledScenario
-from .policies import Policy, make_policy
 from ..runtime.batched import BatchedEnv, Split
 from ..sim.spaces import check_actions
+from .policies import Policy, make_policy
 
 
 @dataclass
@@ -66,8 +66,8 @@ def rollout(compiled: CompiledScenario, policy: str | Policy, episodes: int, spl
     Every policy given the same split and ``seed`` plays the same episodes, so their returns compare.
 
     ``seed`` (optional) restarts the split's seed stream and seeds the random policy (0 otherwise);
-    ``progress`` (a :class:`hivex_dsl.evaluation.progress.EpisodeBar`) is told of steps and episodes. The policy acts once per
-    decision (every ``decision_period`` physics steps); its steps are decisions.
+    ``progress`` (a :class:`hivex_dsl.evaluation.progress.EpisodeBar`) is told of steps and episodes. The policy
+    acts once per decision (every ``decision_period`` physics steps); its steps are decisions.
     """
     core = BatchedEnv(compiled, batch=1, split=split)
     space = core.sim.action_space

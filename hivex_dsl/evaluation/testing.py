@@ -34,12 +34,12 @@ except ImportError as exc:  # pragma: no cover - depends on the installation
     raise ImportError("hivex_dsl.testing needs hypothesis: pip install 'hivex-dsl[testing]'") from exc
 from gymnasium import spaces
 
+from ..base.errors import ScenarioError
 from ..compiler import registry
 from ..compiler import CompiledScenario, compile as compile_scenario
-from ..base.errors import ScenarioError
-from .policies import random_policy
 from ..runtime.batched import BatchedEnv
 from ..sim.spaces import check_actions
+from .policies import random_policy
 
 MAX_SEED = 2**32 - 1
 SMALL_AGENTS = 4  # default upper bound of drawn agent counts: rollouts stay cheap

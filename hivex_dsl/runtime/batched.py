@@ -14,13 +14,13 @@ from typing import Any, Literal, NamedTuple, Optional, Protocol
 import numpy as np
 from gymnasium import spaces
 
-from ..compiler import CompiledScenario
 from ..base.errors import ResetNeeded
 from ..base.numeric import all_true, constant
+from ..compiler import CompiledScenario
 from ..sim.reward.composer import RewardComposer
-from .seeding import SeedSchedule
 from ..sim.spaces import hold_inactive, placeholder_actions
 from ..sim.statistics import StatisticSet, episode_statistics
+from .seeding import SeedSchedule
 
 Split = Literal["train", "test"]
 _ZERO = constant(0.0)  # rewards and terms are float64 (see hivex_dsl.base.numeric)

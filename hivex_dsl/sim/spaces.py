@@ -8,8 +8,8 @@ from typing import Any, Callable, Mapping, Sequence
 import numpy as np
 from gymnasium import spaces
 
-from .action_arrays import NUMBER_KINDS, Unreadable, as_array, holds_a_boolean, short
 from ..base.errors import ActionError
+from .action_arrays import NUMBER_KINDS, Unreadable, as_array, holds_a_boolean, short
 
 
 def describe_space(space: spaces.Space) -> str:

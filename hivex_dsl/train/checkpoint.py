@@ -13,8 +13,8 @@ from typing import Any, Iterator, Mapping
 import torch
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
-from ..compiler import CompiledScenario, compile
 from ..base.errors import ScenarioError, got
+from ..compiler import CompiledScenario, compile
 from ..lang.spec.validate import describe
 from .config import PPOConfig, TrainError
 from .devices import torch_device

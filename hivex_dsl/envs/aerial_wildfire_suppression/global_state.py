@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...sim.fire.summary import FIRE_FACTS, SQRT2, fire_summary, nearest_burning_distance
 from ...runtime.global_state import StateComponent
+from ...sim.fire.summary import FIRE_FACTS, SQRT2, fire_summary, nearest_burning_distance
 from ..island import ISLAND_STATE_COMPONENTS
 from .types import AerialWildfireState
 

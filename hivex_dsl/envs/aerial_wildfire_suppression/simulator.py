@@ -9,13 +9,14 @@ from typing import NamedTuple
 import numpy as np
 from gymnasium import spaces
 
+from ...base.numeric import and_not, clamp, constant
+from ...runtime.batched import StepOutcome
 from ...sim.batching import assemble, read_only, replace_worlds
 from ...sim.fire import any_burning, douse, fire_step_unchecked
 from ...sim.fire.search import closest_burning_at
-from ...base.numeric import and_not, clamp, constant
 from ...sim.procgen.weather import weather_step
 from ...sim.procgen.wind import wind_step, wrap_angle
-from ...runtime.batched import StepOutcome
+from ..island import SEA, IslandMaps, IslandSpecs, grid_lookup, restart_where, start_islands, weather_reader
 from .camera import pixel_offsets
 from .global_state import state_components, world_state
 from .params import CAMERA_PIXELS, AerialWildfireParams
@@ -23,7 +24,6 @@ from .respawn import respawn_where
 from .types import AerialWildfireState, Sighting
 from .view import (build_look, frame_template, is_tiled, plane_cameras, redraw_cells, redraw_fire_step, view_frame,
                    window_cells)
-from ..island import SEA, IslandMaps, IslandSpecs, grid_lookup, restart_where, start_islands, weather_reader
 
 PICKUP_EVENT = "picked_up_water"
 # Events of one plane; a task that ends on one of them takes that plane out of the game (see _sense).

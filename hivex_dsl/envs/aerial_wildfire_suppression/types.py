@@ -7,9 +7,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...sim.fire import FireState
-from ..island import IslandMaps
 from ...sim.procgen.weather import WeatherState
 from ...sim.procgen.wind import WindState
+from ..island import IslandMaps
 
 
 @dataclass(frozen=True)

@@ -2,10 +2,10 @@
 
 from __future__ import annotations
 
-from ...sim.procgen.forest import ForestSpec
-from ...sim.procgen.terrain import TerrainSpec
 from ...compiler.registry import EnvironmentEntry, GeneratorSlot, register
 from ...lang.spec.catalogue import CATALOGUE
+from ...sim.procgen.forest import ForestSpec
+from ...sim.procgen.terrain import TerrainSpec
 from .params import DroneBasedReforestationParams, forest_preset, terrain_preset
 from .scripted import scripted_policy
 from .simulator import DroneReforestationSimulator, world_problems

@@ -10,9 +10,9 @@ from __future__ import annotations
 
 from pydantic import Field, model_validator
 
+from ...lang.spec.common import StrictModel
 from ...sim.procgen.forest import ForestSpec
 from ...sim.procgen.terrain import TerrainSpec, terrain_spec_for_level
-from ...lang.spec.common import StrictModel
 
 
 class DroneBasedReforestationParams(StrictModel):

@@ -10,12 +10,12 @@ from __future__ import annotations
 import numpy as np
 from gymnasium import spaces
 
-from ...sim.batching import evolve, read_only, replace_worlds
 from ...base.numeric import all_true, clamp
+from ...runtime.batched import StepOutcome
+from ...sim.batching import evolve, read_only, replace_worlds
 from ...sim.procgen.forest import ForestSpec, place_forest
 from ...sim.procgen.terrain import TerrainSpec, generate_terrain
 from ...sim.procgen.wind import wrap_angle
-from ...runtime.batched import StepOutcome
 from .camera import NEW_TREE_GRAY, STATION_GRAY, TREE_GRAY, Raster, camera_images, ground_shade, stamp_disks, to_byte
 from .fertility import (FAR_M, Grid, GridSet, distance_reward, fertility, forest_grid, interpolation_matrix,
                         nearest_new_tree_distance, nearest_tree_distance, same_step_distance, sample_bilinear,

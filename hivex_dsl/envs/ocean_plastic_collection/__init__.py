@@ -2,9 +2,9 @@
 
 from __future__ import annotations
 
-from ...sim.procgen.pollution import PollutionSpec, SpawnSpec, load_pollution_preset, spawn_problem
 from ...compiler.registry import EnvironmentEntry, GeneratorSlot, register
 from ...lang.spec.catalogue import CATALOGUE
+from ...sim.procgen.pollution import PollutionSpec, SpawnSpec, load_pollution_preset, spawn_problem
 from .params import OceanPlasticCollectionParams
 from .scripted import scripted_policy
 from .simulator import OceanPlasticSimulator

@@ -15,11 +15,11 @@ from typing import NamedTuple
 import numpy as np
 from gymnasium import spaces
 
+from ...base.numeric import all_true, clamp
+from ...runtime.batched import StepOutcome
 from ...sim.batching import assemble, read_only, replace_worlds
 from ...sim.procgen.pollution import PollutionSpec, SpawnSpec, pollution_map, sample_pebbles, spawn_vessels
 from ...sim.procgen.wind import wrap_angle
-from ...base.numeric import all_true, clamp
-from ...runtime.batched import StepOutcome
 from .camera import CAMERA_CELLS, Geometry, Sensing, as_pairs, build_field, sense
 from .global_state import state_components, world_state
 from .neighbours import neighbour_distances

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...sim.fire.summary import FIRE_FACTS, fire_summary
 from ...runtime.global_state import StateComponent
+from ...sim.fire.summary import FIRE_FACTS, fire_summary
 from ..island import ISLAND_STATE_COMPONENTS
 from .types import WildfireResourceState
 

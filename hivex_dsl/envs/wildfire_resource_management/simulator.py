@@ -14,12 +14,12 @@ from dataclasses import replace
 import numpy as np
 from gymnasium import spaces
 
+from ...base.numeric import clamp
+from ...runtime.batched import StepOutcome
 from ...sim.batching import assemble, read_only, replace_worlds
 from ...sim.fire import FactorGrid, count_factors, fire_step_unchecked, grid_cell_table
-from ...base.numeric import clamp
 from ...sim.procgen.weather import weather_step
 from ...sim.procgen.wind import wind_step
-from ...runtime.batched import StepOutcome
 from ..island import (IslandMaps, IslandSpecs, grid_lookup, restart_where, sample_points, start_islands,
                       weather_grid_points)
 from .global_state import state_components, world_state

@@ -2,9 +2,9 @@
 
 from __future__ import annotations
 
-from ...sim.procgen.layouts import layout_problem
 from ...compiler.registry import EnvironmentEntry, register
 from ...lang.spec.catalogue import CATALOGUE
+from ...sim.procgen.layouts import layout_problem
 from .layouts_preset import load_layout_preset
 from .params import WindFarmControlParams
 from .scripted import scripted_policy

@@ -6,9 +6,9 @@ from typing import Literal
 
 from pydantic import Field
 
+from ...lang.spec.common import SCHEMA_VERSION, StrictModel
 from ...sim.procgen.layouts import PATTERN_NAMES
 from ...sim.procgen.presets import load_preset
-from ...lang.spec.common import SCHEMA_VERSION, StrictModel
 
 
 PRESET_FILE = "wind_farm_control_layouts.yaml"

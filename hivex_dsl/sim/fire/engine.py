@@ -26,9 +26,9 @@ from dataclasses import dataclass
 import numpy as np
 from pydantic import Field
 
+from ...lang.spec.common import StrictModel
 from ..batching import put_worlds
 from ..procgen.forest import ForestSpec
-from ...lang.spec.common import StrictModel
 
 
 class TreeState(enum.IntEnum):

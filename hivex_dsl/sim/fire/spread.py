@@ -18,8 +18,8 @@ from typing import Callable
 
 import numpy as np
 
-from ..procgen.wind import TWO_PI
 from ..batching import assemble
+from ..procgen.wind import TWO_PI
 from .engine import BURNING, BURNT, EXISTING, FireSpec, FireState, vector
 from .factors import FactorGrid, factor_count
 

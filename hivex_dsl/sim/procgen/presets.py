@@ -6,8 +6,8 @@ from typing import TypeVar
 
 from pydantic import BaseModel
 
-from ...lang.loader import load_file
 from ...base.resources import data_dir
+from ...lang.loader import load_file
 from ...lang.spec.validate import validate_loaded
 
 M = TypeVar("M", bound=BaseModel)

@@ -17,9 +17,9 @@ from typing import Any, Literal
 import numpy as np
 from pydantic import Field
 
-from ..batching import assemble
 from ...base.numeric import all_true, clamp
 from ...lang.spec.common import SCHEMA_VERSION, StrictModel
+from ..batching import assemble
 from .noise import blend_corners, draw_lattice, octave_frequencies, sum_octaves
 from .presets import load_preset
 

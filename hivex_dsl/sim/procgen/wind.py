@@ -17,9 +17,9 @@ from typing import Any
 import numpy as np
 from pydantic import Field
 
-from ..batching import assemble, replace_worlds, select_worlds
 from ...base.numeric import constant
 from ...lang.spec.common import StrictModel
+from ..batching import assemble, replace_worlds, select_worlds
 from .noise import blend_corners, corner_gradients, draw_lattice, octave_frequencies, sum_octaves
 
 TWO_PI = 2.0 * np.pi

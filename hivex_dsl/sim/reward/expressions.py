@@ -19,8 +19,8 @@ from ...base.errors import Location, Problem, ScenarioError
 from ...lang.expr import Expression, ExpressionError, compile_expression, timed_calls
 from ...lang.spec.expr_location import traced_location
 from ...lang.spec.expression_keys import split_ends_on
-from ...lang.spec.validate import dotted
 from ...lang.spec.expressions import ExpressionTermSpec, ShapingSpec
+from ...lang.spec.validate import dotted
 from .terms import RewardTerm, TermContract, TermRegistry
 from .vocabulary import QuantityFeed, Vocabulary, vocabulary_of
 
