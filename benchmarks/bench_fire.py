@@ -22,8 +22,10 @@ from typing import Callable
 
 import numpy as np
 
-from hivex_dsl.sim.fire import (FactorGrid, FireSpec, FireState, TreeState, burning_count, closest_burning,
-                                count_factors, douse, fire_copy, fire_step, grid_cell_table)
+from hivex_dsl.sim.fire import (
+    FactorGrid, FireSpec, FireState, TreeState, burning_count, closest_burning, count_factors, douse, fire_copy,
+    fire_step, grid_cell_table,
+)
 
 CELLS = 400
 DENSITY = 0.6

@@ -14,8 +14,9 @@ import numpy as np
 import pytest
 from pydantic import ValidationError
 
-from hivex_dsl.sim.fire import (FireSpec, TreeState, burning_count, cell_coords, cell_xy, fire_reset, fire_reset_where,
-                                fire_step, length_in_cells)
+from hivex_dsl.sim.fire import (
+    FireSpec, TreeState, burning_count, cell_coords, cell_xy, fire_reset, fire_reset_where, fire_step, length_in_cells,
+)
 from hivex_dsl.sim.procgen.forest import ForestSpec, cell_centres
 
 SYMBOLS = {".": TreeState.NONE, "T": TreeState.EXISTING, "B": TreeState.BURNING}

@@ -16,8 +16,10 @@ from pydantic import ValidationError
 
 from hivex_dsl.envs.island import grid_lookup, ignition_of
 
-from hivex_dsl.sim.procgen.forest import (ForestPreset, ForestSpec, IgnitionSpec, ignition_mask, load_forest_preset,
-                                          place_forest, rank_ignition_cells, select_ignition)
+from hivex_dsl.sim.procgen.forest import (
+    ForestPreset, ForestSpec, IgnitionSpec, ignition_mask, load_forest_preset, place_forest, rank_ignition_cells,
+    select_ignition,
+)
 from hivex_dsl.sim.procgen.presets import load_preset
 
 SPEC = ForestSpec()

@@ -8,8 +8,16 @@ import numpy as np
 import pytest
 from pydantic import ValidationError
 
-from hivex_dsl.sim.procgen.pollution import (PollutionPreset, PollutionSpec, SpawnSpec, load_pollution_preset,
-                                             pollution_map, sample_pebbles, spawn_problem, spawn_vessels)
+from hivex_dsl.sim.procgen.pollution import (
+    PollutionPreset,
+    PollutionSpec,
+    SpawnSpec,
+    load_pollution_preset,
+    pollution_map,
+    sample_pebbles,
+    spawn_problem,
+    spawn_vessels,
+)
 from hivex_dsl.sim.procgen.presets import load_preset
 
 H = 200.0  # [orig] world half extent in metres (ENVIRONMENTS.md)

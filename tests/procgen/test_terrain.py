@@ -8,8 +8,14 @@ import numpy as np
 import pytest
 
 from hivex_dsl.sim.procgen.noise import draw_lattice, fractal2d
-from hivex_dsl.sim.procgen.terrain import (Terrain, TerrainSpec, generate_terrain, height_multiplier_for_level,
-                                           load_terrain_preset, terrain_spec_for_level)
+from hivex_dsl.sim.procgen.terrain import (
+    Terrain,
+    TerrainSpec,
+    generate_terrain,
+    height_multiplier_for_level,
+    load_terrain_preset,
+    terrain_spec_for_level,
+)
 
 # round(8 + (level - 1) * 22 / 9) worked by hand: 8, 10.44, 12.89, 15.33, 17.78, 20.22, 22.67, 25.11, 27.56, 30
 HAND_MULTIPLIERS = [8, 10, 13, 15, 18, 20, 23, 25, 28, 30]

@@ -7,8 +7,15 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from hivex_dsl.sim.procgen.weather import (FIELDS, WeatherSpec, load_weather_preset, weather_at, weather_reset,
-                                           weather_reset_where, weather_step)
+from hivex_dsl.sim.procgen.weather import (
+    FIELDS,
+    WeatherSpec,
+    load_weather_preset,
+    weather_at,
+    weather_reset,
+    weather_reset_where,
+    weather_step,
+)
 
 SPEC = WeatherSpec()
 
