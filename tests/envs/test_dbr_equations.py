@@ -16,6 +16,7 @@ from hivex_dsl.rollout import rollout
 from hivex_dsl.envs.drone_based_reforestation.camera import NEW_TREE_GRAY, to_byte
 from hivex_dsl.envs.drone_based_reforestation.fertility import (FAR_M, distance_reward, sample_bilinear, seed_reward,
                                                                 tree_distance_raster)
+from hivex_dsl.envs.drone_based_reforestation.statistics import distance_to_existing_trees
 from hivex_dsl.reward.composer import RewardComposer
 
 ENV = "drone_based_reforestation"
@@ -106,6 +107,22 @@ def test_a_drop_on_a_poor_spot_pays_nothing_and_plants_a_tree_of_quality_0(drone
     assert term(compiled, "drop_seed", state, new, act(drop=1))[0, 0] == 0.0, why
     assert new.dropped[0, 0] and not new.holding[0, 0]
     assert new.new_count[0] == 1 and new.new_quality[0, 0] == 0.0
+
+
+@pytest.mark.parametrize("trees, logged", [
+    ([(62.0, 2.0), (-100.0, 2.0)], 12.0),  # within dot_max: the det the drop's reward used
+    ([(130.0, 2.0), (-150.0, 2.0)], 80.0),  # beyond dot_max (no reward), still measured: the nearest of the two
+    ([(50.0, 98.0)], 96.0),  # one tree 96 m away, straight north of the drop
+    ([], 0.0),  # a world without trees has no distance to log
+])
+def test_cumulative_distance_to_existing_trees_logs_each_drops_det_at_any_distance(trees, logged):
+    compiled, sim = simulator()
+    state = hand_world(sim, [(50.0, 2.0, 10.0)], trees=trees)
+    new, _ = sim.step(state, act(drop=1), np.random.default_rng(1))
+    assert new.dropped[0, 0]
+    assert distance_to_existing_trees(state, new, act(drop=1), compiled.params)[0, 0] == pytest.approx(logged)
+    after, _ = sim.step(new, act(), np.random.default_rng(2))  # no drop: nothing logged
+    assert distance_to_existing_trees(new, after, act(), compiled.params)[0, 0] == 0.0
 
 
 def test_a_seed_within_2_5_m_of_a_planted_tree_has_no_quality_and_one_3_m_away_has():

@@ -8,6 +8,7 @@ presets (the shared AWS/WRM recipes scaled to the 400 m world) are at the end of
 
 from __future__ import annotations
 
+import numpy as np
 from pydantic import Field, model_validator
 
 from ...procgen.forest import ForestSpec
@@ -117,3 +118,26 @@ def terrain_preset(level: int | None) -> TerrainSpec:
 def forest_preset(level: int | None) -> ForestSpec:
     """The existing forest; the same rule at every level (the terrain's height makes the difference)."""
     return ForestSpec(**DBR_FOREST)
+
+
+def world_problems(compiled) -> list[tuple[tuple, str]]:
+    """The terrain and forest must describe the paper's world the rewards are scaled to."""
+    t, f, p = compiled.generators["terrain"], compiled.generators["forest"], compiled.params
+    problems = []
+    if t.village_half_range_m != 0.0:
+        problems.append((("generators", "terrain", "village_half_range_m"),
+                         f"{t.village_half_range_m:g}: the drone station sits at the centre of the world; expected 0"))
+    if t.extent_m > 400.0:
+        problems.append((("generators", "terrain", "extent_m"),
+                         f"{t.extent_m:g} m: the world may be at most the paper's 400 m across (half extent 200 m), "
+                         "the scale of its distance rewards"))
+    if not np.isclose(t.extent_m, 2.0 * f.half_extent_m):
+        problems.append((("generators", "forest", "half_extent_m"),
+                         f"{f.half_extent_m:g} m: the forest grid must cover the terrain, half of extent_m "
+                         f"({t.extent_m / 2.0:g} m)"))
+    peak = t.height_multiplier * t.metres_per_multiplier
+    if peak + p.min_clearance_m >= p.height_bound_m:
+        problems.append((("generators", "terrain", "metres_per_multiplier"),
+                         f"peaks reach {peak:g} m at this terrain level; with min_clearance_m {p.min_clearance_m:g} "
+                         f"they must stay below the height bound {p.height_bound_m:g} m"))
+    return problems

@@ -42,5 +42,6 @@ def respawn_where(sim, state: DroneState, mask: np.ndarray, rng: np.random.Gener
                   back_init=state.back_init * off, back_best=state.back_best * off,
                   back_multiplier=state.back_multiplier * off, flown=state.flown * off, dropped=state.dropped & off,
                   seed_reward=state.seed_reward * off, distance_reward=state.distance_reward * off,
+                  drop_tree_distance=state.drop_tree_distance * off,
                   returned=state.returned & off, found_tree=state.found_tree & off,
                   running_back=state.running_back * off, frames=np.where(mask[..., None], first, state.frames))

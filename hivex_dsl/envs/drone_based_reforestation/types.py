@@ -47,6 +47,7 @@ class DroneState:
     dropped: np.ndarray  # (B, A) bool, released a seed (planted as a new tree at the ground below)
     seed_reward: np.ndarray  # (B, A) r_s of the drop
     distance_reward: np.ndarray  # (B, A) r_d of the drop
+    drop_tree_distance: np.ndarray  # (B, A) det of the drop: metres to the nearest existing tree, at any distance
     returned: np.ndarray  # (B, A) bool, arrived back at the station (and picked up a seed if it had none)
     found_tree: np.ndarray  # (B, A) bool, an existing tree within close_tree_radius_m
     running_back: np.ndarray  # (B, A) r_rb paid this step
