@@ -36,6 +36,7 @@ def respawn_where(sim, state: DroneState, mask: np.ndarray, rng: np.random.Gener
     return evolve(state, position=position, heading=heading, ground=ground, energy=energy, holding=holding,
                   alive=state.alive | mask,
                   inside=np.where(mask, distance <= p.charge_radius_m, state.inside),
+                  left_pad=np.where(mask, distance > p.charge_radius_m, state.left_pad),
                   away=np.where(mask, distance >= p.return_min_distance_m, state.away),
                   best_fertility=state.best_fertility * off, best_height=state.best_height * off,
                   best_distance=state.best_distance * off, back_active=state.back_active & off,

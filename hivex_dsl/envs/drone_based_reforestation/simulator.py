@@ -154,7 +154,7 @@ class DroneReforestationSimulator:
             new_quality=np.zeros((batch, self.params.new_tree_capacity), np.float32),
             new_count=np.zeros(batch, np.int64), position=position, heading=heading, ground=ground,
             energy=np.ones(shape), holding=np.full(shape, holding), alive=np.ones(shape, bool),
-            inside=distance <= p.charge_radius_m, away=(distance >= p.return_min_distance_m) & self.random_spawn,
+            inside=distance <= p.charge_radius_m, left_pad=distance > p.charge_radius_m, away=(distance >= p.return_min_distance_m) & self.random_spawn,
             # best-so-far from the spawn state: the first step pays only for what it finds (no planted trees yet)
             best_fertility=fertility(det, p.min_tree_distance_m, p.max_tree_distance_m),
             best_height=position[..., 2].copy(), best_distance=np.minimum(reach, self.half), back_active=false,
@@ -327,7 +327,7 @@ class DroneReforestationSimulator:
         flown = state.flown + _zero_unless_alive(np.linalg.norm(flight.position - state.position, axis=-1), alive)
         new = evolve(
             state, new_count=new_count, position=flight.position, heading=flight.heading, ground=flight.ground,
-            energy=energy, holding=holding, alive=energy > 0.0, inside=inside,
+            energy=energy, holding=holding, alive=energy > 0.0, inside=inside, left_pad=state.left_pad | outside,
             away=away & ~returned if returning else away, flown=np.where(returned, 0.0, flown) if returning else flown,
             best_fertility=self._best_fertility(state, flight.xy, flight.tree_distance, alive),
             best_height=np.maximum(state.best_height, _zero_unless_alive(flight.z, alive)),

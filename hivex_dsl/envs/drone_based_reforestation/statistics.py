@@ -21,9 +21,10 @@ def tree_drop_count(prev, state, actions, params):
     return state.dropped
 
 
-@STATISTICS.counter("Recharge Energy Count", "Steps the drone's battery was recharged at the drone station.")
+@STATISTICS.counter("Recharge Energy Count", "Steps the drone spent docked at the drone station, charging or full, "
+                    "once it had left the pad it started on.")
 def recharge_energy_count(prev, state, actions, params):
-    return state.energy > prev.energy
+    return state.inside & state.alive & state.left_pad
 
 
 @STATISTICS.counter("Out of Energy Count", "Times the drone's battery ran empty (its episode ends).")

@@ -34,6 +34,7 @@ class DroneState:
     holding: np.ndarray  # (B, A) bool, carrying a seed
     alive: np.ndarray  # (B, A) bool, energy left (a drone with an empty battery is frozen)
     inside: np.ndarray  # (B, A) bool, within the charge radius of the station
+    left_pad: np.ndarray  # (B, A) bool, has been outside the charge radius since its spawn (docked after that)
     away: np.ndarray  # (B, A) bool, has been return_min_distance_m from the station since its last return
     best_fertility: np.ndarray  # (B, A) pot_old: best seed-drop potential found so far
     best_height: np.ndarray  # (B, A) h_old: highest ground found so far
