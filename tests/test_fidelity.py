@@ -84,7 +84,7 @@ def test_the_page_shows_ours_beside_the_published_cell_and_the_readings():
     page = render_docs(None, ROOT / FIDELITY_FILE)["fidelity.md"]
     assert "| WRM | 0 `main` | 93.92 |" in page
     assert "| Reward for Moving Resources to Neighbours | 49.37 |" in page
-    assert "Cumulative Distance to Existing Trees" in page  # listed as not computed, with why
+    assert "Save Location Count" in page  # listed as not computed, with why
     for entry in registry.environments().values():
         for note in entry.reward_table.notes:
             assert note.split()[0] in page

@@ -16,6 +16,7 @@ from hivex_dsl.evaluation.rollout import rollout
 from hivex_dsl.envs.drone_based_reforestation.camera import NEW_TREE_GRAY, to_byte
 from hivex_dsl.envs.drone_based_reforestation.fertility import (FAR_M, distance_reward, sample_bilinear, seed_reward,
                                                                 tree_distance_raster)
+from hivex_dsl.envs.drone_based_reforestation.statistics import distance_to_existing_trees
 from hivex_dsl.sim.reward.composer import RewardComposer
 
 ENV = "drone_based_reforestation"
@@ -45,7 +46,8 @@ def hand_world(sim, drones, trees=(), holding=True, energy=1.0, away=True, headi
         new_trees=np.full_like(state.new_trees, FAR_M), new_count=np.zeros(1, np.int64), position=position,
         heading=np.full(shape, heading), ground=sample_bilinear(heights, sim.terrain_grid, position[..., :2]),
         energy=np.full(shape, energy), holding=np.full(shape, holding), alive=np.ones(shape, bool),
-        inside=distance <= sim.params.charge_radius_m, away=np.full(shape, away),
+        inside=distance <= sim.params.charge_radius_m, left_pad=distance > sim.params.charge_radius_m,
+        away=np.full(shape, away),
         back_active=np.zeros(shape, bool), best_fertility=np.zeros(shape), best_height=np.zeros(shape),
         best_distance=np.zeros(shape))
     return state
@@ -106,6 +108,22 @@ def test_a_drop_on_a_poor_spot_pays_nothing_and_plants_a_tree_of_quality_0(drone
     assert term(compiled, "drop_seed", state, new, act(drop=1))[0, 0] == 0.0, why
     assert new.dropped[0, 0] and not new.holding[0, 0]
     assert new.new_count[0] == 1 and new.new_quality[0, 0] == 0.0
+
+
+@pytest.mark.parametrize("trees, logged", [
+    ([(62.0, 2.0), (-100.0, 2.0)], 12.0),  # within dot_max: the det the drop's reward used
+    ([(130.0, 2.0), (-150.0, 2.0)], 80.0),  # beyond dot_max (no reward), still measured: the nearest of the two
+    ([(50.0, 98.0)], 96.0),  # one tree 96 m away, straight north of the drop
+    ([], 0.0),  # a world without trees has no distance to log
+])
+def test_cumulative_distance_to_existing_trees_logs_each_drops_det_at_any_distance(trees, logged):
+    compiled, sim = simulator()
+    state = hand_world(sim, [(50.0, 2.0, 10.0)], trees=trees)
+    new, _ = sim.step(state, act(drop=1), np.random.default_rng(1))
+    assert new.dropped[0, 0]
+    assert distance_to_existing_trees(state, new, act(drop=1), compiled.params)[0, 0] == pytest.approx(logged)
+    after, _ = sim.step(new, act(), np.random.default_rng(2))  # no drop: nothing logged
+    assert distance_to_existing_trees(new, after, act(), compiled.params)[0, 0] == 0.0
 
 
 def test_a_seed_within_2_5_m_of_a_planted_tree_has_no_quality_and_one_3_m_away_has():
@@ -199,7 +217,7 @@ def test_running_back_ends_at_the_station_and_pays_nothing_for_a_drop_near_it():
 # ------------------------------------------------------------------ the station
 def test_returning_drone_recharges_picks_up_a_seed_and_earns_the_pick_up_reward():
     """Docked, the battery gains charge_per_step (0.1) a step; the return (the seed and its reward) comes on the step
-    it is full: from 0.2995, 8 charging steps, each counted by Recharge Energy Count."""
+    it is full: from 0.2995, 8 charging steps. Recharge Energy Count counts every docked step, full or not."""
     from hivex_dsl.envs.drone_based_reforestation.statistics import STATISTICS
 
     compiled, sim = simulator()
@@ -224,6 +242,26 @@ def test_returning_drone_recharges_picks_up_a_seed_and_earns_the_pick_up_reward(
     assert term(compiled, "pick_up_seed_explored", prev, charged, act())[0, 0] == 60.0
     after, _ = sim.step(charged, act(), np.random.default_rng(1))  # staying at the pad is no new return
     assert not after.returned[0, 0] and term(compiled, "pick_up_seed", charged, after, act())[0, 0] == 0.0
+    assert after.energy[0, 0] == 1.0 and recharges(charged, after, act(), compiled.params)[0, 0]  # full, still counted
+
+
+def test_recharge_energy_count_counts_docked_steps_only_after_a_drone_left_the_pad_it_started_on():
+    """The published count is 0 (std 0) in the three tasks whose drones start at the station and never come back
+    (Find Closest Tree, Find High Potential Area, Find High Terrain), and 147 in Group Up, more than the at most
+    ~10 charging steps a drone's one battery (1/2000 a step without a seed) could need in 2,000 steps: lingering
+    at the station counts, sitting on the pad one started on does not."""
+    from hivex_dsl.envs.drone_based_reforestation.statistics import STATISTICS
+
+    compiled, sim = simulator(agents=3)
+    recharges = STATISTICS["Recharge Energy Count"].counter
+    state = sim.reset(np.random.default_rng(0), 1)
+    assert state.inside.all() and not state.left_pad.any()
+    for _ in range(20):  # hovering on the spawn circle, inside the charge radius, with a full battery
+        prev, (state, _) = state, sim.step(state, act(agents=3), np.random.default_rng(1))
+        assert state.inside.all() and not recharges(prev, state, act(agents=3), compiled.params).any()
+    state = replace(state, left_pad=np.array([[True, False, False]]))  # drone 0 came back from a flight
+    prev, (state, _) = state, sim.step(state, act(agents=3), np.random.default_rng(1))
+    assert recharges(prev, state, act(agents=3), compiled.params).tolist() == [[True, False, False]]
 
 
 def test_charge_per_step_1_refills_at_once():

@@ -6,9 +6,9 @@ from ...compiler.registry import EnvironmentEntry, GeneratorSlot, register
 from ...lang.spec.catalogue import CATALOGUE
 from ...sim.procgen.forest import ForestSpec
 from ...sim.procgen.terrain import TerrainSpec
-from .params import DroneBasedReforestationParams, forest_preset, terrain_preset
+from .params import DroneBasedReforestationParams, forest_preset, terrain_preset, world_problems
 from .scripted import scripted_policy
-from .simulator import DroneReforestationSimulator, world_problems
+from .simulator import DroneReforestationSimulator
 from .statistics import STATISTICS
 from .terms import TERMS
 

@@ -156,6 +156,23 @@ def nearest_tree_distance(tree_xy: np.ndarray, forest: Grid, worlds: np.ndarray,
     return np.where(nearest <= reach_m, nearest, np.inf)
 
 
+def logged_tree_distance(tree_xy: np.ndarray, worlds: np.ndarray, points: np.ndarray, near: np.ndarray
+                         ) -> np.ndarray:
+    """det (M,) of drops at ``points`` (M, 2) of worlds ``worlds`` (M,), exact at any distance, as Cumulative
+    Distance to Existing Trees logs it: ``near`` (:func:`nearest_tree_distance`'s result) where it found a tree,
+    else the nearest tree of the whole forest (a search of every cell, for the few drops that need it); 0 in a
+    world without trees, where there is no distance to log."""
+    far = np.isinf(near)
+    if not np.count_nonzero(far):
+        return near
+    flat = tree_xy.reshape(len(tree_xy), -1, 2)[worlds[far]]  # (F, m * m, 2)
+    gap = flat.astype(np.float64) - points[far][:, None, :]
+    nearest = np.sqrt(np.einsum("fcd,fcd->fc", gap, gap).min(axis=1, initial=np.inf))
+    logged = near.copy()
+    logged[far] = np.where(nearest < FAR_M, nearest, 0.0)  # only empty slots (at FAR_M): no tree at all
+    return logged
+
+
 def nearest_new_tree_distance(new_trees: np.ndarray, worlds: np.ndarray, points: np.ndarray) -> np.ndarray:
     """Distance (M,) from ``points`` (M, 2) to the nearest planted tree of their worlds (inf if none).
 

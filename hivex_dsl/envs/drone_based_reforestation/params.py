@@ -8,6 +8,7 @@ presets (the shared AWS/WRM recipes scaled to the 400 m world) are at the end of
 
 from __future__ import annotations
 
+import numpy as np
 from pydantic import Field, model_validator
 
 from ...lang.spec.common import StrictModel
@@ -31,7 +32,8 @@ class DroneBasedReforestationParams(StrictModel):
     charge_per_step: float = Field(0.1, gt=0.0, le=1.0, description=(
         "[ours, fitted] Battery share a docked drone regains each step (empty to full in 10 steps; 1 refills at "
         "once). A return (the seed pick-up and its reward) is made when the battery is full again. Fitted to the "
-        "published Recharge Energy Count, about 11 charging steps per station visit (see the reward table's notes)."))
+        "published Recharge Energy Count, about 11 docked steps for the one return of Pick-up Seed and of the main "
+        "task (see the reward table's notes)."))
     return_min_distance_m: float = Field(15.0, ge=1.0, le=200.0, description=(
         "[ours] A visit to the station counts as a return (seed pick-up and its reward) only if the drone was "
         "at least this far from the station since its last return, so hovering across the charge radius pays nothing."))
@@ -117,3 +119,26 @@ def terrain_preset(level: int | None) -> TerrainSpec:
 def forest_preset(level: int | None) -> ForestSpec:
     """The existing forest; the same rule at every level (the terrain's height makes the difference)."""
     return ForestSpec(**DBR_FOREST)
+
+
+def world_problems(compiled) -> list[tuple[tuple, str]]:
+    """The terrain and forest must describe the paper's world the rewards are scaled to."""
+    t, f, p = compiled.generators["terrain"], compiled.generators["forest"], compiled.params
+    problems = []
+    if t.village_half_range_m != 0.0:
+        problems.append((("generators", "terrain", "village_half_range_m"),
+                         f"{t.village_half_range_m:g}: the drone station sits at the centre of the world; expected 0"))
+    if t.extent_m > 400.0:
+        problems.append((("generators", "terrain", "extent_m"),
+                         f"{t.extent_m:g} m: the world may be at most the paper's 400 m across (half extent 200 m), "
+                         "the scale of its distance rewards"))
+    if not np.isclose(t.extent_m, 2.0 * f.half_extent_m):
+        problems.append((("generators", "forest", "half_extent_m"),
+                         f"{f.half_extent_m:g} m: the forest grid must cover the terrain, half of extent_m "
+                         f"({t.extent_m / 2.0:g} m)"))
+    peak = t.height_multiplier * t.metres_per_multiplier
+    if peak + p.min_clearance_m >= p.height_bound_m:
+        problems.append((("generators", "terrain", "metres_per_multiplier"),
+                         f"peaks reach {peak:g} m at this terrain level; with min_clearance_m {p.min_clearance_m:g} "
+                         f"they must stay below the height bound {p.height_bound_m:g} m"))
+    return problems

@@ -34,11 +34,13 @@ def respawn_where(sim, state: DroneState, mask: np.ndarray, rng: np.random.Gener
     return evolve(state, position=position, heading=heading, ground=ground, energy=energy, holding=holding,
                   alive=state.alive | mask,
                   inside=np.where(mask, distance <= p.charge_radius_m, state.inside),
+                  left_pad=np.where(mask, distance > p.charge_radius_m, state.left_pad),
                   away=np.where(mask, distance >= p.return_min_distance_m, state.away),
                   best_fertility=state.best_fertility * off, best_height=state.best_height * off,
                   best_distance=state.best_distance * off, back_active=state.back_active & off,
                   back_init=state.back_init * off, back_best=state.back_best * off,
                   back_multiplier=state.back_multiplier * off, flown=state.flown * off, dropped=state.dropped & off,
                   seed_reward=state.seed_reward * off, distance_reward=state.distance_reward * off,
+                  drop_tree_distance=state.drop_tree_distance * off,
                   returned=state.returned & off, found_tree=state.found_tree & off,
                   running_back=state.running_back * off, frames=np.where(mask[..., None], first, state.frames))

@@ -18,8 +18,8 @@ from ...sim.procgen.terrain import TerrainSpec, generate_terrain
 from ...sim.procgen.wind import wrap_angle
 from .camera import NEW_TREE_GRAY, STATION_GRAY, TREE_GRAY, Raster, camera_images, ground_shade, stamp_disks, to_byte
 from .fertility import (FAR_M, Grid, GridSet, distance_reward, fertility, forest_grid, interpolation_matrix,
-                        nearest_new_tree_distance, nearest_tree_distance, same_step_distance, sample_bilinear,
-                        seed_reward, storage_slots, tree_distance_raster)
+                        logged_tree_distance, nearest_new_tree_distance, nearest_tree_distance, same_step_distance,
+                        sample_bilinear, seed_reward, storage_slots, tree_distance_raster)
 from .global_state import state_components, world_state
 from .params import DroneBasedReforestationParams
 from .respawn import respawn_where
@@ -137,12 +137,13 @@ class DroneReforestationSimulator:
             new_quality=np.zeros((batch, self.params.new_tree_capacity), np.float32),
             new_count=np.zeros(batch, np.int64), position=position, heading=heading, ground=ground,
             energy=np.ones(shape), holding=np.full(shape, holding), alive=np.ones(shape, bool),
-            inside=distance <= p.charge_radius_m, away=(distance >= p.return_min_distance_m) & self.random_spawn,
+            inside=distance <= p.charge_radius_m, left_pad=distance > p.charge_radius_m, away=(distance >= p.return_min_distance_m) & self.random_spawn,
             # best-so-far from the spawn state: the first step pays only for what it finds (no planted trees yet)
             best_fertility=fertility(det, p.min_tree_distance_m, p.max_tree_distance_m),
             best_height=position[..., 2].copy(), best_distance=np.minimum(reach, self.half), back_active=false,
             back_init=np.zeros(shape, np.int64), back_best=np.zeros(shape, np.int64), back_multiplier=zeros,
-            flown=zeros, dropped=false, seed_reward=zeros, distance_reward=zeros, returned=false,
+            flown=zeros, dropped=false, seed_reward=zeros, distance_reward=zeros, drop_tree_distance=zeros,
+            returned=false,
             found_tree=false, running_back=zeros, frames=np.zeros(shape + (2 * VECTOR_SIZE,), np.float32))
         flight = Flight(position, position[..., :2], position[..., 2], heading,
                         np.stack([np.cos(heading), np.sin(heading)], axis=-1), ground, None)
@@ -197,9 +198,11 @@ class DroneReforestationSimulator:
         position[..., 2] = z
         return Flight(position, xy, z, heading, direction, ground, det)
 
-    def _drop(self, state: DroneState, points: np.ndarray, world: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def _drop(self, state: DroneState, points: np.ndarray, world: np.ndarray
+              ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Plant the seeds released at ``points`` (M, 2) of worlds ``world`` (M,, sorted): each becomes a new
-        tree, written into ``new_trees``, ``new_quality`` and the camera raster in place. Returns r_s, r_d (M,)."""
+        tree, written into ``new_trees``, ``new_quality`` and the camera raster in place. Returns r_s, r_d and
+        det (M,), det being exact at any distance (0 in a world without trees)."""
         p = self.params
         det = nearest_tree_distance(state.tree_xy, self.forest_grid, world, points, p.max_tree_distance_m)
         dnt = nearest_new_tree_distance(state.new_trees[:, : int(state.new_count.max())], world, points)
@@ -210,7 +213,8 @@ class DroneReforestationSimulator:
         state.new_trees[world, slot] = points
         state.new_quality[world, slot] = seed / SEED_REWARD_MULTIPLIER
         stamp_disks(state.camera, self.raster, world, points, p.tree_crown_radius_m, NEW_TREE_GRAY)
-        return seed, distance_reward(seed, sdd, self.half, DISTANCE_REWARD_MULTIPLIER)
+        return (seed, distance_reward(seed, sdd, self.half, DISTANCE_REWARD_MULTIPLIER),
+                logged_tree_distance(state.tree_xy, world, points, det))
 
     def _releases(self, state: DroneState, wants: np.ndarray) -> np.ndarray:
         """(B, A) the drones whose wish to drop is granted: all, unless their world's store of planted trees
@@ -264,15 +268,16 @@ class DroneReforestationSimulator:
         return _alive_only((np.asarray(actions["discrete"])[..., 0] == 1) & state.holding & outside, alive)
 
     def _plant(self, state: DroneState, wants: np.ndarray, position: np.ndarray
-               ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+               ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Release the seeds of the drones that ``wants`` (B, A) to drop one, as far as the stores allow, and plant
-        them. Returns the drops made (B, A), their r_s and r_d (B, A) and the planted-tree counts (B,)."""
-        r_s, r_d = np.zeros(wants.shape), np.zeros(wants.shape)
+        them. Returns the drops made (B, A), their r_s, r_d and det (B, A) and the planted-tree counts (B,)."""
+        r_s, r_d, det = np.zeros(wants.shape), np.zeros(wants.shape), np.zeros(wants.shape)
         drops = self._releases(state, wants)
         world, agent = np.nonzero(drops)
         if len(world):  # every wish may be refused by full stores
-            r_s[world, agent], r_d[world, agent] = self._drop(state, position[world, agent, :2], world)
-        return drops, r_s, r_d, state.new_count + np.bincount(world, minlength=len(state.new_count))
+            r_s[world, agent], r_d[world, agent], det[world, agent] = self._drop(
+                state, position[world, agent, :2], world)
+        return drops, r_s, r_d, det, state.new_count + np.bincount(world, minlength=len(state.new_count))
 
     def step(self, state: DroneState, actions, rng: np.random.Generator) -> tuple[DroneState, StepOutcome]:
         """actions: continuous (B, A, 3) throttle, steer, up/down; discrete (B, A, 1) drop seed."""
@@ -285,9 +290,9 @@ class DroneReforestationSimulator:
         drops = self._wanted_drops(state, actions, outside, alive)
         dropping = np.count_nonzero(drops) > 0
         if dropping:
-            drops, r_s, r_d, new_count = self._plant(state, drops, flight.position)
+            drops, r_s, r_d, det, new_count = self._plant(state, drops, flight.position)
         else:
-            r_s, r_d, new_count = np.zeros(shape), np.zeros(shape), state.new_count
+            r_s, r_d, det, new_count = np.zeros(shape), np.zeros(shape), np.zeros(shape), state.new_count
         back, running_back = {}, np.zeros(shape)
         if dropping or np.count_nonzero(state.back_active):
             increment = (distance * (1.0 / p.running_back_step_m)).astype(np.int64)  # floor: distances are >= 0
@@ -305,12 +310,12 @@ class DroneReforestationSimulator:
         flown = state.flown + _zero_unless_alive(np.linalg.norm(flight.position - state.position, axis=-1), alive)
         new = evolve(
             state, new_count=new_count, position=flight.position, heading=flight.heading, ground=flight.ground,
-            energy=energy, holding=holding, alive=energy > 0.0, inside=inside,
+            energy=energy, holding=holding, alive=energy > 0.0, inside=inside, left_pad=state.left_pad | outside,
             away=away & ~returned if returning else away, flown=np.where(returned, 0.0, flown) if returning else flown,
             best_fertility=self._best_fertility(state, flight.xy, flight.tree_distance, alive),
             best_height=np.maximum(state.best_height, _zero_unless_alive(flight.z, alive)),
             best_distance=np.maximum(state.best_distance, _zero_unless_alive(np.minimum(reach, self.half), alive)),
-            dropped=drops, seed_reward=r_s, distance_reward=r_d, returned=returned,
+            dropped=drops, seed_reward=r_s, distance_reward=r_d, drop_tree_distance=det, returned=returned,
             found_tree=_alive_only(flight.tree_distance <= p.close_tree_radius_m, alive), running_back=running_back,
             frames=self._frames(state.frames, flight, state.station, holding, energy), **back)
         events = {"returned_to_station": returned, "found_close_tree": new.found_tree, "planted_tree": drops}
@@ -369,26 +374,3 @@ def _alive_only(mask: np.ndarray, alive: np.ndarray | None) -> np.ndarray:
 def _zero_unless_alive(values: np.ndarray, alive: np.ndarray | None) -> np.ndarray:
     """``values`` (B, A) where the drone is alive, else 0; ``alive`` None stands for every drone alive."""
     return values if alive is None else np.where(alive, values, 0.0)
-
-
-def world_problems(compiled) -> list[tuple[tuple, str]]:
-    """The terrain and forest must describe the paper's world the rewards are scaled to."""
-    t, f, p = compiled.generators["terrain"], compiled.generators["forest"], compiled.params
-    problems = []
-    if t.village_half_range_m != 0.0:
-        problems.append((("generators", "terrain", "village_half_range_m"),
-                         f"{t.village_half_range_m:g}: the drone station sits at the centre of the world; expected 0"))
-    if t.extent_m > 400.0:
-        problems.append((("generators", "terrain", "extent_m"),
-                         f"{t.extent_m:g} m: the world may be at most the paper's 400 m across (half extent 200 m), "
-                         "the scale of its distance rewards"))
-    if not np.isclose(t.extent_m, 2.0 * f.half_extent_m):
-        problems.append((("generators", "forest", "half_extent_m"),
-                         f"{f.half_extent_m:g} m: the forest grid must cover the terrain, half of extent_m "
-                         f"({t.extent_m / 2.0:g} m)"))
-    peak = t.height_multiplier * t.metres_per_multiplier
-    if peak + p.min_clearance_m >= p.height_bound_m:
-        problems.append((("generators", "terrain", "metres_per_multiplier"),
-                         f"peaks reach {peak:g} m at this terrain level; with min_clearance_m {p.min_clearance_m:g} "
-                         f"they must stay below the height bound {p.height_bound_m:g} m"))
-    return problems

@@ -50,6 +50,7 @@ class DroneState:
     holding: np.ndarray  # (B, A) bool, carrying a seed
     alive: np.ndarray  # (B, A) bool, energy left (a drone with an empty battery is frozen)
     inside: np.ndarray  # (B, A) bool, within the charge radius of the station
+    left_pad: np.ndarray  # (B, A) bool, has been outside the charge radius since its spawn (docked after that)
     away: np.ndarray  # (B, A) bool, has been return_min_distance_m from the station since its last return
     best_fertility: np.ndarray  # (B, A) pot_old: best seed-drop potential found so far
     best_height: np.ndarray  # (B, A) h_old: highest ground found so far
@@ -63,6 +64,7 @@ class DroneState:
     dropped: np.ndarray  # (B, A) bool, released a seed (planted as a new tree at the ground below)
     seed_reward: np.ndarray  # (B, A) r_s of the drop
     distance_reward: np.ndarray  # (B, A) r_d of the drop
+    drop_tree_distance: np.ndarray  # (B, A) det of the drop: metres to the nearest existing tree, at any distance
     returned: np.ndarray  # (B, A) bool, arrived back at the station (and picked up a seed if it had none)
     found_tree: np.ndarray  # (B, A) bool, an existing tree within close_tree_radius_m
     running_back: np.ndarray  # (B, A) r_rb paid this step
