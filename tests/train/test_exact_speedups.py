@@ -1,0 +1,94 @@
+"""The update's speed-ups change no number: two rollouts and updates with the fast paths (next observations as
+views of the rollout's frames, each epoch's shuffle gathered into kept buffers) against a plain reference (the
+next observations concatenated afresh, every minibatch gathered on its own), from the same seed and weights."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import torch
+
+from hivex_dsl.compiler import compile
+from hivex_dsl.train import ppo
+from hivex_dsl.train.config import make_config
+from hivex_dsl.train.curiosity import Curiosity
+from hivex_dsl.train.logs import EpisodeLog
+from hivex_dsl.train.networks import ActorCritic
+
+from .conftest import short_scenario
+
+
+def reference_minibatches(data, valid, batch_size, rng, buffers=None):
+    """The same order as ``ppo.minibatches`` (one permutation per epoch), each minibatch indexed on its own."""
+    order = torch.as_tensor(valid[rng.permutation(valid.size)])
+
+    def rows(tree, index):
+        return {k: rows(v, index) if isinstance(v, dict) else v[index] for k, v in tree.items()}
+
+    for start in range(0, valid.size, batch_size):
+        yield rows(data, order[start:start + batch_size])
+
+
+def reference_next_obs(buf):
+    return {k: ppo.merge_steps(torch.cat([v[1:], buf.last_obs[k][None].clone()])) for k, v in buf.obs.items()}
+
+
+def two_updates(environment: str, curiosity: bool) -> tuple[list[dict[str, float]], torch.Tensor]:
+    """The losses of two rollouts and updates, and every trained weight after them."""
+    torch.manual_seed(0)
+    cfg = make_config(environment, {"num_worlds": 2, "buffer_size": 48, "batch_size": 16, "num_epoch": 2,
+                                    "hidden_units": 16, "curiosity_strength": 0.01 if curiosity else 0.0})
+    env, obs = ppo.make_env(compile(short_scenario(environment)), cfg.num_worlds, "train")
+    agent = ActorCritic(env.single_observation_space, env.single_action_space, cfg)
+    optimizer = ppo.make_optimizer(agent, cfg.learning_rate)
+    module = None
+    if curiosity:
+        module = Curiosity(env.single_observation_space, agent.layout, cfg)
+        module = (module, ppo.make_optimizer(module, cfg.curiosity_learning_rate))
+    state, buf = ppo.start_rollouts(obs, agent, cfg.rollout_length(env.num_envs))
+    rng, episodes, losses = np.random.default_rng(0), EpisodeLog(), []
+    for _ in range(2):
+        next_value = ppo.collect(env, agent, buf, state, cfg, episodes)
+        advantages, returns, _ = ppo.advantages_and_returns(buf, next_value, cfg, module and module[0])
+        losses.append(ppo.update(agent, optimizer, buf, advantages, returns, cfg, cfg.beta, cfg.epsilon, rng, module))
+    weights = [p.detach().flatten() for p in agent.parameters()]
+    weights += [p.detach().flatten() for p in module[0].parameters()] if module else []
+    return losses, torch.cat(weights)
+
+
+@pytest.mark.parametrize("environment,curiosity", [("ocean_plastic_collection", True),
+                                                   ("aerial_wildfire_suppression", False),
+                                                   ("wind_farm_control", False)])
+def test_the_fast_update_equals_the_plain_one(environment, curiosity, monkeypatch):
+    fast_losses, fast_weights = two_updates(environment, curiosity)
+    monkeypatch.setattr(ppo, "minibatches", reference_minibatches)
+    monkeypatch.setattr(ppo.Rollout, "flat_next_obs", reference_next_obs)
+    plain_losses, plain_weights = two_updates(environment, curiosity)
+    assert fast_losses == plain_losses
+    assert torch.equal(fast_weights, plain_weights)
+    assert len(fast_losses) == 2 and all(np.isfinite(v) for losses in fast_losses for v in losses.values())
+
+
+def test_the_next_observations_are_the_frames_after_each_step():
+    """Row t of the next observations is row t + 1 of the observations, and the last is what the rollout ended
+    on; both are views of one storage (written once per step)."""
+    first = {"cam": torch.zeros(2, 3)}
+    buf = ppo.Rollout(steps=4, slots=2, first_obs=first, continuous=1, discrete=0)
+    for t in range(4):
+        buf.obs["cam"][t] = t + 1
+    buf.end({"cam": torch.full((2, 3), 9.0)})
+    nxt = buf.flat_next_obs()["cam"].reshape(4, 2, 3)
+    assert nxt[:, 0, 0].tolist() == [2, 3, 4, 9]
+    assert buf.flat_obs()["cam"].reshape(4, 2, 3)[:, 1, 2].tolist() == [1, 2, 3, 4]
+    assert nxt.data_ptr() == buf.frames["cam"][1].data_ptr()  # a view, not a copy
+
+
+def test_kept_buffers_hold_no_stale_rows():
+    """A later, shorter gather reads only its own rows; the buffer is reused, not reallocated."""
+    buffers = ppo.RowBuffers()
+    data = {"x": torch.arange(10.0)[:, None].repeat(1, 3), "obs": {"cam": torch.arange(10.0)}}
+    first = buffers.take(data, torch.tensor([9, 8, 7, 6, 5]))
+    assert first["x"][:, 0].tolist() == [9, 8, 7, 6, 5] and first["obs"]["cam"].tolist() == [9, 8, 7, 6, 5]
+    second = buffers.take(data, torch.tensor([1, 2]))
+    assert second["x"][:, 2].tolist() == [1, 2] and second["obs"]["cam"].tolist() == [1, 2]
+    assert second["x"].data_ptr() == first["x"].data_ptr()
