@@ -39,6 +39,10 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
                    help="after training, evaluate on the test seeds for N episodes (default 0: skip)")
     p.add_argument("--ray", nargs="?", const="local", default=None, metavar="ADDRESS",
                    help="run a sweep's points as Ray tasks: a local instance, or the cluster at ADDRESS")
+    p.add_argument("--jobs", type=positive, default=1, metavar="N",
+                   help="train N points of a sweep at once, each in a process of its own (default 1: in turn); "
+                        "a point's auto torch threads are then the cores / N. On two cores, --jobs 2 trains a grid "
+                        "faster than one point at a time on both")
     p.add_argument("--resume", action="store_true",
                    help="go on from RUN_DIR/checkpoint.pt (same scenario and hyperparameters; --steps may grow)")
     p.add_argument("--force", action="store_true",
@@ -98,6 +102,9 @@ def cmd_train(args) -> int:
         raise HivexError(f"--eval-episodes must be 0 or more, got {args.eval_episodes}")
     if args.resume and args.force:
         raise HivexError("--resume goes on from RUN_DIR's run and --force replaces it: give one")
+    if args.jobs > 1 and args.ray is not None:
+        raise HivexError(f"--jobs {args.jobs} runs the points in local processes and --ray runs them as Ray tasks "
+                         "(one CPU each): give one")
     run_dir = args.output or Path("runs") / points[0].spec.name
     if len(points) == 1 and args.ray is None:
         from ..train.grid import train_point
@@ -111,7 +118,7 @@ def cmd_train(args) -> int:
     from ..train.grid import format_table, run_grid
 
     results = run_grid(points, configs, run_dir, args.eval_episodes, args.ray, progress=not args.no_progress,
-                       resume=args.resume, overwrite=args.force)
+                       resume=args.resume, overwrite=args.force, jobs=args.jobs)
     print(format_table(results))
     print(f"wrote {run_dir / 'results.json'}")
     return _exit_code(results, run_dir)

@@ -1,4 +1,5 @@
-"""Training every point of a sweep: one after another, or as Ray tasks on a local instance or a cluster.
+"""Training every point of a sweep: one after another, several at once in local processes (``jobs``), or as Ray
+tasks on a local instance or a cluster.
 
 Each point trains in its own run directory ``RUN_DIR/NNN-<name>`` and returns its summary; the
 summaries are gathered into one table (``RUN_DIR/results.json``). On a cluster the run directories are
@@ -8,7 +9,12 @@ Every node of a cluster needs hivex-dsl with its train extra installed (``pip in
 
 from __future__ import annotations
 
+import pickle
+import queue
 import re
+import signal
+import traceback
+from multiprocessing import get_context
 from pathlib import Path
 from typing import Any, Sequence
 
@@ -24,15 +30,17 @@ def point_dir(run_dir: Path, index: int, compiled: CompiledScenario) -> Path:
 
 
 def train_point(scenario: dict[str, Any], config: dict[str, Any], run_dir: str, eval_episodes: int,
-                progress: bool, resume: bool = False, overwrite: bool = False) -> dict[str, Any]:
+                progress: bool, resume: bool = False, overwrite: bool = False, stop_event: Any = None
+                ) -> dict[str, Any]:
     """Train one point (given as plain data, so it travels to a Ray worker) and evaluate it on the test seeds;
-    ``resume`` goes on from the run directory's checkpoint, ``overwrite`` replaces an earlier run there."""
+    ``resume`` goes on from the run directory's checkpoint, ``overwrite`` replaces an earlier run there, and
+    setting ``stop_event`` stops its training after the update under way."""
     from .evaluate import evaluate
     from .ppo import train
 
     compiled = compile(scenario)
     summary = train(compiled, PPOConfig(**config), Path(run_dir), progress=progress, resume=resume,
-                    overwrite=overwrite)
+                    overwrite=overwrite, stop_event=stop_event)
     summary["run_dir"] = str(run_dir)
     if eval_episodes:
         report = evaluate(Path(run_dir) / "checkpoint.pt", split="test", episodes=eval_episodes, progress=progress)
@@ -44,9 +52,12 @@ def train_point(scenario: dict[str, Any], config: dict[str, Any], run_dir: str, 
 
 def run_grid(points: Sequence[CompiledScenario], configs: Sequence[PPOConfig], run_dir: Path,
              eval_episodes: int = 0, ray_address: str | None = None, ray_init: dict[str, Any] | None = None,
-             progress: bool = True, resume: bool = False, overwrite: bool = False) -> list[dict[str, Any]]:
+             progress: bool = True, resume: bool = False, overwrite: bool = False, jobs: int = 1
+             ) -> list[dict[str, Any]]:
     """Train every point (``configs[i]`` for ``points[i]``); ``ray_address`` ``"local"`` starts a local Ray
-    instance, any other value joins that cluster, ``None`` runs the points in turn. ``resume`` lets each
+    instance, any other value joins that cluster, ``None`` runs the points in turn, or ``jobs`` of them at once
+    in processes of their own (a point's ``auto`` torch threads are then this machine's cores / ``jobs``, so
+    the points share the cores instead of fighting over them). ``resume`` lets each
     point with a checkpoint go on from it (one that finished only re-evaluates); the others start afresh, over
     what a point killed before its first checkpoint left. Without ``resume`` or ``overwrite`` a grid whose
     points hold earlier runs is refused before any point trains. Ctrl-C (or SIGTERM) stops the point under
@@ -58,20 +69,95 @@ def run_grid(points: Sequence[CompiledScenario], configs: Sequence[PPOConfig], r
         taken = [refusal(folder, found) for folder in folders if (found := earlier_run(folder))]
         if taken:
             raise TrainError("\n".join(taken))
-    jobs = [(p.resolved(), c.model_dump(mode="json"), str(folder), eval_episodes)
+    if jobs > 1 and ray_address is None:
+        configs = [shared_cores(c, jobs) for c in configs]
+    work = [(p.resolved(), c.model_dump(mode="json"), str(folder), eval_episodes)
             for p, c, folder in zip(points, configs, folders)]
     modes = [(again, not again and (resume or overwrite)) for again in going_on]
-    if ray_address is None:
+    if ray_address is not None:
+        results = _on_ray(work, modes, ray_address, ray_init or {})
+    elif jobs > 1:
+        results = _in_processes(work, modes, jobs)
+    else:
         results = []
-        for job, (again, replace) in zip(jobs, modes):
+        for job, (again, replace) in zip(work, modes):
             results.append(train_point(*job, progress=progress, resume=again, overwrite=replace))
             if results[-1]["stopped_early"]:  # Ctrl-C or SIGTERM stops the grid with its point
                 break
-    else:
-        results = _on_ray(jobs, modes, ray_address, ray_init or {})
     run_dir.mkdir(parents=True, exist_ok=True)
     write_json(run_dir / "results.json", results)
     return results
+
+
+def shared_cores(cfg: PPOConfig, jobs: int) -> PPOConfig:
+    """``cfg`` for one of ``jobs`` points training at once: ``auto`` torch threads become its share of the
+    cores (at least one); a number written down stays."""
+    if cfg.torch_threads != "auto":
+        return cfg
+    return cfg.model_copy(update={"torch_threads": max(1, cfg.threads() // jobs)})
+
+
+def _in_processes(work: list[tuple], modes: list[tuple[bool, bool]], jobs: int) -> list[dict[str, Any]]:
+    """Train the points ``jobs`` at a time, each in a fresh (spawned) process, in their order; -> the summaries
+    of the points trained, in grid order. Ctrl-C or SIGTERM stops the points under way after their update (each
+    keeps its checkpoint) and starts no other; a point that fails stops the grid the same way, then raises."""
+    from .ppo import StopRequests
+
+    context = get_context("spawn")
+    finished, stop_points = context.Queue(), context.Event()
+    waiting, running, results = list(range(len(work))), {}, {}
+    failure: BaseException | None = None
+    with StopRequests() as stop:
+        while waiting or running:
+            if stop.requested or failure is not None:
+                waiting.clear()
+                stop_points.set()  # the points under way finish their update and save; no signal cuts a write
+            while waiting and len(running) < jobs:
+                index = waiting.pop(0)
+                running[index] = context.Process(target=_point_in_process, args=(finished, stop_points, index,
+                                                                                 work[index], *modes[index]))
+                running[index].start()
+            try:
+                index, outcome, value = finished.get(timeout=0.5)
+            except queue.Empty:
+                failure = failure or _died(running)
+                continue
+            running.pop(index).join()
+            if outcome == "error":
+                failure = failure or value
+            else:
+                results[index] = value
+                stop.requested = stop.requested or value["stopped_early"]
+    if failure is not None:
+        raise failure
+    return [results[i] for i in sorted(results)]
+
+
+def _died(running: dict[int, Any]) -> BaseException | None:
+    """A point's process that ended without reporting (killed, out of memory), as an error naming it."""
+    for index, process in list(running.items()):
+        if not process.is_alive() and process.exitcode not in (0, None):
+            running.pop(index)
+            return TrainError(f"grid point {index} stopped without a result (its process exited with "
+                              f"{process.exitcode}); its run directory keeps its last checkpoint")
+    return None
+
+
+def _point_in_process(finished: Any, stop_points: Any, index: int, job: tuple, resume: bool,
+                      overwrite: bool) -> None:
+    """A spawned process's work: one point, its summary (or its error) put on ``finished``. Ctrl-C reaches
+    the whole process group: the parent asks the point to stop through ``stop_points``, so here it is ignored
+    outside training (inside, training's own handler stops after the update, as the parent's request does)."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        summary = train_point(*job, progress=False, resume=resume, overwrite=overwrite, stop_event=stop_points)
+        finished.put((index, "result", summary))
+    except BaseException as error:  # noqa: BLE001 - reported to the parent, which raises it
+        try:
+            pickle.loads(pickle.dumps(error))
+        except Exception:  # an error that does not travel goes as its text
+            error = TrainError(f"grid point {index} failed:\n{traceback.format_exc()}")
+        finished.put((index, "error", error))
 
 
 def _on_ray(jobs: list[tuple], modes: list[tuple[bool, bool]], address: str,

@@ -320,13 +320,24 @@ def advantages_and_returns(buf: Rollout, next_value: torch.Tensor, cfg: PPOConfi
 class StopRequests:
     """Within it, SIGINT (Ctrl-C) and SIGTERM set ``requested`` instead of killing the run, so training stops
     after the update under way and still writes its checkpoint, curve and summary. A second Ctrl-C kills.
-    Only the main thread can take signals; elsewhere (a Ray task's thread) it requests nothing."""
+    Only the main thread can take signals; elsewhere (a Ray task's thread) it requests nothing. ``also``, an
+    event (``threading.Event`` or ``multiprocessing.Event``), requests a stop when set: a grid's parent process
+    stops the points it runs in processes of their own through it."""
 
     SIGNALS = (signal.SIGINT, signal.SIGTERM)
 
-    def __init__(self) -> None:
-        self.requested = False
+    def __init__(self, also: Any = None) -> None:
+        self._asked = False
+        self._also = also
         self._previous: dict[int, Any] = {}
+
+    @property
+    def requested(self) -> bool:
+        return self._asked or (self._also is not None and self._also.is_set())
+
+    @requested.setter
+    def requested(self, value: bool) -> None:
+        self._asked = value
 
     def _request(self, signum: int, frame: Any) -> None:
         self.requested = True
@@ -349,7 +360,7 @@ def _slice_rows(data: dict[str, Any], start: int, stop: int) -> dict[str, Any]:
 
 def train(compiled: CompiledScenario, cfg: PPOConfig, run_dir: Path, progress: bool = True,
           on_update: Callable[[dict[str, Any]], None] | None = None, resume: bool = False,
-          overwrite: bool = False) -> dict[str, Any]:
+          overwrite: bool = False, stop_event: Any = None) -> dict[str, Any]:
     """Train one policy for ``cfg.max_steps`` agent-steps; write checkpoints, scalars and curve.json
     under ``run_dir``; -> the run's summary (also written as summary.json). A ``run_dir`` that holds an
     earlier run is refused unless ``resume`` goes on from it or ``overwrite`` replaces it (:mod:`.rundir`).
@@ -357,7 +368,7 @@ def train(compiled: CompiledScenario, cfg: PPOConfig, run_dir: Path, progress: b
     ``resume`` goes on from ``run_dir/checkpoint.pt`` (see :func:`resume_state`): the weights, both optimizers,
     the curiosity module, the agent-steps, wall time and learning curve so far. As in ML-Agents' ``--resume``
     the environments start afresh on the train seed, so a resumed run is not bit-identical to one never
-    stopped."""
+    stopped. Ctrl-C, SIGTERM or setting ``stop_event`` stops the run after its update (:class:`StopRequests`)."""
     run_dir = Path(run_dir)
     if cfg.precision_problem():
         raise TrainError(cfg.precision_problem())
@@ -402,7 +413,7 @@ def train(compiled: CompiledScenario, cfg: PPOConfig, run_dir: Path, progress: b
                         training | {"curve": curve, "resumed_at": resumed_at})
         write_json(run_dir / "curve.json", curve, indent=1)
 
-    with StopRequests() as stop, matmul_precision(cfg.precision):  # Ctrl-C or SIGTERM: finish this update, then save
+    with StopRequests(stop_event) as stop, matmul_precision(cfg.precision):  # Ctrl-C or SIGTERM: finish this update, then save
         while agent_steps < cfg.max_steps and not stop.requested:
             lr, beta, epsilon = schedule(cfg, agent_steps / cfg.max_steps)
             for group in optimizer.param_groups:
