@@ -12,7 +12,7 @@ from hivex_dsl.evaluation import published
 from hivex_dsl.compiler import registry
 from hivex_dsl.evaluation.policies import make_policy
 from hivex_dsl.runtime import BatchedEnv
-from hivex_dsl.sim.statistics import StatisticSet
+from hivex_dsl.sim.statistics import RunningMeans, StatisticSet, episode_mean, pooled
 
 
 @pytest.mark.parametrize("env_id", published.environments())
@@ -87,12 +87,106 @@ def test_dbr_best_so_far_statistics_are_the_best_values_reached():
     assert np.all(stats["Cumulative Normalized Distance Until Tree Drop"] <= stats["Tree Drop Count"] + 1e-12)
 
 
-def test_opc_local_and_global_split_the_return():
+def test_opc_local_and_global_are_running_means_of_the_terms_that_split_the_return():
+    """Local and Global Reward were mirrors whose sum was the return; they are now running means of the same two
+    groups of terms (the original logs the mean of a running total, see the reward table's notes), so what still
+    holds is that the two groups are every term, and each statistic is the running mean of its group's pay."""
     compiled = hivex_dsl.compile({"hivex": 1, "environment": "ocean_plastic_collection", "agents": 3,
                                   "episode_length": 150})
-    env, _ = _roll(compiled)
+    statistics = compiled.entry.statistics
+    local, shared = statistics["Local Reward"].running_mean, statistics["Global Reward"].running_mean
+    assert sorted(local + shared) == sorted(compiled.entry.terms.names) and not set(local) & set(shared)
+    env, records = _roll(compiled, policy="scripted")
     stats = env.statistic_sums()
-    np.testing.assert_allclose(stats["Local Reward"] + stats["Global Reward"], env.returns)
+    for name, terms in (("Local Reward", local), ("Global Reward", shared)):
+        pay = np.array([sum(compiled.weights[t] * values[t] for t in terms if t in values)
+                        for _, _, values, _ in records])  # (T, batch, agents)
+        totals = np.cumsum(pay, axis=0)
+        changed = pay != 0
+        expected = np.divide((totals * changed).sum(axis=0), changed.sum(axis=0),
+                             out=np.zeros(env.shape), where=changed.any(axis=0))
+        np.testing.assert_allclose(stats[name], expected)
+    assert np.any(stats["Local Reward"] > 0) and np.any(stats["Global Reward"] > 0)
+
+
+def _running(*terms: str) -> RunningMeans:
+    stats = StatisticSet("ocean_plastic_collection", "OceanPlasticCollector")
+    stats.running_mean("Total", "a running total's mean", *terms)
+    return RunningMeans(stats, ("collect_trash", "collide_with_trash"), (1, 2))
+
+
+def _steps(running: RunningMeans, pays: list[tuple[float, float]], weights=None) -> None:
+    """Add one step per entry: (collect_trash, collide_with_trash) values of both agents of one world."""
+    weights = weights or {"collect_trash": 1.0, "collide_with_trash": 1.0}
+    for collect, collide in pays:
+        running.add(weights, {"collect_trash": np.full((1, 2), collect), "collide_with_trash": np.full((1, 2), collide)})
+
+
+def test_a_running_mean_averages_the_running_total_over_the_steps_it_changed_on():
+    running = _running("collect_trash")
+    _steps(running, [(0, 0), (1, 0), (0, 0), (0, 0), (1, 0), (1, 0), (0, 0)])  # pay 1 at steps 2, 5 and 6
+    assert running.values()["Total"].tolist() == [[2.0, 2.0]]  # totals 1, 2, 3 -> 2
+    assert running.counts["Total"].tolist() == [[3, 3]]
+    nothing = _running("collect_trash")
+    _steps(nothing, [(0, 0)] * 5)
+    assert nothing.values()["Total"].tolist() == [[0.0, 0.0]]  # no change: 0, not a division by zero
+
+
+def test_a_running_mean_of_a_penalty_and_of_two_terms_firing_together():
+    penalty = _running("collect_trash")
+    _steps(penalty, [(1, 0), (0, 0), (1, 0)], weights={"collect_trash": -1.0, "collide_with_trash": 1.0})
+    assert penalty.values()["Total"].tolist() == [[-1.5, -1.5]]  # totals -1, -2
+    both = _running("collect_trash", "collide_with_trash")
+    _steps(both, [(1, 1), (0, 0), (1, 1), (1, 0)])  # pay 2, 2, then 1
+    assert both.values()["Total"].tolist() == [[(2 + 4 + 5) / 3] * 2]
+    inactive = _running("collide_with_trash", "crossed_border")  # only active terms are read
+    assert inactive.terms["Total"] == ("collide_with_trash",)
+
+
+def test_a_running_mean_restarts_with_an_agent_episode_and_pools_over_episodes():
+    running = _running("collect_trash")
+    _steps(running, [(1, 0), (1, 0), (1, 0)])  # totals 1, 2, 3 for both agents
+    first = (running.sums["Total"][0, 1], running.counts["Total"][0, 1])
+    assert first == (6.0, 3)
+    running.clear(np.array([[False, True]]))  # agent 1's episode ends alone; agent 0 plays on
+    assert running.values()["Total"].tolist() == [[2.0, 0.0]]
+    _steps(running, [(0, 0), (5, 0)])  # agent 0: totals 1, 2, 3, 8; agent 1 anew: 5
+    assert running.values()["Total"].tolist() == [[3.5, 5.0]]
+    # pooled over agent 1's two episodes (counts 3 and 1): (6 + 5) / 4, not the mean of 2 and 5
+    sums = np.array([first[0], running.sums["Total"][0, 1]])
+    counts = np.array([first[1], running.counts["Total"][0, 1]])
+    assert pooled(sums, counts) == 11 / 4
+    assert episode_mean(sums, counts).tolist() == [2.0, 5.0]
+    assert pooled(np.zeros(3), np.zeros(3, np.int64)) == 0.0
+
+
+def test_the_runtime_clears_a_running_mean_where_an_agent_or_a_world_starts_again():
+    """BatchedEnv accumulates the running means per physics step and restarts them with a respawned vessel (its
+    episode ended alone) and a reset world, like the episode sums; checked against the terms' pay after it."""
+    compiled = hivex_dsl.compile({"hivex": 1, "environment": "ocean_plastic_collection", "agents": 3,
+                                  "episode_length": 300})
+    terms = compiled.entry.statistics["Local Reward"].running_mean
+    env = BatchedEnv(compiled, batch=2, split="test")
+    observations = env.reset()
+    act = make_policy("scripted", compiled, env.sim.action_space, env.shape, seed=3)
+    pays = []
+    for step in range(300):
+        if step == 120:
+            env.respawn_agents(np.array([[False, True, False], [False, False, False]]))
+        if step == 150:
+            env.reset_worlds(np.array([False, True]))
+        result = env.step(act(observations))
+        observations = result.observations
+        pays.append((step, sum(compiled.weights[t] * result.terms[t] for t in terms if t in result.terms)))
+    started = np.zeros(env.shape, np.int64)
+    started[0, 1], started[1, :] = 120, 150
+    expected = np.zeros(env.shape)
+    for world, agent in np.ndindex(env.shape):
+        pay = np.array([p[world, agent] for step, p in pays if step >= started[world, agent]])
+        totals = np.cumsum(pay)[pay != 0]
+        expected[world, agent] = totals.mean() if totals.size else 0.0
+    np.testing.assert_allclose(env.statistic_sums()["Local Reward"], expected)
+    assert np.count_nonzero(expected) == 6
 
 
 def test_counters_add_nothing_for_ended_agents_and_reset_clears_them(restepped):

@@ -7,7 +7,7 @@ from typing import Any, Optional
 
 from ..compiler import registry
 from ..evaluation import published
-from ..evaluation.audit import AUDIT_POLICIES
+from ..evaluation.audit import AUDIT_POLICIES, compared
 
 TRIVIAL_POLICIES = ("zeros", "random")
 from ..evaluation.fidelity import FIDELITY_FILE, first_level, load_suite, published_level_mean
@@ -30,7 +30,8 @@ def _task_row(audit: dict[str, Any]) -> dict[str, Any]:
         if logged == published.RETURN:
             continue
         name = published.short_name(logged)
-        values = [ours[p]["statistics"].get(name, {}).get("mean") for p in AUDIT_POLICIES]
+        values = [compared(ours[p]["statistics"][name]) if name in ours[p]["statistics"] else None
+                  for p in AUDIT_POLICIES]
         stats.append({"name": name, "level": _num(cell.statistics[logged][0]), "mean": _num(mean[name]),
                       "ours": ["not computed" if v is None else _num(v) for v in values]})
     ppo = cell.return_mean if cell else None

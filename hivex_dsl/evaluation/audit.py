@@ -77,6 +77,12 @@ def spread(values: np.ndarray) -> dict[str, float]:
     return {"mean": float(np.mean(values)), "std": float(np.std(values))}
 
 
+def compared(statistic: dict[str, float]) -> float:
+    """The value of a reported statistic (:meth:`ScenarioAudit.as_dict`) that compares with a published one: a
+    running mean's pooled form where it has one (``"pooled"``), else the mean of the per-episode values."""
+    return statistic.get("pooled", statistic["mean"])
+
+
 @dataclass
 class ScenarioAudit:
     """What the audit measured and flagged for one compiled scenario."""
@@ -104,11 +110,12 @@ class ScenarioAudit:
             "notes": [f.as_dict() for f in self.notes],
         }
         for policy, done in self.rollouts.items():
-            shares = self.shares(policy)
+            shares, pooled = self.shares(policy), done.pooled()
             out["policies"][policy] = {
                 "return": spread(done.returns),
                 "terms": {name: spread(done.weighted(name)) | {"share": shares[name]} for name in done.terms},
-                "statistics": {name: spread(values) for name, values in done.statistics.items()},
+                "statistics": {name: spread(values) | ({"pooled": pooled[name]} if name in pooled else {})
+                               for name, values in done.statistics.items()},
             }
         if self.cell is not None:
             out["published"] = {"return": {"mean": self.cell.return_mean, "std": self.cell.return_std},
@@ -333,8 +340,11 @@ def describe(audit: dict[str, Any]) -> str:
         for name, value in cell["statistics"].items():
             ours = [run["statistics"].get(name) for run in runs.values()]
             rows.append([name, f"{value['mean']:.4g}"] + ["not computed" if v is None else
-                                                         f"{v['mean']:.4g}{_ratio(v['mean'], value['mean'])}" for v in ours])
+                                                         f"{compared(v):.4g}{_ratio(compared(v), value['mean'])}"
+                                                         for v in ours])
         lines += _table(rows)
+        if any("pooled" in v for run in runs.values() for v in run["statistics"].values()):
+            lines.append("  (a running mean shows its pooled form: its added values' mean over every agent-episode)")
     else:
         lines.append(f"  no published result: {audit['caveat']}" if audit.get("caveat") else
                      "  no published result for this environment, task and level")
@@ -345,4 +355,5 @@ def describe(audit: dict[str, Any]) -> str:
     return "\n".join(lines)
 
 
-__all__ = ["AUDIT_POLICIES", "Flag", "ScenarioAudit", "audit_all", "audit_scenario", "describe", "find_flags", "spread"]
+__all__ = ["AUDIT_POLICIES", "Flag", "ScenarioAudit", "audit_all", "audit_scenario", "compared", "describe", "find_flags",
+           "spread"]

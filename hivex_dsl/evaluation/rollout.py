@@ -15,6 +15,7 @@ import numpy as np
 from ..compiler import CompiledScenario
 from ..runtime.batched import BatchedEnv, Split
 from ..sim.spaces import check_actions
+from ..sim.statistics import pooled
 from .policies import Policy, make_policy
 
 
@@ -51,12 +52,19 @@ class Rollout:
     returns: np.ndarray
     lengths: np.ndarray
     terms: dict[str, np.ndarray]  # unweighted per-term episode sums of the active terms
-    statistics: dict[str, np.ndarray]  # logged statistics (see hivex_dsl.sim.statistics)
+    statistics: dict[str, np.ndarray]  # logged statistics' per agent-episode values (see hivex_dsl.sim.statistics)
     traces: dict[str, TermTrace] = field(default_factory=dict)  # per active term, when traced
+    running: dict[str, tuple[np.ndarray, np.ndarray]] = field(default_factory=dict)  # running mean -> (sums, counts)
 
     def weighted(self, term: str) -> np.ndarray:
         """What ``term`` paid per agent and episode: its weight times its episode sums."""
         return self.compiled.weights[term] * self.terms[term]
+
+    def pooled(self) -> dict[str, float]:
+        """Each running-mean statistic over every agent-episode as the original's TensorBoard point shows it:
+        sum of sums over sum of counts (:func:`hivex_dsl.sim.statistics.pooled`); what a published value compares
+        with, where the mean of ``statistics`` would weigh a short episode as much as a long one."""
+        return {name: pooled(sums, counts) for name, (sums, counts) in self.running.items()}
 
 
 def rollout(compiled: CompiledScenario, policy: str | Policy, episodes: int, split: Split = "test",
@@ -79,6 +87,7 @@ def rollout(compiled: CompiledScenario, policy: str | Policy, episodes: int, spl
     returns, lengths = np.zeros(shape), np.zeros(shape, np.int64)
     terms = {name: np.zeros(shape) for name in core.composer.active}
     statistics = {name: np.zeros(shape) for name in core.statistics.names}
+    running = {name: (np.zeros(shape), np.zeros(shape, np.int64)) for name in core.running.terms}
     traces = {name: TermTrace() for name in core.composer.active} if trace else {}
     for episode in range(episodes):
         observations = core.reset(seed if episode == 0 else None)
@@ -98,9 +107,11 @@ def rollout(compiled: CompiledScenario, policy: str | Policy, episodes: int, spl
             terms[name][episode] = core.term_sums[name][0]
         for name, sums in core.statistic_sums().items():
             statistics[name][episode] = sums[0]
+        for name, (sums, counts) in running.items():
+            sums[episode], counts[episode] = core.running.sums[name][0], core.running.counts[name][0]
         if progress:
             progress.episode_done(episode, float(returns[episode].mean()), step)
-    return Rollout(compiled, policy, returns, lengths, terms, statistics, traces)
+    return Rollout(compiled, policy, returns, lengths, terms, statistics, traces, running)
 
 
 __all__ = ["Rollout", "TermTrace", "rollout"]

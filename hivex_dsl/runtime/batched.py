@@ -2,7 +2,7 @@
 
 The simulator moves the world; this module adds what every environment shares: the reward
 composer, episode clocks and truncation, task endings declared as events in the reward table,
-per-agent episode sums of every active term and of the environment's logged statistics, the seed schedule of
+per-agent episode sums of every active term and the environment's logged statistics, the seed schedule of
 the train/test split, and the decision period (ML-Agents' DecisionRequester: one ``step`` is one decision of
 ``decision_period`` physics steps, see :meth:`BatchedEnv.step`).
 """
@@ -19,7 +19,7 @@ from ..base.numeric import all_true, constant
 from ..compiler import CompiledScenario
 from ..sim.reward.composer import RewardComposer
 from ..sim.spaces import hold_inactive, placeholder_actions
-from ..sim.statistics import StatisticSet, episode_statistics
+from ..sim.statistics import RunningMeans, StatisticSet, episode_statistics
 from .seeding import SeedSchedule
 
 Split = Literal["train", "test"]
@@ -127,6 +127,8 @@ class BatchedEnv:
         self.statistics: StatisticSet = compiled.entry.statistics or StatisticSet(compiled.environment, "")
         self._counters = tuple((s.name, s.counter) for s in self.statistics.counters)
         self.counter_sums = {name: np.zeros(shape) for name, _ in self._counters}
+        self.running = RunningMeans(self.statistics, self.composer.active, shape)  # the running-mean statistics
+        self._running = bool(self.running.terms)
         self.lengths = np.zeros(shape, np.int64)
         self.period = compiled.decision_period
         self.decisions = self.lengths if self.period == 1 else np.zeros(shape, np.int64)
@@ -216,6 +218,8 @@ class BatchedEnv:
             sums[mask] = 0.0
         for sums in self.counter_sums.values():
             sums[mask] = 0.0
+        if self._running:
+            self.running.clear(mask)
         self.everyone_playing = bool(self.alive.all())
 
     def _require_reset(self) -> None:
@@ -284,6 +288,8 @@ class BatchedEnv:
         for name, value in terms.items():
             self.term_sums[name] += value
         self._count(prev, actions, live, everyone)
+        if self._running:  # ended agents' terms are 0 here: their totals do not change
+            self.running.add(self.composer.weights, terms)
         return (rewards, terms) + self._endings(live, outcome)
 
     def _count(self, prev: Any, actions: Any, live: np.ndarray, everyone: bool) -> None:
@@ -294,10 +300,11 @@ class BatchedEnv:
             self.counter_sums[name] += value if everyone else np.where(live, value, _ZERO)
 
     def statistic_sums(self) -> dict[str, np.ndarray]:
-        """Every statistic's (batch, agents) sum over the current (or just ended) episodes, by logged name
-        without the environment prefix (see :mod:`hivex_dsl.sim.statistics`)."""
+        """Every statistic's (batch, agents) value over the current (or just ended) episodes, by logged name
+        without the environment prefix: a sum, or for a running mean its per agent-episode mean, whose sums and
+        counts (for the pooled form) are ``self.running`` (see :mod:`hivex_dsl.sim.statistics`)."""
         return episode_statistics(self.statistics, self.compiled.weights, self.counter_sums, self.term_sums,
-                                  self.shape)
+                                  self.shape, self.running.values() if self._running else None)
 
     def _world_terminated(self, outcome: StepOutcome) -> np.ndarray:
         """(batch,) bool: a world-level ending of the task happened in the world on this step."""

@@ -13,6 +13,7 @@ import torch
 from ..adapters.gymnasium import flatten_slots, unflatten_slots
 from ..compiler import CompiledScenario
 from ..evaluation import published
+from ..evaluation.audit import compared
 from ..evaluation.progress import EpisodeBar, bar
 from ..evaluation.rollout import rollout
 from .checkpoint import load_checkpoint, policy_for
@@ -74,7 +75,7 @@ def play(compiled: CompiledScenario, agent: torch.nn.Module, episodes: int, spli
         done = rollout(compiled, network_policy(agent, compiled.agents, deterministic), episodes, split,
                        progress=EpisodeBar(shown, decisions))
     return {"return": done.returns.reshape(-1), "reward_terms": {k: v.reshape(-1) for k, v in done.terms.items()},
-            "statistics": {k: v.reshape(-1) for k, v in done.statistics.items()}}
+            "statistics": {k: v.reshape(-1) for k, v in done.statistics.items()}, "pooled": done.pooled()}
 
 
 def checkpoint_policies(checkpoint: str | Path, deterministic: bool = False, seed: int = 0
@@ -107,13 +108,15 @@ def evaluate(checkpoint: str | Path, scenario: CompiledScenario | None = None, s
             "split": split, "seed": getattr(compiled.seeds, split), "episodes": episodes,
             "agent_episodes": int(played["return"].size), "actions": "mode" if deterministic else "sampled",
             "return": _spread(played["return"]),
-            "statistics": {k: _spread(v) for k, v in played["statistics"].items()},
+            "statistics": {k: _spread(v) | ({"pooled": played["pooled"][k]} if k in played["pooled"] else {})
+                           for k, v in played["statistics"].items()},
             "reward_terms": {k: _spread(v) for k, v in played["reward_terms"].items()},
             "published": _published(compiled), "caveat": published.caveat(compiled)}
 
 
 def format_report(report: dict[str, Any]) -> str:
-    """A table: ours (mean, std) beside the published (mean, std) of the return and every statistic."""
+    """A table: ours (mean, std) beside the published (mean, std) of the return and every statistic (a running
+    mean's mean in its pooled form, :func:`hivex_dsl.evaluation.audit.compared`)."""
     cell = report["published"] or {"return": None, "statistics": {}}
     lines = [f"{report['scenario']}  {report['split']} seed {report['seed']}, {report['episodes']} episodes "
              f"({report['agent_episodes']} agent episodes), {report['actions']} actions, "
@@ -122,7 +125,7 @@ def format_report(report: dict[str, Any]) -> str:
 
     def row(name: str, ours: dict[str, float], paper: dict[str, float] | None) -> str:
         theirs = f"{paper['mean']:12.3f} {paper['std']:10.3f}" if paper else f"{'-':>12} {'-':>10}"
-        return f"{name[:36]:36} {ours['mean']:12.3f} {ours['std']:10.3f}   {theirs}"
+        return f"{name[:36]:36} {compared(ours):12.3f} {ours['std']:10.3f}   {theirs}"
 
     lines.append(row("return", report["return"], cell["return"]))
     for name, ours in report["statistics"].items():

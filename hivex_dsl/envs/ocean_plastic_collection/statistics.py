@@ -6,12 +6,19 @@ from ...sim.statistics import StatisticSet
 from .terms import TERMS
 
 STATISTICS = StatisticSet("ocean_plastic_collection", "OceanPlasticCollector", notes=(
-    "Statistics: 'Local Reward' is what the vessel's own (agent-scope) terms paid and 'Global Reward' what the "
-    "shared terms paid (the team's lowest collected count): the published Avoid Plastic cell, whose only shared "
-    "term has weight 0, logs Global 0 and Local -2.9; the main task logs Global 286.",
+    "Statistics: 'Local Reward' reads the vessel's own (agent-scope) terms and 'Global Reward' the shared terms "
+    "(the team's lowest collected count): the published Avoid Plastic cell, whose only shared term has weight 0, "
+    "logs Global 0 and Local -2.9. Both are running means (hivex_dsl.sim.statistics), not episode sums: the "
+    "original adds the vessel's running total of what those terms paid to ML-Agents' StatsRecorder each time it "
+    "changes, and TensorBoard shows the average of the values added (a vessel collecting n pebbles one at a time "
+    "logs (n + 1) / 2; the lowest count's total, growing as the square of time, averages about a third of its "
+    "final value). Compared with the published cells in their pooled form, sum of the added totals over their "
+    "count across every agent-episode; the reward table's last note gives the evidence and what is open.",
 ))
 
-STATISTICS.mirror("Local Reward", "What the vessel's own (agent-scope) terms paid, weighted.",
-                  *(t.name for t in TERMS if t.contract.scope == "agent"))
-STATISTICS.mirror("Global Reward", "What the shared (team or global scope) terms paid, weighted: the team's "
-                  "lowest collected count.", *(t.name for t in TERMS if t.contract.scope != "agent"))
+STATISTICS.running_mean("Local Reward", "The mean of the vessel's running total of what its own (agent-scope) terms "
+                        "paid (weighted), over the steps that total changed on.",
+                        *(t.name for t in TERMS if t.contract.scope == "agent"))
+STATISTICS.running_mean("Global Reward", "The mean of the vessel's running total of what the shared (team or global "
+                        "scope) terms paid (weighted: the team's lowest collected count), over the steps that total "
+                        "changed on.", *(t.name for t in TERMS if t.contract.scope != "agent"))
