@@ -35,6 +35,14 @@ def _spread(value: dict[str, float] | None) -> str:
     return "-" if not value else f"{_number(value['mean'])} ± {_number(value['std'])}"
 
 
+def statistic_cell(value: dict[str, float]) -> str:
+    """A recorded statistic as it compares with the published one: a running mean's pooled form first (the
+    original's summary point, see hivex_dsl.sim.statistics), its per-episode mean ± std beside it."""
+    if "pooled" not in value:
+        return _spread(value)
+    return f"{_number(value['pooled'])} pooled (per episode {_spread(value)})"
+
+
 def _row(env_id: str, data: dict[str, Any] | None) -> dict[str, Any]:
     scenario = f"scenarios/{env_id}/main.yaml"
     run = f"runs/{env_id}-main"
@@ -60,7 +68,7 @@ def _row(env_id: str, data: dict[str, Any] | None) -> dict[str, Any]:
         "image": f"images/baselines/{env_id}.png", "note": data.get("note", ""), "reached": _reached(data),
         "commands": [data["command"]] if data.get("command") else row["commands"],
         "seeds": _seeds(data),
-        "statistics": [{"name": name, "ours": _spread(value),
+        "statistics": [{"name": name, "ours": statistic_cell(value),
                         "published": _spread(_published_statistic(data["published"], name))}
                        for name, value in data["test"]["statistics"].items()],
     }

@@ -326,3 +326,12 @@ def test_an_approximate_record_says_so_beside_its_return(recorded, tmp_path):
     page = render_docs(None, baselines=tmp_path)["baselines.md"]
     assert f"| `wind_farm_control` | {row['ours']} (bf16, approximate) |" in page
     assert "(bf16, approximate)" not in exact_page and f"| `wind_farm_control` | {row['ours']} |" in exact_page
+
+
+def test_a_running_mean_shows_its_pooled_form_on_the_page():
+    """A record's running-mean statistic (OPC's Local and Global Reward) compares with the published summary point
+    in its pooled form, so the page shows that first; a sum keeps its mean ± std."""
+    from hivex_dsl.docsgen.baselines import statistic_cell
+
+    assert statistic_cell({"mean": 78.5, "std": 15.19, "pooled": 81.44}) == "81.44 pooled (per episode 78.50 ± 15.19)"
+    assert statistic_cell({"mean": 6.23, "std": 2.5}) == "6.23 ± 2.50"
