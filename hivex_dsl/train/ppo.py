@@ -30,6 +30,7 @@ from .curiosity import Curiosity
 from .devices import autocast, matmul_precision, torch_device
 from .logs import EpisodeLog, Progress, ScalarLog
 from .networks import ActorCritic, to_tensors
+from .buffer import Rollout, RowBuffers, merge_steps
 from .rundir import claim, write_json
 
 
@@ -90,71 +91,6 @@ def schedule(cfg: PPOConfig, progress: float) -> tuple[float, float, float]:
     return cfg.learning_rate * left, lerp(cfg.beta, 1e-5), lerp(cfg.epsilon, 0.1)
 
 
-class Rollout:
-    """(T, S) storage of one rollout; observations as a dict of (T, S, ...) tensors; log-probabilities (T, S),
-    or (T, S, logp_columns) with one per action dimension.
-
-    The observations live in (T + 1, S, ...) frames whose last row is the observation after the rollout's
-    last step, so the observations (rows :T) and the next observations (rows 1:) are both views, never copies
-    (a camera buffer is tens of MB)."""
-
-    def __init__(self, steps: int, slots: int, first_obs: dict[str, torch.Tensor], continuous: int, discrete: int,
-                 signals: int = 1, logp_columns: int = 0):
-        self.frames = {k: torch.zeros((steps + 1,) + v.shape, dtype=v.dtype) for k, v in first_obs.items()}
-        self.obs = {k: v[:steps] for k, v in self.frames.items()}
-        self.cont = torch.zeros(steps, slots, continuous)
-        self.disc = torch.zeros(steps, slots, discrete, dtype=torch.int64)
-        self.logp = torch.zeros((steps, slots) + ((logp_columns,) if logp_columns else ()))
-        self.rewards = torch.zeros(steps, slots)
-        self.values = torch.zeros((steps, slots) + ((signals,) if signals > 1 else ()))  # one column per signal
-        self.terminated, self.done, self.valid = (torch.zeros(steps, slots) for _ in range(3))
-        self.end(first_obs)
-        self.gathered = RowBuffers()
-
-    @property
-    def last_obs(self) -> dict[str, torch.Tensor]:
-        """The observation after the rollout's last step (S, ...) per key, a view of the frames' last row."""
-        return {k: v[-1] for k, v in self.frames.items()}
-
-    def end(self, last_obs: dict[str, torch.Tensor]) -> None:
-        """Record the observation after the rollout's last step."""
-        for k, v in last_obs.items():
-            self.frames[k][-1] = v
-
-    def flat(self, name: str) -> torch.Tensor:
-        return merge_steps(getattr(self, name))
-
-    def flat_obs(self) -> dict[str, torch.Tensor]:
-        return {k: merge_steps(v) for k, v in self.obs.items()}
-
-    def flat_next_obs(self) -> dict[str, torch.Tensor]:
-        """The observation each step returned, flat (T * S, ...): in NEXT_STEP mode an ending step's is the
-        episode's last observation, so every valid transition's s' is right."""
-        return {k: merge_steps(v[1:]) for k, v in self.frames.items()}
-
-
-class RowBuffers:
-    """Destination tensors kept from one shuffle to the next: gathering rows into memory already touched is
-    several times faster than into a fresh allocation (a 87 MB camera buffer: 10 ms against 54 ms on CPU),
-    and the copy is the same bytes, so the update is unchanged."""
-
-    def __init__(self) -> None:
-        self._tensors: dict[str, torch.Tensor] = {}
-
-    def take(self, data: dict[str, Any], index: torch.Tensor, prefix: str = "") -> dict[str, Any]:
-        """``data`` (tensors, and nested dicts of them) at rows ``index`` (N,), each a view of a kept buffer."""
-        return {k: self.take(v, index, f"{prefix}{k}/") if isinstance(v, dict) else self._rows(prefix + k, v, index)
-                for k, v in data.items()}
-
-    def _rows(self, key: str, source: torch.Tensor, index: torch.Tensor) -> torch.Tensor:
-        kept = self._tensors.get(key)
-        if kept is None or kept.shape[1:] != source.shape[1:] or kept.shape[0] < index.numel() \
-                or kept.dtype != source.dtype or kept.device != source.device:
-            kept = self._tensors[key] = torch.empty((source.shape[0],) + source.shape[1:], dtype=source.dtype,
-                                                    device=source.device)
-        return torch.index_select(source, 0, index.to(source.device), out=kept[:index.numel()])
-
-
 def start_rollouts(observations: Any, agent: ActorCritic, steps: int) -> tuple[dict[str, Any], Rollout]:
     """The collection state after a reset to ``observations`` (obs, previous done, active; see :func:`collect`)
     and the (``steps``, slots) storage its rollouts fill, sized for ``agent``'s actions and value heads."""
@@ -168,11 +104,6 @@ def start_rollouts(observations: Any, agent: ActorCritic, steps: int) -> tuple[d
 def forward_precision(cfg: PPOConfig):
     """The context of a forward pass under ``cfg.precision``: bfloat16 autocast for ``bf16``, else none."""
     return autocast(cfg.precision, torch_device(cfg.device))
-
-
-def merge_steps(tensor: torch.Tensor) -> torch.Tensor:
-    """(T, S, ...) -> (T * S, ...)."""
-    return tensor.reshape((tensor.shape[0] * tensor.shape[1],) + tensor.shape[2:])
 
 
 def collect(env: HivexVectorEnv, agent: ActorCritic, buf: Rollout, state: dict[str, Any], cfg: PPOConfig,

@@ -13,7 +13,8 @@ from hivex_dsl.train.config import PPOConfig, make_config
 from hivex_dsl.train.curiosity import Curiosity
 from hivex_dsl.train.logs import EpisodeLog
 from hivex_dsl.train.networks import ActionLayout, ActorCritic, to_tensors
-from hivex_dsl.train.ppo import Rollout, advantages_and_returns, collect, gae, train_curiosity
+from hivex_dsl.train.buffer import Rollout
+from hivex_dsl.train.ppo import advantages_and_returns, collect, gae, train_curiosity
 
 from .conftest import short_scenario
 

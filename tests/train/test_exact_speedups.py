@@ -9,7 +9,7 @@ import pytest
 import torch
 
 from hivex_dsl.compiler import compile
-from hivex_dsl.train import ppo
+from hivex_dsl.train import buffer, ppo
 from hivex_dsl.train.config import make_config
 from hivex_dsl.train.curiosity import Curiosity
 from hivex_dsl.train.logs import EpisodeLog
@@ -30,7 +30,7 @@ def reference_minibatches(data, valid, batch_size, rng, buffers=None):
 
 
 def reference_next_obs(buf):
-    return {k: ppo.merge_steps(torch.cat([v[1:], buf.last_obs[k][None].clone()])) for k, v in buf.obs.items()}
+    return {k: buffer.merge_steps(torch.cat([v[1:], buf.last_obs[k][None].clone()])) for k, v in buf.obs.items()}
 
 
 def two_updates(environment: str, curiosity: bool) -> tuple[list[dict[str, float]], torch.Tensor]:
@@ -62,7 +62,7 @@ def two_updates(environment: str, curiosity: bool) -> tuple[list[dict[str, float
 def test_the_fast_update_equals_the_plain_one(environment, curiosity, monkeypatch):
     fast_losses, fast_weights = two_updates(environment, curiosity)
     monkeypatch.setattr(ppo, "minibatches", reference_minibatches)
-    monkeypatch.setattr(ppo.Rollout, "flat_next_obs", reference_next_obs)
+    monkeypatch.setattr(buffer.Rollout, "flat_next_obs", reference_next_obs)
     plain_losses, plain_weights = two_updates(environment, curiosity)
     assert fast_losses == plain_losses
     assert torch.equal(fast_weights, plain_weights)
@@ -73,7 +73,7 @@ def test_the_next_observations_are_the_frames_after_each_step():
     """Row t of the next observations is row t + 1 of the observations, and the last is what the rollout ended
     on; both are views of one storage (written once per step)."""
     first = {"cam": torch.zeros(2, 3)}
-    buf = ppo.Rollout(steps=4, slots=2, first_obs=first, continuous=1, discrete=0)
+    buf = buffer.Rollout(steps=4, slots=2, first_obs=first, continuous=1, discrete=0)
     for t in range(4):
         buf.obs["cam"][t] = t + 1
     buf.end({"cam": torch.full((2, 3), 9.0)})
@@ -85,7 +85,7 @@ def test_the_next_observations_are_the_frames_after_each_step():
 
 def test_kept_buffers_hold_no_stale_rows():
     """A later, shorter gather reads only its own rows; the buffer is reused, not reallocated."""
-    buffers = ppo.RowBuffers()
+    buffers = buffer.RowBuffers()
     data = {"x": torch.arange(10.0)[:, None].repeat(1, 3), "obs": {"cam": torch.arange(10.0)}}
     first = buffers.take(data, torch.tensor([9, 8, 7, 6, 5]))
     assert first["x"][:, 0].tolist() == [9, 8, 7, 6, 5] and first["obs"]["cam"].tolist() == [9, 8, 7, 6, 5]

@@ -14,7 +14,8 @@ from hivex_dsl.compiler import compile
 from hivex_dsl.train.config import make_config
 from hivex_dsl.train.logs import EpisodeLog
 from hivex_dsl.train.networks import ActorCritic, to_tensors
-from hivex_dsl.train.ppo import Rollout, acting_mask, collect, gae, ratio_stats, update
+from hivex_dsl.train.buffer import Rollout
+from hivex_dsl.train.ppo import acting_mask, collect, gae, ratio_stats, update
 
 from .conftest import short_scenario
 
