@@ -31,7 +31,9 @@ follows the parallel env episode after episode as long as no agent's own episode
 then lets the agent leave, the vector env respawns it).
 
 ``infos["hivex_episode"]`` (mask ``infos["_hivex_episode"]``) holds each ended slot's return,
-length (physics steps), decisions (step() calls) and per-term sums, never colliding with the wrappers' ``episode`` key; there is no
+length (physics steps), decisions (step() calls), per-term sums, statistics and, for a running-mean statistic,
+``running[name]["sums"/"counts"]`` (pool them for the original's summary point), never colliding with the wrappers'
+``episode`` key; there is no
 ``infos["active"]``: every slot is always live. Observations are fresh writable arrays every
 step. A reset without a seed follows the scenario's seed (the first copy of a scenario in a
 process plays its stream, later copies child streams of it: copies are different worlds unless
@@ -263,6 +265,11 @@ class HivexVectorEnv(Rendering, VectorEnv):
                 "reward_terms": {k: np.where(ended, s, 0.0).reshape(-1) for k, s in core.term_sums.items()},
                 "statistics": {k: np.where(ended, s, 0.0).reshape(-1) for k, s in core.statistic_sums().items()},
             }
+            if core.running.terms:  # a running mean's sums and counts: its pooled form over many episodes
+                infos["hivex_episode"]["running"] = {
+                    name: {"sums": np.where(ended, core.running.sums[name], 0.0).reshape(-1),
+                           "counts": np.where(ended, core.running.counts[name], 0).reshape(-1)}
+                    for name in core.running.terms}
             infos["_hivex_episode"] = ended.reshape(-1)
         return infos
 

@@ -354,14 +354,17 @@ class BatchedEnv:
 
     def episode_summary(self, world: int, agent: int) -> dict[str, Any]:
         """Return, length (physics steps), decisions, per-term sums and statistics of one agent's current (or
-        just ended) episode."""
+        just ended) episode; with running-mean statistics, ``running`` holds each one's ``sums`` and ``counts``
+        (its pooled form over many episodes is their sums' ratio)."""
         return {
             "return": float(self.returns[world, agent]),
             "length": int(self.lengths[world, agent]),
             "decisions": int(self.decisions[world, agent]),
             "reward_terms": {name: float(s[world, agent]) for name, s in self.term_sums.items()},
             "statistics": {name: float(s[world, agent]) for name, s in self.statistic_sums().items()},
-        }
+        } | ({"running": {name: {"sums": float(self.running.sums[name][world, agent]),
+                                  "counts": int(self.running.counts[name][world, agent])}
+                           for name in self.running.terms}} if self._running else {})
 
     def render(self, world: int = 0) -> np.ndarray:
         self._require_reset()

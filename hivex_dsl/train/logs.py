@@ -7,12 +7,15 @@ from typing import Any
 
 import numpy as np
 
+from ..sim.statistics import pooled
+
 EPISODE_KEYS = (("hivex_episode", "_hivex_episode"), ("episode", "_episode"))
 
 
 def episode_summaries(infos: dict[str, Any]) -> dict[str, Any] | None:
     """The vector env's per-agent summaries of episodes that ended this step, restricted to those slots:
-    ``{"return": (n,), "length": (n,), "reward_terms": {name: (n,)}, "statistics": {name: (n,)}}``.
+    ``{"return": (n,), "length": (n,), "reward_terms": {name: (n,)}, "statistics": {name: (n,)},
+    "running": {name: {"sums": (n,), "counts": (n,)}}}`` (``running``: the running-mean statistics' parts).
     Reads ``hivex_episode`` (the new name) or ``episode`` (the old one). ``length`` counts decisions, as
     ML-Agents' episode length does: a summary's ``decisions``, or its ``length`` where it has none (a summary
     of before decision periods, whose steps were all decisions)."""
@@ -24,7 +27,9 @@ def episode_summaries(infos: dict[str, Any]) -> dict[str, Any] | None:
             ended = np.asarray(infos[mask_key], dtype=bool) & (length > 0)
             return {"return": np.asarray(summary["return"])[ended], "length": length[ended],
                     "reward_terms": {k: np.asarray(v)[ended] for k, v in summary.get("reward_terms", {}).items()},
-                    "statistics": {k: np.asarray(v)[ended] for k, v in summary.get("statistics", {}).items()}}
+                    "statistics": {k: np.asarray(v)[ended] for k, v in summary.get("statistics", {}).items()},
+                    "running": {k: {part: np.asarray(v[part])[ended] for part in ("sums", "counts")}
+                                for k, v in summary.get("running", {}).items()}}
     return None
 
 
@@ -46,19 +51,26 @@ class EpisodeLog:
         cat = lambda key: np.concatenate([p[key] for p in self._parts])  # noqa: E731
         nested = lambda key: {name: np.concatenate([p[key][name] for p in self._parts if name in p[key]])  # noqa: E731
                               for name in self._parts[-1][key]}
+        running = {name: {part: np.concatenate([p["running"][name][part] for p in self._parts
+                                                if name in p.get("running", {})]) for part in ("sums", "counts")}
+                   for name in self._parts[-1].get("running", {})}
         return {"return": cat("return"), "length": cat("length"), "reward_terms": nested("reward_terms"),
-                "statistics": nested("statistics")}
+                "statistics": nested("statistics"), "running": running}
 
     def drain(self) -> dict[str, Any]:
-        """Means since the last drain: ``{"return", "length", "episodes", "reward_terms", "statistics"}``."""
+        """Means since the last drain: ``{"return", "length", "episodes", "reward_terms", "statistics"}``. A
+        running-mean statistic is pooled, as the original's TensorBoard point is: every value added in any of the
+        episodes weighs the same (:func:`hivex_dsl.sim.statistics.pooled`), not each episode's mean."""
         values = self.values()
         self._parts = []
         if not values:
             return {}
         mean = lambda group: {k: float(v.mean()) for k, v in group.items() if v.size}  # noqa: E731
+        pooled_means = {name: pooled(parts["sums"], parts["counts"]) for name, parts in values["running"].items()
+                        if parts["sums"].size}
         return {"return": float(values["return"].mean()), "length": float(values["length"].mean()),
                 "episodes": int(values["return"].size), "reward_terms": mean(values["reward_terms"]),
-                "statistics": mean(values["statistics"])}
+                "statistics": mean(values["statistics"]) | pooled_means}
 
 
 class ScalarLog:

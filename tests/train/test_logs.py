@@ -32,3 +32,46 @@ def test_the_log_drains_means():
     assert drained["return"] == 6.0 and drained["episodes"] == 2 and drained["length"] == 11.0
     assert drained["reward_terms"] == {"a": 6.0} and drained["statistics"] == {"Water Pickup": 2.0}
     assert log.drain() == {}
+
+
+def test_a_running_mean_is_pooled_not_averaged_over_episodes():
+    # two episodes of a running mean: totals added 6 over 3 changes (mean 2) and 5 over 1 (mean 5)
+    infos = {"hivex_episode": {"return": np.array([1.0, 1.0]), "length": np.array([9, 9]),
+                               "statistics": {"Local Reward": np.array([2.0, 5.0]), "Crashes": np.array([1.0, 0.0])},
+                               "running": {"Local Reward": {"sums": np.array([6.0, 5.0]),
+                                                            "counts": np.array([3, 1])}}},
+             "_hivex_episode": np.array([True, True])}
+    log = EpisodeLog()
+    log.record(infos)
+    # the original's summary point: every added value weighs the same, 11 / 4, not the episodes' mean 3.5
+    assert log.drain()["statistics"] == {"Local Reward": 11 / 4, "Crashes": 0.5}
+
+
+def test_training_logs_opc_local_reward_pooled_over_the_changes_of_its_running_total():
+    import hivex_dsl
+    from hivex_dsl.adapters.gymnasium import HivexVectorEnv
+
+    compiled = hivex_dsl.compile({"hivex": 1, "environment": "ocean_plastic_collection", "agents": 3,
+                                  "episode_length": 150, "seeds": {"train": 11, "test": 12}})
+    env = HivexVectorEnv(compiled, num_worlds=2)
+    env.reset(seed=3)
+    env.action_space.seed(0)
+    terms = env.core.statistics["Local Reward"].running_mean
+    total, sums, counts = (np.zeros(env.num_envs) for _ in range(3))
+    ended_sums, ended_counts, log = [], [], EpisodeLog()
+    for _ in range(320):  # two whole episodes of every slot, and some respawns after crashes
+        _, _, terminated, truncated, infos = env.step(env.action_space.sample())
+        pay = sum(compiled.weights[t] * infos["reward_terms"][t] for t in terms if t in infos["reward_terms"])
+        total += pay
+        sums += np.where(pay != 0, total, 0.0)
+        counts += pay != 0
+        log.record(infos)
+        done = terminated | truncated
+        ended_sums.append(sums[done].copy())
+        ended_counts.append(counts[done].copy())
+        total[done] = sums[done] = counts[done] = 0.0
+    drained = log.drain()
+    expected_sums, expected_counts = np.concatenate(ended_sums), np.concatenate(ended_counts)
+    assert drained["episodes"] == expected_sums.size > 2 * env.num_envs - 1
+    assert expected_counts.sum() > 0
+    assert drained["statistics"]["Local Reward"] == pytest.approx(expected_sums.sum() / expected_counts.sum())
