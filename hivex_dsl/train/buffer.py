@@ -6,9 +6,18 @@ updates (tens of MB a rollout), without changing a number: see ``tests/train/tes
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, Callable
 
 import torch
+
+CHUNK = 4096  # rows per no-grad pass over a whole rollout: big enough for efficient kernels, small enough for memory
+
+
+def in_chunks(fn: Callable[[dict[str, torch.Tensor]], torch.Tensor], rows: dict[str, torch.Tensor]) -> torch.Tensor:
+    """``fn`` (a no-grad network pass) over ``rows`` (N, ...) per key, CHUNK rows at a time; -> its outputs
+    concatenated (N, ...). On the CPU a row's output does not depend on the chunk it is in (the tests check)."""
+    total = next(iter(rows.values())).shape[0]
+    return torch.cat([fn({k: v[start:start + CHUNK] for k, v in rows.items()}) for start in range(0, total, CHUNK)])
 
 
 def merge_steps(tensor: torch.Tensor) -> torch.Tensor:
@@ -52,6 +61,10 @@ class Rollout:
 
     def flat_obs(self) -> dict[str, torch.Tensor]:
         return {k: merge_steps(v) for k, v in self.obs.items()}
+
+    def flat_frames(self) -> dict[str, torch.Tensor]:
+        """Every frame flat ((T + 1) * S, ...): the observations, then the one after the last step."""
+        return {k: merge_steps(v) for k, v in self.frames.items()}
 
     def flat_next_obs(self) -> dict[str, torch.Tensor]:
         """The observation each step returned, flat (T * S, ...): in NEXT_STEP mode an ending step's is the

@@ -27,13 +27,13 @@ import torch
 from gymnasium import spaces
 from torch import nn
 
+from .buffer import CHUNK, in_chunks
 from .config import PPOConfig
 from .networks import ActionLayout, Body, linear_encoder, ml_agents_linear, observation_keys, swish_mlp, vector_part
 
 FORWARD_WEIGHT = 0.2  # ML-Agents' CuriosityRewardProvider.beta
 LOSS_MULTIPLIER = 10.0  # ML-Agents' CuriosityRewardProvider.loss_multiplier
 MODEL_UNITS = 256  # ML-Agents' width of the inverse and forward models
-CHUNK = 4096  # transitions per no-grad pass when rewarding a whole rollout
 
 
 def _model(inputs: int, outputs: int, variant: str) -> nn.Sequential:
@@ -101,13 +101,26 @@ class Curiosity(nn.Module):
     def rewards(self, obs: dict[str, torch.Tensor], next_obs: dict[str, torch.Tensor], cont: torch.Tensor,
                 disc: torch.Tensor) -> torch.Tensor:
         """(N,) curiosity rewards min(strength * e, 1) of N transitions (flat observations), 0 before any update."""
-        total = cont.shape[0]
         if not bool(self.updated):
-            return torch.zeros(total)
-        errors = []
-        for start in range(0, total, CHUNK):
-            part = slice(start, start + CHUNK)
-            phi = self._encode({k: v[part] for k, v in obs.items()})
-            phi_next = self._encode({k: v[part] for k, v in next_obs.items()})
-            errors.append(self._forward_error(phi, phi_next, self._action_input(cont[part], disc[part])))
+            return torch.zeros(cont.shape[0])
+        return self._rewarded(in_chunks(self._encode, obs), in_chunks(self._encode, next_obs), cont, disc)
+
+    @torch.no_grad()
+    def rollout_rewards(self, frames: dict[str, torch.Tensor], cont: torch.Tensor, disc: torch.Tensor
+                        ) -> torch.Tensor:
+        """(T * S,) the rewards of a rollout's transitions from its ``frames`` ((T + 1) * S rows: each step's
+        observations, then the last next observations), each frame encoded once: a step's next observation is
+        the following step's observation. Equal to :meth:`rewards` of the same transitions."""
+        transitions = cont.shape[0]
+        if not bool(self.updated):
+            return torch.zeros(transitions)
+        phi = in_chunks(self._encode, frames)
+        slots = phi.shape[0] - transitions
+        return self._rewarded(phi[:transitions], phi[slots:], cont, disc)
+
+    def _rewarded(self, phi: torch.Tensor, phi_next: torch.Tensor, cont: torch.Tensor, disc: torch.Tensor
+                  ) -> torch.Tensor:
+        """min(strength * forward error, 1) of encoded transitions, the forward model run CHUNK rows at a time."""
+        errors = [self._forward_error(phi[part], phi_next[part], self._action_input(cont[part], disc[part]))
+                  for part in (slice(start, start + CHUNK) for start in range(0, cont.shape[0], CHUNK))]
         return (self.strength * torch.cat(errors)).clamp(max=1.0).cpu()
