@@ -18,8 +18,10 @@ only between runs on the same machine (each row names its machine).
 from __future__ import annotations
 
 import argparse
+import datetime
 import json
 import os
+import subprocess
 import tempfile
 import time
 from concurrent.futures import ProcessPoolExecutor
@@ -93,13 +95,28 @@ def main() -> None:
     overrides = parse_assignments(args.assignments)
     rows = []
     for env in args.env or registry.environments():
-        row = measure_concurrently(env, args.steps, overrides, args.processes)
+        row = measure_concurrently(env, args.steps, overrides, args.processes) | when_and_what()
         rows.append(row)
         print(f"{row['environment']:32} {row['agent_steps_per_s']:>10,.0f} agent-steps/s  "
               f"env {100 * row['env_share']:.0f}% of the time  ({row['processes']} x {row['torch_threads']} "
               f"threads, {row['device']}, {row['wall_s']:.1f} s)", flush=True)
         if args.output:  # after each environment: a run stopped part-way keeps what it measured
             args.output.write_text(json.dumps(merged(args.output, [row]), indent=2) + "\n")
+
+
+def when_and_what() -> dict:
+    """The day (UTC) of a measurement and the code measured: the repository's commit, "+changes" where the work
+    tree differs from it (None outside a git checkout). Rows of different days differ by several per cent on a
+    shared machine: compare a change with a baseline measured the same day."""
+    day = datetime.datetime.now(datetime.timezone.utc).date().isoformat()
+    root = Path(__file__).resolve().parents[1]
+    try:
+        commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=root, capture_output=True, text=True,
+                                check=True).stdout.strip()
+        changed = subprocess.run(["git", "diff", "--quiet", "HEAD", "--", "hivex_dsl"], cwd=root).returncode != 0
+    except (OSError, subprocess.CalledProcessError):
+        return {"measured": day, "commit": None}
+    return {"measured": day, "commit": commit + ("+changes" if changed else "")}
 
 
 def merged(path: Path, rows: list[dict]) -> dict:

@@ -234,8 +234,15 @@ def throughput_table(path: Path) -> dict[str, Any]:
             "rate": f"{rate:,.0f}", "env_share": f"{100 * row['env_share']:.0f}%",
             "budget": f"{budget / 1e6:g}M in {_duration(budget * row.get('processes', 1) / rate)}",
             "target": "-" if target is None else f"{target:,}",
-            "met": "-" if target is None else ("yes" if rate >= target else "no")})
+            "met": "-" if target is None else ("yes" if rate >= target else "no"), "when": _measured(row)})
     return {"throughput": [{"machine": words, "rows": rows} for words, rows in tables.items()]}
+
+
+def _measured(row: dict[str, Any]) -> str:
+    """A row's day and the commit it measured (`2026-11-27, 8f2b241`), or "-" for rows from before both were kept."""
+    if "measured" not in row:
+        return "-"
+    return row["measured"] + (f", `{row['commit']}`" if row.get("commit") else "")
 
 
 def _compute_bounds(path: Path) -> dict[tuple[str, str, int], float]:

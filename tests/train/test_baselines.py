@@ -155,7 +155,7 @@ def test_the_page_shows_training_throughput_against_the_targets(recorded):
            "env_share": 0.061, "num_worlds": 32, "torch_threads": 1, "agents": 8, "buffer_size": 2048,
            "batch_size": 256, "num_epoch": 3}  # a row written before rows named their machine and device
     slow = row | {"environment": "aerial_wildfire_suppression", "agent_steps_per_s": 1_999.4, "num_worlds": 12,
-                  "agents": 3, "machine": cpu}
+                  "agents": 3, "machine": cpu, "measured": "2026-11-27", "commit": "abc1234+changes"}
     gpu = row | {"environment": "ocean_plastic_collection", "agent_steps_per_s": 28_800.0, "num_worlds": 8,
                  "agents": 3, "device": "cuda", "processes": 16, "machine": "x86_64, 16 cores, an H100"}
     results.write_text(json.dumps({"machine": cpu, "rows": [row, slow, gpu]}))
@@ -171,9 +171,9 @@ def test_the_page_shows_training_throughput_against_the_targets(recorded):
     # the paper's budgets: WFC 8M at 60,000/s is 133 s; AWS 1.8M at 1,999.4/s 900 s; OPC 3M x 16 at 28,800/s 1,667 s
     # 60,000 of the 120,000 agent-steps/s its arithmetic allows on 1 thread (the 2-thread bound is another row's)
     assert "| `wind_farm_control` | 32 x 8 | cpu | 1 x 1 | 2048 / 256 / 3 | 60,000 | 120,000 (50%) | 6% | 8M in 2 min " \
-           "| 60,000 | yes |" in cpu_table
+           "| 60,000 | yes | - |" in cpu_table
     assert "| `aerial_wildfire_suppression` | 12 x 3 | cpu | 1 x 1 | 2048 / 256 / 3 | 1,999 | - | 6% | 1.8M in 15 min " \
-           "| 3,500 | no |" in cpu_table
+           "| 3,500 | no | 2026-11-27, `abc1234+changes` |" in cpu_table
     assert "| `ocean_plastic_collection` | 8 x 3 | cuda | 16 x 1 | 2048 / 256 / 3 | 28,800 | - | 6% | 3M in 28 min " \
            "| 50,000 | no |" in gpu_table
     assert "Training throughput" not in render_docs(None, baselines=out)["baselines.md"]
@@ -197,6 +197,10 @@ def test_the_gpu_check_runs_its_steps_on_the_cpu(tmp_path):
     fresh = [r for r in rows if r not in committed]  # the committed table has 2-process rows of its own
     assert len(fresh) == 1 and fresh[0]["environment"] == "ocean_plastic_collection" and fresh[0]["processes"] == 2
     assert fresh[0]["device"] == "cpu" and fresh[0]["num_worlds"] == 1
+    # the row says when and what it measured: today (UTC) and this checkout's commit
+    import datetime
+    assert fresh[0]["measured"] == datetime.datetime.now(datetime.timezone.utc).date().isoformat()
+    assert fresh[0]["commit"] is None or fresh[0]["commit"].split("+")[0].isalnum()
     # each run: whole rollouts of 32 // 3 = 10 steps of 3 agents until 64 are done, 3 x 30; two runs
     assert fresh[0]["agent_steps"] == 2 * 90
     assert len(rows) == len(committed) + 1
