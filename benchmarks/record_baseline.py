@@ -2,7 +2,7 @@
 
     python benchmarks/record_baseline.py RUN_DIR SCENARIO [--episodes 10] [--command "..."] [--note "..."]
     python benchmarks/record_baseline.py --add-seed RUN_DIR [--add-seed RUN_DIR ...]   # other training seeds
-    python benchmarks/record_baseline.py --grid RUN_DIR SWEEP [--episodes 10]   # a trained sweep: grids/<env>.json
+    python benchmarks/record_baseline.py --grid RUN_DIR SWEEP [--episodes 10] [--partial]   # a trained sweep: grids/<env>.json
     python benchmarks/record_baseline.py --replot   # redraw every committed PNG from its JSON
 
 It evaluates the run's checkpoint on the test seeds (as `hivex evaluate` does), measures the random and
@@ -12,7 +12,8 @@ scripted policies on the same seeds, evaluates every intermediate checkpoint the
 the same scenario and hyperparameters on another training seed (`hivex train ... --seed 1`) and adds it to
 that environment's committed record, which the page then shows beside the recorded seed. --grid records a
 sweep trained with `hivex train SWEEP -o RUN_DIR --eval-episodes N`: every point's test return beside the
-paper's published cell for its task and level (each point's own evaluation when it holds --episodes episodes).
+paper's published cell for its task and level (each point's own evaluation when it holds --episodes episodes);
+with --partial, a grid still training: the points trained so far, the others listed as not trained yet.
 """
 
 from __future__ import annotations
@@ -38,6 +39,8 @@ def main() -> None:
     parser.add_argument("--grid", action="store_true",
                         help="RUN_DIR is a trained sweep and SCENARIO its sweep file (writes grids/<environment>.json)")
     parser.add_argument("--episodes", type=int, default=10)
+    parser.add_argument("--partial", action="store_true",
+                        help="with --grid: record the points trained so far of a grid still training")
     parser.add_argument("--command", default="", help="the exact commands that trained the run (shown on the page)")
     parser.add_argument("--note", default="", help="one paragraph shown under the curve")
     parser.add_argument("--curve-episodes", type=int, default=3,
@@ -61,12 +64,16 @@ def main() -> None:
         return
     if args.run_dir is None or args.scenario is None:
         parser.error("RUN_DIR and SCENARIO are required (or --add-seed, or --replot)")
+    if args.partial and not args.grid:
+        parser.error("--partial records a grid still training: it goes with --grid")
     if args.grid:
         try:
-            grid = record_grid(args.run_dir, args.scenario, OUT, args.episodes, args.command, args.note)
+            grid = record_grid(args.run_dir, args.scenario, OUT, args.episodes, args.command, args.note,
+                               args.partial)
         except TrainError as exc:
             parser.exit(2, f"error: {exc}\n")
-        print(f"wrote {OUT / GRIDS / grid['environment']}.json: {len(grid['points'])} points")
+        print(f"wrote {OUT / GRIDS / grid['environment']}.json: {len(grid['points'])} points"
+              + (f", {len(grid['untrained'])} not trained yet" if grid["untrained"] else ""))
         return
     data = record_baseline(args.run_dir, args.scenario, OUT, args.episodes, args.command, args.note,
                            args.curve_episodes)

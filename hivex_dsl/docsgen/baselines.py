@@ -173,7 +173,7 @@ def grid_tables(directory: Path) -> list[dict[str, Any]]:
                        "seed": data["points"][0]["seed"], "test_seed": data["test"]["seed"],
                        "episodes": data["test"]["episodes"], "actions": data["test"]["actions"],
                        "machine": data["machine"], "note": data.get("note", ""),
-                       "steps": f"{data['hyperparameters']['max_steps']:,}",
+                       "steps": f"{data['hyperparameters']['max_steps']:,}", "untrained": data.get("untrained", []),
                        "commands": [data["command"]] if data.get("command") else []})
     return tables
 

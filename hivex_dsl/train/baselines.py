@@ -149,19 +149,25 @@ GRIDS = "grids"  # under the baselines folder: grids/<environment>.json
 
 
 def record_grid(grid_dir: Path, sweep: str, out_dir: Path, episodes: int = 10, command: str = "",
-                note: str = "") -> dict[str, Any]:
+                note: str = "", partial: bool = False) -> dict[str, Any]:
     """Write ``out_dir/grids/<environment>.json`` for the grid trained in ``grid_dir`` on ``sweep`` (the bundled
     path, e.g. ``scenarios/wind_farm_control/paper_suite.yaml``); -> the JSON's content.
 
     Every point must have finished training that sweep's point of the same index, all with one set of
     hyperparameters. Its test-seed evaluation is the ``evaluation.json`` the grid wrote when that holds
     ``episodes`` test episodes, and a fresh one otherwise; the random and the scripted policy play the same
-    episodes of every point."""
+    episodes of every point. With ``partial`` (a grid still training) the points not trained to their end yet
+    are listed by name under ``untrained`` instead of refused; at least one point must be trained."""
     grid_dir, out_dir = Path(grid_dir), Path(out_dir)
     points = compile_all(sweep)
     run_dirs = [point_dir(grid_dir, index, point) for index, point in enumerate(points)]
-    summaries = [_finished_point(run_dir, index, point, sweep) for index, (run_dir, point)
-                 in enumerate(zip(run_dirs, points))]
+    trained = [index for index, run_dir in enumerate(run_dirs) if not partial or _trained(run_dir)]
+    if not trained:
+        raise TrainError(f"{grid_dir} has no point of {sweep} trained to its end yet: nothing to record")
+    untrained = [points[index].name for index in range(len(points)) if index not in trained]
+    points, run_dirs = [points[i] for i in trained], [run_dirs[i] for i in trained]
+    summaries = [_finished_point(run_dir, index, point, sweep) for index, run_dir, point
+                 in zip(trained, run_dirs, points)]
     configs = [json.loads((run_dir / "config.json").read_text())["hyperparameters"] for run_dir in run_dirs]
     differing = sorted({k for c in configs for k in c if any(other.get(k) != c[k] for other in configs)})
     if differing:
@@ -177,10 +183,18 @@ def record_grid(grid_dir: Path, sweep: str, out_dir: Path, episodes: int = 10, c
                      **{policy: level_of(point, policy, episodes) for policy in LEVEL_POLICIES}})
     data = {"environment": points[0].environment, "sweep": sweep, "command": command, "note": note,
             "machine": machine(), "hyperparameters": configs[0],
-            "test": {"seed": report["seed"], "episodes": episodes, "actions": "sampled"}, "points": rows}
+            "test": {"seed": report["seed"], "episodes": episodes, "actions": "sampled"}, "points": rows,
+            "untrained": untrained}
     (out_dir / GRIDS).mkdir(parents=True, exist_ok=True)
     (out_dir / GRIDS / f"{data['environment']}.json").write_text(json.dumps(data, indent=1) + "\n")
     return data
+
+
+def _trained(run_dir: Path) -> bool:
+    """Whether the run in ``run_dir`` trained to its end (which scenario it trained, :func:`_finished_point` checks)."""
+    summary = run_dir / "summary.json"
+    return (run_dir / "checkpoint.pt").is_file() and summary.is_file() \
+        and not json.loads(summary.read_text())["stopped_early"]
 
 
 def _finished_point(run_dir: Path, index: int, point: CompiledScenario, sweep: str) -> dict[str, Any]:

@@ -136,3 +136,22 @@ def test_the_script_reports_a_grid_it_cannot_record_without_a_traceback(grid, mo
                                       "--episodes", "2"])
     script.main()
     assert capsys.readouterr().out == f"wrote {tmp_path / 'grids' / 'wind_farm_control'}.json: 2 points\n"
+
+
+def test_a_grid_still_training_is_recorded_in_part_and_says_so(grid, tmp_path):
+    """--partial: point 1 stopped before its end is listed as not trained yet, point 0 is recorded as in a whole
+    grid; without --partial the same grid is refused, and a grid with no trained point is refused either way."""
+    _edited_copy(grid, tmp_path, "summary.json", lambda s: s.update(stopped_early=True))
+    whole = record_grid(grid / "runs", str(grid / "sweep.yaml"), tmp_path / "whole", episodes=2)
+    part = record_grid(tmp_path / "runs", str(grid / "sweep.yaml"), tmp_path / "out", episodes=2, partial=True)
+    assert part["untrained"] == ["wfc-main[pattern=1]"] and whole["untrained"] == []
+    assert part["points"] == whole["points"][:1]
+    page = render_docs(None, baselines=tmp_path / "out")["baselines.md"]
+    assert "## `wind_farm_control`: every task and level (1 of 2 trained so far)" in page
+    assert "and 1 are\nnot trained yet (`wfc-main[pattern=1]`)." in page
+    assert "Of the 1 points, " in page
+    with pytest.raises(TrainError, match="did not train to its end"):
+        record_grid(tmp_path / "runs", str(grid / "sweep.yaml"), tmp_path / "out", episodes=2)
+    shutil.rmtree(next((tmp_path / "runs").glob("000-*")))
+    with pytest.raises(TrainError, match=r"has no point of .*sweep.yaml trained to its end yet: nothing to record$"):
+        record_grid(tmp_path / "runs", str(grid / "sweep.yaml"), tmp_path / "out", episodes=2, partial=True)
