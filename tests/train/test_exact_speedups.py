@@ -40,27 +40,13 @@ def reference_next_obs(buf):
     return {k: buffer.merge_steps(torch.cat([v[1:], buf.last_obs[k][None].clone()])) for k, v in buf.obs.items()}
 
 
-def reference_collect(env, agent, buf, state, cfg, episodes):
-    """The rollout as it was first written: the critic run with the actor, one slot batch a step."""
-    for t in range(buf.rewards.shape[0]):
-        obs = state["obs"]
-        for k, v in obs.items():
-            buf.obs[k][t] = v
-        buf.valid[t] = torch.as_tensor(ppo.acting_mask(state["done"], state["active"]), dtype=torch.float32)
-        with torch.no_grad():
-            cont, disc, logp, buf.values[t] = agent.act_and_value(obs)
-        buf.cont[t], buf.disc[t], buf.logp[t] = cont, disc, logp
-        next_obs, reward, terminated, truncated, infos = env.step(agent.layout.to_env(cont, disc))
-        done = terminated | truncated
-        buf.rewards[t] = torch.as_tensor(reward, dtype=torch.float32) * cfg.reward_strength
-        buf.terminated[t] = torch.as_tensor(terminated, dtype=torch.float32)
-        buf.done[t] = torch.as_tensor(done, dtype=torch.float32)
-        episodes.record(infos)
-        state["obs"], state["done"] = ppo.to_tensors(next_obs), done
-        state["active"] = np.asarray(infos.get("active", np.ones_like(done)), dtype=bool)
-    buf.end(state["obs"])
+def reference_rollout_values(agent, buf, cfg):
+    """The critic run one slot batch a step, as the rollout first did beside the actor (the weights do not
+    change during a rollout, so after it is the same)."""
     with torch.no_grad():
-        return agent.get_value(state["obs"])
+        for t in range(buf.values.shape[0]):
+            buf.values[t] = agent.get_value({k: v[t] for k, v in buf.obs.items()})
+        return agent.get_value(buf.last_obs)
 
 
 def reference_rollout_rewards(self, frames, cont, disc):
@@ -112,7 +98,7 @@ def test_the_copies_avoided_change_no_bit(environment, curiosity, monkeypatch):
 def test_the_batched_passes_change_nothing_but_rounding(environment, curiosity, monkeypatch):
     monkeypatch.setattr(buffer, "CHUNK", 7)  # chunks that cut across a step's slots: a row's output is its own
     fast_losses, fast_weights = two_updates(environment, curiosity)
-    monkeypatch.setattr(ppo, "collect", reference_collect)
+    monkeypatch.setattr(ppo, "rollout_values", reference_rollout_values)
     monkeypatch.setattr(Curiosity, "rollout_rewards", reference_rollout_rewards)
     plain_losses, plain_weights = two_updates(environment, curiosity)
     for fast, plain in zip(fast_losses, plain_losses):
