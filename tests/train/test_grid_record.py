@@ -155,3 +155,22 @@ def test_a_grid_still_training_is_recorded_in_part_and_says_so(grid, tmp_path):
     shutil.rmtree(next((tmp_path / "runs").glob("000-*")))
     with pytest.raises(TrainError, match=r"has no point of .*sweep.yaml trained to its end yet: nothing to record$"):
         record_grid(tmp_path / "runs", str(grid / "sweep.yaml"), tmp_path / "out", episodes=2, partial=True)
+
+
+def test_the_script_records_a_grid_in_part_only_when_asked(grid, monkeypatch, capsys, tmp_path):
+    import sys
+
+    script = record_baseline_script()
+    monkeypatch.setattr(script, "OUT", tmp_path / "out")
+    _edited_copy(grid, tmp_path, "summary.json", lambda s: s.update(stopped_early=True))
+    base = ["record_baseline.py", "--grid", str(tmp_path / "runs"), str(grid / "sweep.yaml"), "--episodes", "2"]
+    monkeypatch.setattr(sys, "argv", base + ["--partial"])
+    script.main()
+    assert capsys.readouterr().out == (f"wrote {tmp_path / 'out' / 'grids' / 'wind_farm_control'}.json: 1 points, "
+                                       "1 not trained yet\n")
+    monkeypatch.setattr(sys, "argv", ["record_baseline.py", str(tmp_path / "runs"), str(grid / "sweep.yaml"),
+                                      "--partial"])
+    with pytest.raises(SystemExit) as exit_:
+        script.main()
+    assert exit_.value.code == 2
+    assert "--partial records a grid still training: it goes with --grid" in capsys.readouterr().err
