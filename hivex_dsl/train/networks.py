@@ -292,16 +292,9 @@ class ActorCritic(nn.Module):
         return mu, log_probs
 
     def act(self, obs: dict[str, torch.Tensor], deterministic: bool = False):
-        """-> continuous (B, c), discrete (B, d) int64, log-prob (B,): sampled, or the modes if deterministic."""
-        cont, disc, logp, _ = self._act(obs, deterministic, with_value=False)
-        return cont, disc, logp
-
-    def act_and_value(self, obs: dict[str, torch.Tensor]):
-        """-> sampled continuous (B, c), discrete (B, d), their log-prob (see :meth:`_log_prob_entropy`) and
-        V(obs) (see get_value)."""
-        return self._act(obs, False, with_value=True)
-
-    def _act(self, obs: dict[str, torch.Tensor], deterministic: bool, with_value: bool):
+        """-> continuous (B, c), discrete (B, d) int64, log-prob (B,) (see :meth:`_log_prob_entropy`): sampled, or
+        the modes if deterministic. The critic's values come apart (:meth:`get_value`): a rollout's are computed
+        after it, in big batches (``ppo.rollout_values``)."""
         (obs,) = self._here(obs)
         vector = self._normalised(obs)
         mu, log_probs = self._heads(obs, vector)
@@ -317,8 +310,7 @@ class ActorCritic(nn.Module):
         else:
             disc = torch.zeros(batch, 0, dtype=torch.int64, device=device)
         logp, _ = self._log_prob_entropy(mu, log_probs, cont, disc)
-        value = self._value(obs, vector).cpu() if with_value else None
-        return cont.cpu(), disc.cpu(), logp.cpu(), value
+        return cont.cpu(), disc.cpu(), logp.cpu()
 
     def evaluate(self, obs: dict[str, torch.Tensor], cont: torch.Tensor, disc: torch.Tensor):
         """-> log-prob (B,) or (B, logp_columns), entropy (B,), value (B,) of given actions."""
