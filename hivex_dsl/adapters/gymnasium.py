@@ -266,10 +266,7 @@ class HivexVectorEnv(Rendering, VectorEnv):
                 "statistics": {k: np.where(ended, s, 0.0).reshape(-1) for k, s in core.statistic_sums().items()},
             }
             if core.running.terms:  # a running mean's sums and counts: its pooled form over many episodes
-                infos["hivex_episode"]["running"] = {
-                    name: {"sums": np.where(ended, core.running.sums[name], 0.0).reshape(-1),
-                           "counts": np.where(ended, core.running.counts[name], 0).reshape(-1)}
-                    for name in core.running.terms}
+                infos["hivex_episode"]["running"] = core.running.parts(lambda a: np.where(ended, a, 0).reshape(-1))
             infos["_hivex_episode"] = ended.reshape(-1)
         return infos
 

@@ -362,9 +362,7 @@ class BatchedEnv:
             "decisions": int(self.decisions[world, agent]),
             "reward_terms": {name: float(s[world, agent]) for name, s in self.term_sums.items()},
             "statistics": {name: float(s[world, agent]) for name, s in self.statistic_sums().items()},
-        } | ({"running": {name: {"sums": float(self.running.sums[name][world, agent]),
-                                  "counts": int(self.running.counts[name][world, agent])}
-                           for name in self.running.terms}} if self._running else {})
+        } | ({"running": self.running.parts(lambda a: a[world, agent].item())} if self._running else {})
 
     def render(self, world: int = 0) -> np.ndarray:
         self._require_reset()

@@ -176,6 +176,11 @@ class RunningMeans:
             self.sums[name][mask] = 0.0
             self.counts[name][mask] = 0
 
+    def parts(self, pick: Callable[[np.ndarray], Any]) -> dict[str, dict[str, Any]]:
+        """Each statistic's ``{"sums", "counts"}`` through ``pick`` (a (batch, agents) array -> what a summary
+        holds: one agent's value, the ended slots'), the parts an episode summary carries for pooling."""
+        return {name: {"sums": pick(self.sums[name]), "counts": pick(self.counts[name])} for name in self.terms}
+
     def values(self) -> dict[str, np.ndarray]:
         """Each statistic's (batch, agents) per agent-episode value: sums / counts, 0 where nothing changed."""
         return {name: episode_mean(self.sums[name], self.counts[name]) for name in self.terms}

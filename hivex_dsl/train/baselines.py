@@ -192,9 +192,13 @@ def record_grid(grid_dir: Path, sweep: str, out_dir: Path, episodes: int = 10, c
 
 def _trained(run_dir: Path) -> bool:
     """Whether the run in ``run_dir`` trained to its end (which scenario it trained, :func:`_finished_point` checks)."""
-    summary = run_dir / "summary.json"
-    return (run_dir / "checkpoint.pt").is_file() and summary.is_file() \
-        and not json.loads(summary.read_text())["stopped_early"]
+    return (run_dir / "checkpoint.pt").is_file() and not _summary(run_dir)["stopped_early"]
+
+
+def _summary(run_dir: Path) -> dict[str, Any]:
+    """The run's summary.json, or ``{"stopped_early": True}`` where it has none yet (a run under way)."""
+    path = run_dir / "summary.json"
+    return json.loads(path.read_text()) if path.is_file() else {"stopped_early": True}
 
 
 def _finished_point(run_dir: Path, index: int, point: CompiledScenario, sweep: str) -> dict[str, Any]:
@@ -203,8 +207,7 @@ def _finished_point(run_dir: Path, index: int, point: CompiledScenario, sweep: s
         raise TrainError(f"{run_dir.parent} has no trained point {index} of {sweep} (no {run_dir / 'checkpoint.pt'})")
     if load_checkpoint(run_dir / "checkpoint.pt")["fingerprint"] != point.fingerprint:
         raise TrainError(f"{run_dir} trained another scenario than {point.name!r}, point {index} of {sweep}")
-    summary_file = run_dir / "summary.json"
-    summary = json.loads(summary_file.read_text()) if summary_file.is_file() else {"stopped_early": True}
+    summary = _summary(run_dir)
     if summary["stopped_early"]:
         raise TrainError(f"point {index} of {sweep} ({run_dir}) did not train to its end: run the grid's "
                          "`hivex train` command again with --resume")
