@@ -179,6 +179,48 @@ def test_the_command_wants_a_file_or_the_suite(capsys):
     assert "give a scenario FILE or --suite" in capsys.readouterr().err
 
 
+def test_only_is_refused_without_the_suite(capsys):
+    assert main(["audit", "wind_farm_control/main", "--only", "wind_farm_control"]) == 2
+    assert "--only picks environments of the --suite" in capsys.readouterr().err
+
+
+def _row(environment, scenario, value):
+    return {"environment": environment, "scenario": scenario, "value": value, "flags": []}
+
+
+def test_only_remeasures_one_environment_and_keeps_every_other_row_in_suite_order(tmp_path, monkeypatch):
+    """A stored report of three environments; --only ocean_plastic_collection re-measures that one at the
+    stored episode count (not --episodes) and writes the others back untouched, in the registry's order."""
+    from hivex_dsl.evaluation import fidelity
+
+    stored = {"hivex_fidelity": 1, "episodes": 3, "split": "test", "scenarios": [
+        _row("wind_farm_control", "wfc-a", 1), _row("ocean_plastic_collection", "opc-old", 2),
+        _row("aerial_wildfire_suppression", "aws-a", 3)]}
+    output = tmp_path / "fidelity.json"
+    fidelity.write_suite(stored, output)
+    calls = []
+
+    def fake_measure(episodes, environments, stream=None, quiet=False):
+        calls.append((episodes, environments))
+        return {"scenarios": [_row("ocean_plastic_collection", "opc-new", 20),
+                              _row("ocean_plastic_collection", "opc-new-2", 21)]}
+
+    monkeypatch.setattr(fidelity, "measure_suite", fake_measure)
+    assert main(["audit", "--suite", "--only", "ocean_plastic_collection", "--episodes", "7", "-o", str(output),
+                 "--json"]) == 0
+    assert calls == [(3, ["ocean_plastic_collection"])]
+    written = fidelity.load_suite(output)
+    assert [r["scenario"] for r in written["scenarios"]] == ["wfc-a", "opc-new", "opc-new-2", "aws-a"]
+    assert {k: v for k, v in written.items() if k != "scenarios"} == {"hivex_fidelity": 1, "episodes": 3,
+                                                                      "split": "test"}
+
+
+def test_only_an_unknown_environment_is_refused_with_the_choices(capsys):
+    with pytest.raises(SystemExit):
+        main(["audit", "--suite", "--only", "ocean_plastic"])
+    assert "invalid choice: 'ocean_plastic'" in capsys.readouterr().err
+
+
 def _ending_term_audit(lengths_by_policy, before_end=0):
     """An audit of three hand-made rollouts in which term ``pick`` pays 1 once per episode under every policy,
     on the step that ends it (``before_end`` payments did not), after episodes of the given lengths."""

@@ -30,6 +30,9 @@ def add_command(sub: argparse._SubParsersAction) -> None:
                                                         "task's first level) instead of FILE: the fidelity page's "
                                                         "numbers")
     p.add_argument("-o", "--output", type=Path, help="with --suite: write the report as JSON to this file")
+    p.add_argument("--only", action="append", metavar="ENV", choices=_environment_ids(),
+                   help="with --suite: audit only this environment's cells (repeatable); with -o, an existing "
+                        "report keeps every other environment's rows and its episode count")
     p.set_defaults(handler=cmd_audit)
 
 
@@ -39,6 +42,8 @@ def cmd_audit(args) -> int:
     if args.suite == bool(args.file):
         print("hivex audit: give a scenario FILE or --suite (not both)", file=sys.stderr)
         return EXIT_USAGE
+    if args.only and not args.suite:
+        raise HivexError("--only picks environments of the --suite; a scenario FILE names its own")
     if args.suite and args.checkpoint:
         raise HivexError("--checkpoint audits a trained policy on a scenario FILE of its environment, not --suite")
     audits = _suite(args) if args.suite else _scenario(args)
@@ -49,13 +54,25 @@ def cmd_audit(args) -> int:
 
 def _suite(args) -> list[dict]:
     """Every suite scenario's audit (written to --output if given)."""
-    from ..evaluation.fidelity import measure_suite, write_suite
+    from ..evaluation.fidelity import load_suite, measure_suite, remeasure_suite, write_suite
 
-    report = measure_suite(args.episodes, quiet=args.json)
+    stored = load_suite(args.output) if args.output and args.only else None
+    if stored is not None:
+        report = remeasure_suite(stored, args.only, quiet=args.json)
+        audited = [row for row in report["scenarios"] if row["environment"] in args.only]
+    else:
+        report = measure_suite(args.episodes, args.only, quiet=args.json)
+        audited = report["scenarios"]
     if args.output:
         write_suite(report, args.output)
         print(f"wrote {args.output}", file=sys.stderr)
-    return report["scenarios"]
+    return audited
+
+
+def _environment_ids() -> list[str]:
+    from ..compiler import registry
+
+    return list(registry.environments())
 
 
 def _scenario(args) -> list[dict]:

@@ -78,6 +78,17 @@ def measure_suite(episodes: int = SUITE_EPISODES, environments: Optional[list[st
     return {"hivex_fidelity": FIDELITY_VERSION, "episodes": episodes, "split": "test", "scenarios": rows}
 
 
+def remeasure_suite(stored: dict[str, Any], environments: list[str], stream: Optional[TextIO] = None,
+                    quiet: bool = False) -> dict[str, Any]:
+    """``stored`` with the rows of ``environments`` measured again (at the stored episode count) and every
+    other row kept as it was, in suite order: what changing one environment needs, not the whole grid."""
+    fresh = measure_suite(stored["episodes"], environments, stream, quiet)
+    kept = [row for row in stored["scenarios"] if row["environment"] not in environments]
+    order = {env_id: i for i, env_id in enumerate(registry.environments())}
+    rows = sorted(kept + fresh["scenarios"], key=lambda row: order.get(row["environment"], len(order)))
+    return dict(stored, scenarios=rows)
+
+
 def write_suite(report: dict[str, Any], output: Path) -> None:
     """The report as JSON, one scenario a line (a re-measured row shows as one changed line in a diff)."""
     output.parent.mkdir(parents=True, exist_ok=True)
