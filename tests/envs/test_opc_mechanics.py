@@ -72,9 +72,10 @@ def test_the_collector_takes_what_it_swept_in_front_of_the_vessel():
 
 def test_a_pebble_two_collectors_reach_goes_to_the_lower_index():
     sim = simulator(2, collision_distance_m=1.0)
-    # vessels 3 m apart facing each other (+x and -x); the pebble midway is in both collectors
-    state = hand_built(sim, [(0, 0), (3, 0)], [0, 180], [(1.5, 0.0)])
-    new, _ = step(sim, state, [NOOP, NOOP])
+    # vessels 3 m apart facing each other (+x and -x) close in at 0.5 m a step; the pebble midway is in both
+    # collectors
+    state = hand_built(sim, [(0, 0), (3, 0)], [0, 180], [(1.5, 0.0)], speeds=[0.5, 0.5])
+    new, _ = step(sim, state, [GO, GO])
     assert new.collected[0].tolist() == [1, 0]
     assert floating(new) == set()
 
@@ -85,6 +86,21 @@ def test_a_vessel_at_rest_takes_nothing_behind_or_beside_it():
     new, _ = step(sim, state, [NOOP])
     assert new.collected[0, 0] == 0 and len(floating(new)) == 3
     assert collide_with_trash(state, new, None, sim.params)[0, 0] == 0.0
+
+
+def test_a_collector_at_rest_sweeps_nothing_until_the_vessel_moves_or_turns():
+    """A vessel spawned with a pebble inside its collector does not take it while it stays put (nothing happened
+    yet); it takes it on the step it moves off, or turns in place."""
+    sim = simulator(1)
+    under = [(11.0, 10.0)]  # 1 m ahead of the vessel at (10, 10) facing +x: inside the 3 m x 3 m collector
+    state = hand_built(sim, [(10, 10)], [0], under)
+    rest, _ = step(sim, state, [NOOP])
+    assert rest.collected[0, 0] == 0 and floating(rest) == set(under)
+    assert collide_with_trash(state, rest, None, sim.params)[0, 0] == 0.0
+    moved, _ = step(sim, rest, [GO])
+    assert moved.speed[0, 0] > 0 and moved.collected[0, 0] == 1 and floating(moved) == set()
+    turned, _ = step(sim, rest, [[0, 1]])
+    assert turned.speed[0, 0] == 0 and turned.collected[0, 0] == 1
 
 
 def test_crossing_the_border_costs_100_and_ends_that_vessel_which_then_stays_put():

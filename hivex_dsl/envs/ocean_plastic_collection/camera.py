@@ -18,7 +18,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import cached_property, lru_cache
-from typing import NamedTuple
+from typing import NamedTuple, Optional
 
 import numpy as np
 
@@ -167,15 +167,17 @@ def as_pairs(z: np.ndarray) -> np.ndarray:
 
 
 def sense(field: PebbleField, position: np.ndarray, facing: np.ndarray, speed: np.ndarray,
-          active: np.ndarray, geometry: Geometry, collect: bool) -> Sensing:
-    """Collect (if ``collect``) with every active vessel, then read its camera and nearby count.
+          active: np.ndarray, geometry: Geometry, sweeping: Optional[np.ndarray]) -> Sensing:
+    """Collect with every sweeping vessel, then read every active vessel's camera and nearby count.
 
     position (B, A, 2) metres, facing (B, A) complex unit headings exp(i heading), speed (B, A)
-    metres per step. A pebble is collected when it
+    metres per step, sweeping (B, A) bool: the active vessels whose collector moved this step (None:
+    no vessel collects). A pebble is collected when it
     lies in the rectangle the collector covered this step: ``-speed <= forward <= collector_reach``
     and ``|left| <= collector_half_width`` (the collector moved ``speed`` metres along the heading,
-    so this is the area it swept). A pebble two vessels reach goes to the lower agent index.
-    Inactive vessels neither collect nor see (their camera and count are 0).
+    so this is the area it swept). A collector that did not move sweeps nothing, so a vessel spawned
+    over pebbles does not take them before it moves. A pebble two vessels reach goes to the lower agent
+    index. Inactive vessels neither collect nor see (their camera and count are 0).
     """
     batch, agents = facing.shape
     slots = batch * agents
@@ -187,8 +189,8 @@ def sense(field: PebbleField, position: np.ndarray, facing: np.ndarray, speed: n
     local = field.z.take(pebble) * turn.take(slot) - centre.take(slot)  # (M,) forward + i left
     floating = field.alive.take(pebble)
     alive, collected = field.alive, np.zeros(slots, np.int64)
-    if collect:
-        hits = _swept(local, speed.take(slot), floating, geometry).nonzero()[0]
+    if sweeping is not None and np.count_nonzero(sweeping):
+        hits = (_swept(local, speed.take(slot), floating, geometry) & sweeping.reshape(-1).take(slot)).nonzero()[0]
         if hits.size:
             alive, collected = _collect(field.alive, pebble[hits], slot[hits], slots)
             floating &= alive.take(pebble)

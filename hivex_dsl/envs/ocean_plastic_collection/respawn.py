@@ -23,7 +23,7 @@ def respawn_where(sim, state: OceanState, mask: np.ndarray, rng: np.random.Gener
     position, heading, speed = sim._respawn(state.position, state.heading, state.speed, mask, rng)
     active = state.active | mask
     facing = np.exp(1j * heading)
-    sensing = sense(state.pebbles, position, facing, speed, active, sim.geometry, collect=False)
+    sensing = sense(state.pebbles, position, facing, speed, active, sim.geometry, sweeping=None)
     distances = neighbour_distances(position, active)
     closest = distances.min(axis=-1)
     vector = sim._vector(position, facing, distances, closest, np.zeros_like(state.vector))

@@ -114,7 +114,7 @@ class OceanPlasticSimulator:
         shape = (batch, self.agents)
         speed, active, no = np.zeros(shape), np.ones(shape, bool), np.zeros(shape, bool)
         facing = np.exp(1j * heading)
-        sensing = sense(field, position, facing, speed, active, self.geometry, collect=False)
+        sensing = sense(field, position, facing, speed, active, self.geometry, sweeping=None)
         distances = neighbour_distances(position, active)
         closest = distances.min(axis=-1)
         vector = self._vector(position, facing, distances, closest, np.zeros(shape + (FRAME * STACKS,), np.float32))
@@ -140,14 +140,15 @@ class OceanPlasticSimulator:
         position, heading, speed = state.position, state.heading, state.speed
         if p.crash_outcome == "respawn" and np.count_nonzero(state.crashed):
             position, heading, speed = self._respawn(position, heading, speed, state.crashed, rng)
-        active = state.active
+        active, before = state.active, heading
         position, heading, speed, facing = move(position, heading, speed, np.asarray(actions), active, self.motion)
         border = crossed_border(position, active, self.half_extent)
         distances = neighbour_distances(position, active)
         closest = np.minimum.reduce(distances, axis=-1)
         collided = closest < p.collision_distance_m
         crashed = border | collided
-        sensing = sense(state.pebbles, position, facing, speed, active, self.geometry, collect=True)
+        sweeping = active & ((speed > 0) | (heading != before))  # a collector at rest sweeps nothing
+        sensing = sense(state.pebbles, position, facing, speed, active, self.geometry, sweeping)
         terminated = np.zeros(crashed.shape, bool)
         if p.crash_outcome == "end" and np.count_nonzero(crashed):
             terminated = crashed
