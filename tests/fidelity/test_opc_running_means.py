@@ -27,10 +27,12 @@ EPISODES = 2
 
 
 @lru_cache(maxsize=None)
-def played(task: int, policy: str, length: int = 5000):
-    """Per agent-episode: (pebbles per step (T,), crashed per step (T,), Local, Global, Global's episode sum)."""
+def played(task: int, policy: str, length: int = 5000, pebble_count: int | None = None):
+    """Per agent-episode: (pebbles per step (T,), crashed per step (T,), Local, Global, Global's episode sum);
+    ``pebble_count`` overrides the world's supply."""
+    supply = {} if pebble_count is None else {"generators": {"pollution": {"pebble_count": pebble_count}}}
     compiled = hivex_dsl.compile({"hivex": 1, "environment": "ocean_plastic_collection", "task": task, "agents": 3,
-                                  "episode_length": length, "seeds": {"train": 5000, "test": 6000}})
+                                  "episode_length": length, "seeds": {"train": 5000, "test": 6000}, **supply})
     env = BatchedEnv(compiled, batch=1, split="test")
     act = make_policy(policy, compiled, env.sim.action_space, env.shape, seed=0)
     out = []
@@ -89,9 +91,10 @@ def test_main_task_local_is_the_mean_collected_count_over_the_collection_steps(p
 
 
 def test_a_short_scripted_episode_collecting_one_pebble_a_step_logs_n_plus_one_over_two():
-    """Test episodes 250 steps long: no vessel collects two pebbles on one step yet."""
+    """Test episodes 250 steps long in a sparse world (1,000 pebbles): no vessel collects two pebbles on one step
+    yet (in the default supply some do within 60 steps)."""
     checked = 0
-    for pebbles, crashes, local, _, _ in played(0, "scripted", 250):
+    for pebbles, crashes, local, _, _ in played(0, "scripted", 250, pebble_count=1000):
         n = int(pebbles.sum())
         assert pebbles.max() <= 1 and not crashes.any() and n > 0
         assert local == pytest.approx((n + 1) / 2, abs=1e-9)

@@ -148,10 +148,10 @@ def test_map_rejects_bad_arguments():
 def test_pebbles_lie_inside_the_world_and_are_seeded():
     heat = heat_maps(2, batch=4)
     pebbles = sample_pebbles(rng(3), heat, SPEC.pebble_count, H)
-    assert pebbles.shape == (4, 1000, 2) and pebbles.dtype == np.float64
+    assert pebbles.shape == (4, SPEC.pebble_count, 2) and pebbles.dtype == np.float64
     assert (np.abs(pebbles) <= H).all()
-    np.testing.assert_array_equal(pebbles, sample_pebbles(rng(3), heat, 1000, H))
-    assert not np.allclose(pebbles, sample_pebbles(rng(4), heat, 1000, H))
+    np.testing.assert_array_equal(pebbles, sample_pebbles(rng(3), heat, SPEC.pebble_count, H))
+    assert not np.allclose(pebbles, sample_pebbles(rng(4), heat, SPEC.pebble_count, H))
 
 
 def test_pebble_density_follows_the_heat_map():

@@ -65,13 +65,17 @@ ENTRY = register(EnvironmentEntry(
         "ahead of the vessel's centre back to where the collector was, collector_half_width_m either side); "
         "Collide with Trash fires on exactly those steps, as the vessel touches plastic only with its collector.",
         "Pebbles do not drift and are not replaced: the paper calls the plastic a fixed amount. The world "
-        "(half extent 200 m), heat map, pebble count (1000) and spawn rules are the `pollution` and `spawn` "
+        "(half extent 200 m), heat map, pebble count (3,000, large enough for the collection the published "
+        "statistics imply: the reward table's last note) and spawn rules are the `pollution` and `spawn` "
         "generators; vessel speed (top 0.5 m per step), turn rate (3 degrees per step) and the collector "
-        "(3 m x 3 m) are this project's choices.",
+        "(3 m x 3 m) are this project's choices. A collector sweeps only while its vessel moves or turns, so a "
+        "vessel spawned over pebbles takes none before it acts.",
         "Scale: a vessel collecting c pebbles in an episode earns c from Collect Trash and, from Global Lowest "
         "Trash Collected (paid on collection), about 0.01 x (pebbles collected by the whole team) x (the lowest "
-        "count at the time), about 0.01 x 3c x 0.4c = 0.012 c^2 for three vessels at an even pace: 302 for the "
-        "published PPO's c = 159 (its logged Global Reward: 286). The scripted skipper collects about 156 pebbles "
-        "per vessel (return about 470); random play a few before it crosses the border.",
+        "count at the time), about 0.01 x 3c x 0.4c = 0.012 c^2 for three vessels at an even pace. The scripted "
+        "skipper collects about 378 pebbles per vessel, for which that term pays it 1,928 (return about 2,300); "
+        "the logged Local and Global Reward are running means, about (c + 1) / 2 and a third of that sum, so the "
+        "published Local of 158.7 means c = 317 (the reward table's last note). Random play collects about 17 "
+        "before it crosses the border.",
     ),
 ))
