@@ -216,8 +216,9 @@ def test_running_back_ends_at_the_station_and_pays_nothing_for_a_drop_near_it():
 
 # ------------------------------------------------------------------ the station
 def test_returning_drone_recharges_picks_up_a_seed_and_earns_the_pick_up_reward():
-    """Docked, the battery gains charge_per_step (0.1) a step; the return (the seed and its reward) comes on the step
-    it is full: from 0.2995, 8 charging steps. Recharge Energy Count counts every docked step, full or not."""
+    """Docked, the battery gains charge_per_step (0.1) a step; the return (the seed and its reward) comes on the last
+    step of a whole charging cycle, 1 / 0.1 = 10 docked steps, the battery full then: from 0.2995 it is full after 8
+    steps and the drone waits 2 more. Recharge Energy Count counts every docked step, full or not."""
     from hivex_dsl.envs.drone_based_reforestation.statistics import STATISTICS
 
     compiled, sim = simulator()
@@ -227,22 +228,44 @@ def test_returning_drone_recharges_picks_up_a_seed_and_earns_the_pick_up_reward(
     new, outcome = sim.step(state, act(throttle=1.0), np.random.default_rng(1))  # to 7.5 m, 2 m up: 7.77 m
     assert not new.inside[0, 0] and new.energy[0, 0] == pytest.approx(0.3 - 1 / 2000)
     charged, counted = new, 0
-    for step in range(1, 9):  # docked at 6.5 m, then drifting to the pad; 0.2995 + 0.1 k, at most 1
+    for step in range(1, 11):  # docked at 6.5 m, then drifting to the pad; 0.2995 + 0.1 k, at most 1
         prev, (charged, outcome) = charged, sim.step(charged, act(throttle=1.0 if step == 1 else 0.0),
                                                      np.random.default_rng(1))
         counted += int(recharges(prev, charged, act(), compiled.params)[0, 0])
-        assert charged.inside[0, 0]
-        full = step == 8
+        assert charged.inside[0, 0] and charged.docked_steps[0, 0] == step
+        back = step == 10
         assert charged.energy[0, 0] == pytest.approx(min(1.0, 0.2995 + 0.1 * step))
-        assert charged.returned[0, 0] == full and bool(outcome.events["returned_to_station"][0, 0]) == full
-        assert charged.holding[0, 0] == full
-    assert counted == 8
+        assert charged.returned[0, 0] == back and bool(outcome.events["returned_to_station"][0, 0]) == back
+        assert charged.holding[0, 0] == back
+    assert counted == 10
     assert new.flown[0, 0] == pytest.approx(1.0) and charged.flown[0, 0] == 0.0  # the new seed's path starts here
     assert term(compiled, "pick_up_seed", prev, charged, act())[0, 0] == 1.0
     assert term(compiled, "pick_up_seed_explored", prev, charged, act())[0, 0] == 60.0
     after, _ = sim.step(charged, act(), np.random.default_rng(1))  # staying at the pad is no new return
     assert not after.returned[0, 0] and term(compiled, "pick_up_seed", charged, after, act())[0, 0] == 0.0
     assert after.energy[0, 0] == 1.0 and recharges(charged, after, act(), compiled.params)[0, 0]  # full, still counted
+
+
+def test_a_docking_lasts_the_whole_charging_cycle_whatever_the_battery_held():
+    """The published Recharge Energy Count is about 10 docked steps a return whether the battery came back nearly
+    empty (main task) or nearly full (Pick-up Seed, Group Up): a drone back with 0.95 is full on its first docked
+    step yet returns on the tenth, and one that leaves before then has made no return (its count starts again)."""
+    compiled, sim = simulator()
+    state = hand_world(sim, [(6.0, 0.0, 2.0)], holding=False, energy=0.95)
+    returns = []
+    for _ in range(10):
+        state, _ = sim.step(state, act(), np.random.default_rng(1))
+        returns.append(bool(state.returned[0, 0]))
+        assert state.energy[0, 0] == 1.0
+    assert returns == [False] * 9 + [True] and state.holding[0, 0]
+    early = hand_world(sim, [(6.0, 0.0, 2.0)], holding=False, energy=0.95, heading=0.0)
+    for _ in range(5):
+        early, _ = sim.step(early, act(), np.random.default_rng(1))
+    assert early.docked_steps[0, 0] == 5
+    while early.inside[0, 0]:  # leaves the station at full throttle, outward
+        early, _ = sim.step(early, act(throttle=1.0), np.random.default_rng(1))
+        assert not early.returned[0, 0]
+    assert early.docked_steps[0, 0] == 0 and not early.holding[0, 0]
 
 
 def test_recharge_energy_count_counts_docked_steps_only_after_a_drone_left_the_pad_it_started_on():

@@ -20,8 +20,8 @@ ENTRY = register(EnvironmentEntry(
     make_simulator=DroneReforestationSimulator,
     scripted_policy=scripted_policy,
     events={
-        "returned_to_station": "A drone came back within the charge radius of the station after a trip (and picked "
-                               "up a seed if it had none).",
+        "returned_to_station": "A drone back within the charge radius of the station after a trip completed its "
+                               "docking, a whole charging cycle (and picked up a seed if it had none).",
         "found_close_tree": "An existing tree is within close_tree_radius_m (20 m) of a drone.",
         "planted_tree": "A drone released its seed, which is planted as a new tree at the ground below.",
     },
@@ -59,8 +59,10 @@ ENTRY = register(EnvironmentEntry(
         "tree) det is read bilinearly from a raster of distances between 4 m forest cell centres computed at reset; "
         "the drop reward uses the exact distance to the jittered trees.",
         "A visit counts as a return to the station (pick-up seed reward, reload, the return event) only after the "
-        "drone was at least return_min_distance_m (15 m) away; recharging to full happens whenever a drone is "
-        "within the charge radius.",
+        "drone was at least return_min_distance_m (15 m) away, and on the last step of a docking: a drone "
+        "within the charge radius charges charge_per_step (0.1) a step, and a docking lasts the whole cycle, "
+        "1 / charge_per_step steps (10), whatever the battery held (the published Recharge Energy Count: about 10 "
+        "docked steps a return in every task).",
         "Incremental Running Back reads d_-1 as the closest increment reached since the drop, so each increment pays "
         "once, and pays only the increments from d_init down to d_charge / s (those outside the charge radius), so a "
         "whole run back pays r_p x rbm, at most 20; it pays nothing when the drop was within d_charge + s of the "

@@ -31,9 +31,10 @@ class DroneBasedReforestationParams(StrictModel):
         "[paper] d_charge: within this 3D distance of the station a drone recharges and picks up a seed."))
     charge_per_step: float = Field(0.1, gt=0.0, le=1.0, description=(
         "[ours, fitted] Battery share a docked drone regains each step (empty to full in 10 steps; 1 refills at "
-        "once). A return (the seed pick-up and its reward) is made when the battery is full again. Fitted to the "
-        "published Recharge Energy Count, about 11 docked steps for the one return of Pick-up Seed and of the main "
-        "task (see the reward table's notes)."))
+        "once). A docking lasts that whole charging cycle, 1 / charge_per_step steps, whatever the battery held: "
+        "the return (the seed pick-up and its reward) is made on its last step, the battery full. Fitted to the "
+        "published Recharge Energy Count, about 10 docked steps a return in every task whose drones return, with "
+        "the battery nearly empty (main task) or nearly full (Pick-up Seed, Group Up; the reward table's notes)."))
     return_min_distance_m: float = Field(15.0, ge=1.0, le=200.0, description=(
         "[ours] A visit to the station counts as a return (seed pick-up and its reward) only if the drone was "
         "at least this far from the station since its last return, so hovering across the charge radius pays nothing."))

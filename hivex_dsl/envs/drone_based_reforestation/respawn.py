@@ -35,6 +35,7 @@ def respawn_where(sim, state: DroneState, mask: np.ndarray, rng: np.random.Gener
                   alive=state.alive | mask,
                   inside=np.where(mask, distance <= p.charge_radius_m, state.inside),
                   left_pad=np.where(mask, distance > p.charge_radius_m, state.left_pad),
+                  docked_steps=state.docked_steps * off,
                   away=np.where(mask, distance >= p.return_min_distance_m, state.away),
                   best_fertility=state.best_fertility * off, best_height=state.best_height * off,
                   best_distance=state.best_distance * off, back_active=state.back_active & off,

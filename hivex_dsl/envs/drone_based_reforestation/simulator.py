@@ -67,6 +67,8 @@ class DroneReforestationSimulator:
         self._frame_scale = np.array([self.half, self.half, p.height_bound_m])
         # battery share a step costs, indexed by holding a seed (0 no, 1 yes)
         self._depletion = np.array([1.0 / p.energy_steps_without_seed, 1.0 / p.energy_steps_with_seed])
+        # steps a docking lasts: the time to charge an empty battery, whatever this one held
+        self.charging_cycle = int(np.ceil(1.0 / p.charge_per_step - 1e-9))
         self._view = np.tan(np.radians(p.camera_fov_deg) / 2.0)
         vector = spaces.Box(-1.0, 1.0, (VECTOR_SIZE * self.observation_stacks,), np.float32)
         visual = spaces.Box(0.0, 1.0, (16, 16, 1), np.float32)
@@ -137,7 +139,8 @@ class DroneReforestationSimulator:
             new_quality=np.zeros((batch, self.params.new_tree_capacity), np.float32),
             new_count=np.zeros(batch, np.int64), position=position, heading=heading, ground=ground,
             energy=np.ones(shape), holding=np.full(shape, holding), alive=np.ones(shape, bool),
-            inside=distance <= p.charge_radius_m, left_pad=distance > p.charge_radius_m, away=(distance >= p.return_min_distance_m) & self.random_spawn,
+            inside=distance <= p.charge_radius_m, left_pad=distance > p.charge_radius_m,
+            docked_steps=np.zeros(shape, np.int64), away=(distance >= p.return_min_distance_m) & self.random_spawn,
             # best-so-far from the spawn state: the first step pays only for what it finds (no planted trees yet)
             best_fertility=fertility(det, p.min_tree_distance_m, p.max_tree_distance_m),
             best_height=position[..., 2].copy(), best_distance=np.minimum(reach, self.half), back_active=false,
@@ -300,9 +303,13 @@ class DroneReforestationSimulator:
             back = self._back(state, drops, increment, outside, r_s, r_d, dropping)
 
         docked = _alive_only(inside, alive)
+        docked_steps = np.where(docked, state.docked_steps + 1, 0)
         energy = self._energy(state, docked, alive)
-        returned = docked & state.away & (energy >= 1.0)  # back, and charged full: the seed is taken then
+        # back, and docked a whole charging cycle: the seed is taken then, the battery full whatever it held
+        returned = docked & state.away & (docked_steps >= self.charging_cycle)
         returning = np.count_nonzero(returned) > 0  # rare: most steps skip the ops with it
+        if returning:
+            np.putmask(energy, returned, 1.0)
         holding = (state.holding & ~drops) if dropping else state.holding
         holding = holding | returned if returning else holding
         away = state.away | (distance >= p.return_min_distance_m)
@@ -310,7 +317,7 @@ class DroneReforestationSimulator:
         flown = state.flown + _zero_unless_alive(np.linalg.norm(flight.position - state.position, axis=-1), alive)
         new = evolve(
             state, new_count=new_count, position=flight.position, heading=flight.heading, ground=flight.ground,
-            energy=energy, holding=holding, alive=energy > 0.0, inside=inside, left_pad=state.left_pad | outside,
+            energy=energy, holding=holding, alive=energy > 0.0, inside=inside, left_pad=state.left_pad | outside, docked_steps=docked_steps,
             away=away & ~returned if returning else away, flown=np.where(returned, 0.0, flown) if returning else flown,
             best_fertility=self._best_fertility(state, flight.xy, flight.tree_distance, alive),
             best_height=np.maximum(state.best_height, _zero_unless_alive(flight.z, alive)),

@@ -51,6 +51,7 @@ class DroneState:
     alive: np.ndarray  # (B, A) bool, energy left (a drone with an empty battery is frozen)
     inside: np.ndarray  # (B, A) bool, within the charge radius of the station
     left_pad: np.ndarray  # (B, A) bool, has been outside the charge radius since its spawn (docked after that)
+    docked_steps: np.ndarray  # (B, A) int64 consecutive steps docked (alive within the charge radius), 0 outside
     away: np.ndarray  # (B, A) bool, has been return_min_distance_m from the station since its last return
     best_fertility: np.ndarray  # (B, A) pot_old: best seed-drop potential found so far
     best_height: np.ndarray  # (B, A) h_old: highest ground found so far
