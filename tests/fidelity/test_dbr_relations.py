@@ -9,6 +9,9 @@ paper's published cells, to their rounding, and in this toolkit's episodes.
    the return is the energy penalty, one battery at most where no drone recharges: 0 <= statistic - return <= 1
    (published: 0.82 to 0.997 at every level, with Recharge Energy Count 0; here a drone's first steps on its pad
    add a few thousandths).
+4. Group Up pays a pick-up (+1) a return and nothing for grouping, and every return docks a whole charging cycle (10
+   steps): return + 1 = Recharge Energy Count / 10 or so (published: 9.2 to 11.5 docked steps a return at every level,
+   the battery's -1 taken off; Pick-up Seed, whose episode ends on its one return, 10.6 to 11.1).
 """
 
 from __future__ import annotations
@@ -86,3 +89,39 @@ def test_our_best_so_far_statistic_is_what_the_task_pays_and_the_rest_is_energy(
     charged = done.statistics["Recharge Energy Count"] > 0
     gap = (done.statistics[name] - done.returns)[~charged]
     assert ((gap >= 0.0) & (gap <= 1.0 + 10 / 1000)).all()
+
+
+GROUP_UP = 2  # the configs' task index
+
+
+def test_published_group_up_returns_are_one_pick_up_a_docking_cycle_less_one_battery():
+    cells = [c for c in published.cells(ENV) if c.task_index == GROUP_UP]
+    assert len(cells) == 10
+    count = np.array([mean(c, "Recharge Energy Count") for c in cells])
+    returns = np.array([c.return_mean for c in cells])
+    assert ((count / (returns + 1) > 9.0) & (count / (returns + 1) < 12.0)).all()
+    slope, intercept = np.polyfit(count, returns, 1)
+    assert 0.09 < slope < 0.11 and -2.0 < intercept < 0.0  # +1 a return of ~10 docked steps, -1 of battery
+    pick_up = [c for c in published.cells(ENV) if c.task_index == 3]  # ends on its one return
+    assert all(10.0 < mean(c, "Recharge Energy Count") < 11.5 for c in pick_up)
+
+
+@pytest.mark.parametrize("policy", ["scripted", "random"])
+def test_our_group_up_pays_returns_running_back_and_energy_and_nothing_for_grouping(policy):
+    done = rollout(compiled("group_up"), policy, 1)
+    assert done.compiled.weights["group_up"] == 0.0
+    paid = done.weighted("pick_up_seed") + done.weighted("incremental_running_back")
+    assert np.allclose(done.returns, paid + sum(done.weighted(t) for t in ENERGY_TERMS))
+    if policy == "scripted":
+        assert (done.terms["pick_up_seed"] > 0).all()  # the relation is not 0 = 0
+
+
+@pytest.mark.parametrize("task", ["main", "group_up", "pick_up_seed"])
+def test_every_return_docks_a_whole_charging_cycle(task):
+    done = rollout(compiled(task), "scripted", 1)
+    cycle = round(1 / done.compiled.params.charge_per_step)
+    returns = done.terms["pick_up_seed"]
+    assert (returns > 0).all()
+    assert (done.statistics["Recharge Energy Count"] >= cycle * returns).all()
+    if task == "pick_up_seed":  # its episode ends on the return: the cycle is all it docks
+        assert (done.statistics["Recharge Energy Count"] == cycle * returns).all()

@@ -40,7 +40,7 @@ def scripted_policy(compiled) -> Callable[[dict], dict]:
     view = np.tan(np.radians(p.camera_fov_deg) / 2.0)
     turn = np.radians(p.turn_rate_deg)
     east, north = _pixel_grid()
-    gather = compiled.task_name == "group_up"
+    gather = compiled.weights.get("group_up", 0.0) > 0.0  # meet the others only where meeting pays
     soar = compiled.task_name == "find_high_terrain"  # the height reward reads the drone's own height
     reach = np.hypot(east, north)
     bearing = np.arctan2(north, east)
@@ -62,7 +62,7 @@ def scripted_policy(compiled) -> Callable[[dict], dict]:
         home_distance = np.hypot(x, y)
         steps_home = home_distance / p.drone_speed_m + (z - station_z) / p.climb_speed_m + 20.0
         enough = energy > ENERGY_MARGIN * steps_home / p.energy_steps_with_seed + 0.02
-        seeking = holding & enough & ~gather  # Group Up: everyone meets at the station, the one place all know
+        seeking = holding & enough & ~gather  # grouping: everyone meets at the station, the one place all know
 
         hw = np.maximum(p.camera_min_half_width_m, above * view)
         tree = image < TREE_BELOW
