@@ -75,3 +75,20 @@ def test_group_up_pays_closeness_by_the_step_not_tenfold():
     assert group.entry.terms["close_to_other_vessel"].contract.high == 1.0
     close = episodes(2, "scripted").terms["close_to_other_vessel"].mean()
     assert 0.5 * 5000 <= close <= 5000
+
+
+def test_the_supply_allows_the_published_collection_and_still_binds():
+    """The published Local Reward (a running mean, (n + 1) / 2 for n pebbles collected one at a time) says the
+    paper's PPO collected 2 x 158.7 - 1 = 317 pebbles a vessel in the main task. The default supply lets the
+    scripted skipper collect at least that many on the test episodes, and is a fixed amount that binds, as the
+    paper says: fewer pebbles a vessel with more vessels, and a share of the supply collected, not all of it."""
+    published_local = cell(ENVIRONMENT, 0, None).statistic("Local Reward")[0]
+    ppo_collected = 2 * published_local - 1
+    done = episodes(0, "scripted")
+    assert done.terms["collect_trash"].mean() >= ppo_collected
+    more = hivex_dsl.compile({"hivex": 1, "environment": ENVIRONMENT, "task": 0, "agents": 6,
+                              "episode_length": 5000, "seeds": {"train": 5000, "test": 6000}})
+    crowded = rollout(more, "scripted", 1, split="test")
+    assert crowded.terms["collect_trash"].mean() < done.terms["collect_trash"].mean()
+    supply = compile_task(0).generators["pollution"].pebble_count
+    assert 0.2 < 3 * done.terms["collect_trash"].mean() / supply < 0.6  # a share of the supply, not all of it
