@@ -317,8 +317,9 @@ class DroneReforestationSimulator:
         flown = state.flown + _zero_unless_alive(np.linalg.norm(flight.position - state.position, axis=-1), alive)
         new = evolve(
             state, new_count=new_count, position=flight.position, heading=flight.heading, ground=flight.ground,
-            energy=energy, holding=holding, alive=energy > 0.0, inside=inside, left_pad=state.left_pad | outside, docked_steps=docked_steps,
-            away=away & ~returned if returning else away, flown=np.where(returned, 0.0, flown) if returning else flown,
+            energy=energy, holding=holding, alive=energy > 0.0, inside=inside, left_pad=state.left_pad | outside,
+            docked_steps=docked_steps, away=away & ~returned if returning else away,
+            flown=np.where(returned, 0.0, flown) if returning else flown,
             best_fertility=self._best_fertility(state, flight.xy, flight.tree_distance, alive),
             best_height=np.maximum(state.best_height, _zero_unless_alive(flight.z, alive)),
             best_distance=np.maximum(state.best_distance, _zero_unless_alive(np.minimum(reach, self.half), alive)),
