@@ -27,7 +27,8 @@ DECISION_PERIOD_DESCRIPTION = (
     "decision's, and an agent whose episode ends inside the period ends on that decision. episode_length stays "
     "in physics steps and must be a multiple of it (an episode holds episode_length / decision_period "
     "decisions); every step budget of training (max_steps, --steps, checkpoints, curves) counts decisions. "
-    "prev(), delta(), weight schedules and statistics tick per physics step.")
+    "prev(), delta(), weight schedules and statistics tick per physics step. The default, 1, is every "
+    "environment's reading of the published spreads (its reward table's notes).")
 
 # Fields a sweep may range over; "params.<name>", "weights.<term>" and "seeds.<split>" too.
 SWEEPABLE_FIELDS = ("task", "pattern", "terrain_level", "agents", "episode_length", "decision_period")
