@@ -221,6 +221,8 @@ def test_respawn_where_restarts_only_the_masked_agents(environment):
         np.testing.assert_array_equal(after["vector"][1, 0, :10], after["vector"][1, 0, 10:])  # a first observation
     if environment == "ocean_plastic_collection":
         assert state.active[1, 0] and state.speed[1, 0] == 0.0 and state.collected_total[1, 0] == 0
+        assert core.state.nearby_best[1, 0] > 0 and state.nearby_best[1, 0] == 0  # a new ML-Agents episode: the running maximum starts from 0 again
+        np.testing.assert_array_equal(state.nearby_best[~mask], core.state.nearby_best[~mask])
     if environment == "aerial_wildfire_suppression":
         assert state.flying[1, 0] and not state.seen_fire[1, 0]
 

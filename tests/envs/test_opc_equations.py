@@ -87,10 +87,41 @@ def test_close_to_other_vessel_pays_1_within_10_m_inclusive(sim, state):
     np.testing.assert_array_equal(close_to_other_vessel(state, new, None, sim.params), [[1, 1, 0], [1, 0, 0]])
 
 
-def test_nearby_delta_pays_only_rises_of_the_count(sim, state):
-    before = replace(state, nearby=np.array([[0, 10, 7], [3, 3, 3]]))
-    after = replace(state, nearby=np.array([[4, 6, 7], [9, 0, 3]]))
-    np.testing.assert_array_equal(nearby_trash_count_delta(before, after, None, sim.params), [[4, 0, 0], [6, 0, 0]])
+def test_nearby_delta_pays_only_rises_above_the_episodes_highest_count(sim, state):
+    """The prose's running maximum: a vessel pays only what its nearby count rises above the highest count
+    of its episode so far. World 0, vessel 0: best 0, now 4, pays 4; vessel 1: best 10, now 6 (a fall),
+    pays 0; vessel 2: best 7, now 9, pays 2 even though the previous step's count was 3 (the equation's
+    rise over the previous step would pay 6). World 1: best 12; a count back at 12 after a dip pays 0
+    (the previous-step reading would pay 12 - 0 = 12), 13 pays 1, 3 pays 0."""
+    before = replace(state, nearby=np.array([[0, 10, 3], [3, 0, 3]]),
+                     nearby_best=np.array([[0, 10, 7], [12, 12, 12]]))
+    after = replace(state, nearby=np.array([[4, 6, 9], [12, 13, 3]]))
+    np.testing.assert_array_equal(nearby_trash_count_delta(before, after, None, sim.params), [[4, 0, 2], [0, 1, 0]])
+
+
+def test_an_episode_pays_its_highest_nearby_count_however_the_count_wanders(sim, state):
+    """Hand-computed: counts 5, 2, 8, 8, 3, 8, 10, 1 over eight steps pay 5, 0, 3, 0, 0, 0, 2, 0 = 10, the
+    highest count; the rise over the previous step would pay 5 + 6 + 5 + 2 = 18."""
+    counts = [5, 2, 8, 8, 3, 8, 10, 1]
+    prev, paid = replace(state, nearby=np.zeros((2, 3), np.int64), nearby_best=np.zeros((2, 3), np.int64)), []
+    for count in counts:
+        nearby = np.full((2, 3), count, np.int64)
+        new = replace(prev, nearby=nearby, nearby_best=np.maximum(prev.nearby_best, nearby))
+        paid.append(nearby_trash_count_delta(prev, new, None, sim.params)[0, 0])
+        prev = new
+    assert paid == [5, 0, 3, 0, 0, 0, 2, 0]
+
+
+def test_the_simulator_keeps_each_vessels_highest_nearby_count(sim):
+    """The state's running maximum is what the simulator builds, step after step, from the counts it senses."""
+    state, rng = sim.reset(np.random.default_rng(11), 2), np.random.default_rng(12)
+    assert not state.nearby_best.any()
+    best = np.zeros_like(state.nearby)
+    for _ in range(40):
+        state, _ = sim.step(state, rng.integers(0, [2, 3], size=(2, 3, 2)), rng)
+        best = np.maximum(best, state.nearby)
+        np.testing.assert_array_equal(state.nearby_best, best)
+    assert best.any()
 
 
 def test_the_first_step_pays_the_whole_nearby_count_as_the_paper_starts_from_zero(sim):
@@ -99,10 +130,12 @@ def test_the_first_step_pays_the_whole_nearby_count_as_the_paper_starts_from_zer
     pebbles = np.array([[[0.0, 10.0], [-24.9, 0.0], [0.0, -25.0], [30.0, 0.0], [150.0, 150.0]]])
     start = replace(start, position=np.array([[[0.0, 0.0], [100.0, 100.0], [-100.0, -100.0]]]),
                     heading=np.zeros((1, 3)), speed=np.zeros((1, 3)), pebbles=build_field(pebbles, sim.geometry))
-    assert start.nearby[0, 0] == 0
+    assert start.nearby[0, 0] == 0 and start.nearby_best[0, 0] == 0
     new, _ = sim.step(start, np.zeros((1, 3, 2), np.int64), np.random.default_rng(4))
     assert new.nearby[0].tolist() == [2, 0, 0]
     assert nearby_trash_count_delta(start, new, None, sim.params)[0].tolist() == [2.0, 0.0, 0.0]
+    again, _ = sim.step(new, np.zeros((1, 3, 2), np.int64), np.random.default_rng(5))
+    assert nearby_trash_count_delta(new, again, None, sim.params)[0].tolist() == [0.0, 0.0, 0.0]
 
 
 def test_reward_table_mirrors_the_paper_row_for_row():

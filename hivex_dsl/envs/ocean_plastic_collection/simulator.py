@@ -123,7 +123,7 @@ class OceanPlasticSimulator:
         return OceanState(position=position, heading=heading, speed=speed, active=active, crashed=no,
                           crossed_border=no, collided_vessel=no, closest=closest,
                           collected=zeros, collected_total=zeros,
-                          nearby=zeros, pebbles=field, heat=heat, vector=vector, visual=visual)
+                          nearby=zeros, nearby_best=zeros, pebbles=field, heat=heat, vector=vector, visual=visual)
 
     def reset_where(self, state: OceanState, mask: np.ndarray, rng: np.random.Generator) -> OceanState:
         count = int(np.count_nonzero(mask))
@@ -162,7 +162,8 @@ class OceanPlasticSimulator:
         new = assemble(OceanState,
             position=position, heading=heading, speed=speed, active=active, crashed=crashed,
             crossed_border=border, collided_vessel=collided, closest=closest, collected=sensing.collected,
-            collected_total=state.collected_total + sensing.collected, nearby=sensing.nearby, pebbles=pebbles,
+            collected_total=state.collected_total + sensing.collected, nearby=sensing.nearby,
+            nearby_best=np.maximum(state.nearby_best, sensing.nearby), pebbles=pebbles,
             heat=state.heat, vector=self._vector(position, facing, distances, closest, state.vector),
             visual=self._visual(sensing, state.visual))
         events = {"crossed_border": border, "collided_with_other_vessel": collided,

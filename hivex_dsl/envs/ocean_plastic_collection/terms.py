@@ -84,12 +84,14 @@ def close_to_other_vessel(prev, state, actions, params):
 @TERMS.term(
     "nearby_trash_count_delta", title="Nearby Trash Count Delta", paper_row=6, low=0.0, high=float(MAX_PEBBLES),
     sign="bonus", timing="dense", scope="agent",
-    description="The rise, if any, of the count of floating pebbles nearer than nearby_radius_m (25 m) since the "
-                "previous step; the count before the first step is 0.",
-    equation="ntc = sum_i [dist(p_i) < 25],  r = max(0, ntc_current - ntc_old),  ntc_old <- ntc_current",
+    description="The rise, if any, of the count of floating pebbles nearer than nearby_radius_m (25 m) above the "
+                "highest count of the vessel's episode so far (the prose's running maximum); that highest count "
+                "is 0 before the first step, so an episode pays its highest nearby count in all.",
+    equation="ntc = sum_i [dist(p_i) < 25],  r = max(0, ntc_current - ntc_old),  "
+             "ntc_old <- ntc_current when ntc_current > ntc_old",
 )
 def nearby_trash_count_delta(prev, state, actions, params):
-    return np.maximum(state.nearby - prev.nearby, 0).astype(np.float64)
+    return np.maximum(state.nearby - prev.nearby_best, 0).astype(np.float64)
 
 
 @TERMS.term(
