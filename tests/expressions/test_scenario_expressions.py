@@ -124,3 +124,20 @@ def test_a_respawned_agent_starts_its_prev_from_where_it_respawned():
     top_speed = compiled.params.acceleration / compiled.params.drag
     assert moved[0, 0] <= 2 * top_speed  # one coasting step from the respawn point, no jump from the old place
     np.testing.assert_allclose(moved[0, 0], np.abs(env.state.position[0, 0] - respawned_at).sum(), atol=1e-9)
+
+
+def test_an_expression_written_from_the_prose_pays_what_nearby_trash_count_delta_pays():
+    """Nearby Trash Count Delta rewritten in the language, as the paper's prose states it (the rise of the
+    nearby count above the highest it has been), pays every vessel the built-in term's episode sum."""
+    scenario = {"hivex": 1, "environment": "ocean_plastic_collection", "task": "find_highest_polluted_area",
+                "episode_length": 60, "terms": {"rise": {"expr": "max(0, pebbles_nearby - prev(pebbles_nearby_best))"}},
+                "weights": {"rise": 1}}
+    env = hivex_dsl.parallel_env(scenario)
+    env.reset(seed=3)
+    rng = np.random.default_rng(3)
+    while env.agents:
+        env.step({agent: rng.integers(0, [2, 3]) for agent in env.agents})
+    sums = [env.core.episode_summary(0, a)["reward_terms"] for a in range(len(env.possible_agents))]
+    assert all(s["nearby_trash_count_delta"] > 0 for s in sums)
+    for s in sums:
+        assert s["rise"] == pytest.approx(s["nearby_trash_count_delta"], abs=1e-9)

@@ -15,7 +15,7 @@ STATISTICS = StatisticSet("ocean_plastic_collection", "OceanPlasticCollector", n
     "changes, and TensorBoard shows the average of the values added (a vessel collecting n pebbles one at a time "
     "logs (n + 1) / 2; the lowest count's total, growing as the square of time, averages about a third of its "
     "final value). Compared with the published cells in their pooled form, sum of the added totals over their "
-    "count across every agent-episode; the reward table's last note gives the evidence and what is open.",
+    "count across every agent-episode; the reward table's last note gives the evidence.",
 ))
 
 # The tasks' own shaping terms (Find Highest Polluted Area's nearby count, Group Up's closeness) stay out of Local:

@@ -34,6 +34,9 @@ def declare(compiled) -> dict:
                  "Distance to the closest other vessel still in the world; the world's diagonal when there is none."),
         quantity("pebbles_nearby", "agent", "number", "pebbles", 0.0, count,
                  "Floating pebbles within nearby_radius_m of the vessel."),
+        quantity("pebbles_nearby_best", "agent", "number", "pebbles", 0.0, count,
+                 "The highest pebbles_nearby of the vessel's episode so far (Nearby Trash Count Delta's running "
+                 "maximum; 0 before the first step)."),
         quantity("pebbles_collected", "agent", "number", "pebbles", 0.0, count, "Pebbles the vessel collected this step."),
         quantity("pebbles_collected_total", "agent", "number", "pebbles", 0.0, count,
                  "Pebbles the vessel collected this episode."),
@@ -58,6 +61,7 @@ READERS = {
     "speed_m": lambda s, e, c: s.speed,
     "distance_to_nearest_vessel_m": _nearest,
     "pebbles_nearby": lambda s, e, c: s.nearby.astype(np.float64),
+    "pebbles_nearby_best": lambda s, e, c: s.nearby_best.astype(np.float64),
     "pebbles_collected": lambda s, e, c: s.collected.astype(np.float64),
     "pebbles_collected_total": lambda s, e, c: s.collected_total.astype(np.float64),
     "pebbles_left": lambda s, e, c: np.count_nonzero(s.pebbles.alive, axis=1).astype(np.float64),
