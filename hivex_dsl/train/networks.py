@@ -138,7 +138,10 @@ def camera_encoder(kind: str, shape: tuple[int, int, int], out: int) -> nn.Modul
         activation = nn.ReLU()
     with torch.no_grad():
         flat = convs(torch.zeros(1, channels, height, width)).shape[1]
-    return nn.Sequential(Channels(), convs, nn.Linear(flat, out), activation)
+    # Channels-last weights keep weights and activations in the camera's own (B, H, W, C) layout, which
+    # Channels() passes on as a view: the same function, about 4% faster training with DBR's ResNet
+    # (tests/train/test_exact_speedups.py checks the sameness).
+    return nn.Sequential(Channels(), convs, nn.Linear(flat, out), activation).to(memory_format=torch.channels_last)
 
 
 class Channels(nn.Module):

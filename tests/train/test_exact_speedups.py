@@ -2,6 +2,8 @@
 
 - Copies avoided (next observations as views of the rollout's frames, each epoch's shuffle gathered into kept
   buffers; the reference concatenates and gathers afresh): the same bytes, so losses and weights equal to the bit.
+- Camera encoders in channels-last layout (the reference: torch's default layout): the same float32 function
+  in another memory order, equal up to rounding.
 - Network passes batched (the critic values every frame after the rollout instead of one slot batch a step with
   the actions, curiosity encodes each frame once instead of a transition's two observations apart): the same
   float32 function of the same inputs, so equal up to the order BLAS sums in. On this machine that order depends
@@ -16,7 +18,7 @@ import pytest
 import torch
 
 from hivex_dsl.compiler import compile
-from hivex_dsl.train import buffer, ppo
+from hivex_dsl.train import buffer, networks, ppo
 from hivex_dsl.train.config import make_config
 from hivex_dsl.train.curiosity import Curiosity
 from hivex_dsl.train.logs import EpisodeLog
@@ -106,6 +108,34 @@ def test_the_batched_passes_change_nothing_but_rounding(environment, curiosity, 
         for name in fast:
             assert fast[name] == pytest.approx(plain[name], rel=1e-4, abs=1e-7), name
     # no weight comparison: Adam turns a last-bit difference of a near-zero gradient into a step of +-lr
+
+
+@pytest.mark.parametrize("environment", ["drone_based_reforestation", "ocean_plastic_collection"])
+def test_channels_last_cameras_change_nothing_but_rounding(environment, monkeypatch):
+    """The ResNet cameras (DBR's 16x16, OPC's 25x25) with curiosity: the losses of two updates in the
+    channels-last layout against the same networks in torch's default layout."""
+    fast_losses, _ = two_updates(environment, curiosity=True)
+    encoder = networks.camera_encoder
+
+    def default_layout(*args, **kwargs):
+        return encoder(*args, **kwargs).to(memory_format=torch.contiguous_format)
+
+    monkeypatch.setattr(networks, "camera_encoder", default_layout)
+    plain_losses, _ = two_updates(environment, curiosity=True)
+    for fast, plain in zip(fast_losses, plain_losses, strict=True):
+        assert fast.keys() == plain.keys()
+        for name in fast:
+            assert fast[name] == pytest.approx(plain[name], rel=1e-4, abs=1e-7), name
+
+
+def test_camera_convolutions_hold_their_weights_channels_last():
+    encoder = networks.camera_encoder("resnet", (16, 16, 1), 8)
+    convs = [m for m in encoder.modules() if isinstance(m, torch.nn.Conv2d)]
+    assert len(convs) == 15 and all(c.weight.is_contiguous(memory_format=torch.channels_last) for c in convs)
+    image = torch.rand(3, 16, 16, 1)
+    plain = networks.camera_encoder("resnet", (16, 16, 1), 8).to(memory_format=torch.contiguous_format)
+    plain.load_state_dict(encoder.state_dict())
+    torch.testing.assert_close(encoder(image), plain(image), rtol=1e-5, atol=1e-6)
 
 
 def test_the_rollout_values_and_curiosity_rewards_are_the_step_by_step_ones():
