@@ -63,7 +63,7 @@ def measure(environment: str, steps: int, overrides: Overrides) -> dict:
             "agent_steps_per_s": round(summary["agent_steps"] / wall, 1), "env_share": round(inside[0] / wall, 3),
             "num_worlds": cfg.num_worlds, "torch_threads": cfg.threads(), "device": cfg.device, "processes": 1,
             "agents": compiled.agents, "buffer_size": cfg.buffer_size, "batch_size": cfg.batch_size,
-            "num_epoch": cfg.num_epoch, "machine": machine(cfg.device)}
+            "num_epoch": cfg.num_epoch, "precision": cfg.precision, "machine": machine(cfg.device)}
 
 
 def measure_concurrently(environment: str, steps: int, overrides: Overrides, processes: int) -> dict:
@@ -122,10 +122,11 @@ def when_and_what() -> dict:
 def merged(path: Path, rows: list[dict]) -> dict:
     """The report at ``path`` (if any) with ``rows`` replacing the rows of the same configuration."""
     key = lambda row: (row["environment"], row["num_worlds"], row["torch_threads"],  # noqa: E731
-                       row.get("device", "cpu"), row.get("processes", 1))
+                       row.get("device", "cpu"), row.get("processes", 1), row.get("precision", "exact"))
     report = json.loads(path.read_text()) if path.is_file() else {"rows": []}
-    # rows written before rows named their machine and device: the file's machine, one process on the CPU
-    earlier = {"machine": report.get("machine", machine()), "device": "cpu", "processes": 1}
+    # rows written before rows named their machine, device and precision: the file's machine, one exact process
+    # on the CPU
+    earlier = {"machine": report.get("machine", machine()), "device": "cpu", "processes": 1, "precision": "exact"}
     old = [earlier | row for row in report["rows"]]
     fresh = {key(row) for row in rows}
     kept = [row for row in old if key(row) not in fresh]
