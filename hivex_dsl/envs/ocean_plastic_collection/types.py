@@ -45,7 +45,7 @@ class OceanState:
     collected: np.ndarray  # (B, A) int64 pebbles collected this step
     collected_total: np.ndarray  # (B, A) int64 pebbles collected this episode
     nearby: np.ndarray  # (B, A) int64 pebbles within the nearby radius (0 at reset)
-    nearby_best: np.ndarray  # (B, A) int64 highest nearby count of the vessel's episode (0 at reset: the paper's ntc_old = 0)
+    nearby_best: np.ndarray  # (B, A) int64 highest nearby count of the vessel's episode (0 at reset: ntc_old = 0)
     pebbles: PebbleField
     heat: np.ndarray  # (B, R, R) pollution heat map the pebbles were drawn from (for rendering)
     vector: np.ndarray  # (B, A, 12) float32 vector observation, newest stack first
