@@ -46,6 +46,23 @@ def select(points: Sequence[Any], selector: str, source: str) -> Any:
     return found[0]
 
 
+def point_indices(selector: str, count: int, source: str) -> list[int]:
+    """The indices ``selector`` names among a sweep's ``count`` points: ``"14-29"``, ``"3,5"`` or both
+    (``"0,14-16"``), inclusive, as `hivex compile` numbers the points; -> sorted, each once."""
+    chosen: set[int] = set()
+    for item in selector.split(","):
+        first, dash, last = item.strip().partition("-")
+        if not first.isdigit() or (dash and not last.isdigit()):
+            raise HivexError(f"--points {selector}: expected indices and ranges joined by commas (e.g. 0,14-29), "
+                             f"got {item.strip()!r}")
+        low, high = int(first), int(last) if dash else int(first)
+        if low > high or high >= count:
+            raise HivexError(f"--points {selector}: {item.strip()!r} is not within the {count} point"
+                             f"{'s' * (count != 1)} of {source} (0 to {count - 1})")
+        chosen.update(range(low, high + 1))
+    return sorted(chosen)
+
+
 def _pair(item: str, selector: str) -> tuple[str, str]:
     key, sep, value = item.partition("=")
     if not sep or not key.strip() or not value.strip():

@@ -43,6 +43,10 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
                    help="train N points of a sweep at once, each in a process of its own (default 1: in turn); "
                         "a point's auto torch threads are then the cores / N. On two cores, --jobs 2 trains a grid "
                         "faster than one point at a time on both")
+    p.add_argument("--points", default=None, metavar="INDICES",
+                   help="train only these points of a sweep, by their index as `hivex compile` numbers them: "
+                        "e.g. 14-29 or 0,3,5-7 (each in the folder of its index, so a grid can be trained a few "
+                        "points at a time, on several machines)")
     p.add_argument("--resume", action="store_true",
                    help="go on from RUN_DIR/checkpoint.pt (same scenario and hyperparameters; --steps may grow)")
     p.add_argument("--force", action="store_true",
@@ -97,6 +101,14 @@ def cmd_train(args) -> int:
 
     require_torch()
     points = compile_all(args.file)
+    indices = list(range(len(points)))
+    if args.points is not None:
+        from .points import point_indices
+
+        if len(points) == 1:
+            raise HivexError(f"--points chooses points of a sweep, and {args.file} is one scenario")
+        indices = point_indices(args.points, len(points), str(args.file))
+        points = [points[i] for i in indices]
     configs = [train_config(p.environment, args) for p in points]
     if args.eval_episodes < 0:
         raise HivexError(f"--eval-episodes must be 0 or more, got {args.eval_episodes}")
@@ -106,7 +118,7 @@ def cmd_train(args) -> int:
         raise HivexError(f"--jobs {args.jobs} runs the points in local processes and --ray runs them as Ray tasks "
                          "(one CPU each): give one")
     run_dir = args.output or Path("runs") / points[0].spec.name
-    if len(points) == 1 and args.ray is None:
+    if len(points) == 1 and args.ray is None and args.points is None:
         from ..train.grid import train_point
 
         result = train_point(points[0].resolved(), configs[0].model_dump(mode="json"), str(run_dir),
@@ -118,7 +130,7 @@ def cmd_train(args) -> int:
     from ..train.grid import format_table, run_grid
 
     results = run_grid(points, configs, run_dir, args.eval_episodes, args.ray, progress=not args.no_progress,
-                       resume=args.resume, overwrite=args.force, jobs=args.jobs)
+                       resume=args.resume, overwrite=args.force, jobs=args.jobs, indices=indices)
     print(format_table(results))
     print(f"wrote {run_dir / 'results.json'}")
     return _exit_code(results, run_dir)

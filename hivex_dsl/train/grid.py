@@ -9,6 +9,7 @@ Every node of a cluster needs hivex-dsl with its train extra installed (``pip in
 
 from __future__ import annotations
 
+import json
 import pickle
 import queue
 import re
@@ -52,8 +53,8 @@ def train_point(scenario: dict[str, Any], config: dict[str, Any], run_dir: str, 
 
 def run_grid(points: Sequence[CompiledScenario], configs: Sequence[PPOConfig], run_dir: Path,
              eval_episodes: int = 0, ray_address: str | None = None, ray_init: dict[str, Any] | None = None,
-             progress: bool = True, resume: bool = False, overwrite: bool = False, jobs: int = 1
-             ) -> list[dict[str, Any]]:
+             progress: bool = True, resume: bool = False, overwrite: bool = False, jobs: int = 1,
+             indices: Sequence[int] | None = None) -> list[dict[str, Any]]:
     """Train every point (``configs[i]`` for ``points[i]``); ``ray_address`` ``"local"`` starts a local Ray
     instance, any other value joins that cluster, ``None`` runs the points in turn, or ``jobs`` of them at once
     in processes of their own (a point's ``auto`` torch threads are then this machine's cores / ``jobs``, so
@@ -61,9 +62,12 @@ def run_grid(points: Sequence[CompiledScenario], configs: Sequence[PPOConfig], r
     point with a checkpoint go on from it (one that finished only re-evaluates); the others start afresh, over
     what a point killed before its first checkpoint left. Without ``resume`` or ``overwrite`` a grid whose
     points hold earlier runs is refused before any point trains. Ctrl-C (or SIGTERM) stops the point under
-    way after its update and trains no later point. -> the results table (of the points trained)."""
+    way after its update and trains no later point. ``indices`` are the points' indices in their sweep when
+    ``points`` are some of its points (`hivex train --points`), so each trains in the folder its index names.
+    -> the results table of the points trained; ``RUN_DIR/results.json`` keeps earlier runs' rows of other points."""
     run_dir = Path(run_dir)
-    folders = [point_dir(run_dir, i, p).resolve() for i, p in enumerate(points)]
+    indices = range(len(points)) if indices is None else indices
+    folders = [point_dir(run_dir, i, p).resolve() for i, p in zip(indices, points, strict=True)]
     going_on = [resume and (folder / "checkpoint.pt").is_file() for folder in folders]
     if not (resume or overwrite):
         taken = [refusal(folder, found) for folder in folders if (found := earlier_run(folder))]
@@ -85,8 +89,17 @@ def run_grid(points: Sequence[CompiledScenario], configs: Sequence[PPOConfig], r
             if results[-1]["stopped_early"]:  # Ctrl-C or SIGTERM stops the grid with its point
                 break
     run_dir.mkdir(parents=True, exist_ok=True)
-    write_json(run_dir / "results.json", results)
+    write_json(run_dir / "results.json", _with_earlier_rows(run_dir / "results.json", results))
     return results
+
+
+def _with_earlier_rows(table: Path, results: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    """``results`` with the rows of ``table`` (an earlier results.json) of points they do not hold, in the
+    order of the points' folders: a grid trained a few points at a time keeps one table of all of them."""
+    earlier = json.loads(table.read_text()) if table.is_file() else []
+    ours = {row["run_dir"] for row in results}
+    return sorted([*(row for row in earlier if row.get("run_dir") not in ours), *results],
+                  key=lambda row: Path(row.get("run_dir", "")).name)
 
 
 def shared_cores(cfg: PPOConfig, jobs: int) -> PPOConfig:

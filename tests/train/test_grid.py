@@ -64,6 +64,35 @@ def test_the_command_trains_a_sweep_file(tmp_path, capsys):
     assert len(json.loads((tmp_path / "runs" / "results.json").read_text())) == 2
 
 
+def test_the_command_trains_the_points_asked_in_their_own_folders(tmp_path, capsys):
+    """--points: a grid trained a few points at a time; each point in the folder its sweep index names, and one
+    results table of all the points trained so far."""
+    from hivex_dsl.cli import main
+
+    sweep = short_scenario("wind_farm_control", episode_length=8) | {"sweep": {"pattern": [0, 1, 2]}}
+    del sweep["pattern"]
+    path, runs = tmp_path / "sweep.yaml", tmp_path / "runs"
+    path.write_text(json.dumps(sweep))
+    args = ["train", str(path), "-o", str(runs), "--steps", "32", "--no-progress", "--set", "num_worlds=1",
+            "--set", "buffer_size=32", "--set", "batch_size=32", "--set", "hidden_units=8"]
+    assert main([*args, "--points", "2"]) == 0
+    assert sorted(p.name for p in runs.iterdir() if p.is_dir()) == ["002-wfc-main_pattern=2"]
+    assert main([*args, "--points", "0-1"]) == 0
+    assert sorted(p.name for p in runs.iterdir() if p.is_dir()) == [
+        "000-wfc-main_pattern=0", "001-wfc-main_pattern=1", "002-wfc-main_pattern=2"]
+    table = json.loads((runs / "results.json").read_text())
+    assert [row["scenario"] for row in table] == [f"wfc-main[pattern={k}]" for k in (0, 1, 2)]
+    capsys.readouterr()
+    for bad, said in [("3", "'3' is not within the 3 points of"), ("1-0", "'1-0' is not within the 3 points"),
+                      ("0,x", "expected indices and ranges joined by commas (e.g. 0,14-29), got 'x'")]:
+        assert main([*args, "--points", bad, "--resume"]) == 2
+        assert said in capsys.readouterr().err
+    single = tmp_path / "one.yaml"
+    single.write_text(json.dumps(short_scenario("wind_farm_control", episode_length=8)))
+    assert main(["train", str(single), "--points", "0"]) == 2
+    assert f"--points chooses points of a sweep, and {single} is one scenario" in capsys.readouterr().err
+
+
 def _weights(run_dir):
     import torch
 
