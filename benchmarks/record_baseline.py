@@ -13,7 +13,10 @@ the same scenario and hyperparameters on another training seed (`hivex train ...
 that environment's committed record, which the page then shows beside the recorded seed. --grid records a
 sweep trained with `hivex train SWEEP -o RUN_DIR --eval-episodes N`: every point's test return beside the
 paper's published cell for its task and level (each point's own evaluation when it holds --episodes episodes);
-with --partial, a grid still training: the points trained so far, the others listed as not trained yet.
+with --partial, a grid still training: the points trained so far, the others listed as not trained yet. A point
+whose run is not in RUN_DIR keeps its row of the grid record already written, when that row is of the same
+scenario (fingerprint), hyperparameters and test episodes: a grid trained in parts (`hivex train SWEEP --points
+14-29`) on machines that do not keep their runs is recorded whole in the end.
 """
 
 from __future__ import annotations

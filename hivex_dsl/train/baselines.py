@@ -156,38 +156,67 @@ def record_grid(grid_dir: Path, sweep: str, out_dir: Path, episodes: int = 10, c
     Every point must have finished training that sweep's point of the same index, all with one set of
     hyperparameters. Its test-seed evaluation is the ``evaluation.json`` the grid wrote when that holds
     ``episodes`` test episodes, and a fresh one otherwise; the random and the scripted policy play the same
-    episodes of every point. With ``partial`` (a grid still training) the points not trained to their end yet
-    are listed by name under ``untrained`` instead of refused; at least one point must be trained."""
+    episodes of every point. A point not trained to its end in ``grid_dir`` keeps its row of the record already
+    there (a grid trained a few points at a time, on machines that do not keep their runs), which must be of the
+    same scenario (its fingerprint), hyperparameters and test episodes. With ``partial`` (a grid still training)
+    the points in neither are listed by name under ``untrained`` instead of refused; at least one must be recorded."""
     grid_dir, out_dir = Path(grid_dir), Path(out_dir)
     points = compile_all(sweep)
     run_dirs = [point_dir(grid_dir, index, point) for index, point in enumerate(points)]
-    trained = [index for index, run_dir in enumerate(run_dirs) if not partial or _trained(run_dir)]
-    if not trained:
+    earlier = _recorded_rows(out_dir / GRIDS / f"{points[0].environment}.json", sweep)
+    fresh = [index for index, run_dir in enumerate(run_dirs)
+             if _trained(run_dir) or not (partial or points[index].name in earlier["rows"])]
+    kept = [index for index in range(len(points)) if index not in fresh and points[index].name in earlier["rows"]]
+    if not fresh and not kept:
         raise TrainError(f"{grid_dir} has no point of {sweep} trained to its end yet: nothing to record")
-    untrained = [points[index].name for index in range(len(points)) if index not in trained]
-    points, run_dirs = [points[i] for i in trained], [run_dirs[i] for i in trained]
-    summaries = [_finished_point(run_dir, index, point, sweep) for index, run_dir, point
-                 in zip(trained, run_dirs, points)]
-    configs = [json.loads((run_dir / "config.json").read_text())["hyperparameters"] for run_dir in run_dirs]
+    untrained = [points[index].name for index in range(len(points)) if index not in fresh + kept]
+    summaries = {index: _finished_point(run_dirs[index], index, points[index], sweep) for index in fresh}
+    configs = [json.loads((run_dirs[index] / "config.json").read_text())["hyperparameters"] for index in fresh]
+    configs += [earlier["hyperparameters"]] if kept else []
     differing = sorted({k for c in configs for k in c if any(other.get(k) != c[k] for other in configs)})
     if differing:
-        raise TrainError(f"the points of {grid_dir} trained with different hyperparameters ({', '.join(differing)}): "
-                         "a grid record holds one set")
-    rows = []
-    for point, run_dir, summary in zip(points, run_dirs, summaries):
-        report = _test_report(run_dir, episodes)
-        rows.append({"name": point.name, "task": point.task_name, "task_index": point.task_index,
-                     "level": point.level, "agent_steps": summary["agent_steps"], "wall_s": summary["wall_s"],
-                     "seed": summary["seed"], "resumed_at": summary.get("resumed_at", []),
-                     "return": report["return"], "statistics": report["statistics"], "published": report["published"],
-                     **{policy: level_of(point, policy, episodes) for policy in LEVEL_POLICIES}})
+        raise TrainError(f"the points of {grid_dir}{' and its earlier record' if kept else ''} trained with different "
+                         f"hyperparameters ({', '.join(differing)}): a grid record holds one set")
+    rows, test = {}, earlier["test"] if kept else None
+    for index in kept:
+        rows[index] = _kept_row(earlier, points[index], index, episodes)
+    for index in fresh:
+        point, report = points[index], _test_report(run_dirs[index], episodes)
+        summary, test = summaries[index], {"seed": report["seed"], "episodes": episodes, "actions": "sampled"}
+        rows[index] = {"name": point.name, "task": point.task_name, "task_index": point.task_index,
+                       "level": point.level, "fingerprint": point.fingerprint, "agent_steps": summary["agent_steps"],
+                       "wall_s": summary["wall_s"], "seed": summary["seed"], "resumed_at": summary.get("resumed_at", []),
+                       "return": report["return"], "statistics": report["statistics"], "published": report["published"],
+                       **{policy: level_of(point, policy, episodes) for policy in LEVEL_POLICIES}}
     data = {"environment": points[0].environment, "sweep": sweep, "command": command, "note": note,
-            "machine": machine(), "hyperparameters": configs[0],
-            "test": {"seed": report["seed"], "episodes": episodes, "actions": "sampled"}, "points": rows,
-            "untrained": untrained}
+            "machine": machine(), "hyperparameters": configs[0], "test": test,
+            "points": [rows[index] for index in sorted(rows)], "untrained": untrained}
     (out_dir / GRIDS).mkdir(parents=True, exist_ok=True)
     (out_dir / GRIDS / f"{data['environment']}.json").write_text(json.dumps(data, indent=1) + "\n")
     return data
+
+
+def _recorded_rows(record: Path, sweep: str) -> dict[str, Any]:
+    """The grid record already at ``record`` when it records ``sweep``: its rows by point name, hyperparameters
+    and test; no rows where there is none yet (or it records another sweep, which this record replaces)."""
+    data = json.loads(record.read_text()) if record.is_file() else {}
+    if data.get("sweep") != sweep:
+        return {"rows": {}}
+    return {"rows": {row["name"]: row for row in data["points"]}, "hyperparameters": data["hyperparameters"],
+            "test": data["test"], "path": record}
+
+
+def _kept_row(earlier: dict[str, Any], point: CompiledScenario, index: int, episodes: int) -> dict[str, Any]:
+    """The earlier record's row of ``point`` (index ``index``), refused where it is not of this scenario or of
+    ``episodes`` test episodes."""
+    row, where = earlier["rows"][point.name], f"{earlier['path']} records point {index} ({point.name!r})"
+    if row.get("fingerprint") != point.fingerprint:
+        raise TrainError(f"{where} of another scenario (fingerprint {row.get('fingerprint')}, the sweep's point now "
+                         f"{point.fingerprint}): train it again, or move the record aside")
+    if earlier["test"]["episodes"] != episodes:
+        raise TrainError(f"{where} on {earlier['test']['episodes']} test episodes, not {episodes}: record with "
+                         f"--episodes {earlier['test']['episodes']}, or train it again")
+    return row
 
 
 def _trained(run_dir: Path) -> bool:

@@ -154,7 +154,7 @@ def test_a_grid_still_training_is_recorded_in_part_and_says_so(grid, tmp_path):
         record_grid(tmp_path / "runs", str(grid / "sweep.yaml"), tmp_path / "out", episodes=2)
     shutil.rmtree(next((tmp_path / "runs").glob("000-*")))
     with pytest.raises(TrainError, match=r"has no point of .*sweep.yaml trained to its end yet: nothing to record$"):
-        record_grid(tmp_path / "runs", str(grid / "sweep.yaml"), tmp_path / "out", episodes=2, partial=True)
+        record_grid(tmp_path / "runs", str(grid / "sweep.yaml"), tmp_path / "empty", episodes=2, partial=True)
 
 
 def test_the_script_records_a_grid_in_part_only_when_asked(grid, monkeypatch, capsys, tmp_path):
@@ -174,3 +174,59 @@ def test_the_script_records_a_grid_in_part_only_when_asked(grid, monkeypatch, ca
         script.main()
     assert exit_.value.code == 2
     assert "--partial records a grid still training: it goes with --grid" in capsys.readouterr().err
+
+
+def test_a_grid_trained_in_parts_keeps_the_points_recorded_before(grid, tmp_path):
+    """Point 0 recorded, its run gone (another machine, an earlier session): recording point 1 keeps point 0's
+    row as it was, and the record is the one a whole grid gives."""
+    whole = record_grid(grid / "runs", str(grid / "sweep.yaml"), tmp_path / "whole", episodes=2)
+    assert [row["fingerprint"] for row in whole["points"]] == [p.fingerprint for p in compile_all(grid / "sweep.yaml")]
+    shutil.copytree(grid / "runs", tmp_path / "runs")
+    point_0, point_1 = sorted((tmp_path / "runs").glob("00*"))
+    shutil.move(point_1, tmp_path / "later")
+    first = record_grid(tmp_path / "runs", str(grid / "sweep.yaml"), tmp_path / "out", episodes=2, partial=True)
+    assert first["untrained"] == ["wfc-main[pattern=1]"]
+    shutil.rmtree(point_0)
+    shutil.move(tmp_path / "later", point_1)
+    both = record_grid(tmp_path / "runs", str(grid / "sweep.yaml"), tmp_path / "out", episodes=2)
+    assert both["points"] == whole["points"] and both["untrained"] == []
+    assert both["test"] == whole["test"] and both["hyperparameters"] == whole["hyperparameters"]
+
+
+def _record_with(out, edit) -> None:
+    path = out / "grids" / "wind_farm_control.json"
+    data = json.loads(path.read_text())
+    edit(data)
+    path.write_text(json.dumps(data))
+
+
+@pytest.mark.parametrize("edit, said", [
+    (lambda d: d["points"][0].update(fingerprint="sha256:0"),
+     r"records point 0 \('wfc-main\[pattern=0\]'\) of another scenario \(fingerprint sha256:0, the sweep's point "
+     r"now sha256:[0-9a-f]{64}\): train it again, or move the record aside$"),
+    (lambda d: d["points"][0].pop("fingerprint"), r"of another scenario \(fingerprint None,"),
+    (lambda d: d["test"].update(episodes=3), r"on 3 test episodes, not 2: record with --episodes 3, or train it again$"),
+    (lambda d: d["hyperparameters"].update(gamma=0.5),
+     r"trained with different hyperparameters \(gamma\): a grid record holds one set$"),
+])
+def test_a_point_recorded_before_is_kept_only_if_it_is_of_this_grid(grid, tmp_path, edit, said):
+    """A row kept from the record must be of the sweep's point as it is now, with the grid's hyperparameters and
+    test episodes; otherwise the record is refused, and left as it was."""
+    record_grid(grid / "runs", str(grid / "sweep.yaml"), tmp_path / "out", episodes=2)
+    _record_with(tmp_path / "out", edit)
+    before = (tmp_path / "out" / "grids" / "wind_farm_control.json").read_text()
+    shutil.copytree(grid / "runs", tmp_path / "runs")
+    shutil.rmtree(next((tmp_path / "runs").glob("000-*")))
+    with pytest.raises(TrainError, match=said):
+        record_grid(tmp_path / "runs", str(grid / "sweep.yaml"), tmp_path / "out", episodes=2, partial=True)
+    assert (tmp_path / "out" / "grids" / "wind_farm_control.json").read_text() == before
+
+
+def test_a_record_of_another_sweep_is_replaced_not_merged(grid, tmp_path):
+    record_grid(grid / "runs", str(grid / "sweep.yaml"), tmp_path / "out", episodes=2)
+    _record_with(tmp_path / "out", lambda d: d.update(sweep="another.yaml"))
+    shutil.copytree(grid / "runs", tmp_path / "runs")
+    shutil.rmtree(next((tmp_path / "runs").glob("000-*")))
+    data = record_grid(tmp_path / "runs", str(grid / "sweep.yaml"), tmp_path / "out", episodes=2, partial=True)
+    assert [row["name"] for row in data["points"]] == ["wfc-main[pattern=1]"]
+    assert data["untrained"] == ["wfc-main[pattern=0]"]
