@@ -253,3 +253,28 @@ def test_a_scenario_that_is_not_the_paper_s_gets_no_published_cell_and_says_why(
     assert ("  no published result: the paper's result for this task and level (return 4612) is not this scenario's: "
             "it differs from the paper's setting in agents, episode_length") in describe(data)
     assert ", pattern 0;" in describe(data)  # WFC's levels are layout patterns
+
+
+
+def test_scripted_policies_decide_in_float64_whatever_the_observation_dtype():
+    """numpy's float32 arctan2 is not correctly rounded and differs by CPU (SIMD path): the scripted policies get
+    their float32 observations as float64, so a last-bit difference cannot flip a decision from machine to machine."""
+    from types import SimpleNamespace
+
+    from hivex_dsl.evaluation.policies import make_policy
+
+    angles = np.random.default_rng(0).uniform(-np.pi, np.pi, 100_000)
+    sin32, cos32 = np.sin(angles).astype(np.float32), np.cos(angles).astype(np.float32)
+    exact = np.arctan2(sin32.astype(np.float64), cos32.astype(np.float64)).astype(np.float32)
+    assert np.any(np.arctan2(sin32, cos32) != exact)  # the premise: float32 arctan2 is not the exact angle rounded
+
+    seen = []
+    spy = SimpleNamespace(entry=SimpleNamespace(scripted_policy=lambda compiled: seen.append))
+    scripted = make_policy("scripted", spy, None, (2, 3))
+    vector, camera = cos32[:6].reshape(2, 3), np.zeros((2, 3, 4), np.uint8)
+    scripted({"vector": vector, "camera": camera})
+    scripted(vector)
+    (as_dict, as_array) = seen
+    assert as_dict["vector"].dtype == np.float64 and np.array_equal(as_dict["vector"], vector)
+    assert as_dict["camera"] is camera and as_array.dtype == np.float64
+    assert vector.dtype == np.float32  # the caller's array is not changed

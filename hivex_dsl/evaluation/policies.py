@@ -44,11 +44,25 @@ def zeros_policy(space: spaces.Space, shape: tuple[int, int]) -> Policy:
     return lambda observations: actions
 
 
+def in_float64(observations: Any) -> Any:
+    """``observations`` (an array or a dict of them) with every float32 array as float64, for the scripted
+    policies. Their trigonometry on float32 differs by CPU: numpy's float32 arctan2 is not correctly rounded
+    (16% of random angles on an AVX2 machine) and takes another SIMD path on AVX-512 ones, and a last-bit
+    difference near a threshold flips a hold-or-turn decision (WFC's scripted return moved by 3.5e-5 between
+    two machines). In float64 the same differences are some 1e9 times smaller."""
+    if isinstance(observations, dict):
+        return {key: in_float64(value) for key, value in observations.items()}
+    if isinstance(observations, np.ndarray) and observations.dtype == np.float32:
+        return observations.astype(np.float64)
+    return observations
+
+
 def make_policy(name: str, compiled: CompiledScenario, space: spaces.Space, shape: tuple[int, int],
                 seed: int = 0) -> Policy:
     """A batched policy: observations (batch, agents, ...) -> actions (batch, agents, ...)."""
     if name == "scripted":
-        return compiled.entry.scripted_policy(compiled)
+        scripted = compiled.entry.scripted_policy(compiled)
+        return lambda observations: scripted(in_float64(observations))
     if name == "random":
         return random_policy(space, shape, np.random.default_rng(seed))
     if name == "zeros":
