@@ -184,8 +184,9 @@ def record_grid(grid_dir: Path, sweep: str, out_dir: Path, episodes: int = 10, c
         point, report = points[index], _test_report(run_dirs[index], episodes)
         summary, test = summaries[index], {"seed": report["seed"], "episodes": episodes, "actions": "sampled"}
         rows[index] = {"name": point.name, "task": point.task_name, "task_index": point.task_index,
-                       "level": point.level, "fingerprint": point.fingerprint, "agent_steps": summary["agent_steps"],
-                       "wall_s": summary["wall_s"], "seed": summary["seed"], "resumed_at": summary.get("resumed_at", []),
+                       "level": point.level, "fingerprint": point.fingerprint,
+                       "agent_steps": summary["agent_steps"], "wall_s": summary["wall_s"], "seed": summary["seed"],
+                       "resumed_at": summary.get("resumed_at", []),
                        "return": report["return"], "statistics": report["statistics"], "published": report["published"],
                        **{policy: level_of(point, policy, episodes) for policy in LEVEL_POLICIES}}
     data = {"environment": points[0].environment, "sweep": sweep, "command": command, "note": note,

@@ -205,7 +205,8 @@ def _record_with(out, edit) -> None:
      r"records point 0 \('wfc-main\[pattern=0\]'\) of another scenario \(fingerprint sha256:0, the sweep's point "
      r"now sha256:[0-9a-f]{64}\): train it again, or move the record aside$"),
     (lambda d: d["points"][0].pop("fingerprint"), r"of another scenario \(fingerprint None,"),
-    (lambda d: d["test"].update(episodes=3), r"on 3 test episodes, not 2: record with --episodes 3, or train it again$"),
+    (lambda d: d["test"].update(episodes=3),
+     r"on 3 test episodes, not 2: record with --episodes 3, or train it again$"),
     (lambda d: d["hyperparameters"].update(gamma=0.5),
      r"trained with different hyperparameters \(gamma\): a grid record holds one set$"),
 ])
