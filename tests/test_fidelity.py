@@ -14,10 +14,11 @@ from hivex_dsl.evaluation.fidelity import FIDELITY_FILE, load_suite, published_l
 
 ROOT = Path(__file__).resolve().parents[1]
 STORED = load_suite(ROOT / FIDELITY_FILE)
-# re-measured on every test run: whole environments whose episodes are cheap, and one cheap DBR task (its
-# episode ends when the drones are back at the station); a few seconds of CPU in all
+# re-measured on every test run: whole environments whose episodes are cheap, one cheap DBR task (its episode
+# ends when the drones are back at the station), and one task of each of AWS and OPC, so that every
+# environment's simulator and scripted policy is covered; under a minute of CPU in all
 CHEAP = ("wrm-main-l1", "wrm-keep-all-l1", "wrm-distribute-all-l1", "wfc-generate-energy-p0",
-         "wfc-avoid-damage-p0", "dbr-pick-up-seed-l1")
+         "wfc-avoid-damage-p0", "dbr-pick-up-seed-l1", "aws-main-l1", "opc-avoid-plastic")
 
 
 def test_the_suite_is_the_whole_published_grid_and_every_task_at_its_first_level():
