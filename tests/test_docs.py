@@ -17,7 +17,7 @@ from hivex_dsl.docsgen.schema import SCHEMA_DIALECT, schema_of, scenario_json_sc
 from hivex_dsl.envs.wind_farm_control.simulator import WindFarmSimulator
 from hivex_dsl.lang.loader import load_file
 from hivex_dsl.base.resources import bundled_scenarios
-from hivex_dsl.lang.spec.catalogue import CATALOGUE
+from hivex_dsl.lang.spec.catalogue import PAPER_ENVIRONMENTS
 
 WFC = "wind_farm_control"
 WFC_PAGE = f"environments/{WFC}.md"
@@ -168,7 +168,7 @@ def test_bundled_scenarios_are_listed_with_their_size(wfc_page):
 
 def test_index_lists_the_catalogue(docs):
     index = docs["index.md"]
-    for info in CATALOGUE.values():
+    for info in [*PAPER_ENVIRONMENTS.values(), *(entry.info for entry in registry.environments().values())]:
         assert f"`{info.id}`" in index and info.title in index
     assert "(environments/wind_farm_control.md)" in index
     assert "(language.md)" in index and "(hivex.schema.json)" in index
@@ -246,7 +246,7 @@ def test_schema_describes_the_language():
     wfc = _variant(schema, WFC)
     assert {"hivex", "environment"} <= set(wfc["properties"])
     assert {"hivex", "environment"} <= set(wfc["required"])
-    assert wfc["properties"]["agents"]["maximum"] == CATALOGUE[WFC].max_agents == 16
+    assert wfc["properties"]["agents"]["maximum"] == PAPER_ENVIRONMENTS[WFC].max_agents == 16
 
 
 def test_schema_accepts_every_bundled_scenario_and_rejects_mistakes():

@@ -19,7 +19,6 @@ from pettingzoo.test import state_test
 import hivex_dsl
 from hivex_dsl.compiler import registry
 from hivex_dsl.base.errors import ResetNeeded
-from hivex_dsl.sim.fire import TreeState
 from hivex_dsl.runtime.global_state import AGENT_OBSERVATIONS, EPISODE_PROGRESS, vector_space
 
 from .crashes import first_agent_crashes_on
@@ -87,48 +86,6 @@ def test_the_agents_part_is_every_agents_vector_observation_in_agent_order(env_i
     assert env.state()[-1] == np.float32(5 / CYCLES)  # episode progress: 5 of the episode's steps
 
 
-def burning_cells_xy(state, half: float) -> tuple[np.ndarray, np.ndarray]:
-    """(x, y) metres of the centres of world 0's burning cells, read off the tree grid."""
-    trees = state.fire.trees[0]
-    rows, cols = np.nonzero(trees == TreeState.BURNING)
-    spacing = 2.0 * half / trees.shape[0]
-    return (cols + 0.5) * spacing - half, (rows + 0.5) * spacing - half
-
-
-def by_hand(env_id: str, env) -> dict[str, np.ndarray]:
-    """Some world facts of world 0, computed from the simulator's state by hand."""
-    s, p = env.core.state, env.core.compiled.params
-    if env_id == "wind_farm_control":
-        return {"main wind": [np.cos(s.wind.main[0]), np.sin(s.wind.main[0])],
-                "performance": np.clip(s.performance[0], 0, 1)}
-    if env_id in ("wildfire_resource_management", "aerial_wildfire_suppression"):
-        half = p.island_half_extent_m
-        x, y = burning_cells_xy(s, half)
-        cells = s.fire.trees.shape[1]
-        facts = {"fire burning": [np.log1p(len(x)) / np.log1p(cells * cells)],
-                 "fire front centre": [x.mean() / half, y.mean() / half] if len(x) else [0.0, 0.0]}
-        if env_id == "aerial_wildfire_suppression":
-            vx, vy = s.maps.village[0]
-            gap = np.hypot(x - vx, y - vy).min() if len(x) else np.inf
-            facts["fire to village"] = [min(gap / (2 * np.sqrt(2) * half), 1.0)]
-            facts["village"] = s.maps.village[0] / p.border_half_extent_m
-        else:
-            facts["island weather"] = s.conditions[0].reshape(-1, 3).mean(axis=0)
-        return facts
-    if env_id == "ocean_plastic_collection":
-        alive = s.pebbles.alive[0]
-        xy = s.pebbles.positions[0][alive]
-        half = env.core.sim.half_extent
-        return {"plastic left": [alive.mean()], "plastic centre": xy.mean(axis=0) / half,
-                "collected": s.collected_total[0] / alive.size}
-    if env_id == "drone_based_reforestation":
-        half, count = env.core.sim.half, s.new_count[0]
-        assert count > 0  # the drones plant (see acting_on)
-        return {"station": s.station[0, :2] / half, "trees planted": [count / p.new_tree_capacity],
-                "planting quality": [s.new_quality[0, :count].mean()], "team energy": [s.energy[0].mean()]}
-    raise AssertionError(env_id)
-
-
 def acting_on(env_id: str, env, rng: np.random.Generator) -> dict:
     """Random actions; DBR's drones fly ahead, climbing, and drop their seeds (they plant on the first steps)."""
     if env_id == "drone_based_reforestation":
@@ -137,7 +94,14 @@ def acting_on(env_id: str, env, rng: np.random.Generator) -> dict:
     return random_actions(env, rng)
 
 
-@pytest.mark.parametrize("env_id", ENV_IDS)
+def by_hand(env_id: str, env) -> dict:
+    """Some world facts of world 0, computed from the simulator's state by the environment's own hook (its entry's
+    ``state_facts``), independently of its ``world_state``."""
+    core = env.core
+    return core.compiled.entry.state_facts(core.sim, core.state, core.compiled.params)
+
+
+@pytest.mark.parametrize("env_id", [env_id for env_id, entry in registry.environments().items() if entry.state_facts])
 def test_world_facts_match_values_computed_by_hand_from_the_simulator_state(env_id):
     env = hivex_dsl.parallel_env(scenario(env_id))
     rng = np.random.default_rng(1)

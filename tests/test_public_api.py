@@ -16,7 +16,7 @@ import pytest
 
 import hivex_dsl
 from hivex_dsl import _moved
-from hivex_dsl.lang.spec.catalogue import CATALOGUE
+from hivex_dsl.compiler import registry
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -97,10 +97,19 @@ def test_hivex_dsl_testing_is_public_without_a_warning(monkeypatch):
         assert callable(getattr(testing, name)), name
 
 
-@pytest.mark.parametrize("env_id", list(CATALOGUE))
+@pytest.mark.parametrize("env_id", list(registry.environments()))
 def test_every_zoo_module_has_the_pettingzoo_functions(env_id):
     module = importlib.import_module(f"hivex_dsl.zoo.{env_id}_v0")
     assert callable(module.env) and callable(module.parallel_env) and inspect.isclass(module.raw_env)
+    zoo = importlib.import_module("hivex_dsl.zoo")
+    assert getattr(zoo, f"{env_id}_v0") is module and f"{env_id}_v0" in dir(zoo)
+
+
+def test_a_zoo_module_of_no_registered_environment_is_not_found():
+    with pytest.raises(ModuleNotFoundError):
+        importlib.import_module("hivex_dsl.zoo.chess_v0")
+    with pytest.raises(ImportError):
+        exec("from hivex_dsl.zoo import chess_v0", {})
 
 
 @pytest.mark.parametrize("name", sorted(info.name for info in pkgutil.iter_modules(

@@ -1,6 +1,7 @@
 """BenchMARL tasks of every HIVEX environment and task (needs the ``benchmarl`` extra).
 
-One ``Task`` enum per environment, one member per task of its reward table (``rewards/<env>.yaml``), each with a
+One ``Task`` enum per registered environment (made from the registry: :data:`TASKS`, or by name as
+``OceanPlasticCollectionTask``), one member per task of its reward table, each with a
 ``TaskClass`` that builds the env as :func:`hivex_dsl.adapters.torchrl.torchrl_env` does (TorchRL's
 ``PettingZooWrapper`` with ``use_mask=True, done_on_any=False``, flat observations, WRM's and OPC's MultiDiscrete
 actions as one joint Discrete action, DBR's and AWS's hybrid actions as one Box(-1, 1)), so BenchMARL's
@@ -21,9 +22,9 @@ environment's ``pattern`` or ``terrain_level``) and ``max_cycles`` (the episode 
 also the evaluation rollouts' ``max_steps``). ``get_task()`` without a config takes the defaults: BenchMARL's
 own tasks read theirs from YAML files inside the benchmarl package, ours need none.
 
-Wind Farm Control, Wildfire Resource Management and Ocean Plastic Collection have discrete actions, Drone Based
-Reforestation and Aerial Wildfire Suppression continuous ones (their discrete branches binned, see
-:mod:`hivex_dsl.adapters.flat`). Every agent is one group, ``"agents"``. Every task has a global state (the
+An environment whose action space is a Box or a hybrid Dict has continuous actions here (Drone Based
+Reforestation and Aerial Wildfire Suppression, their discrete branches binned, see :mod:`hivex_dsl.adapters.flat`),
+the others discrete ones (Wind Farm Control, Wildfire Resource Management, Ocean Plastic Collection). Every agent is one group, ``"agents"``. Every task has a global state (the
 root ``"state"`` key, :mod:`hivex_dsl.runtime.global_state`), which MAPPO's centralised critic reads. With several environments per worker, the i-th copy is
 seeded ``seed + i`` (BenchMARL's ``SerialEnv`` builds them one by one; with ``parallel_collection=True`` each
 worker process counts from ``seed`` again, so seed the copies otherwise there).
@@ -34,14 +35,18 @@ from __future__ import annotations
 import itertools
 import math
 from dataclasses import asdict, dataclass
-from typing import Any, Callable, Dict, Optional
+from functools import lru_cache
+from typing import Any, Callable, Dict, Iterator, Mapping, Optional
 
 from benchmarl.environments.common import Task, TaskClass
+from gymnasium import spaces
 from benchmarl.environments.pettingzoo.common import PettingZooClass
 from benchmarl.utils import DEVICE_TYPING, _read_yaml_config
 from torchrl.envs import EnvBase
 
-from .registration import make_scenario
+from ..compiler import registry
+from .flat import is_hybrid
+from .registration import camel, make_scenario
 from .torchrl import torchrl_env
 
 
@@ -58,7 +63,6 @@ class HivexTaskClass(PettingZooClass):
     """A task of one HIVEX environment; BenchMARL's PettingZoo class reads the specs (observation, action, mask)."""
 
     environment: str = ""
-    continuous: bool = False
 
     def compiled(self):
         return make_scenario(self.environment, self.config.get("scenario"), task=self.name.lower(),
@@ -76,10 +80,10 @@ class HivexTaskClass(PettingZooClass):
         return make
 
     def supports_continuous_actions(self) -> bool:
-        return self.continuous
+        return continuous_actions(self.environment)
 
     def supports_discrete_actions(self) -> bool:
-        return not self.continuous
+        return not continuous_actions(self.environment)
 
     def has_state(self) -> bool:
         return True  # hivex_dsl.runtime.global_state; BenchMARL's state_spec reads the env's "state" key
@@ -93,6 +97,15 @@ class HivexTaskClass(PettingZooClass):
         return f"hivex_{cls.environment}"
 
 
+@lru_cache(maxsize=None)
+def continuous_actions(environment: str) -> bool:
+    """Whether the environment's actions reach BenchMARL as a Box (a Box or hybrid action space, see the module),
+    read off the simulator of its bundled main scenario."""
+    compiled = make_scenario(environment)
+    space = compiled.entry.make_simulator(compiled).action_space
+    return is_hybrid(space) or isinstance(space, spaces.Box)
+
+
 class HivexTask(Task):
     """The tasks of a HIVEX environment; their configs come from :class:`HivexTaskConfig`, not from YAML files."""
 
@@ -104,96 +117,56 @@ class HivexTask(Task):
         return self.get_task(None if path is None else _read_yaml_config(path))
 
 
-class WindFarmControlClass(HivexTaskClass):
-    environment = "wind_farm_control"
+def _task_enum(environment: str) -> type[HivexTask]:
+    """``<Env>Task``, the Task enum of one environment (a member per task of its reward table), with its
+    ``<Env>Class``; both made from the registry, so a new environment has them without an edit here."""
+    entry = registry.get(environment)
+    name = camel(environment)
+    task_class = type(f"{name}Class", (HivexTaskClass,), {"environment": environment, "__module__": __name__})
+    members = [(task.name.upper(), None) for task in entry.reward_table.tasks]
+    enum = HivexTask(f"{name}Task", members, module=__name__, qualname=f"{name}Task")
+    enum.associated_class = staticmethod(lambda: task_class)
+    return enum
 
 
-class WildfireResourceManagementClass(HivexTaskClass):
-    environment = "wildfire_resource_management"
+_ENUMS: dict[str, type[HivexTask]] = {}
 
 
-class OceanPlasticCollectionClass(HivexTaskClass):
-    environment = "ocean_plastic_collection"
+def task_enum(environment: str) -> type[HivexTask]:
+    """The Task enum of ``environment`` (made once)."""
+    if environment not in _ENUMS:
+        _ENUMS[environment] = _task_enum(environment)
+    return _ENUMS[environment]
 
 
-class DroneBasedReforestationClass(HivexTaskClass):
-    environment = "drone_based_reforestation"
-    continuous = True
+class _Tasks(Mapping[str, type[HivexTask]]):
+    """Environment id -> its Task enum, for every registered environment, in the registry's order."""
+
+    def __getitem__(self, environment: str) -> type[HivexTask]:
+        if environment not in registry.environments():
+            raise KeyError(environment)
+        return task_enum(environment)
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(registry.environments())
+
+    def __len__(self) -> int:
+        return len(registry.environments())
 
 
-class AerialWildfireSuppressionClass(HivexTaskClass):
-    environment = "aerial_wildfire_suppression"
-    continuous = True
+TASKS: Mapping[str, type[HivexTask]] = _Tasks()
 
 
-class WindFarmControlTask(HivexTask):
-    GENERATE_ENERGY = None
-    AVOID_DAMAGE = None
-
-    @staticmethod
-    def associated_class():
-        return WindFarmControlClass
-
-
-class WildfireResourceManagementTask(HivexTask):
-    MAIN = None
-    KEEP_ALL = None
-    DISTRIBUTE_ALL = None
-
-    @staticmethod
-    def associated_class():
-        return WildfireResourceManagementClass
-
-
-class OceanPlasticCollectionTask(HivexTask):
-    PLASTIC_COLLECTION = None
-    FIND_HIGHEST_POLLUTED_AREA = None
-    GROUP_UP = None
-    AVOID_PLASTIC = None
-
-    @staticmethod
-    def associated_class():
-        return OceanPlasticCollectionClass
-
-
-class DroneBasedReforestationTask(HivexTask):
-    MAIN = None
-    FIND_CLOSEST_TREE = None
-    GROUP_UP = None
-    PICK_UP_SEED = None
-    DROP_SEED = None
-    FIND_HIGH_POTENTIAL_AREA = None
-    FIND_HIGH_TERRAIN = None
-    EXPLORE_FURTHEST = None
-
-    @staticmethod
-    def associated_class():
-        return DroneBasedReforestationClass
-
-
-class AerialWildfireSuppressionTask(HivexTask):
-    MAIN = None
-    EXTINGUISH_BURNING_TREES = None
-    PREPARE_TREES = None
-    MINIMIZE_FIRE_TIME = None
-    PROTECT_VILLAGE = None
-    PICK_UP_WATER = None
-    DROP_WATER = None
-    FIND_FIRE = None
-    FIND_VILLAGE = None
-
-    @staticmethod
-    def associated_class():
-        return AerialWildfireSuppressionClass
-
-
-TASKS: dict[str, type[HivexTask]] = {
-    "wind_farm_control": WindFarmControlTask,
-    "wildfire_resource_management": WildfireResourceManagementTask,
-    "ocean_plastic_collection": OceanPlasticCollectionTask,
-    "drone_based_reforestation": DroneBasedReforestationTask,
-    "aerial_wildfire_suppression": AerialWildfireSuppressionTask,
-}
+def __getattr__(name: str) -> type:
+    """``OceanPlasticCollectionTask`` and ``OceanPlasticCollectionClass``: the enum and task class of a registered
+    environment, by their names."""
+    for environment in registry.environments():
+        enum = task_enum(environment)
+        if name == enum.__name__:
+            return enum
+        if name == enum.associated_class().__name__:
+            return enum.associated_class()
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def task(environment: str, name: Optional[str] = None, **config: Any) -> TaskClass:

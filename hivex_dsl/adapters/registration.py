@@ -13,14 +13,11 @@ PettingZoo: ``hivex_dsl.zoo.<env id>_v0`` modules offer ``env()`` (AEC), ``paral
 
 from __future__ import annotations
 
-from pathlib import Path
 from typing import Any, Optional
 
 from ..base.errors import is_integer
-from ..base.resources import data_dir, resolve_scenario_path
-from ..compiler import CompiledScenario, compile
+from ..compiler import CompiledScenario, compile, registry
 from ..lang.loader import load_file
-from ..lang.spec.catalogue import CATALOGUE
 
 NAMESPACE = "hivex"
 
@@ -52,7 +49,7 @@ def make_scenario(environment: Optional[str], scenario: Any = None, task: Option
     if isinstance(scenario, dict):
         data = dict(scenario)
     elif overrides or level is not None or max_cycles is not None:
-        data = load_file(resolve_scenario_path(str(scenario))).data
+        data = load_file(registry.resolve_scenario(str(scenario))).data
     else:
         return compile(scenario)
     environment = environment or data.get("environment")
@@ -60,7 +57,8 @@ def make_scenario(environment: Optional[str], scenario: Any = None, task: Option
     if data.get("environment") != environment:
         raise ValueError(f"the scenario is of {data.get('environment')!r}, not {environment!r}")
     if level is not None:
-        level_field = CATALOGUE[environment].level_field if environment in CATALOGUE else None
+        entry = registry.environments().get(environment)
+        level_field = entry.info.level_field if entry else None
         if level_field is None:
             raise ValueError(f"{environment} has no difficulty levels; leave level out")
         overrides[level_field] = level
@@ -73,8 +71,7 @@ def make_scenario(environment: Optional[str], scenario: Any = None, task: Option
 
 def bundled_scenarios(environment: str) -> list[str]:
     """Names of the bundled scenarios of ``environment`` that are one scenario each (no sweep)."""
-    folder = Path(data_dir("scenarios")) / environment
-    return sorted(p.stem for p in folder.glob("*.yaml") if "\nsweep:" not in p.read_text())
+    return [p.stem for p in registry.get(environment).scenario_files() if "\nsweep:" not in p.read_text()]
 
 
 def make_vector(environment: str, num_envs: int = 1, num_worlds: Optional[int] = None, scenario: Any = None,
@@ -103,13 +100,13 @@ def not_single_agent(environment: str, scenario: Any = None, **_: Any):
 
 def register_gymnasium() -> None:
     """Register the ids (idempotent: a second call changes nothing)."""
-    from gymnasium.envs.registration import register, registry
+    from gymnasium.envs.registration import register, registry as gymnasium_ids
 
-    for environment in CATALOGUE:
+    for environment in registry.environments():
         ids = {f"{NAMESPACE}/{camel(environment)}-v0": {}}
         for name in bundled_scenarios(environment):
             ids[f"{NAMESPACE}/{camel(environment)}-{camel(name)}-v0"] = {"scenario": name}
         for env_id, kwargs in ids.items():
-            if env_id not in registry:
+            if env_id not in gymnasium_ids:
                 register(id=env_id, entry_point=f"{__name__}:not_single_agent",
                          vector_entry_point=f"{__name__}:make_vector", kwargs={"environment": environment, **kwargs})

@@ -309,10 +309,11 @@ def cmd_bench(args) -> int:
 
 
 def cmd_list(args) -> int:
-    from ..base.resources import bundled_scenarios
+    from ..compiler import registry
 
-    for path in bundled_scenarios():
-        print(f"{path.parent.name}/{path.name}")
+    for name in sorted(f"{env_id}/{path.name}" for env_id, entry in registry.environments().items()
+                       for path in entry.scenario_files()):
+        print(name)
     return EXIT_OK
 
 

@@ -12,9 +12,9 @@ from pathlib import Path
 from typing import Any, Mapping, Union
 
 from ..base.errors import Location, Problem, ScenarioError, got
-from ..base.resources import resolve_scenario_path
 from ..lang.loader import Loaded, PathKey, load_file
 from ..lang.spec.validate import dotted
+from . import registry
 from .locks import compile_lock
 from .scenario import CompiledScenario, compile_scenario
 
@@ -41,7 +41,7 @@ def _load(source: Source) -> Loaded:
     if not isinstance(source, (str, Path)) or not str(source):
         raise ScenarioError([Problem(Location("<input>", 1, 1),
                                      f"expected a scenario file path or dict, got {source!r}")])
-    return load_file(resolve_scenario_path(str(source)))
+    return load_file(registry.resolve_scenario(str(source)))
 
 
 def _plain_data(value: Any, path: PathKey) -> Any:

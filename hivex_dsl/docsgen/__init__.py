@@ -17,6 +17,7 @@ import numpy as np
 from jinja2 import Environment, FileSystemLoader, StrictUndefined
 
 from ..compiler import registry
+from .adding import PAGE as ADDING_PAGE, adding_context, has_example
 from .baselines import PAGE as BASELINES_PAGE, baseline_images, baselines_context, baselines_dir
 from .context import environment_context, index_context, language_context, performance_context
 from .fidelity_page import fidelity_context
@@ -65,7 +66,8 @@ def render_docs(results: Path | None = None, fidelity: Path | None = None,
     ``fidelity`` is the stored `hivex audit --suite` report fidelity.md shows (see hivex_dsl.evaluation.fidelity).
     ``baselines`` is the folder of committed baselines (benchmarks/baselines); baselines.md shows them.
     ``tests`` (the checkout's tests/) and ``overhead`` (benchmarks/results/ecosystem.json) feed ecosystem.md's
-    library x environment table and its overhead table.
+    library x environment table and its overhead table; the example environment in ``tests`` feeds
+    adding_an_environment.md.
     """
     jinja = _jinja()
     has_baselines = baselines is not None and Path(baselines).is_dir()
@@ -79,6 +81,8 @@ def render_docs(results: Path | None = None, fidelity: Path | None = None,
     from .ecosystem import ecosystem_context
 
     docs["ecosystem.md"] = jinja.get_template("ecosystem.md.j2").render(**ecosystem_context(tests, overhead))
+    if has_example(tests):
+        docs[ADDING_PAGE] = jinja.get_template("adding_an_environment.md.j2").render(**adding_context(tests))
     figures = preview_figures()
     docs["generators.md"] = jinja.get_template("generators.md.j2").render(
         figures=[{"path": rel, "caption": caption} for rel, (caption, _) in figures.items()])

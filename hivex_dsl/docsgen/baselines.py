@@ -219,14 +219,15 @@ def throughput_table(path: Path) -> dict[str, Any]:
     machine has 2 cores, the GPU one on a GPU."""
     if not path.is_file():
         return {"throughput": []}
-    from ..train.config import paper_defaults
+    from ..train.config import PPOConfig, paper_defaults
 
     report = json.loads(path.read_text(encoding="utf-8"))
     bounds = _compute_bounds(path.parent.parent / COMPUTE_BOUND_FILE)
     tables: dict[str, list[dict[str, Any]]] = {}
     for row in report["rows"]:
         words = row.get("machine", report.get("machine", "an unnamed machine"))
-        rate, budget = row["agent_steps_per_s"], paper_defaults(row["environment"])["max_steps"]
+        rate = row["agent_steps_per_s"]
+        budget = paper_defaults(row["environment"]).get("max_steps", PPOConfig.model_fields["max_steps"].default)
         target = _throughput_target(row, words)
         bound = bounds.get((words, row["environment"], row["torch_threads"])) if row.get("device", "cpu") == "cpu" \
             and row.get("processes", 1) == 1 else None
@@ -269,13 +270,15 @@ def _duration(seconds: float) -> str:
 
 
 def hyperparameter_table() -> dict[str, Any]:
-    """The shipped paper hyperparameters: ``keys`` (the union, in file order) and one row per environment."""
-    from ..train.config import paper_defaults
+    """The shipped paper hyperparameters: ``keys`` (the union, in file order) and one row per environment that has
+    them; ``hp_defaulted``, the environments without, which train on PPOConfig's defaults."""
+    from ..train.config import has_paper_hyperparameters, paper_defaults
 
-    defaults = {env_id: paper_defaults(env_id) for env_id in registry.environments()}
+    defaults = {env_id: paper_defaults(env_id) for env_id in registry.environments() if has_paper_hyperparameters(env_id)}
     keys = list(dict.fromkeys(key for values in defaults.values() for key in values))
     return {"hp_keys": keys, "hp_rows": [{"environment": env_id, "values": [values.get(k, "-") for k in keys]}
-                                         for env_id, values in defaults.items()]}
+                                         for env_id, values in defaults.items()],
+            "hp_defaulted": [env_id for env_id in registry.environments() if not has_paper_hyperparameters(env_id)]}
 
 
 def baseline_images(directory: Path) -> dict[str, bytes]:

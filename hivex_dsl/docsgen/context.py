@@ -8,16 +8,17 @@ from pathlib import Path
 from typing import Any
 
 from .. import compiler
-from ..base.resources import bundled_scenarios
+from ..base.resources import data_dir
 from ..compiler import registry
 from ..lang import loader
 from ..lang.expr import syntax
 from ..lang.spec import scenario as scenario_spec
-from ..lang.spec.catalogue import CATALOGUE
+from ..lang.spec.catalogue import PAPER_ENVIRONMENTS, listing_key
 from ..lang.spec.common import MAX_SEED, MAX_WEIGHT, SCHEMA_VERSION
 from ..lang.spec.expressions import MAX_EXPRESSION_CHARS
 from ..lang.spec.reward_table import RewardTable, TaskColumn
 from ..sim.reward.composer import RETURN_LIMIT
+from ..train.config import has_paper_hyperparameters
 from .expressions import expression_language_context, vocabulary_context
 from .fields import field_rows, num, show_value, source_tag
 from .pages import SCHEMA_FILE, env_page
@@ -28,8 +29,9 @@ MAX_LISTED_VALUES = 6
 
 def index_context() -> dict[str, Any]:
     available = registry.environments()
+    infos = {**PAPER_ENVIRONMENTS, **{env_id: entry.info for env_id, entry in available.items()}}
     rows = []
-    for info in CATALOGUE.values():
+    for info in sorted(infos.values(), key=lambda info: listing_key(info.id)):
         level = f"`{info.level_field}` ({info.level_count} levels)" if info.level_field else "none"
         rows.append({
             "id": info.id, "title": info.title, "abbreviation": info.abbreviation,
@@ -40,6 +42,14 @@ def index_context() -> dict[str, Any]:
         })
     return {"environments": rows, "available": [r for r in rows if r["available"]], "schema_file": SCHEMA_FILE,
             "schema_version": SCHEMA_VERSION}
+
+
+def checkout_path(path: Path) -> str:
+    """A content file's path as the docs link it: from the checkout's top (``scenarios/<id>/main.yaml``), or as it
+    is for a file outside the checkout (an installed environment package's)."""
+    top = data_dir("rewards").parent.resolve()
+    path = Path(path).resolve()
+    return path.relative_to(top).as_posix() if top in path.parents else path.as_posix()
 
 
 def _vocabulary(entry: registry.EnvironmentEntry) -> scenario_spec.ScenarioVocabulary:
@@ -123,9 +133,7 @@ def _listing(values: list[Any]) -> str:
 
 def _scenarios(entry: registry.EnvironmentEntry) -> list[dict[str, Any]]:
     out = []
-    for path in bundled_scenarios():
-        if path.parent.name != entry.id:
-            continue
+    for path in entry.scenario_files():
         compiled = compiler.compile_all(path)
         first = compiled[0]
         level = ""
@@ -133,7 +141,7 @@ def _scenarios(entry: registry.EnvironmentEntry) -> list[dict[str, Any]]:
             level = _listing([entry.level_names[c.level] for c in compiled])
         elif entry.info.level_field:
             level = _listing([c.level for c in compiled])
-        out.append({"file": f"scenarios/{entry.id}/{path.name}", "name": first.spec.name,
+        out.append({"file": checkout_path(path), "name": first.spec.name,
                     "description": first.spec.description, "count": len(compiled),
                     "swept": list(first.sweep_point), "task": _listing([c.task_name for c in compiled]),
                     "level": level, "agents": _listing([c.agents for c in compiled])})
@@ -158,8 +166,11 @@ def environment_context(entry: registry.EnvironmentEntry) -> dict[str, Any]:
         "table_notes": list(entry.reward_table.notes),
         "scenarios": _scenarios(entry),
         "schema_file": SCHEMA_FILE,
-        "reward_file": f"rewards/{entry.id}.yaml",
+        "reward_file": checkout_path(entry.reward_table_path),
         "vocabulary": vocabulary_context(entry),
+        "paper": entry.id in PAPER_ENVIRONMENTS,
+        "paper_rows": any(term.contract.paper_row is not None for term in entry.terms),
+        "paper_hyperparameters": has_paper_hyperparameters(entry.id),
     }
 
 

@@ -194,8 +194,6 @@ def matrix_context(tests: Path | None) -> dict:
     rows = [{"title": library.title, "note": library.note,
              "cells": [_spans(sorted(numbers[n] for n in proven.get((key, env), ()))) for env in environments]}
             for key, library in LIBRARIES.items()]
-    from ..lang.spec.catalogue import CATALOGUE
-
-    columns = [{"title": CATALOGUE[env].abbreviation if env in CATALOGUE else env, "env": env} for env in environments]
+    columns = [{"title": registry.get(env).info.abbreviation, "env": env} for env in environments]
     return {"matrix": {"columns": columns, "rows": rows,
                        "tests": [{"number": numbers[p.nodeid], "nodeid": p.nodeid} for p in proofs]}}

@@ -5,7 +5,6 @@ from __future__ import annotations
 from typing import Any
 
 from .. import compiler
-from ..base.resources import bundled_scenarios
 from ..compiler import registry
 from ..lang.expr import describe_grammar
 from ..lang.spec.common import SCHEMA_VERSION
@@ -29,9 +28,7 @@ def _rows(model) -> list[dict[str, str]]:
 def _expression_scenarios(entry: registry.EnvironmentEntry) -> list[dict[str, Any]]:
     """Bundled scenarios of ``entry`` that declare expression terms or shaping, with the terms' contracts."""
     out = []
-    for path in bundled_scenarios():
-        if path.parent.name != entry.id:
-            continue
+    for path in entry.scenario_files():
         compiled = compiler.compile_all(path)[0]
         if compiled.expressions is None or not compiled.expressions.terms:
             continue

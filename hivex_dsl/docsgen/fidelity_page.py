@@ -99,7 +99,7 @@ def fidelity_context(results: Path) -> dict[str, Any]:
     for audit in (report or {}).get("scenarios", []):
         by_env.setdefault(audit["environment"], []).append(audit)
     environments = [_environment(env_id, entry, by_env.get(env_id, []))
-                    for env_id, entry in registry.environments().items()]
+                    for env_id, entry in registry.environments().items() if published.cells(env_id)]
     return {"measured": report is not None, "episodes": (report or {}).get("episodes"), "file": FIDELITY_FILE,
             "policies": AUDIT_POLICIES, "environments": environments, "source": published.raw()["source"],
             "published_notes": list(published.notes())}

@@ -17,7 +17,7 @@ from pydantic import Field
 from ..compiler.registry import GeneratorSlot
 from ..runtime.global_state import StateComponent
 from ..sim.batching import put_worlds, replace_worlds, select_worlds
-from ..sim.fire import FireState, fire_put_worlds, fire_reset
+from ..sim.fire import FireState, TreeState, fire_put_worlds, fire_reset
 from ..sim.procgen.forest import (ForestSpec, IgnitionSpec, cell_centre_xy, ignition_candidates, load_forest_preset,
                                   place_forest, rank_by_weather, ranked_ignition_mask)
 from ..sim.procgen.terrain import TerrainSpec, generate_terrain, terrain_spec_for_level
@@ -352,3 +352,19 @@ def stack_islands(islands: list[Island]) -> dict[str, np.ndarray]:
     """The islands' arrays stacked on a leading world axis (empty list -> zero worlds)."""
     names = ("height", "ground", "village", "exists", "ignite")
     return {name: np.stack([getattr(i, name) for i in islands]) for name in names}
+
+
+def burning_cells_xy(state: Any, half: float) -> tuple[np.ndarray, np.ndarray]:
+    """(x, y) metres of the centres of world 0's burning cells, read off the tree grid cell by cell."""
+    trees = state.fire.trees[0]
+    rows, cols = np.nonzero(trees == TreeState.BURNING)
+    spacing = 2.0 * half / trees.shape[0]
+    return (cols + 0.5) * spacing - half, (rows + 0.5) * spacing - half
+
+
+def island_fire_facts(state: Any, half: float) -> dict[str, list[float]]:
+    """World 0's fire facts of the global state, counted off the tree grid (the tests' check of fire_summary)."""
+    x, y = burning_cells_xy(state, half)
+    cells = state.fire.trees.shape[1]
+    return {"fire burning": [float(np.log1p(len(x)) / np.log1p(cells * cells))],
+            "fire front centre": [float(x.mean() / half), float(y.mean() / half)] if len(x) else [0.0, 0.0]}

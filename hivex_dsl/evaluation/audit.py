@@ -38,8 +38,7 @@ from typing import Any, Callable, Optional, Sequence, TextIO, Union
 
 import numpy as np
 
-from ..compiler import CompiledScenario
-from ..lang.spec.catalogue import CATALOGUE
+from ..compiler import CompiledScenario, registry
 from . import published
 from .policies import Policy
 from .progress import EpisodeBar, bar
@@ -318,7 +317,8 @@ def _ratio(ours: float, theirs: float) -> str:
 
 def describe(audit: dict[str, Any]) -> str:
     """The text report of one scenario's audit (from :meth:`ScenarioAudit.as_dict`)."""
-    field = CATALOGUE[audit["environment"]].level_field if audit["environment"] in CATALOGUE else None
+    entry = registry.environments().get(audit["environment"])
+    field = entry.info.level_field if entry else None
     level = "" if audit["level"] is None else f", {(field or 'level').replace('_', ' ')} {audit['level']}"
     lines = [f"{audit['scenario']} ({audit['source']}): {audit['environment']} task {audit['task_index']} "
              f"{audit['task']}{level}; {audit['episodes']} test episode(s) per policy",

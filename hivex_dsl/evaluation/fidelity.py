@@ -2,7 +2,8 @@
 
 The suite is the whole published grid (222 cells: each environment, task and level or pattern the paper
 published a PPO result for) plus each task at its first level where no cell exists (Drone-Based
-Reforestation's Drop Seed). Rolling it for the three audit policies takes minutes, too long for
+Reforestation's Drop Seed). An environment the paper published nothing for (one added to the catalogue) is
+not in it, so adding one leaves the stored results as they are. Rolling it for the three audit policies takes minutes, too long for
 `hivex docs --check` in CI, so the measured numbers are stored: ``hivex audit --suite -o
 benchmarks/results/fidelity.json`` writes them (:func:`measure_suite`), docs/fidelity.md is rendered from
 that file, and tests/test_fidelity.py re-measures the cheap tasks (WFC, WRM, DBR Pick-up Seed at their
@@ -15,7 +16,6 @@ import json
 from pathlib import Path
 from typing import Any, Optional, TextIO
 
-from ..base.resources import data_dir
 from ..compiler import registry
 from ..compiler import CompiledScenario, compile as compile_scenario
 from ..lang.loader import load_file
@@ -49,12 +49,12 @@ def scenario_name(entry: registry.EnvironmentEntry, task: str, level: Optional[i
 
 def suite_scenarios(environments: Optional[list[str]] = None, first_only: bool = False) -> list[CompiledScenario]:
     """Each environment's bundled main scenario with each of its tasks at each suite level (only the first
-    level with ``first_only``), in environment, task, level order."""
+    level with ``first_only``), in environment, task, level order; environments with a published cell only."""
     out = []
     for env_id, entry in registry.environments().items():
-        if environments is not None and env_id not in environments:
+        if (environments is not None and env_id not in environments) or not published.cells(env_id):
             continue
-        main = load_file(data_dir("scenarios") / env_id / "main.yaml").data
+        main = load_file(entry.scenario_dir / "main.yaml").data
         for task in entry.reward_table.tasks:
             levels = [first_level(entry)] if first_only else suite_levels(env_id, entry, task.index)
             for level in levels:

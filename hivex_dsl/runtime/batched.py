@@ -9,7 +9,7 @@ the train/test split, and the decision period (ML-Agents' DecisionRequester: one
 
 from __future__ import annotations
 
-from typing import Any, Literal, NamedTuple, Optional, Protocol
+from typing import Any, Literal, NamedTuple, Optional
 
 import numpy as np
 from gymnasium import spaces
@@ -20,49 +20,11 @@ from ..compiler import CompiledScenario
 from ..sim.reward.composer import RewardComposer
 from ..sim.spaces import hold_inactive, placeholder_actions
 from ..sim.statistics import RunningMeans, StatisticSet, episode_statistics
+from .contract import Simulator, StepOutcome, missing_members
 from .seeding import SeedSchedule
 
 Split = Literal["train", "test"]
 _ZERO = constant(0.0)  # rewards and terms are float64 (see hivex_dsl.base.numeric)
-
-
-class StepOutcome(NamedTuple):
-    """What a simulator reports besides its new state: (batch, agents) bool arrays.
-
-    ``terminated`` ends single agents' episodes (a crash, an empty battery); ``events`` are what
-    happened this step, per agent. Whether an event is an agent's own or the whole world's (an event
-    the registry lists in its entry's ``world_events``, true for every agent of a world) decides what
-    a task's ``ends_on`` naming it ends: the agent's episode, or the world's (see :class:`BatchedEnv`).
-
-    A named tuple rather than a frozen dataclass: it is built every step, and a frozen dataclass's
-    ``__init__`` (one ``object.__setattr__`` per field) costs a visible share of a one-world step.
-    """
-
-    terminated: np.ndarray
-    events: dict[str, np.ndarray]
-
-
-class Simulator(Protocol):
-    """The contract every environment's batched simulator fulfils."""
-
-    agents: int
-    observation_space: spaces.Space  # one agent's
-    action_space: spaces.Space  # one agent's
-    action_meanings: str
-    render_fps: int
-
-    def reset(self, rng: np.random.Generator, batch: int) -> Any: ...
-    def reset_where(self, state: Any, mask: np.ndarray, rng: np.random.Generator) -> Any: ...
-    # Where an agent can end its episode while its world goes on (a crash, a border):
-    # ``respawn_where(state, mask (batch, agents) bool, rng) -> state`` starts those agents afresh in
-    # their running worlds (ML-Agents' agent reset) and makes their next observation a first one.
-    def step(self, state: Any, actions: Any, rng: np.random.Generator) -> tuple[Any, StepOutcome]: ...
-    def observe(self, state: Any) -> Any: ...
-    def render(self, state: Any, index: int) -> np.ndarray: ...
-    # Optional: ``step_info(state) -> {name: (batch, agents) array}``, extra per-agent facts of the
-    # last step that the adapters put in infos under "env" (e.g. WRM's impossible resource moves).
-    # For the global state (hivex_dsl.runtime.global_state): ``state_components()`` and ``world_state(state) -> (vectors
-    # (batch, agents, D), world (batch, W))``.
 
 
 class Transition(NamedTuple):
@@ -110,6 +72,10 @@ class BatchedEnv:
         self.batch = batch
         self.agents = compiled.agents
         self.sim: Simulator = compiled.entry.make_simulator(compiled)
+        missing = missing_members(self.sim)
+        if missing:
+            raise TypeError(f"{compiled.environment}: its simulator {type(self.sim).__name__} lacks {', '.join(missing)} "
+                            "(see hivex_dsl.runtime.contract.Simulator)")
         expressions = compiled.expressions
         self.feed = expressions.feed(self.shape, compiled) if expressions is not None else None
         terms = expressions.registry(compiled.entry.terms, self.feed) if expressions is not None else compiled.entry.terms

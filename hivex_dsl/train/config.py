@@ -1,7 +1,8 @@
 """PPO hyperparameters: the paper's per-environment values as data, overridable from YAML and the command line.
 
 The paper trained with ML-Agents; its appendix lists one trainer config per environment. They ship in
-``hyperparams/<environment>.yaml`` with ML-Agents' own key names and are the defaults of `hivex train`.
+``hyperparams/<environment>.yaml`` with ML-Agents' own key names and are the defaults of `hivex train`; an
+environment without such a file (one added to the catalogue) trains on :class:`PPOConfig`'s own defaults.
 How each maps onto the PPO of ``ppo.py`` (parameter-shared over every (world, agent) slot):
 
 - ``max_steps``: agent-steps (experiences over all agents), as ML-Agents counts them; every slot-step
@@ -168,12 +169,22 @@ class PPOConfig(StrictModel):
         return max(1, min(self.time_horizon, self.buffer_size // slots))
 
 
+def has_paper_hyperparameters(environment: str) -> bool:
+    """Whether ``hyperparams/<environment>.yaml`` ships (the paper's five do; a new environment need not)."""
+    return (HYPERPARAMS / f"{environment}.yaml").is_file()
+
+
 def paper_defaults(environment: str) -> dict[str, Any]:
-    """The paper's hyperparameters of one environment, as written in its YAML file."""
-    path = HYPERPARAMS / f"{environment}.yaml"
-    if not path.is_file():
-        raise TrainError(f"no paper hyperparameters for environment {environment!r}")
-    return dict(load_file(path, HYPERPARAMETERS).data or {})
+    """The paper's hyperparameters of one environment, as written in its YAML file; none (``{}``, so training
+    takes :class:`PPOConfig`'s defaults) for a registered environment without one."""
+    if has_paper_hyperparameters(environment):
+        return dict(load_file(HYPERPARAMS / f"{environment}.yaml", HYPERPARAMETERS).data or {})
+    from ..compiler import registry
+
+    if environment not in registry.environments():
+        raise TrainError(f"no paper hyperparameters for environment {environment!r}: it is not a registered "
+                         f"environment ({', '.join(registry.environments())})")
+    return {}
 
 
 @dataclass(frozen=True)

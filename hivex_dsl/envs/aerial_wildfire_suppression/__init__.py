@@ -5,8 +5,9 @@ from __future__ import annotations
 import math
 
 from ...compiler.registry import EnvironmentEntry, register
-from ...lang.spec.catalogue import CATALOGUE
+from ...lang.spec.catalogue import PAPER_ENVIRONMENTS
 from ..island import ISLAND_GENERATORS, island_problems
+from .global_state import state_facts
 from .params import AerialWildfireParams
 from .scripted import scripted_policy
 from .simulator import EVENTS, AerialWildfireSimulator
@@ -28,10 +29,11 @@ def world_fits(compiled) -> list[tuple[tuple, str]]:
 
 
 ENTRY = register(EnvironmentEntry(
-    info=CATALOGUE["aerial_wildfire_suppression"],
+    info=PAPER_ENVIRONMENTS["aerial_wildfire_suppression"],
     params_model=AerialWildfireParams,
     terms=TERMS,
     statistics=STATISTICS,
+    state_facts=state_facts,
     make_simulator=AerialWildfireSimulator,
     scripted_policy=scripted_policy,
     events=EVENTS,

@@ -6,7 +6,7 @@ import numpy as np
 
 from ...runtime.global_state import StateComponent
 from ...sim.fire.summary import FIRE_FACTS, SQRT2, fire_summary, nearest_burning_distance
-from ..island import ISLAND_STATE_COMPONENTS
+from ..island import ISLAND_STATE_COMPONENTS, burning_cells_xy, island_fire_facts
 from .types import AerialWildfireState
 
 
@@ -40,3 +40,14 @@ def world_state(self, state: AerialWildfireState) -> tuple[np.ndarray, np.ndarra
     world[:, end + 2] = np.minimum(distance / (2.0 * SQRT2 * half), 1.0)
     world[:, end + 3] = state.sighting.village_threat
     return self.observe(state)["vector"], world
+
+
+def state_facts(simulator, state: AerialWildfireState, params) -> dict[str, list[float]]:
+    """World 0's fire and village facts counted off the tree grid, for the tests to compare with :func:`world_state`
+    (:attr:`hivex_dsl.compiler.registry.EnvironmentEntry.state_facts`)."""
+    half = params.island_half_extent_m
+    x, y = burning_cells_xy(state, half)
+    vx, vy = state.maps.village[0]
+    gap = min((float(np.hypot(bx - vx, by - vy)) for bx, by in zip(x, y)), default=np.inf)
+    return island_fire_facts(state, half) | {"fire to village": [min(gap / (2 * np.sqrt(2) * half), 1.0)],
+                                             "village": (state.maps.village[0] / params.border_half_extent_m).tolist()}

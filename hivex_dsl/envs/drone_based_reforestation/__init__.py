@@ -3,9 +3,10 @@
 from __future__ import annotations
 
 from ...compiler.registry import EnvironmentEntry, GeneratorSlot, register
-from ...lang.spec.catalogue import CATALOGUE
+from ...lang.spec.catalogue import PAPER_ENVIRONMENTS
 from ...sim.procgen.forest import ForestSpec
 from ...sim.procgen.terrain import TerrainSpec
+from .global_state import state_facts
 from .params import DroneBasedReforestationParams, forest_preset, terrain_preset, world_problems
 from .scripted import scripted_policy
 from .simulator import DroneReforestationSimulator
@@ -13,10 +14,11 @@ from .statistics import STATISTICS
 from .terms import TERMS
 
 ENTRY = register(EnvironmentEntry(
-    info=CATALOGUE["drone_based_reforestation"],
+    info=PAPER_ENVIRONMENTS["drone_based_reforestation"],
     params_model=DroneBasedReforestationParams,
     terms=TERMS,
     statistics=STATISTICS,
+    state_facts=state_facts,
     make_simulator=DroneReforestationSimulator,
     scripted_policy=scripted_policy,
     events={

@@ -35,3 +35,15 @@ def world_state(self, state: DroneState) -> tuple[np.ndarray, np.ndarray]:
         np.clip(state.energy.mean(axis=1), 0.0, 1.0)[:, None],
     ], axis=1)
     return state.frames, world
+
+
+def state_facts(simulator, state: DroneState, params) -> dict[str, list[float]]:
+    """World 0's station, planting and energy facts read off the state, for the tests to compare with
+    :func:`world_state` (:attr:`hivex_dsl.compiler.registry.EnvironmentEntry.state_facts`); the planting quality
+    once a tree is planted."""
+    count = int(state.new_count[0])
+    facts = {"station": (state.station[0, :2] / simulator.half).tolist(),
+             "trees planted": [count / params.new_tree_capacity], "team energy": [float(state.energy[0].mean())]}
+    if count:
+        facts["planting quality"] = [float(state.new_quality[0, :count].mean())]
+    return facts

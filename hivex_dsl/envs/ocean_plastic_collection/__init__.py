@@ -3,8 +3,9 @@
 from __future__ import annotations
 
 from ...compiler.registry import EnvironmentEntry, GeneratorSlot, register
-from ...lang.spec.catalogue import CATALOGUE
+from ...lang.spec.catalogue import PAPER_ENVIRONMENTS
 from ...sim.procgen.pollution import PollutionSpec, SpawnSpec, load_pollution_preset, spawn_problem
+from .global_state import state_facts
 from .params import OceanPlasticCollectionParams
 from .scripted import scripted_policy
 from .simulator import OceanPlasticSimulator
@@ -31,10 +32,11 @@ def vessels_fit(compiled) -> list[tuple[tuple, str]]:
 
 
 ENTRY = register(EnvironmentEntry(
-    info=CATALOGUE["ocean_plastic_collection"],
+    info=PAPER_ENVIRONMENTS["ocean_plastic_collection"],
     params_model=OceanPlasticCollectionParams,
     terms=TERMS,
     statistics=STATISTICS,
+    state_facts=state_facts,
     make_simulator=OceanPlasticSimulator,
     scripted_policy=scripted_policy,
     events={

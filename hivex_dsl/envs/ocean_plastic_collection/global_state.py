@@ -37,3 +37,12 @@ def world_state(self, state: OceanState) -> tuple[np.ndarray, np.ndarray]:
         state.collected_total / total,
     ], axis=1)
     return state.vector, world
+
+
+def state_facts(simulator, state: OceanState, params) -> dict[str, list[float]]:
+    """World 0's plastic facts counted pebble by pebble, for the tests to compare with :func:`world_state`
+    (:attr:`hivex_dsl.compiler.registry.EnvironmentEntry.state_facts`)."""
+    alive = state.pebbles.alive[0]
+    xy = state.pebbles.positions[0][alive]
+    return {"plastic left": [float(alive.mean())], "plastic centre": (xy.mean(axis=0) / simulator.half_extent).tolist(),
+            "collected": (state.collected_total[0] / alive.size).tolist()}

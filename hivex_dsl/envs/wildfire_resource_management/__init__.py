@@ -3,8 +3,9 @@
 from __future__ import annotations
 
 from ...compiler.registry import EnvironmentEntry, register
-from ...lang.spec.catalogue import CATALOGUE
+from ...lang.spec.catalogue import PAPER_ENVIRONMENTS
 from ..island import ISLAND_GENERATORS, island_problems
+from .global_state import state_facts
 from .params import WildfireResourceParams
 from .resources import neighbour_rows
 from .scripted import scripted_policy
@@ -19,10 +20,11 @@ def world_fits(compiled) -> list[tuple[tuple, str]]:
 
 
 ENTRY = register(EnvironmentEntry(
-    info=CATALOGUE["wildfire_resource_management"],
+    info=PAPER_ENVIRONMENTS["wildfire_resource_management"],
     params_model=WildfireResourceParams,
     terms=TERMS,
     statistics=STATISTICS,
+    state_facts=state_facts,
     make_simulator=WildfireResourceSimulator,
     scripted_policy=scripted_policy,
     events=EVENTS,

@@ -6,7 +6,7 @@ import numpy as np
 
 from ...runtime.global_state import StateComponent
 from ...sim.fire.summary import FIRE_FACTS, fire_summary
-from ..island import ISLAND_STATE_COMPONENTS
+from ..island import ISLAND_STATE_COMPONENTS, burning_cells_xy, island_fire_facts
 from .types import WildfireResourceState
 
 
@@ -30,3 +30,10 @@ def world_state(self, state: WildfireResourceState) -> tuple[np.ndarray, np.ndar
     world[:, 2:2 + FIRE_FACTS] = fire_summary(state.fire, self.params.island_half_extent_m, self.cell_m)
     world[:, 2 + FIRE_FACTS:] = state.conditions.reshape(batch, -1, 3).mean(axis=1, dtype=np.float64)
     return state.frame, world
+
+
+def state_facts(simulator, state: WildfireResourceState, params) -> dict[str, list[float]]:
+    """World 0's fire and weather facts counted off the tree grid and the conditions, for the tests to compare with
+    :func:`world_state` (:attr:`hivex_dsl.compiler.registry.EnvironmentEntry.state_facts`)."""
+    return island_fire_facts(state, params.island_half_extent_m) | {
+        "island weather": state.conditions[0].reshape(-1, 3).mean(axis=0).tolist()}

@@ -3,8 +3,9 @@
 from __future__ import annotations
 
 from ...compiler.registry import EnvironmentEntry, register
-from ...lang.spec.catalogue import CATALOGUE
+from ...lang.spec.catalogue import PAPER_ENVIRONMENTS
 from ...sim.procgen.layouts import layout_problem
+from .global_state import state_facts
 from .layouts_preset import load_layout_preset
 from .params import WindFarmControlParams
 from .scripted import scripted_policy
@@ -23,10 +24,11 @@ def layout_fits(compiled) -> list[tuple[tuple, str]]:
 
 
 ENTRY = register(EnvironmentEntry(
-    info=CATALOGUE["wind_farm_control"],
+    info=PAPER_ENVIRONMENTS["wind_farm_control"],
     params_model=WindFarmControlParams,
     terms=TERMS,
     statistics=STATISTICS,
+    state_facts=state_facts,
     make_simulator=WindFarmSimulator,
     scripted_policy=scripted_policy,
     level_names=tuple(p.name for p in PRESET.patterns),

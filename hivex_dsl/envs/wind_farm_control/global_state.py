@@ -28,3 +28,10 @@ def world_state(self, state: WindFarmState) -> tuple[np.ndarray, np.ndarray]:
     world = np.concatenate([np.stack([np.cos(wind.main), np.sin(wind.main), np.cos(wind.target),
                                       np.sin(wind.target)], axis=1), np.clip(state.performance, 0.0, 1.0)], axis=1)
     return self.observe(state), world
+
+
+def state_facts(simulator, state: WindFarmState, params) -> dict[str, list[float]]:
+    """World 0's main wind and performance read straight off the state, for the tests to compare with
+    :func:`world_state` (:attr:`hivex_dsl.compiler.registry.EnvironmentEntry.state_facts`)."""
+    return {"main wind": [float(np.cos(state.wind.main[0])), float(np.sin(state.wind.main[0]))],
+            "performance": [min(max(float(p), 0.0), 1.0) for p in state.performance[0]]}

@@ -1,8 +1,10 @@
-"""The five HIVEX environments as the paper and DESIGN.md list them (pure data).
+"""An environment's identity (:class:`EnvironmentInfo`), and the five HIVEX environments' as the paper lists them.
 
-This is the one place for each environment's identity, agent bounds, episode length and which
-difficulty axis it has (layout `pattern` or `terrain_level`). An environment is *available*
-once its package registers a simulator (see :mod:`hivex_dsl.compiler.registry`).
+An environment states its identity, agent bounds, episode length and which difficulty axis it has (layout
+``pattern`` or ``terrain_level``) in the :class:`EnvironmentInfo` of its registry entry
+(:mod:`hivex_dsl.compiler.registry`). :data:`PAPER_ENVIRONMENTS` holds the paper's five (pure data): the
+catalogue is open, and any other environment (a package under hivex_dsl/envs/, or one another installed package
+declares) brings its own info. The paper's five come first in every listing, in the paper's order.
 """
 
 from __future__ import annotations
@@ -28,7 +30,7 @@ class EnvironmentInfo:
     neighbour_count: int  # the paper's "Neighbour Count" specification row
 
 
-CATALOGUE: dict[str, EnvironmentInfo] = {
+PAPER_ENVIRONMENTS: dict[str, EnvironmentInfo] = {
     info.id: info
     for info in (
         EnvironmentInfo("wind_farm_control", "Wind Farm Control", "WFC", "turbine", 8, 1, 16, 5000, "pattern", 9, 0),
@@ -42,6 +44,7 @@ CATALOGUE: dict[str, EnvironmentInfo] = {
 LEVEL_FIELDS: tuple[LevelField, ...] = ("pattern", "terrain_level")
 
 
-def environments_with(field: str) -> list[str]:
-    """Ids of the environments whose scenarios have ``field`` (a level field)."""
-    return [info.id for info in CATALOGUE.values() if info.level_field == field]
+def listing_key(env_id: str) -> tuple[int, str]:
+    """The order of environments in every listing: the paper's five in the paper's order, then the others by id."""
+    ids = list(PAPER_ENVIRONMENTS)
+    return (ids.index(env_id), "") if env_id in PAPER_ENVIRONMENTS else (len(ids), env_id)

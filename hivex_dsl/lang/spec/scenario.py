@@ -13,7 +13,7 @@ from typing import Annotated, Any, Literal, Mapping, Optional, Union
 from pydantic import ConfigDict, Field, PlainValidator, WithJsonSchema, create_model
 
 from ...base.errors import ItemValueError, did_you_mean, got, one_of, show
-from .catalogue import CATALOGUE, LEVEL_FIELDS, EnvironmentInfo, environments_with
+from .catalogue import LEVEL_FIELDS, EnvironmentInfo
 from .common import MAX_SEED, NAME_EXPECTED, NAME_PATTERN, SCHEMA_VERSION, StrictModel
 from .expressions import WEIGHT_SCHEMA, EndsOn, ShapingSpec, TermsMapping, Weight
 
@@ -45,6 +45,8 @@ class ScenarioVocabulary:
     term_names: tuple[str, ...]
     level_names: tuple[str, ...] = ()
     generators: Mapping[str, type[StrictModel]] = field(default_factory=dict)
+    # level field -> ids of the environments that have it (for the hint on a level field this one lacks)
+    level_field_owners: Mapping[str, tuple[str, ...]] = field(default_factory=dict)
 
 
 def _is_int(value: Any) -> bool:
@@ -215,7 +217,7 @@ def scenario_model(vocab: ScenarioVocabulary) -> type[StrictModel]:
                                                             {"pattern": r"^(params|weights|seeds)\.[a-z_]+$"}]}})),
     }
     model = create_model(f"{_camel(info.id)}Scenario", __base__=StrictModel, **fields)
-    model.__hivex_unknown_key_hint__ = staticmethod(_level_field_hint(info))
+    model.__hivex_unknown_key_hint__ = staticmethod(_level_field_hint(vocab))
     return model
 
 
@@ -224,22 +226,21 @@ def sweepable_fields(vocab: ScenarioVocabulary) -> tuple[str, ...]:
     return tuple(f for f in SWEEPABLE_FIELDS if f not in level)
 
 
-def _level_field_hint(info: EnvironmentInfo):
+def _level_field_hint(vocab: ScenarioVocabulary):
+    info = vocab.info
+
     def hint(key: str, parent: tuple) -> str | None:
         if not parent and key == "generators":  # only a model without the field gets here
             return f"unknown key 'generators': {info.id} builds its world without procedural generators"
         if parent or key not in LEVEL_FIELDS:
             return None
-        owners = environments_with(key)
+        owners = list(vocab.level_field_owners.get(key, ()))
         uses = f"; {info.id} uses '{info.level_field}'" if info.level_field else f"; {info.id} has no difficulty levels"
-        return f"'{key}' does not apply to {info.id}: only {one_of(owners)} have it{uses}"
+        having = f"only {one_of(owners)} have it" if owners else "no environment has it"
+        return f"'{key}' does not apply to {info.id}: {having}{uses}"
 
     return hint
 
 
 def _camel(env_id: str) -> str:
     return "".join(part.capitalize() for part in env_id.split("_"))
-
-
-def known_environment_ids() -> tuple[str, ...]:
-    return tuple(CATALOGUE)

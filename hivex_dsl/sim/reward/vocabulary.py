@@ -1,7 +1,8 @@
 """The named quantities an expression may read, per environment, and the per-step feed of their values.
 
-Each environment declares its vocabulary in ``hivex_dsl/envs/<env>/vocabulary.py`` as ``VOCABULARY``:
-the quantities (with ranges that follow from the compiled scenario's params) and one reader per
+Each environment declares its vocabulary as a :class:`Vocabulary`: in its registry entry's ``vocabulary``
+(:mod:`hivex_dsl.compiler.registry` passes it to :func:`register_vocabulary`), or, for a package under
+hivex_dsl/envs/, as ``VOCABULARY`` of its ``vocabulary.py`` module, found by name. It holds the quantities (with ranges that follow from the compiled scenario's params) and one reader per
 quantity that takes it from the simulator's state or the step's events. A running env keeps a
 :class:`QuantityFeed`: the values after the last step (``now``) and before it (``before``), reading
 only the quantities its expressions use, each once per step.
@@ -58,9 +59,18 @@ class Vocabulary:
         return {name: self.readers[name](state, events, compiled) for name in names}
 
 
+_DECLARED: dict[str, Vocabulary] = {}  # the vocabularies registry entries carry, by environment
+
+
+def register_vocabulary(vocabulary: Vocabulary) -> None:
+    """Make ``vocabulary`` its environment's (the registry does this for an entry that carries one)."""
+    _DECLARED[vocabulary.environment] = vocabulary
+
+
 def vocabulary_of(env_id: str) -> Vocabulary:
-    """The vocabulary of an environment: ``VOCABULARY`` of ``hivex_dsl.envs.<env_id>.vocabulary``."""
-    return _load(env_id)
+    """The vocabulary of an environment: the one its entry registered, else ``VOCABULARY`` of
+    ``hivex_dsl.envs.<env_id>.vocabulary`` (ModuleNotFoundError without either)."""
+    return _DECLARED.get(env_id) or _load(env_id)
 
 
 @lru_cache(maxsize=None)
