@@ -33,10 +33,10 @@ SCENARIOS = EXAMPLE / "scenarios"
 @pytest.fixture
 def bees(monkeypatch):
     """The example asked for (``HIVEX_ENVIRONMENTS``), in a copy of the registry that is put back afterwards."""
+    monkeypatch.setattr(registry, "_REGISTRY", dict(registry.environments()))  # before asking: it registers here
+    monkeypatch.setattr(vocabularies, "_DECLARED", dict(vocabularies._DECLARED))
     monkeypatch.syspath_prepend(str(EXAMPLE_ROOT))
     monkeypatch.setenv(registry.ENVIRONMENTS_VARIABLE, ID)
-    monkeypatch.setattr(registry, "_REGISTRY", dict(registry.environments()))
-    monkeypatch.setattr(vocabularies, "_DECLARED", dict(vocabularies._DECLARED))
     module = importlib.import_module(ID)
     if ID not in registry._REGISTRY:  # imported by an earlier test: register it again in this copy
         registry.register(module.ENTRY)
@@ -45,6 +45,14 @@ def bees(monkeypatch):
 
 def test_the_example_is_not_in_the_catalogue_users_see():
     assert ID not in registry.environments() and registry.ENVIRONMENTS_VARIABLE not in os.environ
+
+
+def test_asked_for_it_is_in_the_catalogue(bees):
+    assert ID in registry.environments()
+
+
+def test_after_asking_the_catalogue_is_as_it_was():
+    assert ID not in registry.environments()
 
 
 def test_asked_for_it_comes_after_the_paper_s_five(bees):

@@ -5,9 +5,9 @@ The catalogue is open. Each environment calls :func:`register` once, on import, 
 :mod:`hivex_dsl.runtime.contract`). :func:`environments` imports, on first use, every environment there is:
 
 - every package under ``hivex_dsl/envs/`` (the five HIVEX environments, and any folder dropped there);
-- every entry point of the group ``hivex_dsl.environments`` (:data:`ENTRY_POINT_GROUP`) of the installed
+- every entry point of the group ``hivex.environments`` (:data:`ENTRY_POINT_GROUP`) of the installed
   distributions, as Gymnasium finds its plugins: a lab ships its environment as a package of its own whose
-  ``pyproject.toml`` says ``[project.entry-points."hivex_dsl.environments"] bees = "bees_env"`` (a module that
+  ``pyproject.toml`` says ``[project.entry-points."hivex.environments"] bees = "bees_env"`` (a module that
   registers on import, or ``"bees_env:ENTRY"``, an entry to register);
 - the modules named in the environment variable ``HIVEX_ENVIRONMENTS`` (:data:`ENVIRONMENTS_VARIABLE`, names
   separated by commas), which is how one asks for an environment that is not installed, such as the tests'
@@ -42,7 +42,7 @@ from ..sim.reward.vocabulary import Vocabulary, register_vocabulary
 from ..sim.statistics import StatisticSet
 
 ENVIRONMENTS_PACKAGE = f"{__name__.split('.')[0]}.envs"
-ENTRY_POINT_GROUP = "hivex_dsl.environments"
+ENTRY_POINT_GROUP = "hivex.environments"
 ENVIRONMENTS_VARIABLE = "HIVEX_ENVIRONMENTS"
 
 # A CompiledScenario (compiler/scenario.py), named in the annotations below only: that module imports this one.

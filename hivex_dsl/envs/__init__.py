@@ -1,4 +1,5 @@
-"""Layer 6, envs: the five HIVEX environments, one package per catalogue id, and island.py (the wildfire island
+"""Layer 6, envs: the five HIVEX environments, one package per environment id (the registry finds any package here,
+see docs/adding_an_environment.md), and island.py (the wildfire island
 Aerial Wildfire Suppression and Wildfire Resource Management share).
 
 Each package holds its simulator, reward terms, params, statistics, scripted policy, render, global state

@@ -167,3 +167,20 @@ def test_a_scenario_may_lower_the_terrain_and_still_compile():
     compiled, sim = compiled_sim(terrain_level=10, generators={"terrain": {"metres_per_multiplier": 0.5}})
     state = sim.reset(np.random.default_rng(0), 1)
     assert state.heights.max() <= 15.0 + 1e-9
+
+
+def test_the_global_state_s_planting_facts_match_the_state_once_the_drones_plant():
+    """The drones fly ahead, climbing, and drop their seeds: they plant on the first steps, so the entry's
+    state_facts names the planting quality too, and the global state agrees with it (tests/test_global_state.py
+    checks every environment's facts; this makes sure DBR's planting ones are among them)."""
+    env = hivex_dsl.parallel_env({"hivex": 1, "environment": "drone_based_reforestation", "episode_length": 30})
+    env.reset(seed=2)
+    plant = {"continuous": np.array([1.0, 0.0, 0.2], np.float32), "discrete": np.array([1])}
+    for _ in range(3):
+        env.step({agent: plant for agent in env.agents})
+    core = env.core
+    facts = core.compiled.entry.state_facts(core.sim, core.state, core.compiled.params)
+    assert facts["trees planted"][0] > 0 and "planting quality" in facts
+    state = env.state()
+    for name, value in facts.items():
+        np.testing.assert_allclose(state[env.global_state.slices[name]], value, rtol=1e-6, atol=1e-6, err_msg=name)
