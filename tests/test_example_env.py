@@ -36,6 +36,7 @@ def bees(monkeypatch):
     monkeypatch.setattr(registry, "_REGISTRY", dict(registry.environments()))  # before asking: it registers here
     monkeypatch.setattr(vocabularies, "_DECLARED", dict(vocabularies._DECLARED))
     monkeypatch.syspath_prepend(str(EXAMPLE_ROOT))
+    monkeypatch.setenv("PYTHONPATH", os.pathsep.join([str(EXAMPLE_ROOT), *sys.path]))  # child processes (bench) too
     monkeypatch.setenv(registry.ENVIRONMENTS_VARIABLE, ID)
     module = importlib.import_module(ID)
     if ID not in registry._REGISTRY:  # imported by an earlier test: register it again in this copy
@@ -86,7 +87,8 @@ def test_its_simulator_fulfils_the_contract_and_a_simulator_that_does_not_is_nam
 
 @pytest.mark.parametrize("words", [["validate", str(SCENARIOS / "main.yaml"), str(SCENARIOS / "swarm_size.yaml")],
                                    ["compile", f"{ID}/gather_nectar"], ["run", f"{ID}/main", "--policy", "random"],
-                                   ["audit", f"{ID}/main", "--episodes", "1"], ["vocab", f"{ID}/main"], ["list"]])
+                                   ["audit", f"{ID}/main", "--episodes", "1"], ["vocab", f"{ID}/main"], ["list"],
+                                   ["schema"], ["bench", "--env", ID, "--seconds", "0.05", "--no-reference"]])
 def test_every_command_takes_it(bees, words, capsys):
     assert hivex(words) == 0
     out = capsys.readouterr().out
@@ -167,22 +169,32 @@ def test_it_trains_on_the_stated_defaults_without_paper_hyperparameters(bees, tm
     assert hivex(["train", str(scenario), "-o", str(tmp_path / "run"), "--steps", "240", "--set", "buffer_size=120",
                   "--set", "batch_size=60", "--set", "num_worlds=2", "--set", "torch_threads=1", "--no-progress"]) == 0
     assert json.loads((tmp_path / "run" / "summary.json").read_text())["agent_steps"] >= 240
+    assert hivex(["evaluate", str(tmp_path / "run" / "checkpoint.pt"), "--episodes", "1", "--json"]) == 0
 
 
-def test_its_docs_page_and_the_guide(bees):
-    from hivex_dsl.docsgen import render_docs
+def test_its_docs_page_the_guide_and_the_shared_pages(bees):
+    from hivex_dsl.docsgen import _jinja
+    from hivex_dsl.docsgen.adding import adding_context
+    from hivex_dsl.docsgen.baselines import hyperparameter_table
+    from hivex_dsl.docsgen.context import environment_context, index_context
+    from hivex_dsl.docsgen.fidelity_page import fidelity_context
+    from hivex_dsl.evaluation.fidelity import FIDELITY_FILE
 
-    docs = render_docs(tests=ROOT / "tests")
-    page = docs[f"environments/{ID}.md"]
+    page = _jinja().get_template("environment.md.j2").render(**environment_context(bees))
     assert page.startswith("<!-- Generated") and "# Bee Foraging (BF)" in page
-    assert "Paper row" not in page and "## Notes\n" in page and "No paper hyperparameters ship" in page
-    guide = docs["adding_an_environment.md"]
+    assert "Paper row" not in page and "## Notes\n" in page and "No paper hyperparameters ship for bee_foraging" in page
+    assert "| Nectar Delivered (`nectar_delivered`) | 1 | 0 |" in page  # the reward table, without a paper column
+    assert f"tests/example_env/{ID}/scenarios/main.yaml" in page
+    guide = _jinja().get_template("adding_an_environment.md.j2").render(**adding_context(ROOT / "tests"))
     for field in ("make_simulator", "content_dir", "state_facts", "quantities"):
         assert f"| `{field}` |" in guide
     for member in ("reset_where", "world_state", "respawn_where", "observation_labels"):
         assert f"`{member}" in guide
-    assert ID not in docs["fidelity.md"]  # no published cell, no section
-    assert f"`{ID}` ships no paper hyperparameters" in docs.get("baselines.md", f"`{ID}` ships no paper hyperparameters")
+    assert (EXAMPLE / "simulator.py").read_text() in guide  # the walk-through shows the example as it is
+    assert ID not in {env["id"] for env in fidelity_context(ROOT / FIDELITY_FILE)["environments"]}  # no cell
+    table = hyperparameter_table()
+    assert table["hp_defaulted"] == [ID] and ID not in {row["environment"] for row in table["hp_rows"]}
+    assert [row["id"] for row in index_context()["environments"]][-1] == ID
 
 
 def test_a_bad_entry_is_refused(bees):

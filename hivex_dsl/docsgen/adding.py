@@ -13,7 +13,9 @@ from ..runtime import contract
 
 PAGE = "adding_an_environment.md"
 EXAMPLE = Path("example_env") / "bee_foraging"  # under the checkout's tests/
-SHOWN_IN_FULL = ("__init__.py", "rewards.yaml", "scenarios/main.yaml")
+# every file of the walk-through in full, in the order the page takes them; the other scenarios in the table only
+SHOWN_IN_FULL = ("params.py", "simulator.py", "terms.py", "scripted.py", "vocabulary.py", "rewards.yaml",
+                 "scenarios/main.yaml", "__init__.py")
 
 
 def _first_paragraph(text: str) -> str:
@@ -56,10 +58,17 @@ def example_files(folder: Path) -> list[dict[str, Any]]:
     return rows
 
 
+def walk_through(files: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    """The files shown in full, in the order of :data:`SHOWN_IN_FULL`."""
+    by_name = {f["name"]: f for f in files}
+    return [by_name[name] for name in SHOWN_IN_FULL if name in by_name]
+
+
 def adding_context(tests: Path) -> dict[str, Any]:
     """Everything the page shows; ``tests`` is the checkout's tests/ folder, which holds the example."""
     folder = Path(tests) / EXAMPLE
-    return {"fields": entry_fields(), "protocols": protocols(), "files": example_files(folder),
+    files = example_files(folder)
+    return {"fields": entry_fields(), "protocols": protocols(), "files": files, "shown": walk_through(files),
             "example": EXAMPLE.as_posix(), "package": registry.ENVIRONMENTS_PACKAGE,
             "group": registry.ENTRY_POINT_GROUP, "variable": registry.ENVIRONMENTS_VARIABLE}
 
