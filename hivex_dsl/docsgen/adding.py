@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import ast
 import dataclasses
+import re
 from pathlib import Path
 from typing import Any
 
@@ -18,8 +19,17 @@ SHOWN_IN_FULL = ("params.py", "simulator.py", "terms.py", "scripted.py", "vocabu
                  "scenarios/main.yaml", "__init__.py")
 
 
+ROLE = re.compile(r":\w+:`(~?)([\w.]+)`")  # reST's :class:`~a.b.C` -> `C`, :mod:`a.b` -> `a.b`
+
+
+def markdown(text: str) -> str:
+    """A docstring's reST on one line as Markdown: roles and double backquotes as code spans."""
+    text = ROLE.sub(lambda m: f"`{m.group(2).rsplit('.', 1)[-1] if m.group(1) else m.group(2)}`", text)
+    return " ".join(text.replace("``", "`").split())
+
+
 def _first_paragraph(text: str) -> str:
-    return " ".join(text.strip().split("\n\n")[0].split())
+    return markdown(text.strip().split("\n\n")[0])
 
 
 def entry_fields() -> list[dict[str, Any]]:
@@ -36,7 +46,7 @@ def protocols() -> list[dict[str, Any]]:
     return [{"name": protocol.__name__, "required": protocol in contract.REQUIRED,
              "doc": _first_paragraph(protocol.__doc__ or ""),
              "members": [{"name": name, "signature": signature.replace("'", "").replace('"', ""),
-                          "doc": " ".join(doc.split())}
+                          "doc": markdown(doc)}
                          for name, signature, doc in contract.members(protocol)]}
             for protocol in contract.REQUIRED + contract.OPTIONAL]
 
