@@ -1,0 +1,1 @@
+"""The original HIVEX release's own records read as data."""
