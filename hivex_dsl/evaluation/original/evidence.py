@@ -204,6 +204,21 @@ def _ceiling_rows(environment: str) -> list[str]:
             f"{budget.tested:,} |"]
 
 
+def _task_rows(environment: str) -> list[str]:
+    """Per task: the longest training mean and band edge over its levels, and the levels where every run's
+    episodes reach the ceiling."""
+    ceiling = episode_ceiling(environment)
+    rows = []
+    for task in sorted({c.task_index for c in ceiling.cells}):
+        cells = [c for c in ceiling.cells if c.task_index == task]
+        means = [c.training_mean_max for c in cells]
+        uppers = [c.training_upper_max for c in cells]
+        at_limit = sum(1 for c in cells if c.points_at_ceiling)
+        rows.append(f"| {environment} | {task} | {min(means):,.0f} - {max(means):,.0f} | "
+                    f"{min(uppers):,.0f} - {max(uppers):,.0f} | {at_limit} of {len(cells)} |")
+    return rows
+
+
 def _points_table(points: list[LearningPoint]) -> list[str]:
     rows = ["| fraction | agent-step | mean | band |", "| --- | --- | --- | --- |"]
     rows += [f"| {p.fraction:.0%} | {p.step:,} | {p.mean:,.1f} | {p.lower:,.1f} - {p.upper:,.1f} |" for p in points]
@@ -220,10 +235,15 @@ def summary() -> str:
              "| --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
     for environment in MAX_STEP:
         lines += _ceiling_rows(environment)
+    lines += ["", "Per task (the file's task_<n>), over its levels: the longest Episode Length in training.", "",
+              "| environment | task | longest mean | longest band edge | levels where every run reaches the ceiling |",
+              "| --- | --- | --- | --- | --- |"]
+    for environment in MAX_STEP:
+        lines += _task_rows(environment)
     lines += ["", "Wind Farm Control, pattern 0, main task: the return (Cumulative Reward) in training, mean and "
               "band of three runs."]
-    lines += _points_table(learning_points("wind_farm_control", 0, 0))
-    lines += ["", "Ocean Plastic Collection, main task: Episode Length (decisions per vessel-episode) in training."]
+    lines += ["", *_points_table(learning_points("wind_farm_control", 0, 0))]
+    lines += ["", "Ocean Plastic Collection, main task: Episode Length (decisions per vessel-episode) in training.", ""]
     lines += _points_table(learning_points("ocean_plastic_collection", 0, None, EPISODE_LENGTH))
     return "\n".join(lines)
 
