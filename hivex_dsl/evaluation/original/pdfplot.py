@@ -22,50 +22,15 @@ from pathlib import Path
 
 import numpy as np
 
-from ...base.errors import HivexError
+from .pdfpage import (Box, PlotReadError, Shape, Text, axes_groups, axes_title, figure_title, number,
+                      page_contents)
+
+Affine = tuple[float, float]  # (slope, intercept): points = slope * value + intercept
 
 SIMPLIFY_THRESHOLD_PT = 1 / 9  # matplotlib's default path.simplify_threshold, in points (the PDF's unit)
 COORDINATE_DECIMALS = 6  # matplotlib's PDF backend writes path coordinates with this many decimals
 _LINEARITY_PT = 1e-3  # a tick off the axis's affine fit by more than this is not on a linear axis
 _OFFSET = re.compile(r"^(?:1e(?P<oom>[-+]?\d+))?(?P<shift>[-+]\d+(?:\.\d+)?(?:e[-+]?\d+)?)?$")
-
-
-class PlotReadError(HivexError, ValueError):
-    """A page is not a matplotlib plot this reader understands (named with the page and the panel)."""
-
-
-@dataclass(frozen=True)
-class Text:
-    """One string the page shows (one text-showing operator), its box in points and its drawing order."""
-
-    text: str
-    x0: float
-    y0: float
-    x1: float
-    y1: float
-    order: int  # the page item index of its first character
-    end: int  # one past the index of its last
-
-    @property
-    def cx(self) -> float:
-        return (self.x0 + self.x1) / 2
-
-    @property
-    def cy(self) -> float:
-        return (self.y0 + self.y1) / 2
-
-
-@dataclass(frozen=True)
-class Shape:
-    """One painted subpath: its vertices (n, 2) in points, how it was painted, and its drawing order."""
-
-    points: np.ndarray
-    stroke: bool
-    fill: bool
-    closed: bool
-    stroke_colour: tuple[float, ...]
-    fill_colour: tuple[float, ...]
-    order: int
 
 
 @dataclass
@@ -102,155 +67,17 @@ class Page:
 
 def read_page(path: str | Path, page_number: int = 0) -> Page:
     """Every panel of one page of a matplotlib PDF, in data units."""
-    texts, shapes, width, height = _page_contents(Path(path), page_number)
-    groups = _axes_groups(shapes, texts, width, height)
+    texts, shapes, width, height = page_contents(Path(path), page_number)
+    groups = axes_groups(shapes, texts, width, height)
     if not groups:
         raise PlotReadError(f"{path}: page {page_number + 1} has no axes (no white axes background rectangle)")
     panels = [_panel(box, g_shapes, g_texts, f"{path}: panel {i + 1}") for i, (box, g_shapes, g_texts) in
               enumerate(groups)]
-    return Page(_figure_title(texts, groups, height), panels)
-
-
-def _page_contents(path: Path, page_number: int) -> tuple[list[Text], list[Shape], float, float]:
-    from pdfminer.converter import PDFPageAggregator
-    from pdfminer.layout import LTCurve, LTFigure
-    from pdfminer.pdfinterp import PDFPageInterpreter, PDFResourceManager
-    from pdfminer.pdfpage import PDFPage
-
-    texts: list[Text] = []
-
-    class _StringCollector(PDFPageAggregator):
-        """The aggregator, grouping the characters of each text-showing operator into one :class:`Text`."""
-
-        def render_string(self, textstate, seq, ncs, graphicstate):  # noqa: ANN001 - pdfminer's signature
-            before = len(self.cur_item)
-            super().render_string(textstate, seq, ncs, graphicstate)
-            chars = list(self.cur_item)[before:]
-            if chars:
-                texts.append(Text("".join(c.get_text() for c in chars), min(c.x0 for c in chars),
-                                  min(c.y0 for c in chars), max(c.x1 for c in chars), max(c.y1 for c in chars),
-                                  before, len(self.cur_item)))
-
-    try:
-        with path.open("rb") as handle:
-            pages = list(PDFPage.get_pages(handle, pagenos=[page_number]))
-            if not pages:
-                raise PlotReadError(f"{path}: has no page {page_number + 1}")
-            manager = PDFResourceManager()
-            device = _StringCollector(manager, laparams=None)
-            PDFPageInterpreter(manager, device).process_page(pages[0])
-    except OSError as error:
-        raise PlotReadError(f"{path}: cannot be read ({error.strerror or error})") from error
-    except PlotReadError:
-        raise
-    except Exception as error:  # pdfminer's own parse errors have no common base class
-        raise PlotReadError(f"{path}: is not a readable PDF ({type(error).__name__}: {error})") from error
-    layout = device.get_result()
-    shapes = [_shape(item, order) for order, item in enumerate(layout) if isinstance(item, LTCurve)]
-    glyphs = [(order, item) for order, item in enumerate(layout) if isinstance(item, LTFigure)]
-    texts = [_normalised(t) for t in _labels(texts + _glyph_texts(glyphs))]
-    return texts, shapes, layout.width, layout.height
-
-
-def _glyph_texts(figures: list) -> list[Text]:  # noqa: ANN001 - pdfminer LTFigures
-    """The glyphs matplotlib 3.9 draws as form XObjects: a character outside a Type 3 font's 256 codes (the
-    minus sign U+2212) is a ``Do`` of an XObject named ``F<n>-<font>-<glyph name>`` at the glyph's origin, right
-    after the string's other characters. Their width is unknown: each is a zero-width text at its origin."""
-    from pdfminer.encodingdb import name2unicode
-
-    glyphs = []
-    for order, figure in figures:
-        if re.match(r"^F\d+-.+-.+$", figure.name):
-            x, y = figure.matrix[4], figure.matrix[5]
-            glyphs.append(Text(name2unicode(figure.name.rsplit("-", 1)[-1]), x, y, x, y, order, order + 1))
-    return glyphs
-
-
-def _joins(last: Text, piece: Text) -> bool:
-    """Whether ``piece``, drawn right after ``last``, is more of the same label: on its line and touching it
-    (matplotlib 3.10+ shows characters outside the first font's 256 codes in a second Type 3 font, within one
-    text object), or a zero-width glyph within one em of it."""
-    if piece.order != last.end:
-        return False
-    em = max(last.y1 - last.y0, piece.y1 - piece.y0)
-    if piece.x0 == piece.x1 or last.x0 == last.x1:  # a glyph XObject's origin
-        text, glyph = (last, piece) if piece.x0 == piece.x1 else (piece, last)
-        return text.y0 <= glyph.y0 <= text.y1 and text.x0 - em <= glyph.x0 <= text.x1 + em
-    overlap = min(last.y1, piece.y1) - max(last.y0, piece.y0)
-    return overlap > em / 2 and abs(piece.x0 - last.x1) <= 1.0
-
-
-def _labels(pieces: list[Text]) -> list[Text]:
-    """The page's labels: strings drawn one after another on one line, touching, joined in reading order."""
-    labels: list[Text] = []
-    for piece in sorted(pieces, key=lambda t: t.order):
-        last = labels[-1] if labels else None
-        if last is not None and _joins(last, piece):
-            text = piece.text + last.text if piece.x0 < last.x0 else last.text + piece.text
-            labels[-1] = Text(text, min(last.x0, piece.x0), min(last.y0, piece.y0), max(last.x1, piece.x1),
-                              max(last.y1, piece.y1), last.order, piece.end)
-        else:
-            labels.append(piece)
-    return labels
-
-
-def _normalised(text: Text) -> Text:
-    """A text with matplotlib's minus sign (U+2212) as ASCII ``-``, so numbers parse."""
-    return Text(text.text.replace("\u2212", "-"), text.x0, text.y0, text.x1, text.y1, text.order, text.end)
-
-
-def _colour(value: object) -> tuple[float, ...]:
-    if value is None:
-        return ()
-    if isinstance(value, (int, float)):
-        return (float(value),) * 3  # a grey level
-    return tuple(float(v) for v in value)  # type: ignore[union-attr]
-
-
-def _shape(item, order: int) -> Shape:  # noqa: ANN001 - a pdfminer LTCurve
-    ops = item.original_path or []
-    points = np.array([op[-1] for op in ops if op[0] in "ml"], dtype=float).reshape(-1, 2)
-    closed = bool(ops) and ops[-1][0] == "h"
-    return Shape(points, bool(item.stroke), bool(item.fill), closed, _colour(item.stroking_color),
-                 _colour(item.non_stroking_color), order)
-
-
-def _is_axes_background(shape: Shape, width: float, height: float) -> bool:
-    """Matplotlib's axes patch: a white, filled, unstroked rectangle smaller than the page."""
-    if not (shape.fill and not shape.stroke and shape.closed and len(shape.points) == 4):
-        return False
-    if shape.fill_colour[:3] != (1.0, 1.0, 1.0):
-        return False
-    (x0, y0), (x1, y1) = shape.points.min(axis=0), shape.points.max(axis=0)
-    return not (x0 <= 0 and y0 <= 0 and x1 >= width and y1 >= height)
-
-
-Box = tuple[float, float, float, float]
-Affine = tuple[float, float]  # (slope, intercept): points = slope * value + intercept
-
-
-def _axes_groups(shapes: list[Shape], texts: list[Text], width: float, height: float
-                 ) -> list[tuple[Box, list[Shape], list[Text]]]:
-    """Each axes' box and the shapes and strings drawn from its background until the next axes' background
-    (matplotlib draws one axes whole before the next)."""
-    starts = [s for s in shapes if _is_axes_background(s, width, height)]
-    groups = []
-    for i, start in enumerate(starts):
-        end = starts[i + 1].order if i + 1 < len(starts) else float("inf")
-        (x0, y0), (x1, y1) = start.points.min(axis=0), start.points.max(axis=0)
-        groups.append(((x0, y0, x1, y1), [s for s in shapes if start.order < s.order < end],
-                       [t for t in texts if start.order <= t.order < end]))
-    return groups
-
-
-def _figure_title(texts: list[Text], groups: list, height: float) -> str:
-    top = max(box[3] for box, _, _ in groups)
-    above = [t for t in texts if t.y0 > top and t.y1 <= height]
-    return max(above, key=lambda t: t.y0).text.strip() if above else ""
+    return Page(figure_title(texts, groups, height), panels)
 
 
 def _panel(box: Box, shapes: list[Shape], texts: list[Text], where: str) -> Panel:
-    title = _title(box, texts, where)
+    title = axes_title(box, texts, where)
     where = f"{where} ({title!r})"
     x_ticks, y_ticks = _ticks(box, shapes)
     x_labels, y_labels = _tick_labels(x_ticks, y_ticks, box, texts, where)
@@ -260,15 +87,6 @@ def _panel(box: Box, shapes: list[Shape], texts: list[Text], where: str) -> Pane
     to_y = _axis_map(y_ticks, y_labels, y_offset, f"{where} y axis")
     series = _series(shapes, texts, to_x, to_y, where)
     return Panel(title, 1 / to_x[0], 1 / to_y[0], series)
-
-
-def _title(box: Box, texts: list[Text], where: str) -> str:
-    """The axes title: the string centred over the box, just above it."""
-    x0, _, x1, y1 = box
-    over = [t for t in texts if abs(t.cx - (x0 + x1) / 2) < 1.0 and y1 <= t.y0 < y1 + 20]
-    if len(over) != 1:
-        raise PlotReadError(f"{where}: expected one title centred above the axes, found {len(over)}")
-    return over[0].text.strip()
 
 
 def _is_black(colour: tuple[float, ...]) -> bool:
@@ -294,8 +112,8 @@ def _ticks(box: Box, shapes: list[Shape]) -> tuple[np.ndarray, np.ndarray]:
 def _tick_labels(x_ticks: np.ndarray, y_ticks: np.ndarray, box: Box, texts: list[Text], where: str
                  ) -> tuple[list[Text], list[Text]]:
     x0, y0, _, _ = box
-    below = [t for t in texts if t.y1 <= y0 and _number(t.text) is not None]
-    left = [t for t in texts if t.x1 <= x0 and _number(t.text) is not None]
+    below = [t for t in texts if t.y1 <= y0 and number(t.text) is not None]
+    left = [t for t in texts if t.x1 <= x0 and number(t.text) is not None]
     x_labels = [_nearest(below, lambda t, p=p: abs(t.cx - p), f"{where}: x tick at {p:.2f} pt") for p in x_ticks]
     y_labels = [_nearest(left, lambda t, p=p: abs(t.cy - p), f"{where}: y tick at {p:.2f} pt") for p in y_ticks]
     return x_labels, y_labels
@@ -305,13 +123,6 @@ def _nearest(candidates: list[Text], distance, what: str) -> Text:  # noqa: ANN0
     if not candidates:
         raise PlotReadError(f"{what} has no numeric label")
     return min(candidates, key=distance)
-
-
-def _number(text: str) -> float | None:
-    try:
-        return float(text.strip())
-    except ValueError:
-        return None
 
 
 def _offsets(box: Box, texts: list[Text], where: str) -> tuple[tuple[float, float], tuple[float, float]]:
@@ -340,7 +151,7 @@ def _axis_map(ticks: np.ndarray, labels: list[Text], offset: tuple[float, float]
     if len(ticks) < 2:
         raise PlotReadError(f"{where}: {len(ticks)} labelled tick(s), 2 are needed to place the axis")
     scale, shift = offset
-    values = np.array([_number(t.text) for t in labels], dtype=float) * scale + shift
+    values = np.array([number(t.text) for t in labels], dtype=float) * scale + shift
     if len(set(values)) != len(values):
         raise PlotReadError(f"{where}: two ticks carry the same value {sorted(values)}")
     slope, intercept = np.polyfit(values, ticks, 1)
@@ -351,7 +162,8 @@ def _axis_map(ticks: np.ndarray, labels: list[Text], offset: tuple[float, float]
     return float(slope), float(intercept)
 
 
-def _series(shapes: list[Shape], texts: list[Text], to_x: Affine, to_y: Affine, where: str) -> dict[str, Series]:
+def _series(shapes: list[Shape], texts: list[Text], to_x: Affine, to_y: Affine, where: str
+            ) -> dict[str, Series]:
     """Each legend label's line and band, matched to the legend handles by colour."""
     handles, frame = _legend(shapes, texts, where)
     inside = [s for s in shapes if s.order < frame.order]  # the legend's own handles come after its frame
@@ -415,4 +227,5 @@ def _bands(polygons: list[np.ndarray], to_x: Affine, to_y: Affine, where: str
     return np.concatenate(xs), np.concatenate(lows), np.concatenate(highs)
 
 
-__all__ = ["COORDINATE_DECIMALS", "Page", "Panel", "PlotReadError", "SIMPLIFY_THRESHOLD_PT", "Series", "read_page"]
+__all__ = ["COORDINATE_DECIMALS", "Page", "Panel", "PlotReadError", "SIMPLIFY_THRESHOLD_PT", "Series",
+           "read_page"]
