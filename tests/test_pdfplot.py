@@ -11,6 +11,7 @@ import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 
 from hivex_dsl.evaluation.original import digitise  # noqa: E402
+from hivex_dsl.evaluation.original.heatmap import Annotation, read_heatmaps  # noqa: E402
 from hivex_dsl.evaluation.original.pdfplot import (  # noqa: E402
     SIMPLIFY_THRESHOLD_PT, PlotReadError, read_page)
 
@@ -111,13 +112,14 @@ def test_the_command_writes_the_folder_s_cell_pages(page_pdf, tmp_path, capsys):
     plots = tmp_path / "plots" / "WindFarmControl"
     plots.mkdir(parents=True)
     (plots / "WindFarmControl_results_pattern_3_task_1.pdf").write_bytes(page_pdf.read_bytes())
-    (plots / "WindFarmControl_average_sheet.pdf").write_text("not read")
+    (plots / "WindFarmControl_notes.pdf").write_text("neither a cell page nor an average sheet: not read")
     out = tmp_path / "curves.json.xz"
     assert digitise.main([str(tmp_path / "plots"), "--out", str(out)]) == 0
     import json
     import lzma
 
     data = json.loads(lzma.decompress(out.read_bytes()))
+    assert data["average_sheets"] == {}
     cell = data["cells"]["wind_farm_control"]["1"]["3"]
     assert cell["file"] == "WindFarmControl_results_pattern_3_task_1.pdf" and cell["title"] == "Round trip"
     signed = cell["panels"]["Signed"]
@@ -141,3 +143,23 @@ def test_cell_keys_follow_the_file_names():
     assert digitise.cell_key("OceanPlasticCollection_results_None_None_task_3.pdf") == (
         "ocean_plastic_collection", "3", "none")
     assert digitise.cell_key("OceanPlasticCollection_average_sheet.pdf") is None
+
+
+def test_an_annotated_heatmap_comes_back_with_its_rows_and_columns(tmp_path):
+    """As seaborn draws them: row 0 at the top, crowded row labels thinned to every other row, string columns."""
+    values = np.arange(5 * 3, dtype=float).reshape(5, 3) * 1.5 - 4
+    columns = ["10", "1", "None"]
+    fig, (ax, colour) = plt.subplots(1, 2, figsize=(6, 3), gridspec_kw={"width_ratios": [10, 1]})
+    mesh = ax.pcolormesh(values, cmap="viridis")
+    fig.colorbar(mesh, cax=colour)
+    for (row, column), value in np.ndenumerate(values):
+        ax.text(column + 0.5, row + 0.5, f"{value:.1f}", ha="center", va="center")
+    ax.set_xticks(np.arange(3) + 0.5, columns)
+    ax.set_yticks(np.arange(0, 5, 2) + 0.5, ["0", "2", "4"], rotation=90, va="center")
+    ax.invert_yaxis()
+    ax.set_title("Average Values for Tag: Policy/Entropy")
+    fig.savefig(tmp_path / "sheet.pdf")
+    plt.close(fig)
+    cells = read_heatmaps(tmp_path / "sheet.pdf")["Policy/Entropy"]
+    assert cells == {(row, columns[column]): Annotation(float(f"{value:.1f}"), 1)
+                     for (row, column), value in np.ndenumerate(values)}

@@ -24,6 +24,7 @@ from typing import Any
 import numpy as np
 
 from ...base.errors import HivexError, did_you_mean
+from .heatmap import Annotation
 
 DATA_FILE = "original-curves.json.xz"
 # ML-Agents' own scalars, by the last part of their name (the panel titles)
@@ -98,7 +99,7 @@ class OriginalCell:
 
 @lru_cache(maxsize=1)
 def raw() -> dict[str, Any]:
-    """The whole file: ``source``, ``layout``, ``precision`` and ``cells``."""
+    """The whole file: ``source``, ``layout``, ``precision``, ``cells`` and ``average_sheets``."""
     packed = resources.files("hivex_dsl").joinpath("data", DATA_FILE).read_bytes()
     return json.loads(lzma.decompress(packed))
 
@@ -152,6 +153,16 @@ def original_curves(environment: str, task_index: int, level: int | None) -> Ori
     return None if data is None else _cell(environment, str(task_index), "none" if level is None else str(level), data)
 
 
+def average_sheet(environment: str) -> dict[str, dict[tuple[int, int | None], Annotation]]:
+    """The environment's average sheet: per tag (as the sheet titles it: ``"Environment/Episode Length"``,
+    ``"Water Pickup"``), per (task index, level), each cell's average over its test curve as printed."""
+    _known(environment)
+    sheet = raw()["average_sheets"].get(environment, {})
+    return {tag: {(int(task), None if level == "none" else int(level)): Annotation(*value)
+                  for task, levels in tasks.items() for level, value in levels.items()}
+            for tag, tasks in sheet.items()}
+
+
 def original_cells(environment: str) -> list[OriginalCell]:
     """Every cell page of one environment, by task index then level."""
     found = [original_curves(environment, int(task), None if level == "none" else int(level))
@@ -160,5 +171,5 @@ def original_cells(environment: str) -> list[OriginalCell]:
                   key=lambda c: (c.task_index, -1 if c.level is None else c.level))
 
 
-__all__ = ["Curve", "DATA_FILE", "OriginalCell", "OriginalPanel", "UnknownEnvironment", "environments",
-           "original_cells", "original_curves", "raw"]
+__all__ = ["Curve", "DATA_FILE", "OriginalCell", "OriginalPanel", "UnknownEnvironment", "average_sheet",
+           "environments", "original_cells", "original_curves", "raw"]

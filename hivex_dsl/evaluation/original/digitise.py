@@ -3,8 +3,9 @@
 Input: the folder of hivex-research/hivex-results' ``results/<Env>/baseline/plots/`` (commit 2cd9a01; a copy
 is ``shared/paper/original-plots/``): one PDF per published cell, ``<Env>_results_difficulty_<level>_task_<t>.pdf``
 (Wind Farm Control ``pattern_<p>``, Ocean Plastic Collection ``None_None``), each page a panel per logged
-TensorBoard scalar with the training runs' mean and band and the test runs' mean and band against agent-steps.
-The ``_average_sheet.pdf`` pages are heatmaps of per-cell averages, not curves, and are not read.
+TensorBoard scalar with the training runs' mean and band and the test runs' mean and band against agent-steps;
+and one ``<Env>_average_sheet.pdf`` per environment, a heatmap per scalar of each cell's average over its test
+curve, read as the printed numbers (kept with their printed decimals).
 
 Regenerate with ``python -m hivex_dsl.evaluation.original.digitise PLOTS_DIR [--out FILE]`` (needs the ``paper``
 extra).
@@ -27,6 +28,7 @@ from pathlib import Path
 from typing import Any
 
 from .curves import DATA_FILE
+from .heatmap import read_heatmaps
 from .pdfplot import Panel, PlotReadError, Series, read_page
 
 VALUE_RESOLUTION_PT = 1e-3  # values are kept to this fraction of a point of their panel's axis
@@ -42,6 +44,25 @@ _CELL_FILE = re.compile(r"^(?P<env>[A-Za-z]+)_results_(?:difficulty_(?P<level>\d
                         r"_task_(?P<task>\d+)\.pdf$")
 SOURCE = ("hivex-research/hivex-results at 2cd9a01, results/<Env>/baseline/plots/*.pdf (matplotlib 3.9 vector "
           "pages, seaborn lineplot: mean line and 95% bootstrap band over three runs)")
+
+
+_SHEET_FILE = re.compile(r"^(?P<env>[A-Za-z]+)_average_sheet\.pdf$")
+
+
+def sheet_environment(name: str) -> str | None:
+    """The environment id of an average sheet's file name; ``None`` for any other file."""
+    match = _SHEET_FILE.match(name)
+    return ENVIRONMENTS.get(match["env"]) if match else None
+
+
+def digitise_sheet(path: Path) -> dict[str, dict[str, dict[str, list]]]:
+    """One average sheet: tag -> task -> level (``"none"`` for a column labelled None) -> [value, decimals]."""
+    sheet: dict[str, dict[str, dict[str, list]]] = {}
+    for tag, cells in read_heatmaps(path).items():
+        for (task, column), annotation in sorted(cells.items()):
+            level = "none" if column == "None" else str(int(column))
+            sheet.setdefault(tag, {}).setdefault(str(task), {})[level] = [annotation.value, annotation.decimals]
+    return sheet
 
 
 def cell_key(name: str) -> tuple[str, str, str] | None:
@@ -95,7 +116,8 @@ def digitise_file(path: Path) -> dict[str, Any]:
 
 
 def digitise_folder(plots: Path) -> dict[str, Any]:
-    """Every cell page under ``plots`` (searched recursively), keyed environment -> task -> level."""
+    """Every cell page under ``plots`` (searched recursively), keyed environment -> task -> level, and every
+    environment's average sheet."""
     files = sorted(p for p in plots.rglob("*.pdf") if cell_key(p.name))
     if not files:
         raise PlotReadError(f"{plots}: holds no cell page (<Env>_results_..._task_<n>.pdf)")
@@ -103,13 +125,17 @@ def digitise_folder(plots: Path) -> dict[str, Any]:
     for path in files:
         env, task, level = cell_key(path.name)  # type: ignore[misc]
         cells.setdefault(env, {}).setdefault(task, {})[level] = digitise_file(path)
-    return {"source": SOURCE, "layout": LAYOUT, "precision": PRECISION, "cells": cells}
+    sheets = {sheet_environment(p.name): digitise_sheet(p) for p in sorted(plots.rglob("*.pdf"))
+              if sheet_environment(p.name)}
+    return {"source": SOURCE, "layout": LAYOUT, "precision": PRECISION, "cells": cells, "average_sheets": sheets}
 
 
 LAYOUT = ("cells: environment id -> task index as in the file name (task_<n>, not remapped) -> level (WFC pattern, "
           "terrain level, or none) -> {file, title (the page's), panels: panel title (the TensorBoard scalar's last "
           "name) -> {x_per_pt, y_per_pt (data units per point of the page), y_decimals, training and test: "
-          "{line: [steps, mean] at the vertices the PDF kept, band: [steps, lower, upper] at every point}}}")
+          "{line: [steps, mean] at the vertices the PDF kept, band: [steps, lower, upper] at every point}}}. "
+          "average_sheets: environment id -> tag (as the sheet titles it) -> task -> level -> [value, printed "
+          "decimals]: each cell's average over its test curve as the sheet prints it")
 PRECISION = ("steps: whole agent-steps (placed to about 0.04 step). values: rounded to y_decimals, a power of ten "
              "at most 0.001 pt of the panel's axis. The line keeps the vertices matplotlib's path simplification "
              "kept (exact); the points it dropped lie within 1/9 pt of the line, perpendicular, on the page. The "
@@ -138,7 +164,8 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     write(data, args.out)
     count = sum(len(levels) for tasks in data["cells"].values() for levels in tasks.values())
-    print(f"{count} cell pages -> {args.out} ({args.out.stat().st_size / 1e6:.2f} MB)")
+    print(f"{count} cell pages and {len(data['average_sheets'])} average sheets -> {args.out} "
+          f"({args.out.stat().st_size / 1e6:.2f} MB)")
     return 0
 
 

@@ -205,6 +205,26 @@ def axes_title(box: Box, texts: list[Text], where: str) -> str:
     return over[0].text.strip()
 
 
+def _is_black(colour: tuple[float, ...]) -> bool:
+    return colour[:3] == (0.0, 0.0, 0.0)
+
+
+def tick_marks(box: Box, shapes: list[Shape]) -> tuple[np.ndarray, np.ndarray]:
+    """Positions (pt) of the x ticks (short black marks down from the bottom spine) and the y ticks (left of the
+    left spine)."""
+    x0, y0, _, _ = box
+    xs, ys = [], []
+    for s in shapes:
+        if len(s.points) != 2 or not s.stroke or not _is_black(s.stroke_colour):
+            continue
+        (ax, ay), (bx, by) = s.points
+        if ax == bx and max(ay, by) == y0 and min(ay, by) < y0:
+            xs.append(ax)
+        elif ay == by and max(ax, bx) == x0 and min(ax, bx) < x0:
+            ys.append(ay)
+    return np.array(sorted(xs)), np.array(sorted(ys))
+
+
 def number(text: str) -> float | None:
     """A label's number (``"-0.5"``, ``"1e6"``), or ``None`` for a word."""
     try:
@@ -213,5 +233,5 @@ def number(text: str) -> float | None:
         return None
 
 
-__all__ = ["Box", "PlotReadError", "Shape", "Text", "axes_groups", "axes_title", "figure_title", "number",
+__all__ = ["Box", "PlotReadError", "Shape", "Text", "axes_groups", "axes_title", "figure_title", "number", "tick_marks",
            "page_contents"]

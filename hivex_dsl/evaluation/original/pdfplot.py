@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from .pdfpage import (Box, PlotReadError, Shape, Text, axes_groups, axes_title, figure_title, number,
-                      page_contents)
+                      page_contents, tick_marks)
 
 Affine = tuple[float, float]  # (slope, intercept): points = slope * value + intercept
 
@@ -79,7 +79,7 @@ def read_page(path: str | Path, page_number: int = 0) -> Page:
 def _panel(box: Box, shapes: list[Shape], texts: list[Text], where: str) -> Panel:
     title = axes_title(box, texts, where)
     where = f"{where} ({title!r})"
-    x_ticks, y_ticks = _ticks(box, shapes)
+    x_ticks, y_ticks = tick_marks(box, shapes)
     x_labels, y_labels = _tick_labels(x_ticks, y_ticks, box, texts, where)
     used = {id(t) for t in (*x_labels, *y_labels)}
     x_offset, y_offset = _offsets(box, [t for t in texts if id(t) not in used], where)
@@ -87,26 +87,6 @@ def _panel(box: Box, shapes: list[Shape], texts: list[Text], where: str) -> Pane
     to_y = _axis_map(y_ticks, y_labels, y_offset, f"{where} y axis")
     series = _series(shapes, texts, to_x, to_y, where)
     return Panel(title, 1 / to_x[0], 1 / to_y[0], series)
-
-
-def _is_black(colour: tuple[float, ...]) -> bool:
-    return colour[:3] == (0.0, 0.0, 0.0)
-
-
-def _ticks(box: Box, shapes: list[Shape]) -> tuple[np.ndarray, np.ndarray]:
-    """Positions (pt) of the x ticks (short black marks down from the bottom spine) and the y ticks (left of the
-    left spine)."""
-    x0, y0, _, _ = box
-    xs, ys = [], []
-    for s in shapes:
-        if len(s.points) != 2 or not s.stroke or not _is_black(s.stroke_colour):
-            continue
-        (ax, ay), (bx, by) = s.points
-        if ax == bx and max(ay, by) == y0 and min(ay, by) < y0:
-            xs.append(ax)
-        elif ay == by and max(ax, bx) == x0 and min(ax, bx) < x0:
-            ys.append(ay)
-    return np.array(sorted(xs)), np.array(sorted(ys))
 
 
 def _tick_labels(x_ticks: np.ndarray, y_ticks: np.ndarray, box: Box, texts: list[Text], where: str
