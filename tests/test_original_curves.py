@@ -285,3 +285,16 @@ def test_the_shipped_sheet_is_what_the_reader_makes_of_the_pdf():
 
     assert digitise_sheet(path) == raw()["average_sheets"]["wind_farm_control"]
     assert average_sheet("wind_farm_control")["Environment/Cumulative Reward"][(0, 0)].value == 4605.9  # by eye
+
+
+def test_dbr_pages_task_2_recharges_without_dropping_and_task_3_drops():
+    """The issue's reading of the pages (item 11): "Task: 2" logs about 100 recharges and no drop, "Task: 3" logs
+    drops; at every level, from the average sheet."""
+    sheet = average_sheet("drone_based_reforestation")
+    for level in range(1, 11):
+        assert sheet["Tree Drop Count"][(2, level)].value == 0
+        assert sheet["Recharge Energy Count"][(2, level)].value > 90
+        assert sheet["Tree Drop Count"][(3, level)].value > 0.5
+    rows = evidence.sheet_rows("drone_based_reforestation", 1, ("Tree Drop Count", "Highest Point on Terrain Found"))
+    assert rows[2:] == ["| 0 | 1 | - |", "| 1 | 0 | - |", "| 2 | 0 | - |", "| 3 | 0.906 | - |", "| 4 | 0 | - |",
+                        "| 5 | 0 | 45.9 |", "| 6 | 0 | - |"]  # read off the rendered sheet's level-1 column

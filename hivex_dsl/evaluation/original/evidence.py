@@ -21,7 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...base.errors import HivexError
-from .curves import Curve, OriginalCell, original_cells, original_curves
+from .curves import Curve, OriginalCell, average_sheet, original_cells, original_curves
 
 EPISODE_LENGTH = "Episode Length"
 RETURN = "Cumulative Reward"
@@ -34,6 +34,11 @@ APPENDIX = {"wind_farm_control": (8_000_000, 40_000), "wildfire_resource_managem
             "drone_based_reforestation": (2_000_000, 10_000), "ocean_plastic_collection": (3_000_000, 15_000),
             "aerial_wildfire_suppression": (1_800_000, 9_000)}
 FRACTIONS = (0.0, 0.1, 0.25, 0.5, 1.0)
+# what tells Drone-Based Reforestation's tasks apart on the pages (the configs that ran name file tasks 2 and 3
+# Pick Up Seed and Drop Seed; the published results' note keys them by the appendix's list)
+DBR_TASK_STATISTICS = ("Tree Drop Count", "Recharge Energy Count", "Out of Energy Count",
+                       "Highest Potential Soild Found", "Highest Point on Terrain Found", "Furthest Distance Explored",
+                       "Environment/Cumulative Reward", "Environment/Episode Length")
 
 
 class EvidenceError(HivexError, ValueError):
@@ -185,7 +190,7 @@ def learning_points(environment: str, task_index: int, level: int | None, panel:
 
 
 __all__ = ["APPENDIX", "Budget", "CellLength", "EpisodeCeiling", "EvidenceError", "LearningPoint", "MAX_STEP",
-           "budgets", "decision_period", "episode_ceiling", "learning_points", "runs_agree", "summary"]
+           "budgets", "decision_period", "episode_ceiling", "learning_points", "runs_agree", "sheet_rows", "summary"]
 
 
 def _level(level: int | None) -> str:
@@ -219,6 +224,18 @@ def _task_rows(environment: str) -> list[str]:
     return rows
 
 
+def sheet_rows(environment: str, level: int | None, tags: tuple[str, ...]) -> list[str]:
+    """A Markdown table of the average sheet: a row per task (the file's index) at one level, a column per tag
+    (``-`` where the sheet has no value)."""
+    sheet = average_sheet(environment)
+    tasks = sorted({c.task_index for c in original_cells(environment)})
+    rows = ["| task | " + " | ".join(tags) + " |", "| --- |" + " --- |" * len(tags)]
+    for task in tasks:
+        values = [sheet.get(tag, {}).get((task, level)) for tag in tags]
+        rows.append(f"| {task} | " + " | ".join("-" if v is None else f"{v.value:g}" for v in values) + " |")
+    return rows
+
+
 def _points_table(points: list[LearningPoint]) -> list[str]:
     rows = ["| fraction | agent-step | mean | band |", "| --- | --- | --- | --- |"]
     rows += [f"| {p.fraction:.0%} | {p.step:,} | {p.mean:,.1f} | {p.lower:,.1f} - {p.upper:,.1f} |" for p in points]
@@ -245,6 +262,9 @@ def summary() -> str:
     lines += ["", *_points_table(learning_points("wind_farm_control", 0, 0))]
     lines += ["", "Ocean Plastic Collection, main task: Episode Length (decisions per vessel-episode) in training.", ""]
     lines += _points_table(learning_points("ocean_plastic_collection", 0, None, EPISODE_LENGTH))
+    lines += ["", "Drone-Based Reforestation at level 1, by the pages' task index: each cell's average over its test "
+              "curve, from the average sheet.", ""]
+    lines += sheet_rows("drone_based_reforestation", 1, DBR_TASK_STATISTICS)
     return "\n".join(lines)
 
 
