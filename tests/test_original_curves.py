@@ -146,6 +146,8 @@ def test_the_loader_answers_missing_cells_and_refuses_unknown_environments():
     assert cell.panel("Environment/Episode Length") is cell.panel("Episode Length")
     assert cell.panel("Local Reward").tag == "OceanPlasticCollector/Local Reward"
     assert cell.panel("No Such Panel") is None
+    with pytest.raises(ValueError, match="read-only"):
+        cell.panel("Episode Length").training.mean[0] = 0.0  # the cached cell is shared between callers
 
 
 def test_decision_periods_follow_the_episode_length_ceilings():

@@ -109,11 +109,18 @@ def environments() -> tuple[str, ...]:
     return tuple(raw()["cells"])
 
 
+def _frozen(values: list) -> np.ndarray:
+    """A read-only array: cells are cached and shared between callers."""
+    array = np.asarray(values, dtype=float)
+    array.setflags(write=False)
+    return array
+
+
 def _curve(data: dict[str, Any] | None) -> Curve | None:
     if data is None:
         return None
-    steps, mean = (np.asarray(v, dtype=float) for v in data["line"])
-    band = [np.asarray(v, dtype=float) for v in data.get("band", ([], [], []))]
+    steps, mean = (_frozen(v) for v in data["line"])
+    band = [_frozen(v) for v in data.get("band", ([], [], []))]
     return Curve(steps, mean, *band)
 
 
