@@ -47,8 +47,8 @@ ENTRY = register(EnvironmentEntry(
         "Direction is the drone's forward vector; drones stay level, so its z component is always 0.",
         "The world is the shared terrain and forest recipes scaled to the paper's 400 m square, with peaks below "
         "the paper's 40 m height bound (see the generator slots); drones may fly to height_bound_m (65 m, fitted to "
-        "the original's Find High Terrain records; the reward table's notes); the station sits at the centre. A drone flying into a slope is lifted "
-        "over it and never goes below min_clearance_m above the ground.",
+        "the original's Find High Terrain records; the reward table's notes); the station sits at the centre. A "
+        "drone flying into a slope is lifted over it and never goes below min_clearance_m above the ground.",
         "Distances to the station (charge radius, running-back increments) are 3D, to the station pad on the "
         "ground; distances to trees, the seed drop distance and the explored distance are horizontal. The drop "
         "distance reward and the explored distance are capped at the half extent (the paper bounds them by 200; "
@@ -77,7 +77,8 @@ ENTRY = register(EnvironmentEntry(
         "the others fly on.",
         "Drones start evenly spaced around the station holding a seed, on a 6 m circle widened so neighbours start at "
         "least spawn_gap_m (10 m) apart (Drop Seed too), except in Pick-up Seed and Group Up, where they start at "
-        "random at least 20 m away without one. A drone starting outside the charge radius has made no trip: flying in is no return.",
+        "random at least 20 m away without one. A drone starting outside the charge radius has made no trip: "
+        "flying in is no return.",
         "Every episode draws a new world (terrain, forest) from the split's seed stream, as Aerial Wildfire "
         "Suppression and Wildfire Resource Management draw a new island (redraw_island 'episode').",
         "The best-so-far potential and distance of the delta terms (pot_old, d_old) start from the spawn state, so "
