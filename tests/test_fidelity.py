@@ -18,7 +18,7 @@ STORED = load_suite(ROOT / FIDELITY_FILE)
 # ends when the drones are back at the station), and one task of each of AWS and OPC, so that every
 # environment's simulator and scripted policy is covered; under a minute of CPU in all
 CHEAP = ("wrm-main-l1", "wrm-keep-all-l1", "wrm-distribute-all-l1", "wfc-generate-energy-p0",
-         "wfc-avoid-damage-p0", "dbr-pick-up-seed-l1", "aws-main-l1", "opc-avoid-plastic")
+         "wfc-avoid-damage-p0", "dbr-drop-seed-l1", "aws-main-l1", "opc-avoid-plastic")
 
 
 def test_the_suite_is_the_whole_published_grid_and_every_task_at_its_first_level():
@@ -26,13 +26,13 @@ def test_the_suite_is_the_whole_published_grid_and_every_task_at_its_first_level
     # the published file: WFC 2 tasks x 9 patterns, WRM 3 x 10 levels, OPC 4 tasks, DBR 7 x 10, AWS 9 x 10
     published_cells = 18 + 30 + 4 + 70 + 90
     assert sum(len(published.cells(env)) for env in published.environments()) == published_cells
-    # and Drone-Based Reforestation's Drop Seed, which the paper published nothing for, at terrain level 1
+    # and Drone-Based Reforestation's Group Up, which the paper published nothing for, at terrain level 1
     assert len(compiled) == published_cells + 1
     keys = {(c.environment, c.task_index, c.level) for c in compiled}
     assert len(keys) == len(compiled)
     assert {c.level for c in compiled if c.environment == "wind_farm_control"} == set(range(9))
     assert {c.level for c in compiled if c.environment == "aerial_wildfire_suppression"} == set(range(1, 11))
-    assert ("drone_based_reforestation", 4, 1) in keys
+    assert ("drone_based_reforestation", 2, 1) in keys
     assert all(c.seeds.test == 6000 for c in compiled)
     first = suite_scenarios(first_only=True)
     # every task of the environments the paper published cells for; an environment it published none for adds none
@@ -81,7 +81,7 @@ def test_published_level_mean_by_hand():
     returns = [c.return_mean for c in published.cells("wind_farm_control") if c.task_index == 1]
     assert len(returns) == 9
     assert published_level_mean("wind_farm_control", 1)["return"] == pytest.approx(sum(returns) / 9)
-    assert published_level_mean("drone_based_reforestation", 4) is None
+    assert published_level_mean("drone_based_reforestation", 2) is None  # Group Up: no published cell
 
 
 def test_the_page_shows_ours_beside_the_published_cell_and_the_readings():
@@ -104,7 +104,7 @@ def test_a_cell_is_beaten_when_a_trivial_policy_earns_more_than_the_published_pp
     assert beaten(audit)
     audit["policies"]["random"]["return"]["mean"] = ppo
     assert not beaten(audit)  # a tie is not beaten
-    assert not beaten(audit | {"environment": "drone_based_reforestation", "task_index": 4, "level": 1})  # no cell
+    assert not beaten(audit | {"environment": "drone_based_reforestation", "task_index": 2, "level": 1})  # no cell
 
 
 def test_evidence_is_stated_exactly_for_the_tasks_with_a_beaten_cell():

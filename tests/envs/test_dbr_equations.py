@@ -310,26 +310,31 @@ def test_drones_start_at_the_station_with_a_seed_and_a_full_battery():
     assert state.inside.all() and state.holding.all() and (state.energy == 1.0).all() and not state.away.any()
 
 
-def test_pick_up_seed_task_starts_drones_away_holding_a_seed():
-    """The paper starts Pick-up Seed's drones at random positions; its published cell logs 0.93 drops before the
-    return that ends the episode, so they hold a seed from the start. Group Up's start without one."""
+def test_pick_up_seed_starts_drones_away_without_a_seed_and_drop_seed_at_the_station_with_one():
+    """The paper starts Pick-up Seed's drones at random positions; the original's page of that task logs no drop (they
+    come back for a seed). Its Drop Seed page logs about one drop and one docking a drone-episode, the drop about 23 m
+    from the station after a 45 m path, and its untrained policy earns about 60-75: drones that start at the station
+    holding a seed, as in the main task (the reward table's notes)."""
     compiled = hivex_dsl.compile(f"{ENV}/pick_up_seed")
     sim = compiled.entry.make_simulator(compiled)
     state = sim.reset(np.random.default_rng(4), 4)
     horizontal = np.linalg.norm(state.position[..., :2] - state.station[:, None, :2], axis=-1)
-    assert (horizontal >= 20.0 - 1e-9).all() and state.holding.all() and state.away.all()
+    assert (horizontal >= 20.0 - 1e-9).all() and not state.holding.any() and state.away.all()
+    compiled = hivex_dsl.compile(f"{ENV}/drop_seed")
+    state = compiled.entry.make_simulator(compiled).reset(np.random.default_rng(4), 4)
+    assert state.inside.all() and state.holding.all() and not state.away.any()
 
 
 def test_a_drop_s_reward_statistics_are_logged_where_the_task_weighs_drops_0():
-    """Pick-up Seed weighs drop_seed 0, yet its published cell logs Tree Drop Reward 3.87: the statistic is the drop's
-    reward as computed. The scripted pilot drops its seed, comes back, and its episode ends on the +100."""
+    """Pick-up Seed weighs drop_seed 0; a drop's statistics are the drop's reward as computed all the same. The
+    scripted pilot flies back for a seed, then drops it near the forest."""
     compiled = hivex_dsl.compile({"hivex": 1, "environment": ENV, "task": "pick_up_seed", "terrain_level": 1})
     assert compiled.weights.get("drop_seed", 0.0) == 0.0
     done = rollout(compiled, "scripted", 1)
     drops = done.statistics["Tree Drop Count"]
     assert (drops >= 1).all()
     assert (done.statistics["Cumulative Tree Drop Reward"] > 0).all()
-    assert done.terms["pick_up_seed"].tolist() == [[1.0] * compiled.agents]  # one return each, which ends it
+    assert (done.terms["pick_up_seed"] >= 1).all()  # the returns that gave it its seeds
     # a drop's statistic is the simulator's r_s, as the main task (weight 1) pays it
     assert "drop_seed" not in done.terms or (done.weighted("drop_seed") == 0).all()
 
@@ -393,19 +398,20 @@ def test_high_fertility_delta_pays_the_gain_in_potential_and_ignores_spots_next_
 
 
 def test_high_landscape_delta_pays_each_new_height_of_the_drone_not_of_the_ground_below():
-    # the published "Highest Point on Terrain Found" is 46-47 m at every terrain level 1-10 (our level-1 peaks
-    # are 8 m, level-10 peaks 30 m): the original rewards the drone's own height, up to the 40 m bound
+    # the published "Highest Point on Terrain Found" is 44.5-47.2 m at every terrain level 1-10 (our level-1 peaks
+    # are 8 m, level-10 peaks 30 m): the original rewards the drone's own height, up to the height bound
     compiled, sim = simulator()
     coords = sim.terrain_grid.origin + sim.terrain_grid.cell * np.arange(sim.terrain_grid.n)
     slope = np.broadcast_to(np.clip(coords / 10.0, 0.0, None)[None, :], (sim.terrain_grid.n,) * 2)  # h = x / 10
     state = hand_world(sim, [(50.0, 30.0, 20.0)], heights=slope)
     gains = []
-    for x, z in ((50.0, 20.0), (62.5, 20.0), (40.0, 26.0), (70.0, 23.0), (70.0, 39.8)):  # ground 5, 6.25, 4, 7, 7
+    top = compiled.params.height_bound_m
+    for x, z in ((50.0, 20.0), (62.5, 20.0), (40.0, 26.0), (70.0, 23.0), (70.0, top - 0.2)):  # ground 5, 6.25, 4, 7, 7
         moved = replace(state, position=np.array([[[x, 30.0, z]]]))
         prev, (state, _) = moved, sim.step(moved, act(updown=1.0), np.random.default_rng(1))  # climbs 0.5 m
         gains.append(term(compiled, "high_landscape_point_delta", prev, state, act(updown=1.0))[0, 0])
-    # heights after the step: 20.5, 20.5, 26.5, 23.5, 40 (the bound): gains from 0
-    assert gains == pytest.approx([20.5, 0.0, 6.0, 0.0, 13.5])
+    # heights after the step: 20.5, 20.5, 26.5, 23.5, the bound: gains from 0
+    assert gains == pytest.approx([20.5, 0.0, 6.0, 0.0, top - 26.5])
 
 
 def test_far_distance_delta_pays_each_new_furthest_distance_capped_at_the_half_extent():
@@ -450,17 +456,20 @@ def test_a_whole_run_back_pays_r_p_times_rbm_at_most_20():
     assert total == pytest.approx(20.0 * rbm) and total <= 20.0
 
 
-def test_the_first_step_after_reset_pays_nothing_in_the_best_so_far_terms():
+def test_the_first_step_after_reset_pays_nothing_in_the_potential_and_distance_terms_and_the_height_from_0():
     compiled = hivex_dsl.compile({"hivex": 1, "environment": ENV, "terrain_level": 3})
     sim = compiled.entry.make_simulator(compiled)
     state = sim.reset(np.random.default_rng(11), 3)
     spawn = state.position
     horizontal = np.hypot(spawn[..., 0] - state.station[:, None, 0], spawn[..., 1] - state.station[:, None, 1])
-    assert np.allclose(state.best_distance, horizontal) and np.allclose(state.best_height, spawn[..., 2])
+    assert np.allclose(state.best_distance, horizontal) and np.all(state.best_height == 0.0)
     hover = {"continuous": np.zeros((3, 3, 3), np.float32), "discrete": np.zeros((3, 3, 1), np.int64)}
     new, _ = sim.step(state, hover, np.random.default_rng(1))
-    for name in ("high_fertility_location_delta", "high_landscape_point_delta", "far_distance_explored_delta"):
+    for name in ("high_fertility_location_delta", "far_distance_explored_delta"):
         assert np.all(term(compiled, name, state, new, hover) == 0.0), name
+    # the paper's h_old = 0: the first step pays the height the drone hovers at (station + 2 m)
+    paid = term(compiled, "high_landscape_point_delta", state, new, hover)
+    assert np.allclose(paid, spawn[..., 2]) and np.all(paid > 2.0)
 
 
 @pytest.mark.parametrize("agents, radius", [(3, 6.0), (4, 7.0710678), (12, 19.3185165)])

@@ -142,7 +142,10 @@ def test_vector_observation_holds_the_normalised_state_and_the_previous_step():
     before = state.frames[0, 0, :10].copy()
     state, _ = sim.step(state, actions, np.random.default_rng(2))
     vector = sim.observe(state)["vector"][0, 0]
-    expected = [(20.0 - ground) / 40.0, 0.5, -0.25, 0.5, 0.0, 1.0, 0.0, state.station[0, 2] / 40.0, 1.0, 0.8 - 0.001]
+    bound = 65.0  # the height bound heights are normalised by
+    assert compiled.params.height_bound_m == bound
+    expected = [(20.0 - ground) / bound, 0.5, -0.25, 20.0 / bound, 0.0, 1.0, 0.0, state.station[0, 2] / bound, 1.0,
+                0.8 - 0.001]
     np.testing.assert_allclose(vector[:10], expected, atol=1e-6)
     np.testing.assert_array_equal(vector[10:], before)
 

@@ -23,7 +23,7 @@ from hivex_dsl.evaluation.rollout import rollout
 SUMMARY_FREQ = {"wind_farm_control": 40_000, "wildfire_resource_management": 4_500,
                 "ocean_plastic_collection": 15_000, "drone_based_reforestation": 10_000,
                 "aerial_wildfire_suppression": 9_000}
-AVOID_PLASTIC, PICK_UP_SEED = 3, 3
+AVOID_PLASTIC, DROP_SEED = 3, 4
 
 
 def default_period(environment: str) -> int:
@@ -69,12 +69,12 @@ def test_aerial_wildfire_world_events_spread_as_one_or_two_worlds_a_point():
     assert default_period("aerial_wildfire_suppression") == 1
 
 
-def test_pick_up_seed_spread_gives_episodes_as_long_as_our_scripted_pilots_at_period_one():
-    cells = [c for c in published.cells("drone_based_reforestation") if c.task_index == PICK_UP_SEED]
+def test_drop_seed_spread_gives_episodes_as_long_as_our_scripted_pilots_at_period_one():
+    cells = [c for c in published.cells("drone_based_reforestation") if c.task_index == DROP_SEED]
     n = float(np.median([units_a_point(c, "Tree Drop Count") for c in cells]))
     decisions = SUMMARY_FREQ["drone_based_reforestation"] / n
     assert 150 < decisions < 300
-    task = hivex_dsl.compile({"hivex": 1, "environment": "drone_based_reforestation", "task": "pick_up_seed"})
+    task = hivex_dsl.compile({"hivex": 1, "environment": "drone_based_reforestation", "task": "drop_seed"})
     ours = rollout(task, "scripted", 2).lengths.mean()  # physics steps; the heuristic flies straight
     assert 0.5 < decisions / ours < 2.0  # period 1: as long as a direct flight
     # period 5: an episode would be 5 x as many physics steps, most of a full battery's life carrying a seed,

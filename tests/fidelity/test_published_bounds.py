@@ -22,8 +22,8 @@ EPISODES = 2
 LEVEL_KEY = {"wind_farm_control": ("pattern", 0), "drone_based_reforestation": ("terrain_level", 1),
              "aerial_wildfire_suppression": ("terrain_level", 1)}
 # The published cells above 0.5 at level 1, read by hand from the results file: DBR has no result for
-# task 4 (Drop Seed) and published -0.02 for task 5; AWS published -69.6 for task 4 (Protect Village).
-EXPECTED_TASKS = {"wind_farm_control": [0, 1], "drone_based_reforestation": [0, 1, 2, 3, 6, 7],
+# task 2 (Group Up) and published -0.02 for task 5; AWS published -69.6 for task 4 (Protect Village).
+EXPECTED_TASKS = {"wind_farm_control": [0, 1], "drone_based_reforestation": [0, 1, 3, 4, 6, 7],
                   "aerial_wildfire_suppression": [0, 1, 2, 3, 5, 6, 7, 8]}
 
 

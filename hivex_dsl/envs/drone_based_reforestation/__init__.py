@@ -38,16 +38,19 @@ ENTRY = register(EnvironmentEntry(
             "above the lowland (densest at 7 m), none within 80 m of the station (see the reward table's notes).")),
     },
     notes=(
-        "Tasks are the configs' 0-based `task:` values; the paper's reward-scale columns 3 and 4 are swapped "
-        "relative to that order and it has no Group-up row (see the reward table's notes for the matching).",
+        "Tasks are the appendix's 0-based `task:` values (8 tasks, Group Up 2); the configs that ran, whose results "
+        "were published, have no Group Up, so their Pick Up Seed 2 to Explore Furthest 6 are tasks 3 to 7 here. The "
+        "paper's reward-scale columns fit neither list exactly and it has no Group-up row (the reward table's notes "
+        "give the reading of each column from the original's records).",
         "The visual observation is 16 x 16 x 1 as the spec table says (the process diagram's prose says 32 x 32). "
         "It samples a per-world grayscale raster (2 m cells: ground shaded by height, existing trees, planted "
         "trees, the station) on a north-up square footprint below the drone whose half width is the height above "
         "ground x tan(45 degrees); north-up (a gimbal camera) is this project's choice.",
         "Direction is the drone's forward vector; drones stay level, so its z component is always 0.",
-        "The world is the shared terrain and forest recipes scaled to the paper's 400 m square and 40 m height "
-        "bound (see the generator slots); the station sits at the centre. A drone flying into a slope is lifted "
-        "over it and never goes below min_clearance_m above the ground.",
+        "The world is the shared terrain and forest recipes scaled to the paper's 400 m square, with peaks below "
+        "the paper's 40 m height bound (see the generator slots); drones may fly to height_bound_m (65 m, fitted to "
+        "the original's Find High Terrain records; the reward table's notes); the station sits at the centre. A "
+        "drone flying into a slope is lifted over it and never goes below min_clearance_m above the ground.",
         "Distances to the station (charge radius, running-back increments) are 3D, to the station pad on the "
         "ground; distances to trees, the seed drop distance and the explored distance are horizontal. The drop "
         "distance reward and the explored distance are capped at the half extent (the paper bounds them by 200; "
@@ -75,11 +78,12 @@ ENTRY = register(EnvironmentEntry(
         "as the depletion penalties); an empty battery terminates that drone (frozen, no longer a neighbour) while "
         "the others fly on.",
         "Drones start evenly spaced around the station holding a seed, on a 6 m circle widened so neighbours start at "
-        "least spawn_gap_m (10 m) apart, except in Pick-up Seed and Group Up, where they start at random at least "
-        "20 m away without one. A drone starting outside the charge radius has made no trip: flying in is no return.",
+        "least spawn_gap_m (10 m) apart (Drop Seed too), except in Pick-up Seed and Group Up, where they start at "
+        "random at least 20 m away without one. A drone starting outside the charge radius has made no trip: "
+        "flying in is no return.",
         "Every episode draws a new world (terrain, forest) from the split's seed stream, as Aerial Wildfire "
         "Suppression and Wildfire Resource Management draw a new island (redraw_island 'episode').",
-        "The best-so-far quantities of the delta terms (pot_old, h_old, d_old) start from the spawn state, so the "
-        "first step pays only for what it finds.",
+        "The best-so-far potential and distance of the delta terms (pot_old, d_old) start from the spawn state, so "
+        "the first step pays only for what it finds; the best height (h_old) starts at 0, as the paper's.",
     ),
 ))

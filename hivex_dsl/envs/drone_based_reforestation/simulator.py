@@ -29,10 +29,12 @@ SEED_REWARD_MULTIPLIER = 20.0  # [paper] sdrm
 DISTANCE_REWARD_MULTIPLIER = 10.0  # [paper] drm
 RUNNING_BACK_REWARD = 20.0  # [paper] r_p
 # [paper] Pick-up Seed: "the initial position of drones is random instead of at the station"; [ours] Group Up too
-# (the reward table's notes give the evidence: drones that start together would be grouped from the first step)
+# (drones that start together would be grouped from the first step). Drop Seed's start at the station, as the
+# main task's (the reward table's notes give the evidence from the original's records).
 RANDOM_SPAWN_TASKS = ("pick_up_seed", "group_up")
-# [ours] Group Up's drones start without a seed; Pick-up Seed's hold one, as its published drops show (its notes)
-SEEDLESS_START_TASKS = ("group_up",)
+# [orig] Pick-up Seed's drones start without a seed (they come back for one: the original's page logs no drop);
+# [ours] Group Up's too
+SEEDLESS_START_TASKS = ("pick_up_seed", "group_up")
 
 
 class DroneReforestationSimulator:
@@ -141,9 +143,10 @@ class DroneReforestationSimulator:
             energy=np.ones(shape), holding=np.full(shape, holding), alive=np.ones(shape, bool),
             inside=distance <= p.charge_radius_m, left_pad=distance > p.charge_radius_m,
             docked_steps=np.zeros(shape, np.int64), away=(distance >= p.return_min_distance_m) & self.random_spawn,
-            # best-so-far from the spawn state: the first step pays only for what it finds (no planted trees yet)
+            # best-so-far potential and distance from the spawn state: the first step pays only for what it finds;
+            # the height's from 0, as the paper's h_old (the reward table's notes: the original's records read so)
             best_fertility=fertility(det, p.min_tree_distance_m, p.max_tree_distance_m),
-            best_height=position[..., 2].copy(), best_distance=np.minimum(reach, self.half), back_active=false,
+            best_height=zeros.copy(), best_distance=np.minimum(reach, self.half), back_active=false,
             back_init=np.zeros(shape, np.int64), back_best=np.zeros(shape, np.int64), back_multiplier=zeros,
             flown=zeros, dropped=false, seed_reward=zeros, distance_reward=zeros, drop_tree_distance=zeros,
             returned=false,

@@ -1,9 +1,10 @@
 """The statistics Drone-Based Reforestation logs ("DroneBasedReforestation/<name>"), read from the drone state.
 
 The best-so-far statistics (highest potential, point, distance) are summed as per-step increases of the
-drone's best value, so an episode's sum is how far the best rose above where the drone started: what the
-matching delta term pays, unweighted (the published values of these statistics are close to their tasks'
-returns, e.g. 46.8 against 45.9 in Find High Terrain).
+drone's best value, so an episode's sum is how far the best rose above where it started (the spawn point's
+value for potential and distance, 0 for the height): what the matching delta term pays, unweighted (the
+published values of these statistics are close to their tasks' returns, e.g. 46.8 against 45.9 in Find High
+Terrain).
 """
 
 from __future__ import annotations
@@ -60,7 +61,7 @@ def normalized_distance_until_tree_drop(prev, state, actions, params):
 
 @STATISTICS.counter("Cumulative Distance to Existing Trees", "Metres from each drop to the nearest existing tree "
                     "(det, exact at any distance; the published 61.8 over 1.04 drops in the main task and 63.5 over "
-                    "0.93 in Pick-up Seed are 59-68 m a drop).")
+                    "0.93 in Drop Seed are 59-68 m a drop).")
 def distance_to_existing_trees(prev, state, actions, params):
     return state.drop_tree_distance
 
@@ -70,7 +71,8 @@ def highest_potential_found(prev, state, actions, params):
     return state.best_fertility - prev.best_fertility
 
 
-@STATISTICS.counter("Highest Point on Terrain Found", "The rise of the highest point (metres) the drone reached.")
+@STATISTICS.counter("Highest Point on Terrain Found", "The highest point (metres above sea level) the drone reached, "
+                    "summed as its rises from 0 (the paper's h_old = 0).")
 def highest_point_found(prev, state, actions, params):
     return state.best_height - prev.best_height
 

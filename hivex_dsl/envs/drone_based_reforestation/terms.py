@@ -14,7 +14,7 @@ TERMS = TermRegistry("drone_based_reforestation")
 
 GROUP_UP_REWARD = 10.0  # [paper]
 CLOSE_TREE_REWARD = 100.0  # [paper]
-HEIGHT_BOUND_M = 40.0  # [paper] the largest height_bound_m allowed
+HEIGHT_BOUND_M = 100.0  # the largest height_bound_m allowed
 HALF_EXTENT_M = 200.0  # [paper] the largest half extent the scenario checks allow
 MAX_DEPLETION = 0.1  # -1 / the fewest battery steps the params allow (10)
 
@@ -114,9 +114,9 @@ def high_fertility_location_delta(prev, state, actions, params):
 @TERMS.term(
     "high_landscape_point_delta", title="High Landscape Point Delta", paper_row=7, low=0.0, high=HEIGHT_BOUND_M,
     sign="bonus", timing="event", scope="agent",
-    description="Each time the drone flies higher than before: the gain in height (the drone's own height, up to the "
-                "40 m bound, as the published results read; see the reward table's notes).",
-    equation="r_h = h(p) - h_old if h_old < h(p) else 0;  h(p) = the drone's height z, h_old starts at the spawn height",
+    description="Each time the drone flies higher than before: the gain in height (the drone's own height above sea "
+                "level, up to the height bound, as the original's records read; see the reward table's notes).",
+    equation="r_h = h(p) - h_old if h_old < h(p) else 0;  h(p) = the drone's height z, h_old starts at 0 (the paper's)",
 )
 def high_landscape_point_delta(prev, state, actions, params):
     return state.best_height - prev.best_height
