@@ -3,9 +3,8 @@
 The suite is the whole published grid (222 cells: each environment, task and level or pattern the paper
 published a PPO result for) plus each task at its first level where no cell exists (Drone-Based
 Reforestation's Group Up). An environment the paper published nothing for (one added to the catalogue) is
-not in it, so adding one leaves the stored results as they are. Rolling it for the three audit policies takes
-minutes, too long for
-`hivex docs --check` in CI, so the measured numbers are stored: ``hivex audit --suite -o
+not in it, so adding one leaves the stored results as they are. Rolling it for the three audit policies
+takes minutes, too long for `hivex docs --check` in CI, so the measured numbers are stored: ``hivex audit --suite -o
 benchmarks/results/fidelity.json`` writes them (:func:`measure_suite`), docs/fidelity.md is rendered from
 that file, and tests/test_fidelity.py re-measures the cheap tasks (WFC, WRM, DBR Drop Seed at their
 first level) and checks every scenario's fingerprint to prove the file is not stale.
