@@ -112,17 +112,19 @@ function buildAgentCharts() {
   const parent = $("charts-agent");
   parent.replaceChildren();
   $("agent-title").textContent = `${episodes[0].agents[view.agent]}: reward by term`;
-  view.agentCharts = episodes.flatMap((e, i) => {
-    const name = e.agents[view.agent];
-    const stacked = stackedSeries(e, view.agent), running = runningSeries(e, view.agent);
-    return [
-      chart(parent, `${label(i)}${name}: weighted reward per decision`, "each term's weighted value, gains up and " +
-        "costs down; the black line is the reward the environment returned", stacked.series,
-        [decisionsOf(e), ...stacked.columns], e),
-      chart(parent, `${label(i)}${name}: running total by term`, "each term's weighted sum so far; the black " +
-        "line is the return", running.series, [decisionsOf(e), ...running.columns], e),
-    ];
+  // one row per kind of chart, the compared episodes side by side
+  const stacked = episodes.map((e, i) => () => {
+    const {series, columns} = stackedSeries(e, view.agent);
+    return chart(parent, `${label(i)}${e.agents[view.agent]}: weighted reward per decision`, "each term's weighted " +
+      "value, gains up and costs down; the black line is the reward the environment returned", series,
+      [decisionsOf(e), ...columns], e);
   });
+  const running = episodes.map((e, i) => () => {
+    const {series, columns} = runningSeries(e, view.agent);
+    return chart(parent, `${label(i)}${e.agents[view.agent]}: running total by term`, "each term's weighted sum " +
+      "so far; the black line is the return", series, [decisionsOf(e), ...columns], e);
+  });
+  view.agentCharts = (episodes.length > 1 ? [...stacked, ...running] : [stacked[0], running[0]]).map(make => make());
 }
 
 function buildWorldCharts() {
@@ -206,15 +208,15 @@ function showTerms(d) {
 }
 
 function showAgent(d) {
-  const a = view.agent;
-  const table = (title, names, valuesOf, note) => el("div", {}, el("h3", {}, title), note ? el("p", {class: "note"}, note) : "",
-    el("table", {}, el("tbody", {}, ...names.map((n, k) => el("tr", {}, el("td", {}, n),
-      ...episodes.map((e, i) => cell(row(valuesOf(e), d)?.[a]?.[k], {"data-episode": i})))))));
-  const e0 = episodes[0];
+  const a = view.agent, e0 = episodes[0];
+  const header = () => el("thead", {}, el("tr", {}, el("th"), ...episodes.map((_, i) => el("th", {}, "AB"[i]))));
+  const table = (title, note, names, valuesOf) => el("div", {}, el("h3", {}, title), el("p", {class: "note"}, note),
+    el("table", {}, ...(episodes.length > 1 ? [header()] : []), el("tbody", {}, ...names.map((name, k) =>
+      el("tr", {}, el("td", {}, name), ...episodes.map((e, i) => cell(row(valuesOf(e), d)?.[a]?.[k], {"data-episode": i})))))));
   const actionNames = (row(e0.actions, 1)?.[a] || []).map((_, k) => `[${k}]`);
   $("agent-detail").replaceChildren(
-    table(`${e0.agents[a]}: action`, actionNames, e => e.actions, e0.action_meanings),
-    table("observation before it", e0.observation_labels, e => e.observations, "the vector observation (no camera)"));
+    table(`${e0.agents[a]}: action`, e0.action_meanings, actionNames, e => e.actions),
+    table("observation before it", "the vector observation (no camera)", e0.observation_labels, e => e.observations));
 }
 
 function showEvents(d) {
