@@ -13,6 +13,7 @@ from .exits import EXIT_OK
 def add_command(sub: argparse._SubParsersAction) -> None:
     """The `replay` subcommand's parser."""
     from ..replay.page import MAX_MB
+    from ..replay.record import DEFAULT_SPLIT
 
     p = sub.add_parser("replay", help="write one self-contained HTML page that plays an episode back with every "
                                       "agent's reward term by term")
@@ -29,7 +30,8 @@ def add_command(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--point", metavar="INDEX|KEY=VALUE,...", default=None,
                    help="one point of a sweep file: its index (as `hivex compile` numbers them) or its swept values")
     p.add_argument("--seed", type=seed, default=None, help="environment seed (default: the split's first seed)")
-    p.add_argument("--split", choices=("train", "test"), default="test", help="seed split (default test)")
+    p.add_argument("--split", choices=("train", "test"), default=DEFAULT_SPLIT,
+                   help=f"seed split (default {DEFAULT_SPLIT})")
     p.add_argument("--steps", type=positive, default=None, help="decisions to play at most (default: the episode)")
     p.add_argument("--frame-step", type=positive, default=None, metavar="N",
                    help="keep every N-th decision's frame (default 10, more for a long episode: about 100 frames)")

@@ -12,13 +12,13 @@ from pathlib import Path
 from typing import Any, Callable, Optional, Sequence
 
 from .page import FrameEncoder, MAX_MB, default_frame_step, page_html, write_page
-from .record import Episode, record
+from .record import DEFAULT_SPLIT, Episode, record
 from .sources import Player
 from .trace import FORMAT, trace_data, write_trace
 
 
 def replay(players: Sequence[Player], output: Path, frame_step: Optional[int] = None, seed: Optional[int] = None,
-           split: str = "test", steps: Optional[int] = None, max_mb: float = MAX_MB, trace: Optional[Path] = None,
+           split: str = DEFAULT_SPLIT, steps: Optional[int] = None, max_mb: float = MAX_MB, trace: Optional[Path] = None,
            progress: Optional[Callable[[int], None]] = None) -> dict[str, Any]:
     """Record one episode per player (the same seed for each) and write the page to ``output`` (and the trace to
     ``trace``); -> what was written: {"path", "bytes", "frames", "decisions", "frame_step"}.

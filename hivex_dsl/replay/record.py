@@ -19,6 +19,8 @@ from ..runtime.batched import BatchedEnv, Split
 from ..sim.spaces import check_actions
 from ..evaluation.policies import Policy, make_policy
 
+DEFAULT_SPLIT: Split = "test"  # a replay plays the seeds `hivex evaluate` plays
+
 
 @dataclass
 class Episode:
@@ -105,7 +107,7 @@ def vector_part(observations: Any) -> Any:
 
 
 def record(compiled: CompiledScenario, policy: str | Policy, policy_info: dict[str, Any], frame_step: int,
-           seed: Optional[int] = None, split: Split = "test", steps: Optional[int] = None,
+           seed: Optional[int] = None, split: Split = DEFAULT_SPLIT, steps: Optional[int] = None,
            progress: Optional[Callable[[int], None]] = None,
            keep_frame: Callable[[np.ndarray], Any] = np.copy) -> Episode:
     """Play one episode of ``compiled`` (up to ``steps`` decisions; the whole episode by default) and record it.

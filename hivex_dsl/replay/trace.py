@@ -18,7 +18,8 @@ from .record import Episode
 
 FORMAT = "hivex-replay-trace/1"
 DIGITS = 6
-# every field of an episode in the trace, with what it holds: docs/replay.md's table (T decisions, A agents)
+# every field of an episode in the trace, with what it holds: docs/replay.md's table (nested lists of T decisions,
+# A agents, K action and D observation components)
 FIELDS = {
     "scenario": "the scenario: name, environment, task, level_name and level, sweep_point, fingerprint (of the lock), "
                 "source, episode_decisions, decision_period",
@@ -35,15 +36,15 @@ FIELDS = {
     "statistic_descriptions": "statistic -> what it counts",
     "observation_labels": "a name per component of the vector observation (older stacks marked \"(previous)\")",
     "action_meanings": "the simulator's description of the action components",
-    "reward": "[T][A] the reward the environment returned for each decision (0 once the agent's episode ended)",
-    "playing": "[T][A] true while the agent was in its episode when the decision began",
-    "raw": "term -> [T][A] the term's unweighted value, summed over the decision's physics steps",
-    "weighted": "term -> [T][A] what the term paid: its weight times its value at each physics step, summed; the "
+    "reward": "(T, A) the reward the environment returned for each decision (0 once the agent's episode ended)",
+    "playing": "(T, A) true while the agent was in its episode when the decision began",
+    "raw": "term -> (T, A) the term's unweighted value, summed over the decision's physics steps",
+    "weighted": "term -> (T, A) what the term paid: its weight times its value at each physics step, summed; the "
                 "terms' weighted values of a decision add up to its reward",
-    "weights": "term -> [T] the term's weight at the decision's last physics step (it moves only under a schedule)",
-    "actions": "[T][A][K] the action's components, a Dict space's parts in key order (continuous, then discrete)",
-    "observations": "[T][A][D] the vector observation the agent acted on (the camera is left out)",
-    "statistics_so_far": "statistic -> [T][A] its value over the episode up to and including the decision",
+    "weights": "term -> (T,) the term's weight at the decision's last physics step (it moves only under a schedule)",
+    "actions": "(T, A, K) the action's components, a Dict space's parts in key order (continuous, then discrete)",
+    "observations": "(T, A, D) the vector observation the agent acted on (the camera is left out)",
+    "statistics_so_far": "statistic -> (T, A) its value over the episode up to and including the decision",
     "events": "[{decision, agent, kind, name}] what happened: the simulator's events (kind event; agent null for a "
               "world event such as fire_out), endings (terminated: a crash or a task's ending; truncated: the time "
               "limit; world ended) and schedule changes (kind schedule)",
