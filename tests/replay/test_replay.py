@@ -170,6 +170,8 @@ def test_a_checkpoint_of_another_scenario_is_refused_by_fingerprint(trained, tmp
     ("empty dir", "without a checkpoint.pt"),
     ("sweep", "sweeps over 6 points"),
     ("bad suffix", "expected a file name ending in .html"),
+    ("sweep run", "is the run directory of a sweep: replay one point's run"),
+    ("not a checkpoint", "is not a hivex checkpoint"),
 ])
 def test_bad_input_is_one_sentence_and_exit_2(what, message, tmp_path, capsys):
     output = str(tmp_path / "out.html")
@@ -181,6 +183,14 @@ def test_bad_input_is_one_sentence_and_exit_2(what, message, tmp_path, capsys):
         argv = ["replay", str(tmp_path / "run"), "-o", output]
     elif what == "sweep":
         argv = ["replay", str(SCENARIOS / "wind_farm_control" / "scaling.yaml"), "-o", output]
+    elif what == "sweep run":  # `hivex train SWEEP` keeps each point's run in a folder of its index
+        (tmp_path / "grid" / "0003").mkdir(parents=True)
+        (tmp_path / "grid" / "0003" / "checkpoint.pt").write_bytes(b"")
+        argv = ["replay", str(tmp_path / "grid"), "-o", output]
+    elif what == "not a checkpoint":
+        pytest.importorskip("torch")
+        (tmp_path / "model.pt").write_text("not a checkpoint")
+        argv = ["replay", str(tmp_path / "model.pt"), "-o", output]
     else:
         argv = ["replay", "wind_farm_control/main", "-o", str(tmp_path / "out.gif")]
     assert main(argv) == 2
