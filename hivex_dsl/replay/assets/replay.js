@@ -20,7 +20,7 @@ async function unpack(id) {
 function el(tag, attrs = {}, ...children) {
   const node = document.createElement(tag);
   for (const [key, value] of Object.entries(attrs)) {
-    if (key.startsWith("data-") || key === "class" || key === "title") node.setAttribute(key, value);
+    if (key.startsWith("data-") || key === "class") node.setAttribute(key, value);
     else node[key] = value;
   }
   node.append(...children);
@@ -28,6 +28,7 @@ function el(tag, attrs = {}, ...children) {
 }
 
 const $ = id => document.getElementById(id);
+const swatch = colour => { const chip = el("span", {class: "swatch"}); chip.style.background = colour; return chip; };
 const fmt = v => v == null ? "–" : (v !== 0 && (Math.abs(v) >= 1e5 || Math.abs(v) < 1e-3)) ? v.toExponential(3)
   : String(+v.toFixed(4));
 const row = (rows, d) => (d >= 1 && d <= rows.length) ? rows[d - 1] : null;  // decision d's row; null after the end
@@ -176,14 +177,13 @@ function cell(value, attrs = {}, className = "") {
 
 function showTerms(d) {
   const a = view.agent, head = el("tr", {}, el("th", {}, "term"));
-  episodes.forEach((e, i) => head.append(el("th", {}, `${label(i)}value`), el("th", {}, `${label(i)}weight`),
+  episodes.forEach((e, i) => head.append(el("th", {}, `${label(i)}unweighted`), el("th", {}, `${label(i)}weight`),
     el("th", {}, `${label(i)}weighted`)));
   const rows = [el("thead", {}, head)], body = el("tbody");
   const terms = [...new Set(episodes.flatMap(e => e.terms))];
   for (const term of terms) {
-    const tr = el("tr", {}, el("td", {}, el("span", {class: "swatch"}),
+    const tr = el("tr", {}, el("td", {}, swatch(termColour[term]),
       episodes.find(e => term in e.term_titles).term_titles[term]));
-    tr.firstChild.firstChild.style.background = termColour[term];
     episodes.forEach((e, i) => {
       const known = term in e.weighted, w = known ? row(e.weighted[term], d) : null;
       const at = {"data-episode": i, "data-term": term};
@@ -238,9 +238,8 @@ function buildEvents() {
   $("events").replaceChildren(...items.map(ev => {
     const who = ev.agent === null ? "world" : episodes[ev.i].agents[ev.agent];
     const when = ev.until > ev.decision ? `decisions ${ev.decision}-${ev.until}` : `decision ${ev.decision}`;
-    const li = el("li", {"data-decision": ev.decision}, el("span", {class: "swatch"}),
+    const li = el("li", {"data-decision": ev.decision}, swatch(EVENT_COLOURS[ev.kind] || "#000"),
       `${label(ev.i)}${when}: ${who} ${ev.name}`);
-    li.firstChild.style.background = EVENT_COLOURS[ev.kind] || "#000";
     li.addEventListener("click", () => setDecision(ev.decision));
     return li;
   }));
