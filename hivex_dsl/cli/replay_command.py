@@ -5,9 +5,12 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from typing import Optional
+
 from ..base.errors import HivexError
 from .argtypes import positive, seed
 from .exits import EXIT_OK
+from .points import one_point
 
 
 def add_command(sub: argparse._SubParsersAction) -> None:
@@ -50,7 +53,6 @@ def add_command(sub: argparse._SubParsersAction) -> None:
 def cmd_replay(args) -> int:
     from ..evaluation.progress import bar
     from ..replay import replay
-    from ..replay.sources import compare_player, main_player
 
     _check_outputs(args)
     if not args.max_mb > 0:
@@ -80,3 +82,42 @@ def _check_outputs(args) -> None:
             raise HivexError(f"{flag} {path}: expected a file name ending in {' or '.join(suffixes)}")
         if not path.parent.is_dir():
             raise HivexError(f"{flag} {path}: the directory {path.parent} does not exist")
+
+
+def main_player(target: str, point: Optional[str], policy: str, checkpoint: Optional[Path]):
+    """The episode of `hivex replay TARGET`: a checkpoint (or run directory) on the scenario it trained on, or the
+    point ``point`` of a scenario played by ``policy`` or by ``checkpoint``."""
+    from ..replay.sources import Player, checkpoint_path, checkpoint_player
+
+    own = checkpoint_path(target)
+    if own is not None:
+        if checkpoint is not None:
+            raise HivexError(f"{target} is a checkpoint (or a run directory) already: give --checkpoint with a "
+                             "scenario file, or leave it out")
+        if point is not None:
+            raise HivexError(f"--point picks a point of a sweep file; the checkpoint {own} plays the one scenario it "
+                             "trained on")
+        return checkpoint_player(_with_torch(own))
+    compiled = one_point(target, point)
+    if checkpoint is not None:
+        return checkpoint_player(_with_torch(checkpoint_path(checkpoint) or checkpoint), compiled)
+    return Player(compiled, policy, {"kind": policy})
+
+
+def compare_player(other: str, point: Optional[str], first):
+    """The second episode of ``--compare OTHER``: another checkpoint (or run directory) on the first scenario, or the
+    first policy on another scenario of the same environment and agent count."""
+    from ..replay.sources import checkpoint_path, checkpoint_player, same_policy
+
+    path = checkpoint_path(other)
+    if path is not None:
+        return checkpoint_player(_with_torch(path), first.compiled, own_scenario=False)
+    return same_policy(first, one_point(other, point))
+
+
+def _with_torch(path: Path) -> Path:
+    """``path``, once torch and the train extra are known to be there (or a sentence saying what to install)."""
+    from .train_commands import require_torch
+
+    require_torch()
+    return path

@@ -1,8 +1,11 @@
-"""`hivex replay`: one self-contained page that plays an episode back with every agent's reward term by term.
+"""Layer 9, replay: `hivex replay`'s page, one self-contained HTML file that plays an episode back with every agent's
+reward term by term. It sits beside train (it plays a checkpoint; train never imports it).
 
 record.py rolls and records the episode, trace.py turns it into documented data (``--trace``), page.py builds the
-page around it (assets/ holds its script, style and the vendored charting library), sources.py resolves what the
-command line names. Imports: compiler, runtime, evaluation (and train, for a checkpoint, when one is given).
+page around it (assets/ holds its script, style and the vendored charting library), sources.py says what plays
+(a named policy or a checkpoint), browser.py is the headless Chromium of the page's tests and screenshot. The
+command's arguments are the CLI's (cli/replay_command.py). Imports: base, compiler, runtime, sim, evaluation, and
+train for a checkpoint (torch, imported when one is played); never the CLI.
 """
 
 from __future__ import annotations

@@ -1,5 +1,5 @@
-"""What `hivex replay` plays: a scenario with a named policy or a checkpoint, a checkpoint alone or a training run's
-directory (its checkpoint on the scenario it trained on), and for ``--compare`` a second scenario or policy."""
+"""What plays an episode of the page: a named policy, or a checkpoint (a ``.pt`` file, or the ``checkpoint.pt`` of a
+training run's directory) on the scenario it trained on or, for a comparison, on another of its environment."""
 
 from __future__ import annotations
 
@@ -39,20 +39,11 @@ def checkpoint_path(target: str | Path) -> Optional[Path]:
     return path if path.suffix == ".pt" else None
 
 
-def scenario_player(source: str, point: Optional[str], policy: str) -> Player:
-    """A named policy ('scripted', 'random', 'zeros') on the point ``point`` of the scenario ``source``."""
-    from ..cli.points import one_point
-
-    return Player(one_point(source, point), policy, {"kind": policy})
-
-
 def checkpoint_player(path: Path, compiled: Optional[CompiledScenario] = None, own_scenario: bool = True) -> Player:
     """The policy of the checkpoint at ``path`` (its actions sampled, as `hivex evaluate` samples them) on
     ``compiled``, by default the scenario it trained on. With ``own_scenario`` a scenario other than that one (its
-    fingerprint differs) is refused; without it any scenario of its environment is played (``--compare``)."""
-    from ..cli.train_commands import require_torch
-
-    require_torch()
+    fingerprint differs) is refused; without it any scenario of its environment is played (a comparison).
+    Needs torch (the ``train`` extra)."""
     import torch
 
     from ..train.checkpoint import checksum, load_checkpoint, policy_for
@@ -75,35 +66,10 @@ def checkpoint_player(path: Path, compiled: Optional[CompiledScenario] = None, o
     return Player(scenario, network_policy(agent, scenario.agents), info)
 
 
-def main_player(target: str, point: Optional[str], policy: str, checkpoint: Optional[Path]) -> Player:
-    """The episode `hivex replay TARGET` plays (see the module)."""
-    own = checkpoint_path(target)
-    if own is not None:
-        if checkpoint is not None:
-            raise HivexError(f"{target} is a checkpoint (or a run directory) already: give --checkpoint with a "
-                             "scenario file, or leave it out")
-        if point is not None:
-            raise HivexError(f"--point picks a point of a sweep file; the checkpoint {own} plays the one scenario it "
-                             "trained on")
-        return checkpoint_player(own)
-    if checkpoint is not None:
-        from ..cli.points import one_point
-
-        return checkpoint_player(checkpoint_path(checkpoint) or checkpoint, one_point(target, point))
-    return scenario_player(target, point, policy)
-
-
-def compare_player(other: str, point: Optional[str], first: Player) -> Player:
-    """The second episode of ``--compare OTHER``: another checkpoint (or run directory) on the first scenario, or the
-    first policy on another scenario of the same environment and agent count."""
-    path = checkpoint_path(other)
-    if path is not None:
-        return checkpoint_player(path, first.compiled, own_scenario=False)
-    from ..cli.points import one_point
-
-    compiled = one_point(other, point)
+def same_policy(first: Player, compiled: CompiledScenario) -> Player:
+    """``first``'s policy on another scenario of its environment and agent count (a comparison of reward tables)."""
     if (compiled.environment, compiled.agents) != (first.compiled.environment, first.compiled.agents):
-        raise HivexError(f"--compare {other}: its scenario {compiled.name!r} has {compiled.agents} agents of "
+        raise HivexError(f"--compare: its scenario {compiled.name!r} has {compiled.agents} agents of "
                          f"{compiled.environment}, the replayed one {first.compiled.agents} of "
                          f"{first.compiled.environment}: compare scenarios of one environment and agent count")
     if first.info["kind"] == "checkpoint":
@@ -111,5 +77,4 @@ def compare_player(other: str, point: Optional[str], first: Player) -> Player:
     return Player(compiled, first.policy, dict(first.info))
 
 
-__all__ = ["CHECKPOINT_FILE", "Player", "checkpoint_path", "checkpoint_player", "compare_player", "main_player",
-           "scenario_player"]
+__all__ = ["CHECKPOINT_FILE", "Player", "checkpoint_path", "checkpoint_player", "same_policy"]
