@@ -202,7 +202,8 @@ def _events(compiled: CompiledScenario, decision: int, seen: dict[str, np.ndarra
         found.append({"decision": decision, "agent": None, "kind": "world ended", "name": "world ending"})
     for kind, mask in (("terminated", result.terminated[0]), ("truncated", result.truncated[0] & ~result.terminated[0])):
         found += [{"decision": decision, "agent": int(a), "kind": kind,
-                   "name": "episode ended" if kind == "terminated" else "time limit"} for a in np.flatnonzero(mask)]
+                   "name": "ended its episode (a crash or the task's ending)" if kind == "terminated" else
+                   "reached the time limit"} for a in np.flatnonzero(mask)]
     return found
 
 

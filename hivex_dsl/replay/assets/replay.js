@@ -214,8 +214,10 @@ function showAgent(d) {
     el("table", {}, ...(episodes.length > 1 ? [header()] : []), el("tbody", {}, ...names.map((name, k) =>
       el("tr", {}, el("td", {}, name), ...episodes.map((e, i) => cell(row(valuesOf(e), d)?.[a]?.[k], {"data-episode": i})))))));
   const actionNames = (row(e0.actions, 1)?.[a] || []).map((_, k) => `[${k}]`);
+  const over = episodes.map((e, i) => row(e.playing, d)?.[a] === false ? `${label(i)}its episode is over: the ` +
+    "environment ignores this action and pays nothing" : "").filter(Boolean).join("; ");
   $("agent-detail").replaceChildren(
-    table(`${e0.agents[a]}: action`, e0.action_meanings, actionNames, e => e.actions),
+    table(`${e0.agents[a]}: action`, over || e0.action_meanings, actionNames, e => e.actions),
     table("observation before it", "the vector observation (no camera)", e0.observation_labels, e => e.observations));
 }
 
