@@ -91,11 +91,12 @@ def test_every_environment_main_scenario_replays_as_one_page_that_needs_no_netwo
 
 
 def test_a_default_main_task_episode_fits_the_five_megabyte_bound(tmp_path, capsys):
-    """Wildfire Resource Management's main task played whole at the defaults (its 500 decisions, frames every 10)."""
-    page = tmp_path / "wrm.html"
-    assert main(["replay", "wildfire_resource_management/main", "-o", str(page)]) == 0
+    """Wind Farm Control's main task, the longest episode of the five (5000 decisions of 8 turbines), played whole
+    at the defaults: about 100 frames (one every 50 decisions) and every decision's data."""
+    page = tmp_path / "wfc.html"
+    assert main(["replay", "wind_farm_control/main", "-o", str(page)]) == 0
     assert page.stat().st_size < 5_000_000
-    assert "one every 10 decisions" in capsys.readouterr().out
+    assert "5000 decisions, 101 frames, one every 50 decisions" in capsys.readouterr().out
 
 
 def test_the_default_frame_step_is_renders_until_an_episode_would_show_more_than_a_hundred_frames():
