@@ -43,6 +43,7 @@ class Episode:
     events: list[dict[str, Any]] = field(default_factory=list)  # {"decision", "agent" (None: world), "kind", "name"}
     frames: list[Any] = field(default_factory=list)  # renders, (H, W, 3) uint8, or what record's keep_frame made
     frame_decisions: list[int] = field(default_factory=list)  # decisions taken before each frame (0: the start)
+    frame_step: int = 1  # a frame every frame_step decisions (and one after the last)
     observation_labels: tuple[str, ...] = ()  # the simulator's names of one stack of the vector observation
     action_meanings: str = ""  # the simulator's description of the action components
 
@@ -130,7 +131,7 @@ def record(compiled: CompiledScenario, policy: str | Policy, policy_info: dict[s
     weights: dict[str, list] = {name: [] for name in terms}
     statistics: dict[str, list] = {name: [] for name in core.statistics.names}
     episode = Episode(compiled, policy_info, seed, split, {}, {}, {}, np.zeros(0), np.zeros(0), np.zeros(0),
-                      np.zeros(0), {}, frames=[keep_frame(core.render(0))], frame_decisions=[0],
+                      np.zeros(0), {}, frames=[keep_frame(core.render(0))], frame_decisions=[0], frame_step=frame_step,
                       observation_labels=tuple(getattr(type(core.sim), "observation_labels", ())),
                       action_meanings=str(getattr(core.sim, "action_meanings", "") or ""))
     limit = compiled.episode_decisions if steps is None else steps

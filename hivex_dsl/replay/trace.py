@@ -49,6 +49,7 @@ FIELDS = {
               "world event such as fire_out), endings (terminated: a crash or a task's ending; truncated: the time "
               "limit; world ended) and schedule changes (kind schedule)",
     "frame_decisions": "the decisions taken before each of the page's frames (0: the start)",
+    "frame_step": "a frame every frame_step decisions (--frame-step), and one after the last decision",
 }
 
 
@@ -97,6 +98,7 @@ def episode_data(episode: Episode) -> dict[str, Any]:
         "statistics_so_far": {name: significant(values) for name, values in episode.statistics.items()},
         "events": episode.events,
         "frame_decisions": list(episode.frame_decisions),
+        "frame_step": episode.frame_step,
     }
 
 

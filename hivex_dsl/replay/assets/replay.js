@@ -61,7 +61,7 @@ function chart(parent, title, note, series, columns, episode) {
   parent.append(box);
   const opts = {
     width: Math.max(280, box.clientWidth - 16), height: 190,
-    scales: {x: {time: false, range: () => [1, last]}},
+    scales: {x: {time: false, range: () => [1, Math.max(last, 2)]}},  // one decision still gets an axis
     axes: [{label: "decision", size: 36, labelSize: 14}, {size: 60}],
     cursor: {sync: {key: "replay"}, drag: {x: false, y: false}},
     series: [{label: "decision"}, ...series],
@@ -161,10 +161,10 @@ function buildFrames() {
 
 function showFrames(d) {
   episodes.forEach((e, i) => {
-    const j = frameIndex(e, d), step = e.frame_decisions[1] - e.frame_decisions[0];
+    const j = frameIndex(e, d);
     $(`frame-${i}`).src = frames[i][j];
-    $(`caption-${i}`).textContent = `${label(i)}the world after decision ${e.frame_decisions[j]}` +
-      (e.frame_decisions.length > 1 ? ` (a frame every ${step} decisions)` : "");
+    $(`caption-${i}`).textContent = `${label(i)}the world after decision ${e.frame_decisions[j]} (a frame every ` +
+      `${e.frame_step} decisions and after the last)`;
   });
 }
 
