@@ -18,10 +18,11 @@ NAMES = ("chromium", "chromium-browser", "google-chrome")
 
 
 def find_chromium() -> Optional[str]:
-    """The browser to run: ``$HIVEX_CHROMIUM`` if set, else the first of :data:`NAMES` on the PATH; None if none."""
+    """The browser to run: ``$HIVEX_CHROMIUM`` if set (None if it is no executable), else the first of :data:`NAMES`
+    on the PATH; None if none."""
     chosen = os.environ.get("HIVEX_CHROMIUM")
     if chosen:
-        return chosen
+        return shutil.which(chosen)
     return next((found for found in map(shutil.which, NAMES) if found), None)
 
 
