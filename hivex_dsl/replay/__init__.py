@@ -11,6 +11,7 @@ train for a checkpoint (torch, imported when one is played); never the CLI.
 from __future__ import annotations
 
 import math
+from contextlib import nullcontext
 from pathlib import Path
 from typing import Any, Callable, Optional, Sequence
 
@@ -33,7 +34,8 @@ def replay(players: Sequence[Player], output: Path, frame_step: Optional[int] = 
     step = frame_step or default_frame_step(longest)
     expected = len(players) * (math.ceil(longest / step) + 1)
     encoder = FrameEncoder(int(max_mb * 1e6 * 0.9), expected, step, max_mb)  # a tenth left for the data
-    episodes = [record(p.compiled, p.policy, p.info, step, seed, split, steps, progress, encoder) for p in players]
+    with _one_torch_thread(players):
+        episodes = [record(p.compiled, p.policy, p.info, step, seed, split, steps, progress, encoder) for p in players]
     data = trace_data(episodes)
     if trace is not None:
         write_trace(data, trace)
@@ -43,6 +45,16 @@ def replay(players: Sequence[Player], output: Path, frame_step: Optional[int] = 
     size = write_page(text, output, max_mb, step)
     return {"path": output, "bytes": size, "frames": sum(len(e.frames) for e in episodes),
             "decisions": max(e.decisions for e in episodes), "frame_step": step}
+
+
+def _one_torch_thread(players: Sequence[Player]):
+    """A checkpoint's network on one torch thread, as `hivex evaluate` plays it: one world's few agents are batches
+    too small to share, and on a busy machine torch's thread per core made each step many times slower."""
+    if not any(p.info["kind"] == "checkpoint" for p in players):
+        return nullcontext()
+    from ..train.evaluate import limited_threads
+
+    return limited_threads(1)
 
 
 def about(episode: Episode) -> dict[str, Any]:
