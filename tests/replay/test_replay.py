@@ -222,3 +222,20 @@ def test_every_environment_main_scenario_replays_with_a_checkpoint(environment, 
     (episode,) = json.loads(trace.read_text())["episodes"]
     assert episode["policy"]["agent_steps"] == 123 and episode["decisions"] >= 1
     assert episode["policy"]["trained_fingerprint"] == compiled.fingerprint
+
+
+def test_a_moving_weight_over_decisions_of_several_physics_steps_still_adds_up(tmp_path):
+    """A schedule moves Generate Energy's weight at every physics step, and a decision holds two of them: the
+    recorded weighted values are summed per physics step with that step's weight, as the composer pays them."""
+    scenario = short_scenario(tmp_path, "wind_farm_control", episode_length=40, decision_period=2,
+                              weights={"generate_energy": {"from": 1.0, "to": 3.0, "over_steps": 30}})
+    compiled = compile(str(scenario))
+    episode = record(compiled, "scripted", {"kind": "scripted"}, frame_step=10)
+    paid = env_rewards(compiled, episode.decisions)
+    assert episode.decisions == 20
+    np.testing.assert_allclose(sum(episode.weighted.values()), paid, rtol=1e-12, atol=1e-12)
+    weights = episode.weights["generate_energy"]
+    # decision k's last physics step pays at the weight of the 2k - 1 steps before it: 3 from k = 16 (31 >= 30)
+    np.testing.assert_allclose(weights, [min(3.0, 1.0 + 2.0 * (2 * k - 1) / 30) for k in range(1, 21)], rtol=1e-12)
+    moves = [(ev["decision"], ev["name"]) for ev in episode.events if ev["kind"] == "schedule"]
+    assert moves == [(1, "generate_energy weight leaves 1"), (16, "generate_energy weight reaches 3")]
