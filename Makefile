@@ -1,7 +1,8 @@
 # Two commands on a fresh machine with only Python 3.10+:
 #   make run    installs what is needed in .venv, trains PPO on Wind Farm Control's main task, evaluates it on the
 #               test seeds beside the paper, the random and the scripted policy, and says where everything is
-#   make test   installs the test set-up in .venv and runs the tests and the docs check
+#   make test   installs the test set-up in .venv and runs the tests and the docs check (the replay page's browser
+#               tests need a Chromium: Debian's `chromium` package; HIVEX_SKIP_BROWSER=1 skips them)
 # Every install takes .ci/constraints.txt (torch==2.13.0) as a pip constraint: a bare range, or torchvision's exact
 # pin (BenchMARL needs torchvision), would pull another torch and GBs of CUDA wheels.
 
@@ -25,7 +26,7 @@ $(VENV)/.installed-run: pyproject.toml $(CONSTRAINTS) | $(BIN)/python
 
 $(VENV)/.installed-test: pyproject.toml $(CONSTRAINTS) | $(BIN)/python
 	$(BIN)/pip install --quiet -c $(CONSTRAINTS) torch
-	$(BIN)/pip install --quiet -c $(CONSTRAINTS) -e ".[dev,train,sb3,window,ray,plots,paper,torchrl,benchmarl]"
+	$(BIN)/pip install --quiet -c $(CONSTRAINTS) -e ".[dev,train,sb3,window,ray,plots,paper,torchrl,benchmarl,browser]"
 	touch $@
 
 run: $(VENV)/.installed-run

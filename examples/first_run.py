@@ -2,11 +2,11 @@
 
 It trains parameter-shared PPO (`hivex train`, the paper's hyperparameters) on Wind Farm Control's main task,
 evaluates the trained policy on the test seeds (`hivex evaluate`), plays the random and the scripted policy on
-the same test episodes, draws the learning curve, and ends with a verdict beside the paper's published return
-and the paths of everything it wrote.
+the same test episodes, writes a replay page of one test episode of the trained policy (`hivex replay`), draws the
+learning curve, and ends with a verdict beside the paper's published return and the paths of everything it wrote.
 
     python examples/first_run.py [--scenario scenarios/wind_farm_control/main.yaml] [--steps 2560000]
-                                 [--episodes 3] [-o runs/first-run] [--set NAME=VALUE ...]
+                                 [--episodes 3] [-o runs/first-run] [--set NAME=VALUE ...] [--replay-steps N]
 
 The default budget is 2,560,000 agent-steps, a third of the paper's 8M: two episodes of 5,000 steps in each of
 the 32 worlds x 8 turbines, by which the committed baseline's training return had reached 4,900 (the paper's
@@ -21,6 +21,8 @@ import sys
 from pathlib import Path
 
 from hivex_dsl.compiler import compile
+from hivex_dsl.replay import replay
+from hivex_dsl.replay.sources import checkpoint_player
 from hivex_dsl.train.baselines import LEVEL_POLICIES, level_of
 from hivex_dsl.train.config import make_config, parse_assignments
 from hivex_dsl.train.evaluate import evaluate
@@ -37,6 +39,8 @@ def parse_args(argv=None) -> argparse.Namespace:
     parser.add_argument("--episodes", type=int, default=3, help="test episodes of each policy")
     parser.add_argument("-o", "--output", type=Path, default=Path("runs") / "first-run")
     parser.add_argument("--set", action="append", default=[], dest="assignments", metavar="NAME=VALUE")
+    parser.add_argument("--replay-steps", type=int, default=None, metavar="N",
+                        help="decisions of the replay page (default: the whole test episode)")
     return parser.parse_args(argv)
 
 
@@ -46,17 +50,20 @@ def main(argv=None) -> dict:
     compiled = compile(args.scenario)
     cfg = make_config(compiled.environment, parse_assignments(args.assignments),
                       {"max_steps": args.steps, "checkpoint_every": max(args.steps // 4, 1)})
-    say(f"1/3 training {compiled.name} for {args.steps:,} agent-steps ({cfg.num_worlds} worlds x "
+    say(f"1/4 training {compiled.name} for {args.steps:,} agent-steps ({cfg.num_worlds} worlds x "
         f"{compiled.agents} agents, the paper's hyperparameters) into {args.output}")
     summary = train(compiled, cfg, args.output, progress=sys.stderr.isatty(), overwrite=True)
-    say(f"2/3 the trained policy on {args.episodes} test episodes (seed {compiled.seeds.test})")
+    say(f"2/4 the trained policy on {args.episodes} test episodes (seed {compiled.seeds.test})")
     report = evaluate(args.output / "checkpoint.pt", split="test", episodes=args.episodes)
-    say(f"3/3 the random and the scripted policy on the same {args.episodes} test episodes")
+    say(f"3/4 the random and the scripted policy on the same {args.episodes} test episodes")
     levels = {name: level_of(compiled, name, args.episodes) for name in LEVEL_POLICIES}
     result = {"scenario": compiled.name, "agent_steps": summary["agent_steps"], "wall_s": summary["wall_s"],
               "episodes": args.episodes,
               "trained": report["return"], "published": (report["published"] or {}).get("return"), **levels,
               "run_dir": str(args.output), "tensorboard": str(args.output / "tb")}
+    say(f"4/4 a replay page of the trained policy's first test episode, term by term")
+    result["replay"] = str(replay([checkpoint_player(args.output / "checkpoint.pt")], args.output / "replay.html",
+                                  steps=args.replay_steps)["path"])
     result["curve"] = draw_curve(result, args.output)
     (args.output / "first_run.json").write_text(json.dumps(result, indent=2) + "\n")
     print(verdict(result))
@@ -99,6 +106,7 @@ def verdict(result: dict) -> str:
                      f"({100 * gap / abs(paper['mean']):+.1f}%)")
     lines += [f"run directory: {result['run_dir']} (checkpoint.pt, curve.json, summary.json)",
               f"learning curve: {result['curve'] or 'not drawn: pip install hivex-dsl[plots]'}",
+              f"replay (open it in a browser): {result['replay']}",
               f"TensorBoard: tensorboard --logdir {result['tensorboard']}"]
     return "\n".join(lines)
 

@@ -51,7 +51,7 @@ def test_render_is_deterministic(docs):
 def test_every_available_environment_has_a_page(docs):
     expected = {"index.md", "language.md", "hivex.schema.json"} | {f"environments/{e}.md" for e in registry.environments()}
     assert expected <= set(docs)
-    assert {p for p in docs if p.endswith(".md")} - expected == {"generators.md", "fidelity.md", "ecosystem.md"}
+    assert {p for p in docs if p.endswith(".md")} - expected == {"generators.md", "fidelity.md", "ecosystem.md", "replay.md"}
 
 
 def test_no_machine_specific_content(docs):

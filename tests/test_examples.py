@@ -60,12 +60,15 @@ def test_first_run_trains_evaluates_and_compares_with_the_paper(tmp_path, capsys
     pytest.importorskip("torch")
     result = load("first_run").main(["--steps", "256", "--episodes", "1", "-o", str(tmp_path / "run"),
                                      "--set", "num_worlds=1", "--set", "buffer_size=128", "--set", "batch_size=64",
-                                     "--set", "hidden_units=8"])
+                                     "--set", "hidden_units=8", "--replay-steps", "20"])
     out = capsys.readouterr().out
     assert result["published"]["mean"] == pytest.approx(4611.6462)  # WFC's main task in the paper
     assert result["scripted"]["mean"] > result["random"]["mean"]  # turbines facing the wind beat random ones
     assert f"the paper's PPO (published)       4611.6 ± 40.0" in out
     assert "verdict: below the paper's return" in out  # 256 agent-steps learn nothing yet
     assert (tmp_path / "run" / "checkpoint.pt").is_file() and json.loads((tmp_path / "run" / "first_run.json").read_text())
+    page = tmp_path / "run" / "replay.html"
+    assert result["replay"] == str(page) and f"replay (open it in a browser): {page}" in out
+    assert 'id="replay-data"' in page.read_text()
     if importlib.util.find_spec("matplotlib"):
         assert (tmp_path / "run" / "curve.png").read_bytes()[:4] == b"\x89PNG"

@@ -19,9 +19,10 @@ import pytest
 PACKAGE = Path(__file__).resolve().parents[1] / "hivex_dsl"
 NAME = PACKAGE.name
 
-# bottom -> top; a layer may import itself and the layers below it. zoo/ belongs to the adapters layer.
+# bottom -> top; a layer may import itself and the layers below it. zoo/ belongs to the adapters layer; replay/ sits
+# beside train/ (it plays a checkpoint and train never imports it).
 LAYERS = {"base": 0, "lang": 1, "sim": 2, "compiler": 3, "runtime": 4, "envs": 5, "adapters": 6, "zoo": 6,
-          "evaluation": 7, "train": 8, "docsgen": 9, "cli": 10}
+          "evaluation": 7, "train": 8, "replay": 8, "docsgen": 9, "cli": 10}
 ABOVE_ALL = len(set(LAYERS.values()))  # the facade (hivex_dsl/__init__.py) and its table of old paths (_moved.py)
 TOP_MODULES = {"__init__.py", "_moved.py"}  # all that may sit loose at the top of hivex_dsl/
 DATA_FOLDERS = {"data"}  # package data, no layer

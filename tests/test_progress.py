@@ -39,7 +39,8 @@ def commands(tmp_path) -> dict[str, list[str]]:
             "render tiny": ["render", str(scenario), "-o", str(tmp_path / "tiny.gif"), "--steps", "10",
                             "--frame-step", "5"],
             "preview": ["preview", "-o", str(tmp_path / "figures")],
-            "run": ["run", str(scenario)]}
+            "run": ["run", str(scenario)],
+            "replay tiny": ["replay", str(scenario), "-o", str(tmp_path / "tiny.html"), "--frame-step", "5"]}
 
 
 def test_a_bar_shows_the_time_left_on_a_terminal_only():
@@ -61,7 +62,7 @@ def test_an_episode_counts_whole_on_the_bar_even_when_it_ends_early():
         assert shown.n == 10
 
 
-@pytest.mark.parametrize("label", ["audit tiny", "render tiny", "preview", "run"])
+@pytest.mark.parametrize("label", ["audit tiny", "render tiny", "preview", "run", "replay tiny"])
 def test_each_long_command_shows_a_bar_on_a_terminal(label, tmp_path, monkeypatch):
     terminal = on_terminal(monkeypatch)
     assert main(commands(tmp_path)[label]) == 0
@@ -69,7 +70,7 @@ def test_each_long_command_shows_a_bar_on_a_terminal(label, tmp_path, monkeypatc
     assert label in shown and BAR.search(shown)
 
 
-@pytest.mark.parametrize("label", ["audit tiny", "render tiny", "preview", "run"])
+@pytest.mark.parametrize("label", ["audit tiny", "render tiny", "preview", "run", "replay tiny"])
 def test_no_bar_when_stderr_is_not_a_terminal(label, tmp_path, capsys):
     assert main(commands(tmp_path)[label]) == 0
     err = capsys.readouterr().err

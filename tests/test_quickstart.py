@@ -26,7 +26,7 @@ def test_the_quickstart_runs_as_written_and_the_trained_policy_learns(tmp_path, 
     monkeypatch.chdir(tmp_path)
     Path("my_task.yaml").write_text(task)
     steps = commands()
-    assert [c[0] for c in steps] == ["validate", "compile", "audit", "train", "evaluate", "audit", "render"]
+    assert [c[0] for c in steps] == ["validate", "compile", "audit", "train", "evaluate", "audit", "render", "replay"]
     for command in steps:
         assert main(command) == 0, command
     run = Path("runs/my-steady-farm")
@@ -34,6 +34,7 @@ def test_the_quickstart_runs_as_written_and_the_trained_policy_learns(tmp_path, 
         assert (run / name).is_file(), name
     assert list((run / "tb").glob("events.out.tfevents.*"))
     assert Path("my-steady-farm.gif").stat().st_size > 0
+    assert 'id="replay-data"' in Path("my-steady-farm.html").read_text()
     # what the page says of the trained column: well above the trivial policies, most of the scripted return
     capsys.readouterr()
     assert main(["audit", "my_task.yaml", "--checkpoint", str(run / "checkpoint.pt"), "--json"]) == 0

@@ -90,6 +90,9 @@ def render_docs(results: Path | None = None, fidelity: Path | None = None,
     if results is not None and Path(results).is_file():
         docs["performance.md"] = jinja.get_template("performance.md.j2").render(**performance_context(results))
     docs["fidelity.md"] = jinja.get_template("fidelity.md.j2").render(**fidelity_context(fidelity or Path("-")))
+    from .replay_page import PAGE as REPLAY_PAGE, replay_context
+
+    docs[REPLAY_PAGE] = jinja.get_template("replay.md.j2").render(**replay_context())
     if has_baselines:
         docs[BASELINES_PAGE] = jinja.get_template("baselines.md.j2").render(**baselines_context(baselines))
         docs |= baseline_images(baselines)
