@@ -76,6 +76,7 @@ from ..runtime.global_state import GlobalState
 from ..sim.action_arrays import Unreadable, as_array
 from ..sim.spaces import check_slot_actions
 from .human import Rendering, available_render_modes, check_render_mode
+from .slot_spaces import SlotDict, slot_space, teach_torchrl
 
 STEP_INFO_KEYS = ("reward_terms/", "env/")  # the prefixes of the per-step infos, one flat key per value
 _MODES = {"next_step": AutoresetMode.NEXT_STEP, "same_step": AutoresetMode.SAME_STEP}
@@ -129,23 +130,6 @@ def slot_values(tree: Any, slot: int) -> Any:
     return {k: slot_values(v, slot) for k, v in tree.items()} if isinstance(tree, dict) else tree[slot]
 
 
-class SlotDict(spaces.Dict):
-    """A Dict action space batched over ``slots`` (each key's space has the slots first), as
-    ``gymnasium.vector.utils.batch_space`` makes it, knowing its batch size. TorchRL (0.11) turns a Dict into a
-    Composite of no batch size, which its GymWrapper refuses for a batched env; reading this space's ``slots``,
-    :func:`hivex_dsl.adapters.torchrl.teach_torchrl` gives its Composite the env's batch size."""
-
-    def __init__(self, batched: spaces.Dict, slots: int):
-        super().__init__(batched.spaces)
-        self.slots = slots
-
-
-def slot_space(single: spaces.Space, slots: int) -> spaces.Space:
-    """``single`` batched over ``slots`` (a Dict as a :class:`SlotDict`, which TorchRL is taught to read)."""
-    batched = batch_space(single, slots)
-    return SlotDict(batched, slots) if isinstance(batched, spaces.Dict) else batched
-
-
 def as_autoreset_mode(mode: Any) -> AutoresetMode:
     """An AutoresetMode from itself or its name ("next_step", "same_step"); DISABLED is not offered."""
     if isinstance(mode, AutoresetMode) and mode in _MODES.values():
@@ -196,8 +180,6 @@ class HivexVectorEnv(Rendering, VectorEnv):
         """The slots' actions (num_envs, ...); a hybrid environment's is a :class:`SlotDict`, which TorchRL, when it
         is loaded (it reads this space to build its specs), is taught to read with the env's batch size."""
         if isinstance(self._action_space, SlotDict):
-            from .torchrl import teach_torchrl
-
             teach_torchrl()
         return self._action_space
 

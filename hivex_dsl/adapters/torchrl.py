@@ -27,7 +27,6 @@ in the parallel env's infos.
 
 from __future__ import annotations
 
-import sys
 from typing import Any, Optional
 
 from gymnasium import spaces
@@ -69,28 +68,3 @@ def torchrl_env(scenario: Any = None, environment: Optional[str] = None, task: O
     return PettingZooWrapper(env, group_map=MarlGroupMapType.ALL_IN_ONE_GROUP, use_mask=True, done_on_any=False,
                              categorical_actions=True, seed=seed, device=device, return_state=return_state)
 
-
-_TAUGHT: list[bool] = []
-
-
-def teach_torchrl() -> None:
-    """Register with TorchRL's GymWrapper, if TorchRL is loaded (this never imports it), how to read a hybrid vector
-    env's :class:`~hivex_dsl.adapters.gymnasium.SlotDict` action space: a Composite of the env's batch size (slots),
-    where TorchRL 0.11 reads a Dict as a Composite of no batch size and refuses it for a batched env
-    (``spec.shape ([]) must match the env batch size``). Uses TorchRL's documented hook,
-    ``register_gym_spec_conversion``; done once."""
-    gym_lib = sys.modules.get("torchrl.envs.libs.gym")
-    if gym_lib is None or _TAUGHT:
-        return
-    from torchrl.data import Composite
-
-    from .gymnasium import SlotDict
-
-    @gym_lib.register_gym_spec_conversion(SlotDict)
-    def _slot_dict(spec: SlotDict, device: Any = None, categorical_action_encoding: bool = False,
-                   **_: Any) -> Composite:
-        return Composite({key: gym_lib._gym_to_torchrl_spec_transform(
-            space, device=device, categorical_action_encoding=categorical_action_encoding)
-            for key, space in spec.spaces.items()}, shape=(spec.slots,), device=device)
-
-    _TAUGHT.append(True)
