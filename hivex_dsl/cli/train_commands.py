@@ -27,7 +27,8 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
     p.add_argument("-o", "--output", type=Path, default=None, metavar="RUN_DIR",
                    help="run directory (default runs/<scenario name>)")
     p.add_argument("--steps", type=positive, default=None,
-                   help="agent-steps to train: decisions of every agent, as ML-Agents counts them "
+                   help="agent-steps to train: decisions of every agent, as ML-Agents counts them, rounded up "
+                        "to a whole step of every slot (worlds x agents; the last rollout stops there) "
                         "(default: the paper's max_steps)")
     p.add_argument("--seed", type=seed, default=None, help="seed of the network and the action sampling (default 0)")
     p.add_argument("--device", default=None, help="torch device: cpu, cuda or cuda:N (default cpu)")
