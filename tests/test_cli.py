@@ -224,3 +224,16 @@ def test_compile_shows_every_ending_the_expressions_too(tmp_path, capsys):
     assert main(["compile", str(scenario)]) == 0
     assert ("  ends on         fire_out; `distance_to_village_m < 100` (agent); `team_max(x_m) > 500` (world); "
             "the episode length\n") in capsys.readouterr().out
+
+
+def test_the_help_summary_names_every_command(capsys):
+    # issue 54 item 19: the summary line was written by hand and left out `vocab`
+    import re
+
+    with pytest.raises(SystemExit):
+        main(["--help"])
+    text = capsys.readouterr().out
+    summary = re.search(r"The `hivex` command: (.*?)\.\n", text, re.S).group(1)
+    listed = {name.strip() for name in summary.split("|")}
+    commands = set(re.findall(r"^    (\w+)  ", text, re.M))  # argparse's list of the commands and their help
+    assert {"validate", "vocab", "train", "evaluate"} <= commands and listed == commands

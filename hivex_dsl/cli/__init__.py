@@ -18,8 +18,6 @@ from ..base.errors import HivexError, ScenarioError, did_you_mean
 from .argtypes import positive, seed
 from .exits import EXIT_FAIL, EXIT_INTERRUPTED, EXIT_OK, EXIT_PIPE, EXIT_USAGE
 
-DESCRIPTION = ("The `hivex` command: validate | compile | run | render | audit | schema | docs | preview | bench | "
-               "list |\ntrain | evaluate.")
 FRAME_STEP = 10  # `hivex render`'s default: 61 frames of 600 decisions, 1.1 MB for WFC (the largest; 6.3 MB before)
 
 
@@ -62,7 +60,7 @@ def _reader_gone() -> int:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="hivex", description=DESCRIPTION)
+    parser = argparse.ArgumentParser(prog="hivex")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
     p = sub.add_parser("validate", help="check scenario files; report every problem as path:line:col")
@@ -134,6 +132,7 @@ def build_parser() -> argparse.ArgumentParser:
     from .train_commands import add_commands as add_train_commands
 
     add_train_commands(sub)
+    parser.description = f"The `hivex` command: {' | '.join(sub.choices)}."  # every command, as added
     return parser
 
 
