@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -237,3 +238,14 @@ def test_the_help_summary_names_every_command(capsys):
     listed = {name.strip() for name in summary.split("|")}
     commands = set(re.findall(r"^    (\w+)  ", text, re.M))  # argparse's list of the commands and their help
     assert {"validate", "vocab", "train", "evaluate"} <= commands and listed == commands
+
+
+def test_compile_prints_every_term_with_its_range(capsys, tmp_path):
+    # issue 54 item 19: the quickstart said compile prints the terms with their ranges; it printed weights only
+    assert main(["compile", "aerial_wildfire_suppression/main", "-o", str(tmp_path / "lock.json")]) == 0
+    printed = capsys.readouterr().out
+    lock = json.loads((tmp_path / "lock.json").read_text())
+    assert len(lock["scenario"]["weights"]) == len(lock["term_contracts"]) == 10
+    for name in lock["scenario"]["weights"]:
+        low, high = lock["term_contracts"][name]["range"]
+        assert re.search(rf"^ +\S+  {name} +\[{low:g}, {high:g}\]", printed, re.M), name
