@@ -146,7 +146,7 @@ def test_a_run_too_short_for_an_episode_says_so(tmp_path, capsys):
     scenario.write_text(json.dumps(short_scenario("wind_farm_control", episode_length=100)))
     assert main(["train", str(scenario), "-o", str(tmp_path / "run"), "--no-progress", "--steps", "64",
                  "--set", "num_worlds=1", "--set", "hidden_units=8", "--set", "buffer_size=64",
-                 "--set", "batch_size=64"]) == 0
+                 "--set", "batch_size=64", "--json"]) == 0
     out, err = capsys.readouterr()
     assert json.loads(out)["final_return"] is None
     # 64 agent-steps of 8 turbines in 1 world: 8 of the episode's 100 steps
@@ -220,3 +220,25 @@ def test_progress_off_a_terminal_prints_a_line_every_so_often(capsys):
     silent.advance(500, 1.0)
     silent.close()
     assert capsys.readouterr().err == ""
+
+
+def test_train_ends_with_a_summary_and_the_next_command_and_evaluate_shows_weighted_terms(tmp_path, capsys):
+    # issue 54 item 18: train dumped summary.json raw; evaluate printed unweighted term rows unlabelled
+    scenario = tmp_path / "wfc.yaml"
+    scenario.write_text(json.dumps(short_scenario("wind_farm_control", episode_length=8)
+                                   | {"weights": {"generate_energy": 0.5}}))
+    run = tmp_path / "run"
+    assert main(["train", str(scenario), "-o", str(run), "--no-progress", "--steps", "64", "--set", "num_worlds=1",
+                 "--set", "hidden_units=8", "--set", "buffer_size=64", "--set", "batch_size=64"]) == 0
+    out = capsys.readouterr().out
+    assert not out.lstrip().startswith("{") and "trained 64 agent-steps" in out
+    assert f"next: hivex evaluate {run / 'checkpoint.pt'}" in out
+    assert main(["evaluate", str(run / "checkpoint.pt"), "--episodes", "1", "--json"]) == 0
+    report = json.loads(capsys.readouterr().out)
+    assert main(["evaluate", str(run / "checkpoint.pt"), "--episodes", "1"]) == 0
+    table = capsys.readouterr().out
+    unweighted = report["reward_terms"]["generate_energy"]["mean"]
+    row = next(line for line in table.splitlines() if "generate_energy" in line)
+    assert row.startswith("term generate_energy x0.5 (weighted)")
+    assert float(row.split()[4]) == pytest.approx(0.5 * unweighted, abs=1e-3)
+    assert report["weighted_reward_terms"]["generate_energy"]["mean"] == pytest.approx(report["return"]["mean"])
