@@ -109,7 +109,7 @@ def record_verdict(data: dict[str, Any], published: dict[str, float] | None) -> 
     if published is None or seeds == 1:
         return own
     pooled = pooled_return(data)
-    return f"{own}; {seeds} seeds pooled ({pooled['mean']:.2f}): {verdict(pooled, published)}"
+    return f"{own}; {seeds} seeds pooled ({pooled['mean']:,.2f}): {verdict(pooled, published)}"
 
 
 def _seeds(data: dict[str, Any]) -> dict[str, Any] | None:
