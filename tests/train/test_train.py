@@ -63,7 +63,7 @@ def test_the_commands_train_and_evaluate(tmp_path, capsys):
     run = tmp_path / "run"
     args = ["train", str(scenario), "-o", str(run), "--steps", "256", "--seed", "3", "--no-progress",
             "--set", "num_worlds=1", "--set", "hidden_units=8", "--set", "buffer_size=64",
-            "--set", "batch_size=64"]
+            "--set", "batch_size=64", "--json"]
     assert main(args) == 0
     summary = json.loads(capsys.readouterr().out)
     assert summary["agent_steps"] == 256 and summary["seed"] == 3
