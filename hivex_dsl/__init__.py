@@ -7,12 +7,9 @@
 
 from __future__ import annotations
 
-from . import _moved
 from .adapters.factory import ScenarioLike, parallel_env, vector_env
 from .base.errors import ActionError, HivexError, KeywordError, ResetNeeded, ScenarioError
 from .compiler import CompiledScenario, compile, compile_all
-
-_moved.install()  # old module paths (hivex_dsl.errors, hivex_dsl.spec, ...) import their moved modules
 
 __version__ = "0.1.0"
 
@@ -24,11 +21,6 @@ def _register_gymnasium_ids() -> None:
 
 
 _register_gymnasium_ids()
-
-
-def __getattr__(name: str):
-    """``hivex_dsl.errors`` and the other old top-level paths of :mod:`hivex_dsl._moved`, as attributes."""
-    return _moved.moved_attribute(name)
 
 
 __all__ = ["ActionError", "CompiledScenario", "HivexError", "ResetNeeded", "ScenarioError", "compile",

@@ -278,3 +278,17 @@ def test_scripted_policies_decide_in_float64_whatever_the_observation_dtype():
     assert as_dict["vector"].dtype == np.float64 and np.array_equal(as_dict["vector"], vector)
     assert as_dict["camera"] is camera and as_array.dtype == np.float64
     assert vector.dtype == np.float32  # the caller's array is not changed
+
+
+def test_a_trained_policy_below_all_zeros_is_flagged():
+    # issue 54 item 18: `hivex audit --checkpoint` raised nothing for a trained policy scoring below doing nothing.
+    # On OPC, full throttle straight ahead runs the vessels over the border (-23.6 in 300 steps); doing nothing, 0.
+    compiled = hivex_dsl.compile({"hivex": 1, "environment": "ocean_plastic_collection", "episode_length": 300})
+    full_throttle = lambda obs: np.tile(np.array([1, 0]), (1, compiled.agents, 1))  # noqa: E731
+    audit = audit_scenario(compiled, episodes=1, trained=lambda c: full_throttle)
+    flagged = [f for f in audit.flags if f.kind == "below_zeros"]
+    assert [f.policy for f in flagged] == ["trained"]
+    assert audit.rollouts["trained"].returns.mean() < audit.rollouts["zeros"].returns.mean() == 0
+    assert "FLAG below_zeros" in describe(audit.as_dict())
+    scripted = audit_scenario(compiled, episodes=1, trained=lambda c: "scripted")
+    assert scripted.rollouts["trained"].returns.mean() > 0 and not [f for f in scripted.flags if f.kind == "below_zeros"]

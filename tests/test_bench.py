@@ -6,6 +6,7 @@ import json
 
 import pytest
 
+from hivex_dsl.compiler import registry
 from hivex_dsl.evaluation import bench
 from hivex_dsl.cli import main
 from hivex_dsl.docsgen import render_docs
@@ -29,6 +30,13 @@ def test_bench_measures_both_adapters_in_one_core_children_and_prints_json(capsy
     assert "env_steps_vs_reference" not in parallel
     # the API floor is measured for the ParallelEnv only; it is a part of the step, so below its time
     assert vector["api_floor_us"] is None and 0 < parallel["api_floor_us"] < 1e6 / parallel["env_steps_per_s"]
+
+
+@pytest.mark.parametrize("env_id", list(registry.environments()))
+def test_the_parallel_measurement_and_its_api_floor_run_on_every_environment(env_id):
+    # issue 54 item 14: the API floor's stand-in composer lacked the weights the running-mean statistics read (OPC)
+    m = bench.measure_parallel(env_id, 0.02)
+    assert m.env_steps_per_s > 0 and m.api_floor_us > 0
 
 
 def test_children_run_on_one_thread():

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -224,3 +225,27 @@ def test_compile_shows_every_ending_the_expressions_too(tmp_path, capsys):
     assert main(["compile", str(scenario)]) == 0
     assert ("  ends on         fire_out; `distance_to_village_m < 100` (agent); `team_max(x_m) > 500` (world); "
             "the episode length\n") in capsys.readouterr().out
+
+
+def test_the_help_summary_names_every_command(capsys):
+    # issue 54 item 19: the summary line was written by hand and left out `vocab`
+    import re
+
+    with pytest.raises(SystemExit):
+        main(["--help"])
+    text = capsys.readouterr().out
+    summary = re.search(r"The `hivex` command: (.*?)\.\n", text, re.S).group(1)
+    listed = {name.strip() for name in summary.split("|")}
+    commands = set(re.findall(r"^    (\w+)  ", text, re.M))  # argparse's list of the commands and their help
+    assert {"validate", "vocab", "train", "evaluate"} <= commands and listed == commands
+
+
+def test_compile_prints_every_term_with_its_range(capsys, tmp_path):
+    # issue 54 item 19: the quickstart said compile prints the terms with their ranges; it printed weights only
+    assert main(["compile", "aerial_wildfire_suppression/main", "-o", str(tmp_path / "lock.json")]) == 0
+    printed = capsys.readouterr().out
+    lock = json.loads((tmp_path / "lock.json").read_text())
+    assert len(lock["scenario"]["weights"]) == len(lock["term_contracts"]) == 10
+    for name in lock["scenario"]["weights"]:
+        low, high = lock["term_contracts"][name]["range"]
+        assert re.search(rf"^ +\S+  {name} +\[{low:g}, {high:g}\]", printed, re.M), name

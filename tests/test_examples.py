@@ -72,3 +72,22 @@ def test_first_run_trains_evaluates_and_compares_with_the_paper(tmp_path, capsys
     assert 'id="replay-data"' in page.read_text()
     if importlib.util.find_spec("matplotlib"):
         assert (tmp_path / "run" / "curve.png").read_bytes()[:4] == b"\x89PNG"
+
+
+def test_first_run_never_replaces_an_earlier_run(tmp_path, monkeypatch, capsys):
+    # issue 54 item 18: make run overwrote runs/first-run silently, and its final return was a mid-run value
+    pytest.importorskip("torch")
+    monkeypatch.chdir(tmp_path)
+    earlier = tmp_path / "runs" / "first-run"
+    earlier.mkdir(parents=True)
+    (earlier / "summary.json").write_text('{"mine": 1}')
+    tiny = ["--steps", "64", "--episodes", "1", "--set", "num_worlds=1", "--set", "buffer_size=64",
+            "--set", "batch_size=64", "--set", "hidden_units=8"]
+    first_run = load("first_run")
+    with pytest.raises(SystemExit, match="is not empty"):
+        first_run.main(tiny + ["-o", str(earlier)])
+    result = first_run.main(tiny)
+    assert (earlier / "summary.json").read_text() == '{"mine": 1}' and list(earlier.iterdir()) == [earlier / "summary.json"]
+    assert result["run_dir"] == str(Path("runs") / "first-run-2") and (tmp_path / "runs" / "first-run-2" / "checkpoint.pt").is_file()
+    assert "runs/first-run holds an earlier run (kept): this run goes to runs/first-run-2" in capsys.readouterr().err
+    assert result["final_return"] == result["trained"]["mean"]

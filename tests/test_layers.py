@@ -23,8 +23,8 @@ NAME = PACKAGE.name
 # beside train/ (it plays a checkpoint and train never imports it).
 LAYERS = {"base": 0, "lang": 1, "sim": 2, "compiler": 3, "runtime": 4, "envs": 5, "adapters": 6, "zoo": 6,
           "evaluation": 7, "train": 8, "replay": 8, "docsgen": 9, "cli": 10}
-ABOVE_ALL = len(set(LAYERS.values()))  # the facade (hivex_dsl/__init__.py) and its table of old paths (_moved.py)
-TOP_MODULES = {"__init__.py", "_moved.py"}  # all that may sit loose at the top of hivex_dsl/
+ABOVE_ALL = len(set(LAYERS.values()))  # the facade (hivex_dsl/__init__.py) and the public path testing.py
+TOP_MODULES = {"__init__.py", "testing.py"}  # all that may sit loose at the top of hivex_dsl/
 DATA_FOLDERS = {"data"}  # package data, no layer
 
 
@@ -92,9 +92,9 @@ def test_the_modules_are_found():
 
 
 def test_every_import_names_a_module_of_the_package():
-    """An import inside the package names a real module (old paths, kept for users by _moved, are not used here)."""
-    unknown = [f"{i.file}:{i.line}: imports {i.target}, which is no module of the package (an old path? see "
-               f"{NAME}/_moved.py)" for i in IMPORTS if i.target not in MODULES]
+    """An import inside the package names a real module."""
+    unknown = [f"{i.file}:{i.line}: imports {i.target}, which is no module of the package"
+               for i in IMPORTS if i.target not in MODULES]
     assert not unknown, "\n".join(unknown)
 
 

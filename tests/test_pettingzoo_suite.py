@@ -8,11 +8,15 @@ import os
 import sys
 from functools import partial
 
+import numpy as np
 import pytest
+from gymnasium import spaces
 from pettingzoo.test import (api_test, max_cycles_test, parallel_api_test, parallel_seed_test, render_test,
                              seed_test)
 
+from hivex_dsl import ActionError
 from hivex_dsl.compiler import registry
+from hivex_dsl.sim.spaces import describe_space
 
 ENV_IDS = list(registry.environments())
 CYCLES = 40  # steps per episode in these tests: enough for every agent to act, small enough for CI
@@ -84,3 +88,31 @@ def test_without_pygame_human_is_not_advertised_and_asking_for_it_says_what_to_i
     assert env.render().ndim == 3
     with pytest.raises(ImportError, match=r'render_mode="human" needs pygame: pip install "hivex-dsl\[window\]"'):
         module(env_id).parallel_env(max_cycles=CYCLES, render_mode="human")
+
+
+def _outside(space):
+    """An action just outside ``space`` (every entry one past its largest value)."""
+    if isinstance(space, spaces.Dict):
+        return {key: _outside(part) for key, part in space.spaces.items()}
+    if isinstance(space, spaces.Discrete):
+        return int(space.start + space.n)
+    if isinstance(space, spaces.MultiDiscrete):
+        return np.asarray(space.nvec, np.int64)
+    return np.asarray(space.high, space.dtype) + 1
+
+
+@pytest.mark.parametrize("env_id", ENV_IDS)
+def test_the_aec_env_refuses_a_bad_action_at_once_for_the_agent_that_gave_it(env_id):
+    # issue 54 item 10: the bad action was kept and raised only at the cycle's last agent, on every retry
+    aec = module(env_id).env(max_cycles=5)
+    aec.reset(seed=0)
+    agents = list(aec.agents)
+    for turn, agent in enumerate(agents):
+        assert aec.agent_selection == agent
+        space = aec.action_space(agent)
+        with pytest.raises(ActionError, match=agent) as refused:
+            aec.step(_outside(space))
+        assert describe_space(space) in str(refused.value)
+        assert aec.agent_selection == agent and aec.unwrapped.core.clock.max() == 0  # nothing changed
+        aec.step(space.sample())  # the same agent then plays a good action, and the cycle goes on
+    assert aec.unwrapped.core.clock.max() == 1 and aec.agent_selection == agents[0]

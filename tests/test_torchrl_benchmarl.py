@@ -173,3 +173,29 @@ def test_the_readme_s_torchrl_and_benchmarl_lines_run():
     assert namespace["env"].group_map == {"agents": ["vessel_0", "vessel_1", "vessel_2"]}
     exec(rows["BenchMARL"], namespace)
     assert namespace["task"].max_steps(namespace["env"]) == 500
+
+
+@pytest.mark.ecosystem("torchrl")
+@pytest.mark.parametrize("flat", [False, True], ids=["raw", "flat"])
+@pytest.mark.parametrize("env_id", ENV_IDS)
+def test_torchrl_s_gym_wrapper_rolls_out_over_the_same_step_vector_env(env_id, flat):
+    # issue 54 item 15: nested step infos and a hybrid Dict action space broke GymWrapper on every environment
+    pytest.importorskip("torchrl")
+    from torchrl.envs import GymWrapper
+
+    from hivex_dsl.adapters.flat import flat_vector_env
+
+    compiled = hivex_dsl.compile({"hivex": 1, "environment": env_id, "episode_length": 4})
+    venv = hivex_dsl.vector_env(compiled, num_worlds=2, autoreset_mode="same_step")
+    env = GymWrapper(flat_vector_env(venv) if flat else venv)
+    env.set_seed(0)
+    steps = 10
+    rollout = env.rollout(steps, break_when_any_done=False)
+    assert tuple(rollout.batch_size) == (venv.num_envs, steps)
+    nxt = rollout["next"]
+    # every slot's world ran out of its 4 steps twice in 10 (more endings where an agent's own episode ended)
+    assert (nxt["done"].squeeze(-1).sum(dim=1) >= 2).all()
+    # the per-step reward terms are read from the infos: the reward is their weighted sum
+    weighted = sum(compiled.weights[name] * nxt[f"reward_terms/{name}"].double()
+                   for name in compiled.weights if f"reward_terms/{name}" in nxt.keys())
+    np.testing.assert_allclose(nxt["reward"].squeeze(-1).double().numpy(), weighted.numpy(), rtol=1e-5, atol=1e-5)

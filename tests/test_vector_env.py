@@ -37,7 +37,7 @@ def test_next_step_autoreset_and_episode_infos():
     obs, rewards, terminated, truncated, infos = venv.step(np.zeros(6, np.int64))
     np.testing.assert_array_equal(rewards, 0.0)
     assert not truncated.any() and "hivex_episode" not in infos and "active" not in infos
-    np.testing.assert_array_equal(infos["reward_terms"]["generate_energy"], 0.0)  # every step has its terms
+    np.testing.assert_array_equal(infos["reward_terms/generate_energy"], 0.0)  # every step has its terms
     assert not np.array_equal(obs, last_obs)  # new layout of headings and wind after the reset
 
 

@@ -22,7 +22,14 @@ lengths right. Both of Gymnasium's autoreset modes are offered (``autoreset_mode
 - NEXT_STEP (default): a slot that ended returns its last observation; the next ``step`` ignores
   its action and returns its first observation with reward 0 and no ending.
 - SAME_STEP: a slot that ended returns its first observation at once; the last one is in
-  ``infos["final_obs"]`` (an object array, ``None`` elsewhere) under the mask ``infos["_final_obs"]``.
+  ``infos["final_obs"]`` (an object array, ``None`` elsewhere) under the mask ``infos["_final_obs"]``, and the
+  ended step's per-step infos again in ``infos["final_info"]`` (mask ``infos["_final_info"]``), as Gymnasium's
+  own vector envs give them (TorchRL's GymWrapper reads the ended step's values there).
+
+Every step's infos hold one flat (num_envs,) array per value: ``infos["reward_terms/<term>"]`` the unweighted value
+of every active reward term, and ``infos["env/<fact>"]`` an environment's own per-step facts (WRM's
+``impossible_actions``). Flat, not nested: TorchRL's GymWrapper reads every step info into its specs and cannot
+take a nested dict there.
 
 A slot that restarts (NEXT_STEP) on the very step its world ends is reported truncated with an
 empty episode (return 0, length 0), as ``RecordEpisodeStatistics`` counts it too. When every world
@@ -58,6 +65,7 @@ from __future__ import annotations
 from typing import Any, Optional
 
 import numpy as np
+from gymnasium import spaces
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
@@ -68,7 +76,9 @@ from ..runtime.global_state import GlobalState
 from ..sim.action_arrays import Unreadable, as_array
 from ..sim.spaces import check_slot_actions
 from .human import Rendering, available_render_modes, check_render_mode
+from .slot_spaces import SlotDict, slot_space, teach_torchrl
 
+STEP_INFO_KEYS = ("reward_terms/", "env/")  # the prefixes of the per-step infos, one flat key per value
 _MODES = {"next_step": AutoresetMode.NEXT_STEP, "same_step": AutoresetMode.SAME_STEP}
 
 
@@ -154,7 +164,7 @@ class HivexVectorEnv(Rendering, VectorEnv):
         self.single_observation_space = self.core.sim.observation_space
         self.single_action_space = self.core.sim.action_space
         self.observation_space = batch_space(self.single_observation_space, self.num_envs)
-        self.action_space = batch_space(self.single_action_space, self.num_envs)
+        self._action_space = slot_space(self.single_action_space, self.num_envs)
         self.render_mode = render_mode
         self.autoreset_mode = mode
         self.metadata = {"autoreset_mode": mode, "render_modes": available_render_modes(),
@@ -164,6 +174,14 @@ class HivexVectorEnv(Rendering, VectorEnv):
         self.global_state = GlobalState.of(self.core)
         self.single_state_space = self.global_state.space
         self.state_space = batch_space(self.single_state_space, num_worlds)
+
+    @property
+    def action_space(self) -> spaces.Space:
+        """The slots' actions (num_envs, ...); a hybrid environment's is a :class:`SlotDict`, which TorchRL, when it
+        is loaded (it reads this space to build its specs), is taught to read with the env's batch size."""
+        if isinstance(self._action_space, SlotDict):
+            teach_torchrl()
+        return self._action_space
 
     def state(self, per_slot: bool = False) -> np.ndarray:
         """(num_worlds, K) float32: every world's global state at the last decision (see the module and
@@ -213,7 +231,7 @@ class HivexVectorEnv(Rendering, VectorEnv):
             self._pending_worlds = np.zeros(self.num_worlds, bool)
             self._pending_agents = np.zeros(shape, bool)
             zeros = np.zeros(self.num_envs, bool)
-            infos = {"reward_terms": {name: np.zeros(self.num_envs) for name in core.term_sums}}
+            infos = {f"reward_terms/{name}": np.zeros(self.num_envs) for name in core.term_sums}
             return self._slots(observations), np.zeros(self.num_envs), zeros, zeros.copy(), infos
         respawning = self._pending_agents & ~restart[:, None]
         restarting = restart if restart.any() else None
@@ -247,6 +265,8 @@ class HivexVectorEnv(Rendering, VectorEnv):
             for slot in np.flatnonzero(done):
                 infos["final_obs"][slot] = slot_values(final, slot)
             infos["_final_obs"] = done
+            infos["final_info"] = {k: v for k, v in infos.items() if k.startswith(STEP_INFO_KEYS)}
+            infos["_final_info"] = done
             core.respawn_agents(result.ended & ~ending[:, None])
             observations = core.reset_worlds(ending) if ending.any() else core.observe()
         return (self._slots(observations), result.rewards.reshape(-1), result.terminated.reshape(-1),
@@ -254,9 +274,8 @@ class HivexVectorEnv(Rendering, VectorEnv):
 
     def _infos(self, result: Transition, ended: np.ndarray) -> dict[str, Any]:
         core = self.core
-        infos: dict[str, Any] = {"reward_terms": {k: v.reshape(-1) for k, v in result.terms.items()}}
-        if result.env_info:
-            infos["env"] = {k: np.asarray(v).reshape(-1) for k, v in result.env_info.items()}
+        infos: dict[str, Any] = {f"reward_terms/{k}": v.reshape(-1) for k, v in result.terms.items()}  # STEP_INFO_KEYS
+        infos |= {f"env/{k}": np.asarray(v).reshape(-1) for k, v in result.env_info.items()}
         if ended.any():
             infos["hivex_episode"] = {
                 "return": np.where(ended, core.returns, 0.0).reshape(-1),

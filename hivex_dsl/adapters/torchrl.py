@@ -67,3 +67,4 @@ def torchrl_env(scenario: Any = None, environment: Optional[str] = None, task: O
     env = marl_view(parallel_env(compiled, render_mode=render_mode, split=split))
     return PettingZooWrapper(env, group_map=MarlGroupMapType.ALL_IN_ONE_GROUP, use_mask=True, done_on_any=False,
                              categorical_actions=True, seed=seed, device=device, return_state=return_state)
+

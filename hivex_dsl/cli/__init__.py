@@ -19,8 +19,6 @@ from ..base.errors import HivexError, ScenarioError, did_you_mean
 from .argtypes import positive, seed
 from .exits import EXIT_FAIL, EXIT_INTERRUPTED, EXIT_OK, EXIT_PIPE, EXIT_USAGE
 
-DESCRIPTION = ("The `hivex` command: validate | compile | run | render | audit | schema | docs | preview | bench | "
-               "list |\ntrain | evaluate | replay.")
 FRAME_STEP = 10  # `hivex render`'s default: 61 frames of 600 decisions, 1.1 MB for WFC (the largest; 6.3 MB before)
 
 
@@ -63,7 +61,7 @@ def _reader_gone() -> int:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="hivex", description=DESCRIPTION)
+    parser = argparse.ArgumentParser(prog="hivex")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
     p = sub.add_parser("validate", help="check scenario files; report every problem as path:line:col")
@@ -138,6 +136,7 @@ def build_parser() -> argparse.ArgumentParser:
     from .replay_command import add_command as add_replay_command
 
     add_replay_command(sub)
+    parser.description = f"The `hivex` command: {' | '.join(sub.choices)}."  # every command, as added
     return parser
 
 

@@ -27,7 +27,8 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
     p.add_argument("-o", "--output", type=Path, default=None, metavar="RUN_DIR",
                    help="run directory (default runs/<scenario name>)")
     p.add_argument("--steps", type=positive, default=None,
-                   help="agent-steps to train: decisions of every agent, as ML-Agents counts them "
+                   help="agent-steps to train: decisions of every agent, as ML-Agents counts them, rounded up "
+                        "to a whole step of every slot (worlds x agents; the last rollout stops there) "
                         "(default: the paper's max_steps)")
     p.add_argument("--seed", type=seed, default=None, help="seed of the network and the action sampling (default 0)")
     p.add_argument("--device", default=None, help="torch device: cpu, cuda or cuda:N (default cpu)")
@@ -53,6 +54,7 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
                    help="replace an earlier run in RUN_DIR (without it, or --resume, a used RUN_DIR is refused)")
     p.add_argument("--no-progress", action="store_true",
                    help="no progress bars (of training and of --eval-episodes; shown only on a terminal anyway)")
+    p.add_argument("--json", action="store_true", help="print a single run's summary as JSON (summary.json's fields)")
     p.set_defaults(handler=cmd_train)
 
     p = sub.add_parser("evaluate", help="test a trained checkpoint on the test seeds, beside the published result")
@@ -124,7 +126,7 @@ def cmd_train(args) -> int:
         result = train_point(points[0].resolved(), configs[0].model_dump(mode="json"), str(run_dir),
                              args.eval_episodes, progress=not args.no_progress, resume=args.resume,
                              overwrite=args.force)
-        print(json.dumps(result, indent=2))
+        print(json.dumps(result, indent=2) if args.json else format_run(result, run_dir, args.file))
         _say_if_no_episode_ended(result, points[0], configs[0])
         return _exit_code([result], run_dir)
     from ..train.grid import format_table, run_grid
@@ -134,6 +136,25 @@ def cmd_train(args) -> int:
     print(format_table(results))
     print(f"wrote {run_dir / 'results.json'}")
     return _exit_code(results, run_dir)
+
+
+def format_run(result: dict, run_dir: Path, scenario: Path) -> str:
+    """A finished (or stopped) run in a few lines: what it trained, where it wrote, and the command to run next."""
+    shown = "no episode ended" if result["final_return"] is None else \
+        f"last mean episode return {result['final_return']:,.2f}"
+    verb = "stopped early after" if result["stopped_early"] else "trained"
+    lines = [f"{result['scenario']}: {verb} {result['agent_steps']:,} agent-steps in {result['wall_s']:,.1f} s "
+             f"({shown})",
+             f"run directory {run_dir}: checkpoint.pt, curve.json, summary.json, tb/ (tensorboard --logdir "
+             f"{run_dir / 'tb'})"]
+    if "test_return" in result:
+        test = result["test_return"]
+        lines.append(f"test seeds: return {test['mean']:,.2f} ± {test['std']:,.2f} per agent and episode "
+                     "(evaluation.json)")
+    checkpoint = run_dir / "checkpoint.pt"
+    lines.append(f"next: hivex evaluate {checkpoint} --episodes 10   (the test seeds, beside the published result)")
+    lines.append(f"      hivex render {scenario} --checkpoint {checkpoint} -o episode.gif   (watch it play)")
+    return "\n".join(lines)
 
 
 def _say_if_no_episode_ended(result: dict, compiled, cfg: PPOConfig) -> None:

@@ -17,7 +17,8 @@ return). It raises a :class:`Flag` for what usually means a reward bug:
 - ``beats_published``: where the scenario is a published cell with a PPO return above 0.5, the all-zeros
   or random policy earns more than that return plus 10%;
 - ``published_scale``: the all-zeros or random policy's mean return is more than 10 times the published one
-  in size (a scripted policy may well outdo the paper's PPO).
+  in size (a scripted policy may well outdo the paper's PPO);
+- ``below_zeros``: with ``--checkpoint``, the trained policy earns less than the all-zeros policy.
 
 With ``--checkpoint`` a policy trained by `hivex train` is rolled beside them (as 'trained'): its column shows what
 the reward paid a learner, and the contract flags check its values too (the published ones concern only the
@@ -154,7 +155,20 @@ def _policies(compiled: CompiledScenario, trained) -> dict[str, Union[str, Polic
 
 def find_flags(audit: ScenarioAudit) -> list[Flag]:
     return (_action_independent(audit) + _first_step(audit) + _dominant(audit) + _contracts(audit)
-            + _against_published(audit))
+            + _against_published(audit) + _trained_below_zeros(audit))
+
+
+def _trained_below_zeros(audit: ScenarioAudit) -> list[Flag]:
+    """A trained policy (``--checkpoint``) that earns less than doing nothing learned the wrong thing, or too
+    little: a reward, or a training, to look at."""
+    if TRAINED not in audit.rollouts:
+        return []
+    ours, zeros = float(audit.rollouts[TRAINED].returns.mean()), float(audit.rollouts["zeros"].returns.mean())
+    if ours >= zeros - TOLERANCE * max(1.0, abs(zeros)):
+        return []
+    return [Flag("below_zeros", policy=TRAINED, message=(
+        f"the trained policy earns {ours:.4g} per agent and episode, less than the all-zeros policy ({zeros:.4g}): "
+        "it learned to lose reward, or not enough; check the reward's signs and the training's length"))]
 
 
 def _action_independent(audit: ScenarioAudit) -> list[Flag]:

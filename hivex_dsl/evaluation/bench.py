@@ -145,6 +145,21 @@ class _ReplayedSimulator:
         return self.observations
 
 
+class _ReplayedComposer:
+    """A reward composer that returns one recorded step's rewards and term values whatever it is asked; the rest
+    of the real composer (its weights, active terms, clock) stays readable, as the runtime reads it every step
+    (the running-mean statistics weigh the terms with ``weights``)."""
+
+    def __init__(self, composer: Any, rewards: np.ndarray, terms: dict):
+        self._composer, self._rewards, self._terms = composer, rewards, terms
+
+    def __call__(self, prev: Any, new: Any, actions: Any, params: Any, shape: tuple) -> tuple[np.ndarray, dict]:
+        return self._rewards, self._terms
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self._composer, name)
+
+
 def replay_one_step(env: Any, actions: Any) -> None:
     """Make a ParallelEnv's engine replay one real step with (1, agents, ...) ``actions`` from now on.
 
@@ -157,7 +172,7 @@ def replay_one_step(env: Any, actions: Any) -> None:
     state, outcome = core.sim.step(core.state, actions, core.rng)
     rewards, terms = core.composer(core.state, state, actions, core.compiled.params, core.shape)
     core.sim = _ReplayedSimulator(core.sim, state, outcome, core.sim.observe(state))
-    core.composer = lambda prev, new, acts, params, shape: (rewards, terms)
+    core.composer = _ReplayedComposer(core.composer, rewards, terms)
     core.state = state
 
 

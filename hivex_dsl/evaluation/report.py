@@ -52,8 +52,11 @@ def describe_compiled(compiled: CompiledScenario) -> str:
     ]
     width = max(len(k) for k, _ in rows)
     lines = [f"{compiled.name}  ({compiled.source})"] + [f"  {k:<{width}}  {v}" for k, v in rows]
-    lines.append("  reward weights (task column with overrides):")
-    lines += [f"    {w:>10g}  {term}" + _weight_note(compiled, term, w) for term, w in compiled.weights.items()]
+    lines.append("  reward weights (task column with overrides), each term's range per step:")
+    ranges = {c.name: f"[{c.low:g}, {c.high:g}]" for c in compiled.term_contracts}
+    width = max(map(len, compiled.weights), default=0)
+    lines += [f"    {w:>10g}  {term:<{width}}  {ranges.get(term, '')}" + _weight_note(compiled, term, w)
+              for term, w in compiled.weights.items()]
     if compiled.expressions is not None and compiled.expressions.terms:
         lines.append("  expression terms:")
         lines += [f"    {t.contract.name} = {t.contract.equation}" for t in compiled.expressions.terms]

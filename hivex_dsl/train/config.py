@@ -34,7 +34,8 @@ runs 12 environments), ``max_grad_norm`` (gradient clipping; 0, the default, cli
 baselines recorded before it became the default clipped at 0.5 and their commands say so), ``checkpoint_every``
 and ``keep_checkpoints`` (agent-steps between checkpoints, how many are kept), ``seed`` (torch and sampling;
 the environment's seeds are the scenario's), ``device``, ``torch_threads`` (``auto``, the default: the
-machine's cores up to 8, :meth:`PPOConfig.threads`; on 2 cores the camera environments train 1.4-1.8x faster
+machine's free cores up to 8, :func:`free_cores`: those this process may use less the share the 1-minute load
+average keeps busy, since threads beyond the free cores slow a run down many times over; on 2 quiet cores the camera environments train 1.4-1.8x faster
 on both than on one; set 1 for concurrent runs on a shared machine, and a number to reproduce a record exactly,
 since the thread count can change the last bits of torch's reductions), ``precision`` (``exact``, the
 default: float32 everywhere; ``bf16``: the update's and the rollout's forward passes under bfloat16
@@ -157,12 +158,11 @@ class PPOConfig(StrictModel):
         return None
 
     def threads(self) -> int:
-        """The torch threads this run uses: ``torch_threads``, or for ``auto`` this machine's cores (at most
-        :data:`MAX_AUTO_THREADS`; the cores this process may use where the OS says)."""
+        """The torch threads this run uses: ``torch_threads``, or for ``auto`` this machine's free cores (at most
+        :data:`MAX_AUTO_THREADS`, at least 1; :func:`free_cores`)."""
         if self.torch_threads != "auto":
             return self.torch_threads
-        cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
-        return max(1, min(cores, MAX_AUTO_THREADS))
+        return max(1, min(free_cores(), MAX_AUTO_THREADS))
 
     def rollout_length(self, slots: int) -> int:
         """Steps of every slot per update: ``buffer_size // slots`` (at least 1), at most ``time_horizon``."""
@@ -172,6 +172,20 @@ class PPOConfig(StrictModel):
 def has_paper_hyperparameters(environment: str) -> bool:
     """Whether ``hyperparams/<environment>.yaml`` ships (the paper's five do; a new environment need not)."""
     return (HYPERPARAMS / f"{environment}.yaml").is_file()
+
+
+def free_cores() -> int:
+    """The cores this process may use (its CPU affinity where the OS says, else the machine's) less the share the
+    1-minute load average keeps busy: load / the machine's cores of them, rounded; at least 1. A quiet machine
+    frees them all; on 2 cores at load 7 (four busy loops and more), one."""
+    machine = os.cpu_count() or 1
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else machine
+    try:
+        load = os.getloadavg()[0]
+    except (AttributeError, OSError):  # no load average on this OS: every core counts as free
+        load = 0.0
+    busy = round(cores * min(1.0, max(0.0, load) / machine))
+    return max(1, cores - busy)
 
 
 def paper_defaults(environment: str) -> dict[str, Any]:

@@ -75,6 +75,7 @@ def play(compiled: CompiledScenario, agent: torch.nn.Module, episodes: int, spli
         done = rollout(compiled, network_policy(agent, compiled.agents, deterministic), episodes, split,
                        progress=EpisodeBar(shown, decisions))
     return {"return": done.returns.reshape(-1), "reward_terms": {k: v.reshape(-1) for k, v in done.terms.items()},
+            "weighted_reward_terms": {k: done.weighted(k).reshape(-1) for k in done.terms},
             "statistics": {k: v.reshape(-1) for k, v in done.statistics.items()}, "pooled": done.pooled()}
 
 
@@ -111,12 +112,15 @@ def evaluate(checkpoint: str | Path, scenario: CompiledScenario | None = None, s
             "statistics": {k: _spread(v) | ({"pooled": played["pooled"][k]} if k in played["pooled"] else {})
                            for k, v in played["statistics"].items()},
             "reward_terms": {k: _spread(v) for k, v in played["reward_terms"].items()},
+            "weighted_reward_terms": {k: _spread(v) for k, v in played["weighted_reward_terms"].items()},
+            "weights": {k: compiled.weights[k] for k in played["reward_terms"]},
             "published": _published(compiled), "caveat": published.caveat(compiled)}
 
 
 def format_report(report: dict[str, Any]) -> str:
     """A table: ours (mean, std) beside the published (mean, std) of the return and every statistic (a running
-    mean's mean in its pooled form, :func:`hivex_dsl.evaluation.audit.compared`)."""
+    mean's mean in its pooled form, :func:`hivex_dsl.evaluation.audit.compared`), then each reward term's weighted
+    episode sum (its weight times its sum, as `hivex audit` shows it; they add up to the return)."""
     cell = report["published"] or {"return": None, "statistics": {}}
     lines = [f"{report['scenario']}  {report['split']} seed {report['seed']}, {report['episodes']} episodes "
              f"({report['agent_episodes']} agent episodes), {report['actions']} actions, "
@@ -131,8 +135,8 @@ def format_report(report: dict[str, Any]) -> str:
     for name, ours in report["statistics"].items():
         paper = next((v for k, v in cell["statistics"].items() if k.split("/", 1)[-1] == name), None)
         lines.append(row(name, ours, paper))
-    for name, ours in report["reward_terms"].items():
-        lines.append(row(f"term {name}", ours, None))
+    for name, ours in report["weighted_reward_terms"].items():  # as `hivex audit` shows them: weight x episode sum
+        lines.append(row(f"term {name} x{report['weights'][name]:g} (weighted)", ours, None))
     if report["published"] is None:
         lines.append(f"(no published result: {report['caveat']})" if report.get("caveat") else
                      "(the paper published no result for this task and level)")

@@ -2,13 +2,16 @@
 
 from __future__ import annotations
 
+import sys
+import time
 from pathlib import Path
-from typing import Any
+from typing import Any, Callable
 
 import numpy as np
 
 from ..sim.statistics import pooled
 
+LINE_EVERY_S = 30.0  # off a terminal, a progress line this often
 EPISODE_KEYS = (("hivex_episode", "_hivex_episode"), ("episode", "_episode"))
 
 
@@ -98,20 +101,38 @@ class ScalarLog:
 
 class Progress:
     """The shared bar (:func:`hivex_dsl.evaluation.progress.bar`) over agent-steps: rate, time left, and the latest mean
-    episode return; shown only where stderr is a terminal."""
+    episode return, where stderr is a terminal. Elsewhere (a log file, a pipe, a batch job) it prints a line every
+    ``every`` seconds instead, and a last one when closed, so a long run is never silent."""
 
-    def __init__(self, total: int, enabled: bool, label: str, start: int = 0):
+    def __init__(self, total: int, enabled: bool, label: str, start: int = 0, every: float = LINE_EVERY_S,
+                 clock: Callable[[], float] = time.monotonic):
         from ..evaluation.progress import bar
 
         self.bar = bar(total, label, unit="step", enabled=enabled, initial=min(start, total), unit_scale=True,
                        leave=True)
         self.last_return: float | None = None
+        self.total, self.label, self.done, self.start = total, label, min(start, total), min(start, total)
+        self.lines, self.every, self.clock = enabled and self.bar.disable, every, clock
+        self.began = self.last_line = clock()
 
     def advance(self, steps: int, episode_return: float | None) -> None:
         if episode_return is not None:
             self.last_return = episode_return
             self.bar.set_postfix(ret=f"{episode_return:.1f}", refresh=False)
-        self.bar.update(min(steps, self.bar.total - self.bar.n))
+        steps = min(steps, self.total - self.done)
+        self.done += steps
+        self.bar.update(steps)
+        if self.lines and self.clock() - self.last_line >= self.every:
+            self._line()
+
+    def _line(self) -> None:
+        self.last_line = now = self.clock()
+        rate = (self.done - self.start) / max(now - self.began, 1e-9)
+        shown = "" if self.last_return is None else f", mean episode return {self.last_return:.2f}"
+        print(f"{self.label}: {self.done:,} / {self.total:,} agent-steps ({100 * self.done / max(self.total, 1):.0f}%),"
+              f" {rate:,.0f} agent-steps/s{shown}", file=sys.stderr, flush=True)
 
     def close(self) -> None:
         self.bar.close()
+        if self.lines:
+            self._line()

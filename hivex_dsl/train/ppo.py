@@ -97,8 +97,20 @@ def start_rollouts(observations: Any, agent: ActorCritic, steps: int) -> tuple[d
     obs = to_tensors(observations)
     slots = next(iter(obs.values())).shape[0]
     state = {"obs": obs, "done": np.zeros(slots, bool), "active": np.ones(slots, bool)}
-    return state, Rollout(steps, slots, obs, agent.layout.continuous, len(agent.layout.nvec), agent.signals,
-                          agent.logp_columns)
+    return state, rollout_storage(obs, agent, steps)
+
+
+def rollout_storage(obs: dict[str, torch.Tensor], agent: ActorCritic, steps: int) -> Rollout:
+    """The (``steps``, slots) storage of rollouts from observations like ``obs`` (slots, ...) for ``agent``."""
+    slots = next(iter(obs.values())).shape[0]
+    return Rollout(steps, slots, obs, agent.layout.continuous, len(agent.layout.nvec), agent.signals,
+                   agent.logp_columns)
+
+
+def planned_agent_steps(max_steps: int, done: int, slots: int) -> int:
+    """The agent-steps a run that has ``done`` ends at: ``max_steps`` rounded up to a whole decision of every slot
+    (worlds x agents step together), so it overshoots by less than ``slots``; ``done`` if that is already past."""
+    return done if done >= max_steps else done + -(-(max_steps - done) // slots) * slots
 
 
 def forward_precision(cfg: PPOConfig):
@@ -107,8 +119,9 @@ def forward_precision(cfg: PPOConfig):
 
 
 def collect(env: HivexVectorEnv, agent: ActorCritic, buf: Rollout, state: dict[str, Any], cfg: PPOConfig,
-            episodes: EpisodeLog) -> torch.Tensor:
+            episodes: EpisodeLog, on_step: Callable[[], None] | None = None) -> torch.Tensor:
     """Fill ``buf`` with one rollout from ``state`` (obs, previous done, active); -> V(next obs) (S,).
+    ``on_step`` (optional) is called after each step of every slot (the progress bar moves within a rollout).
 
     The policy acts step by step; the critic values every frame once the rollout is done (as ML-Agents' trajectory
     processing does), in batches of thousands rather than one slot batch a step: the weights are the same
@@ -129,6 +142,8 @@ def collect(env: HivexVectorEnv, agent: ActorCritic, buf: Rollout, state: dict[s
         episodes.record(infos)
         state["obs"], state["done"] = to_tensors(next_obs), done
         state["active"] = np.asarray(infos.get("active", np.ones_like(done)), dtype=bool)
+        if on_step is not None:
+            on_step()
     buf.end(state["obs"])
     return rollout_values(agent, buf, cfg)
 
@@ -340,7 +355,8 @@ def train(compiled: CompiledScenario, cfg: PPOConfig, run_dir: Path, progress: b
     write_json(run_dir / "config.json", {"hyperparameters": cfg.model_dump(mode="json"),
                                          "scenario": compiled.resolved()})
     episodes, scalars = EpisodeLog(), ScalarLog(run_dir)
-    bar = Progress(cfg.max_steps, enabled=progress, label=compiled.name, start=done_before)
+    bar = Progress(planned_agent_steps(cfg.max_steps, done_before, slots), enabled=progress, label=compiled.name,
+                   start=done_before)
     agent_steps, curve = done_before, list(resumed["training"]["curve"]) if resumed else []
     resumed_at = list(resumed["training"].get("resumed_at", [])) if resumed else []
     if resumed and done_before < cfg.max_steps:
@@ -361,12 +377,15 @@ def train(compiled: CompiledScenario, cfg: PPOConfig, run_dir: Path, progress: b
             lr, beta, epsilon = schedule(cfg, agent_steps / cfg.max_steps)
             for group in optimizer.param_groups:
                 group["lr"] = lr
-            next_value = collect(env, agent, buf, state, cfg, episodes)
+            length = min(steps, -(-(cfg.max_steps - agent_steps) // slots))  # the last rollout stops at the budget
+            if length < buf.rewards.shape[0]:
+                buf = rollout_storage(state["obs"], agent, length)
+            next_value = collect(env, agent, buf, state, cfg, episodes, on_step=lambda: bar.advance(slots, None))
             agent.observe(buf.flat_obs())
             advantages, returns, signal_charts = advantages_and_returns(buf, next_value, cfg, curiosity)
             losses = update(agent, optimizer, buf, advantages, returns, cfg, beta, epsilon, rng,
                             None if curiosity is None else (curiosity, curiosity_optimizer))
-            agent_steps += steps * slots
+            agent_steps += length * slots
             wall = wall_before + time.perf_counter() - started
             summary = episodes.drain()
             if summary:
@@ -376,7 +395,7 @@ def train(compiled: CompiledScenario, cfg: PPOConfig, run_dir: Path, progress: b
                                                          "agent_steps_per_s": (agent_steps - done_before)
                                                          / max(wall - wall_before, 1e-9),
                                                          **signal_charts})
-            bar.advance(steps * slots, summary.get("return"))
+            bar.advance(0, summary.get("return"))
             if on_update is not None:
                 on_update({"agent_steps": agent_steps, "wall_s": wall, **summary})
             if agent_steps >= next_checkpoint:

@@ -27,6 +27,7 @@ from pettingzoo.utils.wrappers import OrderEnforcingWrapper
 
 from ..adapters.registration import make_scenario
 from ..compiler import registry
+from ..sim.spaces import stack_agent_actions
 
 __all__ = ["module_api", "module_name"]
 SUFFIX = "_v0"
@@ -47,6 +48,16 @@ def module_api(environment: str):
 
         def __init__(self, **kwargs: Any):
             super().__init__(parallel_env(**kwargs))
+
+        def step(self, action: Any) -> None:
+            """Take the selected agent's action, checked at once (an ActionError naming the agent and the space,
+            nothing changed), as the parallel env checks it: PettingZoo's wrapper would keep a bad action and
+            fail only at the cycle's last agent, on every retry."""
+            agent = self.agent_selection
+            if not (self.terminations[agent] or self.truncations[agent]):
+                sim = self.env.core.sim
+                stack_agent_actions(sim.action_space, {agent: action}, [agent], sim.action_meanings)
+            super().step(action)
 
     def env(**kwargs: Any):
         """The AEC env with PettingZoo's order enforcing wrapper."""

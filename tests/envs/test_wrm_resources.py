@@ -176,4 +176,4 @@ def test_impossible_moves_are_counted_in_the_infos_of_both_adapters():
     batch = np.zeros((18, 4), np.int64)
     batch[9] = [2, 2, 2, 2]  # world 1, tower_0: nothing to subtract anywhere
     *_, infos = vector.step(batch)
-    assert infos["env"]["impossible_actions"].tolist() == [0] * 9 + [4] + [0] * 8
+    assert infos["env/impossible_actions"].tolist() == [0] * 9 + [4] + [0] * 8

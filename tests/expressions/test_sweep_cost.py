@@ -58,3 +58,36 @@ def test_a_sweep_of_long_expressions_stays_within_its_memory_bound():
         tracemalloc.stop()
     assert len(points) == POINTS
     assert peak < 30_000 * POINTS, f"{peak / 1e6:.0f} MB"
+
+
+def _refused(data: dict, monkeypatch) -> str:
+    """The error compiling ``data`` raises; asserts no expression was compiled on the way."""
+    import pytest
+
+    import hivex_dsl.sim.reward.expressions as expressions
+
+    compiled = []
+    monkeypatch.setattr(expressions, "compile_expression", lambda *a, **k: compiled.append(a))
+    with pytest.raises(hivex_dsl.ScenarioError) as refused:
+        hivex_dsl.compile_all(data)
+    assert compiled == []  # refused from the file's text, before any work
+    return str(refused.value)
+
+
+def test_a_sweep_of_too_many_expressions_is_refused_before_compiling_any(monkeypatch):
+    # issue 54 item 13: 10,000 points x 460 expressions of 2,000 characters (a 0.9 MB file, within the size caps)
+    # took 108 s and 4.7 GB to validate; 210 points of them, 83 s. Here 1,001 points x 100 short terms: 100,100.
+    terms = {f"t{i}": {"expr": f"alignment * {i}"} for i in range(100)}
+    data = _sweep(terms) | {"sweep": {"seeds.train": list(range(7)), "episode_length": list(range(10, 153))}}
+    message = _refused(data, monkeypatch)
+    assert "sweep makes 1,001 scenarios, each compiling the 100 expressions this file writes: 100,100 in all, " \
+           "at most 100,000 are allowed" in message
+
+
+def test_a_sweep_of_too_many_expression_characters_is_refused_before_compiling_any(monkeypatch):
+    # 1,400 points x 10 terms of 1,803 characters: 25,242,000 characters (the 1,000 points above compile)
+    data = _sweep(_long_terms()) | {"sweep": {"seeds.train": list(range(14)), "episode_length": list(range(10, 110))}}
+    assert sum(len(term["expr"]) for term in _long_terms().values()) == 18_030
+    message = _refused(data, monkeypatch)
+    assert "sweep makes 1,400 scenarios, each compiling the 18,030 expression characters this file writes: " \
+           "25,242,000 in all, at most 25,000,000 are allowed" in message

@@ -209,8 +209,9 @@ def test_the_gpu_check_runs_its_steps_on_the_cpu(tmp_path):
     import datetime
     assert fresh[0]["measured"] == datetime.datetime.now(datetime.timezone.utc).date().isoformat()
     assert fresh[0]["commit"] is None or fresh[0]["commit"].split("+")[0].isalnum()
-    # each run: whole rollouts of 32 // 3 = 10 steps of 3 agents until 64 are done, 3 x 30; two runs
-    assert fresh[0]["agent_steps"] == 2 * 90
+    # each run: rollouts of 32 // 3 = 10 steps of 3 agents until 64 are done, the last cut to the 2 steps left
+    # (30 + 30 + 6 = 66, --steps rounded up to a whole step of every slot); two runs
+    assert fresh[0]["agent_steps"] == 2 * 66
     assert len(rows) == len(committed) + 1
     refused = subprocess.run(["bash", str(root / "benchmarks" / "gpu_check.sh"), "--gpus", "2"],
                              capture_output=True, text=True)
@@ -347,3 +348,17 @@ def test_a_running_mean_shows_its_pooled_form_on_the_page():
 
     assert statistic_cell({"mean": 78.5, "std": 15.19, "pooled": 81.44}) == "81.44 pooled (per episode 78.50 ± 15.19)"
     assert statistic_cell({"mean": 6.23, "std": 2.5}) == "6.23 ± 2.50"
+
+
+def test_the_headline_verdict_is_about_the_number_beside_it():
+    # issue 54 item 18: DBR's row said "above" beside its recorded seed's 7.02 against a published 8.96 +- 2.74
+    # (the three seeds pooled, 12.51, were above); the record's own verdict comes first, the pooled one named
+    from hivex_dsl.docsgen.baselines import record_verdict
+
+    dbr = {"test": {"return": {"mean": 7.02, "std": 9.07}},
+           "other_seeds": [{"return": {"mean": 0.39, "std": 2.05}}, {"return": {"mean": 30.13, "std": 19.04}}]}
+    published = {"mean": 8.96, "std": 2.74}
+    assert record_verdict(dbr, published) == ("matches (within the summary points' spread); "
+                                              "3 seeds pooled (12.51): above")
+    one = {"test": {"return": {"mean": 4.0, "std": 1.0}}}
+    assert record_verdict(one, published) == "below" and record_verdict(dbr, None) == "-"

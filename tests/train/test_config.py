@@ -162,3 +162,21 @@ def test_a_gpu_index_past_the_last_gpu_is_a_clear_error(monkeypatch):
     with pytest.raises(TrainError) as refused:
         torch_device("cuda:2")
     assert str(refused.value) == "device cuda:2 was asked for, but torch sees 2 CUDA GPUs here (cuda:0 to cuda:1)"
+
+
+@pytest.mark.parametrize("cores, machine, load, expected", [
+    (2, 2, 0.2, 2),  # a quiet 2-core machine: both
+    (2, 2, 7.5, 1),  # issue 54 item 16: four busy loops and more on 2 cores: one thread, not two fighting them
+    (2, 2, 1.0, 1),  # one core busy
+    (16, 16, 4.0, 8),  # 12 free, capped at MAX_AUTO_THREADS
+    (16, 16, 12.2, 4),
+    (4, 64, 32.0, 2),  # 4 cores of a 64-core host half busy: half of ours
+])
+def test_auto_torch_threads_are_the_free_cores(monkeypatch, cores, machine, load, expected):
+    from hivex_dsl.train import config
+
+    monkeypatch.setattr(config.os, "sched_getaffinity", lambda pid: set(range(cores)), raising=False)
+    monkeypatch.setattr(config.os, "cpu_count", lambda: machine)
+    monkeypatch.setattr(config.os, "getloadavg", lambda: (load, load, load))
+    assert config.make_config("wind_farm_control").threads() == expected
+    assert config.make_config("wind_farm_control", {"torch_threads": 3}).threads() == 3  # a number is kept

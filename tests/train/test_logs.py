@@ -61,7 +61,7 @@ def test_training_logs_opc_local_reward_pooled_over_the_changes_of_its_running_t
     ended_sums, ended_counts, log = [], [], EpisodeLog()
     for _ in range(320):  # two whole episodes of every slot, and some respawns after crashes
         _, _, terminated, truncated, infos = env.step(env.action_space.sample())
-        pay = sum(compiled.weights[t] * infos["reward_terms"][t] for t in terms if t in infos["reward_terms"])
+        pay = sum(compiled.weights[t] * infos[f"reward_terms/{t}"] for t in terms if f"reward_terms/{t}" in infos)
         total += pay
         sums += np.where(pay != 0, total, 0.0)
         counts += pay != 0

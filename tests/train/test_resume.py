@@ -90,9 +90,9 @@ def test_the_train_command_resumes(tmp_path, capsys):
     scenario.write_text(json.dumps(short_scenario("wind_farm_control", episode_length=16)))
     common = [str(scenario), "-o", str(tmp_path / "run"), "--no-progress", "--set", "num_worlds=1",
               "--set", "hidden_units=8", "--set", "buffer_size=64", "--set", "batch_size=64"]
-    assert main(["train", *common, "--steps", "128"]) == 0
+    assert main(["train", *common, "--steps", "128", "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["agent_steps"] == 128
-    assert main(["train", *common, "--steps", "256", "--resume"]) == 0
+    assert main(["train", *common, "--steps", "256", "--resume", "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["agent_steps"] == 256
     assert main(["train", *common, "--steps", "256", "--resume", "--set", "gamma=0.5"]) == 2
     assert "gamma" in capsys.readouterr().err
@@ -190,7 +190,7 @@ def test_an_interrupted_command_exits_130_and_says_how_to_go_on(interrupted, tmp
     scenario = tmp_path / "wrm.yaml"
     scenario.write_text(json.dumps(short_scenario("wildfire_resource_management", episode_length=8)))
     sets = [arg for key, value in (TINY | ONE_MINIBATCH).items() for arg in ("--set", f"{key}={value}")]
-    assert main(["train", str(scenario), "-o", str(tmp_path / "run"), "--no-progress", *sets]) == 130
+    assert main(["train", str(scenario), "-o", str(tmp_path / "run"), "--no-progress", "--json", *sets]) == 130
     out, err = capsys.readouterr()
     assert json.loads(out)["stopped_early"] is True
     assert err == (f"hivex: interrupted: the run stopped after its update and kept its checkpoint; add --resume to "
@@ -241,5 +241,5 @@ def test_a_second_ctrl_c_ends_the_command_at_once_without_a_traceback(monkeypatc
     scenario = tmp_path / "wrm.yaml"
     scenario.write_text(json.dumps(short_scenario("wildfire_resource_management", episode_length=8)))
     sets = [arg for key, value in (TINY | ONE_MINIBATCH).items() for arg in ("--set", f"{key}={value}")]
-    assert main(["train", str(scenario), "-o", str(tmp_path / "run"), "--no-progress", *sets]) == 130
+    assert main(["train", str(scenario), "-o", str(tmp_path / "run"), "--no-progress", "--json", *sets]) == 130
     assert capsys.readouterr().err == "hivex: interrupted\n"

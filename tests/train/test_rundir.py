@@ -88,7 +88,7 @@ def test_the_command_says_what_to_do_with_a_used_run_directory(tmp_path, capsys)
     assert capsys.readouterr().err.startswith(f"hivex: {tmp_path / 'run'} holds an earlier run (checkpoint.pt")
     assert main(common + ["--resume", "--force"]) == 2
     assert "give one" in capsys.readouterr().err
-    assert main(common + ["--force", "--seed", "5"]) == 0
+    assert main(common + ["--force", "--seed", "5", "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["seed"] == 5
     (tmp_path / "file").write_text("")
     assert main([*common[:3], str(tmp_path / "file"), *common[4:]]) == 2

@@ -63,7 +63,7 @@ def test_the_commands_train_and_evaluate(tmp_path, capsys):
     run = tmp_path / "run"
     args = ["train", str(scenario), "-o", str(run), "--steps", "256", "--seed", "3", "--no-progress",
             "--set", "num_worlds=1", "--set", "hidden_units=8", "--set", "buffer_size=64",
-            "--set", "batch_size=64"]
+            "--set", "batch_size=64", "--json"]
     assert main(args) == 0
     summary = json.loads(capsys.readouterr().out)
     assert summary["agent_steps"] == 256 and summary["seed"] == 3
@@ -146,7 +146,7 @@ def test_a_run_too_short_for_an_episode_says_so(tmp_path, capsys):
     scenario.write_text(json.dumps(short_scenario("wind_farm_control", episode_length=100)))
     assert main(["train", str(scenario), "-o", str(tmp_path / "run"), "--no-progress", "--steps", "64",
                  "--set", "num_worlds=1", "--set", "hidden_units=8", "--set", "buffer_size=64",
-                 "--set", "batch_size=64"]) == 0
+                 "--set", "batch_size=64", "--json"]) == 0
     out, err = capsys.readouterr()
     assert json.loads(out)["final_return"] is None
     # 64 agent-steps of 8 turbines in 1 world: 8 of the episode's 100 steps
@@ -173,3 +173,72 @@ def test_an_interrupted_run_finishes_its_update_and_keeps_everything(signum, tin
     assert summary["agent_steps"] == tiny["buffer_size"]  # one rollout of the 192 asked for
     assert (tmp_path / "run" / "checkpoint.pt").is_file() and (tmp_path / "run" / "curve.json").is_file()
     assert (signal.getsignal(signal.SIGINT), signal.getsignal(signal.SIGTERM)) == before
+
+
+def test_steps_is_a_budget_the_last_rollout_stops_at_and_the_bar_moves_every_step(tiny, tmp_path, monkeypatch):
+    # issue 54 item 17: the last update collected a whole buffer past --steps (20,448 for 10,240), and the bar moved
+    # once an update. WFC's 8 turbines in 1 world are 8 slots; a buffer of 64 is 8 steps of each per update.
+    from hivex_dsl.train import ppo
+    from hivex_dsl.train.logs import Progress
+
+    moves = []
+
+    class Recorded(Progress):
+        def __init__(self, total, *args, **kwargs):
+            moves.append(("total", total))
+            super().__init__(total, *args, **kwargs)
+
+        def advance(self, steps, episode_return):
+            moves.append(steps)
+            super().advance(steps, episode_return)
+
+    monkeypatch.setattr(ppo, "Progress", Recorded)
+    summary = train(compile(short_scenario("wind_farm_control")), make_config("wind_farm_control", tiny | {
+        "max_steps": 100}), tmp_path, progress=False)
+    # 64 in the first update; 36 left are 5 steps of the 8 slots (40): 104, less than one step of every slot over
+    assert summary["agent_steps"] == 104 and ppo.planned_agent_steps(100, 0, 8) == 104
+    assert moves[0] == ("total", 104)
+    assert [m for m in moves[1:] if m] == [8] * 13  # every step of every slot moves the bar
+
+
+def test_progress_off_a_terminal_prints_a_line_every_so_often(capsys):
+    from hivex_dsl.train.logs import Progress
+
+    now = [0.0]
+    progress = Progress(1000, enabled=True, label="wfc", every=30.0, clock=lambda: now[0])
+    progress.advance(100, None)
+    now[0] = 29.0
+    progress.advance(100, None)
+    assert capsys.readouterr().err == ""  # stderr here is no terminal: no bar, and no line before 30 s
+    now[0] = 40.0
+    progress.advance(200, 12.5)
+    line = capsys.readouterr().err
+    assert line == "wfc: 400 / 1,000 agent-steps (40%), 10 agent-steps/s, mean episode return 12.50\n"
+    progress.close()
+    assert capsys.readouterr().err.startswith("wfc: 400 / 1,000")
+    silent = Progress(1000, enabled=False, label="wfc", every=0.0)
+    silent.advance(500, 1.0)
+    silent.close()
+    assert capsys.readouterr().err == ""
+
+
+def test_train_ends_with_a_summary_and_the_next_command_and_evaluate_shows_weighted_terms(tmp_path, capsys):
+    # issue 54 item 18: train dumped summary.json raw; evaluate printed unweighted term rows unlabelled
+    scenario = tmp_path / "wfc.yaml"
+    scenario.write_text(json.dumps(short_scenario("wind_farm_control", episode_length=8)
+                                   | {"weights": {"generate_energy": 0.5}}))
+    run = tmp_path / "run"
+    assert main(["train", str(scenario), "-o", str(run), "--no-progress", "--steps", "64", "--set", "num_worlds=1",
+                 "--set", "hidden_units=8", "--set", "buffer_size=64", "--set", "batch_size=64"]) == 0
+    out = capsys.readouterr().out
+    assert not out.lstrip().startswith("{") and "trained 64 agent-steps" in out
+    assert f"next: hivex evaluate {run / 'checkpoint.pt'}" in out
+    assert main(["evaluate", str(run / "checkpoint.pt"), "--episodes", "1", "--json"]) == 0
+    report = json.loads(capsys.readouterr().out)
+    assert main(["evaluate", str(run / "checkpoint.pt"), "--episodes", "1"]) == 0
+    table = capsys.readouterr().out
+    unweighted = report["reward_terms"]["generate_energy"]["mean"]
+    row = next(line for line in table.splitlines() if "generate_energy" in line)
+    assert row.startswith("term generate_energy x0.5 (weighted)")
+    assert float(row.split()[4]) == pytest.approx(0.5 * unweighted, abs=1e-3)
+    assert report["weighted_reward_terms"]["generate_energy"]["mean"] == pytest.approx(report["return"]["mean"])

@@ -45,7 +45,7 @@ ENTRY = register(EnvironmentEntry(
         "branches apply in order (self, neighbour 1, 2, 3): add moves 0.1 from the budget to the target, subtract "
         "moves 0.1 of the agent's own allocation to that target back to the budget; an add without budget or a "
         "subtract from an empty allocation does nothing and is counted in infos['env'] (impossible_actions this "
-        "step, impossible_actions_episode so far). At reset the whole 1.0 is unallocated (initial_self_tenths 0, ours).",
+        "step, impossible_actions_episode so far; the vector env's infos['env/impossible_actions'] and so on). At reset the whole 1.0 is unallocated (initial_self_tenths 0, ours).",
         "Observation (16) = 2 stacks (newest first; the older starts as zeros) of: the closest burning tree's "
         "offset from the tower x, y, z / detection_radius_m (z = its ground height minus the tower's; (0, 0, 0) "
         "when none is within 600 m), temperature, humidity and overcast at the tower (re-sampled every "
