@@ -1,7 +1,8 @@
 """Layer 11, cli: the `hivex` command, the top layer.
 
-This module parses the arguments and runs the commands; audit_command.py and train_commands.py hold `hivex audit`'s
-and `hivex train`/`evaluate`'s, argtypes.py and points.py what several commands read, exits.py the exit codes.
+This module parses the arguments and runs the commands; audit_command.py, train_commands.py and curves_command.py
+hold `hivex audit`'s, `hivex train`/`evaluate`'s and `hivex curves`', argtypes.py and points.py what several commands
+read, exits.py the exit codes.
 Imports: every layer below (each command imports the work it needs when it runs, so the CLI never needs torch).
 """
 
@@ -19,7 +20,7 @@ from .argtypes import positive, seed
 from .exits import EXIT_FAIL, EXIT_INTERRUPTED, EXIT_OK, EXIT_PIPE, EXIT_USAGE
 
 DESCRIPTION = ("The `hivex` command: validate | compile | run | render | audit | schema | docs | preview | bench | "
-               "list |\ntrain | evaluate.")
+               "list |\ntrain | evaluate | curves.")
 FRAME_STEP = 10  # `hivex render`'s default: 61 frames of 600 decisions, 1.1 MB for WFC (the largest; 6.3 MB before)
 
 
@@ -134,6 +135,9 @@ def build_parser() -> argparse.ArgumentParser:
     from .train_commands import add_commands as add_train_commands
 
     add_train_commands(sub)
+    from .curves_command import add_command as add_curves_command
+
+    add_curves_command(sub)
     return parser
 
 
