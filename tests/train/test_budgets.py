@@ -116,3 +116,13 @@ def test_summary_freq_only_groups_the_same_episodes(every_update_and_every_128):
         pooled = sum(q["return"] * q["episodes"] for q in group) / point["episodes"]
         assert point["return"] == pytest.approx(pooled, rel=1e-9)
         assert point["length"] == pytest.approx(sum(q["length"] * q["episodes"] for q in group) / point["episodes"])
+
+
+def test_the_evidence_module_s_appendix_budgets_are_the_hyperparameter_files():
+    """evidence.APPENDIX (the budgets the original's curves are read against) and the files' appendix blocks are one
+    reading of the appendix."""
+    from hivex_dsl.evaluation.original import evidence
+
+    for environment, (max_steps, summary_freq) in evidence.APPENDIX.items():
+        written = paper_defaults(environment) | appendix(environment)
+        assert (written["max_steps"], written["summary_freq"]) == (max_steps, summary_freq), environment
