@@ -119,3 +119,20 @@ def test_an_unsettled_drone_based_reforestation_page_is_asked_for():
     with pytest.raises(compare.CompareError, match="page's task index"):
         compare.original_cell("drone_based_reforestation", 3, 1)
     assert compare.original_cell("drone_based_reforestation", 3, 1, page_task=2).file.endswith("_task_2.pdf")
+
+
+def test_a_record_s_other_seeds_with_curves_are_measured_too(tmp_path, capsys):
+    """A record of seed 0 whose seed 1 kept its curve and whose seed 2 (added before curves were kept) did not."""
+    rows = [[s, 0.0, 5_000.0] for s in range(40_000, 8_000_001, 40_000)]
+    low = [[s, 0.0, 840.0] for s in range(40_000, 8_000_001, 40_000)]
+    record = {"environment": "wind_farm_control", "task_index": 0, "level": 0, "seed": 0, "curve": rows,
+              "other_seeds": [{"seed": 1, "curve": low}, {"seed": 2}]}
+    curves = compare.seed_curves(record)
+    assert [c.label for c in curves] == ["this toolkit, seed 0", "this toolkit, seed 1"]
+    path = tmp_path / "wind_farm_control.json"
+    path.write_text(json.dumps(record))
+    assert main(["curves", str(path)]) == 0
+    out = capsys.readouterr().out
+    mine, seed_1 = out.split("this toolkit, seed 1:")
+    assert "| Cumulative Reward | 100% | 8,000,000 | 5,000 (8,000,000) | 4,583 | 4,559 - 4,597 | above |" in mine
+    assert "| Cumulative Reward | 100% | 8,000,000 | 840 (8,000,000) | 4,583 | 4,559 - 4,597 | below |" in seed_1

@@ -45,7 +45,9 @@ def cmd_curves(args: argparse.Namespace) -> int:
     sys.stdout.write(f"{run.curve.label} against the original's {cell.file} ({cell.title}); the original trained "
                      f"{budget:,} agent-steps, this run {run.curve.last_step:,}\n\n")
     sys.stdout.write(compare.table(compare.measure(run.curve, cell)) + "\n")
+    for other in run.others:
+        sys.stdout.write(f"\n{other.label}:\n\n" + compare.table(compare.measure(other, cell)) + "\n")
     if args.output is not None:
-        path = compare.plot(run.curve, cell, args.output, columns=args.columns)
+        path = compare.plot(run.curve, cell, args.output, columns=args.columns, others=run.others)
         sys.stdout.write(f"\nwrote {path}\n")
     return 0

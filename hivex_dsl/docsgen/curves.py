@@ -50,16 +50,17 @@ def _comparison(record: dict[str, Any]) -> tuple[dict[str, Any], np.ndarray] | N
     cell = original_curves(environment, task, record["level"])
     if cell is None:
         return None
-    run = compare.from_record(record)
+    run, *others = compare.seed_curves(record)
     rows = compare.measure(run, cell)
     budget = max(p.training.last_step for p in cell.panels.values() if p.training is not None)
     verdicts = [r.verdict for r in rows]
     context = {"environment": environment, "file": cell.file, "title": cell.title, "label": run.label,
                "image": f"{IMAGES}/{environment}.png", "table": compare.table(rows),
+               "other_tables": [{"label": o.label, "table": compare.table(compare.measure(o, cell))} for o in others],
                "counts": {word: verdicts.count(word) for word in ("within", "above", "below", "no point")},
                "panels": sorted({r.panel for r in rows}), "budget": _number(budget),
                **{f"record_{k}": v for k, v in budget_words(record, budget).items()}}
-    return context, compare.picture(run, cell)
+    return context, compare.picture(run, cell, others=others)
 
 
 def curve_comparisons(directory: Path | None) -> tuple[list[dict[str, Any]], dict[str, np.ndarray]]:

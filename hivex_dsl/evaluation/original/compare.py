@@ -72,6 +72,14 @@ def from_points(points: Sequence[dict[str, Any]], label: str = "this toolkit") -
     return RunCurve(steps, episodes, panels, label)
 
 
+def seed_curves(record: dict[str, Any]) -> list[RunCurve]:
+    """Every training seed's curve a baseline record holds: its own (:func:`from_record`), then each of its
+    ``other_seeds`` recorded with one (``curve`` rows as the record's)."""
+    others = [e for e in record.get("other_seeds", []) if e.get("curve")]
+    return [from_record(record)] + [from_record({"curve": e["curve"], "seed": e["seed"],
+                                                 "environment": record.get("environment")}) for e in others]
+
+
 def from_record(record: dict[str, Any]) -> RunCurve:
     """A committed baseline record (benchmarks/baselines/<environment>.json): its training return per update
     (``curve`` rows: agent-steps, wall s, return) and its checkpoints on the test seeds (``test_curve``)."""
@@ -172,6 +180,7 @@ class Run:
     environment: str
     task_index: int
     level: int | None
+    others: tuple[RunCurve, ...] = ()  # a record's other training seeds with curves
 
 
 def read_run(path: Path) -> Run:
@@ -182,19 +191,20 @@ def read_run(path: Path) -> Run:
     if not path.exists():
         raise CompareError(f"{path}: no such run directory or baseline record")
     try:
+        others: list[RunCurve] = []
         if path.is_dir():
             summary = json.loads((path / "summary.json").read_text())
             curve = from_points(json.loads((path / "curve.json").read_text()), f"this toolkit, seed {summary['seed']}")
         else:
             summary = json.loads(path.read_text())
-            curve = from_record(summary)
+            curve, *others = seed_curves(summary)
         environment, task, level = summary["environment"], summary["task_index"], summary["level"]
     except FileNotFoundError as exc:
         raise CompareError(f"{path} is no run directory of `hivex train` (no {Path(exc.filename).name}) and no "
                            "baseline record") from None
     except (KeyError, TypeError, ValueError) as exc:
         raise CompareError(f"{path} is no run directory of `hivex train` and no baseline record ({exc})") from None
-    return Run(curve, environment, paper_task_index(environment, task), level)
+    return Run(curve, environment, paper_task_index(environment, task), level, tuple(others))
 
 
 def paper_task_index(environment: str, task_index: int) -> int:
@@ -247,14 +257,14 @@ def table(rows: Sequence[Row]) -> str:
 
 
 __all__ = ["CompareError", "FRACTIONS", "Ours", "Row", "Run", "RunCurve", "from_points", "from_record", "measure",
-           "figure", "original_cell", "ours_at", "paper_task_index", "picture", "plot", "read_run", "shared_panels",
+           "figure", "original_cell", "seed_curves", "ours_at", "paper_task_index", "picture", "plot", "read_run", "shared_panels",
            "summary_interval", "table"]
 
 
 def plot(run: RunCurve, cell: OriginalCell, path: Path, panels: Sequence[str] | None = None,
-         columns: int = 3) -> Path:
+         columns: int = 3, others: Sequence[RunCurve] = ()) -> Path:
     """Draw :func:`figure` into a PNG at ``path``."""
-    fig = figure(run, cell, panels, columns)
+    fig = figure(run, cell, panels, columns, others)
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, metadata={"Software": None})
@@ -262,9 +272,10 @@ def plot(run: RunCurve, cell: OriginalCell, path: Path, panels: Sequence[str] | 
     return path
 
 
-def picture(run: RunCurve, cell: OriginalCell, panels: Sequence[str] | None = None, columns: int = 3) -> np.ndarray:
+def picture(run: RunCurve, cell: OriginalCell, panels: Sequence[str] | None = None, columns: int = 3,
+            others: Sequence[RunCurve] = ()) -> np.ndarray:
     """:func:`figure` as an (H, W, 3) uint8 picture (the docs compare pictures within a tolerance, not bytes)."""
-    fig = figure(run, cell, panels, columns)
+    fig = figure(run, cell, panels, columns, others)
     fig.canvas.draw()
     pixels = np.asarray(fig.canvas.buffer_rgba())[..., :3].copy()
     _close(fig)
@@ -272,9 +283,10 @@ def picture(run: RunCurve, cell: OriginalCell, panels: Sequence[str] | None = No
 
 
 def figure(run: RunCurve, cell: OriginalCell, panels: Sequence[str] | None = None, columns: int = 3,
-           panel_size: tuple[float, float] = (3.6, 2.4), dpi: int = 80) -> Any:
+           others: Sequence[RunCurve] = (), panel_size: tuple[float, float] = (3.6, 2.4), dpi: int = 80) -> Any:
     """Our curve of every shared panel (or ``panels``) over the original's training mean and band (and, on the
-    return, our checkpoints on the test seeds); one small axis a panel. Needs matplotlib (the ``plots`` extra)."""
+    return, our checkpoints on the test seeds), with ``others`` (other training seeds) dashed beside it; one small
+    axis a panel. Needs matplotlib (the ``plots`` extra)."""
     try:
         import matplotlib
 
@@ -290,7 +302,7 @@ def figure(run: RunCurve, cell: OriginalCell, panels: Sequence[str] | None = Non
     fig, axes = plt.subplots(rows, cols, figsize=(max(panel_size[0] * cols, 5.0), panel_size[1] * rows + 0.4),
                              dpi=dpi, squeeze=False)
     for ax, name in zip(axes.flat, names):
-        _draw_panel(ax, run, cell, name)
+        _draw_panel(ax, run, cell, name, others)
     for ax in list(axes.flat)[len(names):]:
         ax.set_visible(False)
     axes.flat[0].legend(fontsize=6, loc="best")
@@ -305,7 +317,7 @@ def _close(fig: Any) -> None:
     plt.close(fig)
 
 
-def _draw_panel(ax: Any, run: RunCurve, cell: OriginalCell, name: str) -> None:
+def _draw_panel(ax: Any, run: RunCurve, cell: OriginalCell, name: str, others: Sequence[RunCurve] = ()) -> None:
     training = cell.panels[name].training
     assert training is not None
     ax.fill_between(training.band_steps, training.lower, training.upper, color="tab:red", alpha=0.2, linewidth=0)
@@ -314,6 +326,11 @@ def _draw_panel(ax: Any, run: RunCurve, cell: OriginalCell, name: str) -> None:
     known = ~np.isnan(values)
     ax.plot(run.steps[known], values[known], color="tab:blue", linewidth=0.8, alpha=0.8,
             marker="o" if known.sum() < 20 else None, markersize=3, label=f"{run.label}, training")
+    for other in others:
+        if name in other.panels:
+            known = ~np.isnan(other.panels[name])
+            ax.plot(other.steps[known], other.panels[name][known], color="tab:blue", linewidth=0.8, alpha=0.5,
+                    linestyle="--", label=f"{other.label}, training")
     if name == RETURN and run.test is not None:
         ax.plot(*run.test, "s", color="tab:purple", markersize=3, label="ours, checkpoints on test seeds")
     ax.axvline(training.last_step, color="gray", linewidth=0.6, linestyle=":")
