@@ -79,3 +79,10 @@ def test_both_pages_show_the_measure_and_the_figure(committed):
 def test_the_fidelity_page_has_no_curve_section_without_records():
     page = _jinja().get_template("fidelity.md.j2").render(**fidelity_context(Path("-")), comparisons=[])
     assert "Learning curves beside the original's" not in page
+
+
+def test_the_grids_say_whose_budget_they_trained():
+    page = _jinja().get_template("baselines.md.j2").render(**baselines_context(BASELINES))
+    # the committed WRM grid trained the appendix's 4.5M agent-steps a point, the WFC grid the 8M of both
+    assert "(4,500,000 agent-steps each, the max_steps of the paper appendix; training" in page
+    assert "(8,000,000 agent-steps each, the max_steps of the config that ran; training" in page

@@ -179,6 +179,7 @@ def grid_tables(directory: Path) -> list[dict[str, Any]]:
                        "episodes": data["test"]["episodes"], "actions": data["test"]["actions"],
                        "machine": data["machine"], "note": data.get("note", ""),
                        "steps": f"{data['hyperparameters']['max_steps']:,}", "untrained": data.get("untrained", []),
+                       "budget": budget_source(env_id, data["hyperparameters"]["max_steps"]),
                        "commands": [data["command"]] if data.get("command") else []})
     return tables
 
