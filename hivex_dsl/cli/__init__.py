@@ -1,8 +1,8 @@
 """Layer 11, cli: the `hivex` command, the top layer.
 
-This module parses the arguments and runs the commands; audit_command.py, train_commands.py and replay_command.py
-hold `hivex audit`'s, `hivex train`/`evaluate`'s and `hivex replay`'s, argtypes.py and points.py what several
-commands read, exits.py the exit codes.
+This module parses the arguments and runs the commands; audit_command.py, train_commands.py, replay_command.py
+and curves_command.py hold `hivex audit`'s, `hivex train`/`evaluate`'s, `hivex replay`'s and `hivex curves`',
+argtypes.py and points.py what several commands read, exits.py the exit codes.
 Imports: every layer below (each command imports the work it needs when it runs, so the CLI never needs torch).
 """
 
@@ -134,8 +134,10 @@ def build_parser() -> argparse.ArgumentParser:
 
     add_train_commands(sub)
     from .replay_command import add_command as add_replay_command
+    from .curves_command import add_command as add_curves_command
 
     add_replay_command(sub)
+    add_curves_command(sub)
     parser.description = f"The `hivex` command: {' | '.join(sub.choices)}."  # every command, as added
     return parser
 

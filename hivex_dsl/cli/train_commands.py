@@ -29,7 +29,7 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--steps", type=positive, default=None,
                    help="agent-steps to train: decisions of every agent, as ML-Agents counts them, rounded up "
                         "to a whole step of every slot (worlds x agents; the last rollout stops there) "
-                        "(default: the paper's max_steps)")
+                        "(default: the max_steps of the environment's config that ran)")
     p.add_argument("--seed", type=seed, default=None, help="seed of the network and the action sampling (default 0)")
     p.add_argument("--device", default=None, help="torch device: cpu, cuda or cuda:N (default cpu)")
     p.add_argument("--config", type=Path, default=None, metavar="YAML",

@@ -20,6 +20,7 @@ from ..compiler import registry
 from .adding import PAGE as ADDING_PAGE, adding_context, has_example
 from .baselines import PAGE as BASELINES_PAGE, baseline_images, baselines_context, baselines_dir
 from .context import environment_context, index_context, language_context, performance_context
+from .curves import curve_comparisons
 from .fidelity_page import fidelity_context
 from .figures import preview_figures
 from .pages import SCHEMA_FILE, env_page
@@ -89,13 +90,16 @@ def render_docs(results: Path | None = None, fidelity: Path | None = None,
     docs |= {rel: image for rel, (_, image) in figures.items()}
     if results is not None and Path(results).is_file():
         docs["performance.md"] = jinja.get_template("performance.md.j2").render(**performance_context(results))
-    docs["fidelity.md"] = jinja.get_template("fidelity.md.j2").render(**fidelity_context(fidelity or Path("-")))
+    comparisons, curve_images = curve_comparisons(baselines if has_baselines else None)
+    docs["fidelity.md"] = jinja.get_template("fidelity.md.j2").render(
+        **fidelity_context(fidelity or Path("-")), comparisons=comparisons)
     from .replay_page import PAGE as REPLAY_PAGE, replay_context
 
     docs[REPLAY_PAGE] = jinja.get_template("replay.md.j2").render(**replay_context())
     if has_baselines:
-        docs[BASELINES_PAGE] = jinja.get_template("baselines.md.j2").render(**baselines_context(baselines))
-        docs |= baseline_images(baselines)
+        docs[BASELINES_PAGE] = jinja.get_template("baselines.md.j2").render(
+            **baselines_context(baselines, comparisons))
+        docs |= baseline_images(baselines) | curve_images
     page = jinja.get_template("environment.md.j2")
     for env_id, entry in registry.environments().items():
         docs[env_page(env_id)] = page.render(**environment_context(entry))

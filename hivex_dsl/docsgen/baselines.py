@@ -9,6 +9,7 @@ from pathlib import Path
 from typing import Any
 
 from ..compiler import registry
+from .curves import budget_source
 
 BASELINES_DIR = Path("benchmarks") / "baselines"
 PAGE = "baselines.md"
@@ -60,7 +61,8 @@ def _row(env_id: str, data: dict[str, Any] | None) -> dict[str, Any]:
     row |= {
         "ours": _spread(test), "published": _spread(published), "random": _spread(data["random"]),
         "scripted": _spread(data["scripted"]), "steps": f"{data['agent_steps']:,}",
-        "paper_steps": f"{data['hyperparameters'].get('max_steps', 0):,}",
+        "paper_steps": f"{data['hyperparameters'].get('max_steps', 0):,}: "
+                       + budget_source(env_id, data["hyperparameters"].get("max_steps", 0)),
         "precision": data["hyperparameters"].get("precision", "exact"),
         "wall": f"{data['wall_s'] / 60:.1f} min" + "".join(f" (resumed at {n:,})" for n in data.get("resumed_at", [])),
         "machine": data["machine"], "seed": data["seed"],
@@ -153,10 +155,12 @@ def _load(directory: Path) -> dict[str, dict[str, Any]]:
     return found
 
 
-def baselines_context(directory: Path) -> dict[str, Any]:
-    """Rows of the baselines page, one per environment (trained or not)."""
+def baselines_context(directory: Path, comparisons: list[dict[str, Any]] = ()) -> dict[str, Any]:
+    """Rows of the baselines page, one per environment (trained or not); ``comparisons``
+    (:func:`.curves.curve_comparisons`) set each record's curve beside the original's."""
     data = _load(directory)
-    rows = [_row(env_id, data.get(env_id)) for env_id in registry.environments()]
+    beside = {c["environment"]: c for c in comparisons}
+    rows = [_row(env_id, data.get(env_id)) | {"curves": beside.get(env_id)} for env_id in registry.environments()]
     return {"rows": rows, "trained": [r for r in rows if r["trained"]], "left": [r for r in rows if not r["trained"]],
             **grid_context(Path(directory) / GRIDS), **hyperparameter_table(), **earlier_choices(data),
             **throughput_table(Path(directory).parent / THROUGHPUT_FILE)}
@@ -187,6 +191,7 @@ def grid_tables(directory: Path) -> list[dict[str, Any]]:
                        "episodes": data["test"]["episodes"], "actions": data["test"]["actions"],
                        "machine": data["machine"], "note": data.get("note", ""),
                        "steps": f"{data['hyperparameters']['max_steps']:,}", "untrained": data.get("untrained", []),
+                       "budget": budget_source(env_id, data["hyperparameters"]["max_steps"]),
                        "commands": [data["command"]] if data.get("command") else []})
     return tables
 
@@ -282,15 +287,25 @@ def _duration(seconds: float) -> str:
 
 
 def hyperparameter_table() -> dict[str, Any]:
-    """The shipped paper hyperparameters: ``keys`` (the union, in file order) and one row per environment that has
-    them; ``hp_defaulted``, the environments without, which train on PPOConfig's defaults."""
-    from ..train.config import has_paper_hyperparameters, paper_defaults
+    """The shipped hyperparameters (the configs that ran): ``keys`` (the union, in file order) and one row per
+    environment that has them, each value followed by the paper appendix's where it differs (``8192 (appendix:
+    10240)``); ``hp_defaulted``, the environments without, which train on PPOConfig's defaults."""
+    from ..train.config import appendix, has_paper_hyperparameters, paper_defaults
 
-    defaults = {env_id: paper_defaults(env_id) for env_id in registry.environments() if has_paper_hyperparameters(env_id)}
+    defaults = {env_id: paper_defaults(env_id) for env_id in registry.environments()
+                if has_paper_hyperparameters(env_id)}
+    appendices = {env_id: appendix(env_id) for env_id in defaults}
     keys = list(dict.fromkeys(key for values in defaults.values() for key in values))
-    return {"hp_keys": keys, "hp_rows": [{"environment": env_id, "values": [values.get(k, "-") for k in keys]}
-                                         for env_id, values in defaults.items()],
-            "hp_defaulted": [env_id for env_id in registry.environments() if not has_paper_hyperparameters(env_id)]}
+
+    def shown(env_id: str, key: str) -> str:
+        value = defaults[env_id].get(key, "-")
+        return f"{value} (appendix: {appendices[env_id][key]})" if key in appendices[env_id] else str(value)
+
+    return {"hp_keys": keys, "hp_rows": [{"environment": env_id, "values": [shown(env_id, k) for k in keys]}
+                                         for env_id in defaults],
+            "hp_defaulted": [env_id for env_id in registry.environments() if not has_paper_hyperparameters(env_id)],
+            "appendix_differs": [{"environment": env_id, "names": sorted(values)}
+                                 for env_id, values in appendices.items() if values]}
 
 
 def baseline_images(directory: Path) -> dict[str, bytes]:

@@ -76,13 +76,18 @@ def first_reaching(curve: list[list[float]], final: list[float], published: dict
     return None
 
 
+def training_curve(run_dir: Path) -> list[list[float]]:
+    """A run's curve.json as a record keeps it: rows of (agent-steps, wall s, mean training return)."""
+    curve = json.loads((Path(run_dir) / "curve.json").read_text())
+    return [[point["agent_steps"], point["wall_s"], round(point["return"], 4)] for point in curve]
+
+
 def record_baseline(run_dir: Path, scenario: str, out_dir: Path, episodes: int = 10,
                     command: str = "", note: str = "", curve_episodes: int = 3) -> dict[str, Any]:
     """Write ``out_dir/<environment>.json`` and ``.png`` for the run in ``run_dir`` trained on ``scenario``
     (the bundled path, e.g. ``scenarios/wind_farm_control/main.yaml``); -> the JSON's content."""
     run_dir, out_dir = Path(run_dir), Path(out_dir)
     summary = json.loads((run_dir / "summary.json").read_text())
-    curve = json.loads((run_dir / "curve.json").read_text())
     report = evaluate(run_dir / "checkpoint.pt", split="test", episodes=episodes)
     compiled = compile(scenario)
     if report["scenario"] != compiled.name:
@@ -96,7 +101,7 @@ def record_baseline(run_dir: Path, scenario: str, out_dir: Path, episodes: int =
         "test": {k: report[k] for k in ("seed", "episodes", "agent_episodes", "actions", "return", "statistics")},
         "published": report["published"],
         **{policy: level_of(compiled, policy, episodes) for policy in LEVEL_POLICIES},
-        "curve": [[point["agent_steps"], point["wall_s"], round(point["return"], 4)] for point in curve],
+        "curve": training_curve(run_dir),
         "test_curve": test_curve(run_dir, curve_episodes), "test_curve_episodes": curve_episodes,
     }
     final = [summary["agent_steps"], summary["wall_s"], report["return"]["mean"], report["return"]["std"]]
@@ -135,7 +140,7 @@ def add_seed(record: Path, run_dir: Path) -> dict[str, Any]:
     report = evaluate(run_dir / "checkpoint.pt", split="test", episodes=data["test"]["episodes"])
     entry = {"seed": summary["seed"], "agent_steps": summary["agent_steps"], "wall_s": summary["wall_s"],
              "resumed_at": summary.get("resumed_at", []), "threads": hyperparameters["torch_threads"],
-             "return": report["return"], "statistics": report["statistics"]}
+             "return": report["return"], "statistics": report["statistics"], "curve": training_curve(run_dir)}
     others = [e for e in data.get("other_seeds", []) if e["seed"] != entry["seed"]]
     data["other_seeds"] = sorted([*others, entry], key=lambda e: e["seed"])
     record.write_text(json.dumps(data, indent=1) + "\n")

@@ -46,7 +46,7 @@ class TrainingState(LayoutPart):
     optimizer: OptimizerState
     curiosity: dict[str, torch.Tensor] | None = None
     curiosity_optimizer: OptimizerState | None = None
-    curve: list[dict[str, float]]
+    curve: list[dict[str, float | dict[str, float]]]  # a point's numbers, and its statistics by name
     resumed_at: list[int] = []
 
 
@@ -239,9 +239,10 @@ def older_defaults(config: dict[str, Any], action_space: Any) -> dict[str, Any]:
     key added since meant when they were written, where it changes anything for this policy: every policy from
     before ``weight_init`` started from ``cleanrl`` weights, a curiosity module from before ``curiosity_module``
     is ``hivex_v1``, continuous actions from before ``continuous_actions`` were clipped, and more than one action
-    dimension from before ``policy_loss`` shared one ``joint`` ratio. (``max_grad_norm`` was always written.)"""
+    dimension from before ``policy_loss`` shared one ``joint`` ratio, and every run from before ``summary_freq``
+    wrote a curve point every update (``summary_freq: 1``). (``max_grad_norm`` was always written.)"""
     layout = ActionLayout.of(action_space)
-    then: dict[str, Any] = {"weight_init": "cleanrl"}
+    then: dict[str, Any] = {"weight_init": "cleanrl", "summary_freq": 1}
     strength = config.get("curiosity_strength", 0)
     if isinstance(strength, (int, float)) and strength > 0:  # not a number: PPOConfig says so
         then["curiosity_module"] = "hivex_v1"
@@ -293,7 +294,8 @@ def _first_lines(exc: Exception) -> str:
 
 
 # what may change when a run goes on: how long it trains and where and how it runs, not what it learns
-RESUMABLE_CHANGES = frozenset({"max_steps", "device", "torch_threads", "checkpoint_every", "keep_checkpoints"})
+RESUMABLE_CHANGES = frozenset({"max_steps", "device", "torch_threads", "checkpoint_every", "keep_checkpoints",
+                               "summary_freq"})
 
 
 def resume_state(path: Path, compiled: CompiledScenario, cfg: PPOConfig) -> dict[str, Any]:

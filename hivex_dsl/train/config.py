@@ -1,13 +1,23 @@
 """PPO hyperparameters: the paper's per-environment values as data, overridable from YAML and the command line.
 
-The paper trained with ML-Agents; its appendix lists one trainer config per environment. They ship in
-``hyperparams/<environment>.yaml`` with ML-Agents' own key names and are the defaults of `hivex train`; an
-environment without such a file (one added to the catalogue) trains on :class:`PPOConfig`'s own defaults.
-How each maps onto the PPO of ``ppo.py`` (parameter-shared over every (world, agent) slot):
+The paper trained with ML-Agents; its appendix lists one trainer config per environment, and the original's
+repository holds the configs that ran (``../shared/paper/original-configs/train``), which differ from the
+appendix for Drone-Based Reforestation (max_steps 1.2M, not 2M; summary_freq 6,000; buffer_size and time_horizon
+8,192) and Wildfire Resource Management (max_steps 450k, not 4.5M). The original's plots' step axes follow the
+configs that ran, so ``hyperparams/<environment>.yaml`` holds those, with ML-Agents' own key names, as the
+defaults of `hivex train`; each file's ``appendix:`` block names the appendix's values where they differ
+(:func:`appendix`; documentation, never trained with); an environment without such a file (one added to the
+catalogue) trains on :class:`PPOConfig`'s own defaults. How each key maps onto the PPO of ``ppo.py``
+(parameter-shared over every (world, agent) slot):
 
 - ``max_steps``: agent-steps (experiences over all agents), as ML-Agents counts them; every slot-step
   counts, the masked reset steps after an ending included. A step is a decision: with a scenario's
   ``decision_period`` k it spans k physics steps, and so do ``checkpoint_every`` and the curves.
+- ``summary_freq``: agent-steps between two points of the learning curve (curve.json and the TensorBoard
+  episode scalars): as in ML-Agents, a point is written at the first update that reaches the next multiple
+  and holds the mean of every episode ended since the last point; the run's last update writes one too.
+  Logging only: what the policy learns is the same at any value (the losses are logged every update).
+  Runs and records from before the key existed wrote a point every update, which ``summary_freq: 1`` does.
 - ``buffer_size``: experiences collected over all slots before an update. A rollout is
   ``buffer_size // slots`` steps of every slot (slots = ``num_worlds * agents``), at most ``time_horizon``.
 - ``time_horizon``: ML-Agents cuts trajectories there and bootstraps from the value; our rollouts are
@@ -132,6 +142,7 @@ class PPOConfig(StrictModel):
     vis_encode_type: Literal["simple", "resnet"] = "simple"
     time_horizon: int = Field(2048, ge=1)
     max_steps: int = Field(8_000_000, ge=1)
+    summary_freq: int = Field(40_000, ge=1)
     num_worlds: int = Field(4, ge=1, le=4096)
     max_grad_norm: float = Field(0.0, ge=0.0)
     checkpoint_every: int = Field(500_000, ge=1)
@@ -188,9 +199,12 @@ def free_cores() -> int:
     return max(1, cores - busy)
 
 
-def paper_defaults(environment: str) -> dict[str, Any]:
-    """The paper's hyperparameters of one environment, as written in its YAML file; none (``{}``, so training
-    takes :class:`PPOConfig`'s defaults) for a registered environment without one."""
+APPENDIX_KEY = "appendix"  # a hyperparameter file's block of the paper appendix's values where they differ
+
+
+def _hyperparameter_file(environment: str) -> dict[str, Any]:
+    """The environment's hyperparameter file as written; none (``{}``, so training takes :class:`PPOConfig`'s
+    defaults) for a registered environment without one."""
     if has_paper_hyperparameters(environment):
         return dict(load_file(HYPERPARAMS / f"{environment}.yaml", HYPERPARAMETERS).data or {})
     from ..compiler import registry
@@ -199,6 +213,17 @@ def paper_defaults(environment: str) -> dict[str, Any]:
         raise TrainError(f"no paper hyperparameters for environment {environment!r}: it is not a registered "
                          f"environment ({', '.join(registry.environments())})")
     return {}
+
+
+def paper_defaults(environment: str) -> dict[str, Any]:
+    """The hyperparameters of one environment's config that ran, as written in its YAML file."""
+    return {k: v for k, v in _hyperparameter_file(environment).items() if k != APPENDIX_KEY}
+
+
+def appendix(environment: str) -> dict[str, Any]:
+    """The paper appendix's values of the keys where its config differs from the one that ran (``{}``: none),
+    e.g. ``{"max_steps": 4500000}`` for Wildfire Resource Management."""
+    return dict(_hyperparameter_file(environment).get(APPENDIX_KEY) or {})
 
 
 @dataclass(frozen=True)

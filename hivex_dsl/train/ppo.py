@@ -363,6 +363,7 @@ def train(compiled: CompiledScenario, cfg: PPOConfig, run_dir: Path, progress: b
         resumed_at.append(done_before)
     wall_before = (resumed["wall_s"] or 0.0) if resumed else 0.0
     next_checkpoint = (agent_steps // cfg.checkpoint_every + 1) * cfg.checkpoint_every
+    next_summary = (agent_steps // cfg.summary_freq + 1) * cfg.summary_freq  # ML-Agents' summary_freq
     started = time.perf_counter()
 
     def latest(steps: int, wall: float) -> None:
@@ -387,10 +388,13 @@ def train(compiled: CompiledScenario, cfg: PPOConfig, run_dir: Path, progress: b
                             None if curiosity is None else (curiosity, curiosity_optimizer))
             agent_steps += length * slots
             wall = wall_before + time.perf_counter() - started
-            summary = episodes.drain()
+            summarise = agent_steps >= next_summary or agent_steps >= cfg.max_steps or stop.requested
+            summary = episodes.drain() if summarise else {}
+            next_summary = (agent_steps // cfg.summary_freq + 1) * cfg.summary_freq if summarise else next_summary
             if summary:
                 curve.append({"agent_steps": agent_steps, "wall_s": round(wall, 3), "return": summary["return"],
-                              "episodes": summary["episodes"]})
+                              "episodes": summary["episodes"], "length": summary["length"],
+                              "statistics": summary["statistics"]})
             scalars.write(agent_steps, summary, losses, {"learning_rate": lr, "beta": beta, "epsilon": epsilon,
                                                          "agent_steps_per_s": (agent_steps - done_before)
                                                          / max(wall - wall_before, 1e-9),

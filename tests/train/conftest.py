@@ -13,7 +13,7 @@ SCENARIOS = Path(__file__).resolve().parents[2] / "scenarios"
 ENVIRONMENTS = ("wind_farm_control", "wildfire_resource_management", "drone_based_reforestation",
                 "ocean_plastic_collection", "aerial_wildfire_suppression")
 TINY = {"num_worlds": 1, "buffer_size": 64, "batch_size": 32, "num_epoch": 2, "hidden_units": 16,
-        "max_steps": 192, "checkpoint_every": 128, "keep_checkpoints": 1}
+        "max_steps": 192, "checkpoint_every": 128, "keep_checkpoints": 1, "summary_freq": 1}
 
 
 def short_scenario(environment: str, episode_length: int = 24) -> dict:

@@ -258,6 +258,9 @@ def test_another_seed_is_evaluated_on_the_record_s_test_episodes(seeds):
     data = add_seed(record, runs["seed1"])
     (entry,) = data["other_seeds"]
     assert entry["seed"] == 1 and entry["agent_steps"] == 192
+    curve = json.loads((runs["seed1"] / "curve.json").read_text())
+    assert [row[0] for row in entry["curve"]] == [p["agent_steps"] for p in curve]  # its training curve, kept
+    assert [row[2] for row in entry["curve"]] == [round(p["return"], 4) for p in curve]
     alone = evaluate(runs["seed1"] / "checkpoint.pt", split="test", episodes=data["test"]["episodes"])
     assert entry["return"] == alone["return"]  # the same episodes as the record's own evaluation
     assert json.loads(record.read_text()) == data

@@ -5,7 +5,8 @@ from __future__ import annotations
 import pytest
 import torch
 
-from hivex_dsl.train.config import PPOConfig, TrainError, make_config, paper_defaults, parse_assignments, read_overrides
+from hivex_dsl.train.config import (PPOConfig, TrainError, appendix, make_config, paper_defaults, parse_assignments,
+                                    read_overrides)
 
 from .conftest import ENVIRONMENTS
 
@@ -25,8 +26,10 @@ PAPER = {
 
 
 @pytest.mark.parametrize("environment", ENVIRONMENTS)
-def test_the_paper_values_are_the_defaults(environment):
-    cfg = make_config(environment)
+def test_the_appendix_values_are_the_defaults_but_where_its_block_says(environment):
+    """The defaults are the configs that ran (tests/train/test_budgets.py); with each file's ``appendix:`` block
+    laid over them they are the appendix's, read by hand."""
+    cfg = make_config(environment, appendix(environment))
     for key, value in PAPER[environment].items():
         assert getattr(cfg, key) == value, key
     assert (cfg.learning_rate, cfg.learning_rate_schedule, cfg.epsilon, cfg.lambd, cfg.num_epoch, cfg.num_layers) == \

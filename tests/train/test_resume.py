@@ -168,13 +168,15 @@ def test_keys_added_since_read_as_what_they_meant_then_where_they_change_the_pol
     from hivex_dsl.train.checkpoint import older_defaults
 
     hybrid = spaces.Dict({"continuous": spaces.Box(-1.0, 1.0, (1,)), "discrete": spaces.MultiDiscrete([2])})
-    before = {"seed": 3, "weight_init": "cleanrl"}  # every policy from before weight_init started from cleanrl
+    # every policy from before weight_init started from cleanrl; every run before summary_freq logged each update
+    before = {"seed": 3, "weight_init": "cleanrl", "summary_freq": 1}
     assert older_defaults({"seed": 3}, hybrid) == before | {"continuous_actions": "clip", "policy_loss": "joint"}
     assert older_defaults({"seed": 3}, spaces.MultiDiscrete([2, 3])) == before | {"policy_loss": "joint"}
     assert older_defaults({"seed": 3}, spaces.Discrete(3)) == before  # one dimension: the losses agree
     assert older_defaults({"weight_init": "ml_agents"}, hybrid)["weight_init"] == "ml_agents"
     assert older_defaults({"policy_loss": "ml_agents"}, hybrid)["policy_loss"] == "ml_agents"  # written, kept
     assert older_defaults({"curiosity_strength": 0.1}, spaces.Discrete(3))["curiosity_module"] == "hivex_v1"
+    assert older_defaults({"summary_freq": 6000}, spaces.Discrete(3))["summary_freq"] == 6000  # written, kept
 
 
 @pytest.fixture

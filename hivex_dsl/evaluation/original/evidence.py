@@ -179,7 +179,11 @@ def learning_points(environment: str, task_index: int, level: int | None, panel:
     found = cell.panel(panel) if cell is not None else None
     if found is None or found.training is None or not len(found.training.band_steps):
         raise EvidenceError(f"{environment} task {task_index} level {level}: no training band of {panel!r}")
-    curve = found.training
+    return curve_points(found.training, fractions)
+
+
+def curve_points(curve: Curve, fractions: tuple[float, ...] = FRACTIONS) -> list[LearningPoint]:
+    """A training curve (with its band) at ``fractions`` of its last step: the summary point nearest each."""
     points = []
     for fraction in fractions:
         i = int(np.argmin(np.abs(curve.band_steps - fraction * curve.last_step)))
@@ -190,7 +194,8 @@ def learning_points(environment: str, task_index: int, level: int | None, panel:
 
 
 __all__ = ["APPENDIX", "Budget", "CellLength", "EpisodeCeiling", "EvidenceError", "LearningPoint", "MAX_STEP",
-           "budgets", "decision_period", "episode_ceiling", "learning_points", "runs_agree", "sheet_rows", "summary"]
+           "budgets", "curve_points", "decision_period", "episode_ceiling", "learning_points", "runs_agree",
+           "sheet_rows", "summary"]
 
 
 def _level(level: int | None) -> str:

@@ -1,0 +1,340 @@
+"""Our learning curves beside the original's: the measure of issue 52 and the figure.
+
+A :class:`RunCurve` is one of our runs' training curve: per summary point the agent-steps, the episodes it pools,
+and per panel (the original's panel titles: ``"Cumulative Reward"``, ``"Episode Length"`` and the statistics,
+which this toolkit names as the original logs them, :mod:`hivex_dsl.sim.statistics`) the value. It is read from a
+run directory's curve.json (:func:`from_points`) or a committed baseline record, which keeps the return only
+(:func:`from_record`).
+
+The measure (:func:`measure`): at 10, 25, 50 and 100% of the original's training budget (the last step of its
+curve: the config that ran), our value against the original's band of three runs at the summary point nearest
+that step (:func:`~hivex_dsl.evaluation.original.evidence.curve_points`): within, above or below it. Ours at a
+step ``s`` pools our points within half the original's summary interval ``w`` of ``s`` (a run that summarises every
+``w`` agent-steps, as `hivex train` does by default, has one point there; one that logged every update, as the
+recorded baselines did, has a summary period's worth), weighted by their episodes where known; where none lies
+that close (a run whose episodes end seldom, as Wind Farm Control's 5,000-step ones with 256 slots: a point every
+1.28M agent-steps), the nearest point within 5% of the budget, named by its step; else none.
+
+:func:`plot` draws every panel both log: our curve over the original's mean and band (matplotlib, the ``plots``
+extra).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Sequence
+
+import numpy as np
+
+from ...base.errors import HivexError
+from .curves import OriginalCell
+from .evidence import EPISODE_LENGTH, RETURN, curve_points
+
+FRACTIONS = (0.1, 0.25, 0.5, 1.0)
+NEAREST_WITHIN = 0.05  # of the budget: how far from a step our nearest point may lie where none is within w / 2
+
+
+class CompareError(HivexError, ValueError):
+    """A curve that cannot be compared: no points, or no panel the original's cell also logs."""
+
+
+@dataclass(frozen=True)
+class RunCurve:
+    """One run's training curve: ``steps`` (n,) agent-steps, ``episodes`` (n,) episodes pooled per point (ones where
+    unknown), ``panels`` title -> (n,) values (NaN where a point lacks it); ``test`` (steps, means) of checkpoints
+    scored on the test seeds, where the run has them; ``label`` names the run in tables and legends."""
+
+    steps: np.ndarray
+    episodes: np.ndarray
+    panels: dict[str, np.ndarray]
+    label: str = "this toolkit"
+    test: tuple[np.ndarray, np.ndarray] | None = field(default=None)
+
+    @property
+    def last_step(self) -> int:
+        return int(self.steps.max()) if len(self.steps) else 0
+
+
+def from_points(points: Sequence[dict[str, Any]], label: str = "this toolkit") -> RunCurve:
+    """A run directory's curve.json rows (``agent_steps``, ``return``, ``episodes``; ``length`` and ``statistics``
+    where the run wrote them) as a :class:`RunCurve`."""
+    if not points:
+        raise CompareError("the run's curve has no point: no episode ended while it trained")
+    steps = np.array([p["agent_steps"] for p in points], dtype=float)
+    episodes = np.array([p.get("episodes", 1) for p in points], dtype=float)
+    panels = {RETURN: np.array([p["return"] for p in points], dtype=float)}
+    if any("length" in p for p in points):
+        panels[EPISODE_LENGTH] = np.array([p.get("length", np.nan) for p in points], dtype=float)
+    names = sorted({name for p in points for name in p.get("statistics", {})})
+    panels |= {name: np.array([p.get("statistics", {}).get(name, np.nan) for p in points], dtype=float)
+               for name in names}
+    return RunCurve(steps, episodes, panels, label)
+
+
+def seed_curves(record: dict[str, Any]) -> list[RunCurve]:
+    """Every training seed's curve a baseline record holds: its own (:func:`from_record`), then each of its
+    ``other_seeds`` recorded with one (``curve`` rows as the record's)."""
+    others = [e for e in record.get("other_seeds", []) if e.get("curve")]
+    return [from_record(record)] + [from_record({"curve": e["curve"], "seed": e["seed"],
+                                                 "environment": record.get("environment")}) for e in others]
+
+
+def from_record(record: dict[str, Any]) -> RunCurve:
+    """A committed baseline record (benchmarks/baselines/<environment>.json): its training return per update
+    (``curve`` rows: agent-steps, wall s, return) and its checkpoints on the test seeds (``test_curve``)."""
+    rows = record.get("curve") or []
+    if not rows:
+        raise CompareError(f"the record of {record.get('environment')} holds no training curve")
+    steps = np.array([r[0] for r in rows], dtype=float)
+    test = record.get("test_curve") or []
+    test_curve = (np.array([r[0] for r in test], dtype=float), np.array([r[2] for r in test], dtype=float)) if test else None
+    return RunCurve(steps, np.ones_like(steps), {RETURN: np.array([r[2] for r in rows], dtype=float)},
+                    f"this toolkit, seed {record.get('seed', 0)}", test_curve)
+
+
+@dataclass(frozen=True)
+class Ours:
+    """Our value at a step: the pooled mean and the steps of the points it pools (None: no point near)."""
+
+    value: float | None
+    first: int | None = None
+    last: int | None = None
+
+
+def ours_at(run: RunCurve, panel: str, step: float, window: float, budget: float) -> Ours:
+    """Our ``panel`` at ``step``: the episode-weighted mean of our points within ``window / 2`` of it, else the
+    nearest point within :data:`NEAREST_WITHIN` of ``budget``, else none (see the module's docstring)."""
+    values = run.panels[panel]
+    known = ~np.isnan(values)
+    distance = np.abs(run.steps - step)
+    near = known & (distance <= window / 2)
+    if near.any():
+        weights = run.episodes[near]
+        return Ours(float(np.sum(values[near] * weights) / np.sum(weights)), int(run.steps[near].min()),
+                    int(run.steps[near].max()))
+    candidates = np.flatnonzero(known & (distance <= NEAREST_WITHIN * budget))
+    if not len(candidates):
+        return Ours(None)
+    i = candidates[np.argmin(distance[candidates])]
+    return Ours(float(values[i]), int(run.steps[i]), int(run.steps[i]))
+
+
+@dataclass(frozen=True)
+class Row:
+    """One panel at one fraction of the original's budget: ours against the original's mean and band."""
+
+    panel: str
+    fraction: float
+    step: int  # the original's summary point nearest the fraction of its budget
+    ours: Ours
+    mean: float
+    lower: float
+    upper: float
+
+    @property
+    def verdict(self) -> str:
+        """``within``, ``above`` or ``below`` the original's band; ``no point`` where ours has none near."""
+        if self.ours.value is None:
+            return "no point"
+        return "above" if self.ours.value > self.upper else "below" if self.ours.value < self.lower else "within"
+
+
+def shared_panels(run: RunCurve, cell: OriginalCell) -> list[str]:
+    """The panels both log (ours with a value somewhere, the original's with a training band), the return first,
+    then Episode Length, then the original's page order."""
+    ours = {name for name, values in run.panels.items() if not np.isnan(values).all()}
+    theirs = [title for title, p in cell.panels.items()
+              if p.training is not None and len(p.training.band_steps) and title in ours]
+    return sorted(theirs, key=lambda t: (t != RETURN, t != EPISODE_LENGTH, theirs.index(t)))
+
+
+def summary_interval(cell: OriginalCell, panel: str) -> float:
+    """The original's agent-steps between summary points of ``panel`` (the median spacing of its band)."""
+    steps = cell.panels[panel].training.band_steps  # type: ignore[union-attr]
+    return float(np.median(np.diff(steps))) if len(steps) > 1 else float(steps[0])
+
+
+def measure(run: RunCurve, cell: OriginalCell, fractions: Sequence[float] = FRACTIONS) -> list[Row]:
+    """Every shared panel at ``fractions`` of the original's budget (see the module's docstring)."""
+    panels = shared_panels(run, cell)
+    if not panels:
+        raise CompareError(f"the run logs none of the panels of the original's {cell.file}: "
+                           f"{', '.join(cell.panels)}")
+    rows = []
+    for panel in panels:
+        window = summary_interval(cell, panel)
+        training = cell.panels[panel].training
+        assert training is not None  # a shared panel has a training band
+        points, budget = curve_points(training, tuple(fractions)), training.last_step
+        rows += [Row(panel, p.fraction, p.step, ours_at(run, panel, p.step, window, budget), p.mean, p.lower, p.upper)
+                 for p in points]
+    return rows
+
+
+@dataclass(frozen=True)
+class Run:
+    """A run read from disk: its curve and the cell it trained (environment id, the paper's task index, level)."""
+
+    curve: RunCurve
+    environment: str
+    task_index: int
+    level: int | None
+    others: tuple[RunCurve, ...] = ()  # a record's other training seeds with curves
+
+
+def read_run(path: Path) -> Run:
+    """A `hivex train` run directory (curve.json and summary.json) or a committed baseline record (a .json file)."""
+    import json
+
+    path = Path(path)
+    if not path.exists():
+        raise CompareError(f"{path}: no such run directory or baseline record")
+    try:
+        others: list[RunCurve] = []
+        if path.is_dir():
+            summary = json.loads((path / "summary.json").read_text())
+            curve = from_points(json.loads((path / "curve.json").read_text()), f"this toolkit, seed {summary['seed']}")
+        else:
+            summary = json.loads(path.read_text())
+            curve, *others = seed_curves(summary)
+        environment, task, level = summary["environment"], summary["task_index"], summary["level"]
+    except FileNotFoundError as exc:
+        raise CompareError(f"{path} is no run directory of `hivex train` (no {Path(exc.filename).name}) and no "
+                           "baseline record") from None
+    except (KeyError, TypeError, ValueError) as exc:
+        raise CompareError(f"{path} is no run directory of `hivex train` and no baseline record ({exc})") from None
+    return Run(curve, environment, paper_task_index(environment, task), level, tuple(others))
+
+
+def paper_task_index(environment: str, task_index: int) -> int:
+    """The paper's index (the published results' key) of the toolkit's task ``task_index`` of ``environment``."""
+    from ...compiler.registry import get
+
+    return get(environment).reward_table.tasks[task_index].index
+
+
+# the original's pages index Drone-Based Reforestation's tasks as the configs that ran list them, the published
+# results as the appendix does; they agree on the first two (issue 52 item 11 settles the rest)
+SETTLED_DBR_TASKS = (0, 1)
+
+
+def original_cell(environment: str, task_index: int, level: int | None, page_task: int | None = None) -> OriginalCell:
+    """The original's page of the paper's cell (``page_task``: the page's own task index, where it differs)."""
+    from .curves import original_curves
+
+    if page_task is None and environment == "drone_based_reforestation" and task_index not in SETTLED_DBR_TASKS:
+        raise CompareError(f"the original's pages index Drone-Based Reforestation's tasks as the configs that ran "
+                           f"list them, which differ from the paper's index {task_index} (issue 52 item 11): give "
+                           "the page's task index")
+    cell = original_curves(environment, task_index if page_task is None else page_task, level)
+    if cell is None:
+        raise CompareError(f"the original has no page of {environment} task {task_index if page_task is None else page_task}"
+                           f" at level {level}")
+    return cell
+
+
+def _number(value: float) -> str:
+    return f"{value:,.2f}" if abs(value) < 100 else f"{value:,.0f}"
+
+
+def _ours(ours: Ours) -> str:
+    if ours.value is None:
+        return "-"
+    where = "" if ours.first is None else f" ({ours.first:,})" if ours.first == ours.last \
+        else f" ({ours.first:,}-{ours.last:,})"
+    return _number(ours.value) + where
+
+
+def table(rows: Sequence[Row]) -> str:
+    """The measure as a Markdown table: panel, fraction, the original's step, ours (the steps it pools), the
+    original's mean and band, the verdict."""
+    lines = ["| panel | budget | agent-step | ours (our steps) | original mean | original band | verdict |",
+             "| --- | --- | --- | --- | --- | --- | --- |"]
+    lines += [f"| {r.panel} | {r.fraction:.0%} | {r.step:,} | {_ours(r.ours)} | {_number(r.mean)} | "
+              f"{_number(r.lower)} - {_number(r.upper)} | {r.verdict} |" for r in rows]
+    return "\n".join(lines)
+
+
+__all__ = ["CompareError", "FRACTIONS", "Ours", "Row", "Run", "RunCurve", "from_points", "from_record", "measure",
+           "figure", "original_cell", "seed_curves", "ours_at", "paper_task_index", "picture", "plot", "read_run", "shared_panels",
+           "summary_interval", "table"]
+
+
+def plot(run: RunCurve, cell: OriginalCell, path: Path, panels: Sequence[str] | None = None,
+         columns: int = 3, others: Sequence[RunCurve] = ()) -> Path:
+    """Draw :func:`figure` into a PNG at ``path``."""
+    fig = figure(run, cell, panels, columns, others)
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, metadata={"Software": None})
+    _close(fig)
+    return path
+
+
+def picture(run: RunCurve, cell: OriginalCell, panels: Sequence[str] | None = None, columns: int = 3,
+            others: Sequence[RunCurve] = ()) -> np.ndarray:
+    """:func:`figure` as an (H, W, 3) uint8 picture (the docs compare pictures within a tolerance, not bytes)."""
+    fig = figure(run, cell, panels, columns, others)
+    fig.canvas.draw()
+    pixels = np.asarray(fig.canvas.buffer_rgba())[..., :3].copy()
+    _close(fig)
+    return pixels
+
+
+def figure(run: RunCurve, cell: OriginalCell, panels: Sequence[str] | None = None, columns: int = 3,
+           others: Sequence[RunCurve] = (), panel_size: tuple[float, float] = (3.6, 2.4), dpi: int = 80) -> Any:
+    """Our curve of every shared panel (or ``panels``) over the original's training mean and band (and, on the
+    return, our checkpoints on the test seeds), with ``others`` (other training seeds) dashed beside it; one small
+    axis a panel. Needs matplotlib (the ``plots`` extra)."""
+    try:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        raise CompareError("the curves' figure needs matplotlib: pip install 'hivex-dsl[plots]'") from None
+    names = list(panels) if panels is not None else shared_panels(run, cell)
+    if not names:
+        raise CompareError(f"the run logs none of the panels of the original's {cell.file}")
+    rows = -(-len(names) // columns)
+    cols = min(columns, len(names))
+    fig, axes = plt.subplots(rows, cols, figsize=(max(panel_size[0] * cols, 5.0), panel_size[1] * rows + 0.4),
+                             dpi=dpi, squeeze=False)
+    for ax, name in zip(axes.flat, names):
+        _draw_panel(ax, run, cell, name, others)
+    for ax in list(axes.flat)[len(names):]:
+        ax.set_visible(False)
+    axes.flat[0].legend(fontsize=6, loc="best")
+    fig.suptitle(f"{cell.title}\nred: the original (mean and band of 3 runs), blue: {run.label}", fontsize=7)
+    fig.tight_layout()
+    return fig
+
+
+def _close(fig: Any) -> None:
+    import matplotlib.pyplot as plt
+
+    plt.close(fig)
+
+
+def _draw_panel(ax: Any, run: RunCurve, cell: OriginalCell, name: str, others: Sequence[RunCurve] = ()) -> None:
+    training = cell.panels[name].training
+    assert training is not None
+    ax.fill_between(training.band_steps, training.lower, training.upper, color="tab:red", alpha=0.2, linewidth=0)
+    ax.plot(training.steps, training.mean, color="tab:red", linewidth=1, label="original, training")
+    values = run.panels[name]
+    known = ~np.isnan(values)
+    ax.plot(run.steps[known], values[known], color="tab:blue", linewidth=0.8, alpha=0.8,
+            marker="o" if known.sum() < 20 else None, markersize=3, label=f"{run.label}, training")
+    for other in others:
+        if name in other.panels:
+            known = ~np.isnan(other.panels[name])
+            ax.plot(other.steps[known], other.panels[name][known], color="tab:blue", linewidth=0.8, alpha=0.5,
+                    linestyle="--", label=f"{other.label}, training")
+    if name == RETURN and run.test is not None:
+        ax.plot(*run.test, "s", color="tab:purple", markersize=3, label="ours, checkpoints on test seeds")
+    ax.axvline(training.last_step, color="gray", linewidth=0.6, linestyle=":")
+    ax.set_title(name, fontsize=8)
+    ax.tick_params(labelsize=6)
+    ax.xaxis.get_offset_text().set_fontsize(6)
+    ax.grid(alpha=0.3)
