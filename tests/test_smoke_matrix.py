@@ -39,8 +39,9 @@ class Smoke:
 
     def train(self) -> int:
         if self._trained is None:
-            self._trained = main(["train", self.scenario, "-o", str(self.run_dir), "--steps", "1", "--no-progress",
-                                  "--set", "num_worlds=1"])
+            # one world's agents (16 at most) through one whole episode, so the run's curve has a point (`curves`)
+            self._trained = main(["train", self.scenario, "-o", str(self.run_dir), "--steps", str(16 * EPISODE),
+                                  "--no-progress", "--set", "num_worlds=1"])
         return self._trained
 
     def checkpoint(self) -> str:
@@ -60,6 +61,8 @@ COMMANDS: dict[str, Callable[[Smoke], list[str]]] = {
     "vocab": lambda s: ["vocab", s.env_id],
     "train": lambda s: [],
     "evaluate": lambda s: ["evaluate", s.checkpoint(), s.scenario, "--episodes", "1"],
+    "replay": lambda s: ["replay", s.checkpoint(), "-o", s.out("episode.html"), "--trace", s.out("trace.json")],
+    "curves": lambda s: ["curves", str(Path(s.checkpoint()).parent), s.scenario, "-o", s.out("curves.png")],
 }
 # commands that take no environment: run once
 ONCE: dict[str, Callable[[Path], list[str]]] = {
