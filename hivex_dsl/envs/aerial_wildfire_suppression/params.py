@@ -28,7 +28,7 @@ class AerialWildfireParams(WindParams, FireSpec):
     plane_speed_m: float = Field(3.0, gt=0.0, le=50.0, description=(
         "[records] Metres a plane flies per step, fitted to the original's Pick Up Water pages (issue 52, the reward "
         "table's notes): its untrained policy took 203 steps to the water ring on average over the ten levels, a "
-        "random flight here takes 117 at 5 m (the release's figure) and about 205 at 3 m."))
+        "random flight here takes 117 at 5 m (the release's figure) and 187-211 at 3 m."))
     turn_rate_deg: float = Field(5.0, gt=0.0, le=45.0, description="[orig] Degrees a plane turns per step at steer +/-1.")
     spawn_radius_m: float = Field(750.0, ge=0.0, le=10_000.0, description=(
         "[orig] Planes spawn uniformly within this distance of the centre (inside the border) with a random heading."))
