@@ -147,4 +147,8 @@ def test_the_page_shows_the_whole_grid_with_the_beaten_cells_marked():
     # one row per task, one column per pattern: WFC's nine
     (header,) = [line for line in page.splitlines() if line.startswith("| Task | pattern 0 |")]
     assert header.count("pattern") == 9
-    assert "- Task 5 `pick_up_water`, beaten by a trivial policy: The island" in page
+    # issue 52: at 3 m a step no trivial flight beats the PPO in Pick Up Water; WRM's main task is beaten beyond
+    # its standard error over 10 test episodes at levels 6, 7, 9 and 10, with the reason its reward table states
+    assert "### Aerial Wildfire Suppression: 90 published cells, 0 beaten by a trivial policy" in page
+    assert "### Wildfire Resource Management: 30 published cells, 4 beaten by a trivial policy" in page
+    assert "- Task 0 `main`, beaten by a trivial policy: The random policy earns more" in page
