@@ -184,13 +184,16 @@ def test_only_is_refused_without_the_suite(capsys):
     assert "--only picks environments of the --suite" in capsys.readouterr().err
 
 
-def _row(environment, scenario, value):
-    return {"environment": environment, "scenario": scenario, "value": value, "flags": []}
+def _row(environment, scenario, value, episodes=3):
+    return {"environment": environment, "scenario": scenario, "value": value, "flags": [], "episodes": episodes}
 
 
-def test_only_remeasures_one_environment_and_keeps_every_other_row_in_suite_order(tmp_path, monkeypatch):
-    """A stored report of three environments; --only ocean_plastic_collection re-measures that one at the
-    stored episode count (not --episodes) and writes the others back untouched, in the registry's order."""
+@pytest.mark.parametrize("asked", [None, 7])
+def test_only_remeasures_one_environment_and_keeps_every_other_row_in_suite_order(tmp_path, monkeypatch, asked):
+    """A stored report of three environments; --only ocean_plastic_collection re-measures that one, at the stored
+    episode count or at --episodes where given (issue 52: a changed environment re-measured at the suite's 10 while
+    the rest keep theirs), and writes the others back untouched, in the registry's order. Each row keeps its own
+    count; the report's is the fewest of any row."""
     from hivex_dsl.evaluation import fidelity
 
     stored = {"hivex_fidelity": 1, "episodes": 3, "split": "test", "scenarios": [
@@ -202,17 +205,33 @@ def test_only_remeasures_one_environment_and_keeps_every_other_row_in_suite_orde
 
     def fake_measure(episodes, environments, stream=None, quiet=False):
         calls.append((episodes, environments))
-        return {"scenarios": [_row("ocean_plastic_collection", "opc-new", 20),
-                              _row("ocean_plastic_collection", "opc-new-2", 21)]}
+        return {"scenarios": [_row("ocean_plastic_collection", "opc-new", 20, episodes),
+                              _row("ocean_plastic_collection", "opc-new-2", 21, episodes)]}
 
     monkeypatch.setattr(fidelity, "measure_suite", fake_measure)
-    assert main(["audit", "--suite", "--only", "ocean_plastic_collection", "--episodes", "7", "-o", str(output),
-                 "--json"]) == 0
-    assert calls == [(3, ["ocean_plastic_collection"])]
+    more = ["--episodes", str(asked)] if asked else []
+    assert main(["audit", "--suite", "--only", "ocean_plastic_collection", *more, "-o", str(output), "--json"]) == 0
+    assert calls == [(asked or 3, ["ocean_plastic_collection"])]
     written = fidelity.load_suite(output)
     assert [r["scenario"] for r in written["scenarios"]] == ["wfc-a", "opc-new", "opc-new-2", "aws-a"]
+    assert [r["episodes"] for r in written["scenarios"]] == [3, asked or 3, asked or 3, 3]
     assert {k: v for k, v in written.items() if k != "scenarios"} == {"hivex_fidelity": 1, "episodes": 3,
                                                                       "split": "test"}
+
+
+def test_a_fresh_suite_measures_the_suites_standard_episode_count_and_a_file_two(tmp_path, monkeypatch):
+    """Issue 52: two test episodes flipped the suite's verdicts in near ties; the suite measures ten by default,
+    while a scenario FILE's quick audit keeps two."""
+    from hivex_dsl.evaluation import audit, fidelity
+
+    calls = []
+    monkeypatch.setattr(fidelity, "measure_suite", lambda episodes, environments, stream=None, quiet=False: (
+        calls.append(episodes) or {"hivex_fidelity": 1, "episodes": episodes, "split": "test", "scenarios": []}))
+    assert main(["audit", "--suite", "--only", "ocean_plastic_collection", "-o", str(tmp_path / "f.json")]) == 0
+    assert calls == [10]
+    monkeypatch.setattr(audit, "audit_all", lambda compiled, episodes, **kw: calls.append(episodes) or [])
+    assert main(["audit", "wind_farm_control/main"]) == 0
+    assert calls == [10, 2]
 
 
 def test_only_an_unknown_environment_is_refused_with_the_choices(capsys):

@@ -13,13 +13,16 @@ from ..base.errors import HivexError
 from .argtypes import positive
 from .exits import EXIT_FAIL, EXIT_OK, EXIT_USAGE
 
+FILE_EPISODES = 2  # a scenario FILE's audit: a quick look; the suite's verdicts take more (fidelity.SUITE_EPISODES)
+
 
 def add_command(sub: argparse._SubParsersAction) -> None:
     """The `audit` subcommand's parser."""
     p = sub.add_parser("audit", help="property-test a scenario's reward terms with all-zeros, random and scripted "
                                      "policies (and a trained one); compare with the published results")
     p.add_argument("file", nargs="?", help="scenario file (every point of a sweep is audited)")
-    p.add_argument("--episodes", type=positive, default=2, help="test episodes per policy (default 2)")
+    p.add_argument("--episodes", type=positive, help=f"test episodes per policy (default {FILE_EPISODES}; with --suite, "
+                                                     "the suite's standard for a stable verdict)")
     p.add_argument("--checkpoint", type=Path, metavar="CHECKPOINT",
                    help="also audit the policy of a checkpoint `hivex train` wrote (of the scenario's environment; "
                         "needs the train extra)")
@@ -32,7 +35,8 @@ def add_command(sub: argparse._SubParsersAction) -> None:
     p.add_argument("-o", "--output", type=Path, help="with --suite: write the report as JSON to this file")
     p.add_argument("--only", action="append", metavar="ENV", choices=_environment_ids(),
                    help="with --suite: audit only this environment's cells (repeatable); with -o, an existing "
-                        "report keeps every other environment's rows and its episode count")
+                        "report keeps every other environment's rows, and these are measured at its episode count "
+                        "unless --episodes says another")
     p.set_defaults(handler=cmd_audit)
 
 
@@ -54,14 +58,14 @@ def cmd_audit(args) -> int:
 
 def _suite(args) -> list[dict]:
     """Every suite scenario's audit (written to --output if given)."""
-    from ..evaluation.fidelity import load_suite, measure_suite, remeasure_suite, write_suite
+    from ..evaluation.fidelity import SUITE_EPISODES, load_suite, measure_suite, remeasure_suite, write_suite
 
     stored = load_suite(args.output) if args.output and args.only else None
     if stored is not None:
-        report = remeasure_suite(stored, args.only, quiet=args.json)
+        report = remeasure_suite(stored, args.only, quiet=args.json, episodes=args.episodes)
         audited = [row for row in report["scenarios"] if row["environment"] in args.only]
     else:
-        report = measure_suite(args.episodes, args.only, quiet=args.json)
+        report = measure_suite(args.episodes or SUITE_EPISODES, args.only, quiet=args.json)
         audited = report["scenarios"]
     if args.output:
         write_suite(report, args.output)
@@ -90,7 +94,8 @@ def _scenario(args) -> list[dict]:
 
         trained, threads = checkpoint_policies(args.checkpoint), limited_threads(1)
     with threads:  # one world's few agents are batches too small to share among torch's threads
-        audits = [a.as_dict() for a in audit_all(compiled, args.episodes, quiet=args.json, trained=trained)]
+        audits = [a.as_dict() for a in audit_all(compiled, args.episodes or FILE_EPISODES, quiet=args.json,
+                                                    trained=trained)]
     if args.checkpoint:
         for audit in audits:
             audit["checkpoint"] = str(args.checkpoint)

@@ -24,7 +24,7 @@ from .audit import audit_all
 
 FIDELITY_VERSION = 1
 FIDELITY_FILE = "benchmarks/results/fidelity.json"
-SUITE_EPISODES = 2
+SUITE_EPISODES = 10  # the issue's standard for a verdict: two episodes flipped near ties (issue 52)
 
 
 def first_level(entry: registry.EnvironmentEntry) -> Optional[int]:
@@ -79,14 +79,15 @@ def measure_suite(episodes: int = SUITE_EPISODES, environments: Optional[list[st
 
 
 def remeasure_suite(stored: dict[str, Any], environments: list[str], stream: Optional[TextIO] = None,
-                    quiet: bool = False) -> dict[str, Any]:
-    """``stored`` with the rows of ``environments`` measured again (at the stored episode count) and every
-    other row kept as it was, in suite order: what changing one environment needs, not the whole grid."""
-    fresh = measure_suite(stored["episodes"], environments, stream, quiet)
+                    quiet: bool = False, episodes: Optional[int] = None) -> dict[str, Any]:
+    """``stored`` with the rows of ``environments`` measured again (at ``episodes``, by default the stored count)
+    and every other row kept as it was, in suite order: what changing one environment needs, not the whole grid.
+    Each row keeps its own episode count; the report's is the fewest of any row (what every row has at least)."""
+    fresh = measure_suite(episodes or stored["episodes"], environments, stream, quiet)
     kept = [row for row in stored["scenarios"] if row["environment"] not in environments]
     order = {env_id: i for i, env_id in enumerate(registry.environments())}
     rows = sorted(kept + fresh["scenarios"], key=lambda row: order.get(row["environment"], len(order)))
-    return dict(stored, scenarios=rows)
+    return dict(stored, episodes=min(row["episodes"] for row in rows), scenarios=rows)
 
 
 def write_suite(report: dict[str, Any], output: Path) -> None:

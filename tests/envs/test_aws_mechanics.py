@@ -72,17 +72,18 @@ def term(compiled, name, prev, new):
     return compiled.entry.terms[name](prev, new, None, compiled.params)
 
 
-def test_a_plane_turns_5_degrees_per_unit_of_steer_then_flies_5_m(base):
+def test_a_plane_turns_5_degrees_per_unit_of_steer_then_flies_3_m(base):
     sim, state = world(base, [(0.0, 0.0, 0.0), (100.0, 100.0, 90.0)])
     new, _ = sim.step(state, act([1.0, -0.5], [0, 0]), np.random.default_rng(1))
     assert np.allclose(np.degrees(new.heading[0]), [5.0, 87.5])
-    expected = [[5 * np.cos(np.radians(5)), 5 * np.sin(np.radians(5))],
-                [100 + 5 * np.cos(np.radians(87.5)), 100 + 5 * np.sin(np.radians(87.5))]]
+    # 3 m a step: fitted to the original's Pick Up Water pages (issue 52; the release's figure was 5 m)
+    expected = [[3 * np.cos(np.radians(5)), 3 * np.sin(np.radians(5))],
+                [100 + 3 * np.cos(np.radians(87.5)), 100 + 3 * np.sin(np.radians(87.5))]]
     assert np.allclose(new.position[0], expected)
 
 
 def test_crossing_the_border_costs_100_ends_that_plane_and_freezes_it(compiled, base):
-    sim, state = world(base, [(747.0, 0.0, 0.0), (0.0, 0.0, 0.0)])
+    sim, state = world(base, [(748.0, 0.0, 0.0), (0.0, 0.0, 0.0)])  # 3 m on: 751 m, past the 750 m border
     new, outcome = sim.step(state, act([0, 0], [0, 0]), np.random.default_rng(1))
     assert outcome.terminated[0].tolist() == [True, False]
     assert term(compiled, "crossed_border", state, new)[0].tolist() == [-100.0, 0.0]
@@ -92,7 +93,7 @@ def test_crossing_the_border_costs_100_ends_that_plane_and_freezes_it(compiled, 
 
 
 def test_entering_the_water_ring_without_water_fills_up_once(compiled, base):
-    sim, state = world(base, [(597.0, 0.0, 0.0), (0.0, 0.0, 0.0)], water=False)
+    sim, state = world(base, [(598.0, 0.0, 0.0), (0.0, 0.0, 0.0)], water=False)  # 3 m on: 601 m, over the ring
     new, outcome = sim.step(state, act([0, 0], [0, 0]), np.random.default_rng(1))
     assert new.water[0].tolist() == [True, False]
     assert outcome.events["picked_up_water"][0].tolist() == [True, False]
@@ -337,10 +338,10 @@ def test_nothing_is_paid_on_the_first_step_for_where_a_plane_happens_to_start(ta
     sim = AerialWildfireSimulator(compiled)
     state = sim.reset(np.random.default_rng(7), 64)
     gap = state.position - state.maps.village[:, None, :]
-    assert (np.hypot(gap[..., 0], gap[..., 1]) >= 160.0 - 1e-9).all()  # two 5 m steps outside its 150 m
-    if task == "pick_up_water":  # over the island, two 5 m steps from the ring at least
-        assert (np.abs(state.position) <= 590.0).all() and not state.water.any()
-    new, _ = sim.step(state, act_batch(64, 3), np.random.default_rng(1))  # one step straight on: 5 m
+    assert (np.hypot(gap[..., 0], gap[..., 1]) >= 156.0 - 1e-9).all()  # two 3 m steps outside its 150 m
+    if task == "pick_up_water":  # over the island, two 3 m steps from the ring at least
+        assert (np.abs(state.position) <= 594.0).all() and not state.water.any()
+    new, _ = sim.step(state, act_batch(64, 3), np.random.default_rng(1))  # one step straight on: 3 m
     assert not new.picked_up.any() and not new.found_village.any()
 
 

@@ -66,3 +66,22 @@ def test_collective_performance_does_not_depend_on_the_task_or_the_policy():
     ours = {episodes(task, policy).statistics["Collective Performance"].mean()
             for task in (0, 2) for policy in ("zeros", "random", "scripted")}
     assert max(ours) - min(ours) < 1e-9 * max(ours)
+
+
+# Issue 52, item 7: the original's Episode Length and Collective Performance curves at terrain level 7, averaged
+# over its training (three runs), read from original-plots/WildfireResourceManagement/*_difficulty_7_task_0.pdf
+ORIGINAL_LEVEL7_EPISODE_LENGTH = 204.1
+ORIGINAL_LEVEL7_COLLECTIVE = 50.4
+
+
+def test_this_fire_burns_longer_than_the_originals_with_the_same_yield_per_step():
+    """Why a trivial policy earns more than the published PPO at levels 6, 7, 9 and 10 (the reward table's notes):
+    the fire lasts longer here, each of its steps yielding the original's Collective Performance per step."""
+    compiled = hivex_dsl.compile({"hivex": 1, "environment": ENVIRONMENT, "terrain_level": 7, "agents": 9,
+                                  "episode_length": 500, "seeds": {"train": 5000, "test": 6000}})
+    done = rollout(compiled, "zeros", 20, split="test")
+    lengths, collective = done.lengths[:, 0], done.statistics["Collective Performance"][:, 0]
+    spread = lengths.std() / len(lengths) ** 0.5
+    assert lengths.mean() - 2 * spread > 1.1 * ORIGINAL_LEVEL7_EPISODE_LENGTH  # at least a tenth longer
+    per_step = collective.sum() / lengths.sum()
+    assert per_step == pytest.approx(ORIGINAL_LEVEL7_COLLECTIVE / ORIGINAL_LEVEL7_EPISODE_LENGTH, rel=0.05)

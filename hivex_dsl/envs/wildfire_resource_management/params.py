@@ -40,8 +40,9 @@ class WildfireResourceParams(WindParams, FireSpec):
         "[ours] Tenths of its 1.0 that each tower has allocated to itself at reset; the rest starts unallocated."))
     redraw_island: RedrawIsland = redraw_island_field()
     fire_step_interval: int = Field(1, ge=1, le=1_000, description=(
-        "[ours] Environment steps per fire step. With 1, a free-burning fire mostly goes out after 150-350 steps, "
-        "matching the original's logged mean episode lengths of 140-275 [orig]; towers cannot fight the fire."))
+        "[ours] Environment steps per fire step. With 1, a free-burning fire mostly goes out after 150-350 steps "
+        "(towers cannot fight the fire), 225-266 on average a level: 1.12-1.38 times the original's Episode Length "
+        "curves (163-228 a level; the reward table's notes, issue 52)."))
     weather_grid_cells: int = Field(16, ge=2, le=128, description=(
         "[ours] The smooth weather fields are sampled on this many cells per side of the island for the fire "
         "(nearest cell), as in Aerial Wildfire Suppression; a cell is 75 m."))

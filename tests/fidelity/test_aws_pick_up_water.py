@@ -1,0 +1,70 @@
+"""Aerial Wildfire Suppression's Pick Up Water: what a straight flight earns, derived by hand (issue 52, item 8).
+
+The task pays +100 on the pick-up and -100/3000 a step before it, and ends on the pick-up, so a plane's return is
+100 - (steps - 1) / 30 (the pick-up step costs nothing). The original's own pages obey the same law (test return
+94.3 for Episode Length 167). The all-zeros plane flies straight on from a uniform point of the island at a
+uniform heading. For a uniform point of a square of half-side h and a uniform direction, the mean distance to the
+edge is (2h / pi) (2 ln(1 + sqrt 2) - (2 sqrt 2 - 2) / 3) = 0.9464 h (integrate the squared chords); the planes
+start within h - 2 steps of the ring (594 m) and the ring begins at 600 m, so the straight flight to it is
+0.9464 x 594 = 562 m to 0.9464 x 600 = 568 m on average, 187 to 190 steps of 3 m (plus the half step the last one
+overshoots): a return of about 93.7, below the published PPO's 94.7 at level 3. At 5 m a step the same flight
+took 113 steps and earned 96.3, above every published cell: the original's untrained policy, which flies nearly
+straight (random steering changes the time little: 117 steps here at 5 m), took 172 to 250 steps at its first
+summary point, which a 5 m plane on this island cannot.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import hivex_dsl
+from hivex_dsl.evaluation.published import cell
+from hivex_dsl.evaluation.rollout import rollout
+
+EPISODES = 40
+LEVEL = 3
+MEAN_EDGE_DISTANCE = 2 / math.pi * (2 * math.log(1 + math.sqrt(2)) - (2 * math.sqrt(2) - 2) / 3)  # x half-side
+
+
+@pytest.fixture(scope="module")
+def straight():
+    compiled = hivex_dsl.compile({"hivex": 1, "environment": "aerial_wildfire_suppression", "task": "pick_up_water",
+                                  "terrain_level": LEVEL, "agents": 3, "episode_length": 3000,
+                                  "seeds": {"train": 5000, "test": 6000}})
+    return compiled, rollout(compiled, "zeros", EPISODES, split="test")
+
+
+def test_the_mean_edge_distance_constant_by_integration():
+    # the square [0, 2]^2 (h = 1): mean of min(u / cos t, v / sin t) over u, v uniform on [0, 2], t on [0, pi/2]
+    u = (np.arange(400) + 0.5) / 200
+    t = (np.arange(400) + 0.5) / 400 * (np.pi / 2)
+    uu, vv, tt = np.meshgrid(u, u, t, indexing="ij", sparse=True)
+    assert np.minimum(uu / np.cos(tt), vv / np.sin(tt)).mean() == pytest.approx(MEAN_EDGE_DISTANCE, rel=2e-3)
+
+
+def test_a_plane_flies_3_m_a_step(straight):
+    compiled, _ = straight
+    assert compiled.params.plane_speed_m == 3.0
+
+
+def test_each_plane_earns_100_less_a_thirtieth_a_step_before_its_pick_up(straight):
+    _, done = straight
+    assert (done.statistics["Water Pickup"] == 1).all()
+    np.testing.assert_allclose(done.returns, 100 - (done.lengths - 1) / 30, atol=1e-9)
+
+
+def test_the_straight_flight_takes_the_hand_derived_time(straight):
+    compiled, done = straight
+    speed = compiled.params.plane_speed_m
+    low, high = (MEAN_EDGE_DISTANCE * h / speed for h in (600 - 2 * speed, 600))
+    spread = done.lengths.std() / math.sqrt(done.lengths.size)
+    assert low - 3 * spread <= done.lengths.mean() <= high + 1 + 3 * spread
+
+
+def test_all_zeros_earns_less_than_the_published_ppo(straight):
+    _, done = straight
+    published = cell("aerial_wildfire_suppression", 5, LEVEL).return_mean  # 94.67
+    assert done.returns.mean() < published
