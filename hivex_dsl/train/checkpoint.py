@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import hashlib
 from pathlib import Path
-from typing import Any, Iterator, Mapping
+from typing import Any, Callable, Iterator, Mapping
 
 import torch
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
@@ -19,7 +19,7 @@ from ..lang.spec.validate import describe
 from .config import PPOConfig, TrainError
 from .devices import torch_device
 from .networks import ActionLayout, ActorCritic
-from .rundir import write_atomically
+from .rundir import RunDir, write_atomically
 
 FORMAT = "hivex-ppo/1"
 # the sections a SHA-256 checksum guards, and what a mismatch means
@@ -66,14 +66,15 @@ class Layout(LayoutPart):
 
 
 def save_checkpoint(path: Path, agent: ActorCritic, cfg: PPOConfig, compiled: CompiledScenario,
-                    agent_steps: int, wall_s: float | None = None, training: dict[str, Any] | None = None) -> Path:
+                    agent_steps: int, wall_s: float | None = None, training: dict[str, Any] | None = None,
+                    write: Callable[[Path, Callable[[Path], None]], None] = write_atomically) -> Path:
     """Write one checkpoint (weights, hyperparameters, the resolved scenario and its fingerprint, and the
     training's agent-steps and wall seconds when it was taken). ``training`` (optimizer states, the curiosity
     module, the learning curve so far) makes it resumable: the run directory's ``checkpoint.pt`` carries it.
     The weights and the training state each carry a SHA-256 checksum (:func:`checksum`), checked on load.
 
     The file is written beside and then renamed over ``path``, so a run killed mid-write leaves the previous
-    checkpoint whole."""
+    checkpoint whole (``write``: :func:`.rundir.write_atomically`, or a claimed run directory's, which records it)."""
     path.parent.mkdir(parents=True, exist_ok=True)
     data = {"format": FORMAT, "model": agent.state_dict(), "config": cfg.model_dump(mode="json"),
             "scenario": compiled.resolved(), "fingerprint": compiled.fingerprint,
@@ -81,17 +82,18 @@ def save_checkpoint(path: Path, agent: ActorCritic, cfg: PPOConfig, compiled: Co
     if training is not None:
         data["training"] = training
     data["checksums"] = {section: checksum(data[section]) for section in CHECKSUMMED if section in data}
-    write_atomically(path, lambda partial: torch.save(data, partial))
+    write(path, lambda partial: torch.save(data, partial))
     return path
 
 
-def save_numbered_checkpoint(run_dir: Path, agent: ActorCritic, cfg: PPOConfig, compiled: CompiledScenario,
+def save_numbered_checkpoint(run: RunDir, agent: ActorCritic, cfg: PPOConfig, compiled: CompiledScenario,
                              steps: int, wall: float) -> None:
-    """Save ``run_dir/checkpoints/step_N.pt`` and keep only the newest ``cfg.keep_checkpoints``."""
-    folder = run_dir / "checkpoints"
-    save_checkpoint(folder / f"step_{steps:012d}.pt", agent, cfg, compiled, steps, wall)
+    """Save ``checkpoints/step_N.pt`` in the claimed run directory ``run`` and keep only the newest
+    ``cfg.keep_checkpoints`` of the run's own."""
+    folder = run.root / "checkpoints"
+    save_checkpoint(folder / f"step_{steps:012d}.pt", agent, cfg, compiled, steps, wall, write=run.write)
     for old in sorted(folder.glob("step_*.pt"))[:-cfg.keep_checkpoints]:
-        old.unlink()
+        run.remove(old)
 
 
 def checksum(section: Any) -> str:
