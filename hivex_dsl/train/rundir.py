@@ -203,15 +203,15 @@ class RunDir:
         self.root, self._lock, self.manifest = Path(root), lock, manifest
 
     @classmethod
-    def claim(cls, run_dir: Path, resume: bool = False, overwrite: bool = False) -> "RunDir":
+    def claim(cls, run_dir: Path, resume: bool = False, overwrite: bool = False, wait: float = 0) -> "RunDir":
         """``run_dir`` ready for a run (made if new): ``resume`` keeps the run's files there (less the half-written
         saves an interruption left), ``overwrite`` removes them, neither refuses a directory that holds any
-        (:func:`check_claimable`). Another process writing there is refused at once."""
+        (:func:`check_claimable`). Another process writing there is refused at once, or after ``wait`` seconds."""
         run_dir = Path(run_dir)
-        lock = _try_lock(run_dir) if (run_dir / LOCK).exists() else None
+        lock = _try_lock(run_dir, wait) if (run_dir / LOCK).exists() else None
         try:
             check_claimable(run_dir, resume, overwrite)
-            lock = lock or _try_lock(run_dir)
+            lock = lock or _try_lock(run_dir, wait)
             found = check_claimable(run_dir, resume, overwrite)  # again, now that no other process can write
         except BaseException:
             if lock is not None:
@@ -290,14 +290,26 @@ class RunDir:
         write_atomically(self.root / MANIFEST, lambda partial: partial.write_text(json.dumps(self.manifest, indent=1)))
 
 
-def _try_lock(run_dir: Path) -> Any:
-    """The run directory's lock, held by this process; a TrainError at once where another process holds it."""
+def writer_of(run_dir: Path) -> str:
+    """`` (process 123 on host, since ...)`` where another process holds ``run_dir``'s lock now; else empty."""
+    if not (Path(run_dir) / LOCK).is_file():
+        return ""
+    try:
+        _try_lock(Path(run_dir)).release()
+    except TrainError:
+        return _owner(Path(run_dir)) or " (a process that did not say which)"
+    return ""
+
+
+def _try_lock(run_dir: Path, wait: float = 0) -> Any:
+    """The run directory's lock, held by this process; a TrainError where another process holds it still after
+    ``wait`` seconds."""
     from filelock import FileLock, Timeout
 
     if (run_dir / META).is_symlink() or ((run_dir / META).exists() and not (run_dir / META).is_dir()):
         raise TrainError(f"{run_dir / META} is not a folder of hivex's: move it, or give another run directory")
     (run_dir / META).mkdir(parents=True, exist_ok=True)
-    lock = FileLock(str(run_dir / LOCK), timeout=0)
+    lock = FileLock(str(run_dir / LOCK), timeout=wait)
     try:
         lock.acquire()
     except Timeout:
