@@ -171,7 +171,8 @@ def _in_processes(work: list[tuple], modes: list[tuple[bool, bool]], jobs: int) 
             while waiting and len(running) < jobs:
                 index = waiting.pop(0)
                 running[index] = context.Process(target=_point_in_process, args=(finished, stop_points, index,
-                                                                                 work[index], *modes[index]))
+                                                                                 work[index], *modes[index],
+                                                                                 os.getpid()))
                 running[index].start()
             try:
                 index, outcome, value = finished.get(timeout=0.5)
@@ -200,11 +201,13 @@ def _died(running: dict[int, Any]) -> BaseException | None:
 
 
 def _point_in_process(finished: Any, stop_points: Any, index: int, job: tuple, resume: bool,
-                      overwrite: bool) -> None:
+                      overwrite: bool, parent: int) -> None:
     """A spawned process's work: one point, its summary (or its error) put on ``finished``. Ctrl-C reaches
     the whole process group: the parent asks the point to stop through ``stop_points``, so here it is ignored
-    outside training (inside, training's own handler stops after the update, as the parent's request does)."""
+    outside training (inside, training's own handler stops after the update, as the parent's request does).
+    It ends with its ``parent`` however that ends (:func:`end_with_parent`)."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    end_with_parent(parent)
     try:
         summary = train_point(*job, progress=False, resume=resume, overwrite=overwrite, stop_event=stop_points)
         finished.put((index, "result", summary))
@@ -214,6 +217,27 @@ def _point_in_process(finished: Any, stop_points: Any, index: int, job: tuple, r
         except Exception:  # an error that does not travel goes as its text
             error = TrainError(f"grid point {index} failed:\n{traceback.format_exc()}")
         finished.put((index, "error", error))
+
+
+def end_with_parent(parent: int, poll_s: float = 0.5) -> None:
+    """SIGTERM this process when ``parent`` (its pid) ends, even by SIGKILL, which no handler of the parent's sees:
+    a point's training then stops after its update and keeps its checkpoint, instead of training on for hours
+    orphaned. On Linux the kernel sends it (prctl PR_SET_PDEATHSIG); elsewhere, and as a fallback, a daemon
+    thread watches for the process to be handed to another parent."""
+    if sys.platform.startswith("linux"):
+        import ctypes
+
+        libc = ctypes.CDLL(None, use_errno=True)
+        libc.prctl(1, signal.SIGTERM, 0, 0, 0)  # PR_SET_PDEATHSIG = 1
+    if os.getppid() != parent:  # it ended before the request was made
+        os.kill(os.getpid(), signal.SIGTERM)
+
+    def watch() -> None:
+        while os.getppid() == parent:
+            threading.Event().wait(poll_s)
+        os.kill(os.getpid(), signal.SIGTERM)
+
+    threading.Thread(target=watch, daemon=True, name="end-with-parent").start()
 
 
 def _on_ray(jobs: list[tuple], modes: list[tuple[bool, bool]], address: str,
