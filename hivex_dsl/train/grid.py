@@ -17,6 +17,7 @@ import re
 import signal
 import sys
 import threading
+import time
 import traceback
 from multiprocessing import get_context
 from pathlib import Path
@@ -222,22 +223,32 @@ def _point_in_process(finished: Any, stop_points: Any, index: int, job: tuple, r
 def end_with_parent(parent: int, poll_s: float = 0.5) -> None:
     """SIGTERM this process when ``parent`` (its pid) ends, even by SIGKILL, which no handler of the parent's sees:
     a point's training then stops after its update and keeps its checkpoint, instead of training on for hours
-    orphaned. On Linux the kernel sends it (prctl PR_SET_PDEATHSIG); elsewhere, and as a fallback, a daemon
-    thread watches for the process to be handed to another parent."""
-    if sys.platform.startswith("linux"):
-        import ctypes
-
-        libc = ctypes.CDLL(None, use_errno=True)
-        libc.prctl(1, signal.SIGTERM, 0, 0, 0)  # PR_SET_PDEATHSIG = 1
-    if os.getppid() != parent:  # it ended before the request was made
+    orphaned. On Linux the kernel sends it (prctl PR_SET_PDEATHSIG); elsewhere a daemon thread watches for the
+    process to be handed to another parent. Either sends one signal: a second, after training's handler is gone,
+    would cut the final save."""
+    if not _kernel_signals_parent_death():
+        threading.Thread(target=_signal_when_orphaned, args=(parent, poll_s), daemon=True,
+                         name="end-with-parent").start()
+    elif os.getppid() != parent:  # it ended before the request was made
         os.kill(os.getpid(), signal.SIGTERM)
 
-    def watch() -> None:
-        while os.getppid() == parent:
-            threading.Event().wait(poll_s)
-        os.kill(os.getpid(), signal.SIGTERM)
 
-    threading.Thread(target=watch, daemon=True, name="end-with-parent").start()
+def _kernel_signals_parent_death() -> bool:
+    """Ask Linux to send SIGTERM when the parent ends; -> whether it will."""
+    if not sys.platform.startswith("linux"):
+        return False
+    import ctypes
+
+    try:
+        return ctypes.CDLL(None, use_errno=True).prctl(1, signal.SIGTERM, 0, 0, 0) == 0  # PR_SET_PDEATHSIG = 1
+    except (OSError, AttributeError):
+        return False
+
+
+def _signal_when_orphaned(parent: int, poll_s: float) -> None:
+    while os.getppid() == parent:
+        time.sleep(poll_s)
+    os.kill(os.getpid(), signal.SIGTERM)
 
 
 def _on_ray(jobs: list[tuple], modes: list[tuple[bool, bool]], address: str,
