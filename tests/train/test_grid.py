@@ -83,8 +83,14 @@ def test_the_command_trains_the_points_asked_in_their_own_folders(tmp_path, caps
     table = json.loads((runs / "results.json").read_text())
     assert [row["scenario"] for row in table] == [f"wfc-main[pattern={k}]" for k in (0, 1, 2)]
     capsys.readouterr()
-    for bad, said in [("3", "'3' is not within the 3 points of"), ("1-0", "'1-0' is not within the 3 points"),
-                      ("0,x", "expected indices and ranges joined by commas (e.g. 0,14-29), got 'x'")]:
+    for bad, said in [("3", "'3' is not within the 3 points of"),
+                      ("1-0", "'1-0' is a range from high to low: write it 0-1"),
+                      ("0,x", "expected indices and ranges joined by commas (e.g. 0,14-29), got 'x'"),
+                      # issue 54, items 9 and 12: str.isdigit took these as 1 and 3, and '²' to a traceback
+                      ("\u0661", "got '\u0661' (indices are written in the digits 0-9)"),
+                      ("\uff13", "got '\uff13' (indices are written in the digits 0-9)"),
+                      ("\u00b2", "got '\u00b2' (indices are written in the digits 0-9)"),
+                      ("0-\u00b2", "got '0-\u00b2' (indices are written in the digits 0-9)")]:
         assert main([*args, "--points", bad, "--resume"]) == 2
         assert said in capsys.readouterr().err
     single = tmp_path / "one.yaml"
