@@ -221,28 +221,44 @@ def _point_in_process(finished: Any, stop_points: Any, index: int, job: tuple, r
 
 
 def end_with_parent(parent: int, poll_s: float = 0.5) -> None:
-    """SIGTERM this process when ``parent`` (its pid) ends, even by SIGKILL, which no handler of the parent's sees:
-    a point's training then stops after its update and keeps its checkpoint, instead of training on for hours
-    orphaned. On Linux the kernel sends it (prctl PR_SET_PDEATHSIG); elsewhere a daemon thread watches for the
-    process to be handed to another parent. Either sends one signal: a second, after training's handler is gone,
-    would cut the final save."""
-    if not _kernel_signals_parent_death():
-        threading.Thread(target=_signal_when_orphaned, args=(parent, poll_s), daemon=True,
-                         name="end-with-parent").start()
-    elif os.getppid() != parent:  # it ended before the request was made
-        os.kill(os.getpid(), signal.SIGTERM)
+    """SIGTERM this process once when ``parent`` (its pid) ends, even by SIGKILL, which no handler of the parent's
+    sees: a point's training then stops after its update and keeps its checkpoint, as on Ctrl-C, instead of training
+    on for hours orphaned. Call it from the main thread.
+
+    On Linux the kernel signals the parent's death (prctl PR_SET_PDEATHSIG), but again each time a thread of the
+    process that adopted the orphan ends (PID 1 here is multi-threaded), and a second SIGTERM after training's
+    handler is gone cuts the final save: so the kernel sends SIGUSR2, whose handler disarms it and sends the one
+    SIGTERM. Elsewhere a daemon thread watches for the process to be handed to another parent."""
+    if _kernel_signals_parent_death():
+        if os.getppid() != parent:  # it ended before the request was made
+            _parent_died()
+        return
+    threading.Thread(target=_signal_when_orphaned, args=(parent, poll_s), daemon=True, name="end-with-parent").start()
 
 
 def _kernel_signals_parent_death() -> bool:
-    """Ask Linux to send SIGTERM when the parent ends; -> whether it will."""
+    """Ask Linux to send SIGUSR2 when the parent ends (handled by :func:`_parent_died`); -> whether it will."""
     if not sys.platform.startswith("linux"):
         return False
     import ctypes
 
+    signal.signal(signal.SIGUSR2, _parent_died)
     try:
-        return ctypes.CDLL(None, use_errno=True).prctl(1, signal.SIGTERM, 0, 0, 0) == 0  # PR_SET_PDEATHSIG = 1
+        return ctypes.CDLL(None, use_errno=True).prctl(PR_SET_PDEATHSIG, signal.SIGUSR2, 0, 0, 0) == 0
     except (OSError, AttributeError):
+        signal.signal(signal.SIGUSR2, signal.SIG_DFL)
         return False
+
+
+PR_SET_PDEATHSIG = 1
+
+
+def _parent_died(*_: Any) -> None:
+    """The parent is gone: no more death signals, and one SIGTERM (training stops after its update)."""
+    import ctypes
+
+    ctypes.CDLL(None, use_errno=True).prctl(PR_SET_PDEATHSIG, 0, 0, 0, 0)
+    os.kill(os.getpid(), signal.SIGTERM)
 
 
 def _signal_when_orphaned(parent: int, poll_s: float) -> None:

@@ -201,6 +201,7 @@ class RunDir:
 
     def __init__(self, root: Path, lock: Any, manifest: dict[str, Any]) -> None:
         self.root, self._lock, self.manifest = Path(root), lock, manifest
+        self._plan: tuple[Inventory | None, bool] | None = None
 
     @classmethod
     def claim(cls, run_dir: Path, resume: bool = False, overwrite: bool = False, wait: float = 0) -> "RunDir":
@@ -219,21 +220,31 @@ class RunDir:
             raise
         _sign(run_dir)
         listed = {} if found is None or found.manifest is None else found.manifest["files"]
-        run = cls(run_dir, lock, {"format": MANIFEST_FORMAT, "files": {name: entry for name, entry in listed.items()
-                                                                      if not found.lost(name)}, "pending": []})
+        kept = {name: entry for name, entry in listed.items() if not (overwrite and found.lost(name))}
+        run = cls(run_dir, lock, {"format": MANIFEST_FORMAT, "files": kept, "pending": []})
+        run._plan = (found, overwrite)
+        return run
+
+    def _prepare(self) -> None:
+        """Before the run's first write (so that a run refused after its claim, by its checkpoint say, has changed
+        nothing): remove the earlier run's files (``overwrite``) or the half-written saves an interruption left,
+        and adopt an earlier hivex's files into the manifest."""
+        if self._plan is None:
+            return
+        found, overwrite = self._plan
+        self._plan = None
         ours = [] if found is None else found.ours
         removed = [name for name in ours if overwrite or name.endswith(PARTIAL)]
         for name in ours:
-            if name not in removed and name not in run.manifest["files"]:  # an earlier hivex's file, adopted
-                run.manifest["files"][name] = {"sha256": [file_digest(run_dir / name)]}
+            if name not in removed and name not in self.manifest["files"]:  # an earlier hivex's file, adopted
+                self.manifest["files"][name] = {"sha256": [file_digest(self.root / name)]}
         for name in removed:
-            (run_dir / name).unlink()
-            run.manifest["files"].pop(name, None)
+            (self.root / name).unlink()
+            self.manifest["files"].pop(name, None)
         for folder in RUN_FOLDERS:
-            if removed and (run_dir / folder).is_dir() and not any((run_dir / folder).iterdir()):
-                (run_dir / folder).rmdir()
-        run._save_manifest()
-        return run
+            if removed and (self.root / folder).is_dir() and not any((self.root / folder).iterdir()):
+                (self.root / folder).rmdir()
+        self._save_manifest()
 
     def __enter__(self) -> "RunDir":
         return self
@@ -254,6 +265,7 @@ class RunDir:
         """:func:`write_atomically`, with the manifest announcing the ``.partial`` before it is written and
         accepting either content while the rename is under way, so a run killed at any instant leaves files its
         manifest recognises."""
+        self._prepare()
         name = self.name_of(path)
         partial = Path(path).with_name(Path(path).name + PARTIAL)
         self.manifest["pending"].append(name + PARTIAL)
@@ -273,12 +285,14 @@ class RunDir:
     def appended(self, path: Path) -> None:
         """Record ``path``, a file the run appends to (TensorBoard's events), as it is now: it stays the run's
         while it begins with these bytes."""
+        self._prepare()
         size = Path(path).stat().st_size
         self.manifest["files"][self.name_of(path)] = {"prefix": {"size": size, "sha256": file_digest(path, size)}}
         self._save_manifest()
 
     def remove(self, path: Path) -> None:
         """Remove ``path`` if it is the run's (the manifest lists it with this content); leave anything else."""
+        self._prepare()
         name = self.name_of(path)
         entry = self.manifest["files"].get(name)
         if entry is not None and not Path(path).is_symlink() and Path(path).is_file() and _matches(Path(path), entry):

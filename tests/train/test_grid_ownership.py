@@ -145,7 +145,8 @@ def test_points_at_once_end_with_their_command_even_when_it_is_killed(tmp_path):
                "--jobs", "2", "--no-progress", "--set", "num_worlds=1", "--set", "buffer_size=32",
                "--set", "batch_size=32", "--set", "hidden_units=8", "--set", "torch_threads=1",
                "--set", "checkpoint_every=64"]
-    grid = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+    log = tmp_path / "stderr.txt"  # the points' too: they write to their parent's stderr
+    grid = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=log.open("w"),
                             env=os.environ | {"PYTHONPATH": os.getcwd()})
     deadline = time.monotonic() + 120
     begun = lambda: len(list(runs.glob("*/checkpoint.pt"))) == 2  # noqa: E731 - both points are training
@@ -162,6 +163,7 @@ def test_points_at_once_end_with_their_command_even_when_it_is_killed(tmp_path):
         time.sleep(0.2)
     assert not [pid for pid in workers if _alive(pid)]
     for folder in sorted(runs.glob("00*")):  # each stopped after its update, its checkpoint whole
+        assert (folder / "summary.json").is_file(), (sorted(p.name for p in folder.iterdir()), log.read_text())
         assert json.loads((folder / "summary.json").read_text())["stopped_early"] is True
 
 
