@@ -12,6 +12,7 @@ baseline record every ``step_*.pt``), and replaced, it would be lost. Nothing is
 
 from __future__ import annotations
 
+import fnmatch
 import hashlib
 import json
 import math
@@ -142,10 +143,21 @@ def read_manifest(root: Path) -> dict[str, Any] | None:
         if data.get("format") != MANIFEST_FORMAT or not isinstance(data["files"], dict) or \
                 not isinstance(data["pending"], list):
             raise ValueError
-        return data
     except (OSError, UnicodeDecodeError, ValueError, KeyError, AttributeError, TypeError):
         raise TrainError(f"{path} is not a hivex run manifest ({MANIFEST_FORMAT}): restore it, or give another run "
                          "directory") from None
+    strange = [name for name in [*data["files"], *data["pending"]] if not _a_run_name(name)]
+    if strange:  # a manifest edited to list another file would have --force remove it
+        raise TrainError(f"{path} lists {', '.join(map(repr, strange))}, not names a run writes in its directory: "
+                         "restore it, or give another run directory")
+    return data
+
+
+def _a_run_name(name: Any) -> bool:
+    """Whether ``name`` is one of :data:`RUN_FILES` (or its ``.partial``), relative and inside the directory."""
+    if not isinstance(name, str) or name.startswith("/") or ".." in name.split("/"):
+        return False
+    return any(fnmatch.fnmatchcase(name.removesuffix(PARTIAL), pattern) for pattern in RUN_FILES)
 
 
 def refusal(run_dir: Path, found: list[str]) -> str:

@@ -195,3 +195,19 @@ def test_the_same_process_cannot_claim_a_run_directory_twice(wfc, tiny, tmp_path
         with pytest.raises(TrainError, match=r"another hivex is writing to"):
             train(wfc, make_config(wfc.environment, tiny), tmp_path, progress=False)
     train(wfc, make_config(wfc.environment, tiny), tmp_path, progress=False)  # released with its block
+
+
+def test_a_manifest_edited_to_list_another_file_is_refused(wfc, tiny, tmp_path):
+    """The manifest decides what --force removes: one that lists a file outside the run's names (with its digest
+    written in) is refused, and the file stays."""
+    from hivex_dsl.train.rundir import MANIFEST, file_digest
+
+    run = tmp_path / "run"
+    train(wfc, make_config(wfc.environment, tiny), run, progress=False)
+    (tmp_path / "precious.txt").write_text("mine")
+    manifest = json.loads((run / MANIFEST).read_text())
+    manifest["files"]["../precious.txt"] = {"sha256": [file_digest(tmp_path / "precious.txt")]}
+    (run / MANIFEST).write_text(json.dumps(manifest))
+    with pytest.raises(TrainError, match=r"manifest.json lists '../precious.txt', not names a run writes"):
+        train(wfc, make_config(wfc.environment, tiny), run, progress=False, overwrite=True)
+    assert (tmp_path / "precious.txt").read_text() == "mine"
