@@ -175,11 +175,6 @@ def _summarised(found: list[str]) -> list[str]:
             for name, count in names.items()]
 
 
-def earlier_run(run_dir: Path) -> list[str]:
-    """The names (relative to ``run_dir``, sorted) of an earlier run's own files there (empty when none)."""
-    return Inventory(run_dir).ours if Path(run_dir).is_dir() else []
-
-
 def check_claimable(run_dir: Path, resume: bool, overwrite: bool) -> Inventory | None:
     """Refuse (a TrainError) what a run may not do in ``run_dir``; -> its inventory (None where it is new)."""
     if resume and overwrite:
@@ -385,8 +380,3 @@ def _first_non_finite(data: Any, place: str = "") -> str:
         if found:
             return found
     return ""
-
-
-def write_json(path: Path, data: Any, indent: int = 2) -> None:
-    """``data`` as indented JSON at ``path``, atomically (:func:`write_atomically`), never NaN (:func:`dumps`)."""
-    write_atomically(path, lambda partial: partial.write_text(dumps(data, path, indent)))

@@ -11,7 +11,7 @@ from hivex_dsl.compiler import compile
 from hivex_dsl.train.config import TrainError, make_config
 from hivex_dsl.train.grid import run_grid
 from hivex_dsl.train.ppo import train
-from hivex_dsl.train.rundir import RunDir, earlier_run
+from hivex_dsl.train.rundir import Inventory, RunDir
 
 from .conftest import short_scenario
 
@@ -50,7 +50,7 @@ def test_overwrite_keeps_the_user_s_own_files_in_the_run_s_folders(wfc, tiny, tm
     (tmp_path / "tb").mkdir()
     (tmp_path / "checkpoints" / "best.pt").write_text("x")
     (tmp_path / "tb" / "other.tfevents").write_text("x")
-    assert earlier_run(tmp_path) == []
+    assert Inventory(tmp_path).ours == []  # none of them is a run's
     train(wfc, make_config(wfc.environment, tiny), tmp_path, progress=False, overwrite=True)
     assert (tmp_path / "checkpoints" / "best.pt").read_text() == "x"
     assert (tmp_path / "tb" / "other.tfevents").read_text() == "x"
