@@ -16,7 +16,9 @@ paper's published cell for its task and level (each point's own evaluation when 
 with --partial, a grid still training: the points trained so far, the others listed as not trained yet. A point
 whose run is not in RUN_DIR keeps its row of the grid record already written, when that row is of the same
 scenario (fingerprint), hyperparameters and test episodes: a grid trained in parts (`hivex train SWEEP --points
-14-29`) on machines that do not keep their runs is recorded whole in the end.
+14-29`) on machines that do not keep their runs is recorded whole in the end. A grid record of another sweep (by
+content: the points' fingerprints, not the sweep's path) is refused; --replace replaces it. A run is recorded only as
+the scenario it trained (its checkpoint's fingerprint), whatever its name.
 """
 
 from __future__ import annotations
@@ -25,8 +27,9 @@ import argparse
 import json
 from pathlib import Path
 
-from hivex_dsl.train.baselines import GRIDS, add_seed, record_baseline, record_grid
-from hivex_dsl.train.config import TrainError
+from hivex_dsl.base.errors import HivexError
+from hivex_dsl.cli.argtypes import positive
+from hivex_dsl.train.baselines import GRIDS, add_seed, read_json, record_baseline, record_grid
 from hivex_dsl.train.plots import learning_curve
 
 OUT = Path(__file__).resolve().parent / "baselines"
@@ -41,25 +44,33 @@ def main() -> None:
                         help="add another training seed's run to its environment's committed record")
     parser.add_argument("--grid", action="store_true",
                         help="RUN_DIR is a trained sweep and SCENARIO its sweep file (writes grids/<environment>.json)")
-    parser.add_argument("--episodes", type=int, default=10)
+    parser.add_argument("--episodes", type=positive, default=10)
     parser.add_argument("--partial", action="store_true",
                         help="with --grid: record the points trained so far of a grid still training")
+    parser.add_argument("--replace", action="store_true",
+                        help="with --grid: replace the committed record of the environment's grid when it records "
+                             "another sweep (refused without)")
     parser.add_argument("--command", default="", help="the exact commands that trained the run (shown on the page)")
     parser.add_argument("--note", default="", help="one paragraph shown under the curve")
-    parser.add_argument("--curve-episodes", type=int, default=3,
+    parser.add_argument("--curve-episodes", type=positive, default=3,
                         help="test episodes per intermediate checkpoint (the test-seed curve)")
     args = parser.parse_args()
+    try:
+        record(parser, args)
+    except HivexError as exc:  # a run, sweep or record it cannot use: one sentence, no traceback
+        parser.exit(2, f"error: {exc}\n")
+
+
+def record(parser: argparse.ArgumentParser, args: argparse.Namespace) -> None:
+    """What the arguments ask: redraw, add seeds, record a grid, or record a run."""
     if args.replot:
         for path in sorted(OUT.glob("*.json")):
             learning_curve(json.loads(path.read_text()), path.with_suffix(".png"))
             print(f"redrew {path.with_suffix('.png')}")
         return
     for run_dir in args.add_seed:
-        summary = json.loads((run_dir / "summary.json").read_text())
-        try:
-            data = add_seed(OUT / f"{summary['environment']}.json", run_dir)
-        except TrainError as exc:
-            parser.exit(2, f"error: {exc}\n")
+        summary = read_json(run_dir / "summary.json", "summary")
+        data = add_seed(OUT / f"{summary['environment']}.json", run_dir)
         entry = next(e for e in data["other_seeds"] if e["seed"] == summary["seed"])
         print(f"added seed {entry['seed']} to {OUT / summary['environment']}.json: test return "
               f"{entry['return']['mean']:.2f} ± {entry['return']['std']:.2f}")
@@ -69,12 +80,11 @@ def main() -> None:
         parser.error("RUN_DIR and SCENARIO are required (or --add-seed, or --replot)")
     if args.partial and not args.grid:
         parser.error("--partial records a grid still training: it goes with --grid")
+    if args.replace and not args.grid:
+        parser.error("--replace replaces a grid record of another sweep: it goes with --grid")
     if args.grid:
-        try:
-            grid = record_grid(args.run_dir, args.scenario, OUT, args.episodes, args.command, args.note,
-                               args.partial)
-        except TrainError as exc:
-            parser.exit(2, f"error: {exc}\n")
+        grid = record_grid(args.run_dir, args.scenario, OUT, args.episodes, args.command, args.note,
+                           args.partial, args.replace)
         print(f"wrote {OUT / GRIDS / grid['environment']}.json: {len(grid['points'])} points"
               + (f", {len(grid['untrained'])} not trained yet" if grid["untrained"] else ""))
         return

@@ -204,6 +204,9 @@ def test_run_of_a_sweep_asks_for_a_point_and_plays_the_one_chosen(capsys):
     ("patern=1", "--point patern=1: scenarios/wind_farm_control/paper_suite.yaml does not sweep 'patern'; did you "
                  "mean 'pattern'?; it sweeps pattern, task"),
     ("pattern", "--point pattern: expected an index or key=value pairs joined by commas, got 'pattern'"),
+    # str.isdigit took these for indices 3 and 1 (issue 54, item 9): an index is written in ASCII digits
+    ("\uff13", "--point \uff13: expected an index or key=value pairs joined by commas, got '\uff13'"),
+    ("\u0661", "--point \u0661: expected an index or key=value pairs joined by commas, got '\u0661'"),
 ])
 def test_a_point_that_names_no_single_point_is_refused(selector, message, capsys):
     assert main(["run", PAPER_SUITE, "--point", selector]) == 2

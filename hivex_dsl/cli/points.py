@@ -3,9 +3,14 @@ the points) or ``--point task=1,pattern=2`` (its swept values). Shared by `hivex
 
 from __future__ import annotations
 
+import re
 from typing import Any, Optional, Sequence
 
 from ..base.errors import HivexError, did_you_mean
+
+
+# an index as the command line writes it: ASCII digits only (str.isdigit also takes '²', '١' and '３')
+INDEX = re.compile(r"[0-9]+")
 
 
 def one_point(source: Any, selector: Optional[str]) -> Any:
@@ -26,7 +31,7 @@ def one_point(source: Any, selector: Optional[str]) -> Any:
 def select(points: Sequence[Any], selector: str, source: str) -> Any:
     """The point ``selector`` names among ``points`` (see the module)."""
     text = selector.strip()
-    if text.isdigit():
+    if INDEX.fullmatch(text):
         index = int(text)
         if index >= len(points):
             raise HivexError(f"--point {selector}: {source} has {len(points)} point{'s' * (len(points) != 1)} "
@@ -52,11 +57,13 @@ def point_indices(selector: str, count: int, source: str) -> list[int]:
     chosen: set[int] = set()
     for item in selector.split(","):
         first, dash, last = item.strip().partition("-")
-        if not first.isdigit() or (dash and not last.isdigit()):
+        if not INDEX.fullmatch(first) or (dash and not INDEX.fullmatch(last)):
             raise HivexError(f"--points {selector}: expected indices and ranges joined by commas (e.g. 0,14-29), "
-                             f"got {item.strip()!r}")
+                             f"got {item.strip()!r} (indices are written in the digits 0-9)")
         low, high = int(first), int(last) if dash else int(first)
-        if low > high or high >= count:
+        if low > high:
+            raise HivexError(f"--points {selector}: {item.strip()!r} is a range from high to low: write it {high}-{low}")
+        if high >= count:
             raise HivexError(f"--points {selector}: {item.strip()!r} is not within the {count} point"
                              f"{'s' * (count != 1)} of {source} (0 to {count - 1})")
         chosen.update(range(low, high + 1))

@@ -16,6 +16,7 @@ every point's test-seed return and statistics beside the paper's published cell 
 
 from __future__ import annotations
 
+import hashlib
 import json
 import platform
 from pathlib import Path
@@ -27,6 +28,7 @@ from .checkpoint import RESUMABLE_CHANGES, action_space_of, load_checkpoint, old
 from .config import PPOConfig, TrainError
 from .evaluate import evaluate
 from .grid import point_dir
+from .rundir import dumps, file_digest
 
 SEED_CHANGES = RESUMABLE_CHANGES | {"seed"}  # what another seed's run may differ in: not what it learns from
 
@@ -78,7 +80,7 @@ def first_reaching(curve: list[list[float]], final: list[float], published: dict
 
 def training_curve(run_dir: Path) -> list[list[float]]:
     """A run's curve.json as a record keeps it: rows of (agent-steps, wall s, mean training return)."""
-    curve = json.loads((Path(run_dir) / "curve.json").read_text())
+    curve = read_json(Path(run_dir) / "curve.json", "curve")
     return [[point["agent_steps"], point["wall_s"], round(point["return"], 4)] for point in curve]
 
 
@@ -87,17 +89,17 @@ def record_baseline(run_dir: Path, scenario: str, out_dir: Path, episodes: int =
     """Write ``out_dir/<environment>.json`` and ``.png`` for the run in ``run_dir`` trained on ``scenario``
     (the bundled path, e.g. ``scenarios/wind_farm_control/main.yaml``); -> the JSON's content."""
     run_dir, out_dir = Path(run_dir), Path(out_dir)
-    summary = json.loads((run_dir / "summary.json").read_text())
-    report = evaluate(run_dir / "checkpoint.pt", split="test", episodes=episodes)
+    _check_episodes(episodes)
+    summary = read_json(run_dir / "summary.json", "summary")
     compiled = compile(scenario)
-    if report["scenario"] != compiled.name:
-        raise ValueError(f"the run trained {report['scenario']!r}, not {compiled.name!r}")
+    _check_trained(run_dir, compiled, scenario)
+    report = evaluate(run_dir / "checkpoint.pt", split="test", episodes=episodes)
     data = {
         "environment": compiled.environment, "scenario": scenario, "task": compiled.task_name,
         "task_index": compiled.task_index, "level": compiled.level, "command": command, "note": note,
         "agent_steps": summary["agent_steps"], "wall_s": summary["wall_s"], "seed": summary["seed"],
         "resumed_at": summary.get("resumed_at", []), "machine": machine(),
-        "hyperparameters": json.loads((run_dir / "config.json").read_text())["hyperparameters"],
+        "hyperparameters": read_json(run_dir / "config.json", "config")["hyperparameters"],
         "test": {k: report[k] for k in ("seed", "episodes", "agent_episodes", "actions", "return", "statistics")},
         "published": report["published"],
         **{policy: level_of(compiled, policy, episodes) for policy in LEVEL_POLICIES},
@@ -107,11 +109,47 @@ def record_baseline(run_dir: Path, scenario: str, out_dir: Path, episodes: int =
     final = [summary["agent_steps"], summary["wall_s"], report["return"]["mean"], report["return"]["std"]]
     data["reached_published"] = first_reaching(data["test_curve"], final, report["published"])
     out_dir.mkdir(parents=True, exist_ok=True)
-    (out_dir / f"{compiled.environment}.json").write_text(json.dumps(data, indent=1) + "\n")
+    (out_dir / f"{compiled.environment}.json").write_text(dumps(data, out_dir / f"{compiled.environment}.json", 1))
     from .plots import learning_curve
 
     learning_curve(data, out_dir / f"{compiled.environment}.png")
     return data
+
+
+# what a run's JSON file holds at the top level, by its kind (in messages: "not a run's summary")
+RUN_JSON = {"summary": (dict, "agent_steps"), "config": (dict, "hyperparameters"), "curve": (list, None),
+            "grid record": (dict, "points"), "baseline record": (dict, "scenario")}
+
+
+def read_json(path: Path, kind: str) -> Any:
+    """The run's (or record's) JSON file ``path`` of ``kind`` (:data:`RUN_JSON`); a TrainError naming it where it is
+    missing, unreadable (truncated, say) or not of that kind."""
+    shape, key = RUN_JSON[kind]
+    try:
+        data = json.loads(Path(path).read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise TrainError(f"no {kind} at {path}: is it a finished run's directory?") from None
+    except (OSError, UnicodeDecodeError, ValueError) as exc:
+        raise TrainError(f"{path} is not a {kind} hivex can read ({type(exc).__name__}: {exc}): a run killed while "
+                         "writing it, or edited by hand?") from None
+    if not isinstance(data, shape) or (key is not None and key not in data):
+        raise TrainError(f"{path} is not a run's {kind}: expected a JSON {shape.__name__}"
+                         f"{f' with {key!r}' if key else ''}")
+    return data
+
+
+def _check_episodes(episodes: int) -> None:
+    if isinstance(episodes, bool) or not isinstance(episodes, int) or episodes < 1:
+        raise TrainError(f"--episodes must be a positive number of test episodes, got {episodes!r}: a record of none "
+                         "would hold no return")
+
+
+def _check_trained(run_dir: Path, compiled: CompiledScenario, scenario: str) -> None:
+    """The run in ``run_dir`` trained ``compiled`` (by its content, its fingerprint, not by its name)."""
+    trained = load_checkpoint(run_dir / "checkpoint.pt")
+    if trained["fingerprint"] != compiled.fingerprint:
+        raise TrainError(f"{run_dir} trained scenario {trained['compiled'].name!r} (fingerprint {trained['fingerprint']}),"
+                         f" not {scenario} (fingerprint {compiled.fingerprint}), whatever their names")
 
 
 def add_seed(record: Path, run_dir: Path) -> dict[str, Any]:
@@ -121,9 +159,9 @@ def add_seed(record: Path, run_dir: Path) -> dict[str, Any]:
     The run must have trained the record's scenario with the record's hyperparameters but for
     :data:`SEED_CHANGES`, on a training seed other than the record's own."""
     record, run_dir = Path(record), Path(run_dir)
-    data = json.loads(record.read_text())
-    summary = json.loads((run_dir / "summary.json").read_text())
-    hyperparameters = json.loads((run_dir / "config.json").read_text())["hyperparameters"]
+    data = read_json(record, "baseline record")
+    summary = read_json(run_dir / "summary.json", "summary")
+    hyperparameters = read_json(run_dir / "config.json", "config")["hyperparameters"]
     trained = load_checkpoint(run_dir / "checkpoint.pt")
     # through the config model: a record made before a key existed holds what the key meant then
     then = older_defaults(data["hyperparameters"], action_space_of(trained["compiled"]))
@@ -143,7 +181,7 @@ def add_seed(record: Path, run_dir: Path) -> dict[str, Any]:
              "return": report["return"], "statistics": report["statistics"], "curve": training_curve(run_dir)}
     others = [e for e in data.get("other_seeds", []) if e["seed"] != entry["seed"]]
     data["other_seeds"] = sorted([*others, entry], key=lambda e: e["seed"])
-    record.write_text(json.dumps(data, indent=1) + "\n")
+    record.write_text(dumps(data, record, 1))
     from .plots import learning_curve
 
     learning_curve(data, record.with_suffix(".png"))
@@ -154,7 +192,7 @@ GRIDS = "grids"  # under the baselines folder: grids/<environment>.json
 
 
 def record_grid(grid_dir: Path, sweep: str, out_dir: Path, episodes: int = 10, command: str = "",
-                note: str = "", partial: bool = False) -> dict[str, Any]:
+                note: str = "", partial: bool = False, replace: bool = False) -> dict[str, Any]:
     """Write ``out_dir/grids/<environment>.json`` for the grid trained in ``grid_dir`` on ``sweep`` (the bundled
     path, e.g. ``scenarios/wind_farm_control/paper_suite.yaml``); -> the JSON's content.
 
@@ -164,11 +202,15 @@ def record_grid(grid_dir: Path, sweep: str, out_dir: Path, episodes: int = 10, c
     episodes of every point. A point not trained to its end in ``grid_dir`` keeps its row of the record already
     there (a grid trained a few points at a time, on machines that do not keep their runs), which must be of the
     same scenario (its fingerprint), hyperparameters and test episodes. With ``partial`` (a grid still training)
-    the points in neither are listed by name under ``untrained`` instead of refused; at least one must be recorded."""
+    the points in neither are listed by name under ``untrained`` instead of refused; at least one must be recorded.
+
+    The record already there is of the same sweep when it is of the same content (:func:`sweep_fingerprint`), however
+    the sweep's path is written; one of another sweep is refused, and replaced only with ``replace``."""
     grid_dir, out_dir = Path(grid_dir), Path(out_dir)
+    _check_episodes(episodes)
     points = compile_all(sweep)
     run_dirs = [point_dir(grid_dir, index, point) for index, point in enumerate(points)]
-    earlier = _recorded_rows(out_dir / GRIDS / f"{points[0].environment}.json", sweep)
+    earlier = _recorded_rows(out_dir / GRIDS / f"{points[0].environment}.json", sweep, points, replace)
     fresh = [index for index, run_dir in enumerate(run_dirs)
              if _trained(run_dir) or not (partial or points[index].name in earlier["rows"])]
     kept = [index for index in range(len(points)) if index not in fresh and points[index].name in earlier["rows"]]
@@ -176,7 +218,7 @@ def record_grid(grid_dir: Path, sweep: str, out_dir: Path, episodes: int = 10, c
         raise TrainError(f"{grid_dir} has no point of {sweep} trained to its end yet: nothing to record")
     untrained = [points[index].name for index in range(len(points)) if index not in fresh + kept]
     summaries = {index: _finished_point(run_dirs[index], index, points[index], sweep) for index in fresh}
-    configs = [json.loads((run_dirs[index] / "config.json").read_text())["hyperparameters"] for index in fresh]
+    configs = [read_json(run_dirs[index] / "config.json", "config")["hyperparameters"] for index in fresh]
     configs += [earlier["hyperparameters"]] if kept else []
     differing = sorted({k for c in configs for k in c if any(other.get(k) != c[k] for other in configs)})
     if differing:
@@ -186,7 +228,8 @@ def record_grid(grid_dir: Path, sweep: str, out_dir: Path, episodes: int = 10, c
     for index in kept:
         rows[index] = _kept_row(earlier, points[index], index, episodes)
     for index in fresh:
-        point, report = points[index], _test_report(run_dirs[index], episodes)
+        point = points[index]
+        report = _test_report(run_dirs[index], point, episodes)
         summary, test = summaries[index], {"seed": report["seed"], "episodes": episodes, "actions": "sampled"}
         rows[index] = {"name": point.name, "task": point.task_name, "task_index": point.task_index,
                        "level": point.level, "fingerprint": point.fingerprint,
@@ -194,22 +237,44 @@ def record_grid(grid_dir: Path, sweep: str, out_dir: Path, episodes: int = 10, c
                        "resumed_at": summary.get("resumed_at", []),
                        "return": report["return"], "statistics": report["statistics"], "published": report["published"],
                        **{policy: level_of(point, policy, episodes) for policy in LEVEL_POLICIES}}
-    data = {"environment": points[0].environment, "sweep": sweep, "command": command, "note": note,
-            "machine": machine(), "hyperparameters": configs[0], "test": test,
+    data = {"environment": points[0].environment, "sweep": sweep, "sweep_fingerprint": sweep_fingerprint(points),
+            "command": command, "note": note, "machine": machine(), "hyperparameters": configs[0], "test": test,
             "points": [rows[index] for index in sorted(rows)], "untrained": untrained}
-    (out_dir / GRIDS).mkdir(parents=True, exist_ok=True)
-    (out_dir / GRIDS / f"{data['environment']}.json").write_text(json.dumps(data, indent=1) + "\n")
+    record = out_dir / GRIDS / f"{data['environment']}.json"
+    text = dumps(data, record, 1)
+    record.parent.mkdir(parents=True, exist_ok=True)
+    record.write_text(text)
     return data
 
 
-def _recorded_rows(record: Path, sweep: str) -> dict[str, Any]:
-    """The grid record already at ``record`` when it records ``sweep``: its rows by point name, hyperparameters
-    and test; no rows where there is none yet (or it records another sweep, which this record replaces)."""
-    data = json.loads(record.read_text()) if record.is_file() else {}
-    if data.get("sweep") != sweep:
+def sweep_fingerprint(points: list[CompiledScenario]) -> str:
+    """``sha256:<hex>`` of a sweep's points' fingerprints in their order: what the sweep trains, whatever its path
+    or its points' names."""
+    return "sha256:" + hashlib.sha256("\n".join(point.fingerprint for point in points).encode()).hexdigest()
+
+
+def _recorded_rows(record: Path, sweep: str, points: list[CompiledScenario], replace: bool) -> dict[str, Any]:
+    """The grid record already at ``record``, of ``points`` (the sweep ``sweep``): its rows by point name,
+    hyperparameters and test; no rows where there is none yet, or with ``replace``. A record of another sweep
+    is refused (it is replaced only with ``replace``)."""
+    if not record.is_file() or replace:
         return {"rows": {}}
+    data = read_json(record, "grid record")
+    if not _of_sweep(data, points):
+        raise TrainError(f"{record} records another sweep ({data.get('sweep')!r}, {len(data['points'])} points "
+                         f"recorded) than {sweep} ({len(points)} points): give --replace to replace it, or record "
+                         "into another folder")
     return {"rows": {row["name"]: row for row in data["points"]}, "hyperparameters": data["hyperparameters"],
             "test": data["test"], "path": record}
+
+
+def _of_sweep(data: dict[str, Any], points: list[CompiledScenario]) -> bool:
+    """Whether the grid record ``data`` records the sweep of ``points``: by its sweep's fingerprint, or (a record
+    written before records carried one) every row's point among them by name and fingerprint."""
+    if "sweep_fingerprint" in data:
+        return data["sweep_fingerprint"] == sweep_fingerprint(points)
+    ours = {(point.name, point.fingerprint) for point in points}
+    return all(isinstance(row, dict) and (row.get("name"), row.get("fingerprint")) in ours for row in data["points"])
 
 
 def _kept_row(earlier: dict[str, Any], point: CompiledScenario, index: int, episodes: int) -> dict[str, Any]:
@@ -233,7 +298,7 @@ def _trained(run_dir: Path) -> bool:
 def _summary(run_dir: Path) -> dict[str, Any]:
     """The run's summary.json, or ``{"stopped_early": True}`` where it has none yet (a run under way)."""
     path = run_dir / "summary.json"
-    return json.loads(path.read_text()) if path.is_file() else {"stopped_early": True}
+    return read_json(path, "summary") if path.is_file() else {"stopped_early": True}
 
 
 def _finished_point(run_dir: Path, index: int, point: CompiledScenario, sweep: str) -> dict[str, Any]:
@@ -249,11 +314,17 @@ def _finished_point(run_dir: Path, index: int, point: CompiledScenario, sweep: s
     return summary
 
 
-def _test_report(run_dir: Path, episodes: int) -> dict[str, Any]:
-    """The point's test-seed evaluation of ``episodes`` episodes: the grid's own, or a fresh one."""
+def _test_report(run_dir: Path, point: CompiledScenario, episodes: int) -> dict[str, Any]:
+    """The point's test-seed evaluation of ``episodes`` episodes: the grid's own where it played the checkpoint as
+    it is now (its digest; a point resumed and trained on since has another), or a fresh one."""
     written = run_dir / "evaluation.json"
     if written.is_file():
-        report = json.loads(written.read_text())
-        if report["split"] == "test" and report["episodes"] == episodes and report["actions"] == "sampled":
+        try:
+            report = json.loads(written.read_text())
+        except (OSError, UnicodeDecodeError, ValueError):
+            report = {}
+        same = {"split": "test", "episodes": episodes, "actions": "sampled", "fingerprint": point.fingerprint,
+                "checkpoint_sha256": file_digest(run_dir / "checkpoint.pt")}
+        if isinstance(report, dict) and all(report.get(key) == value for key, value in same.items()):
             return report
     return evaluate(run_dir / "checkpoint.pt", split="test", episodes=episodes)

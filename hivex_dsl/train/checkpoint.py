@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import hashlib
 from pathlib import Path
-from typing import Any, Iterator, Mapping
+from typing import Any, Callable, Iterator, Mapping
 
 import torch
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
@@ -19,12 +19,19 @@ from ..lang.spec.validate import describe
 from .config import PPOConfig, TrainError
 from .devices import torch_device
 from .networks import ActionLayout, ActorCritic
-from .rundir import write_atomically
+from .rundir import RunDir, write_atomically
 
-FORMAT = "hivex-ppo/1"
+# Format 2 checksums every field; format 1 (checksums of the weights and training state only) still loads to play
+# and evaluate, its scenario checked against its fingerprint, but a run does not go on from it: its agent-steps and
+# hyperparameters are not covered (an agent_steps edited to 10**9 resumed and trained nothing).
+FORMAT = "hivex-ppo/2"
+OLDER_FORMATS = ("hivex-ppo/1",)
+# the fields outside the weights and the training state, checksummed together as "fields"
+FIELDS = ("format", "config", "scenario", "fingerprint", "agent_steps", "wall_s")
 # the sections a SHA-256 checksum guards, and what a mismatch means
 CHECKSUMMED = {"model": "its weights do not match their checksum",
-               "training": "its training state (optimizers, curiosity module, curve) does not match its checksum"}
+               "training": "its training state (optimizers, curiosity module, curve) does not match its checksum",
+               "fields": f"its fields ({', '.join(FIELDS)}) do not match their checksum"}
 
 
 class LayoutPart(BaseModel):
@@ -51,8 +58,8 @@ class TrainingState(LayoutPart):
 
 
 class Layout(LayoutPart):
-    """A checkpoint file's fields and their types (``wall_s``, ``training`` and ``checksums`` came later or
-    are optional: a file without them is a checkpoint of an older version, or of weights only)."""
+    """A checkpoint file's fields and their types (``wall_s`` came later, and a numbered checkpoint holds weights
+    only, no ``training``; the ``checksums`` :func:`_check_checksums` requires)."""
 
     format: str
     model: dict[str, torch.Tensor]
@@ -66,32 +73,46 @@ class Layout(LayoutPart):
 
 
 def save_checkpoint(path: Path, agent: ActorCritic, cfg: PPOConfig, compiled: CompiledScenario,
-                    agent_steps: int, wall_s: float | None = None, training: dict[str, Any] | None = None) -> Path:
+                    agent_steps: int, wall_s: float | None = None, training: dict[str, Any] | None = None,
+                    write: Callable[[Path, Callable[[Path], None]], None] = write_atomically) -> Path:
     """Write one checkpoint (weights, hyperparameters, the resolved scenario and its fingerprint, and the
     training's agent-steps and wall seconds when it was taken). ``training`` (optimizer states, the curiosity
     module, the learning curve so far) makes it resumable: the run directory's ``checkpoint.pt`` carries it.
     The weights and the training state each carry a SHA-256 checksum (:func:`checksum`), checked on load.
 
     The file is written beside and then renamed over ``path``, so a run killed mid-write leaves the previous
-    checkpoint whole."""
+    checkpoint whole (``write``: :func:`.rundir.write_atomically`, or a claimed run directory's, which records it)."""
     path.parent.mkdir(parents=True, exist_ok=True)
     data = {"format": FORMAT, "model": agent.state_dict(), "config": cfg.model_dump(mode="json"),
             "scenario": compiled.resolved(), "fingerprint": compiled.fingerprint,
             "agent_steps": int(agent_steps), "wall_s": None if wall_s is None else round(float(wall_s), 3)}
     if training is not None:
         data["training"] = training
-    data["checksums"] = {section: checksum(data[section]) for section in CHECKSUMMED if section in data}
-    write_atomically(path, lambda partial: torch.save(data, partial))
+    data["checksums"] = seal(data)
+    write(path, lambda partial: torch.save(data, partial))
     return path
 
 
-def save_numbered_checkpoint(run_dir: Path, agent: ActorCritic, cfg: PPOConfig, compiled: CompiledScenario,
+def save_numbered_checkpoint(run: RunDir, agent: ActorCritic, cfg: PPOConfig, compiled: CompiledScenario,
                              steps: int, wall: float) -> None:
-    """Save ``run_dir/checkpoints/step_N.pt`` and keep only the newest ``cfg.keep_checkpoints``."""
-    folder = run_dir / "checkpoints"
-    save_checkpoint(folder / f"step_{steps:012d}.pt", agent, cfg, compiled, steps, wall)
+    """Save ``checkpoints/step_N.pt`` in the claimed run directory ``run`` and keep only the newest
+    ``cfg.keep_checkpoints`` of the run's own."""
+    folder = run.root / "checkpoints"
+    save_checkpoint(folder / f"step_{steps:012d}.pt", agent, cfg, compiled, steps, wall, write=run.write)
     for old in sorted(folder.glob("step_*.pt"))[:-cfg.keep_checkpoints]:
-        old.unlink()
+        run.remove(old)
+
+
+def sections(data: dict[str, Any]) -> dict[str, Any]:
+    """The checkpoint's :data:`CHECKSUMMED` sections: its weights, its training state (where it has one) and
+    every other field of :data:`FIELDS` together."""
+    found = {section: data[section] for section in ("model", "training") if section in data}
+    return found | {"fields": {key: data.get(key) for key in FIELDS}}
+
+
+def seal(data: dict[str, Any]) -> dict[str, str]:
+    """The checksums of every section of ``data`` (:func:`sections`), as a checkpoint of this content carries."""
+    return {section: checksum(value) for section, value in sections(data).items()}
 
 
 def checksum(section: Any) -> str:
@@ -130,8 +151,12 @@ def load_checkpoint(path: str | Path) -> dict[str, Any]:
     data = _read(Path(path))
     _check_layout(path, data)
     _check_checksums(path, data)
-    _check_finite(path, data["model"])
+    _check_finite(path, data["model"], "weight tensor")
+    _check_finite(path, data.get("training") or {}, "training state's tensor")
     data["compiled"] = _compiled(path, data["scenario"])
+    if data["compiled"].fingerprint != data["fingerprint"]:
+        raise TrainError(f"{path} is corrupt: its scenario's fingerprint is {data['compiled'].fingerprint}, not the "
+                         f"{_one_line(data['fingerprint'])} it trained on (its scenario was edited after training)")
     data["config"] = _hyperparameters(path, data["config"], data["compiled"])
     data["path"] = Path(path)
     return data
@@ -150,7 +175,7 @@ def _read(path: Path) -> dict[str, Any]:
         raise TrainError(f"{path} is not a hivex checkpoint: torch.load(weights_only=True) cannot read it, and a "
                          "hivex checkpoint holds tensors and plain data only") from None
     written = data.get("format") if isinstance(data, dict) else None
-    if written != FORMAT:
+    if written not in (FORMAT, *OLDER_FORMATS):
         also = (f" (it says format {written!r}: written by another version of hivex?)"
                 if isinstance(written, str) else "")
         raise TrainError(f"{path} is not a hivex checkpoint of format {FORMAT!r}{also}")
@@ -199,21 +224,31 @@ def _one_line(message: str) -> str:
 
 
 def _check_checksums(path: str | Path, data: dict[str, Any]) -> None:
-    """Each :data:`CHECKSUMMED` section is what was saved (a checkpoint from before checksums has none)."""
+    """Each :data:`CHECKSUMMED` section is what was saved: all three in :data:`FORMAT`, the weights and the
+    training state in the :data:`OLDER_FORMATS`. A file without checksums is refused: nothing says its content
+    is what training saved."""
     saved = data.get("checksums")
     if saved is None:
-        return
-    for section, mismatch in CHECKSUMMED.items():
-        if section in data and saved.get(section) != checksum(data[section]):
-            raise TrainError(f"{path} is corrupt: {mismatch}")
+        raise TrainError(f"{path} carries no checksums, so nothing says its weights, scenario and agent-steps are "
+                         "what training saved (removed from the file, or written before checkpoints carried them): "
+                         "train again")
+    found = sections(data)
+    required = set(found) if data["format"] == FORMAT else set(found) - {"fields"}
+    for section in required | (set(saved) & set(CHECKSUMMED)):
+        if section not in found:
+            raise TrainError(f"{path} is corrupt: it has no {section!r}, which its checksums cover")
+        if saved.get(section) != checksum(found[section]):
+            raise TrainError(f"{path} is corrupt: {CHECKSUMMED[section]}")
 
 
-def _check_finite(path: str | Path, model: dict[str, torch.Tensor]) -> None:
-    """No weight is NaN or infinite (a policy of such weights acts on NaN probabilities)."""
-    for name, tensor in model.items():
-        if tensor.is_floating_point() and not bool(torch.isfinite(tensor).all()):
-            what = "NaN" if bool(torch.isnan(tensor).any()) else "an infinite value"
-            raise TrainError(_one_line(f"{path} is corrupt: its weight tensor {name!r} holds {what}"))
+def _check_finite(path: str | Path, tensors: Any, what: str) -> None:
+    """No tensor in ``tensors`` (nested mappings and lists) is NaN or infinite: a policy of such weights acts on
+    NaN probabilities, and an optimizer of such moments makes them so in its first step."""
+    for place, tensor in _leaves(tensors, ()):
+        if isinstance(tensor, torch.Tensor) and tensor.is_floating_point() and not bool(torch.isfinite(tensor).all()):
+            found = "NaN" if bool(torch.isnan(tensor).any()) else "an infinite value"
+            name = ".".join(str(part) for part in place)
+            raise TrainError(_one_line(f"{path} is corrupt: its {what} {name!r} holds {found}"))
 
 
 def _compiled(path: str | Path, scenario: dict[str, Any]) -> CompiledScenario:
@@ -305,6 +340,10 @@ def resume_state(path: Path, compiled: CompiledScenario, cfg: PPOConfig) -> dict
     if not path.is_file():
         raise TrainError(f"cannot resume: no checkpoint at {path} (train without --resume first)")
     data = load_checkpoint(path)
+    if data["format"] != FORMAT:
+        raise TrainError(f"cannot resume from {path}: it is of format {data['format']!r}, whose checksums do not cover "
+                         "its agent-steps and hyperparameters; it plays and evaluates, but a run goes on only from a "
+                         f"checkpoint of format {FORMAT!r}: train again")
     if data.get("training") is None:
         raise TrainError(f"cannot resume from {path}: it holds weights only, not the optimizer state")
     if data["fingerprint"] != compiled.fingerprint:

@@ -10,10 +10,14 @@ Every node of a cluster needs hivex-dsl with its train extra installed (``pip in
 from __future__ import annotations
 
 import json
+import os
 import pickle
 import queue
 import re
 import signal
+import sys
+import threading
+import time
 import traceback
 from multiprocessing import get_context
 from pathlib import Path
@@ -21,7 +25,7 @@ from typing import Any, Sequence
 
 from ..compiler import CompiledScenario, compile
 from .config import PPOConfig, TrainError
-from .rundir import earlier_run, refusal, write_json
+from .rundir import Inventory, RunDir, check_claimable, file_digest, writer_of
 
 
 def point_dir(run_dir: Path, index: int, compiled: CompiledScenario) -> Path:
@@ -35,19 +39,24 @@ def train_point(scenario: dict[str, Any], config: dict[str, Any], run_dir: str, 
                 ) -> dict[str, Any]:
     """Train one point (given as plain data, so it travels to a Ray worker) and evaluate it on the test seeds;
     ``resume`` goes on from the run directory's checkpoint, ``overwrite`` replaces an earlier run there, and
-    setting ``stop_event`` stops its training after the update under way."""
+    setting ``stop_event`` stops its training after the update under way (a point stopped is not evaluated: the
+    policy is half-trained, and the command should end now). The evaluation (``evaluation.json``) names the
+    checkpoint it played by its digest, so it is reused only while that checkpoint is the run's."""
     from .evaluate import evaluate
     from .ppo import train
 
     compiled = compile(scenario)
-    summary = train(compiled, PPOConfig(**config), Path(run_dir), progress=progress, resume=resume,
-                    overwrite=overwrite, stop_event=stop_event)
-    summary["run_dir"] = str(run_dir)
-    if eval_episodes:
-        report = evaluate(Path(run_dir) / "checkpoint.pt", split="test", episodes=eval_episodes, progress=progress)
-        summary["test_return"] = report["return"]
-        summary["published_return"] = report["published"]["return"] if report["published"] else None
-        write_json(Path(run_dir) / "evaluation.json", report)
+    with RunDir.claim(Path(run_dir), resume, overwrite) as run:
+        summary = train(compiled, PPOConfig(**config), run.root, progress=progress, resume=resume,
+                        stop_event=stop_event, run=run)
+        summary["run_dir"], summary["fingerprint"] = str(run_dir), compiled.fingerprint
+        if eval_episodes and not summary["stopped_early"]:
+            checkpoint = run.root / "checkpoint.pt"
+            report = evaluate(checkpoint, split="test", episodes=eval_episodes, progress=progress)
+            report |= {"checkpoint_sha256": file_digest(checkpoint), "fingerprint": compiled.fingerprint}
+            summary["test_return"] = report["return"]
+            summary["published_return"] = report["published"]["return"] if report["published"] else None
+            run.write_json("evaluation.json", report)
     return summary
 
 
@@ -69,15 +78,12 @@ def run_grid(points: Sequence[CompiledScenario], configs: Sequence[PPOConfig], r
     indices = range(len(points)) if indices is None else indices
     folders = [point_dir(run_dir, i, p).resolve() for i, p in zip(indices, points, strict=True)]
     going_on = [resume and (folder / "checkpoint.pt").is_file() for folder in folders]
-    if not (resume or overwrite):
-        taken = [refusal(folder, found) for folder in folders if (found := earlier_run(folder))]
-        if taken:
-            raise TrainError("\n".join(taken))
+    modes = [(again, not again and (resume or overwrite)) for again in going_on]
+    _check_points(run_dir, folders, indices, modes, resume, overwrite)
     if jobs > 1 and ray_address is None:
         configs = [shared_cores(c, jobs) for c in configs]
     work = [(p.resolved(), c.model_dump(mode="json"), str(folder), eval_episodes)
             for p, c, folder in zip(points, configs, folders)]
-    modes = [(again, not again and (resume or overwrite)) for again in going_on]
     if ray_address is not None:
         results = _on_ray(work, modes, ray_address, ray_init or {})
     elif jobs > 1:
@@ -88,18 +94,56 @@ def run_grid(points: Sequence[CompiledScenario], configs: Sequence[PPOConfig], r
             results.append(train_point(*job, progress=progress, resume=again, overwrite=replace))
             if results[-1]["stopped_early"]:  # Ctrl-C or SIGTERM stops the grid with its point
                 break
-    run_dir.mkdir(parents=True, exist_ok=True)
-    write_json(run_dir / "results.json", _with_earlier_rows(run_dir / "results.json", results))
+    for row in results:  # a point's folder by its name in the grid's: the table holds after the grid is moved
+        row["run_dir"] = Path(row["run_dir"]).name
+    with RunDir.claim(run_dir, resume=True, wait=60) as grid:
+        grid.write_json("results.json", _with_earlier_rows(run_dir / "results.json", results))
     return results
+
+
+def _check_points(run_dir: Path, folders: list[Path], indices: Sequence[int], modes: list[tuple[bool, bool]],
+                  resume: bool, overwrite: bool) -> None:
+    """Refuse, before any point trains, what a point or the grid's table would refuse: a folder in use by another
+    process or holding files hivex did not write, earlier runs without ``resume`` or ``overwrite``, and (with
+    ``resume``) a point whose run saved a checkpoint that is gone: it is not started afresh over its files."""
+    check_claimable(run_dir, resume=True, overwrite=False)
+    problems = []
+    for index, folder, (again, replace) in zip(indices, folders, modes):
+        try:
+            if resume and not again and _lost_checkpoint(folder):
+                raise TrainError(f"cannot resume point {index}: {folder} holds a run that saved a checkpoint, and its "
+                                 "checkpoint.pt is gone: restore it, or train the point afresh with --force --points "
+                                 f"{index}")
+            check_claimable(folder, again, replace)
+            writer = writer_of(folder)
+            if writer:
+                raise TrainError(f"another hivex is writing to {folder}{writer}: wait for it to end")
+        except TrainError as exc:
+            problems.append(str(exc))
+    if problems:
+        raise TrainError("\n".join(problems))
+
+
+def _lost_checkpoint(folder: Path) -> bool:
+    """Whether ``folder``'s run saved a checkpoint that is not there now (deleted, moved): its manifest lists
+    ``checkpoint.pt`` as gone, or it holds numbered checkpoints or a summary, which a run writes after its first."""
+    if not folder.is_dir() or (folder / "checkpoint.pt").exists():
+        return False
+    found = Inventory(folder)
+    return found.lost("checkpoint.pt") or any(name == "summary.json" or name.startswith("checkpoints/")
+                                              for name in found.ours)
 
 
 def _with_earlier_rows(table: Path, results: list[dict[str, Any]]) -> list[dict[str, Any]]:
     """``results`` with the rows of ``table`` (an earlier results.json) of points they do not hold, in the
-    order of the points' folders: a grid trained a few points at a time keeps one table of all of them."""
+    order of the points' folders: a grid trained a few points at a time keeps one table of all of them. A row is
+    its point's by the point's folder, named relative to the grid's (an earlier hivex wrote it whole: its last
+    part is the folder's name), so a moved grid keeps one row per point."""
     earlier = json.loads(table.read_text()) if table.is_file() else []
     ours = {row["run_dir"] for row in results}
-    return sorted([*(row for row in earlier if row.get("run_dir") not in ours), *results],
-                  key=lambda row: Path(row.get("run_dir", "")).name)
+    kept = [row | {"run_dir": Path(row["run_dir"]).name} for row in earlier
+            if isinstance(row.get("run_dir"), str) and Path(row["run_dir"]).name not in ours]
+    return sorted([*kept, *results], key=lambda row: row["run_dir"])
 
 
 def shared_cores(cfg: PPOConfig, jobs: int) -> PPOConfig:
@@ -128,7 +172,8 @@ def _in_processes(work: list[tuple], modes: list[tuple[bool, bool]], jobs: int) 
             while waiting and len(running) < jobs:
                 index = waiting.pop(0)
                 running[index] = context.Process(target=_point_in_process, args=(finished, stop_points, index,
-                                                                                 work[index], *modes[index]))
+                                                                                 work[index], *modes[index],
+                                                                                 os.getpid()))
                 running[index].start()
             try:
                 index, outcome, value = finished.get(timeout=0.5)
@@ -157,11 +202,13 @@ def _died(running: dict[int, Any]) -> BaseException | None:
 
 
 def _point_in_process(finished: Any, stop_points: Any, index: int, job: tuple, resume: bool,
-                      overwrite: bool) -> None:
+                      overwrite: bool, parent: int) -> None:
     """A spawned process's work: one point, its summary (or its error) put on ``finished``. Ctrl-C reaches
     the whole process group: the parent asks the point to stop through ``stop_points``, so here it is ignored
-    outside training (inside, training's own handler stops after the update, as the parent's request does)."""
+    outside training (inside, training's own handler stops after the update, as the parent's request does).
+    It ends with its ``parent`` however that ends (:func:`end_with_parent`)."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    end_with_parent(parent)
     try:
         summary = train_point(*job, progress=False, resume=resume, overwrite=overwrite, stop_event=stop_points)
         finished.put((index, "result", summary))
@@ -171,6 +218,53 @@ def _point_in_process(finished: Any, stop_points: Any, index: int, job: tuple, r
         except Exception:  # an error that does not travel goes as its text
             error = TrainError(f"grid point {index} failed:\n{traceback.format_exc()}")
         finished.put((index, "error", error))
+
+
+def end_with_parent(parent: int, poll_s: float = 0.5) -> None:
+    """SIGTERM this process once when ``parent`` (its pid) ends, even by SIGKILL, which no handler of the parent's
+    sees: a point's training then stops after its update and keeps its checkpoint, as on Ctrl-C, instead of training
+    on for hours orphaned. Call it from the main thread.
+
+    On Linux the kernel signals the parent's death (prctl PR_SET_PDEATHSIG), but again each time a thread of the
+    process that adopted the orphan ends (PID 1 here is multi-threaded), and a second SIGTERM after training's
+    handler is gone cuts the final save: so the kernel sends SIGUSR2, whose handler disarms it and sends the one
+    SIGTERM. Elsewhere a daemon thread watches for the process to be handed to another parent."""
+    if _kernel_signals_parent_death():
+        if os.getppid() != parent:  # it ended before the request was made
+            _parent_died()
+        return
+    threading.Thread(target=_signal_when_orphaned, args=(parent, poll_s), daemon=True, name="end-with-parent").start()
+
+
+def _kernel_signals_parent_death() -> bool:
+    """Ask Linux to send SIGUSR2 when the parent ends (handled by :func:`_parent_died`); -> whether it will."""
+    if not sys.platform.startswith("linux"):
+        return False
+    import ctypes
+
+    signal.signal(signal.SIGUSR2, _parent_died)
+    try:
+        return ctypes.CDLL(None, use_errno=True).prctl(PR_SET_PDEATHSIG, signal.SIGUSR2, 0, 0, 0) == 0
+    except (OSError, AttributeError):
+        signal.signal(signal.SIGUSR2, signal.SIG_DFL)
+        return False
+
+
+PR_SET_PDEATHSIG = 1
+
+
+def _parent_died(*_: Any) -> None:
+    """The parent is gone: no more death signals, and one SIGTERM (training stops after its update)."""
+    import ctypes
+
+    ctypes.CDLL(None, use_errno=True).prctl(PR_SET_PDEATHSIG, 0, 0, 0, 0)
+    os.kill(os.getpid(), signal.SIGTERM)
+
+
+def _signal_when_orphaned(parent: int, poll_s: float) -> None:
+    while os.getppid() == parent:
+        time.sleep(poll_s)
+    os.kill(os.getpid(), signal.SIGTERM)
 
 
 def _on_ray(jobs: list[tuple], modes: list[tuple[bool, bool]], address: str,

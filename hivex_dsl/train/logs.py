@@ -12,6 +12,7 @@ import numpy as np
 from ..sim.statistics import pooled
 
 LINE_EVERY_S = 30.0  # off a terminal, a progress line this often
+EVENTS = "events.out.tfevents.*"  # the names SummaryWriter gives its event files
 EPISODE_KEYS = (("hivex_episode", "_hivex_episode"), ("episode", "_episode"))
 
 
@@ -77,12 +78,18 @@ class EpisodeLog:
 
 
 class ScalarLog:
-    """TensorBoard event files under ``run_dir/tb`` (torch's SummaryWriter; needs the tensorboard package)."""
+    """TensorBoard event files under ``run.root/tb`` (torch's SummaryWriter; needs the tensorboard package), each
+    recorded in the run's manifest as it grows (:meth:`hivex_dsl.train.rundir.RunDir.appended`)."""
 
-    def __init__(self, run_dir: Path):
+    def __init__(self, run: Any):
         from torch.utils.tensorboard import SummaryWriter
 
-        self.writer = SummaryWriter(log_dir=str(Path(run_dir) / "tb"))
+        folder = run.root / "tb"
+        before = set(folder.glob(EVENTS)) if folder.is_dir() else set()
+        self.run = run
+        self.writer = SummaryWriter(log_dir=str(folder))  # opens its event file at once
+        self.files = sorted(set(folder.glob(EVENTS)) - before)
+        self.flush()
 
     def write(self, step: int, episodes: dict[str, Any], losses: dict[str, float], charts: dict[str, float]) -> None:
         scalars: dict[str, float] = {}
@@ -95,8 +102,16 @@ class ScalarLog:
         for tag, value in scalars.items():
             self.writer.add_scalar(tag, value, step)
 
+    def flush(self) -> None:
+        """Write what is buffered, and record the event files as they are now."""
+        self.writer.flush()
+        for path in self.files:
+            self.run.appended(path)
+
     def close(self) -> None:
         self.writer.close()
+        for path in self.files:
+            self.run.appended(path)
 
 
 class Progress:

@@ -31,7 +31,7 @@ from .devices import autocast, matmul_precision, torch_device
 from .logs import EpisodeLog, Progress, ScalarLog
 from .networks import ActorCritic, to_tensors
 from .buffer import Rollout, RowBuffers, in_chunks, merge_steps
-from .rundir import claim, write_json
+from .rundir import RunDir
 
 
 def gae(rewards: torch.Tensor, values: torch.Tensor, next_value: torch.Tensor, terminated: torch.Tensor,
@@ -318,7 +318,7 @@ def _slice_rows(data: dict[str, Any], start: int, stop: int) -> dict[str, Any]:
 
 def train(compiled: CompiledScenario, cfg: PPOConfig, run_dir: Path, progress: bool = True,
           on_update: Callable[[dict[str, Any]], None] | None = None, resume: bool = False,
-          overwrite: bool = False, stop_event: Any = None) -> dict[str, Any]:
+          overwrite: bool = False, stop_event: Any = None, run: RunDir | None = None) -> dict[str, Any]:
     """Train one policy for ``cfg.max_steps`` agent-steps; write checkpoints, scalars and curve.json
     under ``run_dir``; -> the run's summary (also written as summary.json). A ``run_dir`` that holds an
     earlier run is refused unless ``resume`` goes on from it or ``overwrite`` replaces it (:mod:`.rundir`).
@@ -326,12 +326,21 @@ def train(compiled: CompiledScenario, cfg: PPOConfig, run_dir: Path, progress: b
     ``resume`` goes on from ``run_dir/checkpoint.pt`` (see :func:`resume_state`): the weights, both optimizers,
     the curiosity module, the agent-steps, wall time and learning curve so far. As in ML-Agents' ``--resume``
     the environments start afresh on the train seed, so a resumed run is not bit-identical to one never
-    stopped. Ctrl-C, SIGTERM or setting ``stop_event`` stops the run after its update (:class:`StopRequests`)."""
-    run_dir = Path(run_dir)
+    stopped. Ctrl-C, SIGTERM or setting ``stop_event`` stops the run after its update (:class:`StopRequests`).
+    ``run``: the run directory already claimed (by a grid's point, which writes its evaluation there after)."""
     if cfg.precision_problem():
         raise TrainError(cfg.precision_problem())
+    if run is not None:
+        return _train(compiled, cfg, run, progress, on_update, resume, stop_event)
+    with RunDir.claim(Path(run_dir), resume, overwrite) as claimed:
+        return _train(compiled, cfg, claimed, progress, on_update, resume, stop_event)
+
+
+def _train(compiled: CompiledScenario, cfg: PPOConfig, run: RunDir, progress: bool,
+           on_update: Callable[[dict[str, Any]], None] | None, resume: bool, stop_event: Any) -> dict[str, Any]:
+    """:func:`train` in the run directory ``run``, claimed."""
+    run_dir = run.root
     cfg = cfg.model_copy(update={"torch_threads": cfg.threads()})  # `auto` written down as the count it ran on
-    claim(run_dir, resume, overwrite)
     resumed = resume_state(run_dir / "checkpoint.pt", compiled, cfg) if resume else None
     done_before = resumed["agent_steps"] if resumed else 0
     torch.set_num_threads(cfg.torch_threads)
@@ -352,9 +361,8 @@ def train(compiled: CompiledScenario, cfg: PPOConfig, run_dir: Path, progress: b
                 module.load_state_dict(resumed["training"][name])
     slots, steps = env.num_envs, cfg.rollout_length(env.num_envs)
     state, buf = start_rollouts(obs, agent, steps)
-    write_json(run_dir / "config.json", {"hyperparameters": cfg.model_dump(mode="json"),
-                                         "scenario": compiled.resolved()})
-    episodes, scalars = EpisodeLog(), ScalarLog(run_dir)
+    run.write_json("config.json", {"hyperparameters": cfg.model_dump(mode="json"), "scenario": compiled.resolved()})
+    episodes, scalars = EpisodeLog(), ScalarLog(run)
     bar = Progress(planned_agent_steps(cfg.max_steps, done_before, slots), enabled=progress, label=compiled.name,
                    start=done_before)
     agent_steps, curve = done_before, list(resumed["training"]["curve"]) if resumed else []
@@ -370,8 +378,9 @@ def train(compiled: CompiledScenario, cfg: PPOConfig, run_dir: Path, progress: b
         """The run directory's resumable checkpoint.pt, and the curve so far (to follow a long run)."""
         training = {name: module.state_dict() for name, module in modules.items() if module is not None}
         save_checkpoint(run_dir / "checkpoint.pt", agent, cfg, compiled, steps, wall,
-                        training | {"curve": curve, "resumed_at": resumed_at})
-        write_json(run_dir / "curve.json", curve, indent=1)
+                        training | {"curve": curve, "resumed_at": resumed_at}, write=run.write)
+        run.write_json("curve.json", curve, indent=1)
+        scalars.flush()
 
     with StopRequests(stop_event) as stop, matmul_precision(cfg.precision):  # Ctrl-C or SIGTERM: finish this update, then save
         while agent_steps < cfg.max_steps and not stop.requested:
@@ -403,7 +412,7 @@ def train(compiled: CompiledScenario, cfg: PPOConfig, run_dir: Path, progress: b
             if on_update is not None:
                 on_update({"agent_steps": agent_steps, "wall_s": wall, **summary})
             if agent_steps >= next_checkpoint:
-                save_numbered_checkpoint(run_dir, agent, cfg, compiled, agent_steps, wall)
+                save_numbered_checkpoint(run, agent, cfg, compiled, agent_steps, wall)
                 latest(agent_steps, wall)
                 next_checkpoint += cfg.checkpoint_every
     bar.close()
@@ -414,6 +423,6 @@ def train(compiled: CompiledScenario, cfg: PPOConfig, run_dir: Path, progress: b
               "level": compiled.level, "agent_steps": agent_steps, "wall_s": round(wall, 3), "seed": cfg.seed,
               "final_return": curve[-1]["return"] if curve else None, "checkpoint": "checkpoint.pt",
               "stopped_early": stop.requested, "resumed_at": resumed_at}
-    write_json(run_dir / "summary.json", result)
+    run.write_json("summary.json", result)
     return result
 

@@ -18,7 +18,8 @@ from hypothesis import strategies as st
 
 from hivex_dsl.cli import main
 from hivex_dsl.compiler import compile
-from hivex_dsl.train.checkpoint import CHECKSUMMED, checksum, load_checkpoint, policy_for, resume_state
+from hivex_dsl.train.checkpoint import (FORMAT, OLDER_FORMATS, checksum, load_checkpoint, policy_for, resume_state,
+                                        seal, sections)
 from hivex_dsl.train.config import TrainError, make_config
 from hivex_dsl.train.ppo import train
 
@@ -52,7 +53,7 @@ def written(data: dict[str, Any], path: Path) -> Path:
 
 def resealed(data: dict[str, Any]) -> dict[str, Any]:
     """``data`` with the checksums a checkpoint saved with this content would carry."""
-    return data | {"checksums": {section: checksum(data[section]) for section in CHECKSUMMED if section in data}}
+    return data | {"checksums": seal(data)}
 
 
 def refusal(path: Path, run: dict[str, Any]) -> TrainError | None:
@@ -81,15 +82,73 @@ def flip_bit(tensor: torch.Tensor, element: int = 0, bit: int = 0) -> None:
     as_bytes[index] ^= 1 << (bit % 8)
 
 
-def test_checkpoints_carry_checksums_and_older_ones_without_them_still_load(run, tmp_path):
+def test_checkpoints_carry_checksums_of_every_field(run, tmp_path):
+    assert run["data"]["format"] == FORMAT
     assert run["data"]["checksums"] == resealed(run["data"])["checksums"]
-    assert set(run["data"]["checksums"]) == {"model", "training"}
+    assert set(run["data"]["checksums"]) == {"model", "training", "fields"}
     assert refusal(run["file"], run) is None
-    older = {k: v for k, v in run["data"].items() if k != "checksums"}
-    assert refusal(written(older, tmp_path / "older.pt"), run) is None
-    for optional in ("wall_s", "training"):  # an older version's file, a numbered (weights-only) checkpoint
-        lacking = {k: v for k, v in run["data"].items() if k != optional}
-        assert load_checkpoint(written(lacking, tmp_path / f"no_{optional}.pt"))["agent_steps"] == 90
+    no_wall = {k: v for k, v in run["data"].items() if k != "wall_s"}  # wall_s came later: None when absent
+    assert load_checkpoint(written(resealed(no_wall), tmp_path / "no_wall_s.pt"))["agent_steps"] == 90
+    weights_only = {k: v for k, v in run["data"].items() if k != "training"}  # a numbered checkpoint
+    assert load_checkpoint(written(resealed(weights_only), tmp_path / "weights.pt"))["agent_steps"] == 90
+
+
+@pytest.mark.parametrize("field,value", [("agent_steps", 10**9), ("agent_steps", 0), ("wall_s", 0.5),
+                                         ("fingerprint", "sha256:0"), ("format", OLDER_FORMATS[0])])
+def test_every_field_is_covered_by_a_checksum(field, value, run, tmp_path):
+    """Issue 54, item 5: only the weights and the training state were checksummed, so ``agent_steps`` set to 10**9
+    resumed and trained nothing."""
+    path = written(run["data"] | {field: value}, tmp_path / "c.pt")
+    assert refused(path, run) == (f"{path} is corrupt: its fields (format, config, scenario, fingerprint, "
+                                  "agent_steps, wall_s) do not match their checksum")
+
+
+def test_a_checkpoint_without_checksums_is_refused(run, tmp_path):
+    """Issue 54, item 5: one without its ``checksums`` loaded changed weights as an "older" checkpoint."""
+    data = {k: v for k, v in copy.deepcopy(run["data"]).items() if k != "checksums"}
+    data["model"][WEIGHT][0, 0] += 1.0
+    path = written(data, tmp_path / "c.pt")
+    assert refused(path, run).startswith(f"{path} carries no checksums, so nothing says its weights, scenario and "
+                                         "agent-steps are what training saved")
+
+
+def test_a_scenario_edited_under_its_fingerprint_is_refused_even_resealed(run, tmp_path):
+    """Issue 54, item 5: an edited ``scenario`` with the fingerprint kept made `hivex evaluate` play another scenario
+    under the same name; resealing the checksums does not hide it, as the fingerprint is the scenario's content."""
+    data = copy.deepcopy(run["data"])
+    data["scenario"]["episode_length"] = 9
+    path = written(resealed(data), tmp_path / "c.pt")
+    assert refused(path, run) == (f"{path} is corrupt: its scenario's fingerprint is "
+                                  f"{compile(data['scenario']).fingerprint}, not the {run['compiled'].fingerprint} it "
+                                  "trained on (its scenario was edited after training)")
+
+
+def test_a_checkpoint_of_the_older_format_plays_but_does_not_resume(run, tmp_path):
+    """Format 1 checksummed the weights and the training state only: it still plays and evaluates, its scenario
+    checked against its fingerprint, but its agent-steps and hyperparameters are not covered, so no run goes on."""
+    older = {k: v for k, v in run["data"].items() if k != "checksums"} | {"format": OLDER_FORMATS[0]}
+    older["checksums"] = {section: value for section, value in seal(older).items() if section != "fields"}
+    path = written(older, tmp_path / "older.pt")
+    loaded = load_checkpoint(path)
+    policy_for(loaded, loaded["compiled"])
+    assert refused(path, run) == (f"cannot resume from {path}: it is of format 'hivex-ppo/1', whose checksums do not "
+                                  "cover its agent-steps and hyperparameters; it plays and evaluates, but a run goes on "
+                                  "only from a checkpoint of format 'hivex-ppo/2': train again")
+    flipped = copy.deepcopy(older)
+    flip_bit(flipped["model"][WEIGHT], bit=3)
+    assert refused(written(flipped, tmp_path / "flipped.pt"), run).endswith("its weights do not match their checksum")
+
+
+def test_a_training_state_that_is_not_finite_is_refused(run, tmp_path, capsys):
+    """Issue 54, item 12: a NaN Adam moment (checksummed as saved) killed training with torch's ``probability tensor
+    contains either inf, nan or element < 0``."""
+    data = copy.deepcopy(run["data"])
+    state = data["training"]["optimizer"]["state"]
+    first = next(iter(state))
+    state[first]["exp_avg_sq"].view(-1)[0] = math.nan
+    path = written(resealed(data), tmp_path / "c.pt")
+    assert refused(path, run) == (f"{path} is corrupt: its training state's tensor "
+                                  f"'optimizer.state.{first}.exp_avg_sq' holds NaN")
 
 
 @pytest.mark.parametrize("field", REQUIRED)
@@ -127,14 +186,14 @@ def test_the_evaluate_command_refuses_a_malformed_checkpoint_in_one_line(field, 
 def test_a_bad_hyperparameter_is_named_with_what_was_expected(key, value, expected, run, tmp_path):
     data = copy.deepcopy(run["data"])
     data["config"][key] = value
-    path = written(data, tmp_path / "c.pt")
+    path = written(resealed(data), tmp_path / "c.pt")
     assert refused(path, run).startswith(f"{path} holds bad hyperparameters: {expected}")
 
 
 def test_a_scenario_that_does_not_compile_is_named(run, tmp_path):
     data = copy.deepcopy(run["data"])
     data["scenario"]["agents"] = "9"
-    path = written(data, tmp_path / "c.pt")
+    path = written(resealed(data), tmp_path / "c.pt")
     assert refused(path, run) == (f"{path} holds a scenario that does not compile: agents: expected an integer "
                                   "from 9 to 9, got '9' (a string)")
 
@@ -224,10 +283,12 @@ def test_a_run_does_not_resume_from_a_checkpoint_that_lacks_its_curiosity_optimi
     train(run["compiled"], run["cfg"], folder, progress=False)
     data = torch.load(folder / "checkpoint.pt", weights_only=True)
     del data["training"]["curiosity_optimizer"]
-    written(resealed(data), folder / "checkpoint.pt")
-    with pytest.raises(TrainError, match=f"cannot resume from {folder / 'checkpoint.pt'}: it holds no "
+    elsewhere = tmp_path / "copied"  # a folder of its own: in the run's, its manifest refuses the edited file first
+    elsewhere.mkdir()
+    written(resealed(data), elsewhere / "checkpoint.pt")
+    with pytest.raises(TrainError, match=f"cannot resume from {elsewhere / 'checkpoint.pt'}: it holds no "
                                          "curiosity_optimizer state"):
-        train(run["compiled"], run["cfg"], folder, progress=False, resume=True)
+        train(run["compiled"], run["cfg"], elsewhere, progress=False, resume=True)
 
 
 def places(tree: Any, at: tuple = ()) -> list[tuple]:
@@ -279,6 +340,6 @@ def test_random_mutations_are_accepted_or_refused_with_one_train_error(choice, r
     elif seal == "dropped":
         data.pop("checksums")
     exc = refusal(written(data, tmp_path / "fuzzed.pt"), run)
-    changed = checksum({k: data.get(k) for k in CHECKSUMMED}) != checksum({k: before.get(k) for k in CHECKSUMMED})
-    if seal == "as saved" and changed:  # any change to the weights or training state, a flipped bit included
+    changed = checksum(sections(data)) != checksum(sections(before))
+    if seal != "resealed" and changed:  # any change to any field, a flipped bit included
         assert exc is not None

@@ -22,7 +22,7 @@ def _two_points():
 def _check(results, points, run_dir):
     assert [r["scenario"] for r in results] == [p.name for p in points]
     assert json.loads((run_dir / "results.json").read_text()) == results
-    dirs = sorted(p.name for p in run_dir.iterdir() if p.is_dir())
+    dirs = sorted(p.name for p in run_dir.iterdir() if p.is_dir() and p.name != ".hivex")
     assert dirs == ["000-wfc-main_pattern=0", "001-wfc-main_pattern=1"]
     for r in results:
         assert r["test_return"]["std"] >= 0
@@ -76,15 +76,21 @@ def test_the_command_trains_the_points_asked_in_their_own_folders(tmp_path, caps
     args = ["train", str(path), "-o", str(runs), "--steps", "32", "--no-progress", "--set", "num_worlds=1",
             "--set", "buffer_size=32", "--set", "batch_size=32", "--set", "hidden_units=8"]
     assert main([*args, "--points", "2"]) == 0
-    assert sorted(p.name for p in runs.iterdir() if p.is_dir()) == ["002-wfc-main_pattern=2"]
+    assert sorted(p.name for p in runs.iterdir() if p.is_dir() and p.name != ".hivex") == ["002-wfc-main_pattern=2"]
     assert main([*args, "--points", "0-1"]) == 0
-    assert sorted(p.name for p in runs.iterdir() if p.is_dir()) == [
+    assert sorted(p.name for p in runs.iterdir() if p.is_dir() and p.name != ".hivex") == [
         "000-wfc-main_pattern=0", "001-wfc-main_pattern=1", "002-wfc-main_pattern=2"]
     table = json.loads((runs / "results.json").read_text())
     assert [row["scenario"] for row in table] == [f"wfc-main[pattern={k}]" for k in (0, 1, 2)]
     capsys.readouterr()
-    for bad, said in [("3", "'3' is not within the 3 points of"), ("1-0", "'1-0' is not within the 3 points"),
-                      ("0,x", "expected indices and ranges joined by commas (e.g. 0,14-29), got 'x'")]:
+    for bad, said in [("3", "'3' is not within the 3 points of"),
+                      ("1-0", "'1-0' is a range from high to low: write it 0-1"),
+                      ("0,x", "expected indices and ranges joined by commas (e.g. 0,14-29), got 'x'"),
+                      # issue 54, items 9 and 12: str.isdigit took these as 1 and 3, and '²' to a traceback
+                      ("\u0661", "got '\u0661' (indices are written in the digits 0-9)"),
+                      ("\uff13", "got '\uff13' (indices are written in the digits 0-9)"),
+                      ("\u00b2", "got '\u00b2' (indices are written in the digits 0-9)"),
+                      ("0-\u00b2", "got '0-\u00b2' (indices are written in the digits 0-9)")]:
         assert main([*args, "--points", bad, "--resume"]) == 2
         assert said in capsys.readouterr().err
     single = tmp_path / "one.yaml"
@@ -97,7 +103,7 @@ def _weights(run_dir):
     import torch
 
     found = {}
-    for folder in sorted(p for p in run_dir.iterdir() if p.is_dir()):
+    for folder in sorted(p for p in run_dir.iterdir() if p.is_dir() and p.name != ".hivex"):
         model = torch.load(folder / "checkpoint.pt", weights_only=False)["model"]
         found[folder.name] = torch.cat([v.flatten().float() for v in model.values()])
     return found
@@ -131,15 +137,17 @@ def test_points_at_once_share_the_cores():
 
 
 def test_a_failing_point_at_once_stops_the_grid_with_its_error(tiny, tmp_path):
-    """Point 1's checkpoint swapped for point 0's: resuming it is refused inside its process, and the grid
-    raises that refusal instead of a bare traceback from a child."""
+    """Point 1's checkpoint swapped for point 0's in a folder without a manifest (an earlier hivex's, so nothing
+    refuses it before the points start): resuming it is refused inside its process, and the grid raises that
+    refusal instead of a bare traceback from a child."""
     from hivex_dsl.train.config import TrainError
 
     points = _two_points()
     configs = [make_config(p.environment, tiny | {"torch_threads": 1}) for p in points]
     run_grid(points, configs, tmp_path, progress=False)
-    first, second = sorted(p for p in tmp_path.iterdir() if p.is_dir())
+    first, second = sorted(p for p in tmp_path.iterdir() if p.is_dir() and p.name != ".hivex")
     (second / "checkpoint.pt").write_bytes((first / "checkpoint.pt").read_bytes())
+    (second / ".hivex" / "manifest.json").unlink()
     longer = [c.model_copy(update={"max_steps": 2 * c.max_steps}) for c in configs]
     with pytest.raises(TrainError, match=r"cannot resume from .*001-wfc-main_pattern=1.* it trained scenario "
                                          r"'wfc-main\[pattern=0\]'"):
@@ -173,7 +181,7 @@ def test_sigterm_stops_the_points_under_way_and_starts_no_other(tmp_path):
     out, err = grid.communicate(timeout=120)
     results = json.loads((runs / "results.json").read_text())
     assert [r["stopped_early"] for r in results] == [True, True], (out, err)
-    assert sorted(p.name for p in runs.iterdir() if p.is_dir()) == ["000-wfc-main_pattern=0",
+    assert sorted(p.name for p in runs.iterdir() if p.is_dir() and p.name != ".hivex") == ["000-wfc-main_pattern=0",
                                                                     "001-wfc-main_pattern=1"]
     assert all((runs / name / "checkpoint.pt").is_file() for name in ("000-wfc-main_pattern=0",
                                                                        "001-wfc-main_pattern=1"))

@@ -223,11 +223,114 @@ def test_a_point_recorded_before_is_kept_only_if_it_is_of_this_grid(grid, tmp_pa
     assert (tmp_path / "out" / "grids" / "wind_farm_control.json").read_text() == before
 
 
-def test_a_record_of_another_sweep_is_replaced_not_merged(grid, tmp_path):
+def test_a_record_of_another_sweep_is_refused_and_replaced_only_when_asked(grid, tmp_path):
+    """Issue 54, item 4: recording a grid replaced the committed 18-point record of another sweep with a 4-point one."""
     record_grid(grid / "runs", str(grid / "sweep.yaml"), tmp_path / "out", episodes=2)
-    _record_with(tmp_path / "out", lambda d: d.update(sweep="another.yaml"))
+    _record_with(tmp_path / "out", lambda d: d.update(sweep_fingerprint="sha256:0"))
+    record = tmp_path / "out" / "grids" / "wind_farm_control.json"
+    before = record.read_text()
+    with pytest.raises(TrainError, match=rf"^{record} records another sweep \('.*sweep.yaml', 2 points recorded\) than "
+                                         r".*sweep.yaml \(2 points\): give --replace to replace it, or record into "
+                                         r"another folder$"):
+        record_grid(grid / "runs", str(grid / "sweep.yaml"), tmp_path / "out", episodes=2)
+    assert record.read_text() == before
+    data = record_grid(grid / "runs", str(grid / "sweep.yaml"), tmp_path / "out", episodes=2, replace=True)
+    assert json.loads(record.read_text()) == data and data["sweep_fingerprint"] != "sha256:0"
+
+
+def test_a_record_from_before_sweep_fingerprints_is_matched_by_its_rows(grid, tmp_path):
+    record_grid(grid / "runs", str(grid / "sweep.yaml"), tmp_path / "out", episodes=2)
+    _record_with(tmp_path / "out", lambda d: d.pop("sweep_fingerprint"))
+    record_grid(grid / "runs", str(grid / "sweep.yaml"), tmp_path / "out", episodes=2)  # its own rows: the same sweep
+    _record_with(tmp_path / "out", lambda d: (d.pop("sweep_fingerprint"), d["points"][1].update(fingerprint="sha256:1")))
+    with pytest.raises(TrainError, match=r"records another sweep"):
+        record_grid(grid / "runs", str(grid / "sweep.yaml"), tmp_path / "out", episodes=2)
+
+
+def test_a_record_is_of_its_sweep_by_content_not_by_how_the_path_is_written(grid, tmp_path, monkeypatch):
+    """Issue 54, item 4: recording ``./sweep.yaml`` with --partial dropped the rows recorded as ``sweep.yaml``."""
+    monkeypatch.chdir(grid)
+    record_grid(grid / "runs", "sweep.yaml", tmp_path / "out", episodes=2)
     shutil.copytree(grid / "runs", tmp_path / "runs")
     shutil.rmtree(next((tmp_path / "runs").glob("000-*")))
-    data = record_grid(tmp_path / "runs", str(grid / "sweep.yaml"), tmp_path / "out", episodes=2, partial=True)
-    assert [row["name"] for row in data["points"]] == ["wfc-main[pattern=1]"]
-    assert data["untrained"] == ["wfc-main[pattern=0]"]
+    data = record_grid(tmp_path / "runs", "./sweep.yaml", tmp_path / "out", episodes=2, partial=True)
+    assert [row["name"] for row in data["points"]] == ["wfc-main[pattern=0]", "wfc-main[pattern=1]"]
+    assert data["untrained"] == []
+
+
+def test_a_point_s_evaluation_is_reused_only_for_the_checkpoint_it_played(grid, tmp_path):
+    """Issue 54, item 6: a point resumed and trained on kept its earlier, shorter training's evaluation.json, and the
+    record's row said 151,552 steps with the 4,096-step evaluation."""
+    shutil.copytree(grid / "runs", tmp_path / "runs")
+    points = compile_all(grid / "sweep.yaml")
+    longer = [make_config("wind_farm_control", TINY | {"max_steps": 192}) for _ in points]
+    run_grid(points, longer, tmp_path / "runs", eval_episodes=0, progress=False, resume=True)
+    folder = next((tmp_path / "runs").glob("001-*"))
+    earlier = json.loads((folder / "evaluation.json").read_text())
+    assert earlier["trained_agent_steps"] == 128  # the earlier training's
+    # marked, so the record shows which evaluation it took (a dozen steps' episodes can score alike either way)
+    (folder / "evaluation.json").write_text(json.dumps(earlier | {"return": {"mean": -1.0, "std": 0.0}}))
+    data = record_grid(tmp_path / "runs", str(grid / "sweep.yaml"), tmp_path / "out", episodes=2)
+    fresh = evaluate(folder / "checkpoint.pt", split="test", episodes=2)
+    assert fresh["trained_agent_steps"] == data["points"][1]["agent_steps"] == 192
+    assert data["points"][1]["return"] == fresh["return"] != {"mean": -1.0, "std": 0.0}
+
+
+def test_a_run_is_recorded_only_as_the_scenario_it_trained(tmp_path):
+    """Issue 54, item 7: a run of another scenario only named ``wfc-main`` (short episodes) was recorded as the
+    bundled main scenario: PPO 0.10 beside random 1,367."""
+    from hivex_dsl.compiler import compile
+    from hivex_dsl.train.baselines import record_baseline
+    from hivex_dsl.train.ppo import train
+
+    other = compile(short_scenario("wind_farm_control"))
+    assert other.name == "wfc-main"
+    train(other, make_config(other.environment, TINY), tmp_path / "run", progress=False)
+    main_yaml = "scenarios/wind_farm_control/main.yaml"
+    with pytest.raises(TrainError, match=rf"^{tmp_path / 'run'} trained scenario 'wfc-main' \(fingerprint "
+                                         rf"{other.fingerprint}\), not {main_yaml} \(fingerprint sha256:[0-9a-f]+\), "
+                                         r"whatever their names$"):
+        record_baseline(tmp_path / "run", main_yaml, tmp_path / "out", episodes=1)
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("case", ["truncated summary", "missing sweep", "episodes -3", "episodes 0", "not a record"])
+def test_the_script_refuses_what_it_cannot_record_in_one_line(case, grid, monkeypatch, capsys, tmp_path):
+    """Issue 54, item 12: each of these was a traceback (and --episodes 0 wrote a record of NaN, invalid JSON)."""
+    import sys
+
+    script = record_baseline_script()
+    monkeypatch.setattr(script, "OUT", tmp_path / "out")
+    shutil.copytree(grid / "runs", tmp_path / "runs")
+    point = next((tmp_path / "runs").glob("000-*"))
+    args = ["--grid", str(tmp_path / "runs"), str(grid / "sweep.yaml"), "--episodes", "2"]
+    said = {"truncated summary": f"error: {point / 'summary.json'} is not a summary hivex can read (JSONDecodeError",
+            "missing sweep": f"error: {tmp_path / 'none.yaml'}:1:1: no such file",
+            "episodes -3": "argument --episodes: expected a positive integer, got -3",
+            "episodes 0": "argument --episodes: expected a positive integer, got 0",
+            "not a record": f"error: {tmp_path / 'out' / 'grids' / 'wind_farm_control.json'} is not a grid record hivex "
+                            "can read"}[case]
+    if case == "truncated summary":
+        (point / "summary.json").write_text((point / "summary.json").read_text()[:40])
+        args = [str(point), "scenarios/wind_farm_control/main.yaml"]
+    elif case == "missing sweep":
+        args[2] = str(tmp_path / "none.yaml")
+    elif case.startswith("episodes"):
+        args[-1] = case.split()[1]
+    else:
+        (tmp_path / "out" / "grids").mkdir(parents=True)
+        (tmp_path / "out" / "grids" / "wind_farm_control.json").write_text('{"points": [')
+    monkeypatch.setattr(sys, "argv", ["record_baseline.py", *args])
+    with pytest.raises(SystemExit) as exit_:
+        script.main()
+    assert exit_.value.code == 2
+    err = capsys.readouterr().err
+    assert said in err and "Traceback" not in err
+    assert not (tmp_path / "out" / "grids" / "wind_farm_control.json").exists() or case == "not a record"
+
+
+def test_a_record_of_no_episodes_is_refused_never_written_as_nan(grid, tmp_path):
+    for episodes in (0, -3):
+        with pytest.raises(TrainError, match=rf"--episodes must be a positive number of test episodes, got {episodes}"):
+            record_grid(grid / "runs", str(grid / "sweep.yaml"), tmp_path / "out", episodes=episodes)
+    assert not (tmp_path / "out").exists()

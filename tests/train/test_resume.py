@@ -128,10 +128,15 @@ def test_the_curve_is_on_disk_at_every_checkpoint(wrm, tiny, tmp_path):
 
 
 def _strip_key(checkpoint, key):
-    """Rewrite ``checkpoint`` as a version of hivex from before hyperparameter ``key`` existed wrote it."""
+    """Rewrite ``checkpoint`` as a version of hivex from before hyperparameter ``key`` existed wrote it (checksummed,
+    in a run directory without a manifest, as versions before manifests wrote them)."""
+    from hivex_dsl.train.checkpoint import seal
+    from hivex_dsl.train.rundir import MANIFEST
+
     data = torch.load(checkpoint, weights_only=True)
     del data["config"][key]
-    torch.save(data, checkpoint)
+    torch.save(data | {"checksums": seal(data)}, checkpoint)
+    (checkpoint.parent / MANIFEST).unlink(missing_ok=True)
 
 
 def test_a_run_from_before_curiosity_module_goes_on_with_the_module_it_trained(wrm, tiny, tmp_path):

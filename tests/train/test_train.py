@@ -11,7 +11,7 @@ import torch
 
 from hivex_dsl.cli import main
 from hivex_dsl.compiler import compile
-from hivex_dsl.train.checkpoint import load_checkpoint
+from hivex_dsl.train.checkpoint import load_checkpoint, seal
 from hivex_dsl.train.config import make_config
 from hivex_dsl.train.evaluate import evaluate
 from hivex_dsl.train.ppo import train
@@ -99,7 +99,7 @@ def test_bad_training_input_is_a_clear_error(tmp_path, capsys):
         "aerial_wildfire_suppression (scenario 'aws-main'): a policy plays the environment it trained on\n")
     edited = torch.load(tmp_path / "w" / "checkpoint.pt", weights_only=True)
     edited["config"]["hidden_units"] = 16  # it trained with the paper's 64
-    torch.save(edited, tmp_path / "edited.pt")
+    torch.save(edited | {"checksums": seal(edited)}, tmp_path / "edited.pt")  # resealed, as a tool that edits would
     assert main(["evaluate", str(tmp_path / "edited.pt")]) == 2
     assert "weights do not fit the network its own hyperparameters build: Error(s)" in capsys.readouterr().err
 
