@@ -267,7 +267,7 @@ def test_a_point_s_evaluation_is_reused_only_for_the_checkpoint_it_played(grid, 
     run_grid(points, longer, tmp_path / "runs", eval_episodes=0, progress=False, resume=True)
     folder = next((tmp_path / "runs").glob("001-*"))
     earlier = json.loads((folder / "evaluation.json").read_text())
-    assert earlier["trained_agent_steps"] == 128  # the earlier training's
+    assert earlier["trained_agent_steps"] == 96  # the earlier training's (the grid fixture's max_steps, a whole step of its slots)
     # marked, so the record shows which evaluation it took (a dozen steps' episodes can score alike either way)
     (folder / "evaluation.json").write_text(json.dumps(earlier | {"return": {"mean": -1.0, "std": 0.0}}))
     data = record_grid(tmp_path / "runs", str(grid / "sweep.yaml"), tmp_path / "out", episodes=2)
