@@ -46,7 +46,7 @@ def test_compile_summary_names_spaces_weights_and_seeds(capsys):
     assert main(["compile", str(MAIN)]) == 0
     out = capsys.readouterr().out
     for expected in ("wind_farm_control (Wind Farm Control)", "0 generate_energy", "Box(-1.0, 1.0, (6,), float32)",
-                     "Discrete(3)", "train 5000 | test 6000", "rotation_speed_deg = 2", "(inactive)"):
+                     "Discrete(3)", "train 5000 | test 6000", "rotation_speed_deg = 0.1", "(inactive)"):
         assert expected in out
 
 

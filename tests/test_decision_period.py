@@ -251,7 +251,9 @@ def test_the_trainer_counts_decisions(tmp_path, monkeypatch):
 def test_the_audit_reads_a_terms_range_as_that_of_a_decisions_sum():
     from hivex_dsl.evaluation.audit import audit_scenario, contract_flags, decision_range
 
-    audit = audit_scenario(scenario(episode_length=100, decision_period=5), episodes=1)
+    # a fast turn, so that the scripted turbines face the wind and sum more than 1 a decision within 100 steps
+    audit = audit_scenario(scenario(episode_length=100, decision_period=5, params={"rotation_speed_deg": 5.0}),
+                           episodes=1)
     assert not audit.flags
     trace = audit.rollouts["scripted"].traces["generate_energy"]
     contract = next(c for c in audit.compiled.term_contracts if c.name == "generate_energy")

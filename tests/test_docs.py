@@ -153,7 +153,7 @@ def test_every_term_param_task_and_pattern_appears(docs):
 
 
 def test_params_show_bounds_and_source_tags(wfc_page):
-    assert "| `rotation_speed_deg` | 2 | (0, 45] | [ours] |" in wfc_page
+    assert "| `rotation_speed_deg` | 0.1 | (0, 45] | [records] |" in wfc_page
     assert "| `alignment_threshold` | 0.5 | [0, 1) | [paper] |" in wfc_page
     assert "[orig]" in wfc_page
 

@@ -23,7 +23,8 @@ def test_spaces_single_and_batched():
 
 
 def test_next_step_autoreset_and_episode_infos():
-    venv = hivex_dsl.vector_env(SCENARIO, num_worlds=2)
+    # worlds drawn afresh at each reset (by default a WFC episode continues its world)
+    venv = hivex_dsl.vector_env(SCENARIO | {"params": {"episodes_continue": 0}}, num_worlds=2)
     obs, _ = venv.reset(seed=1)
     assert obs.shape == (6, 6) and venv.observation_space.contains(obs)
     for step in range(1, 5):

@@ -72,7 +72,8 @@ def test_one_simulated_step_follows_the_paper_equation():
     rng = np.random.default_rng(3)
     state = sim.reset(rng, 2)
     new, _ = sim.step(state, np.array([[0, 1, 2, 1], [2, 2, 0, 0]]), rng)
-    expected_heading = state.heading + np.radians(2.0) * np.array([[0, 1, -1, 1], [-1, -1, 0, 0]])
+    turn = np.radians(sc.params.rotation_speed_deg)
+    expected_heading = state.heading + turn * np.array([[0, 1, -1, 1], [-1, -1, 0, 0]])
     np.testing.assert_allclose(np.cos(new.heading), np.cos(expected_heading), atol=1e-12)
     upwind_angle = np.abs((new.heading - (new.local_wind + np.pi) + np.pi) % (2 * np.pi) - np.pi)
     theta = 1 - upwind_angle / np.pi

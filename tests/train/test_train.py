@@ -69,10 +69,11 @@ def test_the_commands_train_and_evaluate(tmp_path, capsys):
     assert summary["agent_steps"] == 256 and summary["seed"] == 3
     assert main(["evaluate", str(run / "checkpoint.pt"), "--episodes", "1", "--json"]) == 0
     report = json.loads(capsys.readouterr().out)
-    # a 16-step episode is not the paper's setting, so its cell (WFC pattern 0, task 0: 4611.6) is not set beside it
+    # a 16-step episode (turning fast, see short_scenario) is not the paper's setting, so its cell (WFC pattern 0,
+    # task 0: 4611.6) is not set beside it
     assert report["published"] is None
     assert report["caveat"] == ("the paper's result for this task and level (return 4612) is not this scenario's: it "
-                                "differs from the paper's setting in episode_length")
+                                "differs from the paper's setting in episode_length, params")
     assert main(["evaluate", str(run / "checkpoint.pt"), "--episodes", "1"]) == 0
     assert f"(no published result: {report['caveat']})" in capsys.readouterr().out
 

@@ -39,8 +39,10 @@ ENTRY = register(EnvironmentEntry(
         "alignment of the rotor with the upwind direction, 1 - angle/180 degrees, as ENVIRONMENTS.md states.",
         "Generate Energy clamps the performance P for the reward; P itself evolves unclamped, as the paper's "
         "update equation is written (with the paper's constants it stays in [0, 1] anyway).",
-        "Layout geometries, rotation speed and the wind's rates are this project's own (the original values are "
-        "not published); each is a bounded parameter.",
+        "The rotation speed, the main wind's ease rate, the noise field's drift, that a farm's turbines start "
+        "facing one way and that an episode continues the world are read from the original's logged runs "
+        "([records]; the reward table's notes give the evidence); the layout geometries are this project's own. "
+        "Each is a bounded parameter.",
         "Task indices are the configs' 0-based `task:` values (0 Generate Energy, 1 Avoid Damage); the paper's "
         "reward-scale table numbers the same columns 1 and 2.",
     ),

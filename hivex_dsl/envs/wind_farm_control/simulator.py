@@ -7,7 +7,7 @@ from gymnasium import spaces
 
 from ...base.numeric import clamp, constant
 from ...runtime.batched import StepOutcome
-from ...sim.batching import assemble
+from ...sim.batching import assemble, evolve
 from ...sim.procgen.layouts import turbine_layout
 from ...sim.procgen.wind import probe_wind, wind_reset, wind_reset_where, wind_step, wrap_angle
 from .global_state import state_components, world_state
@@ -79,20 +79,31 @@ class WindFarmSimulator:
             return np.broadcast_to(self._fixed_layout, (count, self.agents, 2)).copy()
         return np.stack([self._layout(rng) for _ in range(count)]) if count else np.zeros((0, self.agents, 2))
 
+    def _headings(self, rng: np.random.Generator, count: int) -> np.ndarray:
+        """(count, A) start headings: one draw per world, each turbine within the spread around it."""
+        shared = rng.uniform(-np.pi, np.pi, (count, 1))
+        half = np.radians(self.params.initial_heading_spread_deg) / 2.0
+        return wrap_angle(shared + rng.uniform(-half, half, (count, self.agents)))
+
     def reset(self, rng: np.random.Generator, batch: int) -> WindFarmState:
         positions = self._layouts(rng, batch)
-        heading = rng.uniform(-np.pi, np.pi, (batch, self.agents))
+        heading = self._headings(rng, batch)
         wind = wind_reset(rng, batch, self.wind_spec)
         wind_here, probe = probe_wind(wind, positions, self.wind_spec)
         return WindFarmState(positions=positions, heading=heading, performance=np.zeros((batch, self.agents)),
                              local_wind=wind_here, wind=wind, wind_probe=probe)
 
     def reset_where(self, state: WindFarmState, mask: np.ndarray, rng: np.random.Generator) -> WindFarmState:
-        count = int(np.count_nonzero(mask))
-        positions, heading, performance = state.positions.copy(), state.heading.copy(), state.performance.copy()
-        positions[mask] = self._layouts(rng, count)
-        heading[mask] = rng.uniform(-np.pi, np.pi, (count, self.agents))
+        """New episodes where ``mask`` (B,): P restarts at 0; the turbines and the wind go on where they were
+        (``episodes_continue``) or are drawn afresh."""
+        performance = state.performance.copy()
         performance[mask] = 0.0
+        if self.params.episodes_continue:
+            return evolve(state, performance=performance)
+        count = int(np.count_nonzero(mask))
+        positions, heading = state.positions.copy(), state.heading.copy()
+        positions[mask] = self._layouts(rng, count)
+        heading[mask] = self._headings(rng, count)
         wind = wind_reset_where(state.wind, mask, rng, self.wind_spec)
         wind_here, probe = probe_wind(wind, positions, self.wind_spec)
         return WindFarmState(positions=positions, heading=heading, performance=performance,
