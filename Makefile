@@ -25,7 +25,7 @@ $(VENV)/.installed-run: pyproject.toml $(CONSTRAINTS) | $(BIN)/python
 
 $(VENV)/.installed-test: pyproject.toml $(CONSTRAINTS) | $(BIN)/python
 	$(BIN)/pip install --quiet -c $(CONSTRAINTS) torch
-	$(BIN)/pip install --quiet -c $(CONSTRAINTS) -e ".[dev,train,sb3,window,ray,plots,torchrl,benchmarl]"
+	$(BIN)/pip install --quiet -c $(CONSTRAINTS) -e ".[dev,train,sb3,window,ray,plots,paper,torchrl,benchmarl]"
 	touch $@
 
 run: $(VENV)/.installed-run

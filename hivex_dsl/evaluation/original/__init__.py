@@ -1,0 +1,7 @@
+"""The original HIVEX release's own records read as data: its plot pages' curves and average sheets.
+
+pdfpage.py (a matplotlib PDF page as pdfminer.six reads it), pdfplot.py (line panels: means and bands) and
+heatmap.py (annotated heatmaps) read the PDFs; digitise.py writes hivex_dsl/data/original-curves.json.xz from
+them; curves.py loads it (:func:`~hivex_dsl.evaluation.original.curves.original_curves`); evidence.py reads the
+decision periods, budgets and learning points the curves show.
+"""
