@@ -28,7 +28,8 @@ LENGTH = {"ocean_plastic_collection": 400, "aerial_wildfire_suppression": 430}
 
 
 def scenario(environment: str) -> dict:
-    return {"hivex": 1, "environment": environment, "episode_length": LENGTH[environment],
+    # period 1 (OPC defaults to 5): the deaths below are counted in physics steps, one a step() call
+    return {"hivex": 1, "environment": environment, "episode_length": LENGTH[environment], "decision_period": 1,
             "seeds": {"train": 1, "test": 2}}
 
 
@@ -242,7 +243,7 @@ def short_battery(agents: int = 3, **extra) -> dict:
     """DBR whose batteries last 12 steps away from the station (the smallest bound is 10); every drone starts
     above the station itself."""
     return {"hivex": 1, "environment": "drone_based_reforestation", "episode_length": ONE_EPISODE, "agents": agents,
-            "seeds": {"train": 1, "test": 2},
+            "decision_period": 1, "seeds": {"train": 1, "test": 2},  # steps counted as physics steps
             "params": {"energy_steps_with_seed": 12, "energy_steps_without_seed": 12,
                        "spawn_radius_m": 0.0, "spawn_gap_m": 0.0}, **extra}
 

@@ -222,6 +222,25 @@ def test_a_period_of_one_leaves_the_resolved_scenario_and_fingerprint_as_they_we
     assert relocked.decision_period == 5 and relocked.fingerprint == five.fingerprint
 
 
+def test_an_environment_whose_default_period_is_not_one_writes_its_period_whatever_it_is():
+    """DBR decides every 5th step by default: its resolved scenario says so, and one set to 1 says 1, so that a lock
+    of either compiles back to its own period (an omitted period would read as the default)."""
+    default = hivex_dsl.compile({"hivex": 1, "environment": "drone_based_reforestation"})
+    one = hivex_dsl.compile({"hivex": 1, "environment": "drone_based_reforestation", "decision_period": 1})
+    assert default.decision_period == 5 and default.resolved()["decision_period"] == 5
+    assert one.resolved()["decision_period"] == 1 and one.fingerprint != default.fingerprint
+    for compiled in (default, one):
+        relocked = hivex_dsl.compile(compiled.to_lock())
+        assert relocked.decision_period == compiled.decision_period and relocked.fingerprint == compiled.fingerprint
+
+
+def test_max_cycles_counts_decisions_of_the_environment_s_default_period():
+    from hivex_dsl.zoo import ocean_plastic_collection_v0
+
+    env = ocean_plastic_collection_v0.parallel_env(max_cycles=7)
+    assert env.core.compiled.decision_period == 5 and env.core.compiled.episode_length == 35
+
+
 def test_the_trainer_counts_decisions(tmp_path, monkeypatch):
     pytest.importorskip("torch")
     from hivex_dsl.adapters.gymnasium import HivexVectorEnv

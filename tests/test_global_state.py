@@ -28,7 +28,10 @@ CYCLES = 30
 
 
 def scenario(env_id: str, **fields) -> dict:
-    return {"hivex": 1, "environment": env_id, "episode_length": CYCLES, "seeds": {"train": 1, "test": 2}, **fields}
+    """Decision period 1 unless given (OPC and DBR default to 5): a step is a physics step, which the counts below
+    assume; test_the_state_is_taken_at_the_decision covers a longer period."""
+    return {"hivex": 1, "environment": env_id, "episode_length": CYCLES, "decision_period": 1,
+            "seeds": {"train": 1, "test": 2}, **fields}
 
 
 def vectors_of(obs) -> np.ndarray:

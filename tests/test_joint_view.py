@@ -15,7 +15,7 @@ from hivex_dsl.base.errors import ActionError
 
 
 def short(env_id: str):
-    return hivex_dsl.compile({"hivex": 1, "environment": env_id, "episode_length": 12})
+    return hivex_dsl.compile({"hivex": 1, "environment": env_id, "episode_length": 12, "decision_period": 1})
 
 
 def test_the_joint_index_is_the_branches_choices_in_mixed_radix():

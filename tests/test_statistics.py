@@ -93,7 +93,7 @@ def test_opc_local_and_global_are_running_means_of_the_vessels_events_and_the_sh
     agent-scope term but the tasks' shaping terms, which the published Local shows it leaves out), Global of the
     shared terms, and each statistic is the running mean of its group's pay."""
     compiled = hivex_dsl.compile({"hivex": 1, "environment": "ocean_plastic_collection", "agents": 3,
-                                  "episode_length": 150})
+                                  "episode_length": 150, "decision_period": 1})  # a step() call is a physics step
     statistics = compiled.entry.statistics
     local, shared = statistics["Local Reward"].running_mean, statistics["Global Reward"].running_mean
     shaping = {"nearby_trash_count_delta", "close_to_other_vessel"}
@@ -167,7 +167,7 @@ def test_the_runtime_clears_a_running_mean_where_an_agent_or_a_world_starts_agai
     """BatchedEnv accumulates the running means per physics step and restarts them with a respawned vessel (its
     episode ended alone) and a reset world, like the episode sums; checked against the terms' pay after it."""
     compiled = hivex_dsl.compile({"hivex": 1, "environment": "ocean_plastic_collection", "agents": 3,
-                                  "episode_length": 300})
+                                  "episode_length": 300, "decision_period": 1})  # a step() call is a physics step
     terms = compiled.entry.statistics["Local Reward"].running_mean
     env = BatchedEnv(compiled, batch=2, split="test")
     observations = env.reset()

@@ -34,7 +34,8 @@ def load(name: str):
 
 
 def crashing(restepped, env_id: str, length: int = 6):
-    compiled = hivex_dsl.compile({"hivex": 1, "environment": env_id, "episode_length": length})
+    # period 1: the crash is on the second physics step, so on the second step() call
+    compiled = hivex_dsl.compile({"hivex": 1, "environment": env_id, "episode_length": length, "decision_period": 1})
     return restepped(compiled, first_agent_crashes_on(2))
 
 

@@ -99,7 +99,8 @@ def test_restarting_worlds_observe_as_a_separate_reset_would(environment):
     from hivex_dsl.evaluation.policies import random_policy
     from hivex_dsl.runtime import BatchedEnv
 
-    compiled = hivex_dsl.compile({"hivex": 1, "environment": environment, "episode_length": 6, "seeds": {"train": 4}})
+    compiled = hivex_dsl.compile({"hivex": 1, "environment": environment, "episode_length": 6, "decision_period": 1,
+                                  "seeds": {"train": 4}})  # 6 physics steps, one a step() call
     venv = hivex_dsl.vector_env(compiled, num_worlds=3)
     manual = BatchedEnv(compiled, batch=3)
     draw = random_policy(venv.single_action_space, (venv.num_envs,), np.random.default_rng(1))

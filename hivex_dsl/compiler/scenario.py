@@ -115,7 +115,9 @@ class CompiledScenario:
         if self.entry.info.level_field:
             out[self.entry.info.level_field] = self.level
         out |= {"agents": self.agents, "episode_length": self.episode_length}
-        if self.decision_period != 1:  # written only when set, so scenarios, locks and fingerprints of before stay
+        # written unless 1 and the environment's default, so the scenarios, locks and fingerprints of period 1 from
+        # before stay, and those of an environment whose default is not 1 say their period
+        if self.decision_period != 1 or self.entry.info.default_decision_period != 1:
             out["decision_period"] = self.decision_period
         out |= {"seeds": {"train": _plain(self.seeds.train), "test": _plain(self.seeds.test)},
                 "weights": {name: self.schedules[name].as_dict() if name in self.schedules else weight

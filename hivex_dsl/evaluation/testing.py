@@ -57,7 +57,8 @@ def _compiles(data: dict[str, Any]) -> bool:
 def scenarios(draw, environment: str, agents: Optional[st.SearchStrategy[int]] = None,
               episode_length: st.SearchStrategy[int] = st.integers(1, 200), tasks: Optional[list[str]] = None,
               weights: bool = False) -> dict[str, Any]:
-    """Valid scenario dicts of ``environment``: task (name or index), level, agents, episode length, seeds.
+    """Valid scenario dicts of ``environment``: task (name or index), level, agents, episode length (the drawn
+    length rounded up to whole decisions of the environment's default decision period), seeds.
 
     ``agents`` defaults to the environment's minimum up to 4 agents; ``tasks`` (names) limits the tasks;
     ``weights=True`` also overrides up to two terms' weights with values in [-10, 10].
@@ -74,7 +75,8 @@ def scenarios(draw, environment: str, agents: Optional[st.SearchStrategy[int]] =
     elif info.level_field == "terrain_level":
         data["terrain_level"] = draw(st.integers(1, info.level_count))
     data["agents"] = draw(agents or st.integers(info.min_agents, max(info.min_agents, min(info.max_agents, SMALL_AGENTS))))
-    data["episode_length"] = draw(episode_length)
+    period = info.default_decision_period  # an episode ends on a decision: whole decisions of the default period
+    data["episode_length"] = -(-draw(episode_length) // period) * period
     train = draw(st.integers(0, MAX_SEED))
     data["seeds"] = {"train": train, "test": draw(st.integers(0, MAX_SEED).filter(lambda s: s != train))}
     if weights:

@@ -250,7 +250,7 @@ def test_by_default_every_episode_of_a_seed_stream_draws_a_new_world(environment
     def height_map(state):  # DBR keeps its terrain in ``heights``, the island environments in ``maps``
         return (state.heights if environment == "drone_based_reforestation" else state.maps.height).copy()
 
-    env = hivex_dsl.parallel_env({"hivex": 1, "environment": environment, "episode_length": 3})
+    env = hivex_dsl.parallel_env({"hivex": 1, "environment": environment, "episode_length": 5})  # DBR decides every 5th
     env.reset(seed=1)
     first = height_map(env.core.state)
     env.reset()  # continues the stream: a new world

@@ -34,7 +34,7 @@ def short_main():
 def test_scripted_drones_plant_many_more_good_trees_than_random_ones(short_main):
     scripted, random = good_trees(short_main, "scripted"), good_trees(short_main, "random")
     assert scripted.min() >= 10  # at least three trips of three drones per world in 700 steps
-    assert scripted.sum() >= 4 * max(random.sum(), 1)
+    assert scripted.sum() >= 3 * max(random.sum(), 1)  # random holds each action 5 steps and strays farther
 
 
 def test_scripted_main_task_returns_dwarf_random_and_the_published_baseline(short_main):
@@ -54,8 +54,9 @@ def test_scripted_drones_come_home_before_the_battery_runs_out():
     while core.alive.any():
         observations = core.step(policy(observations)).observations
         lowest = min(lowest, float(core.state.energy.min()))
-    assert core.state.alive.all() and lowest > 0.2  # the forest starts 80 m out: longer trips than before
-    assert np.count_nonzero(core.state.new_quality[0] > 0.5) >= 20
+    # the forest starts 80 m out: longer trips than before; deciding every 5th step, 0.19 at the lowest on this seed
+    assert core.state.alive.all() and lowest > 0.15
+    assert np.count_nonzero(core.state.new_quality[0] > 0.5) >= 10  # deciding every 5th step: 12 on this seed
 
 
 @pytest.mark.parametrize("task", ["find_closest_tree", "drop_seed"])

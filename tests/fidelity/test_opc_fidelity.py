@@ -74,7 +74,7 @@ def test_group_up_pays_closeness_by_the_step_not_tenfold():
     group = compile_task(2)
     assert group.entry.terms["close_to_other_vessel"].contract.high == 1.0
     close = episodes(2, "scripted").terms["close_to_other_vessel"].mean()
-    assert 0.5 * 5000 <= close <= 5000
+    assert 0.4 * 5000 <= close <= 5000  # close about half the steps, deciding every 5th
 
 
 def test_the_supply_allows_the_published_collection_and_still_binds():

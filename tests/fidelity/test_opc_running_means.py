@@ -31,8 +31,11 @@ def played(task: int, policy: str, length: int = 5000, pebble_count: int | None 
     """Per agent-episode: (pebbles per step (T,), crashed per step (T,), Local, Global, Global's episode sum);
     ``pebble_count`` overrides the world's supply."""
     supply = {} if pebble_count is None else {"generators": {"pollution": {"pebble_count": pebble_count}}}
+    # period 1, so that an env step is a physics step and the per-step state counted by hand is every step's: the
+    # running means tick per physics step whatever the period (the default, 5, holds each action five steps)
     compiled = hivex_dsl.compile({"hivex": 1, "environment": "ocean_plastic_collection", "task": task, "agents": 3,
-                                  "episode_length": length, "seeds": {"train": 5000, "test": 6000}, **supply})
+                                  "episode_length": length, "decision_period": 1,
+                                  "seeds": {"train": 5000, "test": 6000}, **supply})
     env = BatchedEnv(compiled, batch=1, split="test")
     act = make_policy(policy, compiled, env.sim.action_space, env.shape, seed=0)
     out = []

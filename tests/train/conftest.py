@@ -7,6 +7,8 @@ from pathlib import Path
 import pytest
 import yaml
 
+import hivex_dsl
+
 pytest.importorskip("torch")
 
 SCENARIOS = Path(__file__).resolve().parents[2] / "scenarios"
@@ -22,9 +24,11 @@ SHORT_EPISODE_PARAMS = {"wind_farm_control": {"params": {"rotation_speed_deg": 3
 
 
 def short_scenario(environment: str, episode_length: int = 24) -> dict:
-    """The environment's main scenario with short episodes (so evaluation ends quickly)."""
+    """The environment's main scenario with short episodes (so evaluation ends quickly), ``episode_length``
+    rounded up to whole decisions of the environment's default decision period (5 in OPC and DBR)."""
     data = yaml.safe_load((SCENARIOS / environment / "main.yaml").read_text())
-    return data | {"episode_length": episode_length} | SHORT_EPISODE_PARAMS.get(environment, {})
+    period = hivex_dsl.compile({"hivex": 1, "environment": environment}).decision_period
+    return data | {"episode_length": -(-episode_length // period) * period} | SHORT_EPISODE_PARAMS.get(environment, {})
 
 
 @pytest.fixture

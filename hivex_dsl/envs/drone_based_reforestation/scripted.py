@@ -19,6 +19,7 @@ CRUISE_HEIGHT_M = 22.0  # above ground while searching: a ~44 m wide view at the
 APPROACH_HEIGHT_M = 7.0  # above ground near the forest: ~1 m per camera pixel
 HOME_HEIGHT_M = 10.0  # above ground flying home
 LANDING_HEIGHT_M = 2.0  # above the station pad
+PAD_HOVER_M = 3.0  # this close to the station (horizontally) a drone flying home stops and sinks onto the pad
 DROP_MIN_M, DROP_MAX_M = 2.5, 6.0  # nearest tree pixel distance at which to drop (crowns reach ~1.5 m further)
 NEW_TREE_CLEARANCE_M = 4.0
 ENERGY_MARGIN = 1.5
@@ -38,7 +39,8 @@ def scripted_policy(compiled) -> Callable[[dict], dict]:
     half = compiled.generators["terrain"].extent_m / 2.0
     bound = p.height_bound_m
     view = np.tan(np.radians(p.camera_fov_deg) / 2.0)
-    turn = np.radians(p.turn_rate_deg)
+    period = compiled.decision_period  # an action is held this many physics steps: the gains are per decision
+    turn = np.radians(p.turn_rate_deg) * period
     east, north = _pixel_grid()
     gather = compiled.weights.get("group_up", 0.0) > 0.0  # meet the others only where meeting pays
     soar = compiled.task_name == "find_high_terrain"  # the height reward reads the drone's own height
@@ -60,9 +62,13 @@ def scripted_policy(compiled) -> Callable[[dict], dict]:
         station_z, holding, energy = v[..., 7] * bound, v[..., 8] > 0.5, v[..., 9]
         ground = z - above
         home_distance = np.hypot(x, y)
-        steps_home = home_distance / p.drone_speed_m + (z - station_z) / p.climb_speed_m + 20.0
+        # the way home and 20 decisions' reserve (a drone deciding every k-th step turns and lands k times coarser)
+        steps_home = home_distance / p.drone_speed_m + (z - station_z) / p.climb_speed_m + 20.0 * period
         enough = energy > ENERGY_MARGIN * steps_home / p.energy_steps_with_seed + 0.02
-        seeking = holding & enough & ~gather  # grouping: everyone meets at the station, the one place all know
+        # landed on the pad with a battery not yet full: stay the charging cycle (a drone passing over does not land)
+        charging = (home_distance < PAD_HOVER_M) & (z - station_z < LANDING_HEIGHT_M + 1.0) & (energy < 1.0)
+        # grouping: everyone meets at the station, the one place all know
+        seeking = holding & enough & ~gather & ~charging
 
         hw = np.maximum(p.camera_min_half_width_m, above * view)
         tree = image < TREE_BELOW
@@ -84,14 +90,19 @@ def scripted_policy(compiled) -> Callable[[dict], dict]:
         crowded = sees_tree & planted_near & ~over_forest
         target = np.where(crowded, tree_bearing + np.pi / 2.0, target)
         ready = sees_tree & (tree_distance <= DROP_MAX_M) & ~over_forest & ~planted_near
-        throttle, steer = steer_toward(heading, target, np.where(ready, 0.0, 1.0))
+        # nearing the drop window, slow so that a throttle held for a decision stops in it rather than flying through
+        approach = np.where(sees_tree & ~over_forest, (tree_distance - DROP_MIN_M) / (p.drone_speed_m * period), 1.0)
+        throttle, steer = steer_toward(heading, target, np.where(ready, 0.0, approach))
 
-        # home: straight to the station, then down onto the pad
-        home_throttle, home_steer = steer_toward(heading, np.arctan2(-y, -x), home_distance / 4.0)
+        # home: straight to the station, slowing within 4 m and what a held throttle flies in the rest of a decision,
+        # then down onto the pad
+        home_throttle, home_steer = steer_toward(
+            heading, np.arctan2(-y, -x), home_distance / (4.0 + (period - 1) * p.drone_speed_m))
+        home_throttle = np.where(home_distance < PAD_HOVER_M, 0.0, home_throttle)  # over the pad: hover, dock
         throttle, steer = np.where(seeking, throttle, home_throttle), np.where(seeking, steer, home_steer)
         home_z = np.where(home_distance < 6.0, station_z + LANDING_HEIGHT_M, ground + HOME_HEIGHT_M)
         target_z = np.where(seeking, ground + height, home_z)
-        climb = np.clip((np.minimum(target_z, bound - 1.0) - z) / p.climb_speed_m, -1.0, 1.0)
+        climb = np.clip((np.minimum(target_z, bound - 1.0) - z) / (p.climb_speed_m * period), -1.0, 1.0)
         if soar:
             climb = np.ones_like(climb)
 

@@ -28,6 +28,8 @@ class EnvironmentInfo:
     level_field: Optional[LevelField]
     level_count: int
     neighbour_count: int  # the paper's "Neighbour Count" specification row
+    # physics steps per decision by default: what the original's Episode Length panels show (reward tables' notes)
+    default_decision_period: int = 1
 
 
 PAPER_ENVIRONMENTS: dict[str, EnvironmentInfo] = {
@@ -35,8 +37,8 @@ PAPER_ENVIRONMENTS: dict[str, EnvironmentInfo] = {
     for info in (
         EnvironmentInfo("wind_farm_control", "Wind Farm Control", "WFC", "turbine", 8, 1, 16, 5000, "pattern", 9, 0),
         EnvironmentInfo("wildfire_resource_management", "Wildfire Resource Management", "WRM", "tower", 9, 9, 9, 500, "terrain_level", 10, 3),
-        EnvironmentInfo("ocean_plastic_collection", "Ocean Plastic Collection", "OPC", "vessel", 3, 1, 12, 5000, None, 0, 1),
-        EnvironmentInfo("drone_based_reforestation", "Drone-Based Reforestation", "DBR", "drone", 3, 1, 12, 2000, "terrain_level", 10, 0),
+        EnvironmentInfo("ocean_plastic_collection", "Ocean Plastic Collection", "OPC", "vessel", 3, 1, 12, 5000, None, 0, 1, 5),
+        EnvironmentInfo("drone_based_reforestation", "Drone-Based Reforestation", "DBR", "drone", 3, 1, 12, 2000, "terrain_level", 10, 0, 5),
         EnvironmentInfo("aerial_wildfire_suppression", "Aerial Wildfire Suppression", "AWS", "plane", 3, 1, 12, 3000, "terrain_level", 10, 0),
     )
 }

@@ -27,8 +27,8 @@ DECISION_PERIOD_DESCRIPTION = (
     "decision's, and an agent whose episode ends inside the period ends on that decision. episode_length stays "
     "in physics steps and must be a multiple of it (an episode holds episode_length / decision_period "
     "decisions); every step budget of training (max_steps, --steps, checkpoints, curves) counts decisions. "
-    "prev(), delta(), weight schedules and statistics tick per physics step. The default, 1, is every "
-    "environment's reading of the published spreads (its reward table's notes).")
+    "prev(), delta(), weight schedules and statistics tick per physics step. The default is the "
+    "environment's own, what the original's Episode Length panels show (its reward table's notes).")
 
 # Fields a sweep may range over; "params.<name>", "weights.<term>" and "seeds.<split>" too.
 SWEEPABLE_FIELDS = ("task", "pattern", "terrain_level", "agents", "episode_length", "decision_period")
@@ -191,7 +191,8 @@ def scenario_model(vocab: ScenarioVocabulary) -> type[StrictModel]:
         "episode_length": (int, Field(info.default_episode_length, ge=1, le=MAX_EPISODE_LENGTH,
                                       description="Physics steps before an episode is truncated "
                                                   "(ML-Agents' MaxStep).")),
-        "decision_period": (int, Field(1, ge=1, le=MAX_DECISION_PERIOD, description=DECISION_PERIOD_DESCRIPTION)),
+        "decision_period": (int, Field(info.default_decision_period, ge=1, le=MAX_DECISION_PERIOD,
+                                       description=DECISION_PERIOD_DESCRIPTION)),
         "seeds": (Seeds, Field(default_factory=Seeds, description="Seeds of the train and test splits.")),
         "weights": (weights, Field(default_factory=weights,
                     description="Overrides of single cells of the task's reward column.")),
