@@ -63,7 +63,8 @@ def make_scenario(environment: Optional[str], scenario: Any = None, task: Option
             raise ValueError(f"{environment} has no difficulty levels; leave level out")
         overrides[level_field] = level
     if max_cycles is not None:  # PettingZoo's cycles are step() calls: decisions of decision_period physics steps
-        default = CATALOGUE[environment].default_decision_period if environment in CATALOGUE else 1
+        entry = registry.environments().get(environment)
+        default = entry.info.default_decision_period if entry else 1
         period = overrides.get("decision_period", data.get("decision_period", default))
         overrides["episode_length"] = max_cycles * period if is_integer(max_cycles) and is_integer(period) \
             else max_cycles
