@@ -115,4 +115,5 @@ def test_the_aec_env_refuses_a_bad_action_at_once_for_the_agent_that_gave_it(env
         assert describe_space(space) in str(refused.value)
         assert aec.agent_selection == agent and aec.unwrapped.core.clock.max() == 0  # nothing changed
         aec.step(space.sample())  # the same agent then plays a good action, and the cycle goes on
-    assert aec.unwrapped.core.clock.max() == 1 and aec.agent_selection == agents[0]
+    # one decision taken: the clock counts its decision_period physics steps
+    assert aec.unwrapped.core.clock.max() == aec.unwrapped.core.period and aec.agent_selection == agents[0]
