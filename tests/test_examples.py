@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from hivex_dsl.compiler import registry
+from hivex_dsl.compiler import compile, registry
 
 ENV_IDS = list(registry.environments())
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
@@ -72,6 +72,21 @@ def test_first_run_trains_evaluates_and_compares_with_the_paper(tmp_path, capsys
     assert 'id="replay-data"' in page.read_text()
     if importlib.util.find_spec("matplotlib"):
         assert (tmp_path / "run" / "curve.png").read_bytes()[:4] == b"\x89PNG"
+
+
+def test_first_run_s_default_budget_draws_a_learning_curve_of_several_points():
+    """Issue 54, item 18: `make run`'s curve.json held one training point: in 32 worlds of 8 turbines the 2.56M
+    agent-steps end one 5,000-step episode of each world before the last update. The worlds end their episodes
+    together, so the curve has a point per episode: 2,560,000 / (8 worlds x 8 turbines x 5,000) = 8."""
+    pytest.importorskip("torch")
+    first_run = load("first_run")
+    args = first_run.parse_args([])
+    compiled = compile(args.scenario)
+    cfg = first_run.run_config(compiled.environment, args)
+    decisions = compiled.episode_length // compiled.decision_period
+    assert (cfg.num_worlds, compiled.agents, decisions) == (8, 8, 5000)
+    assert cfg.max_steps // (cfg.num_worlds * compiled.agents * decisions) == 8
+    assert first_run.run_config("wind_farm_control", first_run.parse_args(["--set", "num_worlds=2"])).num_worlds == 2
 
 
 def test_first_run_never_replaces_an_earlier_run(tmp_path, monkeypatch, capsys):
