@@ -20,7 +20,7 @@ from hivex_dsl.compiler import registry
 
 ROOT = Path(__file__).resolve().parents[1]
 ENV_IDS = list(registry.environments())
-EPISODE = 6  # steps per episode of the smoke scenarios
+EPISODE = 10  # physics steps per episode of the smoke scenarios: whole decisions of every default period (1, 5)
 
 
 class Smoke:

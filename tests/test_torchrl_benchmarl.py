@@ -186,7 +186,8 @@ def test_torchrl_s_gym_wrapper_rolls_out_over_the_same_step_vector_env(env_id, f
 
     from hivex_dsl.adapters.flat import flat_vector_env
 
-    compiled = hivex_dsl.compile({"hivex": 1, "environment": env_id, "episode_length": 4})
+    period = hivex_dsl.compile({"hivex": 1, "environment": env_id}).decision_period  # 4 decisions an episode
+    compiled = hivex_dsl.compile({"hivex": 1, "environment": env_id, "episode_length": 4 * period})
     venv = hivex_dsl.vector_env(compiled, num_worlds=2, autoreset_mode="same_step")
     env = GymWrapper(flat_vector_env(venv) if flat else venv)
     env.set_seed(0)
@@ -194,7 +195,7 @@ def test_torchrl_s_gym_wrapper_rolls_out_over_the_same_step_vector_env(env_id, f
     rollout = env.rollout(steps, break_when_any_done=False)
     assert tuple(rollout.batch_size) == (venv.num_envs, steps)
     nxt = rollout["next"]
-    # every slot's world ran out of its 4 steps twice in 10 (more endings where an agent's own episode ended)
+    # every slot's world ran out of its 4 decisions twice in 10 (more endings where an agent's own episode ended)
     assert (nxt["done"].squeeze(-1).sum(dim=1) >= 2).all()
     # the per-step reward terms are read from the infos: the reward is their weighted sum
     weighted = sum(compiled.weights[name] * nxt[f"reward_terms/{name}"].double()

@@ -24,7 +24,8 @@ DECISIONS, FRAME_STEP, SEED = 60, 5, 3
 def single(tmp_path_factory):
     """(page, trace, compiled) of 60 decisions of Ocean Plastic Collection's main task, scripted, seed 3."""
     folder = tmp_path_factory.mktemp("single")
-    scenario = short_scenario(folder, "ocean_plastic_collection", episode_length=DECISIONS)
+    # decision period 1 (OPC's default is 5): DECISIONS decisions in as many physics steps, a quick episode
+    scenario = short_scenario(folder, "ocean_plastic_collection", episode_length=DECISIONS, decision_period=1)
     page, trace = folder / "single.html", folder / "single.json"
     assert main(["replay", str(scenario), "-o", str(page), "--trace", str(trace), "--frame-step", str(FRAME_STEP),
                  "--seed", str(SEED)]) == 0

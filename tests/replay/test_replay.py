@@ -55,7 +55,8 @@ def test_significant_rounds_to_six_digits_and_keeps_zeros_and_signs():
 
 
 def test_the_trace_holds_every_documented_field_per_agent_and_decision(tmp_path, capsys):
-    scenario = short_scenario(tmp_path, "ocean_plastic_collection", episode_length=30)
+    # 30 decisions of OPC's default period 5
+    scenario = short_scenario(tmp_path, "ocean_plastic_collection", episode_length=150)
     page, trace = tmp_path / "opc.html", tmp_path / "opc.json"
     assert main(["replay", str(scenario), "-o", str(page), "--trace", str(trace), "--frame-step", "7"]) == 0
     data = json.loads(trace.read_text())

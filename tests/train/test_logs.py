@@ -52,7 +52,8 @@ def test_training_logs_opc_local_reward_pooled_over_the_changes_of_its_running_t
     from hivex_dsl.adapters.gymnasium import HivexVectorEnv
 
     compiled = hivex_dsl.compile({"hivex": 1, "environment": "ocean_plastic_collection", "agents": 3,
-                                  "episode_length": 150, "seeds": {"train": 11, "test": 12}})
+                                  "episode_length": 150, "seeds": {"train": 11, "test": 12},
+                                  "decision_period": 1})  # the running total below moves per step() call
     env = HivexVectorEnv(compiled, num_worlds=2)
     env.reset(seed=3)
     env.action_space.seed(0)
