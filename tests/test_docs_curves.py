@@ -1,5 +1,6 @@
-"""The baselines and fidelity pages set every recorded main-task curve beside the original's, and say where the
-record's budget is not the original's."""
+"""The baselines and fidelity pages set every recorded main-task curve beside the original's (every seed a record
+keeps, and their mean), say where the record's budget is not the original's, label a stale record, and measure the
+grid points recorded with their curves."""
 
 from __future__ import annotations
 
@@ -11,7 +12,7 @@ import pytest
 
 from hivex_dsl.docsgen import _jinja
 from hivex_dsl.docsgen.baselines import baselines_context
-from hivex_dsl.docsgen.curves import budget_source, curve_comparisons
+from hivex_dsl.docsgen.curves import budget_source, curve_comparisons, grid_comparisons
 from hivex_dsl.docsgen.fidelity_page import fidelity_context
 
 pytest.importorskip("matplotlib")
@@ -65,7 +66,8 @@ def test_both_pages_show_the_measure_and_the_figure(committed):
     comparisons, _ = committed
     jinja = _jinja()
     baselines = jinja.get_template("baselines.md.j2").render(**baselines_context(BASELINES, comparisons))
-    fidelity = jinja.get_template("fidelity.md.j2").render(**fidelity_context(Path("-")), comparisons=comparisons)
+    fidelity = jinja.get_template("fidelity.md.j2").render(**fidelity_context(Path("-")), comparisons=comparisons,
+                                                          grids=[])
     for page in (baselines, fidelity):
         for env in MAIN_TASKS:
             assert f"](images/curves/{env}.png)" in page
@@ -77,7 +79,7 @@ def test_both_pages_show_the_measure_and_the_figure(committed):
 
 
 def test_the_fidelity_page_has_no_curve_section_without_records():
-    page = _jinja().get_template("fidelity.md.j2").render(**fidelity_context(Path("-")), comparisons=[])
+    page = _jinja().get_template("fidelity.md.j2").render(**fidelity_context(Path("-")), comparisons=[], grids=[])
     assert "Learning curves beside the original's" not in page
 
 
@@ -86,3 +88,83 @@ def test_the_grids_say_whose_budget_they_trained():
     # the committed WRM grid trained the appendix's 4.5M agent-steps a point, the WFC grid the 8M of both
     assert "(4,500,000 agent-steps each, the max_steps of the paper appendix; training" in page
     assert "(8,000,000 agent-steps each, the max_steps of the config that ran; training" in page
+
+
+def _rows(points):
+    return [[step, 0.0, value] for step, value in points]
+
+
+def _three_seeds(note: str = "") -> dict:
+    """Wind Farm Control's main task (the original: budget 8M, a summary point every 40,000, so ours pools the points
+    within 20,000 of a step): seed 0 logs 500 and 700 beside 800,000 and 4,990 at 8M; seed 1 400 at 800,000 and 4,980
+    at 8M; seed 2 4,900 at 2M and 4,970 at 8M; seed 3 was added before records kept curves."""
+    return {"environment": "wind_farm_control", "scenario": "scenarios/wind_farm_control/main.yaml", "task_index": 0,
+            "level": 0, "seed": 0, "note": note, "hyperparameters": {"max_steps": 8_000_000},
+            "curve": _rows([(790_000, 500.0), (810_000, 700.0), (8_000_000, 4_990.0)]),
+            "other_seeds": [{"seed": 1, "curve": _rows([(800_000, 400.0), (8_000_000, 4_980.0)])},
+                            {"seed": 2, "curve": _rows([(2_000_000, 4_900.0), (8_000_000, 4_970.0)])},
+                            {"seed": 3}]}
+
+
+def _fidelity(directory):
+    comparisons, images = curve_comparisons(directory)
+    page = _jinja().get_template("fidelity.md.j2").render(**fidelity_context(Path("-")), comparisons=comparisons,
+                                                          grids=grid_comparisons(directory))
+    return comparisons, images, page
+
+
+def test_a_record_of_three_seeds_shows_each_seed_and_their_mean(tmp_path):
+    (tmp_path / "wind_farm_control.json").write_text(json.dumps(_three_seeds()))
+    (c,), images, page = _fidelity(tmp_path)
+    assert c["seeds"] == ["seed 0", "seed 1", "seed 2"] and c["seeds_recorded"] == 4 and not c["stale"]
+    # 10%: seed 0 (500 + 700) / 2 = 600, seed 1 400, seed 2 none near; mean 500, under the untrained policy's ~840
+    assert "| Cumulative Reward | 10% | 800,000 | 600 (790,000-810,000), below | 400 (800,000), below | - | 500 |" in page
+    # 25%: seed 2 alone, 4,900 (the original's runs are at 4,160-4,350 only by 2.44M)
+    assert "| Cumulative Reward | 25% | 2,000,000 | - | - | 4,900 (2,000,000), above | 4,900 |" in page
+    assert "| Cumulative Reward | 50% | 4,000,000 | - | - | - | - |" in page
+    # 100%: (4,990 + 4,980 + 4,970) / 3 = 4,980, above the original's ~4,600 (its test runs: 4,600-4,612)
+    assert "| Cumulative Reward | 100% | 8,000,000 | 4,990 (8,000,000), above | 4,980 (8,000,000), above | " \
+           "4,970 (8,000,000), above | 4,980 |" in page
+    assert c["counts"] == {"within": 0, "above": 2, "below": 1, "no point": 1}
+    assert "Seeds measured: seed 0, seed 1, seed 2 (1 of the record's 4 seeds was recorded without its training" in page
+    assert "Stale record" not in page and "stale record" not in page
+    assert set(images) == {"images/curves/wind_farm_control.png"}
+
+
+def test_a_stale_record_is_shown_as_stale_not_as_evidence(tmp_path):
+    (tmp_path / "wind_farm_control.json").write_text(json.dumps(_three_seeds()))
+    _, fresh, _ = _fidelity(tmp_path)
+    (tmp_path / "wind_farm_control.json").write_text(json.dumps(_three_seeds("Stale (test): trained before a change")))
+    (c,), stale, page = _fidelity(tmp_path)
+    assert c["stale"]
+    assert "### `wind_farm_control` (stale record)" in page
+    assert "**Stale record, not evidence**" in page
+    assert "(stale record)](images/curves/wind_farm_control.png)" in page
+    image = "images/curves/wind_farm_control.png"
+    assert fresh[image].shape != stale[image].shape or np.any(fresh[image] != stale[image])  # its title says so
+
+
+def test_a_grid_point_with_its_curve_is_measured_and_one_without_a_page_named(tmp_path):
+    grids = tmp_path / "grids"
+    grids.mkdir()
+    point = {"task": "generate_energy", "task_index": 0, "level": 0}
+    (grids / "wind_farm_control.json").write_text(json.dumps({
+        "environment": "wind_farm_control", "note": "STALE since the dynamics changed",
+        "points": [point | {"name": "wfc-0", "curve": _rows([(8_000_000, 4_990.0)])},
+                   point | {"name": "wfc-1", "level": 1}]}))  # no curve: not measured
+    (grids / "drone_based_reforestation.json").write_text(json.dumps({
+        "environment": "drone_based_reforestation", "note": "",
+        "points": [{"name": "dbr-3", "task": "pick_up_seed", "task_index": 3, "level": 1,
+                    "curve": _rows([(1_200_000, 1.0)])}]}))  # the original's page index of task 3 is not settled
+    found = grid_comparisons(tmp_path)
+    assert [(g["environment"], g["stale"]) for g in found] == [("wind_farm_control", True),
+                                                              ("drone_based_reforestation", False)]
+    wfc, dbr = found
+    assert wfc["rows"] == [{"task_index": 0, "task": "generate_energy", "level": 0,
+                            "cells": ["no point", "no point", "no point", "4,990, above"]}]
+    assert dbr["rows"] == [] and dbr["without"] == ["dbr-3"]
+    _, _, page = _fidelity(tmp_path)
+    assert "### `wind_farm_control` grid (stale record)" in page
+    assert "| 0 `generate_energy` | 0 | no point | no point | no point | 4,990, above |" in page
+    assert "Points with no page of the original to set them beside: dbr-3." in page
+    assert grid_comparisons(tmp_path / "missing") == []

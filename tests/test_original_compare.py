@@ -10,6 +10,7 @@ import pytest
 from hivex_dsl.cli import main
 from hivex_dsl.evaluation.original import compare
 from hivex_dsl.evaluation.original.curves import Curve, OriginalCell, OriginalPanel, original_curves
+from hivex_dsl.evaluation.original.digitise import VALUE_RESOLUTION_PT
 
 
 def _line(steps, mean, half_width) -> Curve:
@@ -136,3 +137,71 @@ def test_a_record_s_other_seeds_with_curves_are_measured_too(tmp_path, capsys):
     mine, seed_1 = out.split("this toolkit, seed 1:")
     assert "| Cumulative Reward | 100% | 8,000,000 | 5,000 (8,000,000) | 4,583 | 4,559 - 4,597 | above |" in mine
     assert "| Cumulative Reward | 100% | 8,000,000 | 840 (8,000,000) | 4,583 | 4,559 - 4,597 | below |" in seed_1
+    seed_1, both = seed_1.split("every seed and their mean:")
+    assert "| seed 0 | seed 1 | mean of seeds |" in both  # (5,000 + 840) / 2 = 2,920: below
+    assert ("| Cumulative Reward | 100% | 8,000,000 | 5,000 (8,000,000), above | 840 (8,000,000), below | 2,920 | 4,583 "
+            "| 4,559 - 4,597 | below |") in both
+
+
+def test_a_fraction_outside_the_budget_is_refused(cell, run):
+    for fractions in ((1.5,), (0.0,), ()):
+        with pytest.raises(compare.CompareError, match=r"each in \(0, 1\]"):
+            compare.measure(run, cell, fractions)
+
+
+@pytest.fixture
+def seeds() -> list[compare.RunCurve]:
+    """Three seeds of the made-up cell (band at 100: 5-15; at 1,000: 95-105): seed 0 pools 10 and 26 (one episode
+    each) near 100 and ends at 104; seed 1 logs 6 at 100 and ends at 110; seed 2 logs only 90 at 1,000."""
+    def run(points, seed):
+        return compare.from_points([{"agent_steps": s, "return": r, "episodes": 1} for s, r in points],
+                                   f"this toolkit, seed {seed}")
+    return [run([(95, 10.0), (105, 26.0), (1000, 104.0)], 0), run([(100, 6.0), (1000, 110.0)], 1),
+            run([(1000, 90.0)], 2)]
+
+
+def test_every_seed_and_their_mean_against_the_band_by_hand(cell, seeds):
+    rows = {r.fraction: r for r in compare.measure_seeds(seeds, cell) if r.panel == "Cumulative Reward"}
+    at_10 = rows[0.1]
+    assert [o.value for o in at_10.seeds] == [18.0, 6.0, None]  # (10 + 26) / 2; seed 2 has no point within 50
+    assert at_10.value == 12.0 and at_10.verdict == "within"  # (18 + 6) / 2 in 5-15, though seed 0 alone is above
+    last = rows[1.0]
+    assert last.value == pytest.approx((104 + 110 + 90) / 3) and last.verdict == "within"
+    assert [compare.verdict(o.value, last.lower, last.upper) for o in last.seeds] == ["within", "above", "below"]
+    assert rows[0.25].value is None and rows[0.25].verdict == "no point"  # no seed within 50 of 250
+    table = compare.seeds_table(list(rows.values()), ["seed 0", "seed 1", "seed 2"])
+    assert "| panel | budget | agent-step | seed 0 | seed 1 | seed 2 | mean of seeds |" in table
+    assert ("| Cumulative Reward | 10% | 100 | 18.00 (95-105), above | 6.00 (100), within | - | 12.00 | 10.00 | "
+            "5.00 - 15.00 | within |") in table
+    assert "| Cumulative Reward | 25% | 250 | - | - | - | - | 25.00 | 20.00 - 30.00 | no point |" in table
+
+
+def test_a_record_marked_stale_is_labelled_so():
+    assert compare.is_stale({"note": "Stale (issue 52): trained with planes flying 5 m a step"})
+    assert compare.is_stale({"note": "STALE since the dynamics changed (issue 52)"})
+    assert not compare.is_stale({"note": "Under the dynamics of issue 52; not stale"})
+    assert not compare.is_stale({})
+    rows = [[s, 0.0, 100.0] for s in (40_000, 80_000)]
+    record = {"environment": "wind_farm_control", "seed": 0, "curve": rows, "note": "Stale (test): before a change",
+              "other_seeds": [{"seed": 1, "curve": rows}]}
+    curves = compare.seed_curves(record)
+    assert [(c.label, c.stale) for c in curves] == [("this toolkit, seed 0 (stale record)", True),
+                                                   ("this toolkit, seed 1 (stale record)", True)]
+    assert not any(c.stale for c in compare.seed_curves(record | {"note": "fresh"}))
+
+
+def test_the_original_wfc_cell_holds_its_event_files_facts():
+    """The facts the event files give (ORIGINAL-DATA.md; ../shared/paper/original-wfc-event-scalars.json): the three
+    runs' first points 838.1, 839.8 and 846.9, at 2.44M agent-steps 4,160.8, 4,286.6 and 4,351.9, budget 8M, and the
+    policy's entropy first at 1.0961 (uniform over 3 actions: log 3 = 1.0986), in the shipped mean and band."""
+    cell = original_curves("wind_farm_control", 0, 0)
+    panel = cell.panel("Cumulative Reward")
+    training, tolerance = panel.training, VALUE_RESOLUTION_PT * panel.y_per_pt + 0.05  # the facts' 0.1 rounding
+    assert training.last_step == 8_000_000
+    for step, runs in ((40_000, (838.1, 839.8, 846.9)), (2_440_000, (4160.8, 4286.6, 4351.9))):
+        i = int(np.searchsorted(training.band_steps, step))
+        assert training.band_steps[i] == step
+        assert training.mean_at(step) == pytest.approx(sum(runs) / 3, abs=tolerance)
+        assert (training.lower[i], training.upper[i]) == pytest.approx((min(runs), max(runs)), abs=tolerance)
+    entropy = cell.panel("Entropy")
+    assert entropy.training.mean_at(40_000) == pytest.approx(1.0961, abs=VALUE_RESOLUTION_PT * entropy.y_per_pt + 5e-5)

@@ -47,7 +47,13 @@ def cmd_curves(args: argparse.Namespace) -> int:
     sys.stdout.write(compare.table(compare.measure(run.curve, cell)) + "\n")
     for other in run.others:
         sys.stdout.write(f"\n{other.label}:\n\n" + compare.table(compare.measure(other, cell)) + "\n")
+    if run.others:
+        seeds = [run.curve, *run.others]
+        sys.stdout.write("\nevery seed and their mean:\n\n" + compare.seeds_table(
+            compare.measure_seeds(seeds, cell), [s.label.removeprefix("this toolkit, ") for s in seeds]) + "\n")
     if args.output is not None:
-        path = compare.plot(run.curve, cell, args.output, columns=args.columns, others=run.others)
+        from ..evaluation.original.figure import plot
+
+        path = plot(run.curve, cell, args.output, columns=args.columns, others=run.others)
         sys.stdout.write(f"\nwrote {path}\n")
     return 0

@@ -20,7 +20,7 @@ from ..compiler import registry
 from .adding import PAGE as ADDING_PAGE, adding_context, has_example
 from .baselines import PAGE as BASELINES_PAGE, baseline_images, baselines_context, baselines_dir
 from .context import environment_context, index_context, language_context, performance_context
-from .curves import curve_comparisons
+from .curves import curve_comparisons, grid_comparisons
 from .fidelity_page import fidelity_context
 from .figures import preview_figures
 from .pages import SCHEMA_FILE, env_page
@@ -92,7 +92,8 @@ def render_docs(results: Path | None = None, fidelity: Path | None = None,
         docs["performance.md"] = jinja.get_template("performance.md.j2").render(**performance_context(results))
     comparisons, curve_images = curve_comparisons(baselines if has_baselines else None)
     docs["fidelity.md"] = jinja.get_template("fidelity.md.j2").render(
-        **fidelity_context(fidelity or Path("-")), comparisons=comparisons)
+        **fidelity_context(fidelity or Path("-")), comparisons=comparisons,
+        grids=grid_comparisons(baselines if has_baselines else None))
     from .replay_page import PAGE as REPLAY_PAGE, replay_context
 
     docs[REPLAY_PAGE] = jinja.get_template("replay.md.j2").render(**replay_context())

@@ -1,6 +1,8 @@
 """Our recorded learning curves beside the original's, for the baselines and fidelity pages: per committed main-task
-record, the measure of :mod:`hivex_dsl.evaluation.original.compare` and a small figure (drawn here, compared as
-pixels by `hivex docs --check`; only the five main tasks' records are drawn, so the check stays quick)."""
+record, the measure of :mod:`hivex_dsl.evaluation.original.compare` for every training seed it holds and their mean,
+and a small figure (drawn here, compared as pixels by `hivex docs --check`; only the five main tasks' records are
+drawn, so the check stays quick); per grid record whose points hold their training curves, a compact table of the
+measure of each point's return (no figure). A record whose note marks it stale is shown as such, not as evidence."""
 
 from __future__ import annotations
 
@@ -12,7 +14,7 @@ import numpy as np
 
 from ..compiler import registry
 from ..evaluation.original import compare
-from ..evaluation.original.curves import original_curves
+from ..evaluation.original.curves import OriginalCell, original_curves
 
 IMAGES = "images/curves"  # docs-relative folder of the figures
 
@@ -42,25 +44,78 @@ def budget_words(record: dict[str, Any], original_budget: int) -> dict[str, Any]
     return {"steps": _number(trained), "which": which, "differs": differs}
 
 
+def _cell(environment: str, toolkit_task: int, level: int | None) -> OriginalCell | None:
+    """The original's page of a record's cell (None: no page, or a Drone-Based Reforestation task whose page index is
+    not settled, :data:`~hivex_dsl.evaluation.original.compare.SETTLED_DBR_TASKS`)."""
+    task = compare.paper_task_index(environment, toolkit_task)
+    try:
+        return compare.original_cell(environment, task, level)
+    except compare.CompareError:
+        return None
+
+
+def _budget(cell: OriginalCell) -> int:
+    return max(p.training.last_step for p in cell.panels.values() if p.training is not None)
+
+
 def _comparison(record: dict[str, Any]) -> tuple[dict[str, Any], np.ndarray] | None:
     environment = record["environment"]
     if not record.get("curve"):
         return None
-    task = compare.paper_task_index(environment, record["task_index"])
-    cell = original_curves(environment, task, record["level"])
+    cell = _cell(environment, record["task_index"], record["level"])
     if cell is None:
         return None
-    run, *others = compare.seed_curves(record)
-    rows = compare.measure(run, cell)
-    budget = max(p.training.last_step for p in cell.panels.values() if p.training is not None)
+    from ..evaluation.original.figure import picture
+
+    runs = compare.seed_curves(record)
+    rows = compare.measure_seeds(runs, cell)
+    budget = _budget(cell)
     verdicts = [r.verdict for r in rows]
-    context = {"environment": environment, "file": cell.file, "title": cell.title, "label": run.label,
-               "image": f"{IMAGES}/{environment}.png", "table": compare.table(rows),
-               "other_tables": [{"label": o.label, "table": compare.table(compare.measure(o, cell))} for o in others],
+    seeds = [str(run.label.removeprefix("this toolkit, ").removesuffix(" (stale record)")) for run in runs]
+    context = {"environment": environment, "file": cell.file, "title": cell.title, "stale": compare.is_stale(record),
+               "seeds": seeds, "seeds_recorded": 1 + len(record.get("other_seeds", [])),
+               "image": f"{IMAGES}/{environment}.png", "table": compare.seeds_table(rows, seeds),
                "counts": {word: verdicts.count(word) for word in ("within", "above", "below", "no point")},
                "panels": sorted({r.panel for r in rows}), "budget": _number(budget),
                **{f"record_{k}": v for k, v in budget_words(record, budget).items()}}
-    return context, compare.picture(run, cell, others=others)
+    return context, picture(runs[0], cell, others=runs[1:])
+
+
+def grid_comparisons(directory: Path | None) -> list[dict[str, Any]]:
+    """Per committed grid record of ``directory`` (benchmarks/baselines; its grids/ folder) whose points hold their
+    training curves, in the catalogue's order: the measure of each such point's return against the original's page
+    of its cell, one row a point (task, level, each fraction's value and verdict); points without a page are named."""
+    from ..train.baselines import GRIDS
+
+    if directory is None or not (Path(directory) / GRIDS).is_dir():
+        return []
+    found = []
+    for environment in registry.environments():
+        path = Path(directory) / GRIDS / f"{environment}.json"
+        if path.is_file():
+            grid = _grid_comparison(json.loads(path.read_text(encoding="utf-8")))
+            if grid is not None:
+                found.append(grid)
+    return found
+
+
+def _grid_comparison(record: dict[str, Any]) -> dict[str, Any] | None:
+    environment, rows, without = record["environment"], [], []
+    for point in (p for p in record["points"] if p.get("curve")):
+        cell = _cell(environment, point["task_index"], point["level"])
+        if cell is None:
+            without.append(point["name"])
+            continue
+        measured = [r for r in compare.measure(compare.from_record(point | {"environment": environment}), cell)
+                    if r.panel == compare.RETURN]
+        rows.append({"task_index": compare.paper_task_index(environment, point["task_index"]), "task": point["task"],
+                     "level": "-" if point["level"] is None else point["level"],
+                     "cells": [f"{compare.number(r.ours.value)}, {r.verdict}" if r.ours.value is not None
+                               else "no point" for r in measured]})
+    if not rows and not without:
+        return None
+    return {"environment": environment, "stale": compare.is_stale(record), "rows": rows, "without": without,
+            "fractions": [f"{f:.0%}" for f in compare.FRACTIONS]}
 
 
 def curve_comparisons(directory: Path | None) -> tuple[list[dict[str, Any]], dict[str, np.ndarray]]:

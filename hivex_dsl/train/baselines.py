@@ -11,7 +11,8 @@ after how many agent-steps and how much wall time the policy first matched the p
 strategy in some seeds and not in others; the page shows every recorded seed and their spread.
 
 ``record_grid`` turns a trained sweep (``hivex train SWEEP --eval-episodes N``) into ``grids/<environment>.json``:
-every point's test-seed return and statistics beside the paper's published cell for its task and level.
+every point's test-seed return and statistics beside the paper's published cell for its task and level, and its
+training curve, which the fidelity page measures against the original's.
 """
 
 from __future__ import annotations
@@ -236,7 +237,8 @@ def record_grid(grid_dir: Path, sweep: str, out_dir: Path, episodes: int = 10, c
                        "agent_steps": summary["agent_steps"], "wall_s": summary["wall_s"], "seed": summary["seed"],
                        "resumed_at": summary.get("resumed_at", []),
                        "return": report["return"], "statistics": report["statistics"], "published": report["published"],
-                       **{policy: level_of(point, policy, episodes) for policy in LEVEL_POLICIES}}
+                       **{policy: level_of(point, policy, episodes) for policy in LEVEL_POLICIES},
+                       "curve": training_curve(run_dirs[index])}
     data = {"environment": points[0].environment, "sweep": sweep, "sweep_fingerprint": sweep_fingerprint(points),
             "command": command, "note": note, "machine": machine(), "hyperparameters": configs[0], "test": test,
             "points": [rows[index] for index in sorted(rows)], "untrained": untrained}

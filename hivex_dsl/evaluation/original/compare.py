@@ -4,7 +4,8 @@ A :class:`RunCurve` is one of our runs' training curve: per summary point the ag
 and per panel (the original's panel titles: ``"Cumulative Reward"``, ``"Episode Length"`` and the statistics,
 which this toolkit names as the original logs them, :mod:`hivex_dsl.sim.statistics`) the value. It is read from a
 run directory's curve.json (:func:`from_points`) or a committed baseline record, which keeps the return only
-(:func:`from_record`).
+(:func:`from_record`; :func:`seed_curves` gives every training seed a record holds, :func:`is_stale` whether its
+note marks it trained before a simulator change).
 
 The measure (:func:`measure`): at 10, 25, 50 and 100% of the original's training budget (the last step of its
 curve: the config that ran), our value against the original's band of three runs at the summary point nearest
@@ -13,10 +14,11 @@ step ``s`` pools our points within half the original's summary interval ``w`` of
 ``w`` agent-steps, as `hivex train` does by default, has one point there; one that logged every update, as the
 recorded baselines did, has a summary period's worth), weighted by their episodes where known; where none lies
 that close (a run whose episodes end seldom, as Wind Farm Control's 5,000-step ones with 256 slots: a point every
-1.28M agent-steps), the nearest point within 5% of the budget, named by its step; else none.
+1.28M agent-steps), the nearest point within 5% of the budget, named by its step; else none. Several training seeds
+(:func:`measure_seeds`) are measured each so, and their mean (unweighted: each seed is one run, as each of the
+original's three is one) against the same band.
 
-:func:`plot` draws every panel both log: our curve over the original's mean and band (matplotlib, the ``plots``
-extra).
+:mod:`.figure` draws every panel both log: our curves over the original's mean and band.
 """
 
 from __future__ import annotations
@@ -43,13 +45,15 @@ class CompareError(HivexError, ValueError):
 class RunCurve:
     """One run's training curve: ``steps`` (n,) agent-steps, ``episodes`` (n,) episodes pooled per point (ones where
     unknown), ``panels`` title -> (n,) values (NaN where a point lacks it); ``test`` (steps, means) of checkpoints
-    scored on the test seeds, where the run has them; ``label`` names the run in tables and legends."""
+    scored on the test seeds, where the run has them; ``label`` names the run in tables and legends; ``stale``: of a
+    record trained before a simulator change (:func:`is_stale`)."""
 
     steps: np.ndarray
     episodes: np.ndarray
     panels: dict[str, np.ndarray]
     label: str = "this toolkit"
     test: tuple[np.ndarray, np.ndarray] | None = field(default=None)
+    stale: bool = False
 
     @property
     def last_step(self) -> int:
@@ -72,11 +76,19 @@ def from_points(points: Sequence[dict[str, Any]], label: str = "this toolkit") -
     return RunCurve(steps, episodes, panels, label)
 
 
+def is_stale(record: dict[str, Any]) -> bool:
+    """Whether a baseline or grid record's note marks it stale ("Stale (issue 52): trained with ..."): trained
+    before a change of the simulator or the defaults, so its numbers are of another world than the scenario's now."""
+    return str(record.get("note", "")).lstrip().lower().startswith("stale")
+
+
 def seed_curves(record: dict[str, Any]) -> list[RunCurve]:
     """Every training seed's curve a baseline record holds: its own (:func:`from_record`), then each of its
-    ``other_seeds`` recorded with one (``curve`` rows as the record's)."""
+    ``other_seeds`` recorded with one (``curve`` rows as the record's); labelled "stale record" where
+    :func:`is_stale`."""
     others = [e for e in record.get("other_seeds", []) if e.get("curve")]
-    return [from_record(record)] + [from_record({"curve": e["curve"], "seed": e["seed"],
+    stale = {"note": record["note"]} if is_stale(record) else {}
+    return [from_record(record)] + [from_record({"curve": e["curve"], "seed": e["seed"], **stale,
                                                  "environment": record.get("environment")}) for e in others]
 
 
@@ -89,8 +101,10 @@ def from_record(record: dict[str, Any]) -> RunCurve:
     steps = np.array([r[0] for r in rows], dtype=float)
     test = record.get("test_curve") or []
     test_curve = (np.array([r[0] for r in test], dtype=float), np.array([r[2] for r in test], dtype=float)) if test else None
-    return RunCurve(steps, np.ones_like(steps), {RETURN: np.array([r[2] for r in rows], dtype=float)},
-                    f"this toolkit, seed {record.get('seed', 0)}", test_curve)
+    stale = is_stale(record)
+    label = f"this toolkit, seed {record.get('seed', 0)}" + (" (stale record)" if stale else "")
+    return RunCurve(steps, np.ones_like(steps), {RETURN: np.array([r[2] for r in rows], dtype=float)}, label,
+                    test_curve, stale)
 
 
 @dataclass(frozen=True)
@@ -135,9 +149,14 @@ class Row:
     @property
     def verdict(self) -> str:
         """``within``, ``above`` or ``below`` the original's band; ``no point`` where ours has none near."""
-        if self.ours.value is None:
-            return "no point"
-        return "above" if self.ours.value > self.upper else "below" if self.ours.value < self.lower else "within"
+        return verdict(self.ours.value, self.lower, self.upper)
+
+
+def verdict(value: float | None, lower: float, upper: float) -> str:
+    """``within``, ``above`` or ``below`` the band ``lower``-``upper``; ``no point`` where ``value`` is None."""
+    if value is None:
+        return "no point"
+    return "above" if value > upper else "below" if value < lower else "within"
 
 
 def shared_panels(run: RunCurve, cell: OriginalCell) -> list[str]:
@@ -157,6 +176,8 @@ def summary_interval(cell: OriginalCell, panel: str) -> float:
 
 def measure(run: RunCurve, cell: OriginalCell, fractions: Sequence[float] = FRACTIONS) -> list[Row]:
     """Every shared panel at ``fractions`` of the original's budget (see the module's docstring)."""
+    if not fractions or any(not 0.0 < f <= 1.0 for f in fractions):
+        raise CompareError(f"the measure reads fractions of the original's budget, each in (0, 1]: {list(fractions)}")
     panels = shared_panels(run, cell)
     if not panels:
         raise CompareError(f"the run logs none of the panels of the original's {cell.file}: "
@@ -169,6 +190,46 @@ def measure(run: RunCurve, cell: OriginalCell, fractions: Sequence[float] = FRAC
         points, budget = curve_points(training, tuple(fractions)), training.last_step
         rows += [Row(panel, p.fraction, p.step, ours_at(run, panel, p.step, window, budget), p.mean, p.lower, p.upper)
                  for p in points]
+    return rows
+
+
+@dataclass(frozen=True)
+class SeedsRow:
+    """One panel at one fraction of the original's budget: every training seed's value (``seeds``, in the runs'
+    order) and their mean against the original's mean and band."""
+
+    panel: str
+    fraction: float
+    step: int
+    seeds: tuple[Ours, ...]
+    mean: float
+    lower: float
+    upper: float
+
+    @property
+    def value(self) -> float | None:
+        """The mean of the seeds that have a point near the step (None: none has)."""
+        values = [o.value for o in self.seeds if o.value is not None]
+        return sum(values) / len(values) if values else None
+
+    @property
+    def verdict(self) -> str:
+        """The seeds' mean within, above or below the original's band (``no point`` where no seed has one)."""
+        return verdict(self.value, self.lower, self.upper)
+
+
+def measure_seeds(runs: Sequence[RunCurve], cell: OriginalCell, fractions: Sequence[float] = FRACTIONS) -> list[SeedsRow]:
+    """:func:`measure` of every run (a seed without a point at a panel's fraction counts as none there), and their
+    mean, per panel any run shares with the original, in the first run's order."""
+    if not runs:
+        raise CompareError("no training seed to measure")
+    measured = [{(r.panel, r.fraction): r for r in measure(run, cell, fractions)} for run in runs]
+    keys = list(dict.fromkeys(key for rows in measured for key in rows))
+    rows = []
+    for key in keys:
+        first = next(m[key] for m in measured if key in m)
+        seeds = tuple(m[key].ours if key in m else Ours(None) for m in measured)
+        rows.append(SeedsRow(first.panel, first.fraction, first.step, seeds, first.mean, first.lower, first.upper))
     return rows
 
 
@@ -234,7 +295,8 @@ def original_cell(environment: str, task_index: int, level: int | None, page_tas
     return cell
 
 
-def _number(value: float) -> str:
+def number(value: float) -> str:
+    """A value as the tables show it: two decimals below 100, whole numbers with thousands separators above."""
     return f"{value:,.2f}" if abs(value) < 100 else f"{value:,.0f}"
 
 
@@ -243,7 +305,22 @@ def _ours(ours: Ours) -> str:
         return "-"
     where = "" if ours.first is None else f" ({ours.first:,})" if ours.first == ours.last \
         else f" ({ours.first:,}-{ours.last:,})"
-    return _number(ours.value) + where
+    return number(ours.value) + where
+
+
+def seeds_table(rows: Sequence[SeedsRow], labels: Sequence[str]) -> str:
+    """:func:`measure_seeds` as a Markdown table: panel, fraction, the original's step, each seed (``labels``: its
+    value, the steps it pools, its verdict), the seeds' mean, the original's mean and band, the mean's verdict."""
+    seeds = "".join(f" {label} |" for label in labels)
+    lines = [f"| panel | budget | agent-step |{seeds} mean of seeds | original mean | original band | verdict |",
+             "| --- | --- | --- |" + " --- |" * len(labels) + " --- | --- | --- | --- |"]
+    for r in rows:
+        each = "".join(f" {_ours(o)}{'' if o.value is None else ', ' + verdict(o.value, r.lower, r.upper)} |"
+                       for o in r.seeds)
+        mean = "-" if r.value is None else number(r.value)
+        lines.append(f"| {r.panel} | {r.fraction:.0%} | {r.step:,} |{each} {mean} | {number(r.mean)} | "
+                     f"{number(r.lower)} - {number(r.upper)} | {r.verdict} |")
+    return "\n".join(lines)
 
 
 def table(rows: Sequence[Row]) -> str:
@@ -251,90 +328,12 @@ def table(rows: Sequence[Row]) -> str:
     original's mean and band, the verdict."""
     lines = ["| panel | budget | agent-step | ours (our steps) | original mean | original band | verdict |",
              "| --- | --- | --- | --- | --- | --- | --- |"]
-    lines += [f"| {r.panel} | {r.fraction:.0%} | {r.step:,} | {_ours(r.ours)} | {_number(r.mean)} | "
-              f"{_number(r.lower)} - {_number(r.upper)} | {r.verdict} |" for r in rows]
+    lines += [f"| {r.panel} | {r.fraction:.0%} | {r.step:,} | {_ours(r.ours)} | {number(r.mean)} | "
+              f"{number(r.lower)} - {number(r.upper)} | {r.verdict} |" for r in rows]
     return "\n".join(lines)
 
 
-__all__ = ["CompareError", "FRACTIONS", "Ours", "Row", "Run", "RunCurve", "from_points", "from_record", "measure",
-           "figure", "original_cell", "seed_curves", "ours_at", "paper_task_index", "picture", "plot", "read_run", "shared_panels",
-           "summary_interval", "table"]
+__all__ = ["CompareError", "FRACTIONS", "Ours", "Row", "Run", "RunCurve", "SeedsRow", "from_points",
+           "from_record", "is_stale", "measure", "measure_seeds", "original_cell", "ours_at", "paper_task_index",
+           "number", "read_run", "seed_curves", "seeds_table", "shared_panels", "summary_interval", "table", "verdict"]
 
-
-def plot(run: RunCurve, cell: OriginalCell, path: Path, panels: Sequence[str] | None = None,
-         columns: int = 3, others: Sequence[RunCurve] = ()) -> Path:
-    """Draw :func:`figure` into a PNG at ``path``."""
-    fig = figure(run, cell, panels, columns, others)
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, metadata={"Software": None})
-    _close(fig)
-    return path
-
-
-def picture(run: RunCurve, cell: OriginalCell, panels: Sequence[str] | None = None, columns: int = 3,
-            others: Sequence[RunCurve] = ()) -> np.ndarray:
-    """:func:`figure` as an (H, W, 3) uint8 picture (the docs compare pictures within a tolerance, not bytes)."""
-    fig = figure(run, cell, panels, columns, others)
-    fig.canvas.draw()
-    pixels = np.asarray(fig.canvas.buffer_rgba())[..., :3].copy()
-    _close(fig)
-    return pixels
-
-
-def figure(run: RunCurve, cell: OriginalCell, panels: Sequence[str] | None = None, columns: int = 3,
-           others: Sequence[RunCurve] = (), panel_size: tuple[float, float] = (3.6, 2.4), dpi: int = 80) -> Any:
-    """Our curve of every shared panel (or ``panels``) over the original's training mean and band (and, on the
-    return, our checkpoints on the test seeds), with ``others`` (other training seeds) dashed beside it; one small
-    axis a panel. Needs matplotlib (the ``plots`` extra)."""
-    try:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError:
-        raise CompareError("the curves' figure needs matplotlib: pip install 'hivex-dsl[plots]'") from None
-    names = list(panels) if panels is not None else shared_panels(run, cell)
-    if not names:
-        raise CompareError(f"the run logs none of the panels of the original's {cell.file}")
-    rows = -(-len(names) // columns)
-    cols = min(columns, len(names))
-    fig, axes = plt.subplots(rows, cols, figsize=(max(panel_size[0] * cols, 5.0), panel_size[1] * rows + 0.4),
-                             dpi=dpi, squeeze=False)
-    for ax, name in zip(axes.flat, names):
-        _draw_panel(ax, run, cell, name, others)
-    for ax in list(axes.flat)[len(names):]:
-        ax.set_visible(False)
-    axes.flat[0].legend(fontsize=6, loc="best")
-    fig.suptitle(f"{cell.title}\nred: the original (mean and band of 3 runs), blue: {run.label}", fontsize=7)
-    fig.tight_layout()
-    return fig
-
-
-def _close(fig: Any) -> None:
-    import matplotlib.pyplot as plt
-
-    plt.close(fig)
-
-
-def _draw_panel(ax: Any, run: RunCurve, cell: OriginalCell, name: str, others: Sequence[RunCurve] = ()) -> None:
-    training = cell.panels[name].training
-    assert training is not None
-    ax.fill_between(training.band_steps, training.lower, training.upper, color="tab:red", alpha=0.2, linewidth=0)
-    ax.plot(training.steps, training.mean, color="tab:red", linewidth=1, label="original, training")
-    values = run.panels[name]
-    known = ~np.isnan(values)
-    ax.plot(run.steps[known], values[known], color="tab:blue", linewidth=0.8, alpha=0.8,
-            marker="o" if known.sum() < 20 else None, markersize=3, label=f"{run.label}, training")
-    for other in others:
-        if name in other.panels:
-            known = ~np.isnan(other.panels[name])
-            ax.plot(other.steps[known], other.panels[name][known], color="tab:blue", linewidth=0.8, alpha=0.5,
-                    linestyle="--", label=f"{other.label}, training")
-    if name == RETURN and run.test is not None:
-        ax.plot(*run.test, "s", color="tab:purple", markersize=3, label="ours, checkpoints on test seeds")
-    ax.axvline(training.last_step, color="gray", linewidth=0.6, linestyle=":")
-    ax.set_title(name, fontsize=8)
-    ax.tick_params(labelsize=6)
-    ax.xaxis.get_offset_text().set_fontsize(6)
-    ax.grid(alpha=0.3)
