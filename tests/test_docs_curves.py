@@ -168,3 +168,19 @@ def test_a_grid_point_with_its_curve_is_measured_and_one_without_a_page_named(tm
     assert "| 0 `generate_energy` | 0 | no point | no point | no point | 4,990, above |" in page
     assert "Points with no page of the original to set them beside: dbr-3." in page
     assert grid_comparisons(tmp_path / "missing") == []
+
+
+def test_a_record_keeping_episode_length_is_measured_and_drawn_on_it_too(tmp_path):
+    record = _three_seeds()
+    record["curve_panels"] = {"Episode Length": [4_999.0, 4_999.0, 4_000.0]}  # the original's: 4,999 at every point
+    (tmp_path / "wind_farm_control.json").write_text(json.dumps(record))
+    (c,), images, page = _fidelity(tmp_path)
+    assert c["panels"] == ["Cumulative Reward", "Episode Length"]
+    assert "Cumulative Reward, Episode Length beside the original's `WindFarmControl_results_pattern_0_task_0.pdf`" in page
+    # seed 0 alone keeps it: 4,999 pooled at 790k and 810k, 4,000 at 8M
+    assert "| Episode Length | 10% | 800,000 | 4,999 (790,000-810,000), within | - | - | 4,999 |" in page
+    assert "| Episode Length | 100% | 8,000,000 | 4,000 (8,000,000), below | - | - | 4,000 |" in page
+    (tmp_path / "wind_farm_control.json").write_text(json.dumps(_three_seeds()))
+    _, alone, _ = _fidelity(tmp_path)
+    image = "images/curves/wind_farm_control.png"
+    assert images[image].shape[1] > alone[image].shape[1]  # two panels side by side, not one

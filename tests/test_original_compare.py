@@ -205,3 +205,22 @@ def test_the_original_wfc_cell_holds_its_event_files_facts():
         assert (training.lower[i], training.upper[i]) == pytest.approx((min(runs), max(runs)), abs=tolerance)
     entropy = cell.panel("Entropy")
     assert entropy.training.mean_at(40_000) == pytest.approx(1.0961, abs=VALUE_RESOLUTION_PT * entropy.y_per_pt + 5e-5)
+
+
+def test_a_record_keeps_every_panel_of_its_curve_and_gives_it_back(cell, run):
+    """The fixture run (points at 90 and 110 of one and three episodes, lengths 210) kept as a record keeps it: the
+    return in ``curve`` rows, the episodes and the other panels beside them; measured as the run itself is."""
+    rows = [[int(s), 0.0, float(r)] for s, r in zip(run.steps, run.panels["Cumulative Reward"])]
+    kept = compare.record_panels(run)
+    assert kept["curve_episodes"] == [1, 3, 2, 2, 1, 1]
+    assert kept["curve_panels"] == {"Episode Length": [210.0] * 6, "Not Logged There": [1.0] * 6}
+    again = compare.from_record({"environment": "aerial_wildfire_suppression", "seed": 0, "curve": rows} | kept)
+    assert [(r.panel, r.fraction, r.ours) for r in compare.measure(again, cell)] == \
+        [(r.panel, r.fraction, r.ours) for r in compare.measure(run, cell)]
+    at_10 = [r for r in compare.measure(again, cell) if r.fraction == 0.1]
+    assert [(r.panel, r.ours.value) for r in at_10] == [("Cumulative Reward", 18.0), ("Episode Length", 210.0)]
+    # a record of before (the return only) weighs every point alike: (12 + 20) / 2 at 10%
+    plain = compare.from_record({"environment": "aerial_wildfire_suppression", "curve": rows})
+    assert compare.measure(plain, cell)[0].ours.value == 16.0 and list(plain.panels) == ["Cumulative Reward"]
+    with pytest.raises(compare.CompareError, match="curve_episodes of another length than its 6 curve rows"):
+        compare.from_record({"environment": "x", "curve": rows, "curve_episodes": [1]})

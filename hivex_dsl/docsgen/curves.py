@@ -1,6 +1,6 @@
 """Our recorded learning curves beside the original's, for the baselines and fidelity pages: per committed main-task
 record, the measure of :mod:`hivex_dsl.evaluation.original.compare` for every training seed it holds and their mean,
-and a small figure (drawn here, compared as pixels by `hivex docs --check`; only the five main tasks' records are
+every panel it keeps, and a small figure of the return and Episode Length (drawn here, compared as pixels by `hivex docs --check`; only the five main tasks' records are
 drawn, so the check stays quick); per grid record whose points hold their training curves, a compact table of the
 measure of each point's return (no figure). A record whose note marks it stale is shown as such, not as evidence."""
 
@@ -76,9 +76,10 @@ def _comparison(record: dict[str, Any]) -> tuple[dict[str, Any], np.ndarray] | N
                "seeds": seeds, "seeds_recorded": 1 + len(record.get("other_seeds", [])),
                "image": f"{IMAGES}/{environment}.png", "table": compare.seeds_table(rows, seeds),
                "counts": {word: verdicts.count(word) for word in ("within", "above", "below", "no point")},
-               "panels": sorted({r.panel for r in rows}), "budget": _number(budget),
+               "panels": list(dict.fromkeys(r.panel for r in rows)), "budget": _number(budget),
                **{f"record_{k}": v for k, v in budget_words(record, budget).items()}}
-    return context, picture(runs[0], cell, others=runs[1:])
+    drawn = [p for p in (compare.RETURN, compare.EPISODE_LENGTH) if p in compare.shared_panels(runs[0], cell)]
+    return context, picture(runs[0], cell, drawn, others=runs[1:])
 
 
 def grid_comparisons(directory: Path | None) -> list[dict[str, Any]]:

@@ -79,10 +79,15 @@ def first_reaching(curve: list[list[float]], final: list[float], published: dict
     return None
 
 
-def training_curve(run_dir: Path) -> list[list[float]]:
-    """A run's curve.json as a record keeps it: rows of (agent-steps, wall s, mean training return)."""
-    curve = read_json(Path(run_dir) / "curve.json", "curve")
-    return [[point["agent_steps"], point["wall_s"], round(point["return"], 4)] for point in curve]
+def curve_fields(run_dir: Path) -> dict[str, Any]:
+    """A run's curve.json as a record keeps it: ``curve`` rows of (agent-steps, wall s, mean training return) and,
+    where it has points, the episodes and every other panel beside them (Episode Length, the statistics:
+    :func:`~hivex_dsl.evaluation.original.compare.record_panels`), which the fidelity page measures."""
+    from ..evaluation.original.compare import from_points, record_panels
+
+    points = read_json(Path(run_dir) / "curve.json", "curve")
+    rows = [[point["agent_steps"], point["wall_s"], round(point["return"], 4)] for point in points]
+    return {"curve": rows, **(record_panels(from_points(points)) if points else {})}
 
 
 def record_baseline(run_dir: Path, scenario: str, out_dir: Path, episodes: int = 10,
@@ -104,7 +109,7 @@ def record_baseline(run_dir: Path, scenario: str, out_dir: Path, episodes: int =
         "test": {k: report[k] for k in ("seed", "episodes", "agent_episodes", "actions", "return", "statistics")},
         "published": report["published"],
         **{policy: level_of(compiled, policy, episodes) for policy in LEVEL_POLICIES},
-        "curve": training_curve(run_dir),
+        **curve_fields(run_dir),
         "test_curve": test_curve(run_dir, curve_episodes), "test_curve_episodes": curve_episodes,
     }
     final = [summary["agent_steps"], summary["wall_s"], report["return"]["mean"], report["return"]["std"]]
@@ -179,7 +184,7 @@ def add_seed(record: Path, run_dir: Path) -> dict[str, Any]:
     report = evaluate(run_dir / "checkpoint.pt", split="test", episodes=data["test"]["episodes"])
     entry = {"seed": summary["seed"], "agent_steps": summary["agent_steps"], "wall_s": summary["wall_s"],
              "resumed_at": summary.get("resumed_at", []), "threads": hyperparameters["torch_threads"],
-             "return": report["return"], "statistics": report["statistics"], "curve": training_curve(run_dir)}
+             "return": report["return"], "statistics": report["statistics"], **curve_fields(run_dir)}
     others = [e for e in data.get("other_seeds", []) if e["seed"] != entry["seed"]]
     data["other_seeds"] = sorted([*others, entry], key=lambda e: e["seed"])
     record.write_text(dumps(data, record, 1))
@@ -238,7 +243,7 @@ def record_grid(grid_dir: Path, sweep: str, out_dir: Path, episodes: int = 10, c
                        "resumed_at": summary.get("resumed_at", []),
                        "return": report["return"], "statistics": report["statistics"], "published": report["published"],
                        **{policy: level_of(point, policy, episodes) for policy in LEVEL_POLICIES},
-                       "curve": training_curve(run_dirs[index])}
+                       **curve_fields(run_dirs[index])}
     data = {"environment": points[0].environment, "sweep": sweep, "sweep_fingerprint": sweep_fingerprint(points),
             "command": command, "note": note, "machine": machine(), "hyperparameters": configs[0], "test": test,
             "points": [rows[index] for index in sorted(rows)], "untrained": untrained}

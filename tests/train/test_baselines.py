@@ -51,6 +51,18 @@ def test_the_record_holds_test_levels_and_curve(recorded):
     assert all(row[0] > 0 for row in data["curve"])
 
 
+def test_the_record_keeps_episode_length_and_every_statistic_beside_the_return(recorded):
+    out, data = recorded
+    curve = json.loads((out.parents[1] / "run" / "curve.json").read_text())
+    assert curve and len(data["curve"]) == len(curve)
+    assert data["curve_episodes"] == [p["episodes"] for p in curve]
+    assert data["curve_panels"]["Episode Length"] == [round(p["length"], 4) for p in curve]
+    names = {name for p in curve for name in p["statistics"]}
+    assert names and set(data["curve_panels"]) == {"Episode Length"} | names
+    for name in names:
+        assert data["curve_panels"][name] == [round(p["statistics"][name], 4) for p in curve]
+
+
 def test_every_kept_checkpoint_is_scored_on_the_test_seeds(recorded):
     _, data = recorded
     # checkpoints at 64, 128 and 192 agent-steps; the newest two are kept
@@ -261,6 +273,7 @@ def test_another_seed_is_evaluated_on_the_record_s_test_episodes(seeds):
     curve = json.loads((runs["seed1"] / "curve.json").read_text())
     assert [row[0] for row in entry["curve"]] == [p["agent_steps"] for p in curve]  # its training curve, kept
     assert [row[2] for row in entry["curve"]] == [round(p["return"], 4) for p in curve]
+    assert entry["curve_panels"]["Episode Length"] == [round(p["length"], 4) for p in curve]
     alone = evaluate(runs["seed1"] / "checkpoint.pt", split="test", episodes=data["test"]["episodes"])
     assert entry["return"] == alone["return"]  # the same episodes as the record's own evaluation
     assert json.loads(record.read_text()) == data

@@ -55,6 +55,7 @@ def test_every_point_is_recorded_beside_its_published_cell(grid):
         curve = json.loads((folder / "curve.json").read_text())  # its training curve, kept as a record keeps one
         assert [row[0] for row in point["curve"]] == [p["agent_steps"] for p in curve] and curve
         assert [row[2] for row in point["curve"]] == [round(p["return"], 4) for p in curve]
+        assert point["curve_panels"]["Episode Length"] == [round(p["length"], 4) for p in curve]
         # all-scripted turbines face the wind: on every layout they beat uniformly random ones on the same episodes
         assert point["scripted"]["mean"] > point["random"]["mean"]
     assert data["test"] == {"seed": 6000, "episodes": 2, "actions": "sampled"}

@@ -3,8 +3,8 @@
 A :class:`RunCurve` is one of our runs' training curve: per summary point the agent-steps, the episodes it pools,
 and per panel (the original's panel titles: ``"Cumulative Reward"``, ``"Episode Length"`` and the statistics,
 which this toolkit names as the original logs them, :mod:`hivex_dsl.sim.statistics`) the value. It is read from a
-run directory's curve.json (:func:`from_points`) or a committed baseline record, which keeps the return only
-(:func:`from_record`; :func:`seed_curves` gives every training seed a record holds, :func:`is_stale` whether its
+run directory's curve.json (:func:`from_points`) or a committed baseline record, which keeps the return, and since
+issue 52 Episode Length and the statistics too (:func:`from_record`, :func:`record_panels`; :func:`seed_curves` gives every training seed a record holds, :func:`is_stale` whether its
 note marks it trained before a simulator change).
 
 The measure (:func:`measure`): at 10, 25, 50 and 100% of the original's training budget (the last step of its
@@ -88,13 +88,14 @@ def seed_curves(record: dict[str, Any]) -> list[RunCurve]:
     :func:`is_stale`."""
     others = [e for e in record.get("other_seeds", []) if e.get("curve")]
     stale = {"note": record["note"]} if is_stale(record) else {}
-    return [from_record(record)] + [from_record({"curve": e["curve"], "seed": e["seed"], **stale,
-                                                 "environment": record.get("environment")}) for e in others]
+    return [from_record(record)] + [from_record({**e, **stale, "environment": record.get("environment")})
+                                    for e in others]
 
 
 def from_record(record: dict[str, Any]) -> RunCurve:
-    """A committed baseline record (benchmarks/baselines/<environment>.json): its training return per update
-    (``curve`` rows: agent-steps, wall s, return) and its checkpoints on the test seeds (``test_curve``)."""
+    """A committed baseline record (benchmarks/baselines/<environment>.json), one of its ``other_seeds`` or a grid
+    record's point: its training return per summary point (``curve`` rows: agent-steps, wall s, return), its other
+    panels where it keeps them (:func:`record_panels`) and its checkpoints on the test seeds (``test_curve``)."""
     rows = record.get("curve") or []
     if not rows:
         raise CompareError(f"the record of {record.get('environment')} holds no training curve")
@@ -103,8 +104,26 @@ def from_record(record: dict[str, Any]) -> RunCurve:
     test_curve = (np.array([r[0] for r in test], dtype=float), np.array([r[2] for r in test], dtype=float)) if test else None
     stale = is_stale(record)
     label = f"this toolkit, seed {record.get('seed', 0)}" + (" (stale record)" if stale else "")
-    return RunCurve(steps, np.ones_like(steps), {RETURN: np.array([r[2] for r in rows], dtype=float)}, label,
-                    test_curve, stale)
+    kept = {name: values for name, values in (record.get("curve_panels") or {}).items()}
+    episodes = record.get("curve_episodes") or [1] * len(rows)
+    wrong = [name for name, values in [("curve_episodes", episodes), *kept.items()] if len(values) != len(rows)]
+    if wrong:
+        raise CompareError(f"the record of {record.get('environment')} (seed {record.get('seed', 0)}) keeps "
+                           f"{', '.join(wrong)} of another length than its {len(rows)} curve rows")
+    panels = {RETURN: np.array([r[2] for r in rows], dtype=float)}
+    panels |= {name: np.array([np.nan if v is None else v for v in values], dtype=float) for name, values in kept.items()}
+    return RunCurve(steps, np.array(episodes, dtype=float), panels, label, test_curve, stale)
+
+
+def record_panels(run: RunCurve, digits: int = 4) -> dict[str, Any]:
+    """What a record keeps of a run's curve beside its ``curve`` rows, which hold the return: ``curve_episodes`` (the
+    agent-episodes each point pools) and ``curve_panels`` (every other panel, Episode Length and the statistics, one
+    value a point, null where a point lacks one), so :func:`from_record` gives back the run's :class:`RunCurve`."""
+    def kept(values: np.ndarray) -> list[float | None]:
+        return [None if np.isnan(v) else round(float(v), digits) for v in values]
+
+    return {"curve_episodes": [int(e) for e in run.episodes],
+            "curve_panels": {name: kept(values) for name, values in run.panels.items() if name != RETURN}}
 
 
 @dataclass(frozen=True)
@@ -334,6 +353,6 @@ def table(rows: Sequence[Row]) -> str:
 
 
 __all__ = ["CompareError", "FRACTIONS", "Ours", "Row", "Run", "RunCurve", "SeedsRow", "from_points",
-           "from_record", "is_stale", "measure", "measure_seeds", "original_cell", "ours_at", "paper_task_index",
+           "from_record", "is_stale", "record_panels", "measure", "measure_seeds", "original_cell", "ours_at", "paper_task_index",
            "number", "read_run", "seed_curves", "seeds_table", "shared_panels", "summary_interval", "table", "verdict"]
 
