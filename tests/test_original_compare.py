@@ -179,7 +179,9 @@ def test_every_seed_and_their_mean_against_the_band_by_hand(cell, seeds):
 def test_a_record_marked_stale_is_labelled_so():
     assert compare.is_stale({"note": "Stale (issue 52): trained with planes flying 5 m a step"})
     assert compare.is_stale({"note": "STALE since the dynamics changed (issue 52)"})
+    assert compare.is_stale({"note": "Levels 2 and 10 match. Stale since issue 52: planes now fly 3 m a step"})
     assert not compare.is_stale({"note": "Under the dynamics of issue 52; not stale"})
+    assert not compare.is_stale({"note": "Trained again, so this record is not stale. Stalemate aside."})
     assert not compare.is_stale({})
     rows = [[s, 0.0, 100.0] for s in (40_000, 80_000)]
     record = {"environment": "wind_farm_control", "seed": 0, "curve": rows, "note": "Stale (test): before a change",

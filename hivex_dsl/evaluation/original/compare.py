@@ -23,6 +23,7 @@ original's three is one) against the same band.
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Sequence
@@ -76,10 +77,14 @@ def from_points(points: Sequence[dict[str, Any]], label: str = "this toolkit") -
     return RunCurve(steps, episodes, panels, label)
 
 
+STALE = re.compile(r"(?:^|[.!?]\s+)stale\b", re.IGNORECASE)  # a sentence of the note that begins "Stale"
+
+
 def is_stale(record: dict[str, Any]) -> bool:
-    """Whether a baseline or grid record's note marks it stale ("Stale (issue 52): trained with ..."): trained
-    before a change of the simulator or the defaults, so its numbers are of another world than the scenario's now."""
-    return str(record.get("note", "")).lstrip().lower().startswith("stale")
+    """Whether a baseline or grid record's note marks it stale, in a sentence that begins so ("Stale (issue 52):
+    trained with ...", "... Stale since issue 52: planes now fly ..."): trained before a change of the simulator or
+    the defaults, so its numbers are of another world than the scenario's now."""
+    return bool(STALE.search(str(record.get("note", "")).strip()))
 
 
 def seed_curves(record: dict[str, Any]) -> list[RunCurve]:
