@@ -28,9 +28,11 @@ LENGTH = {"ocean_plastic_collection": 400, "aerial_wildfire_suppression": 430}
 
 
 def scenario(environment: str) -> dict:
-    # period 1 (OPC defaults to 5): the deaths below are counted in physics steps, one a step() call
+    # period 1 (OPC defaults to 5): the deaths below are counted in physics steps, one a step() call. OPC's crash
+    # ends the crashed vessel alone here (crash_outcome: end): its default, end_world, ends the whole world's episode
+    extra = {"params": {"crash_outcome": "end"}} if environment == "ocean_plastic_collection" else {}
     return {"hivex": 1, "environment": environment, "episode_length": LENGTH[environment], "decision_period": 1,
-            "seeds": {"train": 1, "test": 2}}
+            "seeds": {"train": 1, "test": 2}, **extra}
 
 
 def straight_ahead(environment: str, slots: int, flat: bool = False):
@@ -386,14 +388,14 @@ def test_the_parallel_env_ends_a_one_drone_world_only_with_respawn_off(respawn):
         assert env.agents == []
 
 
-def test_only_the_fire_going_out_is_declared_an_ending_of_the_whole_world():
+def test_the_fire_going_out_and_an_ocean_crash_are_the_declared_endings_of_a_whole_world():
     import dataclasses
 
     from hivex_dsl.compiler import registry
 
     declared = {env: registry.get(env).world_events for env in LAYOUT | {"wind_farm_control": None}}
     assert declared == {"aerial_wildfire_suppression": {"fire_out"}, "wildfire_resource_management": {"fire_out"},
-                        "drone_based_reforestation": set(), "ocean_plastic_collection": set(),
+                        "drone_based_reforestation": set(), "ocean_plastic_collection": {"crash_ended_world"},
                         "wind_farm_control": set()}
     entry = registry.get("drone_based_reforestation")
     with pytest.raises(ValueError, match="world events \\['fire_out'\\] are not among its events"):

@@ -43,7 +43,10 @@ ENTRY = register(EnvironmentEntry(
         "crossed_border": "the vessel left the square world this step",
         "collided_with_other_vessel": "the vessel came closer than collision_distance_m to another vessel this step",
         "collided_with_trash": "the vessel's collector ran into (and picked up) at least one pebble this step",
+        "crash_ended_world": ("a vessel of this world crashed this step under crash_outcome: end_world (never under "
+                              "end or respawn): every task ends the world's episode on it"),
     },
+    world_events=frozenset({"crash_ended_world"}),  # one vessel's crash ends every vessel's episode
     checks=(one_world, vessels_fit),
     generators={
         "pollution": GeneratorSlot(PollutionSpec, lambda level: PRESET.pollution, (
@@ -61,23 +64,23 @@ ENTRY = register(EnvironmentEntry(
         "each cell min(1, pebbles / camera_full_count). The older stack starts as zeros, as ML-Agents' stacking "
         "sensors do.",
         "The paper gives -100 for crossing the border or colliding with another vessel but does not say what "
-        "follows; by default (crash_outcome: end) that vessel's episode ends, as at the border of the original "
-        "Aerial Wildfire Suppression; crash_outcome: respawn restarts it at rest at a free spawn point instead.",
+        "follows; by default (crash_outcome: end_world) the episode of every vessel of the world ends, as the "
+        "original's Episode Length and returns show (the reward table's ending note); crash_outcome: end ends "
+        "the crashed vessel's alone, and respawn restarts it at rest at a free spawn point instead.",
         "A pebble is collected when it lies in the rectangle the collector swept this step (collector_reach_m "
         "ahead of the vessel's centre back to where the collector was, collector_half_width_m either side); "
         "Collide with Trash fires on exactly those steps, as the vessel touches plastic only with its collector.",
         "Pebbles do not drift and are not replaced: the paper calls the plastic a fixed amount. The world "
-        "(half extent 200 m), heat map, pebble count (3,000, large enough for the collection the published "
-        "statistics imply: the reward table's last note) and spawn rules are the `pollution` and `spawn` "
+        "(half extent 200 m), heat map, pebble count (3,000, at which the original's untrained policy's and this "
+        "project's PPO's collection meet the published and the original's: the reward table's supply note) and spawn rules are the `pollution` and `spawn` "
         "generators; vessel speed (top 0.5 m per step), turn rate (3 degrees per step) and the collector "
         "(3 m x 3 m) are this project's choices. A collector sweeps only while its vessel moves or turns, so a "
         "vessel spawned over pebbles takes none before it acts.",
         "Scale: a vessel collecting c pebbles in an episode earns c from Collect Trash and, from Global Lowest "
         "Trash Collected (paid on collection), about 0.01 x (pebbles collected by the whole team) x (the lowest "
         "count at the time), about 0.01 x 3c x 0.4c = 0.012 c^2 for three vessels at an even pace. The scripted "
-        "skipper collects about 378 pebbles per vessel, for which that term pays it 1,928 (return about 2,300); "
-        "the logged Local and Global Reward are running means, about (c + 1) / 2 and a third of that sum, so the "
-        "published Local of 158.7 means c = 317 (the reward table's last note). Random play collects about 17 "
-        "before it crosses the border.",
+        "skipper collects about 326 pebbles a vessel-episode (return about 1,680); the logged Local and Global "
+        "Reward are running means, pooled over vessel-episodes (the reward table's notes). Random play collects "
+        "about 12 before one vessel of its world crosses the border and ends the world's episode.",
     ),
 ))

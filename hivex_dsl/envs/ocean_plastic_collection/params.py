@@ -14,7 +14,7 @@ from pydantic import Field
 
 from ...lang.spec.common import StrictModel
 
-CrashOutcome = Literal["end", "respawn"]
+CrashOutcome = Literal["end_world", "end", "respawn"]
 
 
 class OceanPlasticCollectionParams(StrictModel):
@@ -36,9 +36,11 @@ class OceanPlasticCollectionParams(StrictModel):
         "[paper] d_threshold of Nearby Trash Count Delta: pebbles nearer than this count as nearby."))
     camera_full_count: int = Field(2, ge=1, le=100, description=(
         "[ours] Pebbles in one 2 m camera cell that read as trash density 1; fewer read proportionally less."))
-    crash_outcome: CrashOutcome = Field("end", description=(
-        "[ours] What follows a crash (crossing the border or colliding with another vessel) besides the paper's "
-        "-100, on which the paper is silent: 'end' ends that vessel's episode, as the original Aerial Wildfire "
-        "Suppression does at its border; 'respawn' moves it to a free spawn point at rest on the next step."))
+    crash_outcome: CrashOutcome = Field("end_world", description=(
+        "[orig] What follows a crash (crossing the border or colliding with another vessel) besides the paper's "
+        "-100, on which the paper is silent. 'end_world' (the original's Episode Length and return curves: the "
+        "reward table's ending note) ends the episode of every vessel of the world, the crashed one paying -100; "
+        "'end' ends that vessel's episode alone, as the original Aerial Wildfire Suppression does at its border; "
+        "'respawn' moves it to a free spawn point at rest on the next step, its episode going on."))
     respawn_candidates: int = Field(16, ge=1, le=256, description=(
         "[ours] Random spawn points tried per respawn; the one farthest from the other vessels is taken."))

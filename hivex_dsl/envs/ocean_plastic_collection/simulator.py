@@ -3,7 +3,9 @@
 Per step: vessels that crashed on the previous step respawn (``crash_outcome: respawn``); every
 active vessel turns and accelerates; crossings of the border and vessel-vessel collisions are
 detected; the collectors sweep up pebbles; cameras and nearby counts are read at the new
-positions. With ``crash_outcome: end`` a crashed vessel is terminated and frozen where it crashed.
+positions. With ``crash_outcome: end`` a crashed vessel is terminated and frozen where it crashed; with
+``end_world`` (the default) so is it, and the event ``crash_ended_world`` fires for every vessel of its world,
+which every task's ``ends_on`` names: the world's episode ends for all its vessels.
 """
 
 from __future__ import annotations
@@ -150,7 +152,8 @@ class OceanPlasticSimulator:
         sweeping = active & ((speed > 0) | (heading != before))  # a collector at rest sweeps nothing
         sensing = sense(state.pebbles, position, facing, speed, active, self.geometry, sweeping)
         terminated = np.zeros(crashed.shape, bool)
-        if p.crash_outcome == "end" and np.count_nonzero(crashed):
+        ends = p.crash_outcome != "respawn"
+        if ends and np.count_nonzero(crashed):
             terminated = crashed
             active = active & ~crashed
             speed = np.where(crashed, 0.0, speed)
@@ -167,8 +170,15 @@ class OceanPlasticSimulator:
             heat=state.heat, vector=self._vector(position, facing, distances, closest, state.vector),
             visual=self._visual(sensing, state.visual))
         events = {"crossed_border": border, "collided_with_other_vessel": collided,
-                  "collided_with_trash": sensing.collected > 0}
+                  "collided_with_trash": sensing.collected > 0, "crash_ended_world": self._world_crash(crashed)}
         return new, StepOutcome(terminated=terminated, events=events)
+
+    def _world_crash(self, crashed: np.ndarray) -> np.ndarray:
+        """(B, A) bool: under ``crash_outcome: end_world``, every vessel of a world in which one crashed this step
+        (a world event: the tasks' ``ends_on`` ends the world's episode on it); never under the other outcomes."""
+        if self.params.crash_outcome != "end_world":
+            return np.zeros(crashed.shape, bool)
+        return np.repeat(crashed.any(axis=1, keepdims=True), crashed.shape[1], axis=1)
 
     def _respawn(self, position, heading, speed, crashed, rng):
         """Crashed vessels restart at rest with a random heading at the best of a few random spawn
