@@ -239,6 +239,19 @@ def test_wfc_learning_points_are_its_runs_mean():
     assert points[0].mean == pytest.approx(840, abs=5)  # the untrained policy (ORIGINAL-DATA.md: about 840)
 
 
+@needs_paper
+def test_a_training_average_is_the_runs_mean_over_every_summary_point():
+    """WFC pattern 0's return averaged over its 200 training points by the event files (the three runs' mean at
+    each, then the mean of those): the digitised curve's average within its 2 pt line tolerance."""
+    steps, runs = _events("train")["Environment/Cumulative Reward"]
+    panel = original_curves("wind_farm_control", 0, 0).panel("Cumulative Reward")
+    average = evidence.training_average("wind_farm_control", 0, 0, "Cumulative Reward")
+    assert len(steps) == len(panel.training.band_steps) == 200
+    assert average == pytest.approx(runs.mean(axis=0).mean(), abs=2 * panel.y_per_pt)
+    with pytest.raises(evidence.EvidenceError, match="no training band of 'No Such Panel'"):
+        evidence.training_average("wind_farm_control", 0, 0, "No Such Panel")
+
+
 def test_opc_main_task_vessel_episodes_end_early():
     points = evidence.learning_points("ocean_plastic_collection", 0, None, evidence.EPISODE_LENGTH)
     assert points[0].mean < 50  # a few dozen decisions for the untrained policy

@@ -8,7 +8,8 @@ import numpy as np
 import pytest
 
 import hivex_dsl
-from hivex_dsl.sim.fire import TreeState, fire_reset
+from hivex_dsl.envs.aerial_wildfire_suppression.params import AerialWildfireParams
+from hivex_dsl.sim.fire import TreeState, fire_reset, fire_step
 from hivex_dsl.sim.procgen.weather import weather_at
 
 ENV = "wildfire_resource_management"
@@ -118,8 +119,35 @@ def test_every_task_ends_when_the_fire_goes_out(task):
     assert env.agents == []
 
 
+def test_a_wrm_try_ignites_with_chance_one_half_per_true_factor():
+    """The spread chance fitted to the original's fire lengths (0.5 a factor, issue 52), by hand: a tree burning amid
+    a full 5 x 5 forest on level ground, hot at the source (one factor for every target), the wind blowing east
+    (+x), so the 8 cells of its 45 degree downwind cone count two factors: min(1, 2 x 0.5) = 1, every one ignites;
+    the other 16 count one and ignite with chance 0.5 (0.2 in Aerial Wildfire Suppression, whose fire is the
+    original's own [orig])."""
+    params = simulator().params
+    assert params.spread_chance_per_factor == 0.5 and AerialWildfireParams().spread_chance_per_factor == 0.2
+    worlds = 400
+    grid = np.ones((worlds, 5, 5), bool)
+    centre = np.zeros_like(grid)
+    centre[:, 2, 2] = True
+    hot = lambda world, row, col: (np.ones(len(world)), np.ones(len(world)), np.ones(len(world)))  # noqa: E731
+    fire = fire_step(fire_reset(grid, centre), np.random.default_rng(4), params, np.zeros(worlds),
+                     np.zeros((worlds, 5, 5), np.float32), hot)
+    burning = fire.trees == TreeState.BURNING
+    downwind = [(0, 1), (0, 2), (1, 1), (-1, 1), (1, 2), (-1, 2), (2, 2), (-2, 2)]  # (row, col) offsets, row = +y
+    cone = np.zeros((5, 5), bool)
+    for d_row, d_col in downwind:
+        cone[2 + d_row, 2 + d_col] = True
+    others = ~cone
+    others[2, 2] = False
+    assert burning[:, cone].all()
+    assert abs(burning[:, others].mean() - 0.5) < 0.03  # 6,400 draws: standard error 0.006
+
+
 def test_a_free_burning_fire_ends_most_episodes_before_500_steps():
-    """The original logs mean episode lengths of 140-275 steps; the towers cannot fight the fire."""
+    """The original's Episode Length curves average 163-228 steps a level (the reward table's notes); the towers
+    cannot fight the fire."""
     sim = simulator()
     rng = np.random.default_rng(6000)
     state = sim.reset(rng, 4)

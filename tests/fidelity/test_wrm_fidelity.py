@@ -1,24 +1,30 @@
-"""Wildfire Resource Management against the paper's published test results at terrain level 1.
+"""Wildfire Resource Management against the paper's published test results at terrain level 1, and its fire
+against the original's own curves at every level.
 
 For every published cell at level 1 whose PPO return is above 0.5, trivial policies (all-zeros,
 uniform random) must stay below the published return plus 10%, and the scripted policy must reach
-half of it. The two episodes are those of the paper's test protocol: one world on the test seed
-stream (6000), its first two episodes in a row (``hivex_dsl.evaluation.rollout.rollout``: the second keeps the
-island and lights a new fire), each policy's mean per-agent return over both.
+half of it. Ten episodes, as the audit suite plays: one world on the test seed stream (6000), its first ten
+episodes in a row (``hivex_dsl.evaluation.rollout.rollout``), each policy's mean per-agent return over them. The
+original's test logged about 24 fires (10 summary points of 500 steps); two episodes were too few here, the test
+seed's second fire at level 1 going out after 55 steps.
 """
 
 from __future__ import annotations
 
 from functools import lru_cache
 
+import numpy as np
 import pytest
 
 import hivex_dsl
+from hivex_dsl.evaluation.original import evidence
+from hivex_dsl.evaluation.original.evidence import EPISODE_LENGTH
 from hivex_dsl.evaluation.published import cells
 from hivex_dsl.evaluation.rollout import rollout
+from hivex_dsl.runtime.batched import BatchedEnv
 
 ENVIRONMENT = "wildfire_resource_management"
-EPISODES = 2
+EPISODES = 10
 MARGIN = 1.1
 CELLS = [c for c in cells(ENVIRONMENT) if c.level == 1 and c.return_mean > 0.5]
 NEIGHBOURS, SELF = "Reward for Moving Resources to Neighbours", "Reward for Moving Resources to Self"
@@ -68,20 +74,48 @@ def test_collective_performance_does_not_depend_on_the_task_or_the_policy():
     assert max(ours) - min(ours) < 1e-9 * max(ours)
 
 
-# Issue 52, item 7: the original's Episode Length and Collective Performance curves at terrain level 7, averaged
-# over its training (three runs), read from original-plots/WildfireResourceManagement/*_difficulty_7_task_0.pdf
-ORIGINAL_LEVEL7_EPISODE_LENGTH = 204.1
-ORIGINAL_LEVEL7_COLLECTIVE = 50.4
+# Issue 52, item 4: the fire's length per level against the original's Episode Length, averaged over its training
+# (hivex_dsl.evaluation.original.evidence.training_average; the three runs and three tasks log one curve per level,
+# so every point, the untrained first one included, samples the same fires whatever the policy).
+LEVELS = range(1, 11)
+FIRST_FIRES = 8  # worlds a level, each its first episode: 80 fires, about 5% standard error on their pooled ratio
+POOLED_TOLERANCE = 0.12  # today's main (spread chance 0.2) pooled 1.17 here, 1.22 over 100 fires a level
+LEVEL_TOLERANCE = 0.30  # one level's 8 fires: up to about 20% standard error (level 1's fires vary most)
+YIELD_TOLERANCE = 0.12
 
 
-def test_this_fire_burns_longer_than_the_originals_with_the_same_yield_per_step():
-    """Why a trivial policy earns more than the published PPO at levels 6, 7, 9 and 10 (the reward table's notes):
-    the fire lasts longer here, each of its steps yielding the original's Collective Performance per step."""
-    compiled = hivex_dsl.compile({"hivex": 1, "environment": ENVIRONMENT, "terrain_level": 7, "agents": 9,
+@lru_cache(maxsize=None)
+def first_fires(level: int) -> tuple[np.ndarray, np.ndarray]:
+    """(lengths (W,), Collective Performance (W,)) of the first episode of W worlds of the training seed stream,
+    all-zeros (no action changes the fire or Collective Performance)."""
+    compiled = hivex_dsl.compile({"hivex": 1, "environment": ENVIRONMENT, "terrain_level": level, "agents": 9,
                                   "episode_length": 500, "seeds": {"train": 5000, "test": 6000}})
-    done = rollout(compiled, "zeros", 20, split="test")
-    lengths, collective = done.lengths[:, 0], done.statistics["Collective Performance"][:, 0]
-    spread = lengths.std() / len(lengths) ** 0.5
-    assert lengths.mean() - 2 * spread > 1.1 * ORIGINAL_LEVEL7_EPISODE_LENGTH  # at least a tenth longer
-    per_step = collective.sum() / lengths.sum()
-    assert per_step == pytest.approx(ORIGINAL_LEVEL7_COLLECTIVE / ORIGINAL_LEVEL7_EPISODE_LENGTH, rel=0.05)
+    env = BatchedEnv(compiled, batch=FIRST_FIRES, split="train")
+    env.reset()
+    actions = np.zeros((FIRST_FIRES, compiled.agents, 4), np.int64)
+    while env.alive.any():
+        env.step(actions)
+    return env.lengths[:, 0].copy(), env.statistic_sums()["Collective Performance"][:, 0].copy()
+
+
+def original(level: int, panel: str) -> float:
+    return evidence.training_average(ENVIRONMENT, 0, level, panel)
+
+
+def test_the_fire_lasts_as_long_as_the_originals_at_every_level():
+    """The original logs a mean over the episodes that ended in each 500-step window, which weighs long fires a
+    little more (1% to 6% above the mean over fires here, measured by running worlds as such streams); the
+    tolerances take that in."""
+    ratios = np.array([first_fires(level)[0].mean() / original(level, EPISODE_LENGTH) for level in LEVELS])
+    assert abs(ratios.mean() - 1.0) < POOLED_TOLERANCE, np.round(ratios, 2)
+    assert (abs(ratios - 1.0) < LEVEL_TOLERANCE).all(), np.round(ratios, 2)
+
+
+def test_each_step_of_the_fire_yields_the_originals_collective_performance():
+    """From level 4 on (at levels 1-3 ours is lower, 0.21-0.24 against 0.27-0.28 a step: the reward table's notes)."""
+    ratios = []
+    for level in LEVELS[3:]:
+        lengths, collective = first_fires(level)
+        ratios.append((collective.sum() / lengths.sum())
+                      / (original(level, "Collective Performance") / original(level, EPISODE_LENGTH)))
+    assert abs(np.mean(ratios) - 1.0) < YIELD_TOLERANCE, np.round(ratios, 2)

@@ -39,10 +39,16 @@ class WildfireResourceParams(WindParams, FireSpec):
     initial_self_tenths: int = Field(0, ge=0, le=10, description=(
         "[ours] Tenths of its 1.0 that each tower has allocated to itself at reset; the rest starts unallocated."))
     redraw_island: RedrawIsland = redraw_island_field()
+    spread_chance_per_factor: float = Field(0.5, ge=0.0, le=1.0, description=(
+        "[fitted] Ignition chance of one try per true factor (downwind, uphill, hot, dry, low overcast), capped at "
+        "1; Aerial Wildfire Suppression's 0.2 [orig] made this fire burn 1.15-1.37 times as long as the original's "
+        "Episode Length curves at every level. A free fire here burns through the forest, so its length is the "
+        "front's travel time; 0.5 makes it the original's (mean over levels 1.00, each level 0.93-1.12; the "
+        "reward table's notes, issue 52)."))
     fire_step_interval: int = Field(1, ge=1, le=1_000, description=(
-        "[ours] Environment steps per fire step. With 1, a free-burning fire mostly goes out after 150-350 steps "
-        "(towers cannot fight the fire), 225-266 on average a level: 1.12-1.38 times the original's Episode Length "
-        "curves (163-228 a level; the reward table's notes, issue 52)."))
+        "[ours] Environment steps per fire step. With 1 and spread_chance_per_factor 0.5, a free-burning fire "
+        "(towers cannot fight it) mostly goes out after 100-350 steps, 165-230 on average a level, as the "
+        "original's Episode Length curves (163-228 a level; the reward table's notes, issue 52)."))
     weather_grid_cells: int = Field(16, ge=2, le=128, description=(
         "[ours] The smooth weather fields are sampled on this many cells per side of the island for the fire "
         "(nearest cell), as in Aerial Wildfire Suppression; a cell is 75 m."))

@@ -134,6 +134,21 @@ def runs_agree(environment: str, panel: str = EPISODE_LENGTH) -> float:
     return agree / total
 
 
+def training_average(environment: str, task_index: int, level: int | None, panel: str = EPISODE_LENGTH) -> float:
+    """One cell's panel averaged over its training summary points (each the mean over the three runs): what the
+    whole run logged. ML-Agents logs at each point the mean of the episodes that ended since the last (a window
+    of summary_freq agent-steps), so a length averaged so weighs long episodes a little more than a mean over
+    episodes would. Where no policy changes the panel (WRM's Episode Length: :func:`runs_agree` is 1) every
+    point samples the same episodes' distribution, the untrained first one included, and this is its most
+    precise reading."""
+    cell = original_curves(environment, task_index, level)
+    found = cell.panel(panel) if cell is not None else None
+    if found is None or found.training is None or not len(found.training.band_steps):
+        raise EvidenceError(f"{environment} task {task_index} level {level}: no training band of {panel!r}")
+    curve = found.training
+    return float(curve.mean_at(curve.band_steps).mean())
+
+
 @dataclass(frozen=True)
 class Budget:
     """The agent-steps an environment's curves span, beside the appendix's."""
@@ -195,7 +210,7 @@ def curve_points(curve: Curve, fractions: tuple[float, ...] = FRACTIONS) -> list
 
 __all__ = ["APPENDIX", "Budget", "CellLength", "EpisodeCeiling", "EvidenceError", "LearningPoint", "MAX_STEP",
            "budgets", "curve_points", "decision_period", "episode_ceiling", "learning_points", "runs_agree",
-           "sheet_rows", "summary"]
+           "sheet_rows", "summary", "training_average"]
 
 
 def _level(level: int | None) -> str:
