@@ -7,7 +7,8 @@ summary points every 40,000 agent-steps, and their three test runs), as copied f
 hivex-research/hivex-results into the session's shared folder (default
 ``../shared/paper/original-wfc-event-scalars.json``). Output:
 ``hivex_dsl/data/original-wfc-main-curves.json``: the step axis once and, per scalar that bears on learning
-(return, Individual Performance, policy entropy), the three runs' values, as
+(return, Individual Performance, policy entropy, and the clip epsilon whose decay dates the updates), the three
+runs' values, as
 :mod:`hivex_dsl.evaluation.curves` reads them.
 """
 
@@ -20,7 +21,8 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 DEFAULT_INPUT = ROOT.parent / "shared" / "paper" / "original-wfc-event-scalars.json"
 OUTPUT = ROOT / "hivex_dsl" / "data" / "original-wfc-main-curves.json"
-SCALARS = {"Environment/Cumulative Reward": 1, "WindFarmControl/Individual Performance": 1, "Policy/Entropy": 4}
+SCALARS = {"Environment/Cumulative Reward": 1, "WindFarmControl/Individual Performance": 1, "Policy/Entropy": 4,
+           "Policy/Epsilon": 6}  # epsilon as logged: its linear decay dates the updates of each summary point
 
 
 def runs_of(scalars: dict, split: str) -> tuple[list[int], dict[str, list[list[float]]]]:
