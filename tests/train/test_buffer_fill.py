@@ -45,7 +45,7 @@ def test_wind_farm_controls_defaults_update_when_the_original_run_did():
     6 decimals). Hand-derived from one environment of 8 turbines, time_horizon 2,048 and 5,000-step episodes: each
     episode updates after 2,048, 4,096 and 5,000 steps (16,384, 32,768 and 40,000 experiences), the last written
     with the next point, so point k > 0 dates 40,000 k + (0 + 16,384 + 32,768) / 3. Updating every 2,048 experiences
-    instead (`buffer_fill: rollout`) would date it 40,000 k + 20,480 + 1,024: off by about 5,000."""
+    instead (`buffer_fill: rollout`) would date the points thousands of agent-steps away (up to 4,096)."""
     cfg = make_config("wind_farm_control")
     assert cfg.buffer_fill == "trajectories" and cfg.num_worlds == 1
     due = wfc_update_experiences(cfg, episodes=2)
