@@ -34,7 +34,8 @@ from hivex_dsl.train.config import make_config, parse_assignments
 from hivex_dsl.train.curiosity import Curiosity
 from hivex_dsl.train.logs import EpisodeLog
 from hivex_dsl.train.networks import ActorCritic
-from hivex_dsl.train.ppo import advantages_and_returns, collect, make_env, make_optimizer, start_rollouts, update
+from hivex_dsl.train.ppo import (advantages_and_returns, collect, make_env, make_optimizer, start_rollouts, update,
+                                 update_due)
 
 SCENARIOS = Path(__file__).resolve().parents[1] / "scenarios"
 
@@ -53,7 +54,7 @@ def iteration_flops(environment: str, overrides) -> dict:
         trained = (curiosity, make_optimizer(curiosity, cfg.curiosity_learning_rate))
     state, buf = start_rollouts(obs, agent, cfg.rollout_length(env.num_envs))
     with FlopCounterMode(display=False) as rollout:
-        next_value = collect(env, agent, buf, state, cfg, EpisodeLog())
+        next_value = collect(env, agent, buf, state, cfg, EpisodeLog(), until=update_due(cfg, env.num_envs))
     with FlopCounterMode(display=False) as learning:
         advantages, returns, _ = advantages_and_returns(buf, next_value, cfg, curiosity)
         update(agent, optimizer, buf, advantages, returns, cfg, cfg.beta, cfg.epsilon, np.random.default_rng(0),

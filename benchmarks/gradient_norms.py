@@ -71,7 +71,7 @@ def main() -> None:
     state, buf = ppo.start_rollouts(obs, agent, cfg.rollout_length(env.num_envs))
     rows, rng = [], np.random.default_rng(0)
     for _ in range(args.rollouts):
-        next_value = ppo.collect(env, agent, buf, state, cfg, EpisodeLog())
+        next_value = ppo.collect(env, agent, buf, state, cfg, EpisodeLog(), until=ppo.update_due(cfg, env.num_envs))
         advantages, returns, _ = ppo.advantages_and_returns(buf, next_value, cfg, curiosity)
         rows += minibatch_rows(agent, cfg, buf, advantages, returns, rng)
     actor, critic, lowest = (np.array(column) for column in zip(*rows))

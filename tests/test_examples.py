@@ -86,6 +86,9 @@ def test_first_run_s_default_budget_draws_a_learning_curve_of_several_points():
     decisions = compiled.episode_length // compiled.decision_period
     assert (cfg.num_worlds, compiled.agents, decisions) == (8, 8, 5000)
     assert cfg.max_steps // (cfg.num_worlds * compiled.agents * decisions) == 8
+    # a fixed 2,048-experience rollout: every 32 steps of the 64 turbines (hivex train's one-world default would
+    # update on 2,048 steps of all 64, 131,072 experiences, a few dozen updates in the budget)
+    assert (cfg.buffer_fill, cfg.rollout_length(64)) == ("rollout", 32)
     assert first_run.run_config("wind_farm_control", first_run.parse_args(["--set", "num_worlds=2"])).num_worlds == 2
 
 

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from typing import Any, Callable
 
+import numpy as np
 import torch
 
 CHUNK = 4096  # rows per no-grad pass over a whole rollout: big enough for efficient kernels, small enough for memory
@@ -35,16 +36,26 @@ class Rollout:
 
     def __init__(self, steps: int, slots: int, first_obs: dict[str, torch.Tensor], continuous: int, discrete: int,
                  signals: int = 1, logp_columns: int = 0):
-        self.frames = {k: torch.zeros((steps + 1,) + v.shape, dtype=v.dtype) for k, v in first_obs.items()}
-        self.obs = {k: v[:steps] for k, v in self.frames.items()}
-        self.cont = torch.zeros(steps, slots, continuous)
-        self.disc = torch.zeros(steps, slots, discrete, dtype=torch.int64)
-        self.logp = torch.zeros((steps, slots) + ((logp_columns,) if logp_columns else ()))
-        self.rewards = torch.zeros(steps, slots)
-        self.values = torch.zeros((steps, slots) + ((signals,) if signals > 1 else ()))  # one column per signal
-        self.terminated, self.done, self.valid = (torch.zeros(steps, slots) for _ in range(3))
+        self.capacity = steps
+        self._frames = {k: torch.zeros((steps + 1,) + v.shape, dtype=v.dtype) for k, v in first_obs.items()}
+        self._stepwise = {
+            "cont": torch.zeros(steps, slots, continuous),
+            "disc": torch.zeros(steps, slots, discrete, dtype=torch.int64),
+            "logp": torch.zeros((steps, slots) + ((logp_columns,) if logp_columns else ())),
+            "rewards": torch.zeros(steps, slots),
+            "values": torch.zeros((steps, slots) + ((signals,) if signals > 1 else ())),  # one column per signal
+            **{name: torch.zeros(steps, slots) for name in ("terminated", "done", "valid")}}
+        self.limit(steps)
         self.end(first_obs)
         self.gathered = RowBuffers()
+
+    def limit(self, steps: int) -> None:
+        """Use the first ``steps`` (1 to ``capacity``) of the storage as the rollout: every array a view of that
+        many steps, the frames of one more (a rollout that ends early, or the run's last, shorter one)."""
+        self.frames = {k: v[:steps + 1] for k, v in self._frames.items()}
+        self.obs = {k: v[:steps] for k, v in self.frames.items()}
+        for name, full in self._stepwise.items():
+            setattr(self, name, full[:steps])
 
     @property
     def last_obs(self) -> dict[str, torch.Tensor]:
@@ -70,6 +81,26 @@ class Rollout:
         """The observation each step returned, flat (T * S, ...): in NEXT_STEP mode an ending step's is the
         episode's last observation, so every valid transition's s' is right."""
         return {k: merge_steps(v[1:]) for k, v in self.frames.items()}
+
+
+class FinishedTrajectories:
+    """ML-Agents' update trigger over the slots of a rollout: a slot's trajectory is finished when it holds
+    ``time_horizon`` experiences or its episode ends (ML-Agents' AgentProcessor hands it to the trainer then), and
+    the trainer updates once its buffer holds more than ``buffer_size`` experiences of finished trajectories."""
+
+    def __init__(self, slots: int, time_horizon: int, buffer_size: int) -> None:
+        self.open = np.zeros(slots, np.int64)  # experiences of each slot's unfinished trajectory
+        self.finished = 0
+        self.time_horizon, self.buffer_size = time_horizon, buffer_size
+
+    def step(self, valid: np.ndarray, done: np.ndarray) -> bool:
+        """Count one step of every slot (``valid``: the slots whose step was an experience, ``done``: whose episode
+        ended there, both (S,) bool); -> whether an update is due."""
+        self.open += valid
+        ends = (self.open >= self.time_horizon) | (done & (self.open > 0))
+        self.finished += int(self.open[ends].sum())
+        self.open[ends] = 0
+        return self.finished > self.buffer_size
 
 
 class RowBuffers:

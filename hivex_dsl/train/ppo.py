@@ -30,7 +30,7 @@ from .curiosity import Curiosity
 from .devices import autocast, matmul_precision, torch_device
 from .logs import EpisodeLog, Progress, ScalarLog
 from .networks import ActorCritic, to_tensors
-from .buffer import Rollout, RowBuffers, in_chunks, merge_steps
+from .buffer import FinishedTrajectories, Rollout, RowBuffers, in_chunks, merge_steps
 from .rundir import RunDir
 
 
@@ -113,24 +113,38 @@ def planned_agent_steps(max_steps: int, done: int, slots: int) -> int:
     return done if done >= max_steps else done + -(-(max_steps - done) // slots) * slots
 
 
+def update_due(cfg: PPOConfig, slots: int) -> Callable[[np.ndarray, np.ndarray], bool] | None:
+    """When a rollout of ``slots`` ends before its length (``collect``'s ``until``): with ``buffer_fill:
+    trajectories`` once its finished trajectories exceed ``buffer_size`` (ML-Agents'), else never (None)."""
+    if cfg.buffer_fill != "trajectories":
+        return None
+    return FinishedTrajectories(slots, cfg.time_horizon, cfg.buffer_size).step
+
+
 def forward_precision(cfg: PPOConfig):
     """The context of a forward pass under ``cfg.precision``: bfloat16 autocast for ``bf16``, else none."""
     return autocast(cfg.precision, torch_device(cfg.device))
 
 
 def collect(env: HivexVectorEnv, agent: ActorCritic, buf: Rollout, state: dict[str, Any], cfg: PPOConfig,
-            episodes: EpisodeLog, on_step: Callable[[], None] | None = None) -> torch.Tensor:
-    """Fill ``buf`` with one rollout from ``state`` (obs, previous done, active); -> V(next obs) (S,).
-    ``on_step`` (optional) is called after each step of every slot (the progress bar moves within a rollout).
+            episodes: EpisodeLog, on_step: Callable[[], None] | None = None,
+            until: Callable[[np.ndarray, np.ndarray], bool] | None = None, steps: int | None = None) -> torch.Tensor:
+    """Fill ``buf`` with one rollout from ``state`` (obs, previous done, active) of ``steps`` (default: the storage's
+    capacity); -> V(next obs) (S,). ``on_step`` (optional) is called after each step of every slot (the progress
+    bar moves within a rollout). ``until`` (optional; :func:`update_due`) is asked after each step with the slots
+    whose step was an experience and those whose episode ended (both (S,) bool); when it says True the rollout
+    ends there, ``buf`` limited to the steps taken.
 
     The policy acts step by step; the critic values every frame once the rollout is done (as ML-Agents' trajectory
     processing does), in batches of thousands rather than one slot batch a step: the weights are the same
     throughout, so are the values (``tests/train/test_exact_speedups.py``), at a fraction of the CPU time."""
+    buf.limit(buf.capacity if steps is None else steps)
     for t in range(buf.rewards.shape[0]):
         obs = state["obs"]
         for k, v in obs.items():
             buf.obs[k][t] = v
-        buf.valid[t] = torch.as_tensor(acting_mask(state["done"], state["active"]), dtype=torch.float32)
+        valid = acting_mask(state["done"], state["active"])
+        buf.valid[t] = torch.as_tensor(valid, dtype=torch.float32)
         with torch.no_grad(), forward_precision(cfg):
             cont, disc, logp = agent.act(obs)
         buf.cont[t], buf.disc[t], buf.logp[t] = cont, disc, logp
@@ -144,6 +158,9 @@ def collect(env: HivexVectorEnv, agent: ActorCritic, buf: Rollout, state: dict[s
         state["active"] = np.asarray(infos.get("active", np.ones_like(done)), dtype=bool)
         if on_step is not None:
             on_step()
+        if until is not None and until(valid, done):
+            buf.limit(t + 1)
+            break
     buf.end(state["obs"])
     return rollout_values(agent, buf, cfg)
 
@@ -388,9 +405,9 @@ def _train(compiled: CompiledScenario, cfg: PPOConfig, run: RunDir, progress: bo
             for group in optimizer.param_groups:
                 group["lr"] = lr
             length = min(steps, -(-(cfg.max_steps - agent_steps) // slots))  # the last rollout stops at the budget
-            if length < buf.rewards.shape[0]:
-                buf = rollout_storage(state["obs"], agent, length)
-            next_value = collect(env, agent, buf, state, cfg, episodes, on_step=lambda: bar.advance(slots, None))
+            next_value = collect(env, agent, buf, state, cfg, episodes, on_step=lambda: bar.advance(slots, None),
+                                 until=update_due(cfg, slots), steps=length)
+            length = buf.rewards.shape[0]
             agent.observe(buf.flat_obs())
             advantages, returns, signal_charts = advantages_and_returns(buf, next_value, cfg, curiosity)
             losses = update(agent, optimizer, buf, advantages, returns, cfg, beta, epsilon, rng,

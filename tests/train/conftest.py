@@ -14,7 +14,10 @@ pytest.importorskip("torch")
 SCENARIOS = Path(__file__).resolve().parents[2] / "scenarios"
 ENVIRONMENTS = ("wind_farm_control", "wildfire_resource_management", "drone_based_reforestation",
                 "ocean_plastic_collection", "aerial_wildfire_suppression")
-TINY = {"num_worlds": 1, "buffer_size": 64, "batch_size": 32, "num_epoch": 2, "hidden_units": 16,
+# buffer_fill rollout: the tests' counts of updates, checkpoints and curve points are derived from a fixed rollout of
+# buffer_size // slots steps (Wind Farm Control's own default updates on finished trajectories instead)
+TINY = {"num_worlds": 1, "buffer_fill": "rollout", "buffer_size": 64, "batch_size": 32, "num_epoch": 2,
+        "hidden_units": 16,
         "max_steps": 192, "checkpoint_every": 128, "keep_checkpoints": 1, "summary_freq": 1}
 
 

@@ -32,7 +32,8 @@ def recorded(tmp_path_factory):
     root = tmp_path_factory.mktemp("baseline")
     scenario = root / "wfc.yaml"
     scenario.write_text(yaml.safe_dump(short_scenario("wind_farm_control", episode_length=12)))
-    tiny = {"num_worlds": 1, "buffer_size": 32, "batch_size": 16, "hidden_units": 8, "max_steps": 192,
+    tiny = {"num_worlds": 1, "buffer_fill": "rollout",
+            "buffer_size": 32, "batch_size": 16, "hidden_units": 8, "max_steps": 192,
             "checkpoint_every": 64, "keep_checkpoints": 2}
     train(compile(scenario), make_config("wind_farm_control", tiny), root / "run", progress=False)
     out = root / "benchmarks" / "baselines"
@@ -207,7 +208,8 @@ def test_the_gpu_check_runs_its_steps_on_the_cpu(tmp_path):
 
     root = Path(__file__).resolve().parents[2]
     committed = json.loads((root / "benchmarks" / "results" / "train_throughput.json").read_text())["rows"]
-    tiny = ["--set", "num_worlds=1", "--set", "buffer_size=32", "--set", "batch_size=16", "--set", "hidden_units=8"]
+    tiny = ["--set", "num_worlds=1", "--set", "buffer_fill=rollout", "--set", "buffer_size=32", "--set", "batch_size=16",
+            "--set", "hidden_units=8"]
     command = ["bash", str(root / "benchmarks" / "gpu_check.sh"), "--device", "cpu", "--steps", "64",
                "--processes", "2", "--out", str(tmp_path), "--env", "ocean_plastic_collection", *tiny]
     done = subprocess.run(command, capture_output=True, text=True, env=os.environ | {"PYTHON": sys.executable})

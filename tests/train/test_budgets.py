@@ -92,7 +92,8 @@ def every_update_and_every_128(tmp_path_factory):
     compiled = compile(short_scenario("wind_farm_control", episode_length=6))
     runs = {}
     for freq in (1, 128):
-        cfg = make_config("wind_farm_control", {"num_worlds": 1, "buffer_size": 64, "batch_size": 32, "num_epoch": 1,
+        cfg = make_config("wind_farm_control", {"num_worlds": 1, "buffer_fill": "rollout",
+                                                "buffer_size": 64, "batch_size": 32, "num_epoch": 1,
                                                 "hidden_units": 8, "max_steps": 320, "torch_threads": 1,
                                                 "summary_freq": freq})
         run = tmp_path_factory.mktemp(f"freq{freq}")

@@ -7,7 +7,8 @@ from torch import nn
 
 from .conftest import benchmark_script
 
-TINY = {"num_worlds": 1, "buffer_size": 64, "batch_size": 32, "num_epoch": 2, "hidden_units": 16}
+TINY = {"num_worlds": 1, "buffer_fill": "rollout",
+        "buffer_size": 64, "batch_size": 32, "num_epoch": 2, "hidden_units": 16}
 
 
 @pytest.fixture(scope="module")

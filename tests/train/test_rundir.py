@@ -98,7 +98,8 @@ def test_the_command_says_what_to_do_with_a_used_run_directory(tmp_path, capsys)
     scenario = tmp_path / "wfc.yaml"
     scenario.write_text(json.dumps(short_scenario("wind_farm_control", episode_length=16)))
     common = ["train", str(scenario), "-o", str(tmp_path / "run"), "--no-progress", "--steps", "64",
-              "--set", "num_worlds=1", "--set", "hidden_units=8", "--set", "buffer_size=64", "--set", "batch_size=64"]
+              "--set", "num_worlds=1", "--set", "buffer_fill=rollout",
+              "--set", "hidden_units=8", "--set", "buffer_size=64", "--set", "batch_size=64"]
     assert main(common) == 0
     capsys.readouterr()
     assert main(common) == 2

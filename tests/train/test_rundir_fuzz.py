@@ -33,8 +33,8 @@ KILLS = 12 if LONG else 2
 ONE_UPDATE = TINY | {"buffer_size": 32, "batch_size": 32, "max_steps": 64, "checkpoint_every": 32,
                      "keep_checkpoints": 2, "hidden_units": 8}
 # the command line's hyperparameters (the paper's but these): a kill's run is resumed with the same
-COMMAND_SET = {"num_worlds": 1, "buffer_size": 32, "batch_size": 32, "hidden_units": 8, "torch_threads": 1,
-               "checkpoint_every": 32, "keep_checkpoints": 2}
+COMMAND_SET = {"num_worlds": 1, "buffer_fill": "rollout", "buffer_size": 32, "batch_size": 32, "hidden_units": 8,
+               "torch_threads": 1, "checkpoint_every": 32, "keep_checkpoints": 2}
 RUN_NAMES = ("checkpoint.pt", "config.json", "curve.json", "summary.json", "evaluation.json",
              "checkpoints/step_000000000032.pt", "checkpoints/step_000000000999.pt", "tb/events.out.tfevents.1.x",
              "checkpoint.pt.partial", "summary.json.partial")
@@ -95,6 +95,7 @@ def tamper(run: Path, outside: Path, how: str, name: str, at: int, users: dict[s
         return {str(target / "step_000000000777.pt"): mine}
     if not path.is_file():
         return {}
+    changed_users = users.pop(str(path), None) is not None  # a user's own file changed again by the tamper
     if how == "edit":
         data = bytearray(path.read_bytes())
         data[at % len(data)] ^= 0x01 if data else 0
@@ -112,6 +113,8 @@ def tamper(run: Path, outside: Path, how: str, name: str, at: int, users: dict[s
         path.unlink()
         path.symlink_to(outside / "linked")
         return {str(outside / "linked"): mine}
+    if changed_users and how != "delete":
+        return {str(path): path.read_bytes()}  # what must survive is what the user's file holds now
     return {}
 
 

@@ -62,8 +62,8 @@ def test_the_commands_train_and_evaluate(tmp_path, capsys):
     scenario.write_text(json.dumps(short_scenario("wind_farm_control", episode_length=16)))
     run = tmp_path / "run"
     args = ["train", str(scenario), "-o", str(run), "--steps", "256", "--seed", "3", "--no-progress",
-            "--set", "num_worlds=1", "--set", "hidden_units=8", "--set", "buffer_size=64",
-            "--set", "batch_size=64", "--json"]
+            "--set", "num_worlds=1", "--set", "buffer_fill=rollout", "--set", "hidden_units=8",
+            "--set", "buffer_size=64", "--set", "batch_size=64", "--json"]
     assert main(args) == 0
     summary = json.loads(capsys.readouterr().out)
     assert summary["agent_steps"] == 256 and summary["seed"] == 3
@@ -88,7 +88,7 @@ def test_bad_training_input_is_a_clear_error(tmp_path, capsys):
     torch.save({"format": "hivex-ppo/9"}, tmp_path / "later.pt")
     assert main(["evaluate", str(tmp_path / "later.pt")]) == 2
     assert "it says format 'hivex-ppo/9'" in capsys.readouterr().err
-    small = {"max_steps": 64, "num_worlds": 1, "buffer_size": 64, "batch_size": 64}
+    small = {"max_steps": 64, "num_worlds": 1, "buffer_fill": "rollout", "buffer_size": 64, "batch_size": 64}
     train(compile(short_scenario("wind_farm_control")), make_config("wind_farm_control", small), tmp_path / "w",
           progress=False)
     assert main(["evaluate", str(tmp_path / "w")]) == 2
@@ -146,8 +146,8 @@ def test_a_run_too_short_for_an_episode_says_so(tmp_path, capsys):
     scenario = tmp_path / "wfc.yaml"
     scenario.write_text(json.dumps(short_scenario("wind_farm_control", episode_length=100)))
     assert main(["train", str(scenario), "-o", str(tmp_path / "run"), "--no-progress", "--steps", "64",
-                 "--set", "num_worlds=1", "--set", "hidden_units=8", "--set", "buffer_size=64",
-                 "--set", "batch_size=64", "--json"]) == 0
+                 "--set", "num_worlds=1", "--set", "buffer_fill=rollout", "--set", "hidden_units=8",
+                 "--set", "buffer_size=64", "--set", "batch_size=64", "--json"]) == 0
     out, err = capsys.readouterr()
     assert json.loads(out)["final_return"] is None
     # 64 agent-steps of 8 turbines in 1 world: 8 of the episode's 100 steps
@@ -230,7 +230,8 @@ def test_train_ends_with_a_summary_and_the_next_command_and_evaluate_shows_weigh
                                    | {"weights": {"generate_energy": 0.5}}))
     run = tmp_path / "run"
     assert main(["train", str(scenario), "-o", str(run), "--no-progress", "--steps", "64", "--set", "num_worlds=1",
-                 "--set", "hidden_units=8", "--set", "buffer_size=64", "--set", "batch_size=64"]) == 0
+                 "--set", "hidden_units=8", "--set", "buffer_fill=rollout", "--set", "buffer_size=64", "--set",
+                 "batch_size=64"]) == 0
     out = capsys.readouterr().out
     assert not out.lstrip().startswith("{") and "trained 64 agent-steps" in out
     assert f"next: hivex evaluate {run / 'checkpoint.pt'}" in out
