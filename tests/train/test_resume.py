@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import os
 import signal
+import time
 
 import pytest
 import torch
@@ -241,6 +242,13 @@ def test_a_second_ctrl_c_ends_the_command_at_once_without_a_traceback(monkeypatc
 
     def twice(*_):
         os.kill(os.getpid(), signal.SIGINT)  # the first asks the run to stop after this update
+        # A process's signal may reach one of torch's threads; the main thread runs the handler at its next
+        # bytecode, and two signals pending by then count as one. Wait for the first to be taken, as a person's
+        # second Ctrl-C comes after it.
+        deadline = time.monotonic() + 10
+        while getattr(signal.getsignal(signal.SIGINT), "__func__", None) is ppo.StopRequests._request:
+            assert time.monotonic() < deadline, "the first Ctrl-C was never handled"
+            time.sleep(0.001)
         os.kill(os.getpid(), signal.SIGINT)  # the second kills it
 
     real = ppo.train
