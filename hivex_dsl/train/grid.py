@@ -274,6 +274,7 @@ def _on_ray(jobs: list[tuple], modes: list[tuple[bool, bool]], address: str,
     except ImportError:
         raise TrainError("--ray needs the ray package: pip install 'hivex-dsl[ray]'") from None
     started = not ray.is_initialized()
+    handlers = {sig: signal.getsignal(sig) for sig in (signal.SIGINT, signal.SIGTERM)}
     if started:
         ray.init(address=None if address == "local" else address, include_dashboard=False,
                  log_to_driver=False, **init)
@@ -284,6 +285,15 @@ def _on_ray(jobs: list[tuple], modes: list[tuple[bool, bool]], address: str,
     finally:
         if started:
             ray.shutdown()
+            _restore(handlers)  # ray.init ignores SIGINT and takes SIGTERM in the driver, and shutdown leaves them so
+
+
+def _restore(handlers: dict[int, Any]) -> None:
+    """Put back the signal handlers a library replaced (only the main thread may set them)."""
+    if threading.current_thread() is threading.main_thread():
+        for sig, handler in handlers.items():
+            if handler is not None:
+                signal.signal(sig, handler)
 
 
 def format_table(results: Sequence[dict[str, Any]]) -> str:

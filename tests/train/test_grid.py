@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import signal
 
 import pytest
 
@@ -43,9 +44,12 @@ def test_a_sweep_runs_on_a_local_ray_instance(tiny, tmp_path):
     pytest.importorskip("ray")
     points = _two_points()
     configs = [make_config(p.environment, tiny) for p in points]
+    before = signal.getsignal(signal.SIGINT), signal.getsignal(signal.SIGTERM)
     results = run_grid(points, configs, tmp_path, eval_episodes=1, ray_address="local",
                        ray_init={"num_cpus": 2}, progress=False)
     _check(results, points, tmp_path)
+    # ray.init ignores Ctrl-C in the driver and takes SIGTERM; the caller's process gets its own handlers back
+    assert (signal.getsignal(signal.SIGINT), signal.getsignal(signal.SIGTERM)) == before
 
 
 def test_the_command_trains_a_sweep_file(tmp_path, capsys):

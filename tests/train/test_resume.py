@@ -256,5 +256,10 @@ def test_a_second_ctrl_c_ends_the_command_at_once_without_a_traceback(monkeypatc
     scenario = tmp_path / "wrm.yaml"
     scenario.write_text(json.dumps(short_scenario("wildfire_resource_management", episode_length=8)))
     sets = [arg for key, value in (TINY | ONE_MINIBATCH).items() for arg in ("--set", f"{key}={value}")]
-    assert main(["train", str(scenario), "-o", str(tmp_path / "run"), "--no-progress", "--json", *sets]) == 130
-    assert capsys.readouterr().err == "hivex: interrupted\n"
+    # a `hivex` process starts with Python's own SIGINT handler; a test before this one may have left another
+    found = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        assert main(["train", str(scenario), "-o", str(tmp_path / "run"), "--no-progress", "--json", *sets]) == 130
+    finally:
+        signal.signal(signal.SIGINT, found)
+    assert capsys.readouterr().err == "hivex: interrupted\n", f"SIGINT's handler before the test: {found!r}"
