@@ -2,8 +2,10 @@
 
 With a seed: cruise high (a wide camera view) until trees come into sight, sink toward the
 nearest one, and drop the seed a few metres outside the forest edge where no planted tree is
-close; over the forest, back out. Without a seed, or when the battery would not last the way
-home with a margin: fly back to the station and land on it to recharge and reload.
+close; over the forest, back out. Without a seed (where returns pay), or when the battery would
+not last the way home with a margin: fly back to the station and land on it until the return
+recharges and reloads it (a docking charges only on a return: the pilot remembers whether it has
+been away, which it cannot observe). Where returns pay nothing, a seedless drone searches on.
 """
 
 from __future__ import annotations
