@@ -242,8 +242,8 @@ LAYOUT = {  # per-world arrays a world restart draws anew and no step changes
 
 
 def short_battery(agents: int = 3, **extra) -> dict:
-    """DBR whose batteries last 12 steps away from the station (the smallest bound is 10); every drone starts
-    above the station itself."""
+    """DBR whose batteries last 12 steps (the smallest bound is 10; a drone charges at the station only on a
+    return, so they drain from the first step); every drone starts above the station itself."""
     return {"hivex": 1, "environment": "drone_based_reforestation", "episode_length": ONE_EPISODE, "agents": agents,
             "decision_period": 1, "seeds": {"train": 1, "test": 2},  # steps counted as physics steps
             "params": {"energy_steps_with_seed": 12, "energy_steps_without_seed": 12,
@@ -360,7 +360,10 @@ def test_fire_out_is_a_world_ending_that_restarts_the_world(restepped, environme
 def test_a_per_world_ending_expression_ends_the_world_and_a_per_agent_one_its_agents(scope, world_restarts):
     """Climbing drones cross 15 m together: the per-agent expression ends each drone (they respawn, the
     world goes on), the per-world one (a value of the whole world) ends the world."""
-    venv = hivex_dsl.vector_env(short_battery(3, ends_on=[scope]), num_worlds=1, autoreset_mode="same_step")
+    scenario = short_battery(3, ends_on=[scope])
+    # batteries that outlast the climb past 15 m: they drain from the first step, on the station's pad too
+    scenario["params"] |= {"energy_steps_with_seed": 40, "energy_steps_without_seed": 40}
+    venv = hivex_dsl.vector_env(scenario, num_worlds=1, autoreset_mode="same_step")
     venv.reset(seed=3)
     actions = climbing(venv.num_envs)
     for t in range(ONE_EPISODE - 1):

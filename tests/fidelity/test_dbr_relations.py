@@ -7,8 +7,8 @@ paper's published cells, to their rounding, and in this toolkit's episodes.
    Cumulative Tree Drop Reward + Cumulative Distance Reward.
 3. In Find High Potential Area and Find High Terrain the best-so-far statistic is what the task pays, and the rest of
    the return is the energy penalty, one battery at most where no drone recharges: 0 <= statistic - return <= 1
-   (published: 0.82 to 0.997 at every level, with Recharge Energy Count 0; here a drone's first steps on its pad
-   add a few thousandths).
+   (published: 0.82 to 0.997 at every level, with Recharge Energy Count 0; here too: the drones start seedless and
+   drain from the first step, 1/2000 of a battery a step, so an episode costs at most one battery).
 4. Pick-up Seed pays a pick-up (+1) a return, and every return docks a whole charging cycle (10 steps): return + 1 =
    Recharge Energy Count / 10 or so (published: 9.2 to 11.5 docked steps a return at every level, the battery's -1
    taken off; Drop Seed, whose episode ends on its one return, 10.6 to 11.1).
@@ -54,8 +54,9 @@ def test_our_distance_reward_is_ten_times_the_normalized_distance(task, policy):
     done = rollout(compiled(task), policy, 1)
     normalized = done.statistics["Cumulative Normalized Distance Until Tree Drop"]
     assert np.allclose(done.statistics["Cumulative Distance Reward"], 10 * normalized)
-    if policy == "scripted":
-        assert (done.statistics["Cumulative Distance Reward"] > 0).all()  # the relation is not 0 = 0
+    if policy == "scripted":  # the relation is not 0 = 0: every drop of the pilot's pays a distance reward
+        dropped = done.statistics["Tree Drop Count"] > 0
+        assert dropped.sum() >= 2 and (done.statistics["Cumulative Distance Reward"][dropped] > 0).all()
 
 
 @pytest.mark.parametrize("policy", ["scripted", "random"])
@@ -87,11 +88,10 @@ def test_our_best_so_far_statistic_is_what_the_task_pays_and_the_rest_is_energy(
     assert np.allclose(done.statistics[name], done.weighted(term))
     energy = sum(done.weighted(t) for t in ENERGY_TERMS)
     assert np.allclose(done.returns, done.statistics[name] + energy)
-    # one battery's worth of energy penalty where a drone never docks again, plus its first steps on the pad, which
-    # are penalised (1/1000 a step with a seed) while the docked battery stays full: the scripted pilot needs 4
+    # at most one seedless battery's worth of energy penalty (2,000 steps at 1/2000) where a drone never docks
     charged = done.statistics["Recharge Energy Count"] > 0
     gap = (done.statistics[name] - done.returns)[~charged]
-    assert ((gap >= 0.0) & (gap <= 1.0 + 10 / 1000)).all()
+    assert ((gap >= 0.0) & (gap <= 1.0 + 1e-9)).all()
 
 
 PICK_UP_SEED, DROP_SEED = 3, 4  # this toolkit's task indices (the configs that ran: 2 and 3)
@@ -149,14 +149,16 @@ def test_published_drop_seed_returns_are_the_logged_statistics_times_our_weights
 
 def test_our_drop_seed_returns_exceed_100_as_the_original_s_do():
     """The scripted pilot drops its seed near the forest and flies back: +100 for the return that ends its episode,
-    plus the drop, less the battery."""
+    plus the drop, less the battery. (A pilot that finds no spot before its battery runs low comes home with its seed:
+    the return still ends the episode, 100 less the battery.)"""
     done = rollout(compiled("drop_seed"), "scripted", 1)
     assert (done.terms["pick_up_seed"] == 1.0).all()  # one return each, which ends the episode
     logged = done.statistics["Cumulative Tree Drop Reward"] + done.statistics["Cumulative Distance Reward"]
-    assert np.allclose(done.weighted("drop_seed"), logged) and (logged > 0).all()
+    dropped = done.statistics["Tree Drop Count"] > 0
+    assert np.allclose(done.weighted("drop_seed"), logged) and dropped.sum() >= 2 and (logged[dropped] > 0).all()
     energy = sum(done.weighted(t) for t in ENERGY_TERMS)
     assert np.allclose(done.returns, 100.0 + logged + energy)
-    assert (done.returns > 100.0).all()
+    assert (done.returns[dropped] > 100.0).all()
 
 
 @pytest.mark.parametrize("task", ["main", "pick_up_seed", "drop_seed"])

@@ -33,8 +33,10 @@ class DroneBasedReforestationParams(StrictModel):
     charge_radius_m: float = Field(7.5, ge=1.0, le=50.0, description=(
         "[paper] d_charge: within this 3D distance of the station a drone recharges and picks up a seed."))
     charge_per_step: float = Field(0.1, gt=0.0, le=1.0, description=(
-        "[ours, fitted] Battery share a docked drone regains each step (empty to full in 10 steps; 1 refills at "
-        "once). A docking lasts that whole charging cycle, 1 / charge_per_step steps, whatever the battery held: "
+        "[ours, fitted] Battery share a docked drone regains each step on a return (empty to full in 10 steps; 1 "
+        "refills at once); a drone that has not been return_min_distance_m away since its last return (on the pad it "
+        "started on, or lingering after its return) is not charging and drains as anywhere. A docking lasts that "
+        "whole charging cycle, 1 / charge_per_step steps, whatever the battery held: "
         "the return (the seed pick-up and its reward) is made on its last step, the battery full. Fitted to the "
         "published Recharge Energy Count, about 10 docked steps a return in every task whose drones return, with "
         "the battery nearly empty (main task) or nearly full (Drop Seed, Pick-up Seed; the reward table's notes)."))

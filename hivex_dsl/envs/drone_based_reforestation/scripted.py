@@ -2,8 +2,10 @@
 
 With a seed: cruise high (a wide camera view) until trees come into sight, sink toward the
 nearest one, and drop the seed a few metres outside the forest edge where no planted tree is
-close; over the forest, back out. Without a seed, or when the battery would not last the way
-home with a margin: fly back to the station and land on it to recharge and reload.
+close; over the forest, back out. Without a seed (where returns pay), or when the battery would
+not last the way home with a margin: fly back to the station and land on it until the return
+recharges and reloads it (a docking charges only on a return: the pilot remembers whether it has
+been away, which it cannot observe). Where returns pay nothing, a seedless drone searches on.
 """
 
 from __future__ import annotations
@@ -23,6 +25,7 @@ PAD_HOVER_M = 3.0  # this close to the station (horizontally) a drone flying hom
 DROP_MIN_M, DROP_MAX_M = 2.5, 6.0  # nearest tree pixel distance at which to drop (crowns reach ~1.5 m further)
 NEW_TREE_CLEARANCE_M = 4.0
 ENERGY_MARGIN = 1.5
+FULL_BATTERY = 0.98  # a battery this full was just filled: on the pad after its return it drains a few thousandths
 BORDER = 0.8  # fraction of the half extent where a searching drone turns back
 
 
@@ -44,6 +47,11 @@ def scripted_policy(compiled) -> Callable[[dict], dict]:
     east, north = _pixel_grid()
     gather = compiled.weights.get("group_up", 0.0) > 0.0  # meet the others only where meeting pays
     soar = compiled.task_name == "find_high_terrain"  # the height reward reads the drone's own height
+    w = compiled.weights
+    fetches = w.get("pick_up_seed", 0.0) > 0.0  # a seedless drone flies home for a seed; elsewhere it searches on
+    docks = fetches or w.get("pick_up_seed_explored", 0.0) > 0.0  # landed, it waits for its return to pay
+    # without a seed it heads for trees only where finding them pays (elsewhere it cruises on, exploring)
+    seeks_trees = w.get("find_close_tree", 0.0) > 0.0 or w.get("high_fertility_location_delta", 0.0) > 0.0
     reach = np.hypot(east, north)
     bearing = np.arctan2(north, east)
 
@@ -54,8 +62,19 @@ def scripted_policy(compiled) -> Callable[[dict], dict]:
         throttle = np.where(np.abs(error) < np.radians(60.0), 1.0, 0.2) * np.clip(slow_within, 0.0, 1.0)
         return throttle, steer
 
+    trips = {"out": np.zeros((0, 0), bool)}  # (B, A): been return_min_distance_m away since the last seed taken
+
+    def tripped(home_distance: np.ndarray, holding: np.ndarray, fresh: np.ndarray) -> np.ndarray:
+        """(B, A) whether a drone's docking now would be a return (the simulator's ``away``, which the pilot cannot
+        observe): a seed in hand or a new episode (``fresh``, both stacked frames alike) clears it."""
+        out = trips["out"] if trips["out"].shape == holding.shape else np.zeros(holding.shape, bool)
+        trips["out"] = (out & ~holding & ~fresh) | (home_distance >= p.return_min_distance_m)
+        return trips["out"]
+
     def act(observations: dict) -> dict:
-        v = observations["vector"][..., :10].astype(np.float64)
+        frames = observations["vector"]
+        fresh = np.all(frames[..., :10] == frames[..., 10:20], axis=-1)
+        v = frames[..., :10].astype(np.float64)
         image = observations["visual"][..., 0].reshape(v.shape[:2] + (-1,))
         above, x, y, z = v[..., 0] * bound, v[..., 1] * half, v[..., 2] * half, v[..., 3] * bound
         heading = np.arctan2(v[..., 5], v[..., 4])
@@ -65,10 +84,13 @@ def scripted_policy(compiled) -> Callable[[dict], dict]:
         # the way home and 20 decisions' reserve (a drone deciding every k-th step turns and lands k times coarser)
         steps_home = home_distance / p.drone_speed_m + (z - station_z) / p.climb_speed_m + 20.0 * period
         enough = energy > ENERGY_MARGIN * steps_home / p.energy_steps_with_seed + 0.02
-        # landed on the pad with a battery not yet full: stay the charging cycle (a drone passing over does not land)
-        charging = (home_distance < PAD_HOVER_M) & (z - station_z < LANDING_HEIGHT_M + 1.0) & (energy < 1.0)
+        # landed on the pad without a seed, or back for energy: stay the charging cycle, until the return hands it a
+        # full battery and a seed (a drone passing over does not land; one lingering there after its return drains)
+        landed = (home_distance < PAD_HOVER_M) & (z - station_z < LANDING_HEIGHT_M + 1.0)
+        waiting = docks & ~holding & (home_distance < p.charge_radius_m) & tripped(home_distance, holding, fresh)
+        charging = (landed & docks & (~holding | (energy < FULL_BATTERY))) | waiting
         # grouping: everyone meets at the station, the one place all know
-        seeking = holding & enough & ~gather & ~charging
+        seeking = (holding | ~fetches) & enough & ~gather & ~charging
 
         hw = np.maximum(p.camera_min_half_width_m, above * view)
         tree = image < TREE_BELOW
@@ -76,7 +98,7 @@ def scripted_policy(compiled) -> Callable[[dict], dict]:
         tree_bearing = bearing[np.where(tree, reach, np.inf).argmin(axis=-1)]
         planted = (image >= TREE_BELOW) & (image < NEW_TREE_BELOW)
         planted_near = (np.where(planted, reach, np.inf).min(axis=-1) * hw) < NEW_TREE_CLEARANCE_M
-        sees_tree = np.isfinite(tree_distance)
+        sees_tree = np.isfinite(tree_distance) & (holding | seeks_trees)
 
         # searching: straight on, turning back toward the centre near the border
         outward = (np.abs(x) > BORDER * half) | (np.abs(y) > BORDER * half)

@@ -32,9 +32,12 @@ RUNNING_BACK_REWARD = 20.0  # [paper] r_p
 # (drones that start together would be grouped from the first step). Drop Seed's start at the station, as the
 # main task's (the reward table's notes give the evidence from the original's records).
 RANDOM_SPAWN_TASKS = ("pick_up_seed", "group_up")
-# [orig] Pick-up Seed's drones start without a seed (they come back for one: the original's page logs no drop);
-# [ours] Group Up's too
-SEEDLESS_START_TASKS = ("pick_up_seed", "group_up")
+# [orig] Pick-up Seed's drones start without a seed (they come back for one: the original's page logs no drop), and
+# so do those of Find Closest Tree and the three best-so-far tasks: their pages log no drop at any point, the
+# untrained policy's first included (which drops 0.81 seeds a drone-episode in the main task), and their returns
+# are their statistics less one seedless battery (the reward table's notes, "Seedless starts"); [ours] Group Up's too
+SEEDLESS_START_TASKS = ("pick_up_seed", "group_up", "find_closest_tree", "find_high_potential_area",
+                        "find_high_terrain", "explore_furthest")
 
 
 class DroneReforestationSimulator:
@@ -258,12 +261,14 @@ class DroneReforestationSimulator:
                                             state.back_multiplier)}
 
     def _energy(self, state: DroneState, docked: np.ndarray, alive: np.ndarray | None) -> np.ndarray:
-        """(B, A) battery after this step: ``charge_per_step`` more (at most full) when ``docked`` (alive within the
-        charge radius), else less the step's cost (with or without a seed) for a living drone; 0 once (nearly)
-        empty."""
+        """(B, A) battery after this step: ``charge_per_step`` more (at most full) when charging (``docked``, alive
+        within the charge radius, on a return: away since its last one), else less the step's cost (with or without
+        a seed) for a living drone; 0 once (nearly) empty. A drone on the pad it started on, or lingering at the
+        station after its return, is not charging: its battery drains there as anywhere (the reward table's notes,
+        "The battery's race with the time limit")."""
         cost = self._depletion[state.holding.astype(np.intp)]
         energy = state.energy - (cost if alive is None else cost * alive)
-        np.putmask(energy, docked, np.minimum(state.energy + self.params.charge_per_step, 1.0))
+        np.putmask(energy, docked & state.away, np.minimum(state.energy + self.params.charge_per_step, 1.0))
         np.putmask(energy, energy <= 1e-9, 0.0)
         return energy
 

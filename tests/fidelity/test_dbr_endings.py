@@ -1,0 +1,114 @@
+"""Drone-Based Reforestation's episode endings and the battery's race with the time limit, against the original's
+own curves (issue 52 items 3/4; the reward table's notes, "Episode endings and the battery's race").
+
+The original's Find High Potential Area and Find High Terrain pages log drones that never dock, fly whole episodes
+(399 decisions, 2,000 physics steps at period 5) and run out of energy in 0.6-0.73 of drone-episodes: one seedless
+battery (-1/2000 a physics step) that empties on the episode's last step. That needs a battery that drains from the
+first step, on the pad the drones start on too, and drones that hold no seed. Here a drone charged whenever it was
+within the charge radius, its start on the pad included, and those tasks' drones held a seed.
+"""
+
+from __future__ import annotations
+
+from importlib import resources
+
+import numpy as np
+import pytest
+
+import hivex_dsl
+from hivex_dsl.evaluation.original.curves import DATA_FILE, original_curves
+from hivex_dsl.runtime.batched import BatchedEnv
+
+ENV = "drone_based_reforestation"
+# the original's pages by the configs' task index (main 0, Find Closest Tree 1, Find High Potential Area 4,
+# Find High Terrain 5, Explore Furthest 6) and this toolkit's names of those tasks
+PAGE_MAIN = 0
+SEEDLESS_PAGES = {1: "find_closest_tree", 4: "find_high_potential_area", 5: "find_high_terrain",
+                  6: "explore_furthest"}
+PAGES_WITHOUT_DOCKING = (4, 5)
+
+
+def hovering(task: str) -> tuple[BatchedEnv, dict]:
+    """One test world of ``task`` at the default period 5, and the all-zeros actions (the drones hover where they
+    start, on the station's pad)."""
+    env = BatchedEnv(hivex_dsl.compile({"hivex": 1, "environment": ENV, "task": task}), batch=1, split="test")
+    env.reset()
+    return env, {"continuous": np.zeros((1, 3, 3), np.float32), "discrete": np.zeros((1, 3, 1), np.int64)}
+
+
+def test_a_drone_holding_its_seed_on_its_pad_runs_out_at_physics_step_1000():
+    """-1/1000 of the battery a physics step with a seed (the paper's Deplete Energy Holding Seed), from the first:
+    full at the start, 1 - 5 d / 1000 after decision d, empty on physics step 1,000, the last of decision 200. The
+    drone ends its episode there, out of energy, having paid the whole battery, -1."""
+    env, zeros = hovering("main")
+    assert env.state.inside.all() and env.state.holding.all()  # on the pad, with a seed
+    for decision in range(1, 200):
+        result = env.step(zeros)
+        assert not result.ended.any()
+        assert env.state.energy == pytest.approx(np.full((1, 3), 1.0 - 5 * decision / 1000))
+    result = env.step(zeros)
+    assert result.terminated.all() and not result.truncated.any()
+    summary = env.episode_summary(0, 0)
+    assert summary["length"] == 1000 and summary["decisions"] == 200
+    assert summary["statistics"]["Out of Energy Count"] == 1.0
+    assert summary["return"] == pytest.approx(-1.0)
+
+
+@pytest.mark.parametrize("task", ["find_high_potential_area", "find_high_terrain"])
+def test_a_seedless_drone_on_its_pad_runs_out_on_the_episode_s_last_physics_step(task):
+    """-1/2000 a seedless physics step: 1 - 1995/2000 = 0.0025 left after decision 399, empty on physics step 2,000,
+    the time limit's: the episode ends out of energy and at the clock at once, the race the original's pages show."""
+    env, zeros = hovering(task)
+    assert env.state.inside.all() and not env.state.holding.any()
+    for _ in range(399):
+        assert not env.step(zeros).ended.any()
+    assert env.state.energy == pytest.approx(np.full((1, 3), 0.0025))
+    result = env.step(zeros)
+    assert result.terminated.all() and result.truncated.all()
+    assert [env.episode_summary(0, a)["statistics"]["Out of Energy Count"] for a in range(3)] == [1.0, 1.0, 1.0]
+
+
+needs_curves = pytest.mark.skipif(not resources.files("hivex_dsl").joinpath("data", DATA_FILE).is_file(),
+                                  reason=f"the original's curves (hivex_dsl/data/{DATA_FILE}) are not installed")
+
+
+def training(page: int, level: int, panel: str) -> np.ndarray:
+    """The original's training mean of ``panel`` at every kept vertex."""
+    return original_curves(ENV, page, level).panel(panel).training.mean
+
+
+@needs_curves
+def test_the_tasks_whose_pages_log_no_drop_start_seedless():
+    """The original's untrained policy drops 0.81 seeds a drone-episode in the main task (its first training point),
+    yet Find Closest Tree, Find High Potential Area, Find High Terrain and Explore Furthest log no drop at any point
+    of any level, that first point included: their drones hold no seed to drop. Their batteries drain seedless:
+    where no drone docks (Find High Potential Area, Find High Terrain) they fly every episode whole (399 decisions)
+    and run out in more than half of them, the last step's run-out."""
+    assert training(PAGE_MAIN, 1, "Tree Drop Count")[0] > 0.5
+    for page, task in SEEDLESS_PAGES.items():
+        for level in (1, 5, 10):
+            assert training(page, level, "Tree Drop Count").max() == 0.0, (page, level)
+        compiled = hivex_dsl.compile({"hivex": 1, "environment": ENV, "task": task})
+        state = compiled.entry.make_simulator(compiled).reset(np.random.default_rng(0), 2)
+        assert not state.holding.any() and (state.energy == 1.0).all(), task
+    for page in PAGES_WITHOUT_DOCKING:
+        for level in (1, 5, 10):
+            assert training(page, level, "Recharge Energy Count").max() == 0.0
+            assert training(page, level, "Episode Length").min() == pytest.approx(399.0, abs=0.5)
+            assert 0.55 < training(page, level, "Out of Energy Count").min()
+
+
+@needs_curves
+@pytest.mark.parametrize("level", [1, 5, 10])
+def test_the_original_s_main_task_drones_were_not_respawned_into_a_running_clock(level):
+    """If a drone that ran out were respawned into its world's running clock (this toolkit's vector env), a world
+    slot would play 399 decisions over e = 399 / Episode Length episodes, every run-out before the last step starting
+    another: run-outs not on the last step are at most e - 1 a slot, those on it at most the share the pages without
+    docking count there (their highest summary point), so Out of Energy Count <= (e - 1 + last) / e. The original's
+    main task ends its training above that bound at every level: its drones' episodes were not cut so."""
+    last = max(training(page, lvl, "Out of Energy Count").max() for page in PAGES_WITHOUT_DOCKING
+               for lvl in range(1, 11))
+    assert last < 0.75
+    out_of_energy = training(PAGE_MAIN, level, "Out of Energy Count")[-5:].mean()
+    episodes = 399.0 / training(PAGE_MAIN, level, "Episode Length")[-5:].mean()
+    assert out_of_energy > (episodes - 1.0 + last) / episodes + 0.05
