@@ -403,3 +403,75 @@ def test_the_fire_going_out_and_an_ocean_crash_are_the_declared_endings_of_a_who
     entry = registry.get("drone_based_reforestation")
     with pytest.raises(ValueError, match="world events \\['fire_out'\\] are not among its events"):
         registry.register(dataclasses.replace(entry, world_events=frozenset({"fire_out"})))
+
+
+def uneven_batteries(agents: int = 2) -> dict:
+    """DBR whose batteries last 12 steps holding a seed and 48 without, so a drone that drops its seed outlives one
+    that keeps it: within a world, one drone ends while another plays on."""
+    sc = short_battery(agents)
+    return dict(sc, params=dict(sc["params"], energy_steps_without_seed=48))
+
+
+def climb_and_drop(slots: int):
+    """Climb straight up; the even slots try to drop their seed at every step, the odd ones keep theirs."""
+    actions = climbing(slots)
+    actions["discrete"][0::2, 0] = 1
+    return actions
+
+
+@pytest.mark.parametrize("mode", ["next_step", "same_step"])
+def test_with_ended_agents_wait_a_drone_out_of_energy_sits_out_until_its_world_restarts(mode):
+    """ended_agents="wait": a drone whose battery ran out is not respawned; until its world restarts its slot is
+    inactive (infos["active"] False), earns 0, ends nothing and logs no episode, its battery stays empty; a world
+    restarts at its clock's end or once all its drones have ended; and so every logged episode began at its
+    world's start, its length the world's clock (with "respawn" a respawned drone's episode is cut short)."""
+    venv = hivex_dsl.vector_env(uneven_batteries(), num_worlds=2, autoreset_mode=mode, ended_agents="wait")
+    _, infos = venv.reset(seed=3)
+    assert infos["active"].all()
+    core, actions = venv.core, climb_and_drop(venv.num_envs)
+    waiting = np.zeros(venv.num_envs, bool)  # slots out of play, by this test's own count
+    waited_beside_a_player, episodes = 0, 0
+    for _ in range(3 * ONE_EPISODE):
+        clock_before = core.clock.copy()
+        _, reward, terminated, truncated, infos = venv.step(actions)
+        ended = terminated | truncated
+        assert not ended[waiting].any() and (reward[waiting] == 0.0).all()
+        if "_hivex_episode" in infos:
+            slots = np.flatnonzero(infos["_hivex_episode"])
+            # the world's clock at this ending (SAME_STEP has restarted an ended world already)
+            world_clock = np.where(core.clock == 0, clock_before + 1, core.clock)
+            np.testing.assert_array_equal(infos["hivex_episode"]["length"][slots],
+                                          world_clock[slots // 2])
+            episodes += slots.size
+        restarted = (core.clock == 0) if mode == "same_step" else (core.clock < clock_before)
+        waiting = (waiting | ended) & ~np.repeat(restarted, 2)
+        energy = core.state.energy.reshape(-1)
+        if mode == "next_step":  # a slot that ended this step still shows its last observation
+            waiting_now = waiting & ~ended
+            assert (energy[waiting_now] <= 0.0).all()
+            np.testing.assert_array_equal(infos["active"], core.alive.reshape(-1))
+        waited_beside_a_player += int(np.count_nonzero((waiting & ~ended).reshape(2, 2).any(axis=1)
+                                                       & core.alive.any(axis=1)))
+    assert episodes > 4 and waited_beside_a_player > 0  # the case happened: one drone sat out while another flew
+
+
+def test_with_ended_agents_respawn_a_drone_out_of_energy_flies_again_in_its_running_world():
+    """The default: the same drone respawns at once with a full battery and its world's clock runs on, so its next
+    episode ends at the world's end, shorter than the world's clock (a tail)."""
+    venv = hivex_dsl.vector_env(uneven_batteries(), num_worlds=2)
+    _, infos = venv.reset(seed=3)
+    assert "active" not in infos
+    core, actions = venv.core, climb_and_drop(venv.num_envs)
+    tails = 0
+    for _ in range(3 * ONE_EPISODE):
+        _, _, _, _, infos = venv.step(actions)
+        assert "active" not in infos
+        if "_hivex_episode" in infos:
+            slots = np.flatnonzero(infos["_hivex_episode"])
+            tails += int(np.count_nonzero(infos["hivex_episode"]["length"][slots] < core.clock[slots // 2]))
+    assert tails > 0
+
+
+def test_ended_agents_takes_only_its_two_words():
+    with pytest.raises(ValueError, match="ended_agents must be one of \\['respawn', 'wait'\\], got 'stay'"):
+        hivex_dsl.vector_env(uneven_batteries(), ended_agents="stay")

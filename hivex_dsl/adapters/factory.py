@@ -32,9 +32,11 @@ def parallel_env(scenario: ScenarioLike, render_mode: Optional[str] = None, spli
 
 
 def vector_env(scenario: ScenarioLike, num_worlds: int = 1, render_mode: Optional[str] = None, split: str = "train",
-               autoreset_mode: Any = "next_step", **unexpected: Any):
+               autoreset_mode: Any = "next_step", ended_agents: str = "respawn", **unexpected: Any):
     """A Gymnasium VectorEnv of ``num_worlds`` worlds with every agent a slot (parameter sharing):
-    its ``num_envs`` is worlds x agents. ``autoreset_mode``: "next_step" (default) or "same_step"."""
+    its ``num_envs`` is worlds x agents. ``autoreset_mode``: "next_step" (default) or "same_step";
+    ``ended_agents``: "respawn" (default) or "wait" (an agent whose episode ended alone sits out until its world
+    restarts, ``infos["active"]`` False)."""
     from .gymnasium import HivexVectorEnv
 
     if "num_envs" in unexpected:
@@ -43,4 +45,4 @@ def vector_env(scenario: ScenarioLike, num_worlds: int = 1, render_mode: Optiona
     if unexpected:
         raise KeywordError(f"vector_env got unexpected keyword arguments {sorted(unexpected)}")
     return HivexVectorEnv(as_compiled(scenario), num_worlds=num_worlds, render_mode=render_mode, split=split,
-                          autoreset_mode=autoreset_mode)
+                          autoreset_mode=autoreset_mode, ended_agents=ended_agents)

@@ -40,8 +40,13 @@ then lets the agent leave, the vector env respawns it).
 ``infos["hivex_episode"]`` (mask ``infos["_hivex_episode"]``) holds each ended slot's return,
 length (physics steps), decisions (step() calls), per-term sums, statistics and, for a running-mean statistic,
 ``running[name]["sums"/"counts"]`` (pool them for the original's summary point), never colliding with the wrappers'
-``episode`` key; there is no
-``infos["active"]``: every slot is always live. Observations are fresh writable arrays every
+``episode`` key. What becomes of an agent whose episode ended while its world goes on (``ended_agents``):
+``respawn`` (the default) starts it again at once in its running world, whose clock goes on, so every slot is
+always live and there is no ``infos["active"]``; ``wait`` keeps it out of play until its world restarts (as the
+parallel env and ``hivex evaluate`` do): its slot then reports reward 0, no ending and ``infos["active"]`` False
+(every step's infos hold that (num_envs,) mask), and its next episode starts with its world's. A respawned agent's
+next episode is cut at its world's end, a short tail where the original's agents had none (Drone-Based
+Reforestation: its trainer config's ``ended_agents``). Observations are fresh writable arrays every
 step. A reset without a seed follows the scenario's seed (the first copy of a scenario in a
 process plays its stream, later copies child streams of it: copies are different worlds unless
 seeded, and a seeded reset is deterministic).
@@ -62,7 +67,7 @@ which builds on a Dict space without complaint) fails at the first ``reset`` wit
 
 from __future__ import annotations
 
-from typing import Any, Optional
+from typing import Any, Literal, Optional, get_args
 
 import numpy as np
 from gymnasium import spaces
@@ -140,12 +145,19 @@ def as_autoreset_mode(mode: Any) -> AutoresetMode:
                      f"got {mode!r}")
 
 
+EndedAgents = Literal["respawn", "wait"]
+ENDED_AGENTS: tuple[str, ...] = get_args(EndedAgents)
+
+
 class HivexVectorEnv(Rendering, VectorEnv):
     """Slots are (world, agent) pairs in world-major order: slot = world * agents + agent."""
 
     def __init__(self, compiled: CompiledScenario, num_worlds: int = 1, render_mode: Optional[str] = None,
-                 split: Split = "train", autoreset_mode: Any = AutoresetMode.NEXT_STEP):
+                 split: Split = "train", autoreset_mode: Any = AutoresetMode.NEXT_STEP,
+                 ended_agents: EndedAgents = "respawn"):
         check_render_mode(render_mode)
+        if ended_agents not in ENDED_AGENTS:
+            raise ValueError(f"ended_agents must be one of {list(ENDED_AGENTS)}, got {ended_agents!r}")
         mode = as_autoreset_mode(autoreset_mode)
         if not is_integer(num_worlds) or num_worlds < 1:
             raise ValueError(f"num_worlds (make_vec's num_envs: copies of the world) must be an integer >= 1, "
@@ -159,6 +171,7 @@ class HivexVectorEnv(Rendering, VectorEnv):
         self.compiled = compiled
         self.core = BatchedEnv(compiled, batch=num_worlds, split=split, distinct_copies=True)
         self.num_worlds = num_worlds
+        self.respawns = ended_agents == "respawn"
         self.agents_per_world = compiled.agents
         self.num_envs = num_worlds * compiled.agents
         self.single_observation_space = self.core.sim.observation_space
@@ -202,7 +215,9 @@ class HivexVectorEnv(Rendering, VectorEnv):
         self._pending_worlds[:] = False
         self._pending_agents[:] = False
         self._show()
-        return self._slots(observations), {}
+        infos: dict[str, Any] = {}
+        self._report_active(infos)
+        return self._slots(observations), infos
 
     def step(self, actions: Any):
         """Step every world with (num_envs, ...) actions, slot = world * agents + agent (for a Dict space, a
@@ -232,11 +247,12 @@ class HivexVectorEnv(Rendering, VectorEnv):
             self._pending_agents = np.zeros(shape, bool)
             zeros = np.zeros(self.num_envs, bool)
             infos = {f"reward_terms/{name}": np.zeros(self.num_envs) for name in core.term_sums}
+            self._report_active(infos)
             return self._slots(observations), np.zeros(self.num_envs), zeros, zeros.copy(), infos
         respawning = self._pending_agents & ~restart[:, None]
         restarting = restart if restart.any() else None
         result = core.step(batched, restart=restarting, respawn=respawning if respawning.any() else None)
-        ending = core.world_endings(result) & ~restart
+        ending = self._world_endings(result) & ~restart
         terminated, truncated, ended = result.terminated, result.truncated, result.ended
         empty = respawning & ending[:, None]  # respawned on the last step of their world: an empty episode
         if empty.any():
@@ -248,14 +264,15 @@ class HivexVectorEnv(Rendering, VectorEnv):
         rewards = np.where(counted, result.rewards, 0.0)
         infos = self._infos(result, ended)
         self._pending_worlds = ending
-        self._pending_agents = ended & ~ending[:, None]
+        self._pending_agents = ended & ~ending[:, None] if self.respawns else self._pending_agents
+        self._report_active(infos)
         return (self._slots(result.observations), rewards.reshape(-1), terminated.reshape(-1),
                 truncated.reshape(-1), infos)
 
     def _step_same(self, batched: Any):
         core = self.core
         result = core.step(batched)
-        ending = core.world_endings(result)
+        ending = self._world_endings(result)
         infos = self._infos(result, result.ended)
         observations = result.observations
         if np.count_nonzero(result.ended):
@@ -267,10 +284,24 @@ class HivexVectorEnv(Rendering, VectorEnv):
             infos["_final_obs"] = done
             infos["final_info"] = {k: v for k, v in infos.items() if k.startswith(STEP_INFO_KEYS)}
             infos["_final_info"] = done
-            core.respawn_agents(result.ended & ~ending[:, None])
+            if self.respawns:
+                core.respawn_agents(result.ended & ~ending[:, None])
             observations = core.reset_worlds(ending) if ending.any() else core.observe()
+        self._report_active(infos)
         return (self._slots(observations), result.rewards.reshape(-1), result.terminated.reshape(-1),
                 result.truncated.reshape(-1), infos)
+
+    def _world_endings(self, result: Transition) -> np.ndarray:
+        """(num_worlds,) bool: the worlds that end with this step, and with ``ended_agents="wait"`` those whose
+        agents have all ended too (no one is left to play; the parallel env ends its episode there as well)."""
+        ending = self.core.world_endings(result)
+        return ending if self.respawns else ending | ~self.core.alive.any(axis=1)
+
+    def _report_active(self, infos: dict[str, Any]) -> None:
+        """With ``ended_agents="wait"``: ``infos["active"]`` (num_envs,) bool, the slots whose agent plays the next
+        step (an ended agent waits for its world's restart)."""
+        if not self.respawns:
+            infos["active"] = self.core.alive.reshape(-1).copy()
 
     def _infos(self, result: Transition, ended: np.ndarray) -> dict[str, Any]:
         core = self.core

@@ -36,6 +36,14 @@ catalogue) trains on :class:`PPOConfig`'s own defaults. How each key maps onto t
   turbines (16,384, 16,384 and 7,232 experiences: 600 updates in 8M agent-steps, read from its logged epsilon), as
   ``trajectories`` with one world does, where ``rollout`` with 8 worlds updated every 2,048 (3,906 updates),
   learned about 1.5-2 times as fast and ended far more decided (rewards/wind_farm_control.yaml).
+- ``ended_agents`` (ours: in ML-Agents the environment's code decides): what the training vector env does with an
+  agent whose episode ended while its world goes on (a battery run out, a crash). ``respawn``, the default, starts
+  it again at once in its running world, so its next episode is cut at the world's end (a short tail); ``wait``
+  keeps it out of play until its world restarts (a world whose agents have all ended restarts then), its slot
+  masked out of the loss and no episode logged for it, as ``hivex evaluate``'s rollouts play it. Drone-Based
+  Reforestation's file sets ``wait``: the original's Out of Energy Count (0.86-0.98 at the end of its main task's
+  training) is above what any training with tails could log (rewards/drone_based_reforestation.yaml). The masked
+  steps of a waiting slot count in ``max_steps`` as the reset steps do.
 - ``batch_size``: minibatch size of one gradient step, at most ``buffer_size`` (ML-Agents would train nothing
   over it); ``num_epoch``: passes over the buffer (its valid experiences; an epoch's last, smaller minibatch is
   trained on too, where ML-Agents drops it).
@@ -98,6 +106,7 @@ from typing import Annotated, Any, Callable, Literal, Mapping, Sequence, Union
 
 from pydantic import Field, ValidationError
 
+from ..adapters.gymnasium import EndedAgents
 from ..base.errors import HivexError, ScenarioError, got
 from ..lang.loader import Document, load_file, load_text
 from ..lang.spec.common import StrictModel
@@ -159,6 +168,7 @@ class PPOConfig(StrictModel):
     summary_freq: int = Field(40_000, ge=1)
     num_worlds: int = Field(4, ge=1, le=4096)
     buffer_fill: Literal["rollout", "trajectories"] = "rollout"
+    ended_agents: EndedAgents = "respawn"
     max_grad_norm: float = Field(0.0, ge=0.0)
     checkpoint_every: int = Field(500_000, ge=1)
     keep_checkpoints: int = Field(5, ge=1)

@@ -22,7 +22,7 @@ import numpy as np
 import torch
 from torch import nn
 
-from ..adapters.gymnasium import HivexVectorEnv
+from ..adapters.gymnasium import EndedAgents, HivexVectorEnv
 from ..compiler import CompiledScenario
 from .checkpoint import resume_state, save_checkpoint, save_numbered_checkpoint
 from .config import PPOConfig, TrainError
@@ -57,11 +57,12 @@ def gae(rewards: torch.Tensor, values: torch.Tensor, next_value: torch.Tensor, t
     return advantages, advantages + values
 
 
-def make_env(compiled: CompiledScenario, num_worlds: int, split: str) -> tuple[HivexVectorEnv, Any]:
+def make_env(compiled: CompiledScenario, num_worlds: int, split: str, ended_agents: EndedAgents = "respawn"
+             ) -> tuple[HivexVectorEnv, Any]:
     """The vector env on ``split`` and its first observations, reset on the split's seed (explicitly, so
-    every run of one seed plays the same worlds)."""
+    every run of one seed plays the same worlds); ``ended_agents``: see :class:`HivexVectorEnv`."""
     try:
-        env = HivexVectorEnv(compiled, num_worlds=num_worlds, split=split)
+        env = HivexVectorEnv(compiled, num_worlds=num_worlds, split=split, ended_agents=ended_agents)
     except ValueError as exc:
         raise TrainError(f"cannot run {compiled.name!r} on its {split} seeds: {exc}") from None
     observations, _ = env.reset(seed=int(getattr(compiled.seeds, split)))
@@ -363,7 +364,7 @@ def _train(compiled: CompiledScenario, cfg: PPOConfig, run: RunDir, progress: bo
     torch.set_num_threads(cfg.torch_threads)
     torch.manual_seed(cfg.seed + done_before)
     rng = np.random.default_rng([cfg.seed, done_before])
-    env, obs = make_env(compiled, cfg.num_worlds, "train")
+    env, obs = make_env(compiled, cfg.num_worlds, "train", cfg.ended_agents)
     agent = ActorCritic(env.single_observation_space, env.single_action_space, cfg).to(torch_device(cfg.device))
     optimizer = make_optimizer(agent, cfg.learning_rate)
     curiosity, curiosity_optimizer = None, None

@@ -112,3 +112,18 @@ def test_the_original_s_main_task_drones_were_not_respawned_into_a_running_clock
     out_of_energy = training(PAGE_MAIN, level, "Out of Energy Count")[-5:].mean()
     episodes = 399.0 / training(PAGE_MAIN, level, "Episode Length")[-5:].mean()
     assert out_of_energy > (episodes - 1.0 + last) / episodes + 0.05
+
+
+def test_drone_based_reforestation_trains_with_ended_drones_waiting_for_their_world():
+    """So `hivex train` keeps a drone that ran out out of play until its world restarts (ended_agents: wait, its
+    trainer config) rather than respawning it into the running clock (the test above); the environments whose
+    records bear out a respawn keep it (Aerial Wildfire Suppression's Episode Length is within the original's band
+    with its crashed planes respawned)."""
+    from hivex_dsl.train.config import make_config
+    from hivex_dsl.train.ppo import make_env
+
+    cfg = make_config(ENV, {}, {})
+    assert cfg.ended_agents == "wait"
+    assert make_config("aerial_wildfire_suppression", {}, {}).ended_agents == "respawn"
+    env, _ = make_env(hivex_dsl.compile({"hivex": 1, "environment": ENV}), 1, "train", cfg.ended_agents)
+    assert not env.respawns
