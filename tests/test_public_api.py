@@ -79,7 +79,7 @@ def test_the_functions_keep_their_parameters():
                   for name in ("compile", "compile_all", "parallel_env", "vector_env")}
     assert parameters == {"compile": ["source"], "compile_all": ["source"],
                           "parallel_env": ["scenario", "render_mode", "split", "respawn"],
-                          "vector_env": ["scenario", "num_worlds", "render_mode", "split", "autoreset_mode",
+                          "vector_env": ["scenario", "num_worlds", "render_mode", "split", "autoreset_mode", "ended_agents",
                                          "unexpected"]}
 
 
