@@ -5,6 +5,7 @@ grid points recorded with their curves."""
 from __future__ import annotations
 
 import json
+import shutil
 from pathlib import Path
 
 import numpy as np
@@ -88,11 +89,19 @@ def test_the_fidelity_page_has_no_curve_section_without_records():
     assert "Learning curves beside the original's" not in page
 
 
-def test_the_grids_say_whose_budget_they_trained():
+def test_the_grids_say_whose_budget_they_trained(tmp_path):
     page = _jinja().get_template("baselines.md.j2").render(**baselines_context(BASELINES))
-    # the committed WRM grid trained the appendix's 4.5M agent-steps a point, the WFC grid the 8M of both
-    assert "(4,500,000 agent-steps each, the max_steps of the paper appendix; training" in page
+    # the committed WRM grid trained the config that ran's 450k agent-steps a point, the WFC grid the 8M of both
+    assert "(450,000 agent-steps each, the max_steps of the config that ran; training" in page
     assert "(8,000,000 agent-steps each, the max_steps of the config that ran; training" in page
+    # a WRM grid at the appendix's 4.5M (as the earlier record trained) is said to be the appendix's
+    shutil.copytree(BASELINES, tmp_path / "baselines")
+    grid = tmp_path / "baselines" / "grids" / "wildfire_resource_management.json"
+    data = json.loads(grid.read_text())
+    data["hyperparameters"]["max_steps"] = 4_500_000
+    grid.write_text(json.dumps(data))
+    page = _jinja().get_template("baselines.md.j2").render(**baselines_context(tmp_path / "baselines"))
+    assert "(4,500,000 agent-steps each, the max_steps of the paper appendix; training" in page
 
 
 def _rows(points):
