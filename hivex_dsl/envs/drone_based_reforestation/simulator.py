@@ -35,7 +35,8 @@ RANDOM_SPAWN_TASKS = ("pick_up_seed", "group_up")
 # [orig] Pick-up Seed's drones start without a seed (they come back for one: the original's page logs no drop), and
 # so do those of Find Closest Tree and the three best-so-far tasks: their pages log no drop at any point, the
 # untrained policy's first included (which drops 0.81 seeds a drone-episode in the main task), and their returns
-# are their statistics less one seedless battery (the reward table's notes, "Seedless starts"); [ours] Group Up's too
+# are their statistics less one seedless battery (the reward table's note "Episode endings and the battery's
+# race"); [ours] Group Up's too
 SEEDLESS_START_TASKS = ("pick_up_seed", "group_up", "find_closest_tree", "find_high_potential_area",
                         "find_high_terrain", "explore_furthest")
 
@@ -265,7 +266,7 @@ class DroneReforestationSimulator:
         within the charge radius, on a return: away since its last one), else less the step's cost (with or without
         a seed) for a living drone; 0 once (nearly) empty. A drone on the pad it started on, or lingering at the
         station after its return, is not charging: its battery drains there as anywhere (the reward table's notes,
-        "The battery's race with the time limit")."""
+        "Episode endings and the battery's race")."""
         cost = self._depletion[state.holding.astype(np.intp)]
         energy = state.energy - (cost if alive is None else cost * alive)
         np.putmask(energy, docked & state.away, np.minimum(state.energy + self.params.charge_per_step, 1.0))
