@@ -10,13 +10,11 @@ within the charge radius, its start on the pad included, and those tasks' drones
 
 from __future__ import annotations
 
-from importlib import resources
-
 import numpy as np
 import pytest
 
 import hivex_dsl
-from hivex_dsl.evaluation.original.curves import DATA_FILE, original_curves
+from hivex_dsl.evaluation.original.curves import original_curves
 from hivex_dsl.runtime.batched import BatchedEnv
 
 ENV = "drone_based_reforestation"
@@ -68,16 +66,11 @@ def test_a_seedless_drone_on_its_pad_runs_out_on_the_episode_s_last_physics_step
     assert [env.episode_summary(0, a)["statistics"]["Out of Energy Count"] for a in range(3)] == [1.0, 1.0, 1.0]
 
 
-needs_curves = pytest.mark.skipif(not resources.files("hivex_dsl").joinpath("data", DATA_FILE).is_file(),
-                                  reason=f"the original's curves (hivex_dsl/data/{DATA_FILE}) are not installed")
-
-
 def training(page: int, level: int, panel: str) -> np.ndarray:
     """The original's training mean of ``panel`` at every kept vertex."""
     return original_curves(ENV, page, level).panel(panel).training.mean
 
 
-@needs_curves
 def test_the_tasks_whose_pages_log_no_drop_start_seedless():
     """The original's untrained policy drops 0.81 seeds a drone-episode in the main task (its first training point),
     yet Find Closest Tree, Find High Potential Area, Find High Terrain and Explore Furthest log no drop at any point
@@ -98,7 +91,6 @@ def test_the_tasks_whose_pages_log_no_drop_start_seedless():
             assert 0.55 < training(page, level, "Out of Energy Count").min()
 
 
-@needs_curves
 @pytest.mark.parametrize("level", [1, 5, 10])
 def test_the_original_s_main_task_drones_were_not_respawned_into_a_running_clock(level):
     """If a drone that ran out were respawned into its world's running clock (this toolkit's vector env), a world
