@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import dataclasses
+import json
 import os
+from pathlib import Path
 
 import pytest
 from hypothesis import settings
@@ -12,11 +14,29 @@ settings.register_profile("ci", derandomize=True, deadline=None, print_blob=True
 settings.register_profile("dev", deadline=None)
 settings.load_profile("ci" if os.environ.get("CI") else "dev")
 
+PAPER = Path(__file__).resolve().parents[1].parent / "shared" / "paper"  # beside the clone, as CI lays it
+
 
 def pytest_configure(config):
     config.addinivalue_line(
         "markers", "ecosystem(library): the test proves the library runs on each environment it is parametrized by; "
                    "docs/ecosystem.md's library x environment table is read from these (hivex_dsl.docsgen.ecosystem_matrix)")
+
+
+@pytest.fixture(scope="session")
+def paper() -> Path:
+    """The paper and the original's records (`../shared/paper` beside the clone: ORIGINAL-DATA.md), which the
+    package does not ship; a test that reads them skips in a clone without them."""
+    if not PAPER.is_dir():
+        pytest.skip(f"the original's records are not at {PAPER}")
+    return PAPER
+
+
+@pytest.fixture(scope="session")
+def wfc_event_runs(paper) -> dict[str, dict[str, list[list[float]]]]:
+    """The original WFC pattern 0 main task's TensorBoard scalars: per run (``train_run_0`` .. ``test_run_2``), per
+    tag, its (step, value) pairs."""
+    return json.loads((paper / "original-wfc-event-scalars.json").read_text())["runs"]
 
 
 @pytest.fixture

@@ -3,7 +3,6 @@ rendered pages, keyed as its files are, and the decision periods and budgets the
 
 from __future__ import annotations
 
-import json
 import re
 from pathlib import Path
 
@@ -18,17 +17,14 @@ from hivex_dsl.evaluation.original.pdfplot import SIMPLIFY_THRESHOLD_PT
 
 from .page_geometry import distance_to_polyline
 
-PAPER = Path(__file__).resolve().parents[1].parent / "shared" / "paper"  # beside the clone, as CI lays it
-needs_paper = pytest.mark.skipif(not PAPER.is_dir(), reason=f"the original's records are not at {PAPER}")
 WFC_PAGE = "WindFarmControl/WindFarmControl_results_pattern_0_task_0.pdf"
 # the stored values are rounded within VALUE_RESOLUTION_PT; the PDF's coordinates to 1e-6 pt (twice: point, tick)
 STORED_PT = VALUE_RESOLUTION_PT + 2e-6
 EVENT_DECIMALS = 5e-7  # the event scalars' JSON copy writes 6 decimals
 
 
-def _events(source: str) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+def _events(runs: dict, source: str) -> dict[str, tuple[np.ndarray, np.ndarray]]:
     """Per logged tag: the steps (n,) and the three runs' values (3, n) of WFC pattern 0 task 0."""
-    runs = json.loads((PAPER / "original-wfc-event-scalars.json").read_text())["runs"]
     tags = runs[f"{source}_run_0"]
     out = {}
     for tag in tags:
@@ -38,15 +34,14 @@ def _events(source: str) -> dict[str, tuple[np.ndarray, np.ndarray]]:
     return out
 
 
-@needs_paper
 @pytest.mark.parametrize("source, label", [("train", "training"), ("test", "test")])
-def test_wfc_pattern_0_main_task_matches_its_event_files_at_every_point(source, label):
+def test_wfc_pattern_0_main_task_matches_its_event_files_at_every_point(wfc_event_runs, source, label):
     """Tolerances from the PDF: a vertex the line kept is exact up to the stored rounding (STORED_PT, plus the
     event copy's own 6 decimals); a point
     the plotter dropped lies within its 1/9 pt simplification threshold of the line, perpendicular on the page;
     the band (seaborn's bootstrap interval over the runs) lies within the runs' min and max."""
     cell = original_curves("wind_farm_control", 0, 0)
-    events = _events(source)
+    events = _events(wfc_event_runs, source)
     plotted = {tag for tag in events if "Lesson Number" not in tag}  # the curriculum keys are not drawn
     assert {tag.split("/")[-1] for tag in plotted} == set(cell.panels)
     for tag in plotted:
@@ -66,9 +61,8 @@ def test_wfc_pattern_0_main_task_matches_its_event_files_at_every_point(source, 
         assert np.all(curve.lower <= curve.upper), tag
 
 
-@needs_paper
-def test_the_shipped_data_is_what_the_reader_makes_of_the_pdf():
-    path = PAPER / "original-plots" / WFC_PAGE
+def test_the_shipped_data_is_what_the_reader_makes_of_the_pdf(paper):
+    path = paper / "original-plots" / WFC_PAGE
     env, task, level = cell_key(path.name)
     from hivex_dsl.evaluation.original.curves import raw
 
@@ -203,12 +197,11 @@ CONFIG_NAMES = {"wind_farm_control": "WindFarmControl", "ocean_plastic_collectio
                 "aerial_wildfire_suppression": "AerialWildfireSuppression"}
 
 
-@needs_paper
 @pytest.mark.parametrize("environment", sorted(CONFIG_NAMES))
-def test_the_curves_span_the_budgets_of_the_configs_that_ran(environment):
+def test_the_curves_span_the_budgets_of_the_configs_that_ran(paper, environment):
     budget = evidence.budgets(environment)
-    train = PAPER / "original-configs" / "train" / f"{CONFIG_NAMES[environment]}_hivex.yaml"
-    test = PAPER / "original-configs" / "test" / f"{CONFIG_NAMES[environment]}_hivex.yaml"
+    train = paper / "original-configs" / "train" / f"{CONFIG_NAMES[environment]}_hivex.yaml"
+    test = paper / "original-configs" / "test" / f"{CONFIG_NAMES[environment]}_hivex.yaml"
     assert budget.trained == _config_number(train, "max_steps")
     assert budget.summary == _config_number(train, "summary_freq")
     assert budget.tested == _config_number(test, "max_steps")
@@ -216,16 +209,14 @@ def test_the_curves_span_the_budgets_of_the_configs_that_ran(environment):
     assert re.search(rf"a {evidence.MAX_STEP[environment]} steps", train.read_text())
 
 
-@needs_paper
-def test_the_appendix_budgets_are_the_paper_s():
-    tex = (PAPER / "hivex-paper-extract.tex").read_text()
+def test_the_appendix_budgets_are_the_paper_s(paper):
+    tex = (paper / "hivex-paper-extract.tex").read_text()
     listed = re.findall(r"max_steps: (\d+) # testing: \d+\s+time_horizon: \d+\s+summary_freq: (\d+)", tex)
     assert sorted((int(m), int(s)) for m, s in listed) == sorted(evidence.APPENDIX.values())
 
 
-@needs_paper
-def test_wfc_learning_points_are_its_runs_mean():
-    steps, runs = _events("train")["Environment/Cumulative Reward"]
+def test_wfc_learning_points_are_its_runs_mean(wfc_event_runs):
+    steps, runs = _events(wfc_event_runs, "train")["Environment/Cumulative Reward"]
     points = evidence.learning_points("wind_farm_control", 0, 0)
     assert [p.fraction for p in points] == list(evidence.FRACTIONS)
     assert [p.step for p in points] == [40_000, 800_000, 2_000_000, 4_000_000, 8_000_000]
@@ -239,11 +230,10 @@ def test_wfc_learning_points_are_its_runs_mean():
     assert points[0].mean == pytest.approx(840, abs=5)  # the untrained policy (ORIGINAL-DATA.md: about 840)
 
 
-@needs_paper
-def test_a_training_average_is_the_runs_mean_over_every_summary_point():
+def test_a_training_average_is_the_runs_mean_over_every_summary_point(wfc_event_runs):
     """WFC pattern 0's return averaged over its 200 training points by the event files (the three runs' mean at
     each, then the mean of those): the digitised curve's average within its 2 pt line tolerance."""
-    steps, runs = _events("train")["Environment/Cumulative Reward"]
+    steps, runs = _events(wfc_event_runs, "train")["Environment/Cumulative Reward"]
     panel = original_curves("wind_farm_control", 0, 0).panel("Cumulative Reward")
     average = evidence.training_average("wind_farm_control", 0, 0, "Cumulative Reward")
     assert len(steps) == len(panel.training.band_steps) == 200
@@ -293,9 +283,8 @@ def test_the_average_sheets_agree_with_the_digitised_test_curves(environment):
     assert checked >= len(cells)
 
 
-@needs_paper
-def test_the_shipped_sheet_is_what_the_reader_makes_of_the_pdf():
-    path = PAPER / "original-plots" / "WindFarmControl" / "WindFarmControl_average_sheet.pdf"
+def test_the_shipped_sheet_is_what_the_reader_makes_of_the_pdf(paper):
+    path = paper / "original-plots" / "WindFarmControl" / "WindFarmControl_average_sheet.pdf"
     from hivex_dsl.evaluation.original.curves import raw
 
     assert digitise_sheet(path) == raw()["average_sheets"]["wind_farm_control"]

@@ -4,14 +4,12 @@ from __future__ import annotations
 
 import dataclasses
 import json
-from pathlib import Path
 
 import pytest
 
 from hivex_dsl.evaluation import published
 from hivex_dsl.compiler import compile as compile_scenario
 
-SHARED = Path("/work/shared/paper/published-test-results.json")
 
 
 def test_wrm_main_terrain_1_as_read_by_hand():
@@ -81,9 +79,8 @@ def test_dbr_cells_are_keyed_by_the_task_whose_original_page_logs_their_statisti
     assert drop.statistic("Tree Drop Count") == (0.9308, 0.0388)
 
 
-@pytest.mark.skipif(not SHARED.exists(), reason="the shared paper folder is not on this machine")
-def test_the_packaged_file_is_the_shared_one_with_dbr_results_2_and_3_keyed_by_the_configs_that_ran():
-    shared = json.loads(SHARED.read_text())
+def test_the_packaged_file_is_the_shared_one_with_dbr_results_2_and_3_keyed_by_the_configs_that_ran(paper):
+    shared = json.loads((paper / "published-test-results.json").read_text())
     packaged = published.raw()
     dbr = shared["results"]["drone_based_reforestation"]
     # the shared file keys DBR by the appendix's comment save results 4-6 (5-7 there); the configs that ran list

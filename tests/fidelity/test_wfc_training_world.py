@@ -11,12 +11,10 @@ not by ``--seed``. These tests hold both halves of that fact.
 
 from __future__ import annotations
 
-import json
 from itertools import combinations
 from pathlib import Path
 
 import numpy as np
-import pytest
 import yaml
 
 import hivex_dsl
@@ -24,28 +22,24 @@ from hivex_dsl.sim.procgen.wind import wind_step
 from hivex_dsl.train.ppo import make_env
 
 ROOT = Path(__file__).resolve().parents[2]
-PAPER = ROOT.parent / "shared" / "paper"  # beside the clone, as CI lays it
-needs_paper = pytest.mark.skipif(not PAPER.is_dir(), reason=f"the original's records are not at {PAPER}")
 WFC_MAIN = ROOT / "scenarios" / "wind_farm_control" / "main.yaml"
 EPISODE = 5000
 
 
-def original_training_returns() -> np.ndarray:
+def original_training_returns(runs: dict) -> np.ndarray:
     """(3, 200) the original WFC main task's training runs' Environment/Cumulative Reward, one point an episode."""
-    runs = json.loads((PAPER / "original-wfc-event-scalars.json").read_text())["runs"]
     return np.array([[v for _, v in runs[f"train_run_{i}"]["Environment/Cumulative Reward"]] for i in range(3)])
 
 
-@needs_paper
-def test_the_originals_three_training_runs_met_one_wind_sequence():
+def test_the_originals_three_training_runs_met_one_wind_sequence(paper, wfc_event_runs):
     """One config, one seed (5000) for all three runs. In the data: the untrained policy's first episode earns
     838, 840 and 847 in the three runs, where one run's near-random episodes (its first 15 points, entropy
     1.03-1.10 of at most log 3) spread by a standard deviation of 670-778: the wind, not the actions, sets a
     near-random episode, and the three met the same one. Over all 200 points the runs correlate at 0.92-0.96, the
     trained ones' small dips (about 100 under their neighbours) falling on the same episodes."""
-    config = yaml.safe_load((PAPER / "original-configs" / "train" / "WindFarmControl_hivex.yaml").read_text())
+    config = yaml.safe_load((paper / "original-configs" / "train" / "WindFarmControl_hivex.yaml").read_text())
     assert config["env_settings"]["seed"] == 5000
-    returns = original_training_returns()
+    returns = original_training_returns(wfc_event_runs)
     assert returns.shape == (3, 200)
     first = returns[:, 0]
     near_random_spread = returns[:, :15].std(axis=1)

@@ -16,8 +16,6 @@ from hivex_dsl.train.ppo import train
 
 from .conftest import ENVIRONMENTS, short_scenario
 
-PAPER = Path(__file__).resolve().parents[2].parent / "shared" / "paper"  # beside the clone, as CI lays it
-needs_paper = pytest.mark.skipif(not PAPER.is_dir(), reason=f"the original's records are not at {PAPER}")
 CONFIG_NAMES = {"wind_farm_control": "WindFarmControl", "ocean_plastic_collection": "OceanPlasticCollection",
                 "drone_based_reforestation": "DroneBasedReforestation",
                 "wildfire_resource_management": "WildfireResourceManagement",
@@ -42,29 +40,27 @@ def flat(config: dict) -> dict:
     return keys
 
 
-def appendix_config(environment: str) -> dict:
+def appendix_config(paper: Path, environment: str) -> dict:
     """The appendix's verbatim config of ``environment`` from the paper's source, read as YAML (its "# testing"
     comments are comments)."""
-    tex = (PAPER / "hivex-paper-extract.tex").read_text()
+    tex = (paper / "hivex-paper-extract.tex").read_text()
     block = re.search(rf"Hyperparameters: {APPENDIX_TITLES[environment]}\}}\s*\\begin\{{verbatim\}}(.*?)"
                       r"\\end\{verbatim\}", tex, re.S)
     return yaml.safe_load(block.group(1))
 
 
-@needs_paper
 @pytest.mark.parametrize("environment", ENVIRONMENTS)
-def test_the_defaults_are_the_config_that_ran(environment):
-    ran = yaml.safe_load((PAPER / "original-configs" / "train" / f"{CONFIG_NAMES[environment]}_hivex.yaml").read_text())
+def test_the_defaults_are_the_config_that_ran(paper, environment):
+    ran = yaml.safe_load((paper / "original-configs" / "train" / f"{CONFIG_NAMES[environment]}_hivex.yaml").read_text())
     defaults = make_config(environment).model_dump()
     expected = flat(ran)
     expected.pop("threaded", None)
     assert {k: defaults[k] for k in expected} == expected
 
 
-@needs_paper
 @pytest.mark.parametrize("environment", ENVIRONMENTS)
-def test_the_appendix_block_names_every_value_where_the_appendix_differs(environment):
-    ran, written = paper_defaults(environment), flat(appendix_config(environment))
+def test_the_appendix_block_names_every_value_where_the_appendix_differs(paper, environment):
+    ran, written = paper_defaults(environment), flat(appendix_config(paper, environment))
     differing = {k: v for k, v in written.items() if k in ran and ran[k] != v}
     assert appendix(environment) == differing
 

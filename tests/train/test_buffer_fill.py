@@ -3,7 +3,6 @@ of the original Wind Farm Control run's updates, read from its logged clip epsil
 
 from __future__ import annotations
 
-import json
 import tempfile
 from pathlib import Path
 
@@ -17,14 +16,6 @@ from hivex_dsl.train.config import PPOConfig, make_config
 from hivex_dsl.train.ppo import train
 
 ROOT = Path(__file__).resolve().parents[2]
-PAPER = ROOT.parent / "shared" / "paper"  # beside the clone, as CI lays it
-needs_paper = pytest.mark.skipif(not PAPER.is_dir(), reason=f"the original's records are not at {PAPER}")
-
-
-def original_epsilons() -> list[list[list[float]]]:
-    """The original WFC main task's three training runs' logged clip epsilon: (step, value) pairs per run."""
-    runs = json.loads((PAPER / "original-wfc-event-scalars.json").read_text())["runs"]
-    return [runs[f"train_run_{i}"]["Policy/Epsilon"] for i in range(3)]
 
 
 def wfc_update_experiences(cfg: PPOConfig, episodes: int) -> list[int]:
@@ -47,8 +38,7 @@ def wfc_update_experiences(cfg: PPOConfig, episodes: int) -> list[int]:
     return due
 
 
-@needs_paper
-def test_wind_farm_controls_defaults_update_when_the_original_run_did():
+def test_wind_farm_controls_defaults_update_when_the_original_run_did(wfc_event_runs):
     """ML-Agents decays epsilon linearly from 0.2 to 0.1 over max_steps and logs its mean over a summary point's
     updates, so eps = 0.1 + 0.1 (1 - s / 8M) dates them: s, their mean agent-step, to within 40 (eps is logged to
     6 decimals). Hand-derived from one environment of 8 turbines, time_horizon 2,048 and 5,000-step episodes: each
@@ -60,7 +50,7 @@ def test_wind_farm_controls_defaults_update_when_the_original_run_did():
     due = wfc_update_experiences(cfg, episodes=2)
     assert due == [16_384, 32_768, 40_000, 56_384, 72_768, 80_000]
     per_episode = np.array(due[:3])
-    for run in original_epsilons():
+    for run in (wfc_event_runs[f"train_run_{i}"]["Policy/Epsilon"] for i in range(3)):
         for k, (step, epsilon) in enumerate(run):
             assert step == 40_000 * (k + 1)
             dated = 8_000_000 * (1 - (epsilon - 0.1) / 0.1)
