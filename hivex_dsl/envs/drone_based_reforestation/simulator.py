@@ -56,6 +56,7 @@ class DroneReforestationSimulator:
         p: DroneBasedReforestationParams = compiled.params
         self.params = p
         self.agents = compiled.agents
+        self.time_limit = compiled.episode_length  # physics steps
         self.terrain_spec: TerrainSpec = compiled.generators["terrain"]
         self.forest_spec: ForestSpec = compiled.generators["forest"]
         self.random_spawn = compiled.task_name in RANDOM_SPAWN_TASKS
@@ -143,7 +144,8 @@ class DroneReforestationSimulator:
             tree_xy=trees, station=station, camera=self._cameras(heights, trees, station),
             new_trees=np.full((batch, self.params.new_tree_capacity, 2), FAR_M, np.float32),
             new_quality=np.zeros((batch, self.params.new_tree_capacity), np.float32),
-            new_count=np.zeros(batch, np.int64), position=position, heading=heading, ground=ground,
+            new_count=np.zeros(batch, np.int64), steps_left=np.full(batch, self.time_limit, np.int64),
+            position=position, heading=heading, ground=ground,
             energy=np.ones(shape), holding=np.full(shape, holding), alive=np.ones(shape, bool),
             inside=distance <= p.charge_radius_m, left_pad=distance > p.charge_radius_m,
             docked_steps=np.zeros(shape, np.int64), away=(distance >= p.return_min_distance_m) & self.random_spawn,
@@ -325,7 +327,8 @@ class DroneReforestationSimulator:
         # the path since the last seed taken, this step's leg included (a drop reads it); a return starts it anew
         flown = state.flown + _zero_unless_alive(np.linalg.norm(flight.position - state.position, axis=-1), alive)
         new = evolve(
-            state, new_count=new_count, position=flight.position, heading=flight.heading, ground=flight.ground,
+            state, new_count=new_count, steps_left=state.steps_left - 1, position=flight.position, heading=flight.heading,
+            ground=flight.ground,
             energy=energy, holding=holding, alive=energy > 0.0, inside=inside, left_pad=state.left_pad | outside,
             docked_steps=docked_steps, away=away & ~returned if returning else away,
             flown=np.where(returned, 0.0, flown) if returning else flown,

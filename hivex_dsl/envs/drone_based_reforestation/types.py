@@ -42,6 +42,7 @@ class DroneState:
     new_trees: np.ndarray  # (B, C, 2) float32 planted trees (every released seed), FAR_M in empty slots
     new_quality: np.ndarray  # (B, C) float32 each planted tree's seed quality r_s / 20 in [0, 1] (0: poor spot)
     new_count: np.ndarray  # (B,) int64 planted trees so far
+    steps_left: np.ndarray  # (B,) int64 physics steps to the world's time limit (0 on its last step)
     # the drones
     position: np.ndarray  # (B, A, 3)
     heading: np.ndarray  # (B, A) facing angle from +x, counter-clockwise
