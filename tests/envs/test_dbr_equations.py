@@ -174,15 +174,18 @@ def increment(x: float, z: float = 10.0) -> int:
     return int(np.floor(np.sqrt(x * x + 4.0 + z * z) / 2.5))
 
 
-def test_running_back_pays_20_rbm_over_d_init_minus_3_once_per_increment():
+def test_running_back_pays_20_rbm_over_d_init_in_metres_minus_3_once_per_increment():
+    """The paper's r_rb = r_p * rbm / (d_init - d_charge / s), d_init the drop's distance to the station (metres:
+    the paper gives d_0 alone "in incremental steps"). A drop at (50, 2, 10): d_init = sqrt(2604) = 51.03 m, so each
+    increment pays 20 rbm / 48.03, not 20 rbm / 17 (d_init read as its increment, 20, before issue 52)."""
     compiled, sim = simulator()
     state = hand_world(sim, [(50.0, 2.0, 10.0)], trees=[(62.0, 2.0)], heading=np.pi)
     state, _ = sim.step(state, act(drop=1), np.random.default_rng(1))
     rbm = (20.0 * (75.0 - 12.0) / 72.5 + 10.0 * np.hypot(50.0, 2.0) / 200.0) / 30.0
-    d_init = increment(50.0)  # 20
-    assert d_init == 20
+    d_init = np.sqrt(50.0 ** 2 + 2.0 ** 2 + 10.0 ** 2)
+    assert state.back_init[0, 0] == pytest.approx(d_init)
     per_increment = 20.0 * rbm / (d_init - 7.5 / 2.5)
-    paid, x, best = [], 50.0, d_init
+    paid, x, best = [], 50.0, increment(50.0)
     for _ in range(30):  # fly 30 m toward the station at 1 m per step
         prev = state
         state, _ = sim.step(state, act(throttle=1.0), np.random.default_rng(1))
@@ -192,7 +195,7 @@ def test_running_back_pays_20_rbm_over_d_init_minus_3_once_per_increment():
         value = term(compiled, "incremental_running_back", prev, state, act(throttle=1.0))[0, 0]
         assert value == pytest.approx(expected), f"at x = {x}"
         paid.append(value)
-    assert sum(v > 0 for v in paid) == d_init - increment(20.0)
+    assert sum(v > 0 for v in paid) == increment(50.0) - increment(20.0)
     # turning around and coming back over the same increments pays nothing more
     state = replace(state, heading=np.zeros((1, 1)))
     for throttle in [1.0] * 6 + [-1.0] * 6:
@@ -205,7 +208,7 @@ def test_running_back_ends_at_the_station_and_pays_nothing_for_a_drop_near_it():
     compiled, sim = simulator()
     near = hand_world(sim, [(9.0, 2.0, 2.0)], trees=[(30.0, 2.0)], heading=np.pi)
     state, _ = sim.step(near, act(drop=1), np.random.default_rng(1))
-    assert state.dropped[0, 0] and state.back_init[0, 0] == 3  # d_init - d_charge / s = 0
+    assert state.dropped[0, 0] and increment(9.0, 2.0) == 3  # its increment is d_charge / s: none closer pays
     total = 0.0
     for _ in range(8):
         prev = state
@@ -457,17 +460,20 @@ def test_a_12_m_drop_pays_one_running_back_increment_not_a_second_on_entering_th
     r_s = 20.0 * (75.0 - 10.0) / 72.5  # det 10 m
     r_d = 10.0 * np.hypot(12.0, 2.0) / 200.0
     rbm = (r_s + r_d) / 30.0
-    assert state.back_init[0, 0] == 4  # floor(sqrt(144 + 4 + 2.25) / 2.5)
+    d_init = np.sqrt(144.0 + 4.0 + 2.25)  # 12.26 m, increment 4
     paid = []
     for _ in range(10):  # 12 m -> 2 m: increments 3 (7.5-10 m), then 2 and 1 inside the charge radius
         prev = state
         state, _ = sim.step(state, act(throttle=1.0), np.random.default_rng(1))
         paid.append(term(compiled, "incremental_running_back", prev, state, act(throttle=1.0))[0, 0])
-    # d_init - d_charge / s = 4 - 3 = 1 increment, paying r_p * rbm / 1; the old code paid it twice
-    assert sum(paid) == pytest.approx(20.0 * rbm) and sum(v > 0 for v in paid) == 1
+    # one increment (4 -> 3) pays r_p * rbm / (12.26 - 3) = 0.59 (before issue 52: r_p * rbm / (4 - 3) = 6.4); the
+    # increments inside the charge radius pay nothing (before issue 15 the next one paid again)
+    assert sum(paid) == pytest.approx(20.0 * rbm / (d_init - 3.0)) and sum(v > 0 for v in paid) == 1
 
 
-def test_a_whole_run_back_pays_r_p_times_rbm_at_most_20():
+def test_a_whole_run_back_from_51_m_pays_17_increments_of_r_p_rbm_over_d_init_minus_3():
+    """From (50, 2, 10), 51.03 m and increment 20, straight home: increments 19 down to 3 pay, 17 of them, each
+    20 rbm / 48.03: 7.08 rbm in all, where d_init read as the increment (before issue 52) paid the whole 20 rbm."""
     compiled, sim = simulator()
     state = hand_world(sim, [(50.0, 2.0, 10.0)], trees=[(54.0, 2.0)], heading=np.pi)
     state, _ = sim.step(state, act(drop=1), np.random.default_rng(1))
@@ -477,7 +483,8 @@ def test_a_whole_run_back_pays_r_p_times_rbm_at_most_20():
         prev = state
         state, _ = sim.step(state, act(throttle=1.0, updown=-1.0), np.random.default_rng(1))
         total += term(compiled, "incremental_running_back", prev, state, act(throttle=1.0))[0, 0]
-    assert total == pytest.approx(20.0 * rbm) and total <= 20.0
+    assert total == pytest.approx(17 * 20.0 * rbm / (np.sqrt(2604.0) - 3.0))
+    assert total == pytest.approx(7.08 * rbm, abs=0.01)
 
 
 def test_the_first_step_after_reset_pays_nothing_in_the_potential_and_distance_terms_and_the_height_from_0():

@@ -71,9 +71,11 @@ ENTRY = register(EnvironmentEntry(
         "reload (a seed, a full battery); elsewhere it pays what the task pays and hands over nothing (the original's "
         "seedless tasks log no drop and run their one battery out).",
         "Incremental Running Back reads d_-1 as the closest increment reached since the drop, so each increment pays "
-        "once, and pays only the increments from d_init down to d_charge / s (those outside the charge radius), so a "
-        "whole run back pays r_p x rbm, at most 20; it pays nothing when the drop was within d_charge + s of the "
-        "station (d_init - d_charge / s not positive).",
+        "once, and pays only the increments from the drop's down to d_charge / s (those outside the charge radius); "
+        "d_init is the drop's distance in metres, as the paper defines it (only d_0 is in increments), so a whole run "
+        "home from D metres pays r_p x rbm x (floor(D / s) - 3) / (D - 3), about a third of r_p x rbm (the original's "
+        "Drop Seed record; the reward table's notes), and nothing when the drop was within d_charge + s of the "
+        "station.",
         "Find Close Tree compares the distance in metres with 20 m (the paper's equation divides it by the half "
         "extent first, which would make every distance qualify).",
         "Energy drains by 1/1000 per step with a seed and 1/2000 without (the seed state at the start of the step, "

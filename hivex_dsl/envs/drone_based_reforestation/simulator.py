@@ -158,7 +158,7 @@ class DroneReforestationSimulator:
             # the height's from 0, as the paper's h_old (the reward table's notes: the original's records read so)
             best_fertility=fertility(det, p.min_tree_distance_m, p.max_tree_distance_m),
             best_height=zeros.copy(), best_distance=np.minimum(reach, self.half), back_active=false,
-            back_init=np.zeros(shape, np.int64), back_best=np.zeros(shape, np.int64), back_multiplier=zeros,
+            back_init=zeros, back_best=np.zeros(shape, np.int64), back_multiplier=zeros,
             flown=zeros, dropped=false, seed_reward=zeros, distance_reward=zeros, drop_tree_distance=zeros,
             returned=false,
             found_tree=false, running_back=zeros, frames=np.zeros(shape + (2 * VECTOR_SIZE,), np.float32))
@@ -243,27 +243,31 @@ class DroneReforestationSimulator:
         return granted
 
     def _running_back(self, state: DroneState, increment: np.ndarray, alive: np.ndarray | None) -> np.ndarray:
-        """r_rb (B, A): paid when a drone running back reaches a closer increment than any since its drop."""
+        """r_rb (B, A): paid when a drone running back reaches a closer increment than any since its drop, down to
+        d_charge / s. The paper's r_p * rbm / (d_init - d_charge / s) with d_init the drop's station distance in
+        metres, as the paper defines it (d_0 alone is "in incremental steps"): a whole run back from D metres pays
+        r_p * rbm * (floor(D / s) - d_charge / s) / (D - d_charge / s), about r_p * rbm * 0.3 for the original's
+        drops 25-50 m out, what its Drop Seed and main-task records leave for this term (the reward table's note
+        "Incremental Running Back's d_init")."""
         p = self.params
         closer = _alive_only(state.back_active & (increment < state.back_best), alive)
         if not np.count_nonzero(closer):  # (count_nonzero is the cheapest "any" on small arrays)
             return np.zeros(closer.shape)
         first_inside = p.charge_radius_m / p.running_back_step_m  # d_charge / s: the increments inside pay nothing
-        span = state.back_init - first_inside
+        span = state.back_init - first_inside  # metres less increments, as the paper writes it; > 0 for any drop
         reward = RUNNING_BACK_REWARD * state.back_multiplier / np.where(span > 0, span, 1.0)
-        # the span counts the increments from d_init down to d_charge / s, so the run back pays at most r_p * rbm
         paid = closer & (span > 0) & (increment >= first_inside)
         return np.where(paid, clamp(reward, 0.0, RUNNING_BACK_REWARD), 0.0)
 
-    def _back(self, state: DroneState, drops: np.ndarray, increment: np.ndarray, outside: np.ndarray,
-              r_s: np.ndarray, r_d: np.ndarray, dropping: bool) -> dict[str, np.ndarray]:
-        """The running-back bookkeeping after this step: a drop starts it, reaching the station ends it.
-        Without a drop (``dropping`` false) the drop-time fields stay as they are."""
+    def _back(self, state: DroneState, drops: np.ndarray, distance: np.ndarray, increment: np.ndarray,
+              outside: np.ndarray, r_s: np.ndarray, r_d: np.ndarray, dropping: bool) -> dict[str, np.ndarray]:
+        """The running-back bookkeeping after this step: a drop starts it (d_init its station ``distance`` (B, A) in
+        metres), reaching the station ends it. Without a drop (``dropping`` false) the drop-time fields stay."""
         best = np.where(state.back_active, np.minimum(state.back_best, increment), state.back_best)
         if not dropping:
             return {"back_active": state.back_active & outside, "back_best": best}
         return {"back_active": (state.back_active | drops) & outside,
-                "back_init": np.where(drops, increment, state.back_init),
+                "back_init": np.where(drops, distance, state.back_init),
                 "back_best": np.where(drops, increment, best),
                 "back_multiplier": np.where(drops, (r_s + r_d) / (SEED_REWARD_MULTIPLIER + DISTANCE_REWARD_MULTIPLIER),
                                             state.back_multiplier)}
@@ -318,7 +322,7 @@ class DroneReforestationSimulator:
         if dropping or np.count_nonzero(state.back_active):
             increment = (distance * (1.0 / p.running_back_step_m)).astype(np.int64)  # floor: distances are >= 0
             running_back = self._running_back(state, increment, alive)
-            back = self._back(state, drops, increment, outside, r_s, r_d, dropping)
+            back = self._back(state, drops, distance, increment, outside, r_s, r_d, dropping)
 
         docked = _alive_only(inside, alive)
         docked_steps = np.where(docked, state.docked_steps + 1, 0)

@@ -58,7 +58,7 @@ class DroneState:
     best_height: np.ndarray  # (B, A) h_old: highest ground found so far
     best_distance: np.ndarray  # (B, A) d_old: furthest horizontal distance from the station so far
     back_active: np.ndarray  # (B, A) bool, running back to the station after a drop
-    back_init: np.ndarray  # (B, A) int64 d_init: station distance increment at the drop
+    back_init: np.ndarray  # (B, A) d_init: metres from the station (3-D) at the drop
     back_best: np.ndarray  # (B, A) int64 d_-1: closest increment reached since the drop
     back_multiplier: np.ndarray  # (B, A) rbm of the last drop
     flown: np.ndarray  # (B, A) metres flown (3-D path) since the drone last took a seed: its spawn or a return
