@@ -345,7 +345,8 @@ def test_in_the_seedless_tasks_a_return_pays_but_hands_over_no_seed_and_no_charg
     state = hand_world(sim, [(8.5, 0.0, 2.0)], holding=False, energy=0.3, heading=np.pi)
     state, _ = sim.step(state, act(throttle=1.0), np.random.default_rng(1))  # 7.77 m: docked from the next step
     for step in range(1, 11):
-        prev, (state, outcome) = state, sim.step(state, act(throttle=1.0 if step == 1 else 0.0), np.random.default_rng(1))
+        prev = state
+        state, outcome = sim.step(state, act(throttle=1.0 if step == 1 else 0.0), np.random.default_rng(1))
         assert state.docked_steps[0, 0] == step and state.returned[0, 0] == (step == 10)
         assert state.energy[0, 0] == pytest.approx(0.3 - (step + 1) / 2000) and not state.holding[0, 0]
     assert compiled.weights["pick_up_seed"] * term(compiled, "pick_up_seed", prev, state, act())[0, 0] == 1.0

@@ -339,8 +339,8 @@ class DroneReforestationSimulator:
         # the path since the last seed taken, this step's leg included (a drop reads it); a return starts it anew
         flown = state.flown + _zero_unless_alive(np.linalg.norm(flight.position - state.position, axis=-1), alive)
         new = evolve(
-            state, new_count=new_count, steps_left=state.steps_left - 1, position=flight.position, heading=flight.heading,
-            ground=flight.ground,
+            state, new_count=new_count, steps_left=state.steps_left - 1, position=flight.position,
+            heading=flight.heading, ground=flight.ground,
             energy=energy, holding=holding, alive=energy > 0.0, inside=inside, left_pad=state.left_pad | outside,
             docked_steps=docked_steps, away=away & ~returned if returning else away,
             flown=np.where(returned, 0.0, flown) if returning else flown,
