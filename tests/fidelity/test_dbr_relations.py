@@ -14,7 +14,8 @@ paper's published cells, to their rounding, and in this toolkit's episodes.
    taken off; Drop Seed, whose episode ends on its one return, 10.6 to 11.1).
 5. Drop Seed pays its drops and +100 for the return that ends its episode (issue 52): the published return is
    100 x (1 - Out of Energy Count) + Cumulative Tree Drop Reward + Cumulative Distance Reward to within its spread at
-   every level, and above 100 where the drops pay more than the battery costs (8 of 10 levels).
+   every level, and above 100 where the drops pay more than the battery costs (8 of 10 levels). The run home's
+   running back (about 1.1) is within that spread; test_dbr_running_back.py checks it.
 """
 
 from __future__ import annotations
@@ -149,15 +150,18 @@ def test_published_drop_seed_returns_are_the_logged_statistics_times_our_weights
 
 def test_our_drop_seed_returns_exceed_100_as_the_original_s_do():
     """The scripted pilot drops its seed near the forest and flies back: +100 for the return that ends its episode,
-    plus the drop, less the battery. (A pilot that finds no spot before its battery runs low comes home with its seed:
-    the return still ends the episode, 100 less the battery.)"""
+    plus the drop and its run home (the running back, weighted 1 as the paper's column: tests/fidelity/
+    test_dbr_running_back.py), less the battery. (A pilot that finds no spot before its battery runs low comes home
+    with its seed: the return still ends the episode, 100 less the battery.)"""
     done = rollout(compiled("drop_seed"), "scripted", 1)
     assert (done.terms["pick_up_seed"] == 1.0).all()  # one return each, which ends the episode
     logged = done.statistics["Cumulative Tree Drop Reward"] + done.statistics["Cumulative Distance Reward"]
     dropped = done.statistics["Tree Drop Count"] > 0
     assert np.allclose(done.weighted("drop_seed"), logged) and dropped.sum() >= 2 and (logged[dropped] > 0).all()
     energy = sum(done.weighted(t) for t in ENERGY_TERMS)
-    assert np.allclose(done.returns, 100.0 + logged + energy)
+    running_back = done.weighted("incremental_running_back")
+    assert (running_back[dropped] > 0).all() and (running_back[~dropped] == 0).all()
+    assert np.allclose(done.returns, 100.0 + logged + running_back + energy)
     assert (done.returns[dropped] > 100.0).all()
 
 

@@ -67,20 +67,24 @@ ENTRY = register(EnvironmentEntry(
         "drone was at least return_min_distance_m (15 m) away, and on the last step of a docking: a drone "
         "within the charge radius charges charge_per_step (0.1) a step, and a docking lasts the whole cycle, "
         "1 / charge_per_step steps (10), whatever the battery held (the published Recharge Energy Count: about 10 "
-        "docked steps a return in every task).",
+        "docked steps a return in every task). Only where drones start with a seed (main, Drop Seed) does a return "
+        "reload (a seed, a full battery); elsewhere it pays what the task pays and hands over nothing (the original's "
+        "seedless tasks log no drop and run their one battery out).",
         "Incremental Running Back reads d_-1 as the closest increment reached since the drop, so each increment pays "
-        "once, and pays only the increments from d_init down to d_charge / s (those outside the charge radius), so a "
-        "whole run back pays r_p x rbm, at most 20; it pays nothing when the drop was within d_charge + s of the "
-        "station (d_init - d_charge / s not positive).",
+        "once, and pays only the increments from the drop's down to d_charge / s (those outside the charge radius); "
+        "d_init is the drop's distance in metres, as the paper defines it (only d_0 is in increments), so a whole run "
+        "home from D metres pays r_p x rbm x (floor(D / s) - 3) / (D - 3), about a third of r_p x rbm (the original's "
+        "Drop Seed record; the reward table's notes), and nothing when the drop was within d_charge + s of the "
+        "station.",
         "Find Close Tree compares the distance in metres with 20 m (the paper's equation divides it by the half "
         "extent first, which would make every distance qualify).",
         "Energy drains by 1/1000 per step with a seed and 1/2000 without (the seed state at the start of the step, "
         "as the depletion penalties); an empty battery terminates that drone (frozen, no longer a neighbour) while "
         "the others fly on.",
-        "Drones start evenly spaced around the station holding a seed, on a 6 m circle widened so neighbours start at "
-        "least spawn_gap_m (10 m) apart (Drop Seed too), except in Pick-up Seed and Group Up, where they start at "
-        "random at least 20 m away without one. A drone starting outside the charge radius has made no trip: "
-        "flying in is no return.",
+        "Drones start evenly spaced around the station, on a 6 m circle widened so neighbours start at least "
+        "spawn_gap_m (10 m) apart, holding a seed in the main task and Drop Seed and none elsewhere; in Group Up they "
+        "start at random at least 20 m away (Pick-up Seed starts at the station, as its record reads, not at random as "
+        "the paper's text). A drone starting outside the charge radius has made no trip: flying in is no return.",
         "Every episode draws a new world (terrain, forest) from the split's seed stream, as Aerial Wildfire "
         "Suppression and Wildfire Resource Management draw a new island (redraw_island 'episode').",
         "The best-so-far potential and distance of the delta terms (pot_old, d_old) start from the spawn state, so "

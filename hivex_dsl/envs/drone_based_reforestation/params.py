@@ -34,7 +34,9 @@ class DroneBasedReforestationParams(StrictModel):
         "[paper] d_charge: within this 3D distance of the station a drone recharges and picks up a seed."))
     charge_per_step: float = Field(0.1, gt=0.0, le=1.0, description=(
         "[ours, fitted] Battery share a docked drone regains each step on a return (empty to full in 10 steps; 1 "
-        "refills at once); a drone that has not been return_min_distance_m away since its last return (on the pad it "
+        "refills at once), in the tasks whose drones start with a seed (main, Drop Seed: elsewhere a return hands "
+        "over no seed and no charge, the reward table's notes); a drone that has not been return_min_distance_m "
+        "away since its last return (on the pad it "
         "started on, or lingering after its return) is not charging and drains as anywhere. A docking lasts that "
         "whole charging cycle, 1 / charge_per_step steps, whatever the battery held: "
         "the return (the seed pick-up and its reward) is made on its last step, the battery full. Fitted to the "

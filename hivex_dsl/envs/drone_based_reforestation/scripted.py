@@ -16,6 +16,7 @@ import numpy as np
 
 from ...sim.procgen.wind import wrap_angle
 from .camera import NEW_TREE_BELOW, TREE_BELOW, pixel_offsets
+from .simulator import SEEDLESS_START_TASKS
 
 CRUISE_HEIGHT_M = 22.0  # above ground while searching: a ~44 m wide view at the default 90 degrees
 APPROACH_HEIGHT_M = 7.0  # above ground near the forest: ~1 m per camera pixel
@@ -27,6 +28,7 @@ NEW_TREE_CLEARANCE_M = 4.0
 ENERGY_MARGIN = 1.5
 FULL_BATTERY = 0.98  # a battery this full was just filled: on the pad after its return it drains a few thousandths
 BORDER = 0.8  # fraction of the half extent where a searching drone turns back
+SWEEP_OFFSET = np.radians(30.0)  # [ours] off the centre when turning back at the border
 
 
 def _pixel_grid() -> tuple[np.ndarray, np.ndarray]:
@@ -62,13 +64,25 @@ def scripted_policy(compiled) -> Callable[[dict], dict]:
         throttle = np.where(np.abs(error) < np.radians(60.0), 1.0, 0.2) * np.clip(slow_within, 0.0, 1.0)
         return throttle, steer
 
-    trips = {"out": np.zeros((0, 0), bool)}  # (B, A): been return_min_distance_m away since the last seed taken
+    # where a return hands over no seed and no charge (tasks whose drones start seedless), the pilot tells a return
+    # by the decisions it has sat on the pad: a docking lasts the charging cycle
+    reloads = compiled.task_name not in SEEDLESS_START_TASKS
+    docking_decisions = int(np.ceil(np.ceil(1.0 / p.charge_per_step - 1e-9) / period))
+    # (B, A): been return_min_distance_m away since the last return, decisions landed since, furthest reached
+    trips = {"out": np.zeros((0, 0), bool), "landed": np.zeros((0, 0), np.int64), "far": np.zeros((0, 0))}
 
-    def tripped(home_distance: np.ndarray, holding: np.ndarray, fresh: np.ndarray) -> np.ndarray:
+    def tripped(home_distance: np.ndarray, holding: np.ndarray, fresh: np.ndarray, landed: np.ndarray) -> np.ndarray:
         """(B, A) whether a drone's docking now would be a return (the simulator's ``away``, which the pilot cannot
-        observe): a seed in hand or a new episode (``fresh``, both stacked frames alike) clears it."""
-        out = trips["out"] if trips["out"].shape == holding.shape else np.zeros(holding.shape, bool)
-        trips["out"] = (out & ~holding & ~fresh) | (home_distance >= p.return_min_distance_m)
+        observe): a seed in hand, a docking's whole cycle sat out on the pad or a new episode (``fresh``, both stacked
+        frames alike) clears it."""
+        if trips["out"].shape != holding.shape:
+            trips["out"], trips["far"] = np.zeros(holding.shape, bool), np.zeros(holding.shape)
+            trips["landed"] = np.zeros(holding.shape, np.int64)
+        out = trips["out"]
+        trips["landed"] = np.where(landed & out & ~fresh, trips["landed"] + 1, 0)
+        trips["far"] = np.maximum(np.where(fresh, 0.0, trips["far"]), home_distance)
+        returned = trips["landed"] >= docking_decisions
+        trips["out"] = (out & ~holding & ~fresh & ~returned) | (home_distance >= p.return_min_distance_m)
         return trips["out"]
 
     def act(observations: dict) -> dict:
@@ -83,14 +97,21 @@ def scripted_policy(compiled) -> Callable[[dict], dict]:
         home_distance = np.hypot(x, y)
         # the way home and 20 decisions' reserve (a drone deciding every k-th step turns and lands k times coarser)
         steps_home = home_distance / p.drone_speed_m + (z - station_z) / p.climb_speed_m + 20.0 * period
-        enough = energy > ENERGY_MARGIN * steps_home / p.energy_steps_with_seed + 0.02
+        # (where a return neither reloads nor pays, going home is no use: the drone flies on until its battery is out;
+        # where it does not reload, the drone flies seedless)
+        steps_per_battery = p.energy_steps_with_seed if reloads else p.energy_steps_without_seed
+        enough = (energy > ENERGY_MARGIN * steps_home / steps_per_battery + 0.02) | (not reloads and not docks)
         # landed on the pad without a seed, or back for energy: stay the charging cycle, until the return hands it a
         # full battery and a seed (a drone passing over does not land; one lingering there after its return drains)
         landed = (home_distance < PAD_HOVER_M) & (z - station_z < LANDING_HEIGHT_M + 1.0)
-        waiting = docks & ~holding & (home_distance < p.charge_radius_m) & tripped(home_distance, holding, fresh)
-        charging = (landed & docks & (~holding | (energy < FULL_BATTERY))) | waiting
-        # grouping: everyone meets at the station, the one place all know
-        seeking = (holding | ~fetches) & enough & ~gather & ~charging
+        out = tripped(home_distance, holding, fresh, landed)
+        waiting = docks & ~holding & (home_distance < p.charge_radius_m) & out
+        charging = (landed & docks & reloads & (~holding | (energy < FULL_BATTERY))) | waiting
+        # grouping: everyone meets at the station, the one place all know; where returns do not reload, a seedless
+        # drone that fetches flies out far enough for its next docking to be a return, and one whose returns pay the
+        # distance explored (Explore Furthest) hops so once it has been to the border: each return pays it again
+        hopping = (not reloads) & docks & (trips["far"] >= BORDER * half)
+        seeking = (holding | ~fetches | (~reloads & ~out)) & enough & ~gather & ~charging & ~(hopping & out)
 
         hw = np.maximum(p.camera_min_half_width_m, above * view)
         tree = image < TREE_BELOW
@@ -100,9 +121,10 @@ def scripted_policy(compiled) -> Callable[[dict], dict]:
         planted_near = (np.where(planted, reach, np.inf).min(axis=-1) * hw) < NEW_TREE_CLEARANCE_M
         sees_tree = np.isfinite(tree_distance) & (holding | seeks_trees)
 
-        # searching: straight on, turning back toward the centre near the border
+        # searching: straight on, turning back near the border toward a line 30 degrees off the centre, so that each
+        # crossing sweeps new ground (straight back through the centre a drone can shuttle on one line all episode)
         outward = (np.abs(x) > BORDER * half) | (np.abs(y) > BORDER * half)
-        target = np.where(outward, np.arctan2(-y, -x), heading)
+        target = np.where(outward, np.arctan2(-y, -x) + SWEEP_OFFSET, heading)
         height = np.full(x.shape, CRUISE_HEIGHT_M)
         # trees in sight: approach the nearest; too close (or a planted tree here): slide along the edge
         target = np.where(sees_tree, tree_bearing, target)

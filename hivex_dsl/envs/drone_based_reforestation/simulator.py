@@ -28,10 +28,11 @@ from .types import STATION_PAD_M, VECTOR_SIZE, DroneState, Flight
 SEED_REWARD_MULTIPLIER = 20.0  # [paper] sdrm
 DISTANCE_REWARD_MULTIPLIER = 10.0  # [paper] drm
 RUNNING_BACK_REWARD = 20.0  # [paper] r_p
-# [paper] Pick-up Seed: "the initial position of drones is random instead of at the station"; [ours] Group Up too
-# (drones that start together would be grouped from the first step). Drop Seed's start at the station, as the
-# main task's (the reward table's notes give the evidence from the original's records).
-RANDOM_SPAWN_TASKS = ("pick_up_seed", "group_up")
+# [ours] Group Up's drones start scattered (drones that start together would be grouped from the first step). [orig]
+# Pick-up Seed's start at the station, as Explore Furthest's, against the paper's text ("the initial position of
+# drones is random"): the first training points of the two tasks' pages are identical in every statistic (issue 52;
+# the reward table's note "Pick-up Seed's start and the returns that reload"). Drop Seed's start at the station too.
+RANDOM_SPAWN_TASKS = ("group_up",)
 # [orig] Pick-up Seed's drones start without a seed (they come back for one: the original's page logs no drop), and
 # so do those of Find Closest Tree and the three best-so-far tasks: their pages log no drop at any point, the
 # untrained policy's first included (which drops 0.81 seeds a drone-episode in the main task), and their returns
@@ -39,6 +40,9 @@ RANDOM_SPAWN_TASKS = ("pick_up_seed", "group_up")
 # race"); [ours] Group Up's too
 SEEDLESS_START_TASKS = ("pick_up_seed", "group_up", "find_closest_tree", "find_high_potential_area",
                         "find_high_terrain", "explore_furthest")
+# [orig] and a return reloads (a seed and a full battery) only where the drones start with a seed: Pick-up Seed's and
+# Explore Furthest's drones return many times yet their pages log no drop at any point and run out in about 2/3 of
+# drone-episodes, the last-step run-out of one seedless battery never refilled (the same note)
 
 
 class DroneReforestationSimulator:
@@ -56,10 +60,12 @@ class DroneReforestationSimulator:
         p: DroneBasedReforestationParams = compiled.params
         self.params = p
         self.agents = compiled.agents
+        self.time_limit = compiled.episode_length  # physics steps
         self.terrain_spec: TerrainSpec = compiled.generators["terrain"]
         self.forest_spec: ForestSpec = compiled.generators["forest"]
         self.random_spawn = compiled.task_name in RANDOM_SPAWN_TASKS
         self.start_with_seed = compiled.task_name not in SEEDLESS_START_TASKS
+        self.return_reloads = self.start_with_seed
         t, f = self.terrain_spec, self.forest_spec
         self.half = t.extent_m / 2.0
         self.terrain_grid = Grid(-self.half, t.extent_m / (t.size - 1), t.size)
@@ -143,7 +149,8 @@ class DroneReforestationSimulator:
             tree_xy=trees, station=station, camera=self._cameras(heights, trees, station),
             new_trees=np.full((batch, self.params.new_tree_capacity, 2), FAR_M, np.float32),
             new_quality=np.zeros((batch, self.params.new_tree_capacity), np.float32),
-            new_count=np.zeros(batch, np.int64), position=position, heading=heading, ground=ground,
+            new_count=np.zeros(batch, np.int64), steps_left=np.full(batch, self.time_limit, np.int64),
+            position=position, heading=heading, ground=ground,
             energy=np.ones(shape), holding=np.full(shape, holding), alive=np.ones(shape, bool),
             inside=distance <= p.charge_radius_m, left_pad=distance > p.charge_radius_m,
             docked_steps=np.zeros(shape, np.int64), away=(distance >= p.return_min_distance_m) & self.random_spawn,
@@ -151,7 +158,7 @@ class DroneReforestationSimulator:
             # the height's from 0, as the paper's h_old (the reward table's notes: the original's records read so)
             best_fertility=fertility(det, p.min_tree_distance_m, p.max_tree_distance_m),
             best_height=zeros.copy(), best_distance=np.minimum(reach, self.half), back_active=false,
-            back_init=np.zeros(shape, np.int64), back_best=np.zeros(shape, np.int64), back_multiplier=zeros,
+            back_init=zeros, back_best=np.zeros(shape, np.int64), back_multiplier=zeros,
             flown=zeros, dropped=false, seed_reward=zeros, distance_reward=zeros, drop_tree_distance=zeros,
             returned=false,
             found_tree=false, running_back=zeros, frames=np.zeros(shape + (2 * VECTOR_SIZE,), np.float32))
@@ -236,27 +243,31 @@ class DroneReforestationSimulator:
         return granted
 
     def _running_back(self, state: DroneState, increment: np.ndarray, alive: np.ndarray | None) -> np.ndarray:
-        """r_rb (B, A): paid when a drone running back reaches a closer increment than any since its drop."""
+        """r_rb (B, A): paid when a drone running back reaches a closer increment than any since its drop, down to
+        d_charge / s. The paper's r_p * rbm / (d_init - d_charge / s) with d_init the drop's station distance in
+        metres, as the paper defines it (d_0 alone is "in incremental steps"): a whole run back from D metres pays
+        r_p * rbm * (floor(D / s) - d_charge / s) / (D - d_charge / s), about r_p * rbm * 0.3 for the original's
+        drops 25-50 m out, what its Drop Seed and main-task records leave for this term (the reward table's note
+        "Incremental Running Back's d_init")."""
         p = self.params
         closer = _alive_only(state.back_active & (increment < state.back_best), alive)
         if not np.count_nonzero(closer):  # (count_nonzero is the cheapest "any" on small arrays)
             return np.zeros(closer.shape)
         first_inside = p.charge_radius_m / p.running_back_step_m  # d_charge / s: the increments inside pay nothing
-        span = state.back_init - first_inside
+        span = state.back_init - first_inside  # metres less increments, as the paper writes it; > 0 for any drop
         reward = RUNNING_BACK_REWARD * state.back_multiplier / np.where(span > 0, span, 1.0)
-        # the span counts the increments from d_init down to d_charge / s, so the run back pays at most r_p * rbm
         paid = closer & (span > 0) & (increment >= first_inside)
         return np.where(paid, clamp(reward, 0.0, RUNNING_BACK_REWARD), 0.0)
 
-    def _back(self, state: DroneState, drops: np.ndarray, increment: np.ndarray, outside: np.ndarray,
-              r_s: np.ndarray, r_d: np.ndarray, dropping: bool) -> dict[str, np.ndarray]:
-        """The running-back bookkeeping after this step: a drop starts it, reaching the station ends it.
-        Without a drop (``dropping`` false) the drop-time fields stay as they are."""
+    def _back(self, state: DroneState, drops: np.ndarray, distance: np.ndarray, increment: np.ndarray,
+              outside: np.ndarray, r_s: np.ndarray, r_d: np.ndarray, dropping: bool) -> dict[str, np.ndarray]:
+        """The running-back bookkeeping after this step: a drop starts it (d_init its station ``distance`` (B, A) in
+        metres), reaching the station ends it. Without a drop (``dropping`` false) the drop-time fields stay."""
         best = np.where(state.back_active, np.minimum(state.back_best, increment), state.back_best)
         if not dropping:
             return {"back_active": state.back_active & outside, "back_best": best}
         return {"back_active": (state.back_active | drops) & outside,
-                "back_init": np.where(drops, increment, state.back_init),
+                "back_init": np.where(drops, distance, state.back_init),
                 "back_best": np.where(drops, increment, best),
                 "back_multiplier": np.where(drops, (r_s + r_d) / (SEED_REWARD_MULTIPLIER + DISTANCE_REWARD_MULTIPLIER),
                                             state.back_multiplier)}
@@ -266,10 +277,12 @@ class DroneReforestationSimulator:
         within the charge radius, on a return: away since its last one), else less the step's cost (with or without
         a seed) for a living drone; 0 once (nearly) empty. A drone on the pad it started on, or lingering at the
         station after its return, is not charging: its battery drains there as anywhere (the reward table's notes,
-        "Episode endings and the battery's race")."""
+        "Episode endings and the battery's race"), as does every docked drone of a task whose returns do not reload
+        (``return_reloads`` false: its drones start seedless)."""
         cost = self._depletion[state.holding.astype(np.intp)]
         energy = state.energy - (cost if alive is None else cost * alive)
-        np.putmask(energy, docked & state.away, np.minimum(state.energy + self.params.charge_per_step, 1.0))
+        if self.return_reloads:
+            np.putmask(energy, docked & state.away, np.minimum(state.energy + self.params.charge_per_step, 1.0))
         np.putmask(energy, energy <= 1e-9, 0.0)
         return energy
 
@@ -309,7 +322,7 @@ class DroneReforestationSimulator:
         if dropping or np.count_nonzero(state.back_active):
             increment = (distance * (1.0 / p.running_back_step_m)).astype(np.int64)  # floor: distances are >= 0
             running_back = self._running_back(state, increment, alive)
-            back = self._back(state, drops, increment, outside, r_s, r_d, dropping)
+            back = self._back(state, drops, distance, increment, outside, r_s, r_d, dropping)
 
         docked = _alive_only(inside, alive)
         docked_steps = np.where(docked, state.docked_steps + 1, 0)
@@ -317,15 +330,17 @@ class DroneReforestationSimulator:
         # back, and docked a whole charging cycle: the seed is taken then, the battery full whatever it held
         returned = docked & state.away & (docked_steps >= self.charging_cycle)
         returning = np.count_nonzero(returned) > 0  # rare: most steps skip the ops with it
-        if returning:
+        reloading = returning and self.return_reloads
+        if reloading:
             np.putmask(energy, returned, 1.0)
         holding = (state.holding & ~drops) if dropping else state.holding
-        holding = holding | returned if returning else holding
+        holding = holding | returned if reloading else holding
         away = state.away | (distance >= p.return_min_distance_m)
         # the path since the last seed taken, this step's leg included (a drop reads it); a return starts it anew
         flown = state.flown + _zero_unless_alive(np.linalg.norm(flight.position - state.position, axis=-1), alive)
         new = evolve(
-            state, new_count=new_count, position=flight.position, heading=flight.heading, ground=flight.ground,
+            state, new_count=new_count, steps_left=state.steps_left - 1, position=flight.position,
+            heading=flight.heading, ground=flight.ground,
             energy=energy, holding=holding, alive=energy > 0.0, inside=inside, left_pad=state.left_pad | outside,
             docked_steps=docked_steps, away=away & ~returned if returning else away,
             flown=np.where(returned, 0.0, flown) if returning else flown,

@@ -28,9 +28,16 @@ def recharge_energy_count(prev, state, actions, params):
     return state.inside & state.alive & state.left_pad
 
 
-@STATISTICS.counter("Out of Energy Count", "Times the drone's battery ran empty (its episode ends).")
+@STATISTICS.counter("Out of Energy Count", "Times the drone's battery ran empty (its episode ends); on the world's "
+                    "last physics step, where the time limit ends the episode too, not for its last drone in agent "
+                    "order (the original counts 2 of 3 such run-outs: the reward table's notes).")
 def out_of_energy_count(prev, state, actions, params):
-    return prev.alive & ~state.alive
+    ran_out = prev.alive & ~state.alive
+    if not np.count_nonzero(ran_out) or not np.count_nonzero(state.steps_left <= 0):
+        return ran_out
+    counted = ran_out.copy()
+    counted[:, -1] &= state.steps_left > 0  # the time limit ended the last drone's episode before its battery did
+    return counted
 
 
 @STATISTICS.counter("Cumulative Tree Drop Reward", "The seed-quality part r_s of each drop's reward, whatever "

@@ -77,9 +77,11 @@ def pick_up_seed_explored(prev, state, actions, params):
     "incremental_running_back", title="Incremental Running Back", paper_row=5, low=0.0, high=RUNNING_BACK_REWARD,
     sign="bonus", timing="event", scope="agent",
     description="After a drop, for each 2.5 m increment closer to the station than before, scaled by the drop's "
-                "quality so a whole run back pays up to 20 times rbm.",
+                "quality: a whole run home from D metres pays 20 rbm (floor(D / 2.5) - 3) / (D - 3), about a third "
+                "of 20 rbm.",
     equation="if d_0 < d_-1 and d_0 >= d_charge / s: r_rb = clip(r_p * rbm / (d_init - d_charge / s), 0, r_p);  "
-             "d_0 = floor(|p - dp| / s), rbm = (r_s + r_d) / (sdrm + drm), r_p = 20, s = 2.5, d_charge = 7.5",
+             "d_0 = floor(|p - dp| / s), d_init = |p - dp| at the drop (metres), rbm = (r_s + r_d) / (sdrm + drm), "
+             "r_p = 20, s = 2.5, d_charge = 7.5",
 )
 def incremental_running_back(prev, state, actions, params):
     return state.running_back

@@ -42,6 +42,7 @@ class DroneState:
     new_trees: np.ndarray  # (B, C, 2) float32 planted trees (every released seed), FAR_M in empty slots
     new_quality: np.ndarray  # (B, C) float32 each planted tree's seed quality r_s / 20 in [0, 1] (0: poor spot)
     new_count: np.ndarray  # (B,) int64 planted trees so far
+    steps_left: np.ndarray  # (B,) int64 physics steps to the world's time limit (0 on its last step)
     # the drones
     position: np.ndarray  # (B, A, 3)
     heading: np.ndarray  # (B, A) facing angle from +x, counter-clockwise
@@ -57,7 +58,7 @@ class DroneState:
     best_height: np.ndarray  # (B, A) h_old: highest ground found so far
     best_distance: np.ndarray  # (B, A) d_old: furthest horizontal distance from the station so far
     back_active: np.ndarray  # (B, A) bool, running back to the station after a drop
-    back_init: np.ndarray  # (B, A) int64 d_init: station distance increment at the drop
+    back_init: np.ndarray  # (B, A) d_init: metres from the station (3-D) at the drop
     back_best: np.ndarray  # (B, A) int64 d_-1: closest increment reached since the drop
     back_multiplier: np.ndarray  # (B, A) rbm of the last drop
     flown: np.ndarray  # (B, A) metres flown (3-D path) since the drone last took a seed: its spawn or a return
