@@ -27,10 +27,13 @@ EPISODES = 2
 
 
 @lru_cache(maxsize=None)
-def played(task: int, policy: str, length: int = 5000, pebble_count: int | None = None):
+def played(task: int, policy: str, length: int = 5000, pebble_count: int | None = None,
+           pace: tuple[float, float] | None = None):
     """Per agent-episode: (pebbles per step (T,), crashed per step (T,), Local, Global, Global's episode sum);
-    ``pebble_count`` overrides the world's supply."""
+    ``pebble_count`` overrides the world's supply, ``pace`` (acceleration, turn_rate_deg) the vessels'."""
     supply = {} if pebble_count is None else {"generators": {"pollution": {"pebble_count": pebble_count}}}
+    if pace is not None:
+        supply["params"] = {"acceleration": pace[0], "turn_rate_deg": pace[1]}
     # period 1, so that an env step is a physics step and the per-step state counted by hand is every step's: the
     # running means tick per physics step whatever the period (the default, 5, holds each action five steps)
     compiled = hivex_dsl.compile({"hivex": 1, "environment": "ocean_plastic_collection", "task": task, "agents": 3,
@@ -94,10 +97,11 @@ def test_main_task_local_is_the_mean_collected_count_over_the_collection_steps(p
 
 
 def test_a_short_scripted_episode_collecting_one_pebble_a_step_logs_n_plus_one_over_two():
-    """Test episodes 250 steps long in a sparse world (1,000 pebbles): no vessel collects two pebbles on one step
-    yet (in the default supply some do within 60 steps)."""
+    """Test episodes 250 steps long in a sparse world (1,000 pebbles) of slow vessels (0.5 m a step at the top, the
+    pace before issue 52's fit): no vessel collects two pebbles on one step yet (at the default pace, 2 m a step,
+    some do within 250 steps even among 300 pebbles)."""
     checked = 0
-    for pebbles, crashes, local, _, _ in played(0, "scripted", 250, pebble_count=1000):
+    for pebbles, crashes, local, _, _ in played(0, "scripted", 250, pebble_count=1000, pace=(0.05, 3.0)):
         n = int(pebbles.sum())
         assert pebbles.max() <= 1 and not crashes.any() and n > 0
         assert local == pytest.approx((n + 1) / 2, abs=1e-9)
