@@ -93,7 +93,7 @@ def test_random_play_returns_what_the_originals_untrained_policy_did(task):
     each (the -100 shared out as -33 a vessel-episode), so the return sits within 10 of the original's first point
     (-13.9 and -51.2): the points' band over three runs is under 1 wide, but the point mixes the first 15,000
     agent-steps (one PPO update at 10,240) and ten worlds' collections vary by a few pebbles. Under a crash that
-    ends the crashed vessel alone (crash_outcome: end) random play returns -60.9 and -157.4 on these worlds."""
+    ends the crashed vessel alone (crash_outcome: end) random play returns -62.8 and -156.5 on these worlds."""
     play = random_play(task)
     crashed = (play.terms["crossed_border"] != 0) | (play.terms["collided_with_other_vessel"] != 0)
     assert 0.25 <= crashed.mean() <= 0.45
