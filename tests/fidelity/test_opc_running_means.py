@@ -3,12 +3,11 @@ skipper and the random policy in the main task and Avoid Plastic, checked agains
 
 The pebbles a vessel collects are counted from the simulator's per-step ``collected`` (the Collect Trash term's
 unweighted value), the crashes from its border and vessel-collision flags; the running mean is then worked out
-by hand. In the main task the vessel's own running total steps by +k on a step collecting k pebbles and by -100
-on its crash (which ends its episode, so it is the last change): with m collection steps, C_j pebbles after the
-j-th, and c crashes (0 or 1), Local = (C_1 + ... + C_m + c (n - 100)) / (m + c), n = C_m. Where every
-collection step collects one pebble (C_j = j, m = n) and the vessel did not crash, Local = (n + 1) / 2; with its
-crash at the end, (n (n + 1) / 2 + n - 100) / (n + 1). In Avoid Plastic a touch of k pebbles costs k (Collect
-Trash at -1) + 1 (Collide with Trash): the total steps by -(k + 1), -2 for one pebble.
+by hand. Local counts Collect Trash alone (tests/fidelity/test_opc_local.py): in the main task the running total
+steps by +k on a step collecting k pebbles, and the crash, paid in the return, does not move it: with m
+collection steps and C_j pebbles after the j-th, Local = (C_1 + ... + C_m) / m. Where every collection step
+collects one pebble (C_j = j, m = n) Local = (n + 1) / 2, crashed or not. In Avoid Plastic a touch of k pebbles
+steps it by -k (Collect Trash at -1; Collide with Trash's -1 is paid, not counted), -1 for one pebble.
 """
 
 from __future__ import annotations
@@ -62,13 +61,12 @@ def played(task: int, policy: str, length: int = 5000, pebble_count: int | None 
     return out
 
 
-def by_hand(pebbles: np.ndarray, crashes: np.ndarray, per_touch: int) -> float:
-    """The running mean of the vessel's own total: +k a collection step (main task, ``per_touch`` 0) or -(k + 1)
-    a touch (Avoid Plastic, ``per_touch`` 1, Collect Trash at weight -1), -100 a crash."""
-    sign = 1 if per_touch == 0 else -1
+def by_hand(pebbles: np.ndarray, sign: int) -> float:
+    """The running mean of the vessel's Collect Trash total: +k a collection step (main task, ``sign`` 1) or -k a
+    touch (Avoid Plastic, ``sign`` -1, Collect Trash at weight -1); nothing for a crash."""
     totals, total = [], 0.0
-    for k, crash in zip(pebbles, crashes):
-        step = (sign * (k + per_touch) if k else 0) - 100.0 * crash
+    for k in pebbles:
+        step = sign * float(k)
         if step:
             total += step
             totals.append(total)
@@ -81,17 +79,17 @@ def test_main_task_local_is_the_mean_collected_count_over_the_collection_steps(p
     for pebbles, crashes, local, _, _ in played(0, policy):
         n, m, c = int(pebbles.sum()), int(np.count_nonzero(pebbles)), int(crashes.sum())
         assert c <= 1
-        assert local == pytest.approx(by_hand(pebbles, crashes, 0), abs=1e-9)
+        assert local == pytest.approx(by_hand(pebbles, 1), abs=1e-9)
         if m == n and n and not c:
             cases.add("one a step")
             assert local == pytest.approx((n + 1) / 2, abs=1e-9)
-        elif m == n and c:
+        elif m == n and n and c:
             cases.add("one a step, crashed")
-            assert local == pytest.approx((n * (n + 1) / 2 + n - 100) / (n + 1), abs=1e-9)
+            assert local == pytest.approx((n + 1) / 2, abs=1e-9)  # the crash's -100 is not counted
         elif m < n:
             cases.add("several on a step")
             counts = np.cumsum(pebbles[pebbles > 0])
-            assert local == pytest.approx((counts.sum() + c * (n - 100)) / (m + c), abs=1e-9)
+            assert local == pytest.approx(counts.sum() / m, abs=1e-9)
     # the scripted skipper never crashes and now and then collects two pebbles at once; random play crashes
     assert cases >= ({"several on a step"} if policy == "scripted" else {"one a step, crashed"})
 
@@ -110,12 +108,12 @@ def test_a_short_scripted_episode_collecting_one_pebble_a_step_logs_n_plus_one_o
 
 
 @pytest.mark.parametrize("policy", ["scripted", "random"])
-def test_avoid_plastic_local_steps_by_minus_two_a_touched_pebble(policy):
+def test_avoid_plastic_local_steps_by_minus_one_a_touched_pebble(policy):
     for pebbles, crashes, local, global_mean, global_sum in played(3, policy):
-        assert local == pytest.approx(by_hand(pebbles, crashes, 1), abs=1e-9)
+        assert local == pytest.approx(by_hand(pebbles, -1), abs=1e-9)
         m = int(np.count_nonzero(pebbles))
-        if m == pebbles.sum() and not crashes.any():  # m touches of one pebble: -2, -4, ..., -2m
-            assert local == pytest.approx(-(m + 1) if m else 0.0, abs=1e-9)
+        if m == pebbles.sum():  # m touches of one pebble: -1, -2, ..., -m, crashed or not
+            assert local == pytest.approx(-(m + 1) / 2 if m else 0.0, abs=1e-9)
         assert global_mean == global_sum == 0.0  # the lowest count has weight 0 in Avoid Plastic
 
 

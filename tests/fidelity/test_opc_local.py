@@ -1,0 +1,66 @@
+"""What Ocean Plastic Collection's Local Reward counts: Collect Trash's pay alone (+1 a pebble, -1 in Avoid Plastic),
+not the crash's -100 and not Collide with Trash (the reward table's Local note has the evidence).
+
+The original's untrained policy (its first training point, uniform over both action branches in every task) logs
+Local +18.97 in the main task and -18.94 in Avoid Plastic: the same policy in the same world collects the same
+pebbles, so the statistic moves by +1 and -1 a pebble. Counting the crash would pull both down by about
+200 f / (x + f) together (f >= 1/3 of vessel-episodes pay -100: every untrained world ends on a crash, which
+charges at least one of its three vessels; x <= 18 pebbles a vessel-episode), at least 3.6; counting Collide with
+Trash would double Avoid Plastic's.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+import hivex_dsl
+from hivex_dsl.envs.ocean_plastic_collection.camera import build_field
+from hivex_dsl.evaluation.original.curves import original_curves
+from hivex_dsl.runtime.batched import BatchedEnv
+
+ENV = "ocean_plastic_collection"
+GO, NOOP = [1, 0], [0, 0]
+
+
+def first_point(task: int, panel: str) -> float:
+    """The original's training mean at its first summary point (15,000 agent-steps): the untrained policy."""
+    return float(original_curves(ENV, task, None).panels[panel].training.mean_at(15_000))
+
+
+def test_the_originals_untrained_local_is_a_mirror_image_across_the_main_task_and_avoid_plastic():
+    main, avoid = first_point(0, "Local Reward"), first_point(3, "Local Reward")
+    assert main > 15 and abs(main + avoid) < 0.5, (main, avoid)
+    # tasks 1 and 2 pay the same +1 a pebble and log about the same (their shaping terms stay out of Local)
+    assert all(abs(first_point(task, "Local Reward") - main) < 1.5 for task in (1, 2))
+
+
+def collect_then_cross(task: int) -> BatchedEnv:
+    """One world at the default decision period (5): vessel 0 at x = 186 m heading +x at its top speed (2 m a physics
+    step), one pebble at (191, 0) in its path, the other vessels far from it, the border and each other. Its
+    collector sweeps the pebble within the first decision, and it leaves the world at physics step 8 (x = 202),
+    inside the second decision (test_opc_endings works the same run out)."""
+    compiled = hivex_dsl.compile({"hivex": 1, "environment": ENV, "task": task, "agents": 3, "episode_length": 5000,
+                                  "seeds": {"train": 5000, "test": 6000}})
+    env = BatchedEnv(compiled, batch=1, split="test")
+    env.reset()
+    env.state = replace(env.state, position=np.array([[[186.0, 0.0], [0.0, 0.0], [-60.0, 60.0]]]),
+                        heading=np.zeros((1, 3)), speed=np.array([[2.0, 0.0, 0.0]]),
+                        pebbles=build_field(np.array([[[191.0, 0.0], [-150.0, -150.0]]]), env.sim.geometry))
+    for _ in range(2):
+        env.step(np.array([[GO, NOOP, NOOP]]))
+    return env
+
+
+@pytest.mark.parametrize(("task", "sign"), [(0, 1), (3, -1)])
+def test_a_vessel_that_takes_one_pebble_and_crosses_the_border_logs_the_pebble_alone(task, sign):
+    """By hand: the vessel's Collect Trash total steps to +1 (main task) or -1 (Avoid Plastic) when it takes the
+    pebble and does not move again, so its running mean is +1 or -1; the crash's -100 and Avoid Plastic's Collide
+    with Trash are paid (the return is 1 - 100 = -99, or -1 - 1 - 100 = -102) but not counted. Counting them, as
+    this toolkit did, logged (1 + (1 - 100)) / 2 = -49 and (-2 + (-2 - 100)) / 2 = -52."""
+    env = collect_then_cross(task)
+    assert env.term_sums["collect_trash"][0].tolist() == [1.0, 0.0, 0.0]
+    assert env.returns[0].tolist() == [-99.0 if task == 0 else -102.0, 0.0, 0.0]
+    assert env.statistic_sums()["Local Reward"][0].tolist() == [sign * 1.0, 0.0, 0.0]
