@@ -81,7 +81,8 @@ ENTRY = register(EnvironmentEntry(
         "Trash Collected (paid on collection), about 0.01 x (pebbles collected by the whole team) x (the lowest "
         "count at the time), about 0.01 x 3c x 0.4c = 0.012 c^2 for three vessels at an even pace. The scripted "
         "skipper collects about 706 pebbles a vessel-episode (return about 6,980; it never crashes); the logged "
-        "Local and Global Reward are running means, pooled over vessel-episodes (the reward table's notes). Random "
+        "Local Reward is the vessel-episode's collected count and Global Reward a running mean, pooled over "
+        "vessel-episodes (the reward table's notes). Random "
         "play collects about 12 before one vessel of its world crosses the border and ends the world's episode.",
     ),
 ))
