@@ -5,7 +5,8 @@ both action branches) lives about 35 decisions a vessel-episode. The same untrai
 main task (+1 a pebble) and -51.2 in Avoid Plastic (-2 a pebble), so with x pebbles a vessel-episode and a share f
 of vessel-episodes paying the -100 of a crash, x - 100 f = -13.9 - G and -2 x - 100 f = -51.2 (G, what the lowest
 count paid, a few points): f is about 0.29, near the 1/3 that one vessel's crash ending all three vessels' episodes
-gives, far from the 1 a crash ending only the crashed vessel's episode would need for episodes that short.
+gives, far from the 1 a crash ending only the crashed vessel's episode would need for episodes that short. With x
+the untrained Local itself (18.97, a count: test_opc_local), f is 0.34-0.38 and a touched pebble costs under 1.
 ``crash_outcome: end_world`` (the default) models it; the reward table's ending note has the evidence.
 """
 

@@ -102,3 +102,20 @@ def test_the_originals_avoid_plastic_local_is_added_once_per_vessel_episode():
     assert all(d in (1, 3, 5, 15, 7, 21, 9, 45) for d in denominators), sorted(set(denominators), key=str)
     assert 0.4 < denominators.count(15) / len(edges) < 0.65  # 8/15 of integers k over 15 stay over 15
     assert local.test.upper.max() > -1  # a test run above -1: -19/21 at the first test point
+
+
+@pytest.mark.parametrize("lowest_per_global", [1.0, 4.0])
+def test_the_originals_untrained_returns_price_a_touched_pebble_under_one(lowest_per_global):
+    """Evidence for the Local note's open (a), which this toolkit's reward (2 a touched pebble) does not follow. With
+    Local the vessel-episode's count, the untrained policy collected x = 18.97 pebbles a vessel-episode (-18.94 in
+    Avoid Plastic). Main task: x + G - 100 f = -13.86; Avoid Plastic: -c x - 100 f = -51.22, with G what the lowest
+    count paid a vessel-episode, at least the logged Global (1.39, a running mean of a growing total is at most its
+    end) and at most about 4 times it. By hand at G = 1.39: f = (18.97 + 1.39 + 13.86) / 100 = 0.342 and
+    c = (51.22 - 34.22) / 18.94 = 0.90; at G = 5.56: f = 0.384, c = 0.68. c = 2 would need G = -19.5 and c = 1
+    G = -0.5, both impossible (G >= 0)."""
+    pebbles, avoid_pebbles = first_point(0, "Local Reward"), -first_point(3, "Local Reward")
+    lowest = lowest_per_global * first_point(0, "Global Reward")
+    crashed = (pebbles + lowest - first_point(0, "Cumulative Reward")) / 100
+    per_pebble = (-first_point(3, "Cumulative Reward") - 100 * crashed) / avoid_pebbles
+    assert 1 / 3 - 0.01 < crashed < 0.4, crashed
+    assert 0.6 < per_pebble < 0.95, per_pebble

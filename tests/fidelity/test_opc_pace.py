@@ -10,7 +10,9 @@ Two records fix the pace (the reward table's pace note has the numbers):
   they lived: the original's trained vessels collected r = 1.0 pebble a decision.
 
 The supply is then the one at which random play collects what the original's untrained policy collected: 11.0
-pebbles a vessel-episode, from its first training points' returns (test_opc_endings' two equations).
+pebbles a vessel-episode, from its first training points' returns at 2 a touched pebble (test_opc_endings' two
+equations). That fit is contested: with Local the vessel-episode's count, the untrained collected its Local, 18.97,
+and its returns price a touched pebble under 1 (test_opc_local; the reward table's Local note, open (a)).
 """
 
 from __future__ import annotations
