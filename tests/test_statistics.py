@@ -87,29 +87,28 @@ def test_dbr_best_so_far_statistics_are_the_best_values_reached():
     assert np.all(stats["Cumulative Normalized Distance Until Tree Drop"] <= stats["Tree Drop Count"] + 1e-12)
 
 
-def test_opc_local_and_global_are_running_means_of_the_vessels_events_and_the_shared_terms():
-    """Local and Global Reward were mirrors whose sum was the return; they are now running means (the original logs
-    the mean of a running total, see the reward table's notes): Local of the vessel's own events (every
-    agent-scope term but the tasks' shaping terms, which the published Local shows it leaves out), Global of the
-    shared terms, and each statistic is the running mean of its group's pay."""
+def test_opc_local_is_collect_trash_s_episode_sum_and_global_a_running_mean_of_the_shared_terms():
+    """Local Reward is a mirror of Collect Trash alone, its episode sum (the original adds it once per vessel-episode
+    and leaves the crash out: tests/fidelity/test_opc_local.py); Global Reward the running mean of the shared terms'
+    pay (the original adds that running total each time it changes; see the reward table's notes)."""
     compiled = hivex_dsl.compile({"hivex": 1, "environment": "ocean_plastic_collection", "agents": 3,
                                   "episode_length": 150, "decision_period": 1})  # a step() call is a physics step
     statistics = compiled.entry.statistics
-    local, shared = statistics["Local Reward"].running_mean, statistics["Global Reward"].running_mean
-    shaping = {"nearby_trash_count_delta", "close_to_other_vessel"}
-    assert sorted(local + shared + tuple(shaping)) == sorted(compiled.entry.terms.names)
-    assert not set(local) & set(shared) and set(shared) == {"lowest_collected_trash_count"}
+    assert statistics["Local Reward"].kind == "mirror" and statistics["Local Reward"].mirror == ("collect_trash",)
+    shared = statistics["Global Reward"].running_mean
+    assert shared == ("lowest_collected_trash_count",)
     env, records = _roll(compiled, policy="scripted")
     stats = env.statistic_sums()
-    for name, terms in (("Local Reward", local), ("Global Reward", shared)):
-        pay = np.array([sum(compiled.weights[t] * values[t] for t in terms if t in values)
-                        for _, _, values, _ in records])  # (T, batch, agents)
-        totals = np.cumsum(pay, axis=0)
-        changed = pay != 0
-        expected = np.divide((totals * changed).sum(axis=0), changed.sum(axis=0),
-                             out=np.zeros(env.shape), where=changed.any(axis=0))
-        np.testing.assert_allclose(stats[name], expected)
-    assert np.any(stats["Local Reward"] > 0) and np.any(stats["Global Reward"] > 0)
+    pay = np.array([sum(compiled.weights[t] * values[t] for t in shared if t in values)
+                    for _, _, values, _ in records])  # (T, batch, agents)
+    totals = np.cumsum(pay, axis=0)
+    changed = pay != 0
+    expected = np.divide((totals * changed).sum(axis=0), changed.sum(axis=0),
+                         out=np.zeros(env.shape), where=changed.any(axis=0))
+    np.testing.assert_allclose(stats["Global Reward"], expected)
+    collected = np.array([values["collect_trash"] for _, _, values, _ in records]).sum(axis=0)
+    np.testing.assert_allclose(stats["Local Reward"], compiled.weights["collect_trash"] * collected)
+    assert np.any(stats["Local Reward"] > 1) and np.any(stats["Global Reward"] > 0)
 
 
 def _running(*terms: str) -> RunningMeans:
@@ -168,7 +167,7 @@ def test_the_runtime_clears_a_running_mean_where_an_agent_or_a_world_starts_agai
     episode ended alone) and a reset world, like the episode sums; checked against the terms' pay after it."""
     compiled = hivex_dsl.compile({"hivex": 1, "environment": "ocean_plastic_collection", "agents": 3,
                                   "episode_length": 300, "decision_period": 1})  # a step() call is a physics step
-    terms = compiled.entry.statistics["Local Reward"].running_mean
+    terms = compiled.entry.statistics["Global Reward"].running_mean
     env = BatchedEnv(compiled, batch=2, split="test")
     observations = env.reset()
     act = make_policy("scripted", compiled, env.sim.action_space, env.shape, seed=3)
@@ -188,7 +187,7 @@ def test_the_runtime_clears_a_running_mean_where_an_agent_or_a_world_starts_agai
         pay = np.array([p[world, agent] for step, p in pays if step >= started[world, agent]])
         totals = np.cumsum(pay)[pay != 0]
         expected[world, agent] = totals.mean() if totals.size else 0.0
-    np.testing.assert_allclose(env.statistic_sums()["Local Reward"], expected)
+    np.testing.assert_allclose(env.statistic_sums()["Global Reward"], expected)
     assert np.count_nonzero(expected) == 6
 
 

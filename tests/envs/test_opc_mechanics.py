@@ -41,28 +41,42 @@ def floating(state) -> set[tuple[float, float]]:
     return {(float(p.real), float(p.imag)) for p in field.z[0][field.alive[0]]}
 
 
-def test_throttle_accelerates_and_steering_turns_3_degrees():
+def test_throttle_accelerates_and_steering_turns_6_degrees():
+    """The default pace, fitted to the original's untrained Episode Length (the reward table's pace note)."""
     sim = simulator(3)
     state = hand_built(sim, [(0, 0), (50, 0), (-50, 0)], [0, 90, 0], [(150, 150)], speeds=[0.0, 0.3, 0.3])
     new, _ = step(sim, state, [[1, 0], [0, 1], [1, 2]])
-    # speed' = 0.9 speed + 0.05 throttle: 0.05, 0.27, 0.32; turn right is clockwise
-    np.testing.assert_allclose(new.speed[0], [0.05, 0.27, 0.32])
-    np.testing.assert_allclose(np.degrees(new.heading[0]), [0.0, 87.0, 3.0])
+    # speed' = 0.9 speed + 0.2 throttle: 0.2, 0.27, 0.47; turn right is clockwise
+    np.testing.assert_allclose(new.speed[0], [0.2, 0.27, 0.47])
+    np.testing.assert_allclose(np.degrees(new.heading[0]), [0.0, 84.0, 6.0])
     moved = new.position[0] - state.position[0]
-    np.testing.assert_allclose(moved[0], [0.05, 0.0], atol=1e-12)
-    np.testing.assert_allclose(moved[1], 0.27 * np.array([np.cos(np.radians(87)), np.sin(np.radians(87))]))
-    np.testing.assert_allclose(moved[2], 0.32 * np.array([np.cos(np.radians(3)), np.sin(np.radians(3))]))
+    np.testing.assert_allclose(moved[0], [0.2, 0.0], atol=1e-12)
+    np.testing.assert_allclose(moved[1], 0.27 * np.array([np.cos(np.radians(84)), np.sin(np.radians(84))]))
+    np.testing.assert_allclose(moved[2], 0.47 * np.array([np.cos(np.radians(6)), np.sin(np.radians(6))]))
+
+
+def test_throttle_held_from_rest_reaches_2_m_a_step():
+    """speed_k = 0.2 (1 + 0.9 + ... + 0.9^(k-1)) = 2 (1 - 0.9^k): 1.3 m a step after ten steps, 2 at the limit (a
+    top speed of 0.5 before the pace was fitted, issue 52); the vessel has then covered
+    the sum of those speeds, 2 k - 18 (1 - 0.9^k) m."""
+    sim = simulator(1)
+    state = hand_built(sim, [(0, 0)], [0], [(150, 150)])
+    for _ in range(10):
+        state, _ = step(sim, state, [GO])
+    assert state.speed[0, 0] == pytest.approx(2 * (1 - 0.9 ** 10))
+    assert state.position[0, 0, 0] == pytest.approx(20 - 18 * (1 - 0.9 ** 10))
+    assert sim.geometry.top_speed == pytest.approx(2.0)
 
 
 def test_the_collector_takes_what_it_swept_in_front_of_the_vessel():
     sim = simulator(1)
-    # speed 0.5 with throttle stays 0.5: the vessel moves from (0, 0) to (0.5, 0) facing +x. The
-    # collector covers forward in [-0.5, 3] and left in [-1.5, 1.5] around the new position.
-    taken = [(3.4, 0.0), (0.3, 0.0), (2.0, 1.4), (1.0, -1.4)]
-    left = [(3.6, 0.0), (-0.1, 0.0), (2.0, 1.6), (2.0, -1.6), (-5.0, 0.0)]
-    state = hand_built(sim, [(0, 0)], [0], taken + left, speeds=[0.5])
+    # top speed 2 with throttle stays 2 (0.9 x 2 + 0.2): the vessel moves from (0, 0) to (2, 0) facing +x. The
+    # collector covers forward in [-2, 3] and left in [-1.5, 1.5] around the new position.
+    taken = [(4.9, 0.0), (0.3, 0.0), (2.0, 1.4), (1.0, -1.4)]
+    left = [(5.1, 0.0), (-0.1, 0.0), (2.0, 1.6), (2.0, -1.6), (-5.0, 0.0)]
+    state = hand_built(sim, [(0, 0)], [0], taken + left, speeds=[2.0])
     new, outcome = step(sim, state, [GO])
-    assert new.position[0, 0, 0] == pytest.approx(0.5)
+    assert new.position[0, 0, 0] == pytest.approx(2.0)
     assert floating(new) == set(left)
     assert new.collected[0, 0] == 4 and new.collected_total[0, 0] == 4
     assert collect_trash(state, new, None, sim.params)[0, 0] == 4.0

@@ -47,7 +47,7 @@ def test_a_running_mean_is_pooled_not_averaged_over_episodes():
     assert log.drain()["statistics"] == {"Local Reward": 11 / 4, "Crashes": 0.5}
 
 
-def test_training_logs_opc_local_reward_pooled_over_the_changes_of_its_running_total():
+def test_training_logs_opc_global_reward_pooled_over_the_changes_of_its_running_total():
     import hivex_dsl
     from hivex_dsl.adapters.gymnasium import HivexVectorEnv
 
@@ -57,7 +57,7 @@ def test_training_logs_opc_local_reward_pooled_over_the_changes_of_its_running_t
     env = HivexVectorEnv(compiled, num_worlds=2)
     env.reset(seed=3)
     env.action_space.seed(0)
-    terms = env.core.statistics["Local Reward"].running_mean
+    terms = env.core.statistics["Global Reward"].running_mean
     total, sums, counts = (np.zeros(env.num_envs) for _ in range(3))
     ended_sums, ended_counts, log = [], [], EpisodeLog()
     for _ in range(320):  # two whole episodes of every slot, and some respawns after crashes
@@ -75,4 +75,4 @@ def test_training_logs_opc_local_reward_pooled_over_the_changes_of_its_running_t
     expected_sums, expected_counts = np.concatenate(ended_sums), np.concatenate(ended_counts)
     assert drained["episodes"] == expected_sums.size > 2 * env.num_envs - 1
     assert expected_counts.sum() > 0
-    assert drained["statistics"]["Local Reward"] == pytest.approx(expected_sums.sum() / expected_counts.sum())
+    assert drained["statistics"]["Global Reward"] == pytest.approx(expected_sums.sum() / expected_counts.sum())

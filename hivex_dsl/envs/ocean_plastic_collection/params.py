@@ -18,12 +18,15 @@ CrashOutcome = Literal["end_world", "end", "respawn"]
 
 
 class OceanPlasticCollectionParams(StrictModel):
-    acceleration: float = Field(0.05, gt=0.0, le=1.0, description=(
-        "[ours] Metres per step added to the vessel's speed on each step it accelerates (throttle 1)."))
+    acceleration: float = Field(0.2, gt=0.0, le=1.0, description=(
+        "[orig] Metres per step added to the vessel's speed on each step it accelerates (throttle 1); fitted with "
+        "turn_rate_deg to the original's untrained policy, whose vessel-episodes last 32.5-35.2 decisions (the reward "
+        "table's pace note)."))
     drag: float = Field(0.1, ge=0.05, le=1.0, description=(
-        "[ours] Fraction of its speed a vessel loses each step; top speed is acceleration / drag (0.5 m per step)."))
-    turn_rate_deg: float = Field(3.0, gt=0.0, le=45.0, description=(
-        "[ours] Degrees a vessel turns per step while steering right or left (it turns at any speed)."))
+        "[ours] Fraction of its speed a vessel loses each step; top speed is acceleration / drag (2 m per step)."))
+    turn_rate_deg: float = Field(6.0, gt=0.0, le=45.0, description=(
+        "[orig] Degrees a vessel turns per step while steering right or left (it turns at any speed); fitted with "
+        "acceleration (the reward table's pace note)."))
     collector_reach_m: float = Field(3.0, gt=0.0, le=20.0, description=(
         "[ours] The collector reaches this far ahead of the vessel's centre; a pebble it sweeps over is collected."))
     collector_half_width_m: float = Field(1.5, gt=0.0, le=10.0, description=(

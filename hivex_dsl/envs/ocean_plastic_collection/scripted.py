@@ -3,7 +3,7 @@
 Rules, each overriding the ones before it:
 
 1. Steer for the camera cell with the most trash per step of travel, leaving alone trash within
-   ``SAFE_MARGIN_M`` of the border or ``AVOID_M`` of another vessel; idle the throttle to turn on
+   ``SAFE_MARGIN_M`` of the border or ``AVOID_STEPS`` of travel from another vessel; idle the throttle to turn on
    the spot when that cell is close and far off the bow. With no trash in sight, go straight,
    turning home when the course runs within ``BORDER_MARGIN_M`` of the border ``LOOKAHEAD_M`` ahead.
 2. Group Up only: head for the closest vessel, at full speed while far, creeping once near (the
@@ -25,17 +25,17 @@ from .camera import CAMERA_CELL_M, CAMERA_CELLS, CAMERA_HALF_M
 LOOKAHEAD_M = 30.0
 BORDER_MARGIN_M = 25.0  # the course is turned home when it runs this close to the border
 SAFE_MARGIN_M = 15.0  # trash this close to the border is left alone
-AVOID_M = 15.0
+AVOID_STEPS = 30.0  # another vessel ahead within this many steps' travel at top speed is turned away from
 PATIENCE_STEPS = 40.0  # a cell this many steps away is worth half as much as one at the bow
 SHARP_TURN = np.radians(50.0)
 SLOW_DOWN_M = 8.0
 HOLD_TOLERANCE = np.radians(2.0)
 ASTERN = np.radians(170.0)
-DANGER_AHEAD_M = 15.0  # closer than DANGER_MARGIN_M to the border this far ahead: stop and turn home
+DANGER_AHEAD_STEPS = 30.0  # closer than DANGER_MARGIN_M to the border this many steps ahead: stop and turn home
 DANGER_MARGIN_M = 5.0
-GROUP_SPRINT_M = 20.0  # Group Up: full speed toward the closest vessel beyond this gap, creeping within it
+GROUP_SPRINT_STEPS = 40.0  # Group Up: full speed to the closest vessel beyond this many steps' travel, creeping within
 GROUP_BAND = 0.8  # Group Up: idle once nearer than this fraction of the close distance
-GROUP_AVOID = 1.3  # Group Up: turn away only within this multiple of the collision distance
+GROUP_AVOID = 2.0  # Group Up: turn away only within this multiple of the collision distance
 CREEP_SPEED = 0.05  # metres per step
 
 
@@ -61,10 +61,10 @@ def bearing_of(direction: np.ndarray, offset: np.ndarray) -> np.ndarray:
     return -np.arctan2(cross, dot)
 
 
-def trash_target(density, worth, position, direction, safe_m, neighbour):
+def trash_target(density, worth, position, direction, safe_m, neighbour, clear_m):
     """The best camera cell: (B, A, 25, 25) densities summed over 3 x 3 neighbours (favouring
     clusters), weighted by ``worth`` (25, 25), among the cells whose centre lies within ``safe_m``
-    of the world's centre on both axes and at least ``AVOID_M`` from the closest other vessel at
+    of the world's centre on both axes and at least ``clear_m`` from the closest other vessel at
     ``neighbour`` (B, A, 2) metres. Returns (found, bearing, distance), each (B, A)."""
     forward, right = cell_centres()
     padded = np.pad(density, ((0, 0), (0, 0), (1, 1), (1, 1)))
@@ -72,7 +72,7 @@ def trash_target(density, worth, position, direction, safe_m, neighbour):
     heading_x, heading_y = direction[..., 0, None, None], direction[..., 1, None, None]
     world_x = position[..., 0, None, None] + forward * heading_x + right * heading_y
     world_y = position[..., 1, None, None] + forward * heading_y - right * heading_x
-    clear = np.hypot(world_x - neighbour[..., 0, None, None], world_y - neighbour[..., 1, None, None]) >= AVOID_M
+    clear = np.hypot(world_x - neighbour[..., 0, None, None], world_y - neighbour[..., 1, None, None]) >= clear_m
     safe = (np.abs(world_x) < safe_m) & (np.abs(world_y) < safe_m) & clear
     score = ((density + 0.25 * cluster) * worth * safe).reshape(density.shape[:2] + (-1,))
     best = np.argmax(score, axis=-1)
@@ -88,18 +88,18 @@ def cruise_rules(position, direction, half, found, steer, throttle):
     return np.where(found, steer, np.where(leaving, home, 0)), np.where(found, throttle, 1)
 
 
-def danger_rules(position, direction, half, steer, throttle):
-    """Stop and turn home when the bow points at the border close by."""
-    danger = (np.abs(position + DANGER_AHEAD_M * direction) > half - DANGER_MARGIN_M).any(axis=-1)
+def danger_rules(position, direction, half, ahead_m, steer, throttle):
+    """Stop and turn home when the bow points at the border close by (within ``ahead_m``)."""
+    danger = (np.abs(position + ahead_m * direction) > half - DANGER_MARGIN_M).any(axis=-1)
     home = steer_toward(bearing_of(direction, -position))
     return np.where(danger, home, steer), np.where(danger, 0, throttle)
 
 
-def group_rules(gap, bearing, speed, close_m, steer, throttle):
+def group_rules(gap, bearing, speed, close_m, sprint_m, steer, throttle):
     """Head for the closest vessel: at full speed while far, creeping (at most CREEP_SPEED) once
-    within GROUP_SPRINT_M, and idle once nearer than GROUP_BAND of the close distance."""
+    within ``sprint_m``, and idle once nearer than GROUP_BAND of the close distance."""
     far = np.isfinite(gap) & (gap >= GROUP_BAND * close_m)
-    sprint = gap > GROUP_SPRINT_M
+    sprint = gap > sprint_m
     steer = np.where(far, steer_toward(bearing), steer)
     creep = (speed < CREEP_SPEED).astype(np.int64)
     throttle = np.where(far, np.where(sprint, 1, creep), np.where(np.isfinite(gap), 0, throttle))
@@ -123,9 +123,12 @@ def scripted_policy(compiled) -> Callable[[dict], np.ndarray]:
     worth = 1.0 / (1.0 + steps_away / PATIENCE_STEPS)
     hold_still = weights.get("collect_trash", 0.0) < 0.0
     group_up = weights.get("close_to_other_vessel", 0.0) > 0.0
+    # Distances in steps of travel at top speed, so the skipper keeps its margins at any vessel pace (issue 52: the
+    # default vessels run 2 m a step, where margins fitted at 0.5 m a step crashed most worlds' vessels).
+    clear_m, ahead_m, sprint_m = AVOID_STEPS * top_speed, DANGER_AHEAD_STEPS * top_speed, GROUP_SPRINT_STEPS * top_speed
     # Grouping vessels creep, so they turn away only when nearly touching, and then idle.
-    avoid_m = GROUP_AVOID * params.collision_distance_m if group_up else AVOID_M
-    idle_m = avoid_m if group_up else AVOID_M / 2
+    avoid_m = GROUP_AVOID * params.collision_distance_m if group_up else clear_m
+    idle_m = avoid_m if group_up else clear_m / 2
 
     def act(observations: dict) -> np.ndarray:
         vector, density = observations["vector"], observations["visual"][..., 0]
@@ -134,7 +137,8 @@ def scripted_policy(compiled) -> Callable[[dict], np.ndarray]:
         position, direction = vector[..., 0:2] * half, vector[..., 2:4]
         has_neighbour = np.any(vector[..., 4:6] != 0.0, axis=-1)
         neighbour = np.where(has_neighbour[..., None], vector[..., 4:6] * half, np.inf)
-        found, bearing, distance = trash_target(density, worth, position, direction, half - SAFE_MARGIN_M, neighbour)
+        found, bearing, distance = trash_target(density, worth, position, direction, half - SAFE_MARGIN_M, neighbour,
+                                                clear_m)
         steer = steer_toward(bearing)
         throttle = np.where((np.abs(bearing) > SHARP_TURN) & (distance < SLOW_DOWN_M), 0, 1)
         steer, throttle = cruise_rules(position, direction, half, found, steer, throttle)
@@ -143,9 +147,10 @@ def scripted_policy(compiled) -> Callable[[dict], np.ndarray]:
         neighbour_bearing = bearing_of(direction, offset)
         if group_up:
             speed = np.hypot(*np.moveaxis(vector[..., 0:2] - vector[..., 6:8], -1, 0)) * half
-            steer, throttle = group_rules(gap, neighbour_bearing, speed, params.close_distance_m, steer, throttle)
+            steer, throttle = group_rules(gap, neighbour_bearing, speed, params.close_distance_m, sprint_m,
+                                           steer, throttle)
         steer, throttle = avoid_rules(gap, neighbour_bearing, avoid_m, idle_m, steer, throttle)
-        steer, throttle = danger_rules(position, direction, half, steer, throttle)
+        steer, throttle = danger_rules(position, direction, half, ahead_m, steer, throttle)
         return np.stack([throttle, steer], axis=-1).astype(np.int64)
 
     return act
