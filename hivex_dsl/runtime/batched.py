@@ -19,6 +19,7 @@ from ..base.numeric import all_true, constant
 from ..compiler import CompiledScenario
 from ..sim.reward.composer import RewardComposer
 from ..sim.spaces import hold_inactive, placeholder_actions
+from ..sim.stacking import stack_per_decision
 from ..sim.statistics import RunningMeans, StatisticSet, episode_statistics
 from .contract import Simulator, StepOutcome, missing_members
 from .seeding import SeedSchedule
@@ -98,6 +99,9 @@ class BatchedEnv:
         self.lengths = np.zeros(shape, np.int64)
         self.period = compiled.decision_period
         self.decisions = self.lengths if self.period == 1 else np.zeros(shape, np.int64)
+        self._stacks = int(getattr(self.sim, "observation_stacks", 1))
+        # at a period of 1 the simulator's own shift of its stacks every physics step is a shift every decision
+        self._stacked = tuple(getattr(self.sim, "stacked_fields", ())) if self.period > 1 and self._stacks > 1 else ()
         self.everyone_playing = False  # == bool(self.alive.all()), kept so a step needs no reduction for it
         self.oldest_clock = 0  # == int(self.clock.max()): a step knows without a reduction whether a world truncates
         self._step_info = getattr(self.sim, "step_info", None)
@@ -199,7 +203,9 @@ class BatchedEnv:
         A decision is ``decision_period`` physics steps with the same actions held (ML-Agents' DecisionRequester
         with TakeActionsBetweenDecisions): rewards and term values are summed over them, an agent ending at
         one of them plays a placeholder and earns nothing for the rest, and the endings are those of any of
-        them. Observations are taken once, after the last (observing costs as much as a step with a camera).
+        them. Observations are taken once, after the last (observing costs as much as a step with a camera); their
+        older stacks are the previous decision's newest, as ML-Agents' stacking sensors shift once a decision
+        (:mod:`hivex_dsl.sim.stacking`).
 
         ``restart`` (batch,) bool, if given, starts new episodes in those worlds right after the
         decision (continuing the random stream), so the returned observations are their first ones;
@@ -209,6 +215,7 @@ class BatchedEnv:
         respawns those agents (:meth:`respawn_agents`) after the decision, before any restart.
         """
         self._require_reset()
+        start = self.state
         if self.period > 1:
             self.decisions += self.alive  # an agent ending inside the period ends on this decision
         summed = self._physics_step(actions)
@@ -217,6 +224,8 @@ class BatchedEnv:
         for _ in range(1, self.period):
             summed = _summed(summed, self._physics_step(actions))
         rewards, terms, terminated, truncated, ended, world_terminated = summed
+        if self._stacked:
+            self.state = stack_per_decision(start, self.state, self._stacked, self._stacks)
         self.ended_last = ended  # their last observation is this decision's (the global state shows it)
         env_info = self._step_info(self.state) if self._step_info is not None else {}
         if respawn is not None:

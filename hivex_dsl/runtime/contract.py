@@ -122,6 +122,12 @@ class StacksObservations(Protocol):
     def observation_stacks(self) -> int:
         """How many copies of ``observation_labels`` the vector observation holds (1 without the attribute)."""
 
+    @property
+    def stacked_fields(self) -> tuple[str, ...]:
+        """The state fields holding stacked observations, each stacked newest first on its last axis and shifted
+        every physics step; at a decision period above 1 the runtime puts the previous decision's newest stacks
+        behind each decision's newest, as ML-Agents' stacking sensors hold them (:mod:`hivex_dsl.sim.stacking`)."""
+
 
 REQUIRED = (Simulator,)
 OPTIONAL = (Respawns, ReportsStepInfo, StacksObservations)

@@ -54,6 +54,7 @@ class DroneReforestationSimulator:
                           "direction x", "direction y", "direction z", "drone station height", "holding seed",
                           "energy level")
     observation_stacks = 2
+    stacked_fields = ("frames",)  # shifted every physics step; the runtime stacks them per decision
     render_fps = 20
 
     def __init__(self, compiled):
@@ -182,7 +183,8 @@ class DroneReforestationSimulator:
 
     def _frames(self, previous: np.ndarray, flight: Flight, station: np.ndarray, holding: np.ndarray,
                 energy: np.ndarray) -> np.ndarray:
-        """(B, A, 20) float32: this step's normalised vector observation, then the previous step's."""
+        """(B, A, 20) float32: this step's normalised vector observation, then the previous physics step's (at a
+        decision period above 1 the runtime puts the previous decision's there: :mod:`hivex_dsl.sim.stacking`)."""
         bound = self.params.height_bound_m
         frames = np.empty(previous.shape, np.float32)
         frames[..., VECTOR_SIZE:] = previous[..., :VECTOR_SIZE]

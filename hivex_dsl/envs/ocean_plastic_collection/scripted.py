@@ -7,7 +7,7 @@ Rules, each overriding the ones before it:
    the spot when that cell is close and far off the bow. With no trash in sight, go straight,
    turning home when the course runs within ``BORDER_MARGIN_M`` of the border ``LOOKAHEAD_M`` ahead.
 2. Group Up only: head for the closest vessel, at full speed while far, creeping once near (the
-   speed is read from the two stacked positions), idling once within the close distance.
+   speed is read from the two stacked positions, a decision apart), idling once within the close distance.
 3. Turn away from a vessel close ahead, idling when it is very close.
 4. Stop and turn home when the bow points at the border close by.
 
@@ -121,6 +121,7 @@ def scripted_policy(compiled) -> Callable[[dict], np.ndarray]:
     forward, right = cell_centres()
     steps_away = np.hypot(forward, right) / top_speed + np.abs(np.arctan2(right, forward)) / np.radians(params.turn_rate_deg)
     worth = 1.0 / (1.0 + steps_away / PATIENCE_STEPS)
+    period = compiled.decision_period  # the stacked positions are a decision, this many physics steps, apart
     hold_still = weights.get("collect_trash", 0.0) < 0.0
     group_up = weights.get("close_to_other_vessel", 0.0) > 0.0
     # Distances in steps of travel at top speed, so the skipper keeps its margins at any vessel pace (issue 52: the
@@ -146,7 +147,7 @@ def scripted_policy(compiled) -> Callable[[dict], np.ndarray]:
         gap = np.where(has_neighbour, np.hypot(offset[..., 0], offset[..., 1]), np.inf)
         neighbour_bearing = bearing_of(direction, offset)
         if group_up:
-            speed = np.hypot(*np.moveaxis(vector[..., 0:2] - vector[..., 6:8], -1, 0)) * half
+            speed = np.hypot(*np.moveaxis(vector[..., 0:2] - vector[..., 6:8], -1, 0)) * (half / period)
             steer, throttle = group_rules(gap, neighbour_bearing, speed, params.close_distance_m, sprint_m,
                                            steer, throttle)
         steer, throttle = avoid_rules(gap, neighbour_bearing, avoid_m, idle_m, steer, throttle)

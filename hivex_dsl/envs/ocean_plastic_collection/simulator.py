@@ -86,6 +86,7 @@ class OceanPlasticSimulator:
     observation_labels = ("local position x", "local position y", "direction x", "direction y",
                           "closest neighbouring vessel x", "closest neighbouring vessel y")
     observation_stacks = STACKS
+    stacked_fields = ("vector", "visual")  # shifted every physics step; the runtime stacks them per decision
     render_fps = 30
 
     def __init__(self, compiled):
@@ -203,7 +204,8 @@ class OceanPlasticSimulator:
     def _vector(self, position: np.ndarray, facing: np.ndarray, distances: np.ndarray, closest: np.ndarray,
                 previous: np.ndarray) -> np.ndarray:
         """(B, A, 12) float32: this step's frame (position / H, (cos, sin) heading, closest active
-        vessel's position / H or (0, 0) without one), then the previous step's frame. ``distances``
+        vessel's position / H or (0, 0) without one), then the previous physics step's frame (at a decision
+        period above 1 the runtime puts the previous decision's there: :mod:`hivex_dsl.sim.stacking`). ``distances``
         (B, A, A) from :func:`neighbour_distances`, ``closest`` (B, A) their minimum over the last axis."""
         local = clamp(position * (1.0 / self.half_extent), -1.0, 1.0)
         neighbour = local[_worlds(len(position)), distances.argmin(axis=-1)]
@@ -215,7 +217,8 @@ class OceanPlasticSimulator:
         return out
 
     def _visual(self, sensing: Sensing, previous: np.ndarray) -> np.ndarray:
-        """(B, A, 25, 25, 2) float32: trash density min(1, count / camera_full_count), newest first."""
+        """(B, A, 25, 25, 2) float32: trash density min(1, count / camera_full_count), newest first (stacked as
+        :meth:`_vector`'s frames are)."""
         full = self.params.camera_full_count
         density = sensing.camera.astype(np.float32)
         np.minimum(density, full, out=density)

@@ -44,6 +44,7 @@ class WildfireResourceSimulator:
     observation_labels = ("closest fire x", "closest fire y", "closest fire z", "temperature", "humidity",
                           "overcast", "total support", "unallocated budget")
     observation_stacks = STACKS
+    stacked_fields = ("frame",)  # shifted every physics step; the runtime stacks them per decision
     action_meanings = ("one branch per target (self, neighbour 1, neighbour 2, neighbour 3): "
                        "0 do nothing, 1 add 0.1 from the budget, 2 subtract 0.1 back to the budget")
     render_fps = 30
