@@ -16,7 +16,7 @@ import numpy as np
 
 from ...sim.procgen.wind import wrap_angle
 from .camera import NEW_TREE_BELOW, TREE_BELOW, pixel_offsets
-from .simulator import SEEDLESS_START_TASKS
+from .simulator import returns_reload
 
 CRUISE_HEIGHT_M = 22.0  # above ground while searching: a ~44 m wide view at the default 90 degrees
 APPROACH_HEIGHT_M = 7.0  # above ground near the forest: ~1 m per camera pixel
@@ -66,7 +66,7 @@ def scripted_policy(compiled) -> Callable[[dict], dict]:
 
     # where a return hands over no seed and no charge (tasks whose drones start seedless), the pilot tells a return
     # by the decisions it has sat on the pad: a docking lasts the charging cycle
-    reloads = compiled.task_name not in SEEDLESS_START_TASKS
+    reloads = returns_reload(compiled.task_name)
     docking_decisions = int(np.ceil(np.ceil(1.0 / p.charge_per_step - 1e-9) / period))
     # (B, A): been return_min_distance_m away since the last return, decisions landed since, furthest reached
     trips = {"out": np.zeros((0, 0), bool), "landed": np.zeros((0, 0), np.int64), "far": np.zeros((0, 0))}

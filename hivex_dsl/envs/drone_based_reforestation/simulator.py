@@ -40,9 +40,14 @@ RANDOM_SPAWN_TASKS = ("group_up",)
 # race"); [ours] Group Up's too
 SEEDLESS_START_TASKS = ("pick_up_seed", "group_up", "find_closest_tree", "find_high_potential_area",
                         "find_high_terrain", "explore_furthest")
-# [orig] and a return reloads (a seed and a full battery) only where the drones start with a seed: Pick-up Seed's and
-# Explore Furthest's drones return many times yet their pages log no drop at any point and run out in about 2/3 of
-# drone-episodes, the last-step run-out of one seedless battery never refilled (the same note)
+
+
+def returns_reload(task_name: str) -> bool:
+    """[orig] Whether a return hands over a seed and a full battery: only where the drones start with a seed.
+    Pick-up Seed's and Explore Furthest's drones return many times yet their pages log no drop at any point and run
+    out in about 2/3 of drone-episodes, the last-step run-out of one seedless battery never refilled (the same note).
+    """
+    return task_name not in SEEDLESS_START_TASKS
 
 
 class DroneReforestationSimulator:
@@ -66,7 +71,7 @@ class DroneReforestationSimulator:
         self.forest_spec: ForestSpec = compiled.generators["forest"]
         self.random_spawn = compiled.task_name in RANDOM_SPAWN_TASKS
         self.start_with_seed = compiled.task_name not in SEEDLESS_START_TASKS
-        self.return_reloads = self.start_with_seed
+        self.return_reloads = returns_reload(compiled.task_name)
         t, f = self.terrain_spec, self.forest_spec
         self.half = t.extent_m / 2.0
         self.terrain_grid = Grid(-self.half, t.extent_m / (t.size - 1), t.size)
