@@ -10,6 +10,7 @@ defaults:
 - :func:`budgets`: the step axis of the training and test curves against the paper's appendix.
 - :func:`learning_points`: a panel's mean and band at fractions of the training budget (0: the untrained
   policy's first summary point).
+- :func:`best_of_three`: a published cell against the three test runs it was chosen from.
 
 ``python -m hivex_dsl.evaluation.original.evidence`` prints :func:`summary`, the tables in Markdown.
 """
@@ -21,6 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...base.errors import HivexError
+from .. import published
 from .curves import Curve, OriginalCell, average_sheet, original_cells, original_curves
 
 EPISODE_LENGTH = "Episode Length"
@@ -208,9 +210,51 @@ def curve_points(curve: Curve, fractions: tuple[float, ...] = FRACTIONS) -> list
     return points
 
 
-__all__ = ["APPENDIX", "Budget", "CellLength", "EpisodeCeiling", "EvidenceError", "LearningPoint", "MAX_STEP",
-           "budgets", "curve_points", "decision_period", "episode_ceiling", "learning_points", "runs_agree",
-           "sheet_rows", "summary", "training_average"]
+@dataclass(frozen=True)
+class BestOfThree:
+    """A published cell's value beside the three test runs it was chosen from, each averaged over the test points.
+
+    The published result is the best of three runs (its source says so; Wind Farm Control's event files show
+    it: test run 2, the highest of the three, is the published cell) and its mean over that run's test points.
+    A page's band is seaborn's 95% bootstrap interval over the three runs, which for three values is their
+    minimum and maximum (a resample of the highest value thrice has probability 1/27 > 2.5%); so at each point
+    the runs are the band's edges and three times the mean less both."""
+
+    published: float
+    lowest: float  # the band's lower edge: the worst run at each point
+    mean: float  # the three runs' mean
+    highest: float  # the band's upper edge: the best run at each point
+
+    @property
+    def other_two(self) -> float:
+        """The mean of the two runs the published one was chosen over: (3 mean - published) / 2."""
+        return (3.0 * self.mean - self.published) / 2.0
+
+    @property
+    def best_over_mean(self) -> float:
+        """How far the published run stands above the three runs' mean, as a ratio."""
+        return self.published / self.mean
+
+
+def best_of_three(environment: str, task_index: int, level: int | None, panel: str = RETURN) -> BestOfThree:
+    """One cell's published ``panel`` (the return by default) beside its three test runs."""
+    cell = original_curves(environment, task_index, level)
+    found = cell.panel(panel) if cell is not None else None
+    paper = next((c for c in published.cells(environment) if (c.task_index, c.level) == (task_index, level)), None)
+    if paper is None:
+        value = None
+    else:
+        value = paper.return_mean if panel == RETURN else (paper.statistic(panel) or (None,))[0]
+    if found is None or found.test is None or not len(found.test.band_steps) or value is None:
+        raise EvidenceError(f"{environment} task {task_index} level {level}: no published {panel!r} with a test band")
+    curve = found.test
+    return BestOfThree(float(value), float(curve.lower.mean()), float(curve.mean_at(curve.band_steps).mean()),
+                       float(curve.upper.mean()))
+
+
+__all__ = ["APPENDIX", "BestOfThree", "Budget", "CellLength", "EpisodeCeiling", "EvidenceError", "LearningPoint",
+           "MAX_STEP", "best_of_three", "budgets", "curve_points", "decision_period", "episode_ceiling",
+           "learning_points", "runs_agree", "sheet_rows", "summary", "training_average"]
 
 
 def _level(level: int | None) -> str:
