@@ -72,7 +72,8 @@ def _islands(level: int, seed: int, count: int):
 
 
 def _trees_near_sea(maps, metres: float, cell_m: float) -> int:
-    """Trees of every world within ``metres`` (a square neighbourhood, cells of ``cell_m``) of a sea cell."""
+    """Trees of every world within ``metres`` of a sea cell, stepping along the grid's rows and columns (cells of
+    ``cell_m``)."""
     near = maps.height <= 0.0
     for _ in range(int(metres // cell_m)):
         padded = np.pad(near, ((0, 0), (1, 1), (1, 1)), constant_values=True)
