@@ -69,6 +69,15 @@ def original_per_drop() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return tuple(np.concatenate(column) for column in zip(*parts))
 
 
+def implied_speed(level: int) -> float:
+    """Metres a physics step the original's drones flew their seed out over the last quarter of its main-task training:
+    the path to a drop over s = 5 (399 - Episode Length) / Out of Energy Count, the physics steps a drone that runs out
+    at 2,000 - s held its seed (the test below)."""
+    points = main_panels(level, np.arange(900_000, 1_200_001, 6_000, dtype=float))
+    held = PERIOD * (FULL_EPISODE - points["Episode Length"].mean()) / points["Out of Energy Count"].mean()
+    return float((points["Cumulative Distance Until Tree Drop"] / points["Tree Drop Count"]).mean() / held)
+
+
 def test_a_seed_held_s_physics_steps_runs_the_battery_out_at_2000_less_s():
     """Hand-computed: a drone flies out at full throttle for 10 decisions (50 physics steps) with its seed, drops it
     on the next physics step and hovers. Its battery holds 1 - 51 / 1000 = 0.949 after the drop (the drop step is
@@ -98,20 +107,13 @@ def test_the_original_s_drones_flew_their_seed_out_at_about_this_toolkit_s_top_s
     53-73 m: 0.81-1.24 m a physics step, 1.00 on average over the ten levels, this toolkit's drone_speed_m (1 m at full
     throttle). The battery and the speed agree with the records; neither kept the original's drones near the station
     (a battery holding a seed lasts 1,000 physics steps, about 1 km)."""
-    points = main_panels(level, np.arange(900_000, 1_200_001, 6_000, dtype=float))
-    held = PERIOD * (FULL_EPISODE - points["Episode Length"].mean()) / points["Out of Energy Count"].mean()
-    path = (points["Cumulative Distance Until Tree Drop"] / points["Tree Drop Count"]).mean()
-    assert 0.75 < path / held < 1.3
+    assert 0.75 < implied_speed(level) < 1.3
     assert DroneBasedReforestationParams().drone_speed_m == 1.0
 
 
 def test_the_original_s_drones_flew_at_one_metre_a_step_on_average_over_the_levels():
-    speeds = []
-    for level in LEVELS:
-        points = main_panels(level, np.arange(900_000, 1_200_001, 6_000, dtype=float))
-        held = PERIOD * (FULL_EPISODE - points["Episode Length"].mean()) / points["Out of Energy Count"].mean()
-        speeds.append((points["Cumulative Distance Until Tree Drop"] / points["Tree Drop Count"]).mean() / held)
-    assert np.mean(speeds) == pytest.approx(1.0, abs=0.05)
+    assert np.mean([implied_speed(level) for level in LEVELS]) == pytest.approx(
+        DroneBasedReforestationParams().drone_speed_m, abs=0.05)
 
 
 @pytest.mark.parametrize("level", LEVELS)
@@ -141,9 +143,10 @@ def test_more_drops_come_with_fewer_run_outs_in_the_original_as_here():
         run_outs.append(points["Out of Energy Count"][late])
     slope, intercept = np.polyfit(np.concatenate(drops), np.concatenate(run_outs), 1)
     assert -0.7 < slope < -0.35 and 1.3 < intercept < 1.6
-    ours = [(run.panels["Tree Drop Count"][run.steps >= 120_000], run.panels["Out of Energy Count"][run.steps >= 120_000])
-            for run in seed_curves(json.loads(RECORD.read_text()))]
-    our_slope, _ = np.polyfit(np.concatenate([d for d, _ in ours]), np.concatenate([o for _, o in ours]), 1)
+    runs = seed_curves(json.loads(RECORD.read_text()))
+    late = [run.steps >= 120_000 for run in runs]
+    our_slope, _ = np.polyfit(np.concatenate([run.panels["Tree Drop Count"][m] for run, m in zip(runs, late)]),
+                              np.concatenate([run.panels["Out of Energy Count"][m] for run, m in zip(runs, late)]), 1)
     assert -0.9 < our_slope < -0.45
 
 
@@ -170,9 +173,10 @@ def test_our_forest_pays_a_drop_60_m_out_far_more_than_one_10_m_out():
     hillsides around, so a drop d metres out lies at least 80 - d from any tree (within 20 m of the station it earns at
     most 20 x (75 - 60) / 72.5 = 4.1, 1.4 at 10 m) and, in any direction, nearer the forest the farther out it is:
     averaged over 72 directions of four worlds (level 1), r_s is 0.8 at 10 m and 12.1 at 60 m, and a drop 80 m out
-    in any direction is within 75 m of a tree (det 16 m on average). The original's drops earned about 2 more 50-70 m out than within
-    20 m (the test above); here 11 more: a straight flight outward, no looking needed, multiplies a drop's pay, which
-    the committed record's seed 0 learned (one drop a drone-episode 114 m out, 20 m from the forest, r_s 15.2)."""
+    in any direction is within 75 m of a tree (det 16 m on average). The original's drops earned about 2 more 50-70 m
+    out than within 20 m (the test above); here 11 more: a straight flight outward, no looking needed, multiplies a
+    drop's pay, which the committed record's seed 0 learned (one drop a drone-episode 114 m out, 20 m from the forest,
+    r_s 15.2)."""
     compiled = hivex_dsl.compile({"hivex": 1, "environment": ENV, "task": "main"})
     state = compiled.entry.make_simulator(compiled).reset(np.random.default_rng(0), 4)
     directions = np.linspace(0.0, 2.0 * np.pi, 72, endpoint=False)
@@ -202,11 +206,7 @@ def test_the_record_s_drops_pay_more_than_the_original_s_at_the_same_distance_fr
     68 m: the gap of the
     trained return is mostly this pay, not the number of drops."""
     sdd, reward, det = original_per_drop()
-    points = [run for run in seed_curves(json.loads(RECORD.read_text()))]
-    ours = [per_drop({name: run.panels[name] for name in ("Tree Drop Count", "Cumulative Distance Reward",
-                                                          "Cumulative Tree Drop Reward",
-                                                          "Cumulative Distance to Existing Trees")})
-            for run in points]
+    ours = [per_drop(run.panels) for run in seed_curves(json.loads(RECORD.read_text()))]
     our_sdd, our_reward, our_det = (np.concatenate(column) for column in zip(*ours))
     dropped = np.isfinite(our_sdd)
     our_pay = binned(our_sdd[dropped], our_reward[dropped])
