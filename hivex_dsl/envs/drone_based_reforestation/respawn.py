@@ -3,7 +3,7 @@
 A drone whose episode ended alone (its battery ran out, or a task ends on one of its own events)
 starts again as at an episode start -- spawned as the scenario spawns drones, full battery, the
 seed it would start with, its per-episode bests and running-back bookkeeping cleared -- while its
-world's planted trees stay. Its vector observation is a first one (this frame in both stacks).
+world's planted trees stay. Its vector observation is a first one (this frame, the older stack zeros).
 """
 
 from __future__ import annotations
@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from ...sim.batching import evolve
-from .types import VECTOR_SIZE, DroneState, Flight
+from .types import DroneState, Flight
 
 
 def respawn_where(sim, state: DroneState, mask: np.ndarray, rng: np.random.Generator) -> DroneState:
@@ -28,8 +28,7 @@ def respawn_where(sim, state: DroneState, mask: np.ndarray, rng: np.random.Gener
     distance, _ = sim._station_distances(position, state.station)
     flight = Flight(position, position[..., :2], position[..., 2], heading,
                     np.stack([np.cos(heading), np.sin(heading)], axis=-1), ground, None)
-    frame = sim._frames(state.frames, flight, state.station, holding, energy)[..., :VECTOR_SIZE]
-    first = np.concatenate([frame, frame], axis=-1)
+    first = sim._frames(np.zeros_like(state.frames), flight, state.station, holding, energy)  # older stack zeros
     off = ~mask
     return evolve(state, position=position, heading=heading, ground=ground, energy=energy, holding=holding,
                   alive=state.alive | mask,

@@ -73,8 +73,8 @@ def scripted_policy(compiled) -> Callable[[dict], dict]:
 
     def tripped(home_distance: np.ndarray, holding: np.ndarray, fresh: np.ndarray, landed: np.ndarray) -> np.ndarray:
         """(B, A) whether a drone's docking now would be a return (the simulator's ``away``, which the pilot cannot
-        observe): a seed in hand, a docking's whole cycle sat out on the pad or a new episode (``fresh``, both stacked
-        frames alike) clears it."""
+        observe): a seed in hand, a docking's whole cycle sat out on the pad or a new episode (``fresh``, the older
+        stack zeros) clears it."""
         if trips["out"].shape != holding.shape:
             trips["out"], trips["far"] = np.zeros(holding.shape, bool), np.zeros(holding.shape)
             trips["landed"] = np.zeros(holding.shape, np.int64)
@@ -87,7 +87,7 @@ def scripted_policy(compiled) -> Callable[[dict], dict]:
 
     def act(observations: dict) -> dict:
         frames = observations["vector"]
-        fresh = np.all(frames[..., :10] == frames[..., 10:20], axis=-1)
+        fresh = ~frames[..., 10:20].any(axis=-1)  # a first observation's older stack is zeros (no real frame is)
         v = frames[..., :10].astype(np.float64)
         image = observations["visual"][..., 0].reshape(v.shape[:2] + (-1,))
         above, x, y, z = v[..., 0] * bound, v[..., 1] * half, v[..., 2] * half, v[..., 3] * bound

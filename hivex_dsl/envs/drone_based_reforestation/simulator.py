@@ -170,8 +170,8 @@ class DroneReforestationSimulator:
             found_tree=false, running_back=zeros, frames=np.zeros(shape + (2 * VECTOR_SIZE,), np.float32))
         flight = Flight(position, position[..., :2], position[..., 2], heading,
                         np.stack([np.cos(heading), np.sin(heading)], axis=-1), ground, None)
-        frame = self._frames(state.frames, flight, station, state.holding, state.energy)
-        return evolve(state, frames=np.concatenate([frame[..., :VECTOR_SIZE]] * 2, axis=-1))
+        # the older stack starts as zeros, as ML-Agents' StackingSensor starts (and ResetSensors resets) its buffer
+        return evolve(state, frames=self._frames(state.frames, flight, station, state.holding, state.energy))
 
     def reset_where(self, state: DroneState, mask: np.ndarray, rng: np.random.Generator) -> DroneState:
         return replace_worlds(state, mask, self.reset(rng, int(np.count_nonzero(mask))))
