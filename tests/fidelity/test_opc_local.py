@@ -132,7 +132,8 @@ def test_the_originals_trained_avoid_plastic_pays_less_than_its_local_so_collect
     panels = original_curves(ENV, 3, None).panels
     steps = panels["Episode Length"].test.steps
     lived_to_the_limit = panels["Episode Length"].test.mean_at(steps) > 990
-    local, paid = (panels[name].test.mean_at(steps)[lived_to_the_limit] for name in ("Local Reward", "Cumulative Reward"))
+    local, paid = (panels[name].test.mean_at(steps)[lived_to_the_limit]
+                   for name in ("Local Reward", "Cumulative Reward"))
     assert lived_to_the_limit.sum() == 9
     assert (local < paid).all() and (paid < 0).all(), (local, paid)  # -1 a pebble paid would need paid <= local
     compiled = hivex_dsl.compile({"hivex": 1, "environment": ENV, "task": 3})
