@@ -67,6 +67,17 @@ def test_unweighted_values_are_reported():
     np.testing.assert_array_equal(terms["ramp"], STATE["x"])
 
 
+def test_an_unpaid_term_is_evaluated_and_reported_but_adds_nothing():
+    """By hand: ramp at weight 2 unpaid, cost at 3 paid; the reward is cost's 3 x -1 alone, ramp's value is reported
+    for the statistics (which weigh it by its 2) and ``paid`` says what each term pays per unit."""
+    composer = RewardComposer(registry(), {"ramp": 2.0, "cost": 3.0}, unpaid=frozenset({"ramp"}))
+    reward, terms = composer(None, STATE, None, None, SHAPE)
+    np.testing.assert_array_equal(reward, np.full(SHAPE, -3.0))
+    np.testing.assert_array_equal(terms["ramp"], STATE["x"])
+    assert composer.active == ("ramp", "cost") and composer.unpaid == {"ramp"}
+    assert (composer.paid("ramp"), composer.paid("cost"), composer.weights["ramp"]) == (0.0, 3.0, 2.0)
+
+
 def test_unknown_name_fails_even_with_zero_weight():
     with pytest.raises(KeyError, match="did you mean 'ramp'"):
         RewardComposer(registry(), {"rampp": 0.0})

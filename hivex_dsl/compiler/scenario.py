@@ -57,6 +57,7 @@ class CompiledScenario:
     generators: Mapping[str, StrictModel] = field(default_factory=dict)
     schedules: Mapping[str, WeightSchedule] = field(default_factory=dict)  # weights moving with env steps
     expressions: Any = None  # a reward.expressions.ScenarioExpressions when the scenario writes any
+    unpaid: frozenset[str] = frozenset()  # weighted terms the task logs in its statistics but does not pay
 
     @property
     def term_contracts(self) -> tuple:
@@ -133,6 +134,8 @@ class CompiledScenario:
         content = {key: value for key, value in self.resolved().items() if key != "name"}
         content["ends_on"] = list(self.ends_on)
         content["term_contracts"] = [contract.as_dict() for contract in self.term_contracts]
+        if self.unpaid:  # only then: every scenario without one keeps its fingerprint
+            content["unpaid"] = sorted(self.unpaid)
         canonical = json.dumps(content, sort_keys=True, separators=(",", ":"), allow_nan=False)
         return "sha256:" + hashlib.sha256(canonical.encode()).hexdigest()
 
@@ -324,6 +327,7 @@ def _resolve(entry, spec: StrictModel, source: str, point: dict[str, Any], locat
         level = spec.terrain_level
     return CompiledScenario(entry=entry, spec=spec, source=source, task_index=task, level=level,
                             weights=MappingProxyType(weights), schedules=MappingProxyType(schedules),
+                            unpaid=frozenset(t for t in table.tasks[task].unpaid if weights.get(t, 0.0) != 0.0),
                             ends_on=(event_names(table.tasks[task].ends_on, entry.events)
                                      + split_ends_on(spec, entry.events)[0]),
                             sweep_point=MappingProxyType(point),

@@ -68,7 +68,8 @@ def _matrix(entry: registry.EnvironmentEntry) -> dict[str, Any]:
                      "weights": [num(float(w)) for w in weights]})
     tasks = [{"index": t.index, "name": t.name, "title": t.title, "description": t.description,
               "ends_on": [{"name": e, "meaning": entry.events.get(e, ""), "world": e in entry.world_events}
-                          for e in t.ends_on]}
+                          for e in t.ends_on],
+              "unpaid": list(t.unpaid)}
              for t in table.tasks]
     return {"source": table.source, "tasks": tasks, "rows": rows}
 

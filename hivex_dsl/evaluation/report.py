@@ -95,6 +95,8 @@ def _weight_note(compiled: CompiledScenario, term: str, weight: float) -> str:
     schedule = compiled.schedules.get(term)
     if schedule is not None:
         return f"  (schedule: {schedule.start:g} -> {schedule.end:g} over {schedule.over_steps:,} env steps, {schedule.kind})"
+    if term in compiled.unpaid:
+        return "  (logged in the statistics, not paid: the reward table's unpaid)"
     return "" if weight else "  (inactive)"
 
 

@@ -57,8 +57,9 @@ class Rollout:
     running: dict[str, tuple[np.ndarray, np.ndarray]] = field(default_factory=dict)  # running mean -> (sums, counts)
 
     def weighted(self, term: str) -> np.ndarray:
-        """What ``term`` paid per agent and episode: its weight times its episode sums."""
-        return self.compiled.weights[term] * self.terms[term]
+        """What ``term`` paid per agent and episode: its weight times its episode sums (0 where the task logs the
+        term but does not pay it: ``CompiledScenario.unpaid``)."""
+        return (0.0 if term in self.compiled.unpaid else self.compiled.weights[term]) * self.terms[term]
 
     def pooled(self) -> dict[str, float]:
         """Each running-mean statistic over every agent-episode as the original's TensorBoard point shows it:

@@ -67,7 +67,7 @@ class _WeightedTap:
         rewards, values = self.inner(prev, state, actions, params, shape)
         live = self.core.alive
         for name, value in values.items():
-            paid = np.where(live, self.inner.weights[name] * value, 0.0)
+            paid = np.where(live, self.inner.paid(name) * value, 0.0)
             self.weighted[name] = self.weighted[name] + paid if name in self.weighted else paid
         return rewards, values
 

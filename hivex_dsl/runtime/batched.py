@@ -80,7 +80,7 @@ class BatchedEnv:
         expressions = compiled.expressions
         self.feed = expressions.feed(self.shape, compiled) if expressions is not None else None
         terms = expressions.registry(compiled.entry.terms, self.feed) if expressions is not None else compiled.entry.terms
-        self.composer = RewardComposer(terms, compiled.weights, compiled.schedules)
+        self.composer = RewardComposer(terms, compiled.weights, compiled.schedules, compiled.unpaid)
         self.env_steps = 0  # the clock of weight schedules: steps taken by every world together (settable to resume)
         self.schedule = SeedSchedule(getattr(compiled.seeds, split), distinct_copies)
         self.state: Any = None

@@ -75,8 +75,8 @@ def test_crash_terms_are_minus_100_on_their_events(sim, state):
 
 def test_collide_with_trash_is_minus_1_whenever_a_pebble_was_touched(sim, state):
     """The prose's -1 (the equation's -100 was copied from the vessel-collision block): once per step that
-    touches plastic, however many pebbles; in Avoid Plastic a touched pebble thus costs -1 (collect, weight
-    -1) - 1 = -2, the published return (-2.04)."""
+    touches plastic, however many pebbles. In Avoid Plastic it is what a touch costs: Collect Trash's -1 a pebble is
+    logged in Local but not paid there (the reward table's Local note), so a step taking 4 pebbles costs 1."""
     new = replace(state, collected=np.array([[0, 1, 4], [0, 0, 0]]))
     np.testing.assert_array_equal(collide_with_trash(state, new, None, sim.params), [[0, -1, -1], [0, 0, 0]])
 

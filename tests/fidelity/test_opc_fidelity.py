@@ -56,15 +56,16 @@ def test_the_published_avoid_plastic_cell_rules_out_the_equations_hundred_for_a_
     """Published Avoid Plastic: return -2.04 (std 1.65) with Local Reward -2.85, the vessel-episode's count of touched
     pebbles (Local is added once per vessel-episode: the reward table's Local note), so PPO touched a few pebbles a
     vessel-episode and paid 2.04 / 2.85 = 0.72 a touched pebble on average. The equation's -100 for Collide with
-    Trash would make a pebble cost 101; this table pays the prose's -1 beside Collect Trash's -1, 2 a pebble, which
-    is above the published 0.72 too (the Local note's open (a): the original's records put a touched pebble at
-    about 0.9 untrained and 0.45-0.99 trained, under the 1 that Collect Trash alone would cost)."""
+    Trash would make a pebble cost 101. This table pays the prose's -1 a touch step (however many pebbles the step
+    takes) and logs Collect Trash's -1 a pebble in Local without paying it (the task's unpaid), so a step taking
+    one pebble costs 1 and one taking several less a pebble, as 0.72 says the original's did; paying both, as this
+    toolkit did, cost 2 a pebble, above every one of the original's records."""
     avoid = compile_task(3)
     published = cell(ENVIRONMENT, 3, None)
-    touched = SimpleNamespace(collected=np.array([[1]]))  # one vessel picked up one pebble this step
-    one_pebble = sum(avoid.weights[name] * avoid.entry.terms[name](None, touched, None, avoid.params)[0, 0]
-                     for name in ("collect_trash", "collide_with_trash"))
-    assert one_pebble == -2.0
+    touched = SimpleNamespace(collected=np.array([[1, 3]]))  # one vessel took one pebble this step, another three
+    paid = sum(avoid.weights[name] * avoid.entry.terms[name](None, touched, None, avoid.params)
+               for name in ("collect_trash", "collide_with_trash") if name not in avoid.unpaid)
+    assert paid.tolist() == [[-1.0, -1.0]]
     touched_pebbles = -published.statistic("Local Reward")[0]
     per_pebble = -published.return_mean / touched_pebbles
     assert 0.5 < per_pebble < 1.0, per_pebble

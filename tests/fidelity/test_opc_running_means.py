@@ -76,11 +76,11 @@ def test_local_is_the_vessel_episodes_collected_count_with_the_tasks_sign(task, 
 
 
 def test_a_short_scripted_episode_logs_its_collected_count_not_n_plus_one_over_two():
-    """Test episodes 250 steps long in a sparse world (1,000 pebbles) of slow vessels (0.5 m a step at the top, the
+    """Test episodes 250 steps long in a sparse world (600 pebbles) of slow vessels (0.5 m a step at the top, the
     pace before issue 52's fit), every collection step one pebble: the running mean this toolkit logged gave
     (n + 1) / 2; added once per vessel-episode, Local is n."""
     checked = 0
-    for pebbles, crashes, local, _, _ in played(0, "scripted", 250, pebble_count=1000, pace=(0.05, 3.0)):
+    for pebbles, crashes, local, _, _ in played(0, "scripted", 250, pebble_count=600, pace=(0.05, 3.0)):
         n = int(pebbles.sum())
         assert pebbles.max() <= 1 and not crashes.any() and n > 1
         assert local == n != (n + 1) / 2

@@ -71,8 +71,9 @@ ENTRY = register(EnvironmentEntry(
         "ahead of the vessel's centre back to where the collector was, collector_half_width_m either side); "
         "Collide with Trash fires on exactly those steps, as the vessel touches plastic only with its collector.",
         "Pebbles do not drift and are not replaced: the paper calls the plastic a fixed amount. The world "
-        "(half extent 200 m), heat map, pebble count (3,500, at which random play collects what the original's "
-        "untrained policy did: the reward table's supply note) and spawn rules are the `pollution` and `spawn` "
+        "(half extent 200 m), heat map (fractal noise at contrast 1.5, no hotspots), pebble count (6,000; both "
+        "fitted so random play collects and passes what the original's untrained policy did: the reward table's "
+        "supply note) and spawn rules are the `pollution` and `spawn` "
         "generators; vessel speed (top 2 m per step) and turn rate (6 degrees per step) are fitted to the original's "
         "Episode Length and Local Reward curves (the reward table's pace note); the collector (3 m x 3 m) is this "
         "project's choice. A collector sweeps only while its vessel moves or turns, so a "
@@ -80,9 +81,9 @@ ENTRY = register(EnvironmentEntry(
         "Scale: a vessel collecting c pebbles in an episode earns c from Collect Trash and, from Global Lowest "
         "Trash Collected (paid on collection), about 0.01 x (pebbles collected by the whole team) x (the lowest "
         "count at the time), about 0.01 x 3c x 0.4c = 0.012 c^2 for three vessels at an even pace. The scripted "
-        "skipper collects about 706 pebbles a vessel-episode (return about 6,980; it never crashes); the logged "
+        "skipper collects about 986 pebbles a vessel-episode (return about 14,300; it never crashes); the logged "
         "Local Reward is the vessel-episode's collected count and Global Reward a running mean, pooled over "
         "vessel-episodes (the reward table's notes). Random "
-        "play collects about 12 before one vessel of its world crosses the border and ends the world's episode.",
+        "play collects about 18 before one vessel of its world crosses the border and ends the world's episode.",
     ),
 ))

@@ -27,9 +27,9 @@ LOCAL_TERMS = ("collect_trash",)
 if not set(LOCAL_TERMS) <= {t.name for t in TERMS}:
     raise ValueError(f"ocean_plastic_collection: LOCAL_TERMS names unknown terms {set(LOCAL_TERMS)}")
 
-STATISTICS.mirror("Local Reward", "The vessel-episode's total of what Collect Trash paid it (weighted: +1 a pebble "
-                  "collected, -1 in Avoid Plastic; not its crashes, Collide with Trash or the tasks' shaping terms).",
-                  *LOCAL_TERMS)
+STATISTICS.mirror("Local Reward", "The vessel-episode's total of Collect Trash at the task's weight (+1 a pebble "
+                  "collected, -1 in Avoid Plastic, which logs it without paying it; not its crashes, Collide with Trash "
+                  "or the tasks' shaping terms).", *LOCAL_TERMS)
 STATISTICS.running_mean("Global Reward", "The mean of the vessel's running total of what the shared (team or global "
                         "scope) terms paid (weighted: the team's lowest collected count), over the steps that total "
                         "changed on.", *(t.name for t in TERMS if t.contract.scope != "agent"))

@@ -24,13 +24,18 @@ class TaskColumn(StrictModel):
     description: str = Field("", max_length=2000, description="What the agents should learn.")
     ends_on: tuple[str, ...] = Field((), description=(
         "What ends an agent's episode in this task: event names of the environment or boolean expressions."))
+    unpaid: tuple[str, ...] = Field((), description=(
+        "Terms this task logs but does not pay: they keep their matrix weight for the statistics that mirror them "
+        "(a logged total with the task's sign) and add nothing to the reward. Each must have a non-zero weight in "
+        "this task's column. Empty for almost every task: a departure from the paper's table, with its evidence in "
+        "the notes."))
     trivial_beats_ppo: str = Field("", max_length=3000, description=(
         "Where a trivial policy (all-zeros or random) earns more than the paper's published PPO in this task "
         "at some level: the evidence that this is not a reward bug (that the original shares it). The fidelity "
         "page shows it beside the grid; tests/test_fidelity.py requires it exactly where the stored audit "
         "finds a beaten cell."))
 
-    @field_validator("ends_on", mode="before")
+    @field_validator("ends_on", "unpaid", mode="before")
     @classmethod
     def _list_to_tuple(cls, value):
         return tuple(value) if isinstance(value, list) else value
@@ -98,6 +103,11 @@ def table_problems(table: RewardTable, environment: str, terms: tuple[str, ...],
                 listing = ", ".join(events) or "none"
                 problems.append((("tasks", position, "ends_on", k),
                                  f"unknown event '{event}'{did_you_mean(event, events)}; {environment} has: {listing}"))
+        for k, term in enumerate(task.unpaid):
+            row = table.matrix.get(term, ())
+            if len(row) <= position or row[position] == 0.0:
+                problems.append((("tasks", position, "unpaid", k),
+                                 f"unpaid term '{term}' has no non-zero weight in task '{task.name}': nothing to log"))
     for term, row in table.matrix.items():
         if term not in terms:
             problems.append((("matrix", term), f"unknown reward term '{term}'{did_you_mean(term, terms)}"))

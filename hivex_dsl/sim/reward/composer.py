@@ -16,14 +16,16 @@ _ZERO = constant(0.0)
 
 
 class RewardComposer:
-    """reward = sum over terms of weight * term(prev, state, actions, params).
+    """reward = sum over paid terms of weight * term(prev, state, actions, params).
 
     Every weight's name is checked against the registry first; terms with weight 0 are then
-    skipped (never evaluated) and contribute exactly zero.
+    skipped (never evaluated) and contribute exactly zero. An ``unpaid`` term (a task's reward table
+    column logs it but does not pay it) is evaluated and its value returned for the statistics, but
+    adds nothing to the reward.
     """
 
     def __init__(self, registry: TermRegistry, weights: Mapping[str, float],
-                 schedules: Mapping[str, Any] | None = None):
+                 schedules: Mapping[str, Any] | None = None, unpaid: frozenset[str] = frozenset()):
         schedules = schedules or {}
         for name in list(weights) + list(schedules):
             if name not in registry:
@@ -35,13 +37,19 @@ class RewardComposer:
         self.schedules = dict(schedules)  # name -> schedule with .at(steps) and .start/.end (spec.WeightSchedule)
         self.active = tuple(name for name in registry.names if self.weights.get(name, 0.0) != 0.0
                             or (name in self.schedules and (self.schedules[name].start or self.schedules[name].end)))
+        self.unpaid = frozenset(unpaid) & frozenset(self.active)
         self.steps = 0
         self._build_plan()
 
     def _build_plan(self) -> None:
         # (name, function, weight as a 0-d operand or None for 1.0), resolved once: this runs every step
         self._plan = tuple((name, self.registry[name].fn, _operand(self.weights.get(name, 0.0)))
-                           for name in self.active)
+                           for name in self.active if name not in self.unpaid)
+        self._logged = tuple((name, self.registry[name].fn) for name in self.active if name in self.unpaid)
+
+    def paid(self, name: str) -> float:
+        """What ``name`` pays per unit of its value now: its weight, or 0 where the task does not pay it."""
+        return 0.0 if name in self.unpaid else self.weights.get(name, 0.0)
 
     def set_clock(self, steps: int) -> None:
         """Move scheduled weights to their value after ``steps`` environment steps (a no-op without schedules)."""
@@ -67,6 +75,8 @@ class RewardComposer:
                 total = _ZERO + weighted  # a new array, with 0.0 + x's signed zeros like summing from zeros
             else:
                 total += weighted
+        for name, term in self._logged:  # values for the statistics only
+            values[name] = np.broadcast_to(np.asarray(term(prev, state, actions, params), dtype=np.float64), shape)
         return (np.zeros(shape) if total is None else total), values
 
 
