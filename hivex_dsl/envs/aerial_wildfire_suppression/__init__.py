@@ -4,8 +4,9 @@ from __future__ import annotations
 
 import math
 
-from ...compiler.registry import EnvironmentEntry, register
+from ...compiler.registry import EnvironmentEntry, GeneratorSlot, register
 from ...lang.spec.catalogue import PAPER_ENVIRONMENTS
+from ...sim.procgen.terrain import TerrainSpec, terrain_spec_for_level
 from ..island import ISLAND_GENERATORS, island_problems
 from .global_state import state_facts
 from .params import AerialWildfireParams
@@ -28,6 +29,16 @@ def world_fits(compiled) -> list[tuple[tuple, str]]:
     return problems
 
 
+# [records] Ground at or below this height is sea: no drop over it (issue 52, the reward table's notes). The
+# original's untrained Drop Water planes took 50 decisions to their first drop at terrain level 1 and 20 at level
+# 10, which only a height threshold explains (our land above 0 m is the same share of the island at every level);
+# 7 m gives their trees a drop at every level within a standard error. Wildfire Resource Management, which drops
+# nothing, keeps the shared preset's 0 m.
+SEA_LEVEL_M = 7.0
+GENERATORS = {**ISLAND_GENERATORS, "terrain": GeneratorSlot(
+    TerrainSpec, lambda level: terrain_spec_for_level(level, sea_level_m=SEA_LEVEL_M),
+    "the island's height map (the level sets the height multiplier; ground up to 7 m is sea here)")}
+
 ENTRY = register(EnvironmentEntry(
     info=PAPER_ENVIRONMENTS["aerial_wildfire_suppression"],
     params_model=AerialWildfireParams,
@@ -39,7 +50,7 @@ ENTRY = register(EnvironmentEntry(
     events=EVENTS,
     world_events=frozenset({"fire_out"}),  # the island's fire: an ending of the whole world
     checks=(world_fits,),
-    generators=ISLAND_GENERATORS,
+    generators=GENERATORS,
     notes=(
         "Time Step Burning: the paper's equation reads 'for all trees, burning', its description 'while the fire is "
         "burning'; the term follows the description (-0.01 while some tree burns).",

@@ -11,6 +11,7 @@ defaults:
 - :func:`learning_points`: a panel's mean and band at fractions of the training budget (0: the untrained
   policy's first summary point).
 - :func:`best_of_three`: a published cell against the three test runs it was chosen from.
+- :func:`pooled_ratio`: one panel sum over another's across a stretch of training (trees wetted a water drop).
 
 ``python -m hivex_dsl.evaluation.original.evidence`` prints :func:`summary`, the tables in Markdown.
 """
@@ -252,9 +253,34 @@ def best_of_three(environment: str, task_index: int, level: int | None, panel: s
                        float(curve.upper.mean()))
 
 
+def pooled_ratio(environment: str, task_index: int, level: int | None, numerators: tuple[str, ...],
+                 denominator: str, start: float = 0.0, stop: float = float("inf"), source: str = "training"
+                 ) -> tuple[float, float]:
+    """(sum of the ``numerators``' means / sum of the ``denominator``'s mean, the denominator's mean) over the
+    summary points of ``source`` ("training" or "test") whose agent-step lies in [start, stop].
+
+    A ratio of sums, not a mean of ratios: a point whose episodes held few of the denominator (a point of
+    untrained planes that dropped water 0.8 times an episode) weighs by what it held instead of swinging the
+    result. Each point is the mean of the three runs at the point (the runs' own episodes are not on the page)."""
+    cell = original_curves(environment, task_index, level)
+    panels = [cell.panel(name) if cell is not None else None for name in (denominator, *numerators)]
+    curves = [getattr(p, source) if p is not None else None for p in panels]
+    if any(c is None or not len(c.band_steps) for c in curves):
+        raise EvidenceError(f"{environment} task {task_index} level {level}: no {source} band of every one of "
+                            f"{(denominator, *numerators)}")
+    steps = curves[0].band_steps[(curves[0].band_steps >= start) & (curves[0].band_steps <= stop)]
+    if not len(steps):
+        raise EvidenceError(f"{environment} task {task_index} level {level}: no {source} point in [{start:g}, {stop:g}]")
+    below = float(curves[0].mean_at(steps).sum())
+    if below <= 0:
+        raise EvidenceError(f"{environment} task {task_index} level {level}: {denominator!r} is 0 in [{start:g}, {stop:g}]")
+    above = sum(float(c.mean_at(steps).sum()) for c in curves[1:])
+    return above / below, below / len(steps)
+
+
 __all__ = ["APPENDIX", "BestOfThree", "Budget", "CellLength", "EpisodeCeiling", "EvidenceError", "LearningPoint",
            "MAX_STEP", "best_of_three", "budgets", "curve_points", "decision_period", "episode_ceiling",
-           "learning_points", "runs_agree", "sheet_rows", "summary", "training_average"]
+           "learning_points", "pooled_ratio", "runs_agree", "sheet_rows", "summary", "training_average"]
 
 
 def _level(level: int | None) -> str:
