@@ -38,10 +38,12 @@ class ReforestationForestSpec(StrictModel):
         "[paper] The grid covers +/- this many metres in x and y (the world's half extent); must equal "
         "cells * spacing_m / 2."))
     jitter_m: float = Field(1.0, ge=0.0, le=50.0, description=(
-        "[ours] Each tree sits at its cell centre plus a uniform offset in +/- this in x and y (at most spacing_m / 2)."))
+        "[ours] Each tree sits at its cell centre plus a uniform offset in +/- this in x and y (at most "
+        "spacing_m / 2)."))
     patch_scale_m: float = Field(130.0, ge=5.0, le=10_000.0, description=(
         "[ours, fitted] Metres per lattice unit of the patch noise: the size of the forest's patches and gaps."))
-    patch_octaves: int = Field(2, ge=1, le=6, description="[ours] Octaves of the patch noise (persistence 0.5, lacunarity 2).")
+    patch_octaves: int = Field(2, ge=1, le=6, description=(
+        "[ours] Octaves of the patch noise (persistence 0.5, lacunarity 2)."))
     patch_threshold: float = Field(0.87, ge=0.0, le=3.0, description=(
         "[ours, fitted] Trees grow where the suitability (the patch noise normalised to [0, 1] over the land outside "
         "the clearing, plus radial_rise per half extent from the station) exceeds this."))

@@ -75,7 +75,7 @@ def scripted_policy(compiled) -> Callable[[dict], dict]:
     docking_decisions = int(np.ceil(np.ceil(1.0 / p.charge_per_step - 1e-9) / period))
     # (B, A): been return_min_distance_m away since the last return, decisions landed since, furthest reached
     trips = {"out": np.zeros((0, 0), bool), "landed": np.zeros((0, 0), np.int64), "far": np.zeros((0, 0))}
-    # (B, A, 2): where the drone's team last dropped a seed this episode (NaN: nowhere yet), the forest edge to go back to
+    # (B, A, 2): where the drone's team last dropped a seed this episode (NaN: nowhere yet), the forest edge to go to
     spots = {"xy": np.zeros((0, 0, 2))}
 
     def remembered(x: np.ndarray, y: np.ndarray, new_episode: np.ndarray, lost: np.ndarray) -> np.ndarray:
