@@ -3,7 +3,8 @@
 [paper] values come from the paper's spec table and reward equations, [ours] are this project's
 defaults where the paper and the original release are silent (ENVIRONMENTS.md). The world's size,
 terrain and forest are not params: they are the "terrain" and "forest" generator slots, whose
-presets (the shared AWS/WRM recipes scaled to the 400 m world) are at the end of this module.
+presets are at the end of this module (the shared AWS/WRM terrain recipe scaled to the 400 m world; the
+forest is this environment's own patch field, forest.py).
 """
 
 from __future__ import annotations
