@@ -4,8 +4,8 @@ from __future__ import annotations
 
 from ...compiler.registry import EnvironmentEntry, GeneratorSlot, register
 from ...lang.spec.catalogue import PAPER_ENVIRONMENTS
-from ...sim.procgen.forest import ForestSpec
 from ...sim.procgen.terrain import TerrainSpec
+from .forest import ReforestationForestSpec
 from .global_state import state_facts
 from .params import DroneBasedReforestationParams, forest_preset, terrain_preset, world_problems
 from .scripted import scripted_policy
@@ -33,9 +33,10 @@ ENTRY = register(EnvironmentEntry(
             "Height map of the 400 m world: the shared island recipe on 81 x 81 cells with noise scale 13.5 and 1 m "
             "per height-multiplier unit (peaks 8 m at level 1, 30 m at level 10), the station on flattened ground at "
             "the centre.")),
-        "forest": GeneratorSlot(ForestSpec, forest_preset, (
-            "The existing forest: the shared height rule on 100 x 100 cells of 4 m, trees between 3 m and 12 m "
-            "above the lowland (densest at 7 m), none within 80 m of the station (see the reward table's notes).")),
+        "forest": GeneratorSlot(ReforestationForestSpec, forest_preset, (
+            "The existing forest on 100 x 100 cells of 4 m: patches of a noise field of its own (not the terrain's "
+            "heights, so the same at every terrain level), thinning towards the station, on land, none within the "
+            "station's clearing; fitted to the original's main-task drop records (the reward table's notes).")),
     },
     notes=(
         "Tasks are the appendix's 0-based `task:` values (8 tasks, Group Up 2); the configs that ran, whose results "

@@ -3,7 +3,8 @@
 [paper] values come from the paper's spec table and reward equations, [ours] are this project's
 defaults where the paper and the original release are silent (ENVIRONMENTS.md). The world's size,
 terrain and forest are not params: they are the "terrain" and "forest" generator slots, whose
-presets (the shared AWS/WRM recipes scaled to the 400 m world) are at the end of this module.
+presets are at the end of this module (the shared AWS/WRM terrain recipe scaled to the 400 m world; the
+forest is this environment's own patch field, forest.py).
 """
 
 from __future__ import annotations
@@ -12,8 +13,8 @@ import numpy as np
 from pydantic import Field, model_validator
 
 from ...lang.spec.common import StrictModel
-from ...sim.procgen.forest import ForestSpec
 from ...sim.procgen.terrain import TerrainSpec, terrain_spec_for_level
+from .forest import ReforestationForestSpec
 
 
 class DroneBasedReforestationParams(StrictModel):
@@ -108,14 +109,10 @@ class DroneBasedReforestationParams(StrictModel):
 DBR_TERRAIN = dict(size=81, extent_m=400.0, noise_scale=13.5, metres_per_multiplier=1.0,
                    village_half_range_m=0.0, village_flat_radius_m=10.0, village_blend_m=15.0)
 
-# [ours] The shared forest rule on a 100 x 100 grid of 4 m cells over the world, with the height
-# band scaled like the terrain: trees grow between 3 m and 12 m above the lowland, densest at 7 m,
-# so forests cover hillsides in patches with open, deforested ground between them; none within
-# 80 m of the station: the published drops (main task: sdd 42 m, det 62 m; Drop Seed: sdd 23 m,
-# det 63 m) lie about 60 m from the forest, and a seed dropped just outside the 7.5 m pad earns
-# at most 20 x (75 - 72.5) / 72.5 = 0.7 (with 40 m it earned about 11, more than PPO's episode).
-DBR_FOREST = dict(cells=100, spacing_m=4.0, half_extent_m=200.0, jitter_m=1.0, min_height_m=3.0,
-                  ideal_height_m=7.0, max_height_m=12.0, density_falloff=0.05, village_clear_radius_m=80.0)
+# The existing forest: DBR's own patch field (forest.py), the same rule at every terrain level; the defaults of
+# ReforestationForestSpec are fitted to the original's main-task drop records (the reward table's note "The
+# existing forest fitted to the original's drop records").
+DBR_FOREST = dict(cells=100, spacing_m=4.0, half_extent_m=200.0, jitter_m=1.0)
 
 
 def terrain_preset(level: int | None) -> TerrainSpec:
@@ -123,9 +120,9 @@ def terrain_preset(level: int | None) -> TerrainSpec:
     return terrain_spec_for_level(1 if level is None else level, **DBR_TERRAIN)
 
 
-def forest_preset(level: int | None) -> ForestSpec:
-    """The existing forest; the same rule at every level (the terrain's height makes the difference)."""
-    return ForestSpec(**DBR_FOREST)
+def forest_preset(level: int | None) -> ReforestationForestSpec:
+    """The existing forest: the same patch field at every terrain level, on the 100 x 100 grid of 4 m cells."""
+    return ReforestationForestSpec(**DBR_FOREST)
 
 
 def world_problems(compiled) -> list[tuple[tuple, str]]:

@@ -2,7 +2,9 @@
 
 With a seed: cruise high (a wide camera view) until trees come into sight, sink toward the
 nearest one, and drop the seed a few metres outside the forest edge where no planted tree is
-close; over the forest, back out. Without a seed (where returns pay), or when the battery would
+close; over the forest, back out. It searches on a spiral around the station (the forest grows in
+patches at uneven distances) and remembers where its team last dropped a seed, flying there first
+on its next trip. Without a seed (where returns pay), or when the battery would
 not last the way home with a margin: fly back to the station and land on it until the return
 recharges and reloads it (a docking charges only on a return: the pilot remembers whether it has
 been away, which it cannot observe). Where returns pay nothing, a seedless drone searches on.
@@ -18,7 +20,7 @@ from ...sim.procgen.wind import wrap_angle
 from .camera import NEW_TREE_BELOW, TREE_BELOW, pixel_offsets
 from .simulator import returns_reload
 
-CRUISE_HEIGHT_M = 22.0  # above ground while searching: a ~44 m wide view at the default 90 degrees
+CRUISE_HEIGHT_M = 30.0  # above ground while searching: a ~60 m wide view at the default 90 degrees
 APPROACH_HEIGHT_M = 7.0  # above ground near the forest: ~1 m per camera pixel
 HOME_HEIGHT_M = 10.0  # above ground flying home
 LANDING_HEIGHT_M = 2.0  # above the station pad
@@ -29,6 +31,9 @@ ENERGY_MARGIN = 1.5
 FULL_BATTERY = 0.98  # a battery this full was just filled: on the pad after its return it drains a few thousandths
 BORDER = 0.8  # fraction of the half extent where a searching drone turns back
 SWEEP_OFFSET = np.radians(30.0)  # [ours] off the centre when turning back at the border
+SPIRAL_GAP_M = 50.0  # between the turns of the search spiral: a little less than the camera's width at cruise height
+SPIRAL_START_M = 30.0  # straight out from the station to here, then round it
+SPOT_REACHED_M = 5.0  # at the remembered drop spot with no tree in sight: forget it
 
 
 def _pixel_grid() -> tuple[np.ndarray, np.ndarray]:
@@ -70,6 +75,22 @@ def scripted_policy(compiled) -> Callable[[dict], dict]:
     docking_decisions = int(np.ceil(np.ceil(1.0 / p.charge_per_step - 1e-9) / period))
     # (B, A): been return_min_distance_m away since the last return, decisions landed since, furthest reached
     trips = {"out": np.zeros((0, 0), bool), "landed": np.zeros((0, 0), np.int64), "far": np.zeros((0, 0))}
+    # (B, A, 2): where the drone's team last dropped a seed this episode (NaN: nowhere yet), the forest edge to go to
+    spots = {"xy": np.zeros((0, 0, 2))}
+
+    def remembered(x: np.ndarray, y: np.ndarray, new_episode: np.ndarray, lost: np.ndarray) -> np.ndarray:
+        """(B, A, 2) the spot each drone flies to, NaN where none: cleared at a new episode and where the drone reached
+        it ``lost`` (looking for trees, none in sight)."""
+        if spots["xy"].shape[:2] != x.shape:
+            spots["xy"] = np.full(x.shape + (2,), np.nan)
+        gone = new_episode | (lost & (np.hypot(spots["xy"][..., 0] - x, spots["xy"][..., 1] - y) < SPOT_REACHED_M))
+        spots["xy"] = np.where(gone[..., None], np.nan, spots["xy"])
+        return spots["xy"]
+
+    def remember_drops(x: np.ndarray, y: np.ndarray, drop: np.ndarray) -> None:
+        """Every drone of a world remembers the last spot (x, y) where one of them drops (``drop`` (B, A) bool)."""
+        worlds, agents = np.nonzero(drop)
+        spots["xy"][worlds] = np.stack([x[worlds, agents], y[worlds, agents]], axis=-1)[:, None, :]
 
     def tripped(home_distance: np.ndarray, holding: np.ndarray, fresh: np.ndarray, landed: np.ndarray) -> np.ndarray:
         """(B, A) whether a drone's docking now would be a return (the simulator's ``away``, which the pilot cannot
@@ -125,6 +146,16 @@ def scripted_policy(compiled) -> Callable[[dict], dict]:
         # crossing sweeps new ground (straight back through the centre a drone can shuttle on one line all episode)
         outward = (np.abs(x) > BORDER * half) | (np.abs(y) > BORDER * half)
         target = np.where(outward, np.arctan2(-y, -x) + SWEEP_OFFSET, heading)
+        # looking for trees: to the team's last drop spot if there is one, else out and round the station on a spiral
+        # (an Archimedean one: outward by SPIRAL_GAP_M a turn, so each turn's view borders the last's)
+        looking = holding | seeks_trees
+        # both stacked frames alike: a new episode, or a drone sitting on the pad (landed), which keeps its spot
+        spot = remembered(x, y, fresh & ~landed, looking & ~sees_tree)
+        known = looking & np.isfinite(spot[..., 0])
+        around = np.arctan2(y, x) + np.pi / 2.0 - np.arctan2(SPIRAL_GAP_M, 2.0 * np.pi * np.maximum(home_distance, 1.0))
+        spiral = np.where(home_distance < SPIRAL_START_M, np.arctan2(y, x), around)
+        target = np.where(looking & ~outward, spiral, target)
+        target = np.where(known, np.arctan2(spot[..., 1] - y, spot[..., 0] - x), target)
         height = np.full(x.shape, CRUISE_HEIGHT_M)
         # trees in sight: approach the nearest; too close (or a planted tree here): slide along the edge
         target = np.where(sees_tree, tree_bearing, target)
@@ -150,7 +181,9 @@ def scripted_policy(compiled) -> Callable[[dict], dict]:
         if soar:
             climb = np.ones_like(climb)
 
-        drop = (seeking & ready).astype(np.int64)[..., None]
+        drop = seeking & ready
+        remember_drops(x, y, drop & holding)
+        drop = drop.astype(np.int64)[..., None]
         continuous = np.stack([throttle, steer, climb], axis=-1).astype(np.float32)
         return {"continuous": continuous, "discrete": drop}
 

@@ -13,7 +13,6 @@ from gymnasium import spaces
 from ...base.numeric import all_true, clamp
 from ...runtime.batched import StepOutcome
 from ...sim.batching import evolve, read_only, replace_worlds
-from ...sim.procgen.forest import ForestSpec, place_forest
 from ...sim.procgen.terrain import TerrainSpec, generate_terrain
 from ...sim.procgen.wind import wrap_angle
 from .camera import NEW_TREE_GRAY, STATION_GRAY, TREE_GRAY, Raster, camera_images, ground_shade, stamp_disks, to_byte
@@ -21,6 +20,7 @@ from .fertility import (FAR_M, Grid, GridSet, distance_reward, fertility, forest
                         logged_tree_distance, nearest_new_tree_distance, nearest_tree_distance, same_step_distance,
                         sample_bilinear, seed_reward, storage_slots, tree_distance_raster)
 from .global_state import state_components, world_state
+from .forest import ReforestationForestSpec, place_reforestation_forest
 from .params import DroneBasedReforestationParams
 from .respawn import respawn_where
 from .types import STATION_PAD_M, VECTOR_SIZE, DroneState, Flight
@@ -68,7 +68,7 @@ class DroneReforestationSimulator:
         self.agents = compiled.agents
         self.time_limit = compiled.episode_length  # physics steps
         self.terrain_spec: TerrainSpec = compiled.generators["terrain"]
-        self.forest_spec: ForestSpec = compiled.generators["forest"]
+        self.forest_spec: ReforestationForestSpec = compiled.generators["forest"]
         self.random_spawn = compiled.task_name in RANDOM_SPAWN_TASKS
         self.start_with_seed = compiled.task_name not in SEEDLESS_START_TASKS
         self.return_reloads = returns_reload(compiled.task_name)
@@ -98,7 +98,7 @@ class DroneReforestationSimulator:
     def _world(self, rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """One world's terrain heights (n, n), existing trees per forest cell (m, m, 2) and station (3,)."""
         terrain = generate_terrain(rng, self.terrain_spec)
-        forest = place_forest(rng, self.forest_spec, terrain.height_at, terrain.village)
+        forest = place_reforestation_forest(rng, self.forest_spec, terrain)
         m = self.forest_spec.cells
         trees = np.full((m, m, 2), FAR_M, np.float32)
         trees[forest.cell_index[:, 0], forest.cell_index[:, 1]] = forest.positions
