@@ -149,8 +149,7 @@ def scripted_policy(compiled) -> Callable[[dict], dict]:
         # looking for trees: to the team's last drop spot if there is one, else out and round the station on a spiral
         # (an Archimedean one: outward by SPIRAL_GAP_M a turn, so each turn's view borders the last's)
         looking = holding | seeks_trees
-        # both stacked frames alike: a new episode, or a drone sitting on the pad (landed), which keeps its spot
-        spot = remembered(x, y, fresh & ~landed, looking & ~sees_tree)
+        spot = remembered(x, y, fresh, looking & ~sees_tree)
         known = looking & np.isfinite(spot[..., 0])
         around = np.arctan2(y, x) + np.pi / 2.0 - np.arctan2(SPIRAL_GAP_M, 2.0 * np.pi * np.maximum(home_distance, 1.0))
         spiral = np.where(home_distance < SPIRAL_START_M, np.arctan2(y, x), around)
