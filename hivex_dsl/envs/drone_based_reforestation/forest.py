@@ -19,7 +19,7 @@ import numpy as np
 from pydantic import Field, model_validator
 
 from ...lang.spec.common import StrictModel
-from ...sim.procgen.forest import Forest, ForestSpec, cell_centre_xy, place_forest
+from ...sim.procgen.forest import Forest, ForestSpec, cell_centre_xy, check_forest_grid, place_forest
 from ...sim.procgen.noise import draw_lattice, fractal2d
 from ...sim.procgen.terrain import Terrain
 
@@ -58,12 +58,7 @@ class ReforestationForestSpec(StrictModel):
 
     @model_validator(mode="after")
     def _consistent(self) -> "ReforestationForestSpec":
-        if not np.isclose(self.cells * self.spacing_m, 2.0 * self.half_extent_m, rtol=1e-9, atol=0.0):
-            raise ValueError(f"cells * spacing_m ({self.cells} * {self.spacing_m}) must equal 2 * half_extent_m "
-                             f"({2.0 * self.half_extent_m}) so the grid covers the world exactly")
-        if self.jitter_m > self.spacing_m / 2.0:
-            raise ValueError(f"jitter_m ({self.jitter_m}) must be at most spacing_m / 2 ({self.spacing_m / 2.0}) "
-                             "so every tree stays inside its cell")
+        check_forest_grid(self)
         return self
 
     def placement_spec(self) -> ForestSpec:

@@ -23,6 +23,17 @@ from .presets import load_preset
 HeightAt = Callable[[np.ndarray], np.ndarray]
 
 
+def check_forest_grid(spec) -> None:
+    """Raise ValueError unless a forest spec's grid (``cells`` x ``spacing_m``, ``jitter_m``) covers +/-
+    ``half_extent_m`` exactly and keeps every tree inside its cell; every forest spec's validator calls it."""
+    if not np.isclose(spec.cells * spec.spacing_m, 2.0 * spec.half_extent_m, rtol=1e-9, atol=0.0):
+        raise ValueError(f"cells * spacing_m ({spec.cells} * {spec.spacing_m}) must equal 2 * half_extent_m "
+                         f"({2.0 * spec.half_extent_m}) so the grid covers the forest exactly")
+    if spec.jitter_m > spec.spacing_m / 2.0:
+        raise ValueError(f"jitter_m ({spec.jitter_m}) must be at most spacing_m / 2 ({spec.spacing_m / 2.0}) "
+                         "so every tree stays inside its cell")
+
+
 class ForestSpec(StrictModel):
     """Where trees grow: the placement grid and the height rule."""
 
@@ -42,12 +53,7 @@ class ForestSpec(StrictModel):
 
     @model_validator(mode="after")
     def _consistent(self) -> "ForestSpec":
-        if not np.isclose(self.cells * self.spacing_m, 2.0 * self.half_extent_m, rtol=1e-9, atol=0.0):
-            raise ValueError(f"cells * spacing_m ({self.cells} * {self.spacing_m}) must equal 2 * half_extent_m "
-                             f"({2.0 * self.half_extent_m}) so the grid covers the forest exactly")
-        if self.jitter_m > self.spacing_m / 2.0:
-            raise ValueError(f"jitter_m ({self.jitter_m}) must be at most spacing_m / 2 ({self.spacing_m / 2.0}) "
-                             "so every tree stays inside its cell")
+        check_forest_grid(self)
         if not self.min_height_m <= self.ideal_height_m <= self.max_height_m:
             raise ValueError(f"need min_height_m <= ideal_height_m <= max_height_m, got "
                              f"{self.min_height_m}, {self.ideal_height_m}, {self.max_height_m}")
