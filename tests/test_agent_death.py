@@ -221,7 +221,8 @@ def test_respawn_where_restarts_only_the_masked_agents(environment):
         assert core.sim.observation_space[key].contains(np.asarray(after[key][1, 0]))
     if environment == "drone_based_reforestation":
         assert state.energy[1, 0] == 1.0 and state.alive[1, 0]
-        np.testing.assert_array_equal(after["vector"][1, 0, :10], after["vector"][1, 0, 10:])  # a first observation
+        first = after["vector"][1, 0]  # a first observation: the older stack zeros, as ML-Agents resets it
+        assert first[:10].any() and not first[10:].any()
     if environment == "ocean_plastic_collection":
         assert state.active[1, 0] and state.speed[1, 0] == 0.0 and state.collected_total[1, 0] == 0
         assert core.state.nearby_best[1, 0] > 0 and state.nearby_best[1, 0] == 0  # a new ML-Agents episode: the running maximum starts from 0 again
