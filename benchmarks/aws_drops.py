@@ -25,6 +25,7 @@ import numpy as np
 
 import hivex_dsl
 from hivex_dsl.base.errors import HivexError
+from hivex_dsl.envs.island import SEA
 from hivex_dsl.evaluation.original.evidence import EvidenceError, pooled_ratio
 from hivex_dsl.evaluation.policies import make_policy
 from hivex_dsl.runtime.batched import BatchedEnv
@@ -51,18 +52,15 @@ def sea_distance_m(land: np.ndarray, cell_m: float, cap_cells: int = 120) -> np.
     return distance
 
 
-def swath_trees(exists: np.ndarray, world: np.ndarray, position: np.ndarray, heading: np.ndarray,
-                params, half_m: float, cell_m: float) -> np.ndarray:
+def swath_trees(sim, exists: np.ndarray, world: np.ndarray, position: np.ndarray, heading: np.ndarray) -> np.ndarray:
     """(D,) tree cells of ``exists`` (B, C, C) a swath covers: D drops by ``world`` (D,), plane ``position``
-    (D, 2) metres and ``heading`` (D,) radians, with the simulator's swath (points ahead, radius, cell centres)."""
-    along = np.arange(params.drop_points) * params.drop_point_spacing_m
+    (D, 2) metres and ``heading`` (D,) radians, on the simulator's own swath (its points ahead and cell coordinates)."""
     facing = np.stack([np.cos(heading), np.sin(heading)], axis=-1)
-    points = position[:, None, :] + along[None, :, None] * facing[:, None, :]  # (D, P, 2)
+    points = position[:, None, :] + sim.drop_along[None, :, None] * facing[:, None, :]  # (D, P, 2)
     batch, cells = exists.shape[0], exists.shape[1]
-    rows = ((points[..., 1] + half_m) / cell_m - 0.5).ravel()
-    cols = ((points[..., 0] + half_m) / cell_m - 0.5).ravel()
-    point, flat = covered_cells(np.repeat(world, points.shape[1]), rows, cols, params.drop_radius_m / cell_m,
-                                cells, batch)
+    rows, cols = sim._cells(points)
+    point, flat = covered_cells(np.repeat(world, points.shape[1]), rows.ravel(), cols.ravel(),
+                                sim.params.drop_radius_m / sim.cell_m, cells, batch)
     drop_cell = np.unique((point // points.shape[1]).astype(np.int64) * exists.size + flat)  # each cell once a drop
     drop, cell = np.divmod(drop_cell, exists.size)
     return np.bincount(drop, weights=exists.reshape(-1)[cell], minlength=len(world))
@@ -93,7 +91,7 @@ def play(level: int, task: str, policy: str, worlds: int, episodes: int, generat
     for episode in range(episodes):
         observations = core.reset() if episode == 0 else core.reset_worlds(np.ones(core.batch, bool))
         start = core.state.maps
-        sea = sea_distance_m(start.height > 0, spec.spacing_m)
+        sea = sea_distance_m(start.ground != SEA, spec.spacing_m)  # the simulator's sea (its sea level)
         length, dropped = np.zeros(core.shape, np.int64), np.zeros(core.shape, bool)
         while core.alive.any() and core.clock.max() < compiled.episode_length:
             length += core.alive
@@ -108,8 +106,8 @@ def play(level: int, task: str, policy: str, worlds: int, episodes: int, generat
             drops["wet"].append(s.prepared[world, plane] + s.extinguished[world, plane])
             drops["height"].append(start.height[world, cell[:, 1], cell[:, 0]])
             drops["sea"].append(sea[world, cell[:, 1], cell[:, 0]])
-            drops["swath"].append(swath_trees(start.exists, world, s.position[world, plane], s.heading[world, plane],
-                                              p, p.island_half_extent_m, spec.spacing_m))
+            drops["swath"].append(swath_trees(core.sim, start.exists, world, s.position[world, plane],
+                                              s.heading[world, plane]))
         planes["length"].append(length.ravel())
         planes["dropped"].append(dropped.ravel())
     join = lambda parts: np.concatenate(parts) if parts else np.zeros(0)  # noqa: E731

@@ -108,8 +108,8 @@ def test_a_swath_covers_the_cells_of_four_30_m_discs_20_m_apart():
     60 m x 60 m rectangle and a 30 m disc, 6,427 m^2 or 714 cells of 9 m^2; a full forest gives that many."""
     compiled = hivex_dsl.compile({"hivex": 1, "environment": AWS, "task": "main"})
     exists = np.ones((1, 400, 400), bool)
-    covered = swath_trees(exists, np.array([0, 0]), np.array([[0.0, 0.0], [100.0, -50.0]]), np.array([0.0, 1.0]),
-                          compiled.params, 600.0, 3.0)
+    covered = swath_trees(compiled.entry.make_simulator(compiled), exists, np.array([0, 0]),
+                          np.array([[0.0, 0.0], [100.0, -50.0]]), np.array([0.0, 1.0]))
     assert covered == pytest.approx([(60 * 60 + np.pi * 30 ** 2) / 9] * 2, rel=0.02)
 
 
