@@ -120,8 +120,9 @@ def when_and_what() -> dict:
 
 
 def merged(path: Path, rows: list[dict]) -> dict:
-    """The report at ``path`` (if any) with ``rows`` replacing the rows of the same configuration."""
-    key = lambda row: (row["environment"], row["num_worlds"], row["torch_threads"],  # noqa: E731
+    """The report at ``path`` (if any) with ``rows`` replacing the rows of the same configuration on the same
+    machine (another machine's rows of that configuration are kept: an H200's do not replace an H100's)."""
+    key = lambda row: (row["machine"], row["environment"], row["num_worlds"], row["torch_threads"],  # noqa: E731
                        row.get("device", "cpu"), row.get("processes", 1), row.get("precision", "exact"))
     report = json.loads(path.read_text()) if path.is_file() else {"rows": []}
     # rows written before rows named their machine, device and precision: the file's machine, one exact process

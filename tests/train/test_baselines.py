@@ -16,7 +16,7 @@ from hivex_dsl.docsgen.baselines import baselines_context
 from hivex_dsl.train.config import PPOConfig, make_config
 from hivex_dsl.train.ppo import train
 
-from .conftest import record_baseline_script, short_scenario
+from .conftest import benchmark_script, record_baseline_script, short_scenario
 
 pytest.importorskip("matplotlib")
 
@@ -380,3 +380,18 @@ def test_the_headline_verdict_is_about_the_number_beside_it():
                                               "3 seeds pooled (12.51): above")
     one = {"test": {"return": {"mean": 4.0, "std": 1.0}}}
     assert record_verdict(one, published) == "below" and record_verdict(dbr, None) == "-"
+
+
+def test_a_throughput_row_replaces_only_its_own_machines_row(tmp_path):
+    """benchmarks/train_throughput.py's merge: a new row replaces the row of the same configuration measured on
+    the same machine, and keeps another machine's row of that configuration (an H200's rows once replaced the
+    H100's committed ones)."""
+    merged = benchmark_script("train_throughput").merged
+    row = {"environment": "ocean_plastic_collection", "num_worlds": 8, "torch_threads": 1, "device": "cuda",
+           "processes": 16, "precision": "exact", "agent_steps_per_s": 28_715.3, "machine": "16 cores, an H100"}
+    path = tmp_path / "train_throughput.json"
+    path.write_text(json.dumps({"rows": [row]}))
+    h200 = row | {"agent_steps_per_s": 30_194.4, "machine": "16 cores, an H200"}
+    assert merged(path, [h200])["rows"] == [row, h200]
+    again = row | {"agent_steps_per_s": 29_000.0}
+    assert merged(path, [again])["rows"] == [again]
