@@ -55,13 +55,11 @@ def sea_distance_m(land: np.ndarray, cell_m: float, cap_cells: int = 120) -> np.
 def swath_trees(sim, exists: np.ndarray, world: np.ndarray, position: np.ndarray, heading: np.ndarray) -> np.ndarray:
     """(D,) tree cells of ``exists`` (B, C, C) a swath covers: D drops by ``world`` (D,), plane ``position``
     (D, 2) metres and ``heading`` (D,) radians, on the simulator's own swath (its points ahead and cell coordinates)."""
-    facing = np.stack([np.cos(heading), np.sin(heading)], axis=-1)
-    points = position[:, None, :] + sim.drop_along[None, :, None] * facing[:, None, :]  # (D, P, 2)
-    batch, cells = exists.shape[0], exists.shape[1]
-    rows, cols = sim._cells(points)
-    point, flat = covered_cells(np.repeat(world, points.shape[1]), rows.ravel(), cols.ravel(),
+    rows, cols = sim.swath_cells(position, np.stack([np.cos(heading), np.sin(heading)], axis=-1))
+    batch, cells, per_drop = exists.shape[0], exists.shape[1], rows.shape[1]
+    point, flat = covered_cells(np.repeat(world, per_drop), rows.ravel(), cols.ravel(),
                                 sim.params.drop_radius_m / sim.cell_m, cells, batch)
-    drop_cell = np.unique((point // points.shape[1]).astype(np.int64) * exists.size + flat)  # each cell once a drop
+    drop_cell = np.unique((point // per_drop).astype(np.int64) * exists.size + flat)  # each cell once a drop
     drop, cell = np.divmod(drop_cell, exists.size)
     return np.bincount(drop, weights=exists.reshape(-1)[cell], minlength=len(world))
 

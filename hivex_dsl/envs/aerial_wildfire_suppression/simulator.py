@@ -262,17 +262,18 @@ class AerialWildfireSimulator:
         owners = np.flatnonzero(dropping.reshape(-1))
         pos = position.reshape(-1, 2)[owners]
         dirs = direction.reshape(-1, 2)[owners]
-        points = pos[:, None, :] + self.drop_along[None, :, None] * dirs[:, None, :]  # (D, P, 2)
-        rows, cols = self._cells(points)
-        owner = np.repeat(owners, points.shape[1])
+        rows, cols = self.swath_cells(pos, dirs)
+        owner = np.repeat(owners, rows.shape[1])
         radius = self.params.drop_radius_m / self.cell_m
         fire, out, wet = douse(fire, owner // agents, rows.ravel(), cols.ravel(), radius, owner, batch * agents)
         redraw_cells(look, fire.trees, window_cells(owner // agents, rows.ravel(), cols.ravel(), radius,
                                                     self.forest_spec.cells), self.frame)
         return fire, out.reshape(batch, agents).astype(np.int32), wet.reshape(batch, agents).astype(np.int32)
 
-    def _cells(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Fractional (row, col) forest-cell coordinates of points (..., 2) metres."""
+    def swath_cells(self, position: np.ndarray, direction: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Fractional (row, col) forest-cell coordinates (D, P) of the swath's points ahead of D planes at
+        ``position`` (D, 2) metres facing the unit ``direction`` (D, 2); each wets drop_radius_m around it."""
+        points = position[:, None, :] + self.drop_along[None, :, None] * direction[:, None, :]  # (D, P, 2)
         half = self.params.island_half_extent_m
         return (points[..., 1] + half) / self.cell_m - 0.5, (points[..., 0] + half) / self.cell_m - 0.5
 
