@@ -410,7 +410,8 @@ def uneven_batteries(agents: int = 2) -> dict:
     """DBR whose batteries last 12 steps holding a seed and 48 without, so a drone that drops its seed outlives one
     that keeps it: within a world, one drone ends while another plays on."""
     sc = short_battery(agents)
-    return dict(sc, params=dict(sc["params"], energy_steps_without_seed=48))
+    return dict(sc, params=dict(sc["params"], energy_steps_without_seed=48,
+                                drop_min_distance_m=7.5))  # drop as soon as the climb leaves the charge radius
 
 
 def climb_and_drop(slots: int):

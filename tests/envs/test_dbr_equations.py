@@ -46,7 +46,7 @@ def hand_world(sim, drones, trees=(), holding=True, energy=1.0, away=True, headi
         new_trees=np.full_like(state.new_trees, FAR_M), new_count=np.zeros(1, np.int64), position=position,
         heading=np.full(shape, heading), ground=sample_bilinear(heights, sim.terrain_grid, position[..., :2]),
         energy=np.full(shape, energy), holding=np.full(shape, holding), alive=np.ones(shape, bool),
-        inside=distance <= sim.params.charge_radius_m, left_pad=distance > sim.params.charge_radius_m,
+        inside=distance <= sim.params.charge_radius_m,
         away=np.full(shape, away),
         back_active=np.zeros(shape, bool), best_fertility=np.zeros(shape), best_height=np.zeros(shape),
         best_distance=np.zeros(shape))
@@ -205,7 +205,7 @@ def test_running_back_pays_20_rbm_over_d_init_in_metres_minus_3_once_per_increme
 
 
 def test_running_back_ends_at_the_station_and_pays_nothing_for_a_drop_near_it():
-    compiled, sim = simulator()
+    compiled, sim = simulator(drop_min_distance_m=7.5)  # a drop just outside the charge radius
     near = hand_world(sim, [(9.0, 2.0, 2.0)], trees=[(30.0, 2.0)], heading=np.pi)
     state, _ = sim.step(near, act(drop=1), np.random.default_rng(1))
     assert state.dropped[0, 0] and increment(9.0, 2.0) == 3  # its increment is d_charge / s: none closer pays
@@ -273,23 +273,23 @@ def test_a_docking_lasts_the_whole_charging_cycle_whatever_the_battery_held():
     assert early.docked_steps[0, 0] == 0 and not early.holding[0, 0]
 
 
-def test_recharge_energy_count_counts_docked_steps_only_after_a_drone_left_the_pad_it_started_on():
-    """The published count is 0 (std 0) in the three tasks whose drones start at the station and never come back
-    (Find Closest Tree, Find High Potential Area, Find High Terrain), and 147 in Group Up, more than the at most
-    ~10 charging steps a drone's one battery (1/2000 a step without a seed) could need in 2,000 steps: lingering
-    at the station counts, sitting on the pad one started on does not."""
+def test_recharge_energy_count_counts_every_docked_step_from_the_start_where_the_station_serves():
+    """The original's untrained policy logs 41 docked steps a drone-episode in the main task, whose drones start on the
+    pad, and 0 in Find Closest Tree, Find High Potential Area and Find High Terrain at every point, though their drones
+    start there too: the count runs from the first step, the pad included, and is 0 where the station is inert."""
     from hivex_dsl.envs.drone_based_reforestation.statistics import STATISTICS
 
-    compiled, sim = simulator(agents=3)
     recharges = STATISTICS["Recharge Energy Count"].counter
-    state = sim.reset(np.random.default_rng(0), 1)
-    assert state.inside.all() and not state.left_pad.any()
-    for _ in range(20):  # hovering on the spawn circle, inside the charge radius, with a full battery
-        prev, (state, _) = state, sim.step(state, act(agents=3), np.random.default_rng(1))
-        assert state.inside.all() and not recharges(prev, state, act(agents=3), compiled.params).any()
-    state = replace(state, left_pad=np.array([[True, False, False]]))  # drone 0 came back from a flight
-    prev, (state, _) = state, sim.step(state, act(agents=3), np.random.default_rng(1))
-    assert recharges(prev, state, act(agents=3), compiled.params).tolist() == [[True, False, False]]
+    for task, counted in (("main", 3 * 20), ("explore_furthest", 3 * 20), ("find_high_terrain", 0),
+                          ("find_closest_tree", 0), ("find_high_potential_area", 0)):
+        compiled = hivex_dsl.compile({"hivex": 1, "environment": ENV, "agents": 3, "task": task})
+        sim = compiled.entry.make_simulator(compiled)
+        state, total = sim.reset(np.random.default_rng(0), 1), 0
+        for _ in range(20):  # hovering on the spawn circle, inside the charge radius
+            prev, (state, _) = state, sim.step(state, act(agents=3), np.random.default_rng(1))
+            assert state.inside.all()
+            total += int(recharges(prev, state, act(agents=3), compiled.params).sum())
+        assert total == counted, task
 
 
 def test_charge_per_step_1_refills_at_once():
@@ -302,7 +302,7 @@ def test_charge_per_step_1_refills_at_once():
 def test_hovering_across_the_charge_radius_neither_charges_nor_returns():
     """A drone that has not been return_min_distance_m away is on no return: inside the charge radius or out, its
     battery drains 1/2000 a seedless step (8 steps: 0.5 - 0.004), and it takes no seed."""
-    compiled, sim = simulator()
+    compiled, sim = simulator(throttle="signed")
     state = hand_world(sim, [(9.0, 0.0, 2.0)], holding=False, energy=0.5, away=False, heading=np.pi)
     for throttle in (1.0, 1.0, 1.0, -1.0, -1.0, -1.0, 1.0, 1.0):
         state, _ = sim.step(state, act(throttle=throttle), np.random.default_rng(1))
@@ -455,7 +455,7 @@ def test_far_distance_delta_pays_each_new_furthest_distance_capped_at_the_half_e
 
 # ------------------------------------------------------------------ issue 15: the readings the published results support
 def test_a_12_m_drop_pays_one_running_back_increment_not_a_second_on_entering_the_charge_radius():
-    compiled, sim = simulator()
+    compiled, sim = simulator(drop_min_distance_m=7.5)  # a drop 12 m out
     state = hand_world(sim, [(12.0, 2.0, 1.5)], trees=[(22.0, 2.0)], heading=np.pi)
     state, _ = sim.step(state, act(drop=1), np.random.default_rng(1))
     r_s = 20.0 * (75.0 - 10.0) / 72.5  # det 10 m
@@ -581,3 +581,30 @@ def test_distance_until_tree_drop_is_the_path_flown_since_the_seed_was_taken():
     assert counter(prev, state, act(drop=1), compiled.params)[0, 0] == pytest.approx(path)  # hovering adds nothing
     straight = np.hypot(*(state.position[0, 0, :2] - state.station[0, :2]))
     assert path != pytest.approx(straight)
+
+
+@pytest.mark.parametrize("mapping, throttle, metres", [("forward", 1.0, 1.0), ("forward", 0.5, 0.5),
+                                                        ("forward", -1.0, 0.0), ("forward", -0.3, 0.0),
+                                                        ("signed", -1.0, -1.0), ("signed", 0.5, 0.5)])
+def test_the_throttle_flies_forward_only_unless_signed(mapping, throttle, metres):
+    """'forward' (the default): max(a, 0) x drone_speed_m (1 m) along the heading, a negative throttle hovers;
+    'signed': a x drone_speed_m, backwards below 0."""
+    compiled, sim = simulator(throttle=mapping)
+    state = hand_world(sim, [(30.0, 0.0, 5.0)], heading=np.pi / 2)  # facing +y
+    state, _ = sim.step(state, act(throttle=throttle), np.random.default_rng(1))
+    assert state.position[0, 0, :2] == pytest.approx([30.0, metres])
+
+
+@pytest.mark.parametrize("distance_m, drops", [(10.0, False), (17.4, False), (17.6, True), (40.0, True)])
+def test_a_seed_drops_only_drop_min_distance_m_from_the_station(distance_m, drops):
+    """The default drop_min_distance_m is 17.5 m (3D; the drone 2 m over flat ground at the station's height)."""
+    compiled, sim = simulator()
+    horizontal = float(np.sqrt(distance_m**2 - 2.0**2))
+    state = hand_world(sim, [(horizontal, 0.0, 2.0)], trees=[(horizontal + 10.0, 0.0)])
+    state, _ = sim.step(state, act(drop=1), np.random.default_rng(1))
+    assert bool(state.dropped[0, 0]) is drops and bool(state.holding[0, 0]) is not drops
+
+
+def test_drop_min_distance_m_below_the_charge_radius_is_refused():
+    with pytest.raises(Exception, match="drop_min_distance_m"):
+        simulator(drop_min_distance_m=5.0)

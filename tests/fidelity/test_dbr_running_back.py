@@ -32,7 +32,7 @@ def run_home(distance_m: float, rbm: float) -> float:
     flat = np.zeros_like(state.heights)
     state = replace(state, heights=flat, station=np.zeros((1, 3)), position=np.array([[[distance_m, 0.0, 2.0]]]),
                     heading=np.full((1, 1), np.pi), ground=np.zeros((1, 1)), inside=np.zeros((1, 1), bool),
-                    left_pad=np.ones((1, 1), bool), away=np.ones((1, 1), bool), holding=np.ones((1, 1), bool))
+                    away=np.ones((1, 1), bool), holding=np.ones((1, 1), bool))
     drop = {"continuous": np.zeros((1, 1, 3), np.float32), "discrete": np.ones((1, 1, 1), np.int64)}
     home = {"continuous": np.array([[[1.0, 0.0, 0.0]]], np.float32), "discrete": np.zeros((1, 1, 1), np.int64)}
     state, _ = sim.step(state, drop, np.random.default_rng(0))

@@ -9,6 +9,8 @@ forest is this environment's own patch field, forest.py).
 
 from __future__ import annotations
 
+from typing import Literal
+
 import numpy as np
 from pydantic import Field, model_validator
 
@@ -27,6 +29,12 @@ class DroneBasedReforestationParams(StrictModel):
     drone_speed_m: float = Field(1.0, gt=0.0, le=2.0, description=(
         "[ours] Horizontal metres flown per step at full throttle (at most 2 m so a step never crosses two "
         "2.5 m running-back increments)."))
+    throttle: Literal["forward", "signed"] = Field("forward", description=(
+        "[orig, fitted] How the throttle control a in [-1, 1] moves a drone: 'forward' flies max(a, 0) x drone_speed_m "
+        "forward (a negative throttle hovers), 'signed' flies a x drone_speed_m (-1 backwards; this toolkit's reading "
+        "until issue 52). The original's untrained drones leave the station and do not drift back (the seedless "
+        "tasks' first training points: no docking, 118 m explored, potential 0.52), which a zero-mean signed "
+        "throttle cannot do (the reward table's notes, \"The untrained flight\")."))
     climb_speed_m: float = Field(0.5, gt=0.0, le=1.0, description="[ours] Metres climbed or sunk per step at up/down +/-1.")
     turn_rate_deg: float = Field(6.0, gt=0.0, le=45.0, description="[ours] Degrees turned per step at steer +/-1.")
     min_clearance_m: float = Field(1.0, ge=0.1, le=5.0, description=(
@@ -46,6 +54,11 @@ class DroneBasedReforestationParams(StrictModel):
     return_min_distance_m: float = Field(15.0, ge=1.0, le=200.0, description=(
         "[ours] A visit to the station counts as a return (seed pick-up and its reward) only if the drone was "
         "at least this far from the station since its last return, so hovering across the charge radius pays nothing."))
+    drop_min_distance_m: float = Field(17.5, ge=1.0, le=100.0, description=(
+        "[orig, fitted] A drone can drop its seed only at least this far (3D) from the station; nearer, the drop "
+        "action does nothing. The original masks the drop but on a few decisions of a seed holder's episode (its "
+        "first training points' entropy) and its untrained drones dropped about 19 m out (the reward table's "
+        "notes, \"When a drop is available\"). At least charge_radius_m."))
     spawn_radius_m: float = Field(6.0, ge=0.0, le=50.0, description=(
         "[ours] Drones start evenly spaced on a circle of this radius around the station, inside the charge radius "
         "(widened for many drones, see spawn_gap_m)."))
@@ -93,6 +106,9 @@ class DroneBasedReforestationParams(StrictModel):
         if self.min_tree_distance_m >= self.max_tree_distance_m:
             raise ValueError(f"min_tree_distance_m ({self.min_tree_distance_m}) must be less than "
                              f"max_tree_distance_m ({self.max_tree_distance_m})")
+        if self.drop_min_distance_m < self.charge_radius_m:
+            raise ValueError(f"drop_min_distance_m ({self.drop_min_distance_m}) must be at least charge_radius_m "
+                             f"({self.charge_radius_m}): no seed is dropped at the station")
         if self.return_min_distance_m <= self.charge_radius_m:
             raise ValueError(f"return_min_distance_m ({self.return_min_distance_m}) must exceed charge_radius_m "
                              f"({self.charge_radius_m}) or a drone could return without leaving")

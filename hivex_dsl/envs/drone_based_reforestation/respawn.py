@@ -33,7 +33,6 @@ def respawn_where(sim, state: DroneState, mask: np.ndarray, rng: np.random.Gener
     return evolve(state, position=position, heading=heading, ground=ground, energy=energy, holding=holding,
                   alive=state.alive | mask,
                   inside=np.where(mask, distance <= p.charge_radius_m, state.inside),
-                  left_pad=np.where(mask, distance > p.charge_radius_m, state.left_pad),
                   docked_steps=state.docked_steps * off,
                   away=np.where(mask, distance >= p.return_min_distance_m, state.away),
                   best_fertility=state.best_fertility * off, best_height=state.best_height * off,

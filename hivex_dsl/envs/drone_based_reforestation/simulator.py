@@ -33,6 +33,10 @@ RUNNING_BACK_REWARD = 20.0  # [paper] r_p
 # drones is random"): the first training points of the two tasks' pages are identical in every statistic (issue 52;
 # the reward table's note "Pick-up Seed's start and the returns that reload"). Drop Seed's start at the station too.
 RANDOM_SPAWN_TASKS = ("group_up",)
+# [orig] The tasks whose station is inert for the Recharge Energy Count: their pages log 0 at every summary point and
+# level, the untrained policy's first included, whose drones start on the pad (the main task's first point: 41
+# docked steps a drone-episode); elsewhere the count runs from the first step (the reward table's notes).
+INERT_STATION_TASKS = ("find_closest_tree", "find_high_potential_area", "find_high_terrain")
 # [orig] Pick-up Seed's drones start without a seed (they come back for one: the original's page logs no drop), and
 # so do those of Find Closest Tree and the three best-so-far tasks: their pages log no drop at any point, the
 # untrained policy's first included (which drops 0.81 seeds a drone-episode in the main task), and their returns
@@ -53,7 +57,8 @@ def returns_reload(task_name: str) -> bool:
 class DroneReforestationSimulator:
     """B worlds of one compiled Drone-Based Reforestation scenario."""
 
-    action_meanings = ("continuous: [0] throttle (-1 backward .. 1 forward), [1] steer (-1 right .. 1 left), "
+    action_meanings = ("continuous: [0] throttle (0 or less hover .. 1 forward; -1 backward with params.throttle "
+                       "'signed'), [1] steer (-1 right .. 1 left), "
                        "[2] up/down (-1 down .. 1 up); discrete: [0] drop seed {0 do nothing, 1 drop seed}")
     observation_labels = ("distance to ground", "local position x", "local position y", "local position z",
                           "direction x", "direction y", "direction z", "drone station height", "holding seed",
@@ -72,6 +77,7 @@ class DroneReforestationSimulator:
         self.random_spawn = compiled.task_name in RANDOM_SPAWN_TASKS
         self.start_with_seed = compiled.task_name not in SEEDLESS_START_TASKS
         self.return_reloads = returns_reload(compiled.task_name)
+        self.station_logs_docking = compiled.task_name not in INERT_STATION_TASKS
         t, f = self.terrain_spec, self.forest_spec
         self.half = t.extent_m / 2.0
         self.terrain_grid = Grid(-self.half, t.extent_m / (t.size - 1), t.size)
@@ -158,7 +164,7 @@ class DroneReforestationSimulator:
             new_count=np.zeros(batch, np.int64), steps_left=np.full(batch, self.time_limit, np.int64),
             position=position, heading=heading, ground=ground,
             energy=np.ones(shape), holding=np.full(shape, holding), alive=np.ones(shape, bool),
-            inside=distance <= p.charge_radius_m, left_pad=distance > p.charge_radius_m,
+            inside=distance <= p.charge_radius_m, logs_docking=np.full(distance.shape, self.station_logs_docking),
             docked_steps=np.zeros(shape, np.int64), away=(distance >= p.return_min_distance_m) & self.random_spawn,
             # best-so-far potential and distance from the spawn state: the first step pays only for what it finds;
             # the height's from 0, as the paper's h_old (the reward table's notes: the original's records read so)
@@ -210,6 +216,8 @@ class DroneReforestationSimulator:
         if alive is not None:
             controls = controls * alive[..., None]
         moves = controls * self._control_scale  # (B, A, 3) metres forward, radians turned, metres climbed
+        if p.throttle == "forward":
+            np.maximum(moves[..., 0], 0.0, out=moves[..., 0])
         heading = wrap_angle(state.heading + moves[..., 1])
         direction = np.empty(heading.shape + (2,))
         direction[..., 0] = np.cos(heading)
@@ -293,11 +301,13 @@ class DroneReforestationSimulator:
         np.putmask(energy, energy <= 1e-9, 0.0)
         return energy
 
-    def _wanted_drops(self, state: DroneState, actions, outside: np.ndarray, alive: np.ndarray | None) -> np.ndarray:
-        """(B, A) living drones that hold a seed, are outside the charge radius and ask to drop it."""
+    def _wanted_drops(self, state: DroneState, actions, distance: np.ndarray, alive: np.ndarray | None) -> np.ndarray:
+        """(B, A) living drones that hold a seed, are at least drop_min_distance_m from the station (``distance``
+        (B, A), 3D) and ask to drop it."""
         if not np.count_nonzero(state.holding):  # nobody can drop a seed (skips the ops below)
-            return np.zeros(outside.shape, bool)
-        return _alive_only((np.asarray(actions["discrete"])[..., 0] == 1) & state.holding & outside, alive)
+            return np.zeros(distance.shape, bool)
+        asked = (np.asarray(actions["discrete"])[..., 0] == 1) & state.holding
+        return _alive_only(asked & (distance >= self.params.drop_min_distance_m), alive)
 
     def _plant(self, state: DroneState, wants: np.ndarray, position: np.ndarray
                ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -319,7 +329,7 @@ class DroneReforestationSimulator:
         distance, reach = self._station_distances(flight.position, state.station)
         inside = distance <= p.charge_radius_m
         outside = ~inside
-        drops = self._wanted_drops(state, actions, outside, alive)
+        drops = self._wanted_drops(state, actions, distance, alive)
         dropping = np.count_nonzero(drops) > 0
         if dropping:
             drops, r_s, r_d, det, new_count = self._plant(state, drops, flight.position)
@@ -348,7 +358,7 @@ class DroneReforestationSimulator:
         new = evolve(
             state, new_count=new_count, steps_left=state.steps_left - 1, position=flight.position,
             heading=flight.heading, ground=flight.ground,
-            energy=energy, holding=holding, alive=energy > 0.0, inside=inside, left_pad=state.left_pad | outside,
+            energy=energy, holding=holding, alive=energy > 0.0, inside=inside,
             docked_steps=docked_steps, away=away & ~returned if returning else away,
             flown=np.where(returned, 0.0, flown) if returning else flown,
             best_fertility=self._best_fertility(state, flight.xy, flight.tree_distance, alive),

@@ -22,10 +22,11 @@ def tree_drop_count(prev, state, actions, params):
     return state.dropped
 
 
-@STATISTICS.counter("Recharge Energy Count", "Steps the drone spent docked at the drone station, charging or full, "
-                    "once it had left the pad it started on.")
+@STATISTICS.counter("Recharge Energy Count", "Steps the drone spent within the charge radius of the drone station, "
+                    "charging or not, from its first step (the pad it starts on included); 0 in the tasks whose "
+                    "station is inert (Find Closest Tree, Find High Potential Area, Find High Terrain).")
 def recharge_energy_count(prev, state, actions, params):
-    return state.inside & state.alive & state.left_pad
+    return state.inside & state.alive & state.logs_docking
 
 
 @STATISTICS.counter("Out of Energy Count", "Times the drone's battery ran empty (its episode ends); on the world's "

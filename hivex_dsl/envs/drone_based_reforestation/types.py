@@ -51,7 +51,7 @@ class DroneState:
     holding: np.ndarray  # (B, A) bool, carrying a seed
     alive: np.ndarray  # (B, A) bool, energy left (a drone with an empty battery is frozen)
     inside: np.ndarray  # (B, A) bool, within the charge radius of the station
-    left_pad: np.ndarray  # (B, A) bool, has been outside the charge radius since its spawn (docked after that)
+    logs_docking: np.ndarray  # (B, A) bool, the station logs this drone's docked steps (false in the tasks where it is inert)
     docked_steps: np.ndarray  # (B, A) int64 consecutive steps docked (alive within the charge radius), 0 outside
     away: np.ndarray  # (B, A) bool, has been return_min_distance_m from the station since its last return
     best_fertility: np.ndarray  # (B, A) pot_old: best seed-drop potential found so far
