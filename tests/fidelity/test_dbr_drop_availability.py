@@ -1,5 +1,6 @@
 """When the original's drones could drop a seed, read from its Entropy panels (issue 52; the reward table's note
-"Open: the untrained flight and when a drop is available").
+"Read (issue 52, session 30): the untrained flight"; tests/fidelity/test_dbr_untrained_flight.py
+sets this toolkit's initial policy beside it).
 
 ML-Agents logs the policy's entropy as the sum over its action distributions (ActionModel: the Gaussian's entropy
 averaged over the continuous dimensions, plus each discrete branch's), and a masked option's probability is
