@@ -34,7 +34,7 @@ class DroneBasedReforestationParams(StrictModel):
         "forward (a negative throttle hovers), 'signed' flies a x drone_speed_m (-1 backwards; this toolkit's reading "
         "until issue 52). The original's untrained drones leave the station and do not drift back (the seedless "
         "tasks' first training points: no docking, 118 m explored, potential 0.52), which a zero-mean signed "
-        "throttle cannot do (the reward table's notes, \"The untrained flight\")."))
+        "throttle cannot do (the reward table's note \"Decided (issue 52, session 31)\")."))
     climb_speed_m: float = Field(0.5, gt=0.0, le=1.0, description="[ours] Metres climbed or sunk per step at up/down +/-1.")
     turn_rate_deg: float = Field(6.0, gt=0.0, le=45.0, description="[ours] Degrees turned per step at steer +/-1.")
     min_clearance_m: float = Field(1.0, ge=0.1, le=5.0, description=(
