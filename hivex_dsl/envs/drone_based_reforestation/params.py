@@ -58,7 +58,7 @@ class DroneBasedReforestationParams(StrictModel):
         "[orig, fitted] A drone can drop its seed only at least this far (3D) from the station; nearer, the drop "
         "action does nothing. The original masks the drop but on a few decisions of a seed holder's episode (its "
         "first training points' entropy) and its untrained drones dropped about 19 m out (the reward table's "
-        "notes, \"When a drop is available\"). At least charge_radius_m."))
+        "note \"Decided (issue 52, session 31)\"). At least charge_radius_m."))
     spawn_radius_m: float = Field(6.0, ge=0.0, le=50.0, description=(
         "[ours] Drones start evenly spaced on a circle of this radius around the station, inside the charge radius "
         "(widened for many drones, see spawn_gap_m)."))
