@@ -106,3 +106,91 @@ def test_local_wind_is_the_main_direction_turned_by_the_shared_fractal_noise(see
     noise = fractal_unchecked(state.perm, state.grads, moved[..., 0], moved[..., 1], octaves, 0.5, 2.0)
     expected = wrap_angle(state.main[:, None] + np.radians(spec.deviation_max_deg) * noise)
     np.testing.assert_array_equal(local_wind(state, points, spec), expected)
+
+
+ORIGINAL = dataclasses.replace(SPEC, law="original", lerp_speed=0.3, frame_steps=5.0, drift_m=0.0)
+
+
+def _facing_east_toward_60_degrees(spec: WindSpec, batch: int = 1):
+    state = wind_reset(np.random.default_rng(0), batch, spec)
+    east = np.zeros(batch)
+    return dataclasses.replace(state, main=east, target=np.full(batch, np.radians(60.0)),
+                               vector=np.stack([np.ones(batch), np.zeros(batch)], axis=1))
+
+
+def test_the_original_law_lerps_the_main_vector_once_a_frame_by_a_growing_fraction():
+    """Wind.CalcMainWind by hand: a frame every 5 steps, the fraction growing by 0.3 x 5 x 0.02 s = 0.03 a frame.
+    Frame 1: (1, 0) + 0.03 ((0.5, 0.866) - (1, 0)) = (0.985, 0.02598), 1.5109 degrees; frame 2 by 0.06:
+    (0.9559, 0.07638), 4.5686 degrees. Between frames the wind stands still."""
+    state, rng = _facing_east_toward_60_degrees(ORIGINAL), np.random.default_rng(1)
+    mains = []
+    for _ in range(10):
+        state = wind_step(state, rng, ORIGINAL)
+        mains.append(np.degrees(state.main[0]))
+    np.testing.assert_allclose(mains[:4], 0.0, atol=1e-12)
+    np.testing.assert_allclose(mains[4:9], 1.5109065, atol=1e-6)
+    np.testing.assert_allclose(mains[9], 4.5686468, atol=1e-6)
+    np.testing.assert_allclose(state.vector[0], [0.9559, 0.0763834], atol=1e-6)
+    assert state.fraction[0] == pytest.approx(0.06)
+
+
+def test_the_original_law_retargets_within_the_tolerance_and_restarts_the_fraction():
+    state = _facing_east_toward_60_degrees(ORIGINAL, batch=64)
+    state = dataclasses.replace(state, target=np.full(64, np.radians(4.0)), fraction=np.full(64, 0.5))
+    state = wind_step(state, np.random.default_rng(2), dataclasses.replace(ORIGINAL, frame_steps=1.0))
+    turn = np.degrees(wrap_angle(state.target - np.radians(4.0)))
+    np.testing.assert_allclose(np.abs(turn), 60.0, atol=1e-9)
+    assert (turn > 0).any() and (turn < 0).any()
+    np.testing.assert_allclose(state.fraction, 0.3 * 0.02)  # restarted at 0, then one frame's growth
+
+
+def test_the_original_law_at_the_aws_scenes_speed_shifts_within_the_hand_bounds():
+    """Speed 0.001, frames of 50/3 steps (1/3 s): frame k lerps by f_k = k x 0.001 / 3. Against the target, the
+    vector's perpendicular part shrinks by exactly (1 - f_k) and its parallel part (from cos 60 = 0.5) only grows
+    toward 1, so tan(angle) lies between sin 60 x prod(1 - f) and tan 60 x prod(1 - f). It falls under tan 5 =
+    0.0875, and the target turns, only once prod(1 - f) < 0.101, i.e. sum -ln(1 - f) > 2.29, which needs more than
+    100 frames (sum f + f^2 = 1.72 at 100); and surely once prod(1 - f) < 0.0505, within 134 frames (sum f =
+    3.02 at 134), the target turning at the frame after."""
+    spec = dataclasses.replace(SPEC, law="original", lerp_speed=0.001, frame_steps=50.0 / 3.0, drift_m=0.0)
+    state, rng = _facing_east_toward_60_degrees(spec), np.random.default_rng(3)
+    for step in range(1, 2_500):
+        state = wind_step(state, rng, spec)
+        if abs(state.target[0] - np.radians(60.0)) > 1e-9:
+            break
+    assert 100 * 50 / 3 < step <= 135 * 50 / 3 + 1
+
+
+def test_the_original_laws_fields_at_their_defaults_leave_the_fingerprint_as_it_was():
+    import hivex_dsl
+
+    def wfc(**params):
+        scenario = {"hivex": 1, "environment": "wind_farm_control"}
+        return hivex_dsl.compile({**scenario, "params": params} if params else scenario)
+
+    plain = wfc()
+    assert wfc(wind_lerp_speed=0.001, wind_original_law=0).fingerprint == plain.fingerprint
+    assert wfc(wind_lerp_speed=0.5).fingerprint != plain.fingerprint  # inert under law 0, but an edit all the same
+    assert "wind_original_law" not in plain.params.fingerprint_params()
+    assert plain.resolved()["params"]["wind_original_law"] == 0
+    original = wfc(wind_original_law=1)
+    assert original.fingerprint != plain.fingerprint
+    assert wfc(wind_original_law=1, wind_lerp_speed=0.5).fingerprint != original.fingerprint
+    assert hivex_dsl.compile(original.to_lock()).fingerprint == original.fingerprint
+
+
+def test_a_wind_farm_under_the_original_law_holds_its_wind_between_frames():
+    """Through the simulator: with frames of 4 steps, the main wind and so every turbine's local wind (the noise
+    field held still, drift 0) change only on every 4th step."""
+    import hivex_dsl
+    from hivex_dsl.envs.wind_farm_control.simulator import WindFarmSimulator
+
+    compiled = hivex_dsl.compile({"hivex": 1, "environment": "wind_farm_control", "params": {
+        "wind_original_law": 1, "wind_frame_steps": 4.0, "wind_lerp_speed": 0.5, "wind_drift_m": 0.0}})
+    sim, rng = WindFarmSimulator(compiled), np.random.default_rng(0)
+    state = sim.reset(rng, 2)
+    winds = [state.local_wind]
+    for _ in range(12):
+        state, _ = sim.step(state, np.zeros((2, sim.agents), np.int64), rng)
+        winds.append(state.local_wind)
+    moved = [not np.array_equal(a, b) for a, b in zip(winds, winds[1:])]
+    assert moved == [False, False, False, True] * 3

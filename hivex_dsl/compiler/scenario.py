@@ -132,6 +132,9 @@ class CompiledScenario:
     def fingerprint(self) -> str:
         """sha256 of what determines behaviour: resolved content (not name) and term contracts."""
         content = {key: value for key, value in self.resolved().items() if key != "name"}
+        fingerprint_params = getattr(self.params, "fingerprint_params", None)  # params that leave out inert fields
+        if fingerprint_params is not None:
+            content["params"] = fingerprint_params()
         content["ends_on"] = list(self.ends_on)
         content["term_contracts"] = [contract.as_dict() for contract in self.term_contracts]
         if self.unpaid:  # only then: every scenario without one keeps its fingerprint
