@@ -48,7 +48,8 @@ class AerialWildfireParams(WindParams, FireSpec):
     fire_step_interval: int = Field(15, ge=1, le=1_000, description=(
         "[ours] Environment steps per fire step, fitted to the paper: with 15 an unfought fire outlives the "
         "3000-step episode as often as the published Fire Out says (the reward table's notes); a tree burns for "
-        "150 steps and the front moves well under 1 m per step, slower than a plane (3 m per step)."))
+        "150 steps and the front moves well under 1 m per step, slower than a plane (3 m per step). The release "
+        "itself makes a fire step every two rendered frames, 33 academy steps (the reward table's notes)."))
     weather_grid_cells: int = Field(16, ge=2, le=128, description=(
         "[ours] The smooth weather fields are sampled on this many cells per side of the island for the fire and "
         "ignition (nearest cell); the fields vary over hundreds of metres, a cell is 75 m."))
