@@ -1,0 +1,82 @@
+"""The course of Aerial Wildfire Suppression's fire left alone, under any params: how often and when it reaches the
+village, how often it goes out, how much it burns.
+
+    python benchmarks/aws_fire_course.py [--worlds 64] [--level 1] [--steps 3000] [--set key=value ...]
+
+Plays ``--worlds`` test-seed worlds of the main task for ``--steps`` steps with every plane circling (steer 1, no
+drop), so nothing fights the fire and no plane leaves, and prints the share of worlds whose fire came within the
+village radius (and the median step it did), the share whose fire went out, and the median trees burnt and still
+burning at the end. ``--set`` overrides a param (``--set fire_step_interval=33 --set low_overcast=0``: the release's
+fire cadence and overcast rule; the reward table's notes record what it printed, issue 52).
+"""
+
+from __future__ import annotations
+
+import argparse
+from dataclasses import dataclass
+
+import numpy as np
+
+import hivex_dsl
+from hivex_dsl.sim.fire.engine import TreeState
+
+ENVIRONMENT = "aerial_wildfire_suppression"
+
+
+@dataclass(frozen=True)
+class Course:
+    reached_step: np.ndarray  # (B,) first step the fire came within the village radius, -1 if never
+    out_step: np.ndarray  # (B,) first step the fire went out, -1 if never
+    burnt: np.ndarray  # (B,) trees burnt at the end
+    burning: np.ndarray  # (B,) trees burning at the end
+
+
+def fire_course(params: dict, worlds: int, level: int = 1, steps: int = 3000) -> Course:
+    """Run ``worlds`` test-seed worlds of the main task at ``level`` with ``params`` for ``steps`` steps, every
+    plane circling without a drop."""
+    compiled = hivex_dsl.compile({"hivex": 1, "environment": ENVIRONMENT, "task": "main", "terrain_level": level,
+                                  "episode_length": steps, "params": params})
+    sim = compiled.entry.make_simulator(compiled)
+    rng = np.random.default_rng(compiled.seeds.test)
+    state = sim.reset(rng, worlds)
+    shape = (worlds, compiled.agents, 1)
+    circling = {"continuous": np.ones(shape, np.float32), "discrete": np.zeros(shape, np.int64)}
+    reached, out = np.full(worlds, -1), np.full(worlds, -1)
+    for step in range(steps):
+        state, _ = sim.step(state, circling, rng)
+        reached = np.where((reached < 0) & state.village_threatened, step, reached)
+        out = np.where((out < 0) & state.fire_went_out, step, out)
+    trees = state.fire.trees.reshape(worlds, -1)
+    return Course(reached, out, (trees == TreeState.BURNT).sum(1), (trees == TreeState.BURNING).sum(1))
+
+
+def describe(course: Course) -> str:
+    reached = course.reached_step >= 0
+    when = f"median step {np.median(course.reached_step[reached]):.0f}" if reached.any() else "never"
+    return (f"village reached in {reached.mean():.0%} of worlds ({when}), out in {(course.out_step >= 0).mean():.0%}, "
+            f"burnt trees median {np.median(course.burnt):.0f}, burning at the end median {np.median(course.burning):.0f}")
+
+
+def _value(text: str):
+    for kind in (int, float):
+        try:
+            return kind(text)
+        except ValueError:
+            pass
+    return text
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--worlds", type=int, default=64)
+    parser.add_argument("--level", type=int, default=1)
+    parser.add_argument("--steps", type=int, default=3000)
+    parser.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
+    args = parser.parse_args(argv)
+    params = {key: _value(value) for key, value in (item.split("=", 1) for item in args.set)}
+    print(params or "defaults", describe(fire_course(params, args.worlds, args.level, args.steps)))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

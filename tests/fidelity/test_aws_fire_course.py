@@ -1,0 +1,41 @@
+"""benchmarks/aws_fire_course.py: the unfought fire's course under any params (the AWS reward table's notes)."""
+
+from __future__ import annotations
+
+import importlib.util
+from pathlib import Path
+
+
+
+def _script():
+    """benchmarks/aws_fire_course.py as a module (the benchmarks are scripts, not part of the package)."""
+    path = Path(__file__).resolve().parents[2] / "benchmarks" / "aws_fire_course.py"
+    spec = importlib.util.spec_from_file_location("aws_fire_course", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+script = _script()
+
+
+def test_a_fire_that_never_steps_keeps_its_ignition_burning_and_far_from_the_village():
+    """No fire step within the run: nothing spreads or burns out, so the ignition's more than 15 trees (lit more
+    than 300 m from the village) still burn, none is burnt, the fire is not out and never reached the village."""
+    course = script.fire_course({"fire_step_interval": 1000}, worlds=2, steps=60)
+    assert (course.burning > 15).all() and (course.burnt == 0).all()
+    assert (course.reached_step == -1).all() and (course.out_step == -1).all()
+
+
+def test_a_fire_stepping_every_step_burns_its_ignition_out_within_the_run():
+    """A fire step every step for 60 steps: every tree lit at the start has burnt its 10 fire steps (burn_steps)."""
+    course = script.fire_course({"fire_step_interval": 1}, worlds=2, steps=60)
+    assert (course.burnt > 15).all()
+    assert "village reached in" in script.describe(course)
+
+
+def test_the_command_line_reads_each_set_as_a_number_where_it_is_one(capsys):
+    assert script.main(["--worlds", "1", "--steps", "5", "--set", "fire_step_interval=1000", "--set",
+                        "low_overcast=0"]) == 0
+    out = capsys.readouterr().out
+    assert out.startswith("{'fire_step_interval': 1000, 'low_overcast': 0}") and "out in 0%" in out
