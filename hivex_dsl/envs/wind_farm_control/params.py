@@ -28,7 +28,8 @@ class WindFarmControlParams(WindParams):
         "one episode to the next, show."))
     wind_drift_m: float = Field(0.25, ge=0.0, le=100.0, description=(
         "[records] Metres the wind noise field moves with the main wind per step: slow enough for a turbine "
-        "turning 0.1 degrees a step to follow its local wind within the original's plateau (about 4,600)."))
+        "turning 0.1 degrees a step to follow its local wind within the original's plateau (about 4,600). The "
+        "release's Wind holds its field still while training (0 here; the reward table's notes)."))
     motor_acceleration: float = Field(0.1, ge=0.0, le=1.0, description="[paper] a_turbine: performance gain per step at full wind force W = 1.")
     drag: float = Field(0.1, ge=0.0, le=1.0, description="[paper] Drag: fraction of the performance P lost per step (d = -drag * P).")
     initial_heading_spread_deg: float = Field(0.0, ge=0.0, le=360.0, description=(
