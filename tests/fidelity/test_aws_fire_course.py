@@ -2,21 +2,9 @@
 
 from __future__ import annotations
 
-import importlib.util
-from pathlib import Path
+from ..benchmark_scripts import benchmark_script
 
-
-
-def _script():
-    """benchmarks/aws_fire_course.py as a module (the benchmarks are scripts, not part of the package)."""
-    path = Path(__file__).resolve().parents[2] / "benchmarks" / "aws_fire_course.py"
-    spec = importlib.util.spec_from_file_location("aws_fire_course", path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-script = _script()
+script = benchmark_script("aws_fire_course")
 
 
 def test_a_fire_that_never_steps_keeps_its_ignition_burning_and_far_from_the_village():

@@ -11,9 +11,7 @@ figures.)
 
 from __future__ import annotations
 
-import importlib.util
 from functools import lru_cache
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -21,17 +19,9 @@ import pytest
 import hivex_dsl
 from hivex_dsl.evaluation.original.evidence import EvidenceError, pooled_ratio
 
+from ..benchmark_scripts import benchmark_script
 
-def _script():
-    """benchmarks/aws_drops.py as a module (the benchmarks are scripts, not part of the package)."""
-    path = Path(__file__).resolve().parents[2] / "benchmarks" / "aws_drops.py"
-    spec = importlib.util.spec_from_file_location("aws_drops", path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-script = _script()
+script = benchmark_script("aws_drops")
 play, swath_trees = script.play, script.swath_trees
 
 AWS = "aerial_wildfire_suppression"

@@ -8,6 +8,7 @@ import pytest
 import yaml
 
 import hivex_dsl
+from ..benchmark_scripts import benchmark_script  # noqa: F401  (re-exported for the tests here)
 
 pytest.importorskip("torch")
 
@@ -37,16 +38,6 @@ def short_scenario(environment: str, episode_length: int = 24) -> dict:
 @pytest.fixture
 def tiny():
     return dict(TINY)
-
-
-def benchmark_script(name: str):
-    """benchmarks/<name>.py as a module (the benchmarks are scripts, not part of the package)."""
-    import importlib.util
-
-    spec = importlib.util.spec_from_file_location(name, SCENARIOS.parent / "benchmarks" / f"{name}.py")
-    script = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(script)
-    return script
 
 
 def record_baseline_script():
