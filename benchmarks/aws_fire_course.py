@@ -13,12 +13,15 @@ fire cadence and overcast rule; the reward table's notes record what it printed,
 from __future__ import annotations
 
 import argparse
+import sys
 from dataclasses import dataclass
 
 import numpy as np
 
 import hivex_dsl
+from hivex_dsl.base.errors import HivexError
 from hivex_dsl.sim.fire.engine import TreeState
+from hivex_dsl.train.config import parse_assignments
 
 ENVIRONMENT = "aerial_wildfire_suppression"
 
@@ -57,15 +60,6 @@ def describe(course: Course) -> str:
             f"burnt trees median {np.median(course.burnt):.0f}, burning at the end median {np.median(course.burning):.0f}")
 
 
-def _value(text: str):
-    for kind in (int, float):
-        try:
-            return kind(text)
-        except ValueError:
-            pass
-    return text
-
-
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--worlds", type=int, default=64)
@@ -73,8 +67,13 @@ def main(argv=None) -> int:
     parser.add_argument("--steps", type=int, default=3000)
     parser.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
     args = parser.parse_args(argv)
-    params = {key: _value(value) for key, value in (item.split("=", 1) for item in args.set)}
-    print(params or "defaults", describe(fire_course(params, args.worlds, args.level, args.steps)))
+    try:
+        params = dict(parse_assignments(args.set).values)  # each value a YAML scalar, as `hivex train --set`
+        course = fire_course(params, args.worlds, args.level, args.steps)
+    except HivexError as exc:
+        print(f"aws_fire_course: {exc}", file=sys.stderr)
+        return 2
+    print(params or "defaults", describe(course))
     return 0
 
 
