@@ -106,7 +106,8 @@ class BatchedEnv:
         self.oldest_clock = 0  # == int(self.clock.max()): a step knows without a reduction whether a world truncates
         self._step_info = getattr(self.sim, "step_info", None)
         world_events = compiled.entry.world_events
-        self._agent_ends_on = tuple(e for e in compiled.ends_on if e not in world_events)
+        held = getattr(self.sim, "held_events", ())  # the simulator holds these agents (see contract.HoldsEndings)
+        self._agent_ends_on = tuple(e for e in compiled.ends_on if e not in world_events and e not in held)
         self._world_ends_on = tuple(e for e in compiled.ends_on if e in world_events)
         self._no_world_ending = np.zeros(batch, bool)
         self._no_world_ending.flags.writeable = False  # shared by every step that has no world ending
@@ -283,7 +284,7 @@ class BatchedEnv:
 
     def _world_terminated(self, outcome: StepOutcome) -> np.ndarray:
         """(batch,) bool: a world-level ending of the task happened in the world on this step."""
-        world = self._no_world_ending
+        world = self._no_world_ending if outcome.world_ended is None else outcome.world_ended
         for event in self._world_ends_on:  # a world event holds for every agent of its world
             world = world | outcome.events[event].any(axis=1)
         if self.feed is not None and self.compiled.expressions.endings:

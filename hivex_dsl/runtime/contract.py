@@ -28,6 +28,8 @@ class StepOutcome(NamedTuple):
     happened this step, per agent. Whether an event is an agent's own or the whole world's (an event
     the registry lists in its entry's ``world_events``, true for every agent of a world) decides what
     a task's ``ends_on`` naming it ends: the agent's episode, or the world's (see :class:`BatchedEnv`).
+    ``world_ended`` (optional, ``(batch,)`` bool) ends the episode of every agent of a world whatever the
+    task, the simulator's own world-level ending (see :class:`HoldsEndings`).
 
     A named tuple rather than a frozen dataclass: it is built every step, and a frozen dataclass's
     ``__init__`` (one ``object.__setattr__`` per field) costs a visible share of a one-world step.
@@ -35,6 +37,7 @@ class StepOutcome(NamedTuple):
 
     terminated: np.ndarray
     events: dict[str, np.ndarray]
+    world_ended: np.ndarray | None = None
 
 
 
@@ -107,6 +110,18 @@ class Respawns(Protocol):
 
 
 @runtime_checkable
+class HoldsEndings(Protocol):
+    """May: agents that finish without ending their episode. An agent meeting one of ``held_events`` (events a
+    task's ``ends_on`` names) stops acting but plays on, paid what its world still pays it, until the simulator
+    ends its world's episode (``StepOutcome.world_ended``), as ML-Agents agents that a scene freezes until all are
+    done (Aerial Wildfire Suppression under ``finished_planes: wait``)."""
+
+    @property
+    def held_events(self) -> tuple[str, ...]:
+        """The ``ends_on`` events that the runtime does not end an agent's episode on (the simulator holds it)."""
+
+
+@runtime_checkable
 class ReportsStepInfo(Protocol):
     """May: extra per-agent facts of the last step, which the adapters put in ``infos["env"]``."""
 
@@ -130,7 +145,7 @@ class StacksObservations(Protocol):
 
 
 REQUIRED = (Simulator,)
-OPTIONAL = (Respawns, ReportsStepInfo, StacksObservations)
+OPTIONAL = (Respawns, HoldsEndings, ReportsStepInfo, StacksObservations)
 
 
 def members(protocol: type) -> list[tuple[str, str, str]]:
@@ -159,5 +174,5 @@ def missing_members(simulator: Any) -> list[str]:
     return [name for name, _, _ in members(Simulator) if not hasattr(simulator, name)]
 
 
-__all__ = ["StepOutcome", "Simulator", "Respawns", "ReportsStepInfo", "StacksObservations", "REQUIRED", "OPTIONAL", "members",
+__all__ = ["StepOutcome", "Simulator", "Respawns", "HoldsEndings", "ReportsStepInfo", "StacksObservations", "REQUIRED", "OPTIONAL", "members",
            "missing_members"]

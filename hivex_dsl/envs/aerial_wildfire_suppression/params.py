@@ -30,6 +30,16 @@ class AerialWildfireParams(WindParams, FireSpec):
         "table's notes): its untrained policy took 203 steps to the water ring on average over the ten levels, a "
         "random flight here takes 117 at 5 m (the release's figure) and 187-211 at 3 m."))
     turn_rate_deg: float = Field(5.0, gt=0.0, le=45.0, description="[orig] Degrees a plane turns per step at steer +/-1.")
+    turn_rule: Literal["proportional", "full"] = Field("proportional", description=(
+        "[ours] 'proportional': a plane turns turn_rate_deg x steer a step. 'full' [orig]: any nonzero steer turns "
+        "the whole turn_rate_deg its way, as the release's Transform.Rotate about an axis scaled by the steer, "
+        "which Unity normalises (the reward table's notes)."))
+    finished_planes: Literal["respawn", "wait"] = Field("respawn", description=(
+        "[ours] 'respawn': a plane that crossed the border or met its task's end starts a new episode alone over "
+        "the burning island. 'wait' [orig]: it stops and plays on, paid what its world still pays it (the pick-up "
+        "task's cost of time included, not Fire Out), until every plane of its world has finished; then all their "
+        "episodes end together and the world starts afresh, as the release's AgentManager.AgentDone ends them "
+        "(the reward table's notes)."))
     spawn_radius_m: float = Field(750.0, ge=0.0, le=10_000.0, description=(
         "[orig] Planes spawn uniformly within this distance of the centre (inside the border) with a random heading."))
     spawn_holding_water: Literal["auto", "always", "never"] = Field("auto", description=(

@@ -21,6 +21,7 @@ from .camera import pixel_offsets
 from .global_state import state_components, world_state
 from .params import CAMERA_PIXELS, AerialWildfireParams
 from .respawn import respawn_where
+from .waiting import count_finishes
 from .types import AerialWildfireState, Sighting
 from .view import (build_look, frame_template, is_tiled, plane_cameras, redraw_cells, redraw_fire_step, view_frame,
                    window_cells)
@@ -59,6 +60,8 @@ class AerialWildfireSimulator:
             "continuous": spaces.Box(-1.0, 1.0, (1,), np.float32),
             "discrete": spaces.MultiDiscrete([2])})
         self.plane_endings = tuple(e for e in compiled.ends_on if e in PLANE_EVENTS)
+        self.wait = p.finished_planes == "wait"
+        self.held_events = self.plane_endings if self.wait else ()  # finished planes wait: contract.HoldsEndings
         mode = p.spawn_holding_water
         self.spawn_water = mode == "always" or (mode == "auto" and PICKUP_EVENT not in compiled.ends_on)
         self.camera_offsets = pixel_offsets(CAMERA_PIXELS, p.camera_pixel_m)
@@ -131,7 +134,7 @@ class AerialWildfireSimulator:
             crossed=no, picked_up=no, dropped=no, found_fire=no, found_village=no,
             extinguished=np.zeros(shape, np.int32), prepared=np.zeros(shape, np.int32),
             fire_went_out=np.zeros(batch, bool), village_threatened=np.zeros(batch, bool),
-            burning=any_burning(island.fire), look=look,
+            burning=any_burning(island.fire), finishes=np.zeros(batch, np.int64), look=look,
             visual=self._cameras(position, heading, look, island.fire.trees, island.maps.ground))
 
     def reset_where(self, state: AerialWildfireState, mask: np.ndarray, rng: np.random.Generator) -> AerialWildfireState:
@@ -197,14 +200,20 @@ class AerialWildfireSimulator:
         flying = flight.flying
         if self.plane_endings:  # a plane whose episode ends on its own event stops flying, dropping and refilling
             flying = and_not(flying, np.logical_or.reduce([events[e] for e in self.plane_endings]))
+        finishes, world_ended = prev.finishes, None
+        if self.wait:
+            finishes, world_ended = count_finishes(prev, flying, events, self.plane_endings)
+            found_fire, found_village = events["found_fire"], events["found_village"]
         visual = self._cameras_after(prev, flight, fire.trees)
         new = assemble(AerialWildfireState, maps=prev.maps, **moved, position=flight.position, heading=flight.heading,
                        water=flight.water, flying=flying, sighting=sighting, seen_fire=prev.seen_fire | found_fire,
                        seen_village=prev.seen_village | found_village, village_hit=prev.village_hit | threatened,
                        crossed=flight.crossed, picked_up=flight.picked, dropped=flight.dropping, found_fire=found_fire,
                        found_village=found_village, fire_went_out=went_out, village_threatened=threatened,
-                       burning=any_burning(fire), look=prev.look, visual=visual)
-        return new, StepOutcome(terminated=flight.crossed.copy(), events=events)
+                       burning=any_burning(fire), finishes=finishes, look=prev.look, visual=visual)
+        if not self.wait:
+            return new, StepOutcome(terminated=flight.crossed.copy(), events=events)
+        return new, StepOutcome(np.zeros(flying.shape, bool), events, world_ended=world_ended)
 
     def _cameras_after(self, prev: AerialWildfireState, flight: Flight, trees: np.ndarray) -> np.ndarray:
         """(B, A, P, P, 3) cameras after the step. In a one-world batch, a plane that was out of the game
@@ -226,6 +235,8 @@ class AerialWildfireSimulator:
         k = self.operands
         flying, water = state.flying, state.water
         steer = clamp(actions["continuous"][..., 0].astype(np.float64), k.minus_one, k.one)
+        if self.params.turn_rule == "full":
+            steer = np.sign(steer)
         heading = np.where(flying, wrap_angle(state.heading + k.turn_rad * steer), state.heading)
         facing = np.empty(heading.shape + (2,))
         np.cos(heading, out=facing[..., 0])
@@ -381,4 +392,4 @@ class Flight(NamedTuple):
 # Per-world arrays of the state (world axis first) that a partial reset replaces.
 _PER_WORLD = ("position", "heading", "water", "flying", "seen_fire", "seen_village", "village_hit", "crossed",
               "picked_up", "dropped", "found_fire", "found_village", "extinguished", "prepared", "fire_went_out",
-              "village_threatened", "burning", "visual")
+              "village_threatened", "burning", "finishes", "visual")

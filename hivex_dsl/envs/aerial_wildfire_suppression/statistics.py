@@ -41,7 +41,8 @@ def preparing_trees(prev, state, actions, params):
 
 @STATISTICS.counter("Fire Out", "Times the fire on the island went out (counted for every plane of the world).")
 def fire_out(prev, state, actions, params):
-    return _every_plane(state, state.fire_went_out)
+    counted = _every_plane(state, state.fire_went_out)
+    return counted & state.flying if params.finished_planes == "wait" else counted  # not a waiting plane's
 
 
 @STATISTICS.counter("Fire too Close to City",

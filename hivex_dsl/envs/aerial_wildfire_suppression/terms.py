@@ -50,7 +50,8 @@ def pick_up_water(prev, state, actions, params):
     equation="r_nb = 10 when no tree burns any more (once, on the step the fire goes out) else 0",
 )
 def fire_out(prev, state, actions, params):
-    return _per_agent(state, state.fire_went_out, _10)
+    paid = _per_agent(state, state.fire_went_out, _10)
+    return paid * state.flying if params.finished_planes == "wait" else paid  # a waiting plane is frozen: no pay
 
 
 @TERMS.term(
@@ -113,7 +114,10 @@ def preparing_tree(prev, state, actions, params):
     "time_step_without_water", title="Time Step Without Water", paper_row=None, low=-1.0, high=0.0, sign="penalty",
     timing="dense", scope="agent",
     description="The original's cost of waiting in the pick-up-water task: -water_wait_penalty per step without water.",
-    equation="r_w = -water_wait_penalty (100 / 3000) while the plane holds no water else 0",
+    equation="r_w = -water_wait_penalty (100 / 3000) while the plane holds no water or waits (finished_planes: wait) else 0",
 )
 def time_step_without_water(prev, state, actions, params):
-    return -params.water_wait_penalty * and_not(state.flying, state.water)
+    charged = and_not(state.flying, state.water)
+    if params.finished_planes == "wait":  # the release charges every step of the episode, waiting ones too
+        charged = charged | ~state.flying
+    return -params.water_wait_penalty * charged

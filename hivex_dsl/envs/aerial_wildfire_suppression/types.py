@@ -50,6 +50,7 @@ class AerialWildfireState:
     fire_went_out: np.ndarray  # (B,) bool
     village_threatened: np.ndarray  # (B,) bool: the first step fire came too close
     burning: np.ndarray  # (B,) bool: some tree burns after the step
+    finishes: np.ndarray  # (B,) int64 the release's AgentDone calls this episode (finished_planes: wait; else 0)
     # what the cameras see: the palette image of each world (see view.py), written in place like fire.trees
     look: np.ndarray  # uint8, row-major (B, S, S) or tiled (B, S / 8, S / 8, 8, 8): see view.is_tiled
     visual: np.ndarray  # (B, A, P, P, 3) float32 the planes' cameras after the step
