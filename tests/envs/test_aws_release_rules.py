@@ -138,8 +138,8 @@ def test_the_pick_up_tasks_cost_of_time_charges_waiting_planes_only_when_they_wa
     np.testing.assert_allclose(terms.time_step_without_water(None, state, None, params), [[-1 / 30, 0.0, 0.0]])
 
 
-@pytest.mark.parametrize("params", [{}, RELEASE])
-def test_the_default_rules_and_the_releases_keep_one_episode_per_plane_or_per_world(params):
+@pytest.mark.parametrize("params", [{"finished_planes": "respawn"}, RELEASE])
+def test_respawning_and_waiting_planes_keep_one_episode_per_plane_or_per_world(params):
     env = BatchedEnv(compiled("pick_up_water", **params))
     env.reset(seed=6)
     lengths = []
@@ -148,5 +148,16 @@ def test_the_default_rules_and_the_releases_keep_one_episode_per_plane_or_per_wo
         if result.ended[0].any():
             lengths.append(env.lengths[0][result.ended[0]].tolist())
             break
-    # today a plane ends alone on its pick-up; under the release all three end together
-    assert (len(lengths[0]) == 3) == bool(params)
+    # a respawning plane ends alone on its pick-up; waiting ones all end together
+    assert (len(lengths[0]) == 3) == (params["finished_planes"] == "wait")
+
+
+def test_the_late_fields_at_their_defaults_leave_the_fingerprint_alone_and_any_other_value_changes_it():
+    """The fingerprint leaves the late fields out at their defaults (as it does the wind's original law), so
+    spelling a default out is the same world; setting one to another value is another world."""
+    plain = compiled("main")
+    spelled = compiled("main", finished_planes="wait", turn_rule="full", spawn_rule="ours")
+    assert spelled.fingerprint == plain.fingerprint
+    assert "finished_planes" not in plain.params.fingerprint_params()
+    for name, value in (("finished_planes", "respawn"), ("turn_rule", "proportional"), ("spawn_rule", "release")):
+        assert compiled("main", **{name: value}).fingerprint != plain.fingerprint, name

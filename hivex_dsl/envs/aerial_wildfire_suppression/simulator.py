@@ -85,6 +85,8 @@ class AerialWildfireSimulator:
         ring; pushed two steps beyond the village radius (the village is found by flying to it); headings; water.
         ``village`` (count, 2)."""
         p, shape = self.params, (count, self.agents)
+        if p.spawn_rule == "release":
+            return self._release_spawn(rng, shape)
         if self.spawn_water:
             limit = p.border_half_extent_m
             radius = p.spawn_radius_m * np.sqrt(rng.random(shape))
@@ -100,11 +102,25 @@ class AerialWildfireSimulator:
         heading = rng.uniform(-np.pi, np.pi, shape)
         return position, heading, np.full(shape, self.spawn_water)
 
+    def _release_spawn(self, rng: np.random.Generator, shape: tuple[int, int]
+                       ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The release's RespawnAgent: a direction from a uniform point of the square [-1, 1]^2, normalised, a
+        distance uniform up to spawn_radius_m, a uniform heading; nothing kept away from ring, village or fire."""
+        square = rng.uniform(-1.0, 1.0, shape + (2,))
+        direction = square / np.maximum(np.hypot(square[..., 0], square[..., 1]), 1e-12)[..., None]
+        position = direction * rng.uniform(0.0, self.params.spawn_radius_m, shape)[..., None]
+        limit = self.params.border_half_extent_m
+        heading = rng.uniform(-np.pi, np.pi, shape)
+        return np.clip(position, -limit, limit), heading, np.full(shape, self.spawn_water)
+
     def _spawn_out_of_sight(self, rng: np.random.Generator, fire, village: np.ndarray, mask: np.ndarray | None = None
                             ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """:meth:`_spawn`, drawn again (at most SPAWN_REDRAWS times) for the planes (where ``mask`` (B, A), all by
-        default) whose view already holds a burning tree: as the village, the fire is found by flying to it."""
+        default) whose view already holds a burning tree: as the village, the fire is found by flying to it
+        (``spawn_rule: release`` draws once, as the release does)."""
         position, heading, water = self._spawn(rng, len(village), village)
+        if self.params.spawn_rule == "release":
+            return position, heading, water
         flying = np.ones(position.shape[:2], bool) if mask is None else mask
         for _ in range(SPAWN_REDRAWS):
             sees = self._sight_of(fire, village, position, flying).plane_found
@@ -188,8 +204,9 @@ class AerialWildfireSimulator:
         """The state after the step and its outcome: sightings, one-off events, planes whose task ended, cameras.
         ``moved`` holds the step's new fire, wind, weather, tick and drop counts (state fields)."""
         fire = moved["fire"]
-        sighting = self._sight_of(fire, prev.maps.village, flight.position, flight.flying)
-        found_fire = and_not(sighting.plane_found, prev.seen_fire)
+        # a waiting plane still observes (the release collects a frozen agent's observations)
+        sighting = self._sight_of(fire, prev.maps.village, flight.position, self._playing(flight.flying))
+        found_fire = and_not(sighting.plane_found & flight.flying, prev.seen_fire)  # found by flying to it
         gap = flight.position - prev.maps.village[:, None, :]
         near_village = flight.flying & (np.hypot(gap[..., 0], gap[..., 1]) <= self.operands.village_radius)
         found_village = and_not(near_village, prev.seen_village)
@@ -214,6 +231,10 @@ class AerialWildfireSimulator:
         if not self.wait:
             return new, StepOutcome(terminated=flight.crossed.copy(), events=events)
         return new, StepOutcome(np.zeros(flying.shape, bool), events, world_ended=world_ended)
+
+    def _playing(self, flying: np.ndarray) -> np.ndarray:
+        """(B, A) bool: the planes that observe, the flying ones, and under ``finished_planes: wait`` all."""
+        return np.ones_like(flying) if self.wait else flying
 
     def _cameras_after(self, prev: AerialWildfireState, flight: Flight, trees: np.ndarray) -> np.ndarray:
         """(B, A, P, P, 3) cameras after the step. In a one-world batch, a plane that was out of the game

@@ -114,10 +114,12 @@ def preparing_tree(prev, state, actions, params):
     "time_step_without_water", title="Time Step Without Water", paper_row=None, low=-1.0, high=0.0, sign="penalty",
     timing="dense", scope="agent",
     description="The original's cost of waiting in the pick-up-water task: -water_wait_penalty per step without water.",
-    equation="r_w = -water_wait_penalty (100 / 3000) while the plane holds no water or waits (finished_planes: wait) else 0",
+    equation="r_w = -water_wait_penalty (100 / 3000) while the plane holds no water else 0",
 )
 def time_step_without_water(prev, state, actions, params):
     charged = and_not(state.flying, state.water)
-    if params.finished_planes == "wait":  # the release charges every step of the episode, waiting ones too
+    # under finished_planes: wait the release charges every step of the shared episode, a waiting plane's too (the
+    # term's contract, which fingerprints hash, is left as it was: records trained on it stay matched)
+    if params.finished_planes == "wait":
         charged = charged | ~state.flying
     return -params.water_wait_penalty * charged
