@@ -29,11 +29,8 @@ LENGTH = {"ocean_plastic_collection": 400, "aerial_wildfire_suppression": 430}
 
 def scenario(environment: str) -> dict:
     # period 1 (OPC defaults to 5): the deaths below are counted in physics steps, one a step() call. OPC's crash
-    # ends the crashed vessel alone here (crash_outcome: end): its default, end_world, ends the whole world's episode;
-    # so does AWS's (finished_planes: respawn), whose default, wait, holds a crashed plane until its world ends
-    alone = {"ocean_plastic_collection": {"crash_outcome": "end"},
-             "aerial_wildfire_suppression": {"finished_planes": "respawn"}}
-    extra = {"params": alone[environment]} if environment in alone else {}
+    # ends the crashed vessel alone here (crash_outcome: end): its default, end_world, ends the whole world's episode
+    extra = {"params": {"crash_outcome": "end"}} if environment == "ocean_plastic_collection" else {}
     return {"hivex": 1, "environment": environment, "episode_length": LENGTH[environment], "decision_period": 1,
             "seeds": {"train": 1, "test": 2}, **extra}
 

@@ -175,13 +175,12 @@ def test_the_terms_are_their_plain_formulas_bit_for_bit(sim):
     every = np.ones((4, 3))
     expected = {
         "crossed_border": -100.0 * state.crossed, "pick_up_water": 1.0 * state.picked_up,
-        "fire_out": 10.0 * (state.fire_went_out[:, None] * every) * state.flying,  # a waiting plane gets none
+        "fire_out": 10.0 * (state.fire_went_out[:, None] * every),
         "too_close_to_village": -50.0 * (state.village_threatened[:, None] * every),
         "time_step_burning": -0.01 * (state.burning[:, None] * every),
         "find_fire": 100.0 * state.found_fire, "find_village": 100.0 * state.found_village,
         "extinguishing_tree": 5.0 * state.extinguished, "preparing_tree": 1.0 * state.prepared,
-        # the release charges a finished (waiting) plane every step too
-        "time_step_without_water": -p.water_wait_penalty * ((state.flying & ~state.water) | ~state.flying)}
+        "time_step_without_water": -p.water_wait_penalty * (state.flying & ~state.water)}
     for name, value in expected.items():
         got = np.asarray(terms.TERMS[name](state, state, None, p), dtype=np.float64)
         np.testing.assert_array_equal(got, value)

@@ -50,7 +50,7 @@ def test_guard_term_and_shaping_follow_the_state_over_a_rollout():
     policy = make_policy("scripted", compiled, env.sim.action_space, env.shape)
     observations = env.reset(seed=5)
     seen = 0
-    for _ in range(700):  # 3.5 km at 5 m a step (700 steps since the 3 m planes of issue 52, sessions 29-33)
+    for _ in range(700):  # planes fly 3 m a step (issue 52): 700 steps cover the 2 km that 400 did at 5 m
         before = env.state
         transition = env.step(policy(observations))
         observations = transition.observations

@@ -57,9 +57,7 @@ ENTRY = register(EnvironmentEntry(
         "Pick-up Water: the paper's first condition (`p_x < eh or p_x > -eh ...`) always holds; the term pays +1 when a "
         "plane without water is inside the border and outside the island, which is when it refills (ENVIRONMENTS.md).",
         "Find Fire, Find Village and Too Close to Village pay once per episode (the first time), Fire Out once when "
-        "the fire goes out; a task that ends on the event finishes the plane on that step, and it waits for its "
-        "world (finished_planes: wait, the release's rule, under which a waiting finder of the fire or the village "
-        "is paid again every step it waits, as the release's unchecked FindFireTask and FindVillageTask pay it).",
+        "the fire goes out; a task that ends on the event ends the plane's episode on that step.",
         "Find Fire pays when a burning tree is inside the plane's +/-150 m view square (the observation's square, "
         "ENVIRONMENTS.md), where the paper's equation writes a distance under 150 m. A plane never spawns with the "
         "fire in view (ours): a spawn that sees it is drawn again (up to 16 times), as a spawn inside the village "

@@ -23,25 +23,27 @@ class AerialWildfireParams(WindParams, FireSpec):
     LATE_FIELDS: ClassVar[tuple[str, ...]] = WindParams.LATE_FIELDS + ("turn_rule", "finished_planes", "spawn_rule")
 
     border_half_extent_m: float = Field(750.0, ge=100.0, le=10_000.0, description=(
-        "[paper] Half the side of the square border (1500 x 1500); crossing it costs the plane -100 and finishes it."))
+        "[paper] Half the side of the square border (1500 x 1500); crossing it ends that plane's episode."))
     island_half_extent_m: float = Field(600.0, ge=50.0, le=10_000.0, description=(
         "[paper] Half the side of the island square (1200 x 1200); beyond it, up to the border, is the water ring. "
         "Must equal the forest generator's half extent."))
-    plane_speed_m: float = Field(5.0, gt=0.0, le=50.0, description=(
-        "[orig] Metres a plane flies per step (the release's HivexAgent speed). With finished planes waiting and the "
-        "full turn its untrained planes' Episode Lengths are the original's (the reward table's notes); the 3 m "
-        "fitted before (issue 52) made up for planes ending alone."))
+    plane_speed_m: float = Field(3.0, gt=0.0, le=50.0, description=(
+        "[records] Metres a plane flies per step, fitted to the original's Pick Up Water pages (issue 52, the reward "
+        "table's notes): its untrained policy took 203 steps to the water ring on average over the ten levels, a "
+        "random flight here takes 117 at 5 m (the release's figure) and 187-211 at 3 m. The release's own rules "
+        "(5 m, turn_rule full, finished_planes wait) meet those pages too, but train planes above the original's "
+        "return band (the reward table's notes)."))
     turn_rate_deg: float = Field(5.0, gt=0.0, le=45.0, description="[orig] Degrees a plane turns per step at steer +/-1.")
-    turn_rule: Literal["proportional", "full"] = Field("full", description=(
-        "[orig] 'full': any nonzero steer turns the whole turn_rate_deg its way, as the release's Transform.Rotate "
-        "about an axis scaled by the steer, which Unity normalises (the reward table's notes). 'proportional' "
-        "[ours, before issue 52's session 34]: turn_rate_deg x steer a step."))
-    finished_planes: Literal["respawn", "wait"] = Field("wait", description=(
-        "[orig] 'wait': a plane that crossed the border or met its task's end stops and plays on, paid what its "
-        "world still pays it (the pick-up task's cost of time included, not Fire Out), until every plane of its "
-        "world has finished; then all their episodes end together and the world starts afresh, as the release's "
-        "AgentManager.AgentDone ends them (the reward table's notes). 'respawn' [ours, before issue 52's session "
-        "34]: it starts a new episode alone over the burning island."))
+    turn_rule: Literal["proportional", "full"] = Field("proportional", description=(
+        "[ours] 'proportional': a plane turns turn_rate_deg x steer a step. 'full' [orig]: any nonzero steer turns "
+        "the whole turn_rate_deg its way, as the release's Transform.Rotate about an axis scaled by the steer, "
+        "which Unity normalises (the reward table's notes)."))
+    finished_planes: Literal["respawn", "wait"] = Field("respawn", description=(
+        "[ours] 'respawn': a plane that crossed the border or met its task's end starts a new episode alone over "
+        "the burning island. 'wait' [orig]: it stops and plays on, paid what its world still pays it (the pick-up "
+        "task's cost of time included, not Fire Out), until every plane of its world has finished; then all their "
+        "episodes end together and the world starts afresh, as the release's AgentManager.AgentDone ends them "
+        "(the reward table's notes)."))
     spawn_radius_m: float = Field(750.0, ge=0.0, le=10_000.0, description=(
         "[orig] Planes spawn uniformly within this distance of the centre (inside the border) with a random heading."))
     spawn_rule: Literal["ours", "release"] = Field("ours", description=(
@@ -65,7 +67,7 @@ class AerialWildfireParams(WindParams, FireSpec):
     fire_step_interval: int = Field(15, ge=1, le=1_000, description=(
         "[ours] Environment steps per fire step, fitted to the paper: with 15 an unfought fire outlives the "
         "3000-step episode as often as the published Fire Out says (the reward table's notes); a tree burns for "
-        "150 steps and the front moves well under 1 m per step, slower than a plane (5 m per step). The release "
+        "150 steps and the front moves well under 1 m per step, slower than a plane (3 m per step). The release "
         "itself makes a fire step every two rendered frames, 33 academy steps (the reward table's notes)."))
     weather_grid_cells: int = Field(16, ge=2, le=128, description=(
         "[ours] The smooth weather fields are sampled on this many cells per side of the island for the fire and "

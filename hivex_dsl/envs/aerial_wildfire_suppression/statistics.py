@@ -14,7 +14,7 @@ def _every_plane(state, world_events: np.ndarray) -> np.ndarray:
     return np.broadcast_to(world_events[:, None], state.flying.shape)
 
 
-@STATISTICS.counter("Crash Count", "Times the plane crossed the border (at most once an episode: it then waits).")
+@STATISTICS.counter("Crash Count", "Times the plane crossed the border (its episode ends).")
 def crash_count(prev, state, actions, params):
     return state.crossed
 
@@ -39,8 +39,7 @@ def preparing_trees(prev, state, actions, params):
     return state.prepared
 
 
-@STATISTICS.counter("Fire Out", "Times the fire on the island went out (counted for every plane of the world still "
-                                "flying: not for a finished one that waits).")
+@STATISTICS.counter("Fire Out", "Times the fire on the island went out (counted for every plane of the world).")
 def fire_out(prev, state, actions, params):
     counted = _every_plane(state, state.fire_went_out)
     return counted & state.flying if params.finished_planes == "wait" else counted  # not a waiting plane's

@@ -49,7 +49,7 @@ def declare(compiled) -> dict:
                  "Unburnt trees (existing or wet) whose cell centre lies within village_radius_m of the village."),
         quantity("burning_near_village", "world", "number", "trees", 0.0, float(_window(compiled)[0].size),
                  "Burning trees whose cell centre lies within village_radius_m of the village."),
-        flag("crossed_border", "agent", "The plane crossed the border this step (it then waits for its world)."),
+        flag("crossed_border", "agent", "The plane crossed the border this step (its episode ends)."),
         flag("village_threatened", "world", "Fire came within village_radius_m of the village for the first time."),
     ]
     items += [flag(event, "world" if event == "fire_out" else "agent", description[:1].upper() + description[1:] + ".")
