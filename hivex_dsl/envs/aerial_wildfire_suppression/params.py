@@ -41,9 +41,10 @@ class AerialWildfireParams(WindParams, FireSpec):
     finished_planes: Literal["respawn", "wait"] = Field("respawn", description=(
         "[ours] 'respawn': a plane that crossed the border or met its task's end starts a new episode alone over "
         "the burning island. 'wait' [orig]: it stops and plays on, paid what its world still pays it (the pick-up "
-        "task's cost of time included, not Fire Out), until every plane of its world has finished; then all their "
-        "episodes end together and the world starts afresh, as the release's AgentManager.AgentDone ends them "
-        "(the reward table's notes)."))
+        "task's cost of time included, not Fire Out; a waiting finder of the fire or the village is paid and "
+        "counted again every step), until AgentDone's count of finishes reaches the plane count; then all their "
+        "episodes end together and the world starts afresh, as the release's AgentManager ends them (the reward "
+        "table's notes)."))
     spawn_radius_m: float = Field(750.0, ge=0.0, le=10_000.0, description=(
         "[orig] Planes spawn uniformly within this distance of the centre (inside the border) with a random heading."))
     spawn_rule: Literal["ours", "release"] = Field("ours", description=(
