@@ -79,6 +79,7 @@ def test_picked_up_planes_wait_for_the_last_and_all_pay_every_step():
             break
     assert step == max(own)  # the world ends when its last plane picks up
     assert result.terminated[0].all() and result.world_terminated[0]
+    assert env.world_endings(result)[0]  # so a vector env starts the world afresh, not the planes one by one
     np.testing.assert_allclose(returns, 100 - max(own) / 30)  # -100/3000 every step, the pick-up's too
     np.testing.assert_array_equal(env.lengths[0], [max(own)] * 3)
 
