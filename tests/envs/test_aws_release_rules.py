@@ -90,7 +90,7 @@ def test_a_frozen_finder_of_the_village_finds_it_again_and_ends_its_world_two_st
     village = env.state.maps.village[0]
     # plane 0 153 m west of the village flying east: inside 150 m after 1 step (148 m); the others far from
     # the village, the border and each other's way, flying slowly nowhere in 3 steps
-    xy = [village + (-153.0, 0.0), village * 0 + (-400.0, -400.0), village * 0 + (400.0, 400.0)]
+    xy = [village + (-153.0, 0.0), np.array([-400.0, -400.0]), np.array([400.0, 400.0])]
     far = [np.hypot(*(p - village)) for p in xy[1:]]
     assert min(far) > 150 + 3 * 5.0
     placed(env, xy, [0.0, 90.0, 270.0])
@@ -162,3 +162,22 @@ def test_the_late_fields_at_their_defaults_leave_the_fingerprint_alone_and_any_o
     assert "finished_planes" not in plain.params.fingerprint_params()
     for name, value in (("finished_planes", "wait"), ("turn_rule", "full"), ("spawn_rule", "release")):
         assert compiled("main", **{name: value}).fingerprint != plain.fingerprint, name
+
+
+def test_the_release_spawn_is_uniform_in_distance_along_directions_drawn_from_a_square():
+    """RespawnAgent: a distance uniform on [0, 750] (mean 375, where a uniform draw over the disk has 500) along a
+    direction normalised from a uniform point of [-1, 1]^2, which lies within 22.5 degrees of an axis with the
+    chance of the four wedges' area over the square's, 4 tan(22.5) / 4 = 0.414 (0.5 for a uniform angle); and
+    nothing is kept away from the village."""
+    from hivex_dsl.envs.aerial_wildfire_suppression.simulator import AerialWildfireSimulator
+
+    sim = AerialWildfireSimulator(compiled("pick_up_water", spawn_rule="release"))
+    count = 4000
+    village = np.zeros((count, 2))
+    position, heading, water = sim._spawn(np.random.default_rng(0), count, village)
+    distance = np.hypot(position[..., 0], position[..., 1]).ravel()
+    assert distance.max() <= 750.0 and abs(distance.mean() - 375.0) < 4 * 750 / math.sqrt(12 * distance.size)
+    angle = np.degrees(np.arctan2(position[..., 1], position[..., 0])).ravel() % 90.0
+    near_axis = np.mean((angle < 22.5) | (angle > 67.5))
+    assert abs(near_axis - math.tan(math.radians(22.5))) < 4 * math.sqrt(0.25 / distance.size)
+    assert (distance < 150.0).any() and not water.any()  # inside the village radius too; no water in this task
