@@ -88,8 +88,8 @@ def test_a_frozen_finder_of_the_village_finds_it_again_and_ends_its_world_two_st
     env = BatchedEnv(compiled("find_village", **RELEASE))
     env.reset(seed=4)
     village = env.state.maps.village[0]
-    # plane 0 153 m west of the village flying east: inside 150 m after 1 step (148 m); the others far from
-    # the village, the border and each other's way, flying slowly nowhere in 3 steps
+    # plane 0 153 m west of the village flying east: inside 150 m after 1 step (148 m); the others 15 m on in 3
+    # steps, still far from the village and the border
     xy = [village + (-153.0, 0.0), np.array([-400.0, -400.0]), np.array([400.0, 400.0])]
     far = [np.hypot(*(p - village)) for p in xy[1:]]
     assert min(far) > 150 + 3 * 5.0
