@@ -92,8 +92,8 @@ class BatchedEnv:
         self.returns = np.zeros(shape)
         self.term_sums = {name: np.zeros(shape) for name in self.composer.active}
         self.statistics: StatisticSet = compiled.entry.statistics or StatisticSet(compiled.environment, "")
-        self._counters = tuple((s.name, s.counter) for s in self.statistics.counters)
-        self.counter_sums = {name: np.zeros(shape) for name, _ in self._counters}
+        self._counters = tuple((s.name, s.counter, s.at_end) for s in self.statistics.counters)
+        self.counter_sums = {name: np.zeros(shape) for name, _, _ in self._counters}  # at-end ones: the last value
         self.running = RunningMeans(self.statistics, self.composer.active, shape)  # the running-mean statistics
         self._running = bool(self.running.terms)
         self.lengths = np.zeros(shape, np.int64)
@@ -269,11 +269,15 @@ class BatchedEnv:
         return (rewards, terms) + self._endings(live, outcome)
 
     def _count(self, prev: Any, actions: Any, live: np.ndarray, everyone: bool) -> None:
-        """Add this step's value of every counter statistic to its episode sums (ended agents add nothing)."""
+        """Add this step's value of every counter statistic to its episode sums, or keep it for an at-end one
+        (ended agents add or change nothing)."""
         params = self.compiled.params
-        for name, counter in self._counters:
+        for name, counter, at_end in self._counters:
             value = counter(prev, self.state, actions, params)
-            self.counter_sums[name] += value if everyone else np.where(live, value, _ZERO)
+            if at_end:
+                np.copyto(self.counter_sums[name], value, where=True if everyone else live)
+            else:
+                self.counter_sums[name] += value if everyone else np.where(live, value, _ZERO)
 
     def statistic_sums(self) -> dict[str, np.ndarray]:
         """Every statistic's (batch, agents) value over the current (or just ended) episodes, by logged name

@@ -19,9 +19,13 @@ it computes every name it logs:
   TensorBoard's point is the **pooled** form over the agent-episodes of a summary period, sum of sums / sum of
   counts (:func:`pooled`), which is what a published value compares with (``hivex_dsl.evaluation``); the mean of
   the per-episode values weighs a short episode as much as a long one;
+- an **at-end** value: ``fn(prev, state, actions, params) -> (batch, agents)`` read each step like a counter but
+  kept, not summed: the episode's value is what the agent's last step read (a snapshot the original adds once an
+  episode, e.g. Wildfire Resource Management's "Individual Resource Count", a tower's resources as it ends);
 - **not computed**: a logged name this toolkit cannot compute, with the reason.
 
-Counters and mirrors are per-agent episode sums, running means are not; all are (batch, agents) arrays.
+Counters and mirrors are per-agent episode sums, running means and at-end values are not; all are (batch, agents)
+arrays.
 
 Names are the logged ones **without** the ``"<Environment>/"`` prefix (``"Water Pickup"``, not
 ``"AerialWildfireSuppression/Water Pickup"``): :meth:`StatisticSet.logged_name` adds it back, and
@@ -44,17 +48,21 @@ StatisticFn = Callable[[Any, Any, Any, Any], np.ndarray]
 
 @dataclass(frozen=True)
 class Statistic:
-    """One logged statistic: a per-step ``counter``, a ``mirror`` or a ``running_mean`` of weighted reward terms."""
+    """One logged statistic: a per-step ``counter`` (summed, or kept ``at_end``), a ``mirror`` or a ``running_mean``
+    of weighted reward terms."""
 
     name: str
     description: str
     counter: StatisticFn | None = None
     mirror: tuple[str, ...] = ()  # the reward terms whose weighted episode sums this statistic adds up
     running_mean: tuple[str, ...] = ()  # the reward terms whose weighted running total this statistic averages
+    at_end: bool = False  # the counter's value at the agent's last step, not its sum over the episode
 
     @property
     def kind(self) -> str:
-        return "counter" if self.counter is not None else "running_mean" if self.running_mean else "mirror"
+        if self.counter is not None:
+            return "at_end" if self.at_end else "counter"
+        return "running_mean" if self.running_mean else "mirror"
 
     @property
     def terms(self) -> tuple[str, ...]:
@@ -74,12 +82,18 @@ class StatisticSet:
 
     def counter(self, name: str, description: str) -> Callable[[StatisticFn], StatisticFn]:
         """Decorator: ``fn(prev, state, actions, params) -> (batch, agents)`` summed over the episode."""
+        return self._per_step(name, description, at_end=False)
 
+    def at_end(self, name: str, description: str) -> Callable[[StatisticFn], StatisticFn]:
+        """Decorator: ``fn(prev, state, actions, params) -> (batch, agents)`` as it reads on the agent's last step."""
+        return self._per_step(name, description, at_end=True)
+
+    def _per_step(self, name: str, description: str, at_end: bool) -> Callable[[StatisticFn], StatisticFn]:
         def register(fn: StatisticFn) -> StatisticFn:
             params = tuple(inspect.signature(fn).parameters)
             if params != TERM_SIGNATURE:
                 raise TypeError(f"{self.environment}: statistic {name!r} must take {TERM_SIGNATURE}, takes {params}")
-            self._add(Statistic(name, description, counter=fn))
+            self._add(Statistic(name, description, counter=fn, at_end=at_end))
             return fn
 
         return register
@@ -204,7 +218,7 @@ def episode_statistics(statistics: StatisticSet, weights: Mapping[str, float],
                        ) -> dict[str, np.ndarray]:
     """Every statistic's per agent-episode value, each shaped like the sums (``shape``).
 
-    ``counter_sums``: the counters' unweighted sums; ``term_sums``: the active terms' unweighted sums;
+    ``counter_sums``: the counters' unweighted sums (an at-end counter's last value); ``term_sums``: the active terms' unweighted sums;
     ``running``: the running means' values (:meth:`RunningMeans.values`).
     """
     out: dict[str, np.ndarray] = {}

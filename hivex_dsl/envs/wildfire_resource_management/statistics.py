@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from ...sim.statistics import StatisticSet
+from .resources import TENTHS
 from .terms import tower_performance
 
 STATISTICS = StatisticSet("wildfire_resource_management", "WildfireResourceManagement", notes=(
@@ -24,3 +25,10 @@ STATISTICS.mirror("Reward for Moving Resources to Neighbours", "What the neighbo
                   "neighbour_performance")
 STATISTICS.mirror("Reward for Moving Resources to Self", "What the own tower's term paid (weighted).",
                   "watch_tower_performance")
+
+
+@STATISTICS.at_end("Individual Resource Count", (
+    "The tower's resources as its episode ends: what it keeps and what its neighbours give it (its total support; "
+    "1.0 is one agent's whole share), in tenths, logged once a tower-episode."))
+def individual_resource_count(prev, state, actions, params):
+    return state.support / TENTHS
