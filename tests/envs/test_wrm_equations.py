@@ -107,6 +107,49 @@ def test_idle_performance_applies_to_towers_without_fire():
     assert value == pytest.approx(np.sqrt((P_CENTRE ** 2 + P_SOUTH ** 2 + 7 * 0.25) / 9.0), abs=1e-6)
 
 
+def test_under_performance_weight_resources_the_collective_and_individual_read_p_times_what_a_tower_holds():
+    """The hand state's supports: the centre keeps 5 and receives 1 from tower 0 (its neighbour 3) and 4 from tower
+    7 (its neighbour 1): 1.0; tower 1 keeps 10 and receives 2 from tower 0 (its neighbour 1): 1.2. The own-tower
+    and neighbourhood terms still read P."""
+    from hivex_dsl.envs.wildfire_resource_management.resources import total_support
+    from hivex_dsl.envs.wildfire_resource_management.statistics import individual_performance
+
+    resources = PARAMS.model_copy(update={"performance_weight": "resources"})
+    state = hand_state(keep_centre=5)
+    state.support = total_support(state.allocation)
+    assert state.support[0, [4, 1]].tolist() == [10, 12]
+    held = individual_performance(None, state, None, resources)[0]
+    assert held[4] == pytest.approx(P_CENTRE * 1.0, abs=1e-6) and held[1] == pytest.approx(P_SOUTH * 1.2, abs=1e-6)
+    # sqrt((0.7713829^2 + (0.0775260 * 1.2)^2) / 9) = sqrt(0.6036858 / 9) = 0.2589908
+    assert collective_performance(None, state, None, resources)[0, 0] == pytest.approx(0.2589908, abs=1e-6)
+    np.testing.assert_array_equal(watch_tower_performance(None, state, None, resources),
+                                  watch_tower_performance(None, state, None, PARAMS))
+    np.testing.assert_array_equal(neighbour_performance(None, state, None, resources),
+                                  neighbour_performance(None, state, None, PARAMS))
+
+
+def test_under_resources_a_tower_holding_more_than_its_share_overshoots_and_the_equation_s_absolute_value_bites():
+    """Every other tower gives its whole share to the centre (it is each one's neighbour 1, 2 or 3), which keeps
+    its own and sees an approaching fire at 200 m (P = 1): it holds 9.0, the root mean square is sqrt(81 / 9) = 3
+    and the term 1 - |1 - 3| = -1, where P alone gives sqrt(1 / 9) = 1/3."""
+    from hivex_dsl.envs.wildfire_resource_management.resources import total_support
+
+    distance = np.full((1, 9), np.inf)
+    distance[0, 4] = 200.0
+    approaching = np.zeros((1, 9), bool)
+    approaching[0, 4] = True
+    sighting = Sighting(cell=np.zeros((1, 9), np.int64), cells=400, offset=np.zeros((1, 9, 3)), distance=distance,
+                        approaching=approaching)
+    allocation = np.zeros((1, 9, 4), np.int16)
+    for tower, slot in {0: 3, 1: 3, 2: 3, 3: 2, 4: 0, 5: 2, 6: 3, 7: 1, 8: 3}.items():
+        allocation[0, tower, slot] = 10
+    state = SimpleNamespace(sighting=sighting, allocation=allocation, support=total_support(allocation))
+    assert state.support[0].tolist() == [0, 0, 0, 0, 90, 0, 0, 0, 0]
+    resources = PARAMS.model_copy(update={"performance_weight": "resources"})
+    assert collective_performance(None, state, None, resources)[0, 0] == pytest.approx(-1.0)
+    assert collective_performance(None, state, None, PARAMS)[0, 0] == pytest.approx(1 / 3)
+
+
 def compile_task(task):
     return hivex_dsl.compile({"hivex": 1, "environment": "wildfire_resource_management", "task": task})
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from ...sim.statistics import StatisticSet
 from .resources import TENTHS
-from .terms import tower_performance
+from .terms import held_performance
 
 STATISTICS = StatisticSet("wildfire_resource_management", "WildfireResourceManagement", notes=(
     "Statistics: 'Individual Performance' is the tower's performance P itself, unweighted: it is about 18 in all "
@@ -15,9 +15,11 @@ STATISTICS = StatisticSet("wildfire_resource_management", "WildfireResourceManag
 ))
 
 
-@STATISTICS.counter("Individual Performance", "The tower's performance P (fire distance and approach), unweighted.")
+@STATISTICS.counter("Individual Performance", (
+    "The tower's performance P (fire distance and approach), unweighted by the task; times the resources it holds "
+    "under performance_weight 'resources'."))
 def individual_performance(prev, state, actions, params):
-    return tower_performance(state, params)
+    return held_performance(state, params)
 
 
 STATISTICS.mirror("Collective Performance", "What the collective term paid (weighted).", "collective_performance")

@@ -50,6 +50,15 @@ def tower_performance(state, params) -> np.ndarray:
     return performance_of(sighting.distance, sighting.approaching, sighting.seen, params)
 
 
+def held_performance(state, params) -> np.ndarray:
+    """(B, A) a tower's performance as Collective and Individual Performance read it: P, times the resources the
+    tower holds (its total support in units of one agent's share) under ``performance_weight`` 'resources'."""
+    performance = tower_performance(state, params)
+    if params.performance_weight == "resources":
+        return performance * (state.support / TENTHS)
+    return performance
+
+
 def performance_of(distance: np.ndarray, approaching: np.ndarray, seen: np.ndarray, params) -> np.ndarray:
     """(B, A) P from the distances (B, A) to the closest seen fires (inf where none is ``seen``) and whether
     they approach: broken_power_law(remapped_distance(...)) where the fire is seen within
@@ -101,9 +110,10 @@ def neighbour_performance(prev, state, actions, params):
     equation="R_collective = 1 - |1 - sqrt(MSE)|,  MSE = (1/n) sum_{i=1..n} p_i^2 over all n = 9 towers",
 )
 def collective_performance(prev, state, actions, params):
-    p = tower_performance(state, params)
+    p = held_performance(state, params)
     mean_square = np.add.reduce(p * p, axis=-1) / p.shape[-1]  # np.mean's sum and division, without its overhead
-    value = 1.0 - (1.0 - np.sqrt(mean_square))  # |1 - sqrt(MSE)| without np.abs: every P lies in [0, 1], so does MSE
+    # |1 - sqrt(MSE)| without np.abs while every P lies in [0, 1]; a tower holding more than one share can exceed it
+    value = 1.0 - np.abs(1.0 - np.sqrt(mean_square))
     every_agent = np.empty(p.shape)
     every_agent[:] = value[:, None]
     return every_agent
