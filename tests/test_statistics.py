@@ -298,5 +298,5 @@ def test_wrm_moving_resources_statistics_follow_the_task_weights():
     np.testing.assert_allclose(stats["Reward for Moving Resources to Self"],
                                10.0 * env.term_sums["watch_tower_performance"])
     np.testing.assert_allclose(stats["Reward for Moving Resources to Neighbours"], env.term_sums["neighbour_performance"])
-    performance = sum(np.where(live, state.sighting.performance, 0.0) for _, state, _, live in records)
-    np.testing.assert_allclose(stats["Individual Performance"], performance)
+    held = sum(np.where(live, state.sighting.performance * state.support / 10, 0.0) for _, state, _, live in records)
+    np.testing.assert_allclose(stats["Individual Performance"], held)  # P times the tower's resources

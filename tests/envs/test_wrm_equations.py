@@ -17,6 +17,7 @@ from hivex_dsl.envs.wildfire_resource_management.terms import (
 from hivex_dsl.envs.wildfire_resource_management.types import Sighting
 
 PARAMS = WildfireResourceParams()
+FIRE_ONLY = PARAMS.model_copy(update={"performance_weight": "none"})  # a tower's performance is its P alone
 
 # P = (1 + (d' * 1000 / 270)^5)^(-1/2) with d' = 0.5 -/+ 0.5 min(1, d / 200) (approaching / not), by hand:
 #   d = 0:              d' = 0.5,  (1.851852)^5 = 21.778662  -> 22.778662^-0.5 = 0.2095250
@@ -95,26 +96,27 @@ def test_neighbour_performance_is_the_neighbours_sum_weighted_by_what_the_agent_
 
 
 def test_collective_performance_is_the_root_mean_square_of_all_nine():
-    value = collective_performance(None, hand_state(), None, PARAMS)[0]
+    value = collective_performance(None, hand_state(), None, FIRE_ONLY)[0]
     expected = np.sqrt((P_CENTRE ** 2 + P_SOUTH ** 2) / 9.0)  # 0.2584230, below 1 so 1 - |1 - x| = x
     assert value == pytest.approx(np.full(9, expected), abs=1e-6)
     assert expected == pytest.approx(0.2584230, abs=1e-6)
 
 
 def test_idle_performance_applies_to_towers_without_fire():
-    idle = PARAMS.model_copy(update={"idle_performance": 0.5})
+    idle = FIRE_ONLY.model_copy(update={"idle_performance": 0.5})
     value = collective_performance(None, hand_state(), None, idle)[0, 0]
     assert value == pytest.approx(np.sqrt((P_CENTRE ** 2 + P_SOUTH ** 2 + 7 * 0.25) / 9.0), abs=1e-6)
 
 
-def test_under_performance_weight_resources_the_collective_and_individual_read_p_times_what_a_tower_holds():
+def test_the_collective_and_individual_read_p_times_what_a_tower_holds():
     """The hand state's supports: the centre keeps 5 and receives 1 from tower 0 (its neighbour 3) and 4 from tower
     7 (its neighbour 1): 1.0; tower 1 keeps 10 and receives 2 from tower 0 (its neighbour 1): 1.2. The own-tower
     and neighbourhood terms still read P."""
     from hivex_dsl.envs.wildfire_resource_management.resources import total_support
     from hivex_dsl.envs.wildfire_resource_management.statistics import individual_performance
 
-    resources = PARAMS.model_copy(update={"performance_weight": "resources"})
+    resources = PARAMS
+    assert resources.performance_weight == "resources"  # the default
     state = hand_state(keep_centre=5)
     state.support = total_support(state.allocation)
     assert state.support[0, [4, 1]].tolist() == [10, 12]
@@ -123,12 +125,14 @@ def test_under_performance_weight_resources_the_collective_and_individual_read_p
     # sqrt((0.7713829^2 + (0.0775260 * 1.2)^2) / 9) = sqrt(0.6036858 / 9) = 0.2589908
     assert collective_performance(None, state, None, resources)[0, 0] == pytest.approx(0.2589908, abs=1e-6)
     np.testing.assert_array_equal(watch_tower_performance(None, state, None, resources),
-                                  watch_tower_performance(None, state, None, PARAMS))
+                                  watch_tower_performance(None, state, None, FIRE_ONLY))
     np.testing.assert_array_equal(neighbour_performance(None, state, None, resources),
-                                  neighbour_performance(None, state, None, PARAMS))
+                                  neighbour_performance(None, state, None, FIRE_ONLY))
+    np.testing.assert_allclose(individual_performance(None, state, None, FIRE_ONLY)[0, [4, 1]], [P_CENTRE, P_SOUTH],
+                               atol=1e-6)
 
 
-def test_under_resources_a_tower_holding_more_than_its_share_overshoots_and_the_equation_s_absolute_value_bites():
+def test_a_tower_holding_more_than_its_share_overshoots_and_the_equation_s_absolute_value_bites():
     """Every other tower gives its whole share to the centre (it is each one's neighbour 1, 2 or 3), which keeps
     its own and sees an approaching fire at 200 m (P = 1): it holds 9.0, the root mean square is sqrt(81 / 9) = 3
     and the term 1 - |1 - 3| = -1, where P alone gives sqrt(1 / 9) = 1/3."""
@@ -145,9 +149,8 @@ def test_under_resources_a_tower_holding_more_than_its_share_overshoots_and_the_
         allocation[0, tower, slot] = 10
     state = SimpleNamespace(sighting=sighting, allocation=allocation, support=total_support(allocation))
     assert state.support[0].tolist() == [0, 0, 0, 0, 90, 0, 0, 0, 0]
-    resources = PARAMS.model_copy(update={"performance_weight": "resources"})
-    assert collective_performance(None, state, None, resources)[0, 0] == pytest.approx(-1.0)
-    assert collective_performance(None, state, None, PARAMS)[0, 0] == pytest.approx(1 / 3)
+    assert collective_performance(None, state, None, PARAMS)[0, 0] == pytest.approx(-1.0)  # the contract's low
+    assert collective_performance(None, state, None, FIRE_ONLY)[0, 0] == pytest.approx(1 / 3)
 
 
 def compile_task(task):

@@ -32,11 +32,12 @@ def test_scripted_beats_random_on_every_seed(runs, task):
 
 
 def test_the_gain_comes_from_the_terms_the_actions_change(runs):
-    """Giving everything earns more of the neighbour term than random shuffling; the collective term is the
-    same whatever the towers do (the published Collective Performance is the same in every task)."""
+    """Giving everything earns more of the neighbour term than random shuffling, and the collective term, which
+    reads what each tower holds, more too: the officer allocates every share where random towers end their
+    episodes holding about 0.8 of one (43.5 and 94.4 against 25.7 and 49.2 a tower on the two test fires)."""
     for (_, scripted), (_, random) in zip(runs["distribute_all"]["scripted"], runs["distribute_all"]["random"]):
         assert scripted["neighbour_performance"].sum() > random["neighbour_performance"].sum()
-        np.testing.assert_allclose(scripted["collective_performance"], random["collective_performance"])
+        assert scripted["collective_performance"].sum() > 1.5 * random["collective_performance"].sum()
 
 
 def test_candidate_distances_and_approach_from_the_towers_own_view():

@@ -153,7 +153,8 @@ def test_the_fused_performance_is_the_papers_formula(towers, threshold, s, a, id
     (every P is in [0, 1])."""
     distance = np.array([[d for d, _ in towers]])
     approaching = np.array([[m for _, m in towers]]) & np.isfinite(distance)
-    params = WildfireResourceParams(distance_threshold_m=threshold, power_law_s=s, power_law_a=a, idle_performance=idle)
+    params = WildfireResourceParams(distance_threshold_m=threshold, power_law_s=s, power_law_a=a, idle_performance=idle,
+                                    performance_weight="none")  # P alone: the collective reads no resources here
     seen = distance <= threshold
     expected = np.where(seen, broken_power_law(remapped_distance(np.where(seen, distance, 0.0), approaching, threshold),
                                                s, a), idle)

@@ -9,7 +9,7 @@ overrides them under `generators:`).
 
 from __future__ import annotations
 
-from typing import ClassVar, Literal
+from typing import Literal
 
 from pydantic import Field, model_validator
 
@@ -19,8 +19,6 @@ from ..island import RedrawIsland, redraw_island_field
 
 
 class WildfireResourceParams(WindParams, FireSpec):
-    LATE_FIELDS: ClassVar[tuple[str, ...]] = WindParams.LATE_FIELDS + ("performance_weight",)
-
     island_half_extent_m: float = Field(600.0, ge=50.0, le=10_000.0, description=(
         "[paper] Half the side of the island square (1200 x 1200), shared with Aerial Wildfire Suppression. "
         "Must equal the forest generator's half extent."))
@@ -40,13 +38,13 @@ class WildfireResourceParams(WindParams, FireSpec):
     idle_performance: float = Field(0.0, ge=0.0, le=1.0, description=(
         "[ours] Performance P of a tower without a burning tree within distance_threshold_m (the paper defines "
         "P only for a fire within d_thresh); 0 gives the published Individual and Collective Performance sizes."))
-    performance_weight: Literal["none", "resources"] = Field("none", description=(
-        "[ours] What a tower's performance is as Collective Performance (the term and its statistic) and Individual "
-        "Performance read it: 'none' P itself, the fire's alone; 'resources' P times the resources the tower holds "
-        "(its total support, 1.0 one agent's share), the reading the original's own pages bear (on the same fires "
-        "its Keep All and main-task policies log different performance; the reward table's note on the towers' "
-        "resources), kept off until the fire's yield is refitted under it. The own-tower and neighbourhood terms "
-        "read P in either case."))
+    performance_weight: Literal["none", "resources"] = Field("resources", description=(
+        "[records] What a tower's performance is as Collective Performance (the term and its statistic) and "
+        "Individual Performance read it: 'resources' P times the resources the tower holds (its total support, 1.0 "
+        "one agent's share), 'none' P itself, the fire's alone (this project's reading until issue 52). The "
+        "original's pages: on the same fires its Keep All and main-task policies log different performance, as P "
+        "times the resources gives and P alone cannot (the reward table's note on the towers' resources). The "
+        "own-tower and neighbourhood terms read P in either case."))
     initial_self_tenths: int = Field(0, ge=0, le=10, description=(
         "[ours] Tenths of its 1.0 that each tower has allocated to itself at reset; the rest starts unallocated."))
     redraw_island: RedrawIsland = redraw_island_field()

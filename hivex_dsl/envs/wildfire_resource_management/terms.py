@@ -6,7 +6,8 @@ performance P comes from the distance d1 to the closest observed fire and whethe
 the remapped distance of an approaching fire turns negative), so a tower performs only for a fire
 within d_thresh. The own tower's P is weighted by the square of what the agent keeps for itself,
 the neighbours' summed P by what the agent gives its neighbours (the prose), and the collective term is
-the root mean square of all nine P (the equation). rewards/wildfire_resource_management.yaml's
+the root mean square over all nine towers (the equation) of P times the resources each holds (the original's
+records: its performance statistics read the policy). rewards/wildfire_resource_management.yaml's
 notes give the evidence for each reading.
 """
 
@@ -104,10 +105,14 @@ def neighbour_performance(prev, state, actions, params):
 
 
 @TERMS.term(
-    "collective_performance", title="Collective Performance", paper_row=3, low=0.0, high=1.0, sign="bonus",
+    "collective_performance", title="Collective Performance", paper_row=3, low=-1.0, high=1.0, sign="mixed",
     timing="dense", scope="global",
-    description="One minus how far the root mean square of all nine towers' performances is from 1.",
-    equation="R_collective = 1 - |1 - sqrt(MSE)|,  MSE = (1/n) sum_{i=1..n} p_i^2 over all n = 9 towers",
+    description=("One minus how far the root mean square of all nine towers' performances is from 1; a tower's "
+                 "performance is its P times the resources it holds (performance_weight 'resources', the default; "
+                 "P alone under 'none'), so a tower holding several shares can overshoot 1."),
+    equation="R_collective = 1 - |1 - sqrt(MSE)|,  MSE = (1/n) sum_{i=1..n} (p_i * s_i)^2 over all n = 9 towers,  "
+             "s_i = tower i's total support in shares (1 under performance_weight 'none'); at least -1 (all nine "
+             "shares on the centre: sqrt(81 / 9) = 3)",
 )
 def collective_performance(prev, state, actions, params):
     p = held_performance(state, params)
