@@ -7,8 +7,10 @@ from .resources import TENTHS
 from .terms import held_performance
 
 STATISTICS = StatisticSet("wildfire_resource_management", "WildfireResourceManagement", notes=(
-    "Statistics: 'Individual Performance' is the tower's performance P itself, unweighted: it is about 18 in all "
-    "three published tasks although Keep All weighs the own tower x10.",
+    "Statistics: 'Individual Performance' is the tower's performance (P times the resources it holds), not "
+    "weighted by the task: it is about 18 in all three published tasks although Keep All weighs the own tower x10.",
+    "Statistics: 'Individual Resource Count' is logged once a tower-episode, as the episode ends, in tenths: "
+    "99.3% of the original's per-run values are whole tenths averaged over the world-episodes of a summary point.",
     "Statistics: the two 'Reward for Moving Resources to ...' are what the own-tower and neighbourhood terms paid, "
     "weighted: they follow the task weights in the published results (to Self 143 in Keep All against 0.2 in the "
     "main task, to Neighbours 513 in Distribute All against 49).",
