@@ -81,8 +81,8 @@ def test_keep_or_give_compares_the_weighted_corners():
 
 @pytest.mark.parametrize("task, keeps", [("keep_all", True), ("distribute_all", False)])
 def test_the_resource_ends_where_the_task_pays(task, keeps):
-    """Towers that have seen no fire (within 600 m) hold everything in keep_all and give everything in
-    distribute_all after twelve steps (ten tenths move in at most ten)."""
+    """Towers that have seen no fire (within 600 m) hold everything they can allocate in keep_all and give it in
+    distribute_all after twelve steps (nine tenths move in at most nine; the tenth stays, allocatable_tenths 9)."""
     compiled = hivex_dsl.compile(f"wildfire_resource_management/{task}")
     sim = compiled.entry.make_simulator(compiled)
     policy = compiled.entry.scripted_policy(compiled)
@@ -94,7 +94,10 @@ def test_the_resource_ends_where_the_task_pays(task, keeps):
         idle &= ~state.sighting.seen[0]
     own, given = state.allocation[0, :, 0], state.allocation[0, :, 1:].sum(axis=-1)
     assert idle.any()
+    assert compiled.params.allocatable_tenths == 9
     if keeps:
-        assert np.all(own[idle] == 10)
+        assert np.all(own[idle] == 9)
     else:
-        assert np.all(given[idle] == 10)
+        assert np.all(given[idle] == 9)
+    np.testing.assert_array_equal(state.budget[0], 10 - state.allocation[0].sum(axis=-1))
+    assert state.budget[0].min() == 1

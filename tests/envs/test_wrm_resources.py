@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 from hypothesis import given, settings, strategies as st
 from hypothesis.extra.numpy import arrays
 
@@ -177,3 +178,32 @@ def test_impossible_moves_are_counted_in_the_infos_of_both_adapters():
     batch[9] = [2, 2, 2, 2]  # world 1, tower_0: nothing to subtract anywhere
     *_, infos = vector.step(batch)
     assert infos["env/impossible_actions"].tolist() == [0] * 9 + [4] + [0] * 8
+
+
+@pytest.mark.parametrize("allocatable, kept, refused", [(9, 9, 1), (10, 10, 0)])
+def test_an_agent_allocates_at_most_allocatable_tenths(allocatable, kept, refused):
+    """Ten adds to itself: by default (9, the original's plateau) the tenth is refused and counted as impossible,
+    and a tenth stays in the budget; with allocatable_tenths 10 all ten go."""
+    compiled = hivex_dsl.compile({"hivex": 1, "environment": "wildfire_resource_management",
+                                  "params": {"allocatable_tenths": allocatable}})
+    sim = compiled.entry.make_simulator(compiled)
+    rng = np.random.default_rng(0)
+    state = sim.reset(rng, 1)
+    actions = np.zeros((1, 9, 4), np.int64)
+    actions[0, :, 0] = 1  # every agent adds a tenth to itself
+    for _ in range(10):
+        state, _ = sim.step(state, actions, rng)
+    assert state.allocation[0, :, 0].tolist() == [kept] * 9
+    assert state.budget[0].tolist() == [10 - kept] * 9
+    assert state.impossible_total[0].tolist() == [refused] * 9
+    actions[0, :, 0] = 2  # one back, then the add goes through again
+    state, _ = sim.step(state, actions, rng)
+    actions[0, :, 0] = 1
+    state, _ = sim.step(state, actions, rng)
+    assert state.allocation[0, :, 0].tolist() == [kept] * 9 and state.impossible[0].tolist() == [0] * 9
+
+
+def test_an_agent_cannot_start_holding_more_than_it_may_allocate():
+    with pytest.raises(hivex_dsl.HivexError, match=r"initial_self_tenths \(10\) must not exceed allocatable_tenths"):
+        hivex_dsl.compile({"hivex": 1, "environment": "wildfire_resource_management",
+                           "params": {"initial_self_tenths": 10}})

@@ -107,7 +107,8 @@ def test_keep_all_self_over_individual_is_the_resources_not_their_square():
 @pytest.mark.parametrize("level", [1, 5, 10])
 def test_random_towers_end_their_episodes_holding_what_the_original_s_near_uniform_policy_held(level):
     """The original's training points 2-6 (entropy 4.24-4.35 of 4 ln 3 = 4.39: near uniform) average 0.80 over the
-    30 cells (cell means 0.76-0.84); uniform random towers here, from nothing allocated, end at 0.77-0.83."""
+    30 cells (cell means 0.76-0.84); uniform random towers here, from nothing allocated and allocating at most nine
+    tenths, end at 0.75-0.77 (0.77-0.83 were all ten allocatable)."""
     compiled = hivex_dsl.compile({"hivex": 1, "environment": ENVIRONMENT, "terrain_level": level})
     env = BatchedEnv(compiled, batch=8, split="test")
     observations = env.reset()
@@ -115,4 +116,4 @@ def test_random_towers_end_their_episodes_holding_what_the_original_s_near_unifo
     while env.alive.any():
         observations = env.step(act(observations)).observations
     held = env.statistic_sums()[RESOURCES].mean()
-    assert 0.74 < held < 0.86, held
+    assert 0.70 < held < 0.86, held

@@ -43,7 +43,8 @@ ENTRY = register(EnvironmentEntry(
         "Resources are integers in tenths. Each agent owns 1.0: unallocated budget plus what it gave itself and its "
         "three neighbours, so the parts always sum to 1.0 and none is negative or above 1.0. The four action "
         "branches apply in order (self, neighbour 1, 2, 3): add moves 0.1 from the budget to the target, subtract "
-        "moves 0.1 of the agent's own allocation to that target back to the budget; an add without budget or a "
+        "moves 0.1 of the agent's own allocation to that target back to the budget; an add without budget (or beyond "
+        "allocatable_tenths, 9 by default: a tenth of the 1.0 stays unallocated, as in the original's records) or a "
         "subtract from an empty allocation does nothing and is counted in infos['env'] (impossible_actions this "
         "step, impossible_actions_episode so far; the vector env's infos['env/impossible_actions'] and so on). At reset the whole 1.0 is unallocated (initial_self_tenths 0, ours).",
         "Observation (16) = 2 stacks (newest first; the older starts as zeros) of: the closest burning tree's "

@@ -47,6 +47,12 @@ class WildfireResourceParams(WindParams, FireSpec):
         "own-tower and neighbourhood terms read P in either case."))
     initial_self_tenths: int = Field(0, ge=0, le=10, description=(
         "[ours] Tenths of its 1.0 that each tower has allocated to itself at reset; the rest starts unallocated."))
+    allocatable_tenths: int = Field(9, ge=1, le=10, description=(
+        "[records] The most of its ten tenths an agent can allocate; an add beyond it does nothing (an impossible "
+        "action). The original's towers end their episodes holding at most 0.9: 9,898 of the 9,900 values its "
+        "pages log, the last tenth of training 0.83-0.89 in every cell. In single-precision floats, as Unity "
+        "keeps them, 1.0 less nine adds of 0.1 leaves 0.09999993, short of the 0.1 a tenth add needs (a reading "
+        "of the mechanism; the reward table's note on the towers' resources). 10 lets every tenth go."))
     redraw_island: RedrawIsland = redraw_island_field()
     spread_chance_per_factor: float = Field(0.5, ge=0.0, le=1.0, description=(
         "[fitted] Ignition chance of one try per true factor (downwind, uphill, hot, dry, low overcast), capped at "
@@ -64,6 +70,13 @@ class WildfireResourceParams(WindParams, FireSpec):
     weather_refresh_interval: int = Field(10, ge=1, le=1_000, description=(
         "[ours] Steps between re-samplings of the weather grid and of the weather at the towers; the fields drift "
         "about 1 m per step over fronts hundreds of metres across, so a sample stays current that long."))
+
+    @model_validator(mode="after")
+    def _kept_within_reach(self) -> "WildfireResourceParams":
+        if self.initial_self_tenths > self.allocatable_tenths:
+            raise ValueError(f"initial_self_tenths ({self.initial_self_tenths}) must not exceed allocatable_tenths "
+                             f"({self.allocatable_tenths}): an agent allocates at most that much")
+        return self
 
     @model_validator(mode="after")
     def _towers_on_island(self) -> "WildfireResourceParams":

@@ -121,7 +121,9 @@ class WildfireResourceSimulator:
     def step(self, state: WildfireResourceState, actions: np.ndarray, rng: np.random.Generator):
         """actions (B, A, 4) in {0, 1, 2}: shift resources, then move the wind, weather and fire."""
         p = self.params
-        allocation, budget, impossible = apply_actions(state.allocation, state.budget, np.asarray(actions))
+        held_back = TENTHS - p.allocatable_tenths  # tenths of the budget no add can take (see the param)
+        allocation, free, impossible = apply_actions(state.allocation, state.budget - held_back, np.asarray(actions))
+        budget = free + held_back if held_back else free
         support = total_support(allocation)
         wind = wind_step(state.wind, rng, self.wind_spec)
         weather = weather_step(state.weather, wind.main, self.weather_spec)
