@@ -218,8 +218,8 @@ def episode_statistics(statistics: StatisticSet, weights: Mapping[str, float],
                        ) -> dict[str, np.ndarray]:
     """Every statistic's per agent-episode value, each shaped like the sums (``shape``).
 
-    ``counter_sums``: the counters' unweighted sums (an at-end counter's last value); ``term_sums``: the active terms' unweighted sums;
-    ``running``: the running means' values (:meth:`RunningMeans.values`).
+    ``counter_sums``: the counters' unweighted sums (an at-end counter's last value); ``term_sums``: the active
+    terms' unweighted sums; ``running``: the running means' values (:meth:`RunningMeans.values`).
     """
     out: dict[str, np.ndarray] = {}
     for stat in statistics:

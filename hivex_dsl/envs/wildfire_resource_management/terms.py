@@ -117,7 +117,7 @@ def neighbour_performance(prev, state, actions, params):
 def collective_performance(prev, state, actions, params):
     p = held_performance(state, params)
     mean_square = np.add.reduce(p * p, axis=-1) / p.shape[-1]  # np.mean's sum and division, without its overhead
-    # |1 - sqrt(MSE)| without np.abs while every P lies in [0, 1]; a tower holding more than one share can exceed it
+    # the absolute value bites once a tower holds more than one share: its P x support, and so the RMS, can exceed 1
     value = 1.0 - np.abs(1.0 - np.sqrt(mean_square))
     every_agent = np.empty(p.shape)
     every_agent[:] = value[:, None]
