@@ -196,21 +196,27 @@ def test_the_runtime_clears_a_running_mean_where_an_agent_or_a_world_starts_agai
     assert np.count_nonzero(expected) == 6
 
 
-def test_counters_add_nothing_for_ended_agents_and_reset_clears_them(restepped):
+def _spinning_env(restepped, statistics: StatisticSet) -> BatchedEnv:
+    """Two worlds of three turbines logging ``statistics``, where an agent ends its episode when it rotates left
+    (action 1), reset with seed 0."""
     from hivex_dsl.runtime import StepOutcome
 
-    steps = StatisticSet("wind_farm_control", "WindFarmControl")
-    steps.counter("Steps", "1 every step")(lambda prev, state, actions, params: np.ones(np.shape(actions)))
-
-    def spins(sim, state, actions, rng):  # an agent ends its episode when it rotates left (action 1)
+    def spins(sim, state, actions, rng):
         new, outcome = sim.step(state, actions, rng)
         return new, StepOutcome(outcome.terminated, {"spun": np.asarray(actions) == 1})
 
     compiled = hivex_dsl.compile({"hivex": 1, "environment": "wind_farm_control", "agents": 3, "episode_length": 9})
     compiled = restepped(compiled, spins, {"spun": "rotated left"}, ("spun",))
-    compiled = dataclasses.replace(compiled, entry=dataclasses.replace(compiled.entry, statistics=steps))
+    compiled = dataclasses.replace(compiled, entry=dataclasses.replace(compiled.entry, statistics=statistics))
     env = BatchedEnv(compiled, batch=2)
     env.reset(seed=0)
+    return env
+
+
+def test_counters_add_nothing_for_ended_agents_and_reset_clears_them(restepped):
+    steps = StatisticSet("wind_farm_control", "WindFarmControl")
+    steps.counter("Steps", "1 every step")(lambda prev, state, actions, params: np.ones(np.shape(actions)))
+    env = _spinning_env(restepped, steps)
     env.step(np.array([[0, 1, 0], [0, 0, 0]]))
     for _ in range(4):
         env.step(np.zeros((2, 3), np.int64))
@@ -221,44 +227,16 @@ def test_counters_add_nothing_for_ended_agents_and_reset_clears_them(restepped):
 
 
 def test_an_at_end_statistic_keeps_the_last_live_step_s_value_and_reset_clears_it(restepped):
-    from hivex_dsl.runtime import StepOutcome
-
     calls = itertools.count(1)  # the runtime reads its statistics once a step: the k-th step reads k
     clock = StatisticSet("wind_farm_control", "WindFarmControl")
     clock.at_end("Last Step", "the step the agent's episode ended on")(
         lambda prev, state, actions, params: np.full(np.shape(actions), float(next(calls))))
-
-    def spins(sim, state, actions, rng):  # an agent ends its episode when it rotates left (action 1)
-        new, outcome = sim.step(state, actions, rng)
-        return new, StepOutcome(outcome.terminated, {"spun": np.asarray(actions) == 1})
-
-    compiled = hivex_dsl.compile({"hivex": 1, "environment": "wind_farm_control", "agents": 3, "episode_length": 9})
-    compiled = restepped(compiled, spins, {"spun": "rotated left"}, ("spun",))
-    compiled = dataclasses.replace(compiled, entry=dataclasses.replace(compiled.entry, statistics=clock))
-    env = BatchedEnv(compiled, batch=2)
-    env.reset(seed=0)
+    env = _spinning_env(restepped, clock)
     for step in range(5):  # agent 1 of world 0 spins on the third step and ends there; the others play on
         env.step(np.array([[0, int(step == 2), 0], [0, 0, 0]]))
     assert env.statistic_sums()["Last Step"].tolist() == [[5, 3, 5], [5, 5, 5]]  # kept, not summed (1+2+3+4+5)
     env.reset_worlds(np.array([True, False]))
     assert (env.statistic_sums()["Last Step"][0]).tolist() == [0, 0, 0]
-
-
-def test_wrm_individual_resource_count_is_each_tower_s_support_as_its_episode_ends():
-    """By hand: every agent keeps two tenths (agent 4 one) and gives one to its neighbour 1, the lowest-indexed
-    tower a spacing away (towers 1, 0, 1, 0, 1, 2, 3, 4, 5 of towers 0-8), so tower 0 receives from towers 1 and
-    3, tower 1 from 0, 2 and 4, towers 2-5 from one tower each (5, 6, 7, 8) and towers 6-8 from none."""
-    compiled = hivex_dsl.compile({"hivex": 1, "environment": "wildfire_resource_management", "episode_length": 5})
-    env = BatchedEnv(compiled, batch=1, split="test")
-    env.reset()
-    keep, keep_and_give, nothing = [1, 0, 0, 0], [1, 1, 0, 0], [0, 0, 0, 0]
-    fourth_takes_back = np.array([nothing] * 4 + [[2, 0, 0, 0]] + [nothing] * 4)
-    for actions in ([keep] * 9, [keep_and_give] * 9, fourth_takes_back, [nothing] * 9, [nothing] * 9):
-        env.step(np.array([actions]))
-    assert not env.alive.any()  # the 5-step limit ended every tower's episode
-    expected = np.array([2 + 2, 2 + 3, 2 + 1, 2 + 1, 1 + 1, 2 + 1, 2, 2, 2]) / 10
-    np.testing.assert_allclose(env.statistic_sums()["Individual Resource Count"][0], expected)
-    np.testing.assert_allclose(env.state.support[0] / 10, expected)
 
 
 def test_episode_infos_carry_the_statistics_in_both_adapters():
