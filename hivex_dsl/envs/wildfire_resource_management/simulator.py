@@ -123,7 +123,7 @@ class WildfireResourceSimulator:
         p = self.params
         held_back = TENTHS - p.allocatable_tenths  # tenths of the budget no add can take (see the param)
         allocation, free, impossible = apply_actions(state.allocation, state.budget - held_back, np.asarray(actions))
-        budget = free + held_back if held_back else free
+        budget = free + held_back
         support = total_support(allocation)
         wind = wind_step(state.wind, rng, self.wind_spec)
         weather = weather_step(state.weather, wind.main, self.weather_spec)
