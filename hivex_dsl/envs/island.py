@@ -16,14 +16,14 @@ from pydantic import Field
 
 from ..compiler.registry import GeneratorSlot
 from ..runtime.global_state import StateComponent
-from ..sim.batching import put_worlds, replace_worlds, select_worlds
+from ..sim.batching import pad_by_world, put_worlds, replace_worlds, select_worlds
 from ..sim.fire import FireState, TreeState, fire_put_worlds, fire_reset
 from ..sim.procgen.forest import (ForestSpec, IgnitionSpec, cell_centre_xy, ignition_candidates, load_forest_preset,
                                   place_forest, rank_by_weather, ranked_ignition_mask)
 from ..sim.procgen.terrain import TerrainSpec, generate_terrain, terrain_spec_for_level
 from ..sim.procgen.weather import WeatherSpec, WeatherState, load_weather_preset, weather_fields
 from ..sim.procgen.weather import weather_reset
-from ..sim.procgen.wind import WindSpec, WindState, wind_reset
+from ..sim.procgen.wind import WindSpec, WindState, wind_reader, wind_reset
 
 
 # The wind and fire facts of an island world's global state (hivex_dsl.runtime.global_state), first in both
@@ -260,10 +260,9 @@ def weather_reader(weather: WeatherState, spec: WeatherSpec, half_extent_m: floa
         asked[key] = True
         wanted = np.flatnonzero(asked)  # (K,) distinct world * area + cell, ascending
         owner, cell = np.divmod(wanted, area)
-        count = np.bincount(owner, minlength=batch)
-        slot = np.arange(len(wanted)) - (np.cumsum(count) - count)[owner]
+        slot, width = pad_by_world(owner, batch)
         centres = weather_grid_points(half_extent_m, cells)
-        points = np.broadcast_to(centres[0], (batch, int(count.max()), 2)).copy()  # unused slots: any point
+        points = np.broadcast_to(centres[0], (batch, width, 2)).copy()  # unused slots: any point
         points[owner, slot] = centres[cell]
         values = weather_fields(weather, points, spec)[:, owner, slot].astype(np.float32)  # (3, K)
         at = (np.cumsum(asked) - 1)[key]  # position of each query's cell among the wanted ones
@@ -271,6 +270,14 @@ def weather_reader(weather: WeatherState, spec: WeatherSpec, half_extent_m: floa
         return values[0], values[1], values[2]
 
     return read
+
+
+def fire_wind(params: Any, wind: WindState, spec: WindSpec, half_extent_m: float, cell_m: float) -> Any:
+    """What the fire engine reads as the wind under ``params.spread_wind``: the main wind (B,) radians, or
+    ('local') a reader of the local wind at the burning trees (hivex_dsl.sim.fire.Winds)."""
+    if params.spread_wind == "local":
+        return wind_reader(wind, spec, half_extent_m, cell_m)
+    return wind.main
 
 
 def weather_grid_points(half_extent_m: float, cells: int) -> np.ndarray:

@@ -62,3 +62,12 @@ def read_only(array: np.ndarray) -> np.ndarray:
     view = array.view()
     view.flags.writeable = False
     return view
+
+
+def pad_by_world(world: np.ndarray, batch: int) -> tuple[np.ndarray, int]:
+    """Where each of N items of worlds ``world`` (N,) int, ascending, goes in a (B, width) padded array: its slot
+    (N,) int64 within its world's row, and the width (the most items of one world; at least 1).
+    ``padded[world, slot]`` then holds the items, the rest of each row is padding."""
+    count = np.bincount(world, minlength=batch)
+    slot = np.arange(len(world)) - (np.cumsum(count) - count)[world]
+    return slot, max(int(count.max()) if len(world) else 0, 1)

@@ -20,7 +20,8 @@ CAMERA_PIXELS = 42  # [paper] 42x42x3 downward camera
 
 
 class AerialWildfireParams(WindParams, FireSpec):
-    LATE_FIELDS: ClassVar[tuple[str, ...]] = WindParams.LATE_FIELDS + ("turn_rule", "finished_planes", "spawn_rule")
+    LATE_FIELDS: ClassVar[tuple[str, ...]] = (WindParams.LATE_FIELDS + FireSpec.FIRE_LATE_FIELDS
+                                               + ("turn_rule", "finished_planes", "spawn_rule"))
 
     border_half_extent_m: float = Field(750.0, ge=100.0, le=10_000.0, description=(
         "[paper] Half the side of the square border (1500 x 1500); crossing it ends that plane's episode."))

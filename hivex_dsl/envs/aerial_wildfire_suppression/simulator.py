@@ -16,7 +16,8 @@ from ...sim.fire import any_burning, douse, fire_step_unchecked
 from ...sim.fire.search import closest_burning_at
 from ...sim.procgen.weather import weather_step
 from ...sim.procgen.wind import wind_step, wrap_angle
-from ..island import SEA, IslandMaps, IslandSpecs, grid_lookup, restart_where, start_islands, weather_reader
+from ..island import (SEA, IslandMaps, IslandSpecs, fire_wind, grid_lookup, restart_where, start_islands,
+                      weather_reader)
 from .camera import pixel_offsets
 from .global_state import state_components, world_state
 from .params import CAMERA_PIXELS, AerialWildfireParams
@@ -194,7 +195,8 @@ class AerialWildfireSimulator:
             burning = fire.burning
             conditions = weather_reader(weather, self.weather_spec, p.island_half_extent_m, p.weather_grid_cells,
                                         self.weather_lookup)
-            fire = fire_step_unchecked(fire, rng, p, wind.main, state.maps.height, conditions)
+            winds = fire_wind(p, wind, self.wind_spec, p.island_half_extent_m, self.cell_m)
+            fire = fire_step_unchecked(fire, rng, p, winds, state.maps.height, conditions, self.cell_m)
             redraw_fire_step(state.look, burning, fire, self.frame)
         moved = {"fire": fire, "wind": wind, "weather": weather, "tick": tick, "extinguished": extinguished,
                  "prepared": prepared}

@@ -20,7 +20,7 @@ from ...sim.batching import assemble, read_only, replace_worlds
 from ...sim.fire import FactorGrid, count_factors, fire_step_unchecked, grid_cell_table
 from ...sim.procgen.weather import weather_step
 from ...sim.procgen.wind import wind_step
-from ..island import (IslandMaps, IslandSpecs, grid_lookup, restart_where, sample_points, start_islands,
+from ..island import (IslandMaps, IslandSpecs, fire_wind, grid_lookup, restart_where, sample_points, start_islands,
                       weather_grid_points)
 from .global_state import state_components, world_state
 from .params import WildfireResourceParams
@@ -134,7 +134,8 @@ class WildfireResourceSimulator:
             factors = count_factors(conditions, p)
         fire, sighting, was_out = state.fire, state.sighting, state.fire.out
         if tick % p.fire_step_interval == 0:
-            fire = fire_step_unchecked(fire, rng, p, wind.main, state.maps.height, self._factor_grid(factors))
+            winds = fire_wind(p, wind, self.wind_spec, p.island_half_extent_m, self.cell_m)
+            fire = fire_step_unchecked(fire, rng, p, winds, state.maps.height, self._factor_grid(factors), self.cell_m)
             sighting = self._sight(fire, state.maps.height, state.tower_ground, state.sighting)
         if fire.out is was_out:  # no world's fire changed state (the one-world fire step keeps the array)
             went_out, every_tower = self._nothing(len(budget))

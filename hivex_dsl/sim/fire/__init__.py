@@ -19,7 +19,7 @@ from .engine import (
 )
 from .factors import FactorGrid, count_factors, grid_cell_table
 from .search import closest_burning
-from .spread import Conditions, fire_step, fire_step_unchecked
+from .spread import Conditions, Winds, fire_step, fire_step_unchecked
 from .water import douse
 
 __all__ = [
@@ -28,6 +28,7 @@ __all__ = [
     "FireSpec",
     "FireState",
     "TreeState",
+    "Winds",
     "any_burning",
     "burning_count",
     "cell_coords",

@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import enum
 from dataclasses import dataclass
+from typing import ClassVar, Literal
 
 import numpy as np
 from pydantic import Field
@@ -61,6 +62,20 @@ class FireSpec(StrictModel):
         "[orig] Fire steps a tree burns (about 10 in the original) before it is burnt; it tries its neighbours in each."))
     quiet_steps_out: int = Field(10, ge=1, le=10_000, description=(
         "[orig] The fire of a world is out once nothing burns and this many fire steps passed without a new ignition."))
+    spread_weather_at: Literal["burning", "neighbour"] = Field("burning", description=(
+        "[ours] Where a try reads hot, dry and low overcast: 'burning' at the burning tree; 'neighbour' [orig] at "
+        "the tree it tries, as the release's ForestDataGenerator.BurnNNeighbourIndexes reads them."))
+    spread_max_distance_m: float = Field(0.0, ge=0.0, le=100.0, description=(
+        "[ours] 0: a burning tree tries every tree of its block. Above 0, only the trees within this many metres "
+        "in 3-D, cell centre to cell centre with their ground heights; the release tries only neighbours within "
+        "10 m (Vector3.Distance of the trees' positions, heights included)."))
+    spread_wind: Literal["main", "local"] = Field("main", description=(
+        "[ours] The wind the downwind factor reads: 'main' the world's main wind; 'local' [orig] the wind at the "
+        "burning tree, the main wind turned by the wind's noise field, as the release's Wind.GetWindAtLocation."))
+
+    # added after records were trained on FireSpec: an environment's params list them in LATE_FIELDS, so a
+    # scenario that leaves them at their defaults keeps its fingerprint (WindParams.fingerprint_params)
+    FIRE_LATE_FIELDS: ClassVar[tuple[str, ...]] = ("spread_weather_at", "spread_max_distance_m", "spread_wind")
 
 
 # The tree states as NumPy scalars: comparing a uint8 grid with an IntEnum member casts the whole grid

@@ -5,7 +5,10 @@ inside the grid) once, an independent draw per (burning, target) pair, with prob
 ``min(1, spread_chance_per_factor * n)``; ``n`` counts the target within ``downwind_cone_deg``
 of the wind direction seen from the source, the target higher than the source, and at the
 source temperature > hot, humidity < dry, overcast < low. A target tried by several burning trees
-thus ignites with probability ``1 - prod(1 - p)``. The work is proportional to the front: K
+thus ignites with probability ``1 - prod(1 - p)``. The release's rules are the spec's options:
+the weather read at the target (``spread_weather_at``), the wind at the source rather than the
+world's main wind (``spread_wind``, a :data:`Winds` callable), and only targets within
+``spread_max_distance_m`` in 3-D (a try beyond it draws its number and never ignites). The work is proportional to the front: K
 burning trees x (2r+1)^2 cells, gathered from flat indices; nothing scans the grid. A burning tree
 whose block held no existing tree is marked (``FireState.spent``) and skipped from then on: most of
 a fire's burning trees are behind its front, with nothing left to ignite.
@@ -25,6 +28,8 @@ from .factors import FactorGrid, factor_count
 
 # conditions(world (N,), row (N,), col (N,)) int64 -> (temperature (N,), humidity (N,), overcast (N,)) in [0, 1]
 Conditions = Callable[[np.ndarray, np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray, np.ndarray]]
+# winds(world (N,), row (N,), col (N,)) int64 -> (N,) float64 direction the wind blows to at those cells (radians)
+Winds = Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray]
 FACTORS = 5
 CONE_TOLERANCE_RAD = 1e-9  # "within" is inclusive: a diagonal exactly 45 degrees off the wind counts
 FLOAT64, INT32, BOOL = np.dtype(np.float64), np.dtype(np.int32), np.dtype(np.bool_)
@@ -62,6 +67,15 @@ def _offset_directions(radius: int) -> np.ndarray:
     angle = np.arctan2(d_row, d_col)
     angle.flags.writeable = False
     return angle
+
+
+@lru_cache(maxsize=16)
+def _offset_reach2(radius: int) -> np.ndarray:
+    """(N,) float64 squared length d_row^2 + d_col^2 of each block offset, in cells."""
+    d_row, d_col = block_offsets(radius)
+    reach = (d_row * d_row + d_col * d_col).astype(np.float64)
+    reach.flags.writeable = False
+    return reach
 
 
 @lru_cache(maxsize=64)
@@ -155,30 +169,73 @@ def _spent(state: FireState, radius: int, live: np.ndarray, tries: np.ndarray) -
     return spent
 
 
-def _source_weather(spec: FireSpec, conditions: Conditions | FactorGrid, k: np.ndarray, source: np.ndarray,
-                    area: int, cells: int) -> np.ndarray:
-    """(P,) int8 weather factors at the source of each pair: the source's position k (P,) among the live
-    trees, ascending, and its flat cell (P,). A callable is asked once per distinct source."""
-    if isinstance(conditions, FactorGrid):
-        return conditions.at(source, area)
+def _per_source(ask: Callable, k: np.ndarray, source: np.ndarray, area: int, cells: int) -> np.ndarray:
+    """(P,) ``ask(world, row, col)`` at the source of each pair, asked once per distinct source: the source's
+    position k (P,) among the live trees, ascending, and its flat cell (P,)."""
     first = np.ones(len(k), bool)  # k ascends: runs of one source each
     np.not_equal(k[1:], k[:-1], out=first[1:])
-    world, local = np.divmod(source[first], area)  # only the burning trees that try something need weather
+    world, local = np.divmod(source[first], area)  # only the burning trees that try something are asked
     row, col = np.divmod(local, cells)
-    weather = weather_factors(spec, conditions, world.astype(np.int64), row.astype(np.int64), col.astype(np.int64))
-    return weather[np.cumsum(first) - 1]
+    return ask(world.astype(np.int64), row.astype(np.int64), col.astype(np.int64))[np.cumsum(first) - 1]
 
 
-def spread(state: FireState, rng: np.random.Generator, spec: FireSpec, downwind_rad: np.ndarray,
-           height: np.ndarray, conditions: Conditions | FactorGrid) -> tuple[np.ndarray, np.ndarray]:
+def _per_target(ask: Callable, target: np.ndarray, area: int, cells: int) -> np.ndarray:
+    """(P,) ``ask(world, row, col)`` at each pair's target cell (P,), asked once per distinct target."""
+    cell, which = np.unique(target, return_inverse=True)
+    world, local = np.divmod(cell.astype(np.int64), area)
+    row, col = np.divmod(local, cells)
+    return ask(world, row, col)[which]
+
+
+def _pair_weather(spec: FireSpec, conditions: Conditions | FactorGrid, k: np.ndarray, source: np.ndarray,
+                  target: np.ndarray, area: int, cells: int) -> np.ndarray:
+    """(P,) int8 weather factors of each pair, read where ``spec.spread_weather_at`` says: at its source (its
+    position k (P,) among the live trees, ascending, and its flat cell (P,)) or at its target cell (P,)."""
+    at_target = spec.spread_weather_at == "neighbour"
+    if isinstance(conditions, FactorGrid):
+        return conditions.at(target if at_target else source, area)
+
+    def ask(world: np.ndarray, row: np.ndarray, col: np.ndarray) -> np.ndarray:
+        return weather_factors(spec, conditions, world, row, col)
+
+    return _per_target(ask, target, area, cells) if at_target else _per_source(ask, k, source, area, cells)
+
+
+def _pair_downwind(spec: FireSpec, downwind: np.ndarray | Winds, k: np.ndarray, o: np.ndarray, source: np.ndarray,
+                   area: int, cells: int, radius: int) -> np.ndarray:
+    """(P,) bool: each pair's target lies within the downwind cone of the wind at its source, the world's main wind
+    ``downwind`` (B,) radians or a :data:`Winds` callable asked once per distinct source."""
+    directions = _offset_directions(radius)
+    if callable(downwind):
+        wind = np.asarray(_per_source(downwind, k, source, area, cells), dtype=np.float64)
+        return _downwind(wind, directions.take(o)[:, None], spec.downwind_cone_deg)[:, 0]
+    table = _downwind(downwind, directions, spec.downwind_cone_deg)
+    return table.take(o if len(downwind) == 1 else (source // area) * table.shape[1] + o)
+
+
+def _within_reach(spec: FireSpec, o: np.ndarray, climb: np.ndarray, radius: int, cell_m: float | None) -> np.ndarray:
+    """(P,) bool: each pair's target lies within ``spec.spread_max_distance_m`` of its source in 3-D, from its block
+    offset o (P,) on cells of ``cell_m`` metres and the height difference ``climb`` (P,) in metres."""
+    if cell_m is None:
+        raise ValueError("spread_max_distance_m is set: pass cell_m, the forest grid's cell side in metres")
+    reach = _offset_reach2(radius).take(o) * (cell_m * cell_m)
+    reach += np.square(climb, dtype=np.float64)
+    return reach <= spec.spread_max_distance_m ** 2
+
+
+def spread(state: FireState, rng: np.random.Generator, spec: FireSpec, downwind_rad: np.ndarray | Winds,
+           height: np.ndarray, conditions: Conditions | FactorGrid, cell_m: float | None = None
+           ) -> tuple[np.ndarray, np.ndarray]:
     """Sorted flat indices (I,) int64 of the existing trees the burning trees set alight this step, and
     the burning trees' ``spent`` (K,) uint8 updated with the blocks found without existing trees.
 
-    ``height`` holds the cell heights, (B, C, C) or flat, read by flat index. Draws one float32 uniform
-    per (burning tree, existing target) pair, in burning-list order, then row-major block order. Trees
-    known to be spent have no such pair, so skipping them changes no draw.
+    ``height`` holds the cell heights, (B, C, C) or flat, read by flat index; ``downwind_rad`` the main wind
+    (B,) or, under ``spread_wind`` 'local', a :data:`Winds` callable; ``cell_m`` the cell side in metres (needed
+    only under ``spread_max_distance_m``). Draws one float32 uniform per (burning tree, existing target) pair, in
+    burning-list order, then row-major block order, whatever the options. Trees known to be spent have no such
+    pair, so skipping them changes no draw.
     """
-    batch, cells = state.trees.shape[:2]
+    cells = state.trees.shape[1]
     radius = spec.spread_radius_cells
     area = cells * cells
     reach = radius * (cells + 1)  # the farthest a target's flat index lies from its source's
@@ -194,11 +251,13 @@ def spread(state: FireState, rng: np.random.Generator, spec: FireSpec, downwind_
         return np.zeros(0, np.int64), spent
     t = target.take(pick)
     source = src.take(k)
-    factors = _source_weather(spec, conditions, k, source, area, cells)
-    downwind = _downwind(downwind_rad, _offset_directions(radius), spec.downwind_cone_deg)
-    factors += downwind.take(o if batch == 1 else (source // area) * downwind.shape[1] + o)
-    factors += height.take(t) > height.take(source)
+    factors = _pair_weather(spec, conditions, k, source, t, area, cells)
+    factors += _pair_downwind(spec, downwind_rad, k, o, source, area, cells, radius)
+    target_height, source_height = height.take(t), height.take(source)
+    factors += target_height > source_height
     hit = rng.random(len(pick), dtype=np.float32) < _chances(spec.spread_chance_per_factor).take(factors)
+    if spec.spread_max_distance_m > 0.0:
+        hit &= _within_reach(spec, o, target_height - source_height, radius, cell_m)
     new = _unique(t[hit])
     return (new if index is np.int64 else new.astype(np.int64)), spent
 
@@ -211,21 +270,26 @@ def _checked_height(cell_height: np.ndarray, shape: tuple[int, ...]) -> np.ndarr
     return height.reshape(-1)
 
 
-def _checked_wind(downwind_rad: np.ndarray, batch: int) -> np.ndarray:
+def _checked_wind(downwind_rad: np.ndarray | Winds, batch: int) -> np.ndarray | Winds:
     """``downwind_rad`` as a finite (B,) float64 array: :func:`.engine.vector`'s checks, with two ufunc calls
-    for the array the simulators pass (anything else takes the general checks and conversion)."""
+    for the array the simulators pass (anything else takes the general checks and conversion); a :data:`Winds`
+    callable as it is."""
     wind = downwind_rad
+    if callable(wind):
+        return wind
     if (type(wind) is np.ndarray and wind.dtype is FLOAT64 and wind.shape == (batch,)
             and np.logical_and.reduce(np.isfinite(wind))):
         return wind
     return vector("downwind_rad", wind, batch)
 
 
-def fire_step(state: FireState, rng: np.random.Generator, spec: FireSpec, downwind_rad: np.ndarray,
-              cell_height: np.ndarray, conditions: Conditions | FactorGrid) -> FireState:
+def fire_step(state: FireState, rng: np.random.Generator, spec: FireSpec, downwind_rad: np.ndarray | Winds,
+              cell_height: np.ndarray, conditions: Conditions | FactorGrid, cell_m: float | None = None) -> FireState:
     """Advance every world by one fire step; writes ``state.trees`` in place (``state`` is consumed).
 
-    downwind_rad (B,) direction the wind blows to per world (radians from +x towards +y);
+    downwind_rad (B,) direction the wind blows to per world (radians from +x towards +y), or a :data:`Winds`
+    callable giving it at the burning trees' cells; cell_m the forest cell's side in metres, needed only
+    under ``spec.spread_max_distance_m``;
     cell_height (B, C, C) terrain height at cell centres (C-contiguous, else copied each call);
     ``conditions`` (see :data:`Conditions`) is called at most once, with the burning trees that have
     an existing tree in their block (or a :class:`.factors.FactorGrid` of the same weather, read per
@@ -237,16 +301,18 @@ def fire_step(state: FireState, rng: np.random.Generator, spec: FireSpec, downwi
     """
     trees = state.trees
     downwind = _checked_wind(downwind_rad, trees.shape[0])
-    return fire_step_unchecked(state, rng, spec, downwind, _checked_height(cell_height, trees.shape), conditions)
+    return fire_step_unchecked(state, rng, spec, downwind, _checked_height(cell_height, trees.shape), conditions,
+                               cell_m)
 
 
-def fire_step_unchecked(state: FireState, rng: np.random.Generator, spec: FireSpec, downwind_rad: np.ndarray,
-                        cell_height: np.ndarray, conditions: Conditions | FactorGrid) -> FireState:
+def fire_step_unchecked(state: FireState, rng: np.random.Generator, spec: FireSpec, downwind_rad: np.ndarray | Winds,
+                        cell_height: np.ndarray, conditions: Conditions | FactorGrid,
+                        cell_m: float | None = None) -> FireState:
     """:func:`fire_step` without its argument checks, for a simulator whose arguments are valid by
     construction: ``downwind_rad`` a finite (B,) float64 array, ``cell_height`` a numeric (B, C, C) array
     (C-contiguous, else copied each call) of the fire's shape. Other arguments are undefined behaviour."""
     trees = state.trees
-    new, spent = spread(state, rng, spec, downwind_rad, cell_height, conditions)
+    new, spent = spread(state, rng, spec, downwind_rad, cell_height, conditions, cell_m)
     ended, burning, age, spent = _burn_out(state, spent, spec.burn_steps)
     flat = trees.reshape(-1)
     flat[ended] = BURNT

@@ -25,7 +25,7 @@ from pydantic import Field
 
 from ...base.numeric import constant
 from ...lang.spec.common import StrictModel
-from ..batching import assemble, replace_worlds, select_worlds
+from ..batching import assemble, pad_by_world, replace_worlds, select_worlds
 from .noise import blend_corners, corner_gradients, draw_lattice, octave_frequencies, sum_octaves
 
 TWO_PI = 2.0 * np.pi
@@ -246,3 +246,24 @@ def probe_wind(state: WindState, points: np.ndarray, spec: WindSpec,
 def local_wind(state: WindState, points: np.ndarray, spec: WindSpec) -> np.ndarray:
     """Wind direction at ``points`` (B, N, 2) metres -> (B, N) radians."""
     return probe_wind(state, points, spec)[0]
+
+
+def wind_reader(state: WindState, spec: WindSpec, half_extent_m: float, cell_m: float):
+    """The fire engine's winds callback (hivex_dsl.sim.fire.Winds): the :func:`local_wind` (N,) radians at forest
+    cells (world, row, col), each (N,) int, whose centres lie at ((col + 0.5) cell_m - half_extent_m,
+    (row + 0.5) cell_m - half_extent_m) metres; every world's cells are asked in one padded call."""
+
+    def read(world: np.ndarray, row: np.ndarray, col: np.ndarray) -> np.ndarray:
+        if world.size == 0:
+            return np.zeros(0)
+        order = np.argsort(world, kind="stable")
+        owner = world[order]
+        slot, width = pad_by_world(owner, len(state.main))
+        points = np.zeros((len(state.main), width, 2))
+        points[owner, slot, 0] = (col[order] + 0.5) * cell_m - half_extent_m
+        points[owner, slot, 1] = (row[order] + 0.5) * cell_m - half_extent_m
+        winds = np.empty(len(world))
+        winds[order] = local_wind(state, points, spec)[owner, slot]
+        return winds
+
+    return read
