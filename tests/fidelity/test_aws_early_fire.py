@@ -1,0 +1,35 @@
+"""benchmarks/aws_early_fire.py: the fire's course over the first summary points, ours against the original's."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from hivex_dsl.evaluation.original.compare import CompareError, RunCurve
+
+from ..benchmark_scripts import benchmark_script
+
+script = benchmark_script("aws_early_fire")
+
+
+def test_pooling_weighs_each_point_by_its_episodes_and_stops_at_the_budget():
+    curve = RunCurve(steps=np.array([1_000.0, 50_000.0, 100_000.0]), episodes=np.array([1.0, 3.0, 2.0]),
+                     panels={"Fire Out": np.array([1.0, 0.0, 1.0]), "Episode Length": np.array([100.0, 200.0, 300.0])})
+    # (1 x 1 + 0 x 3) / (100 x 1 + 200 x 3): the point at 100,000 lies beyond the 90,000 pooled
+    assert script.pooled(curve, "Fire Out", 90_000) == pytest.approx(1 / 700)
+    assert script.pooled(curve, "Fire Out", 200_000) == pytest.approx(3 / 1300)
+
+
+def test_the_grid_record_reads_as_session_34_measured_it():
+    """Session 34 (the reward table's fire note) measured the grid record's Fire too Close to City over its first
+    90,000 agent-steps at 1.49 times the original's (median over the ten levels) by hand; this script agrees."""
+    lines = script.report("grid record", script.grid_curves(), 90_000)
+    median = float(lines[1].rsplit("median ratio ", 1)[1])
+    assert 1.44 <= median <= 1.54
+
+
+def test_a_folder_without_runs_is_a_clear_error(tmp_path, capsys):
+    with pytest.raises(CompareError, match="no run of `hivex train`"):
+        script.run_curves(tmp_path)
+    assert script.main([str(tmp_path)]) == 2
+    assert "no summary.json" in capsys.readouterr().err
