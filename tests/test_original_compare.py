@@ -226,3 +226,24 @@ def test_a_record_keeps_every_panel_of_its_curve_and_gives_it_back(cell, run):
     assert compare.measure(plain, cell)[0].ours.value == 16.0 and list(plain.panels) == ["Cumulative Reward"]
     with pytest.raises(compare.CompareError, match="curve_episodes of another length than its 6 curve rows"):
         compare.from_record({"environment": "x", "curve": rows, "curve_episodes": [1]})
+
+
+def _synchronous_run(budget_steps: float = 1.8e6) -> compare.RunCurve:
+    """Worlds that end together every 108,000 agent-steps (36 plane-episodes at 600 each), two crashes between."""
+    steps = np.array([0.0, 50_000.0, 60_000.0, 108_000.0, 216_000.0])
+    episodes = np.array([36.0, 1.0, 1.0, 36.0, 36.0])
+    returns = np.array([600.0, -100.0, -100.0, 600.0, 600.0])
+    return compare.RunCurve(steps, episodes, {compare.RETURN: returns})
+
+
+def test_a_window_between_synchronous_ends_widens_to_a_full_point():
+    """At 54,000 agent-steps the original's 9,000-step window holds one crash (-100). Half a full point is 18
+    episodes (the 95th percentile of the points is 36), first reached with the point at 108,000, 54,000 away: the
+    pool is then every point within 54,000, (2 x 36 x 600 - 2 x 100) / 74 = 581.08."""
+    ours = compare.ours_at(_synchronous_run(), compare.RETURN, 54_000, 9_000, 1.8e6)
+    assert ours.value == pytest.approx((2 * 36 * 600 - 2 * 100) / 74)
+    assert (ours.first, ours.last) == (0, 108_000)
+    # no wider than 5% of the budget: with a budget of 500,000 (25,000) the window stays the original's
+    assert compare.ours_at(_synchronous_run(), compare.RETURN, 54_000, 9_000, 5e5).value == -100.0
+    # a window that already holds a full point pools it alone
+    assert compare.ours_at(_synchronous_run(), compare.RETURN, 110_000, 9_000, 1.8e6).value == 600.0

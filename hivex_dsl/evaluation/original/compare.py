@@ -14,7 +14,13 @@ step ``s`` pools our points within half the original's summary interval ``w`` of
 ``w`` agent-steps, as `hivex train` does by default, has one point there; one that logged every update, as the
 recorded baselines did, has a summary period's worth), weighted by their episodes where known; where none lies
 that close (a run whose episodes end seldom, as Wind Farm Control's 5,000-step ones with 256 slots: a point every
-1.28M agent-steps), the nearest point within 5% of the budget, named by its step; else none. Several training seeds
+1.28M agent-steps), the nearest point within 5% of the budget, named by its step; else none. Where the points
+within ``w / 2`` hold fewer than half the episodes of a full point (the 95th percentile of the run's points), the
+pool widens to the nearest points until they do, at most to 5% of the budget: our worlds start together, so the
+episodes that run to the time limit end together in one point (Aerial Wildfire Suppression's 12 worlds of 3
+planes: a point of up to 36 every 3,000 steps), and a narrow window between two such points would hold only the
+odd early ending (a crash's -100 for a policy earning hundreds), where each of the original's points averaged what
+ended in a window of worlds that had long since drifted apart. Several training seeds
 (:func:`measure_seeds`) are measured each so, and their mean (unweighted: each seed is one run, as each of the
 original's three is one) against the same band.
 
@@ -36,6 +42,7 @@ from .evidence import EPISODE_LENGTH, RETURN, curve_points
 
 FRACTIONS = (0.1, 0.25, 0.5, 1.0)
 NEAREST_WITHIN = 0.05  # of the budget: how far from a step our nearest point may lie where none is within w / 2
+FULL_SHARE = 0.5  # of a full point's episodes: what ours at a step pools at least, where the budget allows
 
 
 class CompareError(HivexError, ValueError):
@@ -140,13 +147,27 @@ class Ours:
     last: int | None = None
 
 
+def pooled_radius(run: RunCurve, known: np.ndarray, distance: np.ndarray, window: float, budget: float) -> float:
+    """How far from a step ours pools its points: ``window / 2``, widened to the nearest points that hold
+    :data:`FULL_SHARE` of a full point's episodes (the 95th percentile of the run's points, ``known`` (n,) those
+    with a value, ``distance`` (n,) from the step), but no further than :data:`NEAREST_WITHIN` of ``budget``."""
+    episodes = run.episodes[known]
+    if not len(episodes):
+        return window / 2
+    need = FULL_SHARE * np.percentile(episodes, 95)
+    order = np.argsort(distance[known], kind="stable")
+    reach = np.searchsorted(np.cumsum(episodes[order]), need)  # the first point at which the pooled reach need
+    radius = float(distance[known][order[min(reach, len(order) - 1)]])
+    return max(window / 2, radius) if radius <= NEAREST_WITHIN * budget else window / 2
+
+
 def ours_at(run: RunCurve, panel: str, step: float, window: float, budget: float) -> Ours:
-    """Our ``panel`` at ``step``: the episode-weighted mean of our points within ``window / 2`` of it, else the
-    nearest point within :data:`NEAREST_WITHIN` of ``budget``, else none (see the module's docstring)."""
+    """Our ``panel`` at ``step``: the episode-weighted mean of our points within :func:`pooled_radius` of it, else
+    the nearest point within :data:`NEAREST_WITHIN` of ``budget``, else none (see the module's docstring)."""
     values = run.panels[panel]
     known = ~np.isnan(values)
     distance = np.abs(run.steps - step)
-    near = known & (distance <= window / 2)
+    near = known & (distance <= pooled_radius(run, known, distance, window, budget))
     if near.any():
         weights = run.episodes[near]
         return Ours(float(np.sum(values[near] * weights) / np.sum(weights)), int(run.steps[near].min()),
