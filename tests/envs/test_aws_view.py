@@ -125,11 +125,11 @@ def test_the_look_stays_the_picture_of_the_trees_through_fires_drops_and_restart
     rng = np.random.default_rng(11)
     state = sim.reset(rng, 3)
     wet = 0
-    for step in range(120):
+    for step in range(200):  # the pilot's first drops come after about 120 steps (3 m a step to the fire)
         state, _ = sim.step(state, act(sim.observe(state)), rng)
         wet += int(state.extinguished.sum() + state.prepared.sum())
-        if step in (40, 80):
-            state = sim.reset_where(state, np.array([True, False, step == 80]), rng)
+        if step in (60, 130):
+            state = sim.reset_where(state, np.array([True, False, step == 130]), rng)
     assert wet > 0  # drops happened
     fresh = view.build_look(state.fire.trees, state.maps.ground, sim.frame_template, sim.frame)
     np.testing.assert_array_equal(state.look, fresh)

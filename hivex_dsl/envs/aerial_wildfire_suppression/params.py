@@ -66,11 +66,34 @@ class AerialWildfireParams(WindParams, FireSpec):
         "[paper] Fire this close to the village centre costs 'too close to village'; a plane this close has found it."))
     camera_pixel_m: float = Field(5.0, gt=0.0, le=50.0, description=(
         "[ours] Ground metres per camera pixel; 42 pixels see 210 m, centred under the plane, forward up."))
-    fire_step_interval: int = Field(15, ge=1, le=1_000, description=(
-        "[ours] Environment steps per fire step, fitted to the paper: with 15 an unfought fire outlives the "
-        "3000-step episode as often as the published Fire Out says (the reward table's notes); a tree burns for "
-        "150 steps and the front moves well under 1 m per step, slower than a plane (3 m per step). The release "
-        "itself makes a fire step every two rendered frames, 33 academy steps (the reward table's notes)."))
+    fire_step_interval: int = Field(22, ge=1, le=1_000, description=(
+        "[records] Environment steps per fire step, fitted to the original's first training points: with the "
+        "release's spread rules a fire step every 22 steps makes Fire too Close to City a plane-decision over the "
+        "first 90,000 agent-steps 0.97 times the original's (median over the ten levels; 15 gave 1.50, 18 1.19, 33 "
+        "0.55; benchmarks/aws_early_fire.py). A tree burns for 220 steps. The release's frames read literally give "
+        "33 (a fire step every two rendered frames; the reward table's notes)."))
+    low_overcast: float = Field(0.0, ge=0.0, le=1.0, description=(
+        "[orig] Overcast below this counts as a factor of spread. The release counts it only where the overcast "
+        "is exactly 0, which its raw Perlin overcast map almost never is: 0 counts it nowhere."))
+    spread_weather_at: Literal["burning", "neighbour"] = Field("neighbour", description=(
+        "[orig] Where a try reads hot, dry and low overcast: at the tree it tries, as the release's "
+        "ForestDataGenerator.BurnNNeighbourIndexes does ('burning': at the burning tree)."))
+    spread_max_distance_m: float = Field(10.0, ge=0.0, le=100.0, description=(
+        "[orig] A burning tree tries only the trees within this many metres in 3-D (cell centres with their "
+        "ground heights), as the release's Vector3.Distance check; 0 tries its whole block."))
+    spread_wind: Literal["main", "local"] = Field("local", description=(
+        "[orig] The downwind factor reads the wind at the burning tree, the main wind turned by the wind's noise "
+        "field, as the release's Wind.GetWindAtLocation ('main': the world's main wind)."))
+    wind_original_law: int = Field(1, ge=0, le=1, description=(
+        "[orig] The release's Wind.CalcMainWind (1): once a rendered frame the main wind's vector lerps toward the "
+        "target by a fraction growing by wind_lerp_speed a game second (the AWS scene's 0.001: a 60-degree shift "
+        "about every 1,940 steps); 0 eases it by wind_ease_rate a step."))
+    wind_noise_scale_m: float = Field(500.0, ge=10.0, le=100_000.0, description=(
+        "[orig] Metres of one unit of the wind's noise field: the AWS scene's incr of 0.002."))
+    wind_noise_octaves: int = Field(1, ge=1, le=8, description="[orig] Octaves of the wind's noise field: Unity's PerlinNoise, one.")
+    wind_drift_m: float = Field(0.0, ge=0.0, le=100.0, description=(
+        "[orig] Metres the wind's noise field moves a step: the release holds it still while training "
+        "(drawWindField is off) and in its test runs."))
     weather_grid_cells: int = Field(16, ge=2, le=128, description=(
         "[ours] The smooth weather fields are sampled on this many cells per side of the island for the fire and "
         "ignition (nearest cell); the fields vary over hundreds of metres, a cell is 75 m."))

@@ -5,7 +5,7 @@ meets its task's end (and freezes), and the episodes of all its planes end toget
 plane count. Two of its checks skip the freeze test, so a frozen plane that found the village (still within its
 radius) or the fire is paid again and calls ``AgentDone`` again every step it waits: the first finder ends its
 world within (planes - 1) steps, two for the paper's three. That its tree still burns then is taken as given (a
-tree burns ten fire steps, 150 steps at the default cadence). This module counts those calls; the simulator
+tree burns ten fire steps, 220 steps at the default cadence). This module counts those calls; the simulator
 holds the planes (``held_events``, see hivex_dsl.runtime.contract).
 """
 
