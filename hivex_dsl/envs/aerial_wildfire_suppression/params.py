@@ -90,7 +90,8 @@ class AerialWildfireParams(WindParams, FireSpec):
         "about every 1,940 steps); 0 eases it by wind_ease_rate a step."))
     wind_noise_scale_m: float = Field(500.0, ge=10.0, le=100_000.0, description=(
         "[orig] Metres of one unit of the wind's noise field: the AWS scene's incr of 0.002."))
-    wind_noise_octaves: int = Field(1, ge=1, le=8, description="[orig] Octaves of the wind's noise field: Unity's PerlinNoise, one.")
+    wind_noise_octaves: int = Field(1, ge=1, le=8, description=(
+        "[orig] Octaves of the wind's noise field: Unity's PerlinNoise, one."))
     wind_drift_m: float = Field(0.0, ge=0.0, le=100.0, description=(
         "[orig] Metres the wind's noise field moves a step: the release holds it still while training "
         "(drawWindField is off) and in its test runs."))

@@ -8,10 +8,11 @@ source temperature > hot, humidity < dry, overcast < low. A target tried by seve
 thus ignites with probability ``1 - prod(1 - p)``. The release's rules are the spec's options:
 the weather read at the target (``spread_weather_at``), the wind at the source rather than the
 world's main wind (``spread_wind``, a :data:`Winds` callable), and only targets within
-``spread_max_distance_m`` in 3-D (a try beyond it draws its number and never ignites). The work is proportional to the front: K
-burning trees x (2r+1)^2 cells, gathered from flat indices; nothing scans the grid. A burning tree
-whose block held no existing tree is marked (``FireState.spent``) and skipped from then on: most of
-a fire's burning trees are behind its front, with nothing left to ignite.
+``spread_max_distance_m`` in 3-D (a try beyond it draws its number and never ignites). The work
+is proportional to the front: K burning trees x (2r+1)^2 cells, gathered from flat indices;
+nothing scans the grid. A burning tree whose block held no existing tree is marked
+(``FireState.spent``) and skipped from then on: most of a fire's burning trees are behind its
+front, with nothing left to ignite.
 """
 
 from __future__ import annotations
