@@ -78,7 +78,8 @@ ENTRY = register(EnvironmentEntry(
         "agent-steps is then 0.97 times the original's (median over the ten levels; 1.50 with the fire before issue "
         "52's refit, a fire step every 15 steps under this toolkit's rules, fitted to the published Fire Out of "
         "trained planes); Fire Out, which the original's first points log in a few per cent of world-episodes at six "
-        "levels, does not happen within them here (benchmarks/aws_early_fire.py; the reward table's notes).",
+        "levels, happens once in the twenty level-runs of two training seeds here (benchmarks/aws_early_fire.py; the "
+        "reward table's notes).",
         "Protect Village (task 4): the published policy learned to leave the world before the fire reaches the "
         "village at levels 2-10 (Crash Count 0.99-1.0, Fire too Close to City 0.00-0.03, returns 66-190), so a "
         "plane that crosses the border early escapes the village penalty here too. With the fitted fire timer a "
