@@ -207,3 +207,22 @@ def test_an_agent_cannot_start_holding_more_than_it_may_allocate():
     with pytest.raises(hivex_dsl.HivexError, match=r"initial_self_tenths \(10\) must not exceed allocatable_tenths"):
         hivex_dsl.compile({"hivex": 1, "environment": "wildfire_resource_management",
                            "params": {"initial_self_tenths": 10}})
+
+
+def test_individual_resource_count_is_each_tower_s_support_as_its_episode_ends():
+    """By hand: every agent keeps two tenths (agent 4 one) and gives one to its neighbour 1, the lowest-indexed
+    tower a spacing away (towers 1, 0, 1, 0, 1, 2, 3, 4, 5 of towers 0-8), so tower 0 receives from towers 1 and
+    3, tower 1 from 0, 2 and 4, towers 2-5 from one tower each (5, 6, 7, 8) and towers 6-8 from none."""
+    from hivex_dsl.runtime.batched import BatchedEnv
+
+    compiled = hivex_dsl.compile({"hivex": 1, "environment": "wildfire_resource_management", "episode_length": 5})
+    env = BatchedEnv(compiled, batch=1, split="test")
+    env.reset()
+    keep, keep_and_give, nothing = [1, 0, 0, 0], [1, 1, 0, 0], [0, 0, 0, 0]
+    fourth_takes_back = np.array([nothing] * 4 + [[2, 0, 0, 0]] + [nothing] * 4)
+    for actions in ([keep] * 9, [keep_and_give] * 9, fourth_takes_back, [nothing] * 9, [nothing] * 9):
+        env.step(np.array([actions]))
+    assert not env.alive.any()  # the 5-step limit ended every tower's episode
+    expected = np.array([2 + 2, 2 + 3, 2 + 1, 2 + 1, 1 + 1, 2 + 1, 2, 2, 2]) / 10
+    np.testing.assert_allclose(env.statistic_sums()["Individual Resource Count"][0], expected)
+    np.testing.assert_allclose(env.state.support[0] / 10, expected)
