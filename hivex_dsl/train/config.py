@@ -31,8 +31,9 @@ catalogue) trains on :class:`PPOConfig`'s own defaults. How each key maps onto t
   come as often as the original's only at its number of environments. The rollout ends there, unfinished
   trajectories included (ML-Agents carries them into the next buffer; they differ only where slots fall out of
   step), and at most ``time_horizon + buffer_size // slots + 1`` steps. ``rollout``, the default, is the fixed
-  rollout above, which every record so far trained with; Wind Farm Control's file sets ``trajectories``. Its
-  config that ran updated at 2,048, 4,096 and 5,000 steps of each 5,000-step episode of its one environment of 8
+  rollout above; Wind Farm Control's and Aerial Wildfire Suppression's files set ``trajectories`` with one world,
+  as every config that ran trained (none names ``num_envs``, mlagents-learn's default 1). Wind Farm Control's
+  updated at 2,048, 4,096 and 5,000 steps of each 5,000-step episode of its one environment of 8
   turbines (16,384, 16,384 and 7,232 experiences: 600 updates in 8M agent-steps, read from its logged epsilon), as
   ``trajectories`` with one world does, where ``rollout`` with 8 worlds updated every 2,048 (3,906 updates),
   learned about 1.5-2 times as fast and ended far more decided (rewards/wind_farm_control.yaml).
@@ -61,20 +62,20 @@ catalogue) trains on :class:`PPOConfig`'s own defaults. How each key maps onto t
   ``vis_encode_type`` and ``num_layers`` (the paper's curiosity network_settings name the same encoder).
   ``curiosity.py`` is ML-Agents' module; the critic gets a second value head for it.
 
-Ours (ML-Agents has no such key): ``num_worlds`` (parallel copies of the scenario; the paper's AWS config
-runs 12 environments), ``max_grad_norm`` (gradient clipping; 0, the default, clips none, as ML-Agents; the
-baselines recorded before it became the default clipped at 0.5 and their commands say so), ``checkpoint_every``
-and ``keep_checkpoints`` (agent-steps between checkpoints, how many are kept), ``seed`` (torch and sampling;
-the environment's seeds are the scenario's), ``device``, ``torch_threads`` (``auto``, the default: the
+Ours (ML-Agents has no such key): ``num_worlds`` (parallel copies of the scenario; the paper appendix's AWS config
+runs 12 environments, the configs that ran one), ``max_grad_norm`` (gradient clipping; 0, the default, clips none,
+as ML-Agents; the baselines recorded before it became the default clipped at 0.5 and their commands say so),
+``checkpoint_every`` and ``keep_checkpoints`` (agent-steps between checkpoints, how many are kept), ``seed`` (torch
+and sampling; the environment's seeds are the scenario's), ``device``, ``torch_threads`` (``auto``, the default: the
 machine's free cores up to 8, :func:`free_cores`: those this process may use less the share the 1-minute load
-average keeps busy, since threads beyond the free cores slow a run down many times over; on 2 quiet cores the camera environments train 1.4-1.8x faster
-on both than on one; set 1 for concurrent runs on a shared machine, and a number to reproduce a record exactly,
-since the thread count can change the last bits of torch's reductions), ``precision`` (``exact``, the
-default: float32 everywhere; ``bf16``: the update's and the rollout's forward passes under bfloat16
+average keeps busy, since threads beyond the free cores slow a run down many times over; on 2 quiet cores the camera
+environments train 1.4-1.8x faster on both than on one; set 1 for concurrent runs on a shared machine, and a number
+to reproduce a record exactly, since the thread count can change the last bits of torch's reductions), ``precision``
+(``exact``, the default: float32 everywhere; ``bf16``: the update's and the rollout's forward passes under bfloat16
 autocast, on CPU or GPU, not bit-identical; on 2 CPU cores it trained OPC (ResNet encoders, curiosity) 1.4x faster
-(372 -> 514 agent-steps/s), DBR 1.1x and AWS (simple encoder) no faster;
-``tf32``: float32 storage with TensorFloat-32 matrix products and convolutions, a GPU mode. An approximate run
-says so in its config.json and on the baselines page).
+(372 -> 514 agent-steps/s), DBR 1.1x and AWS (simple encoder) no faster; ``tf32``: float32 storage with
+TensorFloat-32 matrix products and convolutions, a GPU mode. An approximate run says so in its config.json and on
+the baselines page).
 
 Choices where this toolkit first did otherwise than ML-Agents. Each defaults to ML-Agents; the named earlier
 choice is what the baselines recorded before the default changed trained with (their commands set it), and a

@@ -24,6 +24,8 @@ APPENDIX_TITLES = {"wind_farm_control": "Wind Farm Control", "ocean_plastic_coll
                    "drone_based_reforestation": "Drone-Based Reforestation",
                    "wildfire_resource_management": "Wildfire Resource Management",
                    "aerial_wildfire_suppression": "Aerial Wildfire Suppression"}
+# trained on several worlds and the fixed rollout until their records are re-fitted to one (issue 52; the notes)
+SEVERAL_WORLDS_STILL = {"wildfire_resource_management", "ocean_plastic_collection", "drone_based_reforestation"}
 
 
 def flat(config: dict) -> dict:
@@ -37,6 +39,7 @@ def flat(config: dict) -> dict:
     if "curiosity" in signals:
         keys |= {f"curiosity_{k}": v for k, v in signals["curiosity"].items() if k != "network_settings"}
     keys |= {k: agent[k] for k in ("max_steps", "time_horizon", "summary_freq", "keep_checkpoints")}
+    keys["num_worlds"] = config["env_settings"].get("num_envs", 1)  # mlagents-learn's default: one environment
     return keys
 
 
@@ -55,12 +58,29 @@ def test_the_defaults_are_the_config_that_ran(paper, environment):
     defaults = make_config(environment).model_dump()
     expected = flat(ran)
     expected.pop("threaded", None)
+    if environment in SEVERAL_WORLDS_STILL:
+        expected.pop("num_worlds")
     assert {k: defaults[k] for k in expected} == expected
+
+
+@pytest.mark.parametrize("environment", ENVIRONMENTS)
+def test_a_config_that_ran_counts_one_world_and_one_world_fills_as_ml_agents(paper, environment):
+    """Every config that ran names no num_envs (one Unity environment) and counts its summary point as one world's
+    episode in a comment ("3 agents a 3000 steps = 9000"): agents x steps is its summary_freq. One world trains on
+    finished trajectories, as ML-Agents' trainer fills its buffer (tests/train/test_buffer_fill.py)."""
+    text = (paper / "original-configs" / "train" / f"{CONFIG_NAMES[environment]}_hivex.yaml").read_text()
+    assert "num_envs" not in yaml.safe_load(text)["env_settings"]
+    counted = re.search(r"summary_freq: (\d+) # (\d+) \w+ a (\d+) steps = (\d+)", text)
+    assert counted and int(counted[1]) == int(counted[2]) * int(counted[3]) == int(counted[4])
+    cfg = make_config(environment)
+    assert (cfg.buffer_fill == "trajectories") == (cfg.num_worlds == 1) != (environment in SEVERAL_WORLDS_STILL)
 
 
 @pytest.mark.parametrize("environment", ENVIRONMENTS)
 def test_the_appendix_block_names_every_value_where_the_appendix_differs(paper, environment):
     ran, written = paper_defaults(environment), flat(appendix_config(paper, environment))
+    if environment in SEVERAL_WORLDS_STILL:
+        ran.pop("num_worlds")
     differing = {k: v for k, v in written.items() if k in ran and ran[k] != v}
     assert appendix(environment) == differing
 
@@ -74,8 +94,8 @@ def test_the_budgets_that_differ_from_the_appendix():
                                                      "buffer_size": 10_240, "time_horizon": 10_240}
     assert paper_defaults("wildfire_resource_management")["max_steps"] == 450_000
     assert appendix("wildfire_resource_management") == {"max_steps": 4_500_000}
-    assert all(appendix(env) == {} for env in ("wind_farm_control", "ocean_plastic_collection",
-                                               "aerial_wildfire_suppression"))
+    assert all(appendix(env) == {} for env in ("wind_farm_control", "ocean_plastic_collection"))
+    assert appendix("aerial_wildfire_suppression") == {"num_worlds": 12}  # its env_settings' num_envs
 
 
 def test_the_appendix_block_is_no_hyperparameter():

@@ -61,8 +61,10 @@ def reference_rollout_rewards(self, frames, cont, disc):
 def two_updates(environment: str, curiosity: bool) -> tuple[list[dict[str, float]], torch.Tensor]:
     """The losses of two rollouts and updates, and every trained weight after them."""
     torch.manual_seed(0)
-    cfg = make_config(environment, {"num_worlds": 2, "buffer_size": 48, "batch_size": 16, "num_epoch": 2,
-                                    "hidden_units": 16, "curiosity_strength": 0.01 if curiosity else 0.0})
+    # the fixed rollout of 48 experiences whatever the environment's file fills by: two short updates
+    cfg = make_config(environment, {"num_worlds": 2, "buffer_fill": "rollout", "buffer_size": 48, "batch_size": 16,
+                                    "num_epoch": 2, "hidden_units": 16,
+                                    "curiosity_strength": 0.01 if curiosity else 0.0})
     env, obs = ppo.make_env(compile(short_scenario(environment)), cfg.num_worlds, "train")
     agent = ActorCritic(env.single_observation_space, env.single_action_space, cfg)
     optimizer = ppo.make_optimizer(agent, cfg.learning_rate)
