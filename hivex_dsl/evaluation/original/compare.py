@@ -18,9 +18,9 @@ that close (a run whose episodes end seldom, as Wind Farm Control's 5,000-step o
 within ``w / 2`` hold fewer than half the episodes of a full point (the 95th percentile of the run's points), the
 pool widens to the nearest points until they do, at most to 5% of the budget: our worlds start together, so the
 episodes that run to the time limit end together in one point (12 worlds of 3 planes, as Aerial Wildfire
-Suppression's grid trained: a point of up to 36 every 3,000 steps), and a narrow window between two such points would hold only the
-odd early ending (a crash's -100 for a policy earning hundreds), where each of the original's points averaged what
-ended in a window of worlds that had long since drifted apart. Several training seeds
+Suppression's grid trained: a point of up to 36 every 3,000 steps), and a narrow window between two such points
+would hold only the odd early ending (a crash's -100 for a policy earning hundreds), where each of the original's
+points averaged what ended in a window of worlds that had long since drifted apart. Several training seeds
 (:func:`measure_seeds`) are measured each so, and their mean (unweighted: each seed is one run, as each of the
 original's three is one) against the same band.
 
