@@ -59,7 +59,8 @@ def world(base, planes, trees=(), water=True, village=(-400.0, -400.0)):
                   position=np.array([[[x, y] for x, y, _ in planes]], float),
                   heading=np.radians(np.array([[h for _, _, h in planes]], float)),
                   water=np.full(shape, water), flying=np.ones(shape, bool),
-                  seen_fire=np.zeros(shape, bool), seen_village=np.zeros(shape, bool), village_hit=np.zeros(1, bool))
+                  seen_fire=np.zeros(shape, bool), seen_village=np.zeros(shape, bool), village_hit=np.zeros(1, bool),
+                  village_reached=np.zeros(1, bool))
     return sim, sim.derive(new)
 
 

@@ -21,7 +21,7 @@ CAMERA_PIXELS = 42  # [paper] 42x42x3 downward camera
 
 class AerialWildfireParams(WindParams, FireSpec):
     LATE_FIELDS: ClassVar[tuple[str, ...]] = (WindParams.LATE_FIELDS + FireSpec.FIRE_LATE_FIELDS
-                                               + ("turn_rule", "finished_planes", "spawn_rule"))
+                                               + ("turn_rule", "finished_planes", "spawn_rule", "episodes_continue"))
 
     border_half_extent_m: float = Field(750.0, ge=100.0, le=10_000.0, description=(
         "[paper] Half the side of the square border (1500 x 1500); crossing it ends that plane's episode."))
@@ -46,6 +46,13 @@ class AerialWildfireParams(WindParams, FireSpec):
         "counted again every step), until AgentDone's count of finishes reaches the plane count; then all their "
         "episodes end together and the world starts afresh, as the release's AgentManager ends them (the reward "
         "table's notes)."))
+    episodes_continue: int = Field(0, ge=0, le=1, description=(
+        "[orig] 1: an episode cut by the time limit continues its world, as the release's MaxStep does (each "
+        "plane's OnEpisodeBegin only respawns it): the island, the forest and its fire, the wind, the weather, "
+        "the count of finishes (finished_planes wait) and the village's flag go on, so a fire that reached the "
+        "village costs every plane again on the first step of each episode after; the world is drawn afresh "
+        "only when the fire goes out or the count reaches the plane count (the release's TriggerDone). 0 [ours]: "
+        "every episode starts a fresh world (the reward table's notes)."))
     spawn_radius_m: float = Field(750.0, ge=0.0, le=10_000.0, description=(
         "[orig] Planes spawn uniformly within this distance of the centre (inside the border) with a random heading."))
     spawn_rule: Literal["ours", "release"] = Field("ours", description=(

@@ -1,4 +1,5 @@
-"""Respawning single planes in running worlds (the vector env's ML-Agents agent reset).
+"""Respawning single planes in running worlds (the vector env's ML-Agents agent reset), and every plane of a
+world whose next episode continues it (``episodes_continue``).
 
 A plane whose episode ended alone (it crossed the border, or a task ends on one of its own
 events) starts again as at an episode start -- a random point of the spawn disk, a random
@@ -36,3 +37,22 @@ def respawn_where(sim, state: AerialWildfireState, mask: np.ndarray, rng: np.ran
                    found_village=state.found_village & off, extinguished=np.where(mask, 0, state.extinguished),
                    prepared=np.where(mask, 0, state.prepared),
                    visual=np.where(mask[..., None, None, None], cameras, state.visual))
+
+
+def world_goes_on(state: AerialWildfireState, planes: int) -> np.ndarray:
+    """(B,) bool: worlds whose next episode continues them under ``episodes_continue``: the fire still burns and
+    fewer finishes than ``planes`` were counted, so the release's MaxStep, not its TriggerDone, ended the episode."""
+    return state.burning & (state.finishes < planes)
+
+
+def continue_worlds(sim, state: AerialWildfireState, worlds: np.ndarray, rng: np.random.Generator
+                    ) -> AerialWildfireState:
+    """A new episode in the running ``worlds`` (B,): every plane respawns, as the release's OnEpisodeBegin does;
+    the island, the fire and its clock, wind, weather, the count of finishes and the village's flag go on, and a
+    fire that reached the village is paid for again on the next step (the release's city flag stays set)."""
+    if not np.count_nonzero(worlds):
+        return state
+    state = respawn_where(sim, state, np.repeat(worlds[:, None], state.position.shape[1], axis=1), rng)
+    kept = ~worlds
+    return replace(state, village_hit=state.village_hit & kept, village_threatened=state.village_threatened & kept,
+                   fire_went_out=state.fire_went_out & kept)

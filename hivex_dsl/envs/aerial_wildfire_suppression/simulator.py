@@ -21,7 +21,7 @@ from ..island import (SEA, IslandMaps, IslandSpecs, fire_wind, grid_lookup, rest
 from .camera import pixel_offsets
 from .global_state import state_components, world_state
 from .params import CAMERA_PIXELS, AerialWildfireParams
-from .respawn import respawn_where
+from .respawn import continue_worlds, respawn_where, world_goes_on
 from .waiting import count_finishes
 from .types import AerialWildfireState, Sighting
 from .view import (build_look, frame_template, is_tiled, plane_cameras, redraw_cells, redraw_fire_step, view_frame,
@@ -147,7 +147,7 @@ class AerialWildfireSimulator:
             maps=island.maps, fire=island.fire, wind=island.wind, weather=island.weather, tick=0,
             position=position, heading=heading, water=water, flying=flying,
             sighting=self._sight_of(island.fire, island.maps.village, position, flying),
-            seen_fire=no, seen_village=no, village_hit=np.zeros(batch, bool),
+            seen_fire=no, seen_village=no, village_hit=np.zeros(batch, bool), village_reached=np.zeros(batch, bool),
             crossed=no, picked_up=no, dropped=no, found_fire=no, found_village=no,
             extinguished=np.zeros(shape, np.int32), prepared=np.zeros(shape, np.int32),
             fire_went_out=np.zeros(batch, bool), village_threatened=np.zeros(batch, bool),
@@ -156,7 +156,11 @@ class AerialWildfireSimulator:
 
     def reset_where(self, state: AerialWildfireState, mask: np.ndarray, rng: np.random.Generator) -> AerialWildfireState:
         """New episodes in the worlds where ``mask`` (B,) is true; they keep their islands unless
-        params.redraw_island is "episode". ``state`` is used up: its fire and look are rewritten in place."""
+        params.redraw_island is "episode", and under params.episodes_continue a world that the time limit cut goes
+        on whole (respawn.continue_worlds). ``state`` is used up: its fire and look are rewritten in place."""
+        if self.params.episodes_continue:
+            going_on = mask & world_goes_on(state, self.agents)
+            state, mask = continue_worlds(self, state, going_on, rng), mask & ~going_on
         if not mask.any():
             return state
         fresh_episodes = partial(self._fresh, tiled=is_tiled(state.look))  # the new worlds' look in the batch's layout
@@ -212,7 +216,8 @@ class AerialWildfireSimulator:
         gap = flight.position - prev.maps.village[:, None, :]
         near_village = flight.flying & (np.hypot(gap[..., 0], gap[..., 1]) <= self.operands.village_radius)
         found_village = and_not(near_village, prev.seen_village)
-        threatened = and_not(sighting.village_threat, prev.village_hit)
+        reached = prev.village_reached | sighting.village_threat
+        threatened = and_not(reached, prev.village_hit)  # once an episode, again in a continued world's next
         went_out = and_not(fire.out, prev.fire.out)
         events = {PICKUP_EVENT: flight.picked, "dropped_water": flight.dropping, "found_fire": found_fire,
                   "found_village": found_village, "fire_out": np.repeat(went_out[:, None], found_fire.shape[1], axis=1)}
@@ -226,7 +231,7 @@ class AerialWildfireSimulator:
         visual = self._cameras_after(prev, flight, fire.trees)
         new = assemble(AerialWildfireState, maps=prev.maps, **moved, position=flight.position, heading=flight.heading,
                        water=flight.water, flying=flying, sighting=sighting, seen_fire=prev.seen_fire | found_fire,
-                       seen_village=prev.seen_village | found_village, village_hit=prev.village_hit | threatened,
+                       seen_village=prev.seen_village | found_village, village_hit=prev.village_hit | threatened, village_reached=reached,
                        crossed=flight.crossed, picked_up=flight.picked, dropped=flight.dropping, found_fire=found_fire,
                        found_village=found_village, fire_went_out=went_out, village_threatened=threatened,
                        burning=any_burning(fire), finishes=finishes, look=prev.look, visual=visual)
@@ -413,6 +418,7 @@ class Flight(NamedTuple):
 
 
 # Per-world arrays of the state (world axis first) that a partial reset replaces.
-_PER_WORLD = ("position", "heading", "water", "flying", "seen_fire", "seen_village", "village_hit", "crossed",
+_PER_WORLD = ("position", "heading", "water", "flying", "seen_fire", "seen_village", "village_hit", "village_reached",
+              "crossed",
               "picked_up", "dropped", "found_fire", "found_village", "extinguished", "prepared", "fire_went_out",
               "village_threatened", "burning", "finishes", "visual")

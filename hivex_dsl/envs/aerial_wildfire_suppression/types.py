@@ -39,6 +39,9 @@ class AerialWildfireState:
     seen_fire: np.ndarray  # (B, A) bool
     seen_village: np.ndarray  # (B, A) bool
     village_hit: np.ndarray  # (B,) bool
+    # the release's city flag: fire came within village_radius_m of the village in this world (kept while the
+    # world continues into another episode: params.episodes_continue)
+    village_reached: np.ndarray  # (B,) bool
     # events of the last step
     crossed: np.ndarray  # (B, A) bool
     picked_up: np.ndarray  # (B, A) bool
