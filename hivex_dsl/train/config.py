@@ -31,12 +31,12 @@ catalogue) trains on :class:`PPOConfig`'s own defaults. How each key maps onto t
   come as often as the original's only at its number of environments. The rollout ends there, unfinished
   trajectories included (ML-Agents carries them into the next buffer; they differ only where slots fall out of
   step), and at most ``time_horizon + buffer_size // slots + 1`` steps. ``rollout``, the default, is the fixed
-  rollout above; Wind Farm Control's and Aerial Wildfire Suppression's files set ``trajectories`` with one world,
-  as every config that ran trained (none names ``num_envs``, mlagents-learn's default 1). Wind Farm Control's
-  config updated at 2,048, 4,096 and 5,000 steps of each 5,000-step episode of its one environment of 8
-  turbines (16,384, 16,384 and 7,232 experiences: 600 updates in 8M agent-steps, read from its logged epsilon), as
-  ``trajectories`` with one world does, where ``rollout`` with 8 worlds updated every 2,048 (3,906 updates),
-  learned about 1.5-2 times as fast and ended far more decided (rewards/wind_farm_control.yaml).
+  rollout above; Wind Farm Control's, Aerial Wildfire Suppression's and Wildfire Resource Management's files set
+  ``trajectories`` with one world, as every config that ran trained (none names ``num_envs``, mlagents-learn's
+  default 1). Wind Farm Control's config updated at 2,048, 4,096 and 5,000 steps of each 5,000-step episode of its one
+  environment of 8 turbines (16,384, 16,384 and 7,232 experiences: 600 updates in 8M agent-steps, read from its logged
+  epsilon), as ``trajectories`` with one world does, where ``rollout`` with 8 worlds updated every 2,048 (3,906
+  updates), learned about 1.5-2 times as fast and ended far more decided (rewards/wind_farm_control.yaml).
 - ``ended_agents`` (ours: in ML-Agents the environment's code decides): what the training vector env does with an
   agent whose episode ended while its world goes on (a battery run out, a crash). ``respawn``, the default, starts
   it again at once in its running world, so its next episode is cut at the world's end (a short tail); ``wait``
