@@ -21,13 +21,14 @@ def test_pooling_weighs_each_point_by_its_episodes_and_stops_at_the_budget():
 
 
 def test_the_grid_record_reads_as_measured_by_hand():
-    """The grid record re-trained in session 38 (levels 1-8 on today's defaults) was measured by hand from its JSON
+    """The grid record re-trained on today's defaults (sessions 38 and 39) was measured by hand from its JSON
     (Fire too Close to City times episodes over Episode Length times episodes, the points up to 90,000 agent-steps;
-    the original's ten first points' means summed likewise): ratios 1.98, 0.83, 1.03, 0.77, 1.00, 0.64, 0.87 and
-    1.08 at levels 1-8, median 0.93; this script agrees."""
+    the original's ten first points' means summed likewise, level 10's page drawing no point at 18,000, counted as
+    0 as the point before it): ratios 1.98, 0.83, 1.03, 0.77, 1.00, 0.64, 0.87, 1.08, 1.05 and 1.52 at levels 1-10,
+    median 1.01 (1.00 and 1.03 in the middle); this script agrees."""
     lines = script.report("grid record", script.grid_curves(), 90_000)
     median = float(lines[1].rsplit("median ratio ", 1)[1])
-    assert 0.90 <= median <= 0.96
+    assert 0.99 <= median <= 1.03
 
 
 def test_a_folder_without_runs_is_a_clear_error(tmp_path, capsys):
