@@ -56,10 +56,11 @@ def waiting():
 
 
 def straight_flight_steps(speed: float, planes: int, samples: int = 200_000) -> np.ndarray:
-    """(samples,) steps of the longest of ``planes`` straight flights to the water ring, from geometry alone.
+    """(n,) steps of the longest of ``planes`` straight flights to the water ring, from geometry alone (n: the
+    ``samples`` draws whose planes all start inside the 750 m spawn disk).
 
-    Each plane starts at a uniform point of the island square within two steps of the ring (600 - 2 x speed m),
-    inside the 750 m spawn disk, at a uniform heading, and flies ceil(distance / speed) steps to the ring at 600 m.
+    Each plane starts at a uniform point of the square of half-side 600 - 2 x speed m (two steps short of the
+    ring), at a uniform heading, and flies ceil(distance / speed) steps to the ring at 600 m.
     """
     rng = np.random.default_rng(0)
     half = 600 - 2 * speed
