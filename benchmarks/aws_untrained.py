@@ -18,6 +18,7 @@ import sys
 
 import hivex_dsl
 from hivex_dsl.base.errors import HivexError
+from hivex_dsl.cli.argtypes import positive
 from hivex_dsl.evaluation.original.curves import original_curves
 from hivex_dsl.evaluation.rollout import rollout
 from hivex_dsl.train.config import parse_assignments
@@ -53,7 +54,7 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--tasks", nargs="+", choices=TASKS, default=list(TASKS))
     parser.add_argument("--levels", nargs="+", type=int, choices=range(1, 11), default=[1, 3, 6, 10], metavar="LEVEL")
-    parser.add_argument("--episodes", type=int, default=40)
+    parser.add_argument("--episodes", type=positive, default=40)
     parser.add_argument("--set", dest="assignments", action="append", default=[], metavar="KEY=VALUE")
     args = parser.parse_args(argv)
     try:
