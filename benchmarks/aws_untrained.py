@@ -39,6 +39,7 @@ def untrained(task: str, level: int, params: dict, episodes: int) -> tuple[float
 
 
 def report(tasks: list[str], levels: list[int], params: dict, episodes: int) -> list[str]:
+    """The printed lines: a header, then one line a task with each level's ours/original pairs."""
     lines = [f"random play, {episodes} test episodes a cell, params {params or 'the defaults'}: "
              "Episode Length / return a plane-episode, ours against the original's first training point"]
     for task in tasks:
