@@ -25,7 +25,7 @@ APPENDIX_TITLES = {"wind_farm_control": "Wind Farm Control", "ocean_plastic_coll
                    "wildfire_resource_management": "Wildfire Resource Management",
                    "aerial_wildfire_suppression": "Aerial Wildfire Suppression"}
 # trained on several worlds and the fixed rollout until their records are re-fitted to one (issue 52; the notes)
-SEVERAL_WORLDS_STILL = {"ocean_plastic_collection", "drone_based_reforestation"}
+SEVERAL_WORLDS_STILL = {"ocean_plastic_collection"}
 
 
 def flat(config: dict) -> dict:
