@@ -15,7 +15,7 @@ from hypothesis import strategies as st
 
 import hivex_dsl
 from hivex_dsl.envs.aerial_wildfire_suppression import view
-from hivex_dsl.envs.aerial_wildfire_suppression.camera import PALETTE_FLOAT, cameras
+from hivex_dsl.envs.aerial_wildfire_suppression.camera import OUTSIDE, PALETTE_FLOAT, WATER_RING, cameras
 from hivex_dsl.envs.aerial_wildfire_suppression.simulator import AerialWildfireSimulator
 from hivex_dsl.envs.island import conditions_reader, sample_conditions, weather_reader
 
@@ -39,6 +39,8 @@ SCENARIOS = {
     "narrow ring": {"border_half_extent_m": 601.0, "camera_pixel_m": 3.7},
     "wide border": {"border_half_extent_m": 1400.0, "plane_speed_m": 12.5, "camera_pixel_m": 11.0},
     "huge border": {"border_half_extent_m": 5000.0},  # beyond the widest frame: far planes take the exact path
+    "border unseen": {"camera_sees_border": False},
+    "wide border unseen": {"border_half_extent_m": 1400.0, "camera_pixel_m": 11.0, "camera_sees_border": False},
 }
 _SIMS: dict[str, AerialWildfireSimulator] = {}
 
@@ -78,7 +80,7 @@ def test_cameras_through_the_look_are_the_exact_cameras(scenario, seed, batch, e
     look = view.build_look(trees, ground, sim.frame_template, sim.frame)
     fast = view.plane_cameras(position, heading, look, trees, ground, sim.frame, sim.camera_offsets)
     exact = cameras(position, heading, trees, ground, sim.camera_offsets, p.island_half_extent_m,
-                    p.border_half_extent_m)
+                    view.drawn_border_m(p, len(sim.frame.forward)))
     np.testing.assert_array_equal(fast, exact)
     if np.abs(position).max() <= sim.frame.safe_m:  # the frame covers these planes: the look was read
         np.testing.assert_array_equal(view.look_cameras(position, heading, look, sim.frame), exact)
@@ -86,9 +88,30 @@ def test_cameras_through_the_look_are_the_exact_cameras(scenario, seed, batch, e
 
 def test_the_frame_covers_every_plane_that_stays_near_the_border():
     assert simulator("huge border").frame.safe_m < 5000.0
-    for name in ("default", "narrow ring", "wide border"):
+    for name in ("default", "narrow ring", "wide border", "border unseen", "wide border unseen"):
         p = simulator(name).params
         assert simulator(name).frame.safe_m >= p.border_half_extent_m + p.plane_speed_m, name
+
+
+@pytest.mark.parametrize("scenario", ["default", "narrow ring", "wide border", "border unseen", "wide border unseen"])
+def test_a_camera_sees_the_dark_outside_only_where_the_scenario_draws_the_border(scenario):
+    """A plane a step beyond the border, facing out, sees the dark outside under most of its camera when the
+    border is drawn; undrawn (the release's sea runs on past its border) it sees only the water ring there, as
+    it does short of the border, so nothing but its observed position tells it where the border is."""
+    sim = simulator(scenario)
+    p = sim.params
+    trees, ground = random_island(np.random.default_rng(5), 1)
+    beyond = p.border_half_extent_m + p.plane_speed_m
+    position = np.array([[[beyond, 0.0], [0.0, -beyond], [beyond, beyond]]])
+    heading = np.array([[0.0, -np.pi / 2, np.pi / 4]])  # outward: +x, -y and the corner's diagonal
+    look = view.build_look(trees, ground, sim.frame_template, sim.frame)
+    seen = view.plane_cameras(position, heading, look, trees, ground, sim.frame, sim.camera_offsets)
+    outside = np.all(seen == PALETTE_FLOAT[OUTSIDE], axis=-1).mean(axis=(-1, -2))  # (1, 3) share of pixels
+    ring = np.all(seen == PALETTE_FLOAT[WATER_RING], axis=-1).mean(axis=(-1, -2))
+    if p.camera_sees_border:  # at least the half of the camera beyond the line, three quarters in the corner
+        assert (outside >= [0.49, 0.49, 0.74]).all(), outside
+    else:
+        assert (outside == 0.0).all() and (ring == 1.0).all(), (outside, ring)
 
 
 def test_planes_beyond_the_frame_take_the_exact_path(sim):

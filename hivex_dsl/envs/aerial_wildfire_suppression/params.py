@@ -74,6 +74,11 @@ class AerialWildfireParams(WindParams, FireSpec):
         "[paper] Fire this close to the village centre costs 'too close to village'; a plane this close has found it."))
     camera_pixel_m: float = Field(5.0, gt=0.0, le=50.0, description=(
         "[ours] Ground metres per camera pixel; 42 pixels see 210 m, centred under the plane, forward up."))
+    camera_sees_border: bool = Field(True, description=(
+        "[ours] Whether the cameras draw the dark outside beyond the border. The release's border is a test of "
+        "coordinates alone (CrossedBorderCheck: |x| or |z| at least 750 m) inside a terrain of about 1,666 m whose "
+        "sea runs on past it, so its cameras see water on both sides of it; false draws the water ring there too, "
+        "and only the observed position tells a plane where the border is (the reward table's notes)."))
     fire_step_interval: int = Field(22, ge=1, le=1_000, description=(
         "[records] Environment steps per fire step, fitted to the original's first training points: with the "
         "release's spread rules a fire step every 22 steps makes Fire too Close to City a plane-decision over the "

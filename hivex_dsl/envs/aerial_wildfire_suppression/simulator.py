@@ -24,8 +24,8 @@ from .params import CAMERA_PIXELS, AerialWildfireParams
 from .respawn import continue_worlds, respawn_where, world_goes_on
 from .waiting import count_finishes
 from .types import AerialWildfireState, Sighting
-from .view import (build_look, frame_template, is_tiled, plane_cameras, redraw_cells, redraw_fire_step, view_frame,
-                   window_cells)
+from .view import (build_look, drawn_border_m, frame_template, is_tiled, plane_cameras, redraw_cells,
+                   redraw_fire_step, view_frame, window_cells)
 
 PICKUP_EVENT = "picked_up_water"
 # Events of one plane; a task that ends on one of them takes that plane out of the game (see _sense).
@@ -68,7 +68,7 @@ class AerialWildfireSimulator:
         self.camera_offsets = pixel_offsets(CAMERA_PIXELS, p.camera_pixel_m)
         # a plane stays inside the border, or stops one step beyond it
         self.frame = view_frame(self.camera_offsets, self.forest_spec.cells, p.island_half_extent_m,
-                                p.border_half_extent_m, p.border_half_extent_m + p.plane_speed_m)
+                                drawn_border_m(p, CAMERA_PIXELS), p.border_half_extent_m + p.plane_speed_m)
         self.frame_template = frame_template(self.frame)
         along = np.arange(p.drop_points) * p.drop_point_spacing_m
         self.drop_along = along  # (P,) metres ahead of the plane

@@ -90,6 +90,15 @@ def view_frame(offsets: tuple[np.ndarray, np.ndarray], cells: int, island_half_m
                      border_half_m, safe, clear, blind, *constants)
 
 
+def drawn_border_m(params, pixels: int) -> float:
+    """The border as the cameras of ``pixels`` x ``pixels`` draw it under AerialWildfireParams ``params``: the
+    scenario's, or (camera_sees_border false) one past every pixel of a plane that stopped a step beyond the
+    border, so the water ring runs on past it (a camera's side exceeds its farthest pixel's distance)."""
+    if params.camera_sees_border:
+        return params.border_half_extent_m
+    return params.border_half_extent_m + params.plane_speed_m + pixels * params.camera_pixel_m
+
+
 def _beyond_island(island_half: np.float32, per_m: np.float32, cells: int, cells_per_m: float) -> float:
     """Metres b such that every float32 coordinate beyond +/- b maps to a cell off the island: a cell
     beyond its edge, checked with the mapping."""
