@@ -179,6 +179,25 @@ def test_the_fire_going_out_pays_10_and_is_an_event_for_every_plane(compiled, ba
     assert term(compiled, "fire_out", new, new)[0].tolist() == [10.0, 10.0]
 
 
+@pytest.mark.parametrize("task", ["find_fire", "find_village"])
+@pytest.mark.parametrize("water_in_find_tasks", [False, True])
+def test_the_find_tasks_planes_neither_drop_nor_refill_unless_told_to(task, water_in_find_tasks):
+    """The release's Find Fire and Find Village call neither DropWater nor PickupWater: one plane over land holding
+    water asks to drop over a tree, another without water crosses into the ring. Told to (the rule before), both
+    act as in every other task."""
+    compiled = hivex_dsl.compile({"hivex": 1, "environment": "aerial_wildfire_suppression", "agents": 2, "task": task,
+                                  "params": {"water_in_find_tasks": water_in_find_tasks}})
+    sim = AerialWildfireSimulator(compiled)
+    _, state = world((sim, sim.reset(np.random.default_rng(0), 1)), [(0.0, 0.0, 0.0), (598.0, 300.0, 0.0)],
+                     [(15.0, 0.0, TreeState.EXISTING)])
+    state = replace(state, water=np.array([[True, False]]))
+    new, outcome = sim.step(state, act([0, 0], [1, 0]), np.random.default_rng(1))
+    acts = water_in_find_tasks
+    assert outcome.events["dropped_water"][0].tolist() == [acts, False]
+    assert outcome.events["picked_up_water"][0].tolist() == [False, acts]
+    assert new.water[0].tolist() == [not acts, acts] and new.prepared[0].tolist() == [int(acts), 0]
+
+
 @pytest.mark.parametrize("task, holding", [("main", True), ("pick_up_water", False), ("find_fire", True)])
 def test_planes_start_with_water_except_when_the_task_ends_on_picking_it_up(task, holding):
     compiled = hivex_dsl.compile({"hivex": 1, "environment": "aerial_wildfire_suppression", "task": task})

@@ -63,6 +63,12 @@ class AerialWildfireParams(WindParams, FireSpec):
         "to spawn_radius_m, nothing kept away (the reward table's notes)."))
     spawn_holding_water: Literal["auto", "always", "never"] = Field("auto", description=(
         "[orig] Whether planes start holding water; auto: they do, except in tasks that end on picking up water."))
+    water_in_find_tasks: bool = Field(False, description=(
+        "[orig] Whether planes refill and drop water in the tasks that end on finding the fire or the village. "
+        "The release's Find Fire and Find Village call neither PickupWater nor DropWater (their OnActionReceived "
+        "calls FindFireTask or FindVillageTask alone), so their planes keep the water they start with; their "
+        "published test cells log no drop, pick-up or prepared tree at any level (the reward table's notes). True "
+        "is the rule before issue 52's session 40."))
     redraw_island: RedrawIsland = redraw_island_field()
     drop_points: int = Field(4, ge=1, le=8, description="[orig] Points of the water swath, the first under the plane.")
     drop_point_spacing_m: float = Field(20.0, ge=0.0, le=100.0, description="[orig] Metres between swath points, ahead of the plane.")

@@ -29,7 +29,8 @@ from .view import (build_look, drawn_border_m, frame_template, is_tiled, plane_c
 
 PICKUP_EVENT = "picked_up_water"
 # Events of one plane; a task that ends on one of them takes that plane out of the game (see _sense).
-PLANE_EVENTS = (PICKUP_EVENT, "dropped_water", "found_fire", "found_village")
+FINDING_EVENTS = ("found_fire", "found_village")
+PLANE_EVENTS = (PICKUP_EVENT, "dropped_water") + FINDING_EVENTS
 SPAWN_REDRAWS = 16  # a spawn that sees the fire is drawn again up to this many times (then kept)
 EVENTS = {
     PICKUP_EVENT: "a plane without water entered the water ring and filled up",
@@ -65,6 +66,8 @@ class AerialWildfireSimulator:
         self.held_events = self.plane_endings if self.wait else ()  # finished planes wait: contract.HoldsEndings
         mode = p.spawn_holding_water
         self.spawn_water = mode == "always" or (mode == "auto" and PICKUP_EVENT not in compiled.ends_on)
+        finding = any(event in FINDING_EVENTS for event in compiled.ends_on)
+        self.handles_water = p.water_in_find_tasks or not finding  # the release's Find tasks neither refill nor drop
         self.camera_offsets = pixel_offsets(CAMERA_PIXELS, p.camera_pixel_m)
         # a plane stays inside the border, or stops one step beyond it
         self.frame = view_frame(self.camera_offsets, self.forest_spec.cells, p.island_half_extent_m,
@@ -275,9 +278,10 @@ class AerialWildfireSimulator:
         outside = np.maximum(reach[..., 0], reach[..., 1])
         crossed = flying & (outside > k.border)
         still = flying ^ crossed  # flying & ~crossed
-        picked = and_not(still & (outside > k.island_half), water)
+        handles = self.handles_water
+        picked = and_not(still & (outside > k.island_half) & handles, water)
         water = water | picked
-        dropping = still & water & (actions["discrete"][..., 0] == 1)
+        dropping = still & water & (actions["discrete"][..., 0] == 1) & handles
         if np.count_nonzero(dropping):
             dropping &= self._over_land(state.maps.ground, position)
         return Flight(heading, facing, position, outside, still, crossed, picked, and_not(water, dropping), dropping)
