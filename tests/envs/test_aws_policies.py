@@ -34,3 +34,37 @@ def test_scripted_extinguishes_clearly_more_trees_than_random(main_task):
 def test_scripted_pilots_never_cross_the_border(main_task):
     _, sums = collect_returns(main_task, "scripted", episodes=1, split="test", seed=SEEDS[0])
     assert np.all(sums["crossed_border"] == 0.0)
+
+
+def test_the_search_spiral_aims_ahead_on_the_arm_nearest_the_plane_and_starts_over_past_its_edge():
+    from hivex_dsl.envs.aerial_wildfire_suppression.scripted import PATROL_LEAD_RAD, spiral_target
+
+    lead = PATROL_LEAD_RAD / (2 * np.pi)  # of a turn
+    # a quarter turn round (90 degrees) the arms lie at 50, 250, 450 and 650 m: planes at 100 and 400 m sit nearest
+    # the first and the third; at 170 degrees the fourth arm's point ahead, 714 m out, is past the edge: back inside
+    places = np.array([[[0.0, 100.0], [0.0, 400.0], [700.0 * np.cos(np.radians(170)), 700.0 * np.sin(np.radians(170))]]])
+    got = spiral_target(places, 200.0, 680.0)
+    turns = np.array([0.25, 0.25, 170.0 / 360.0])
+    expected = 200.0 * (np.array([0.0, 2.0, 0.0]) + turns + lead)
+    np.testing.assert_allclose(np.hypot(got[..., 0], got[..., 1])[0], expected)
+    np.testing.assert_allclose(np.mod(np.arctan2(got[..., 1], got[..., 0])[0] / (2 * np.pi), 1.0), turns + lead)
+
+
+def test_the_search_spiral_passes_within_the_village_radius_of_every_place_a_village_can_stand():
+    """Every point within 450 m of the centre on each axis (where the terrain generator puts the village) lies
+    within 150 m (the finding radius) of the swept spiral, r = spacing x turns out to the edge, worked out on the
+    curve itself."""
+    from hivex_dsl.envs.aerial_wildfire_suppression.scripted import SEARCH_ARM_SPACING_M, SEARCH_OUTER_M
+
+    turns = np.linspace(0.0, SEARCH_OUTER_M / SEARCH_ARM_SPACING_M, 20_001)
+    curve = SEARCH_ARM_SPACING_M * turns[:, None] * np.stack([np.cos(2 * np.pi * turns), np.sin(2 * np.pi * turns)], 1)
+    grid = np.stack(np.meshgrid(np.linspace(-450, 450, 37), np.linspace(-450, 450, 37)), axis=-1).reshape(-1, 2)
+    gaps = np.min(np.linalg.norm(grid[:, None, :] - curve[None, ::10, :], axis=-1), axis=1)
+    assert gaps.max() <= 150.0
+
+
+def test_the_scripted_pilot_finds_the_village_in_most_test_episodes():
+    compiled = hivex_dsl.compile({"hivex": 1, "environment": "aerial_wildfire_suppression", "task": "find_village",
+                                  "episode_length": 3000})
+    returns, sums = collect_returns(compiled, "scripted", episodes=4, split="test", seed=SEEDS[0])
+    assert np.mean(sums["find_village"] > 0) >= 0.5 and np.all(sums["crossed_border"] == 0.0)
