@@ -66,5 +66,5 @@ def test_the_search_spiral_passes_within_the_village_radius_of_every_place_a_vil
 def test_the_scripted_pilot_finds_the_village_in_most_test_episodes():
     compiled = hivex_dsl.compile({"hivex": 1, "environment": "aerial_wildfire_suppression", "task": "find_village",
                                   "episode_length": 3000})
-    returns, sums = collect_returns(compiled, "scripted", episodes=4, split="test", seed=SEEDS[0])
+    _, sums = collect_returns(compiled, "scripted", episodes=4, split="test", seed=SEEDS[0])
     assert np.mean(sums["find_village"] > 0) >= 0.5 and np.all(sums["crossed_border"] == 0.0)

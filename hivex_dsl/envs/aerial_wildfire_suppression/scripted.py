@@ -74,11 +74,12 @@ def scripted_policy(compiled) -> Callable[[dict], dict]:
         position, heading = vector[..., 0:2] * scale, np.arctan2(vector[..., 3], vector[..., 2])
         water, fire_seen = vector[..., 4] > 0.5, vector[..., 7] > 0.5
         fire = vector[..., 5:7] * scale
-        target = np.where(water[..., None], patrol_target(position, PATROL_RADIUS_M),
-                          coast_target(position, p.island_half_extent_m, p.border_half_extent_m))
-        target = np.where((water & fire_seen)[..., None], fire, target)
         if search:
             target = spiral_target(position, SEARCH_ARM_SPACING_M, SEARCH_OUTER_M)
+        else:
+            target = np.where(water[..., None], patrol_target(position, PATROL_RADIUS_M),
+                              coast_target(position, p.island_half_extent_m, p.border_half_extent_m))
+            target = np.where((water & fire_seen)[..., None], fire, target)
         steer = steer_towards(position, heading, target, turn)
         gap = fire - position
         ahead = gap[..., 0] * np.cos(heading) + gap[..., 1] * np.sin(heading)
