@@ -46,13 +46,13 @@ def iteration_flops(environment: str, overrides) -> dict:
     compiled = compile(SCENARIOS / environment / "main.yaml")
     cfg = make_config(environment, overrides)
     torch.manual_seed(cfg.seed)
-    env, obs = make_env(compiled, cfg.num_worlds, "train")
+    env, obs, infos = make_env(compiled, cfg.num_worlds, "train")
     agent = ActorCritic(env.single_observation_space, env.single_action_space, cfg)
     optimizer, curiosity, trained = make_optimizer(agent, cfg.learning_rate), None, None
     if cfg.curiosity_strength > 0:  # as ppo.train builds it
         curiosity = Curiosity(env.single_observation_space, agent.layout, cfg)
         trained = (curiosity, make_optimizer(curiosity, cfg.curiosity_learning_rate))
-    state, buf = start_rollouts(obs, agent, cfg.rollout_length(env.num_envs))
+    state, buf = start_rollouts(obs, agent, cfg.rollout_length(env.num_envs), infos)
     with FlopCounterMode(display=False) as rollout:
         next_value = collect(env, agent, buf, state, cfg, EpisodeLog(), until=update_due(cfg, env.num_envs))
     with FlopCounterMode(display=False) as learning:

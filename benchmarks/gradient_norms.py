@@ -60,7 +60,7 @@ def main() -> None:
     checkpoint = load_checkpoint(args.checkpoint)
     cfg, compiled = checkpoint["config"], checkpoint["compiled"]
     agent = policy_for(checkpoint, compiled).train()
-    env, obs = ppo.make_env(compiled, cfg.num_worlds, "train")
+    env, obs, infos = ppo.make_env(compiled, cfg.num_worlds, "train")
     curiosity = None
     if cfg.curiosity_strength > 0:
         curiosity = Curiosity(env.single_observation_space, agent.layout, cfg)
@@ -68,7 +68,7 @@ def main() -> None:
             curiosity.load_state_dict(checkpoint["training"]["curiosity"])
         else:
             print("the checkpoint holds no curiosity module: a fresh one rewards the rollouts")
-    state, buf = ppo.start_rollouts(obs, agent, cfg.rollout_length(env.num_envs))
+    state, buf = ppo.start_rollouts(obs, agent, cfg.rollout_length(env.num_envs), infos)
     rows, rng = [], np.random.default_rng(0)
     for _ in range(args.rollouts):
         next_value = ppo.collect(env, agent, buf, state, cfg, EpisodeLog(), until=ppo.update_due(cfg, env.num_envs))

@@ -17,7 +17,10 @@ The mapping, for every environment:
   their actions into the Box first).
 
 :func:`flat_vector_env` wraps the Gymnasium vector env, :class:`FlatParallelEnv` a PettingZoo
-ParallelEnv (before SuperSuit's vector conversion); both keep our infos. Like the parallel env, the views accept
+ParallelEnv (before SuperSuit's vector conversion); both keep our infos, except that a hybrid environment's action
+mask (``infos["action_mask"]``, over its discrete branches) moves to ``infos["discrete_action_mask"]``: the flat
+Box has no discrete choices for it to mask (TorchRL would read an ``action_mask`` as a mask of the whole action), so
+it stays there for a consumer that bins the discrete values itself. Like the parallel env, the views accept
 and ignore an action for an agent that ended earlier in its world's episode (TorchRL sends one for every agent).
 """
 
@@ -31,7 +34,7 @@ from gymnasium.vector import VectorActionWrapper, VectorEnv, VectorWrapper
 from gymnasium.vector.utils import batch_space
 from pettingzoo.utils.wrappers import BaseParallelWrapper
 
-from ..sim.spaces import check_slot_actions, stack_agent_actions
+from ..sim.spaces import check_slot_actions, mask_row, stack_agent_actions
 
 
 def live_agents_actions(env, actions: Any) -> Any:
@@ -48,6 +51,17 @@ def live_agents_actions(env, actions: Any) -> Any:
 
 def is_hybrid(space: spaces.Space) -> bool:
     return isinstance(space, spaces.Dict) and set(space.spaces) == {"continuous", "discrete"}
+
+
+DISCRETE_MASK_KEY = "discrete_action_mask"  # where the flat views of a hybrid environment keep its action mask
+
+
+def moved_mask(info: dict[str, Any]) -> dict[str, Any]:
+    """``info`` (a vector env's infos, or one agent's) with ``action_mask`` under :data:`DISCRETE_MASK_KEY`, as the
+    row of the discrete branches' choices ((num_envs, N) or (N,) int8; see :func:`hivex_dsl.sim.spaces.mask_row`)."""
+    if "action_mask" in info:
+        info[DISCRETE_MASK_KEY] = mask_row(info.pop("action_mask"))
+    return info
 
 
 def flat_observation_space(space: spaces.Space) -> spaces.Space:
@@ -165,6 +179,14 @@ class _FlatActions(SlotActionView):
         checked = self.checked(actions)
         return unflatten_action(self.wrapped_space, checked.reshape((self.num_envs,) + checked.shape[2:]))
 
+    def reset(self, **kwargs: Any):
+        observations, infos = self.env.reset(**kwargs)
+        return observations, moved_mask(infos)
+
+    def step(self, actions: Any):
+        observations, rewards, terminated, truncated, infos = super().step(actions)
+        return observations, rewards, terminated, truncated, moved_mask(infos)
+
 
 def flat_vector_env(env: VectorEnv) -> VectorEnv:
     """The vector env with a flat Box observation and (hybrid envs) a flat Box action; see the module."""
@@ -176,10 +198,13 @@ def flat_vector_env(env: VectorEnv) -> VectorEnv:
 
 
 class FlatParallelEnv(BaseParallelWrapper):
-    """A PettingZoo ParallelEnv with flat observations and actions per agent (see the module)."""
+    """A PettingZoo ParallelEnv with flat observations and actions per agent (see the module). ``discrete_mask``
+    false drops a hybrid environment's action mask instead of moving it (TorchRL builds its info spec from the first
+    infos and cannot read the per-step ones)."""
 
-    def __init__(self, env):
+    def __init__(self, env, discrete_mask: bool = True):
         super().__init__(env)
+        self._discrete_mask = discrete_mask
         agent = env.possible_agents[0]
         self._dict_obs, self._hybrid = env.observation_space(agent), env.action_space(agent)
         self._obs_space = flat_observation_space(self._dict_obs)
@@ -196,7 +221,7 @@ class FlatParallelEnv(BaseParallelWrapper):
 
     def reset(self, seed=None, options=None):
         observations, infos = self.env.reset(seed=seed, options=options)
-        return self._flat(observations), infos
+        return self._flat(observations), self._infos(infos)
 
     def step(self, actions: dict):
         if is_hybrid(self._hybrid) and self.env.agents:  # no live agent: the env says why it cannot step
@@ -205,7 +230,16 @@ class FlatParallelEnv(BaseParallelWrapper):
         for info in infos.values():
             if "terminal_observation" in info:
                 info["terminal_observation"] = flatten_observation(self._dict_obs, info["terminal_observation"])
-        return self._flat(observations), rewards, terminations, truncations, infos
+        return self._flat(observations), rewards, terminations, truncations, self._infos(infos)
+
+    def _infos(self, infos: dict[str, dict]) -> dict[str, dict]:
+        """Per-agent infos, a hybrid environment's action masks moved (see the module)."""
+        if is_hybrid(self._hybrid):
+            for info in infos.values():
+                moved_mask(info)
+                if not self._discrete_mask:
+                    info.pop(DISCRETE_MASK_KEY, None)
+        return infos
 
     def _unflattened(self, actions: Any) -> dict:
         """{agent: flat action (k + m,)} -> {agent: hybrid dict action}; checked first, on the parallel env's

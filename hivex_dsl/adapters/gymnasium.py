@@ -51,6 +51,13 @@ step. A reset without a seed follows the scenario's seed (the first copy of a sc
 process plays its stream, later copies child streams of it: copies are different worlds unless
 seeded, and a seeded reset is deterministic).
 
+Action masks: an environment whose simulator says which discrete choices can do anything (Drone-Based
+Reforestation's and Aerial Wildfire Suppression's drop, :class:`hivex_dsl.runtime.contract.MasksActions`) puts
+``infos["action_mask"]`` (num_envs, N) int8 in every reset's and step's infos: 1 where a choice of the discrete
+branches is open at the decision the returned observations ask for, N the branches' sizes summed, branch after
+branch (ML-Agents' layout; slot s's row split at the branch sizes is the tuple ``MultiDiscrete.sample(mask=...)``
+takes). A closed choice is still accepted and does nothing.
+
 Global state (centralised critics): ``env.unwrapped.state()`` is every world's (num_worlds, K) float32 state at the
 last decision (``state(per_slot=True)``: (num_envs, K), each slot its world's row), ``single_state_space`` one
 world's Box and ``state_space`` the worlds'; see :mod:`hivex_dsl.runtime.global_state`. On demand rather than in the
@@ -216,7 +223,7 @@ class HivexVectorEnv(Rendering, VectorEnv):
         self._pending_agents[:] = False
         self._show()
         infos: dict[str, Any] = {}
-        self._report_active(infos)
+        self._report_next(infos)
         return self._slots(observations), infos
 
     def step(self, actions: Any):
@@ -247,7 +254,7 @@ class HivexVectorEnv(Rendering, VectorEnv):
             self._pending_agents = np.zeros(shape, bool)
             zeros = np.zeros(self.num_envs, bool)
             infos = {f"reward_terms/{name}": np.zeros(self.num_envs) for name in core.term_sums}
-            self._report_active(infos)
+            self._report_next(infos)
             return self._slots(observations), np.zeros(self.num_envs), zeros, zeros.copy(), infos
         respawning = self._pending_agents & ~restart[:, None]
         restarting = restart if restart.any() else None
@@ -265,7 +272,7 @@ class HivexVectorEnv(Rendering, VectorEnv):
         infos = self._infos(result, ended)
         self._pending_worlds = ending
         self._pending_agents = ended & ~ending[:, None] if self.respawns else self._pending_agents
-        self._report_active(infos)
+        self._report_next(infos)
         return (self._slots(result.observations), rewards.reshape(-1), terminated.reshape(-1),
                 truncated.reshape(-1), infos)
 
@@ -287,7 +294,7 @@ class HivexVectorEnv(Rendering, VectorEnv):
             if self.respawns:
                 core.respawn_agents(result.ended & ~ending[:, None])
             observations = core.reset_worlds(ending) if ending.any() else core.observe()
-        self._report_active(infos)
+        self._report_next(infos)
         return (self._slots(observations), result.rewards.reshape(-1), result.terminated.reshape(-1),
                 result.truncated.reshape(-1), infos)
 
@@ -297,11 +304,14 @@ class HivexVectorEnv(Rendering, VectorEnv):
         ending = self.core.world_endings(result)
         return ending if self.respawns else ending | ~self.core.alive.any(axis=1)
 
-    def _report_active(self, infos: dict[str, Any]) -> None:
-        """With ``ended_agents="wait"``: ``infos["active"]`` (num_envs,) bool, the slots whose agent plays the next
-        step (an ended agent waits for its world's restart)."""
+    def _report_next(self, infos: dict[str, Any]) -> None:
+        """What the infos say of the next step: with ``ended_agents="wait"``, ``infos["active"]`` (num_envs,) bool,
+        the slots whose agent plays it (an ended agent waits for its world's restart); where the environment masks
+        actions, ``infos["action_mask"]`` (num_envs, N) int8 (see the module)."""
         if not self.respawns:
             infos["active"] = self.core.alive.reshape(-1).copy()
+        if self.core.masks_actions:
+            infos["action_mask"] = self.core.action_mask().reshape(self.num_envs, -1)
 
     def _infos(self, result: Transition, ended: np.ndarray) -> dict[str, Any]:
         core = self.core

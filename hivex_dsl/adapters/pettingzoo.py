@@ -11,7 +11,7 @@ from ..base.errors import ResetNeeded
 from ..compiler import CompiledScenario
 from ..runtime.batched import BatchedEnv, Split
 from ..runtime.global_state import GlobalState
-from ..sim.spaces import stack_agent_actions
+from ..sim.spaces import sampling_mask, stack_agent_actions
 from .human import Rendering, available_render_modes, check_render_mode
 
 
@@ -44,6 +44,12 @@ class HivexParallelEnv(Rendering, ParallelEnv):
     ``infos[agent]["reward_terms"]`` holds the unweighted value of every active reward term this
     step, ``infos[agent]["env"]`` the environment's own facts of the step (if it reports any); when an
     agent's episode ends, ``infos[agent]["hivex_episode"]`` holds its return, length and per-term sums.
+    Where the environment masks actions (DBR's and AWS's drop: :class:`~hivex_dsl.runtime.contract.MasksActions`),
+    every reset's and step's ``infos[agent]["action_mask"]`` says which choices of the discrete branches are open at
+    the agent's next decision, as PettingZoo's own environments and its API test take it: the mask
+    ``action_space(agent).sample(mask=...)`` takes (int8, 1 open; for the hybrid Dict ``{"continuous": None,
+    "discrete": (branch rows,)}``: :func:`hivex_dsl.sim.spaces.sampling_mask`). A closed choice is still accepted and
+    does nothing.
     A reset without a seed follows the scenario's seeds for ``split`` (a later copy of the same
     scenario in the process plays a child stream of them: copies are different worlds unless seeded).
     Observations are fresh writable arrays.
@@ -95,8 +101,10 @@ class HivexParallelEnv(Rendering, ParallelEnv):
         observations = self.core.reset(seed)
         self.agents = list(self.possible_agents)
         obs = {a: _unbatch(observations, 0, i) for i, a in enumerate(self.agents)}
+        infos: dict[str, dict[str, Any]] = {a: {} for a in self.agents}
+        self._report_masks(infos)
         self._show()
-        return obs, {a: {} for a in self.agents}
+        return obs, infos
 
     def step(self, actions: dict[str, Any]):
         """Step the world with ``{agent: action}`` for exactly the live agents (``self.agents``).
@@ -148,8 +156,17 @@ class HivexParallelEnv(Rendering, ParallelEnv):
                 self._respawn(result.ended, obs, infos)
             else:
                 self.agents = [a for a in live if not ended[self._index[a]]]
+        self._report_masks(infos)
         self._show()
         return obs, rewards, terminations, truncations, infos
+
+    def _report_masks(self, infos: dict[str, dict[str, Any]]) -> None:
+        """``infos[agent]["action_mask"]`` (N,) int8 for every agent that acts next, where the environment masks
+        actions (see the class)."""
+        if self.core.masks_actions:
+            rows, space = self.core.action_mask()[0], self.core.sim.action_space
+            for agent in self.agents:
+                infos[agent]["action_mask"] = sampling_mask(space, rows[self._index[agent]])
 
     def _respawn(self, ended: np.ndarray, obs: dict, infos: dict) -> None:
         """Respawn the agents where ``ended`` (1, agents); their observations become first ones."""

@@ -4,7 +4,9 @@ SB3 resets a slot in the step that ends it and wants the last observation in
 ``infos[i]["terminal_observation"]``: that is the vector env's SAME_STEP mode, used here. Flat
 observations and actions (:func:`hivex_dsl.adapters.flat.flat_vector_env`) let SB3's default
 ``MlpPolicy`` run on every environment. ``infos[i]`` also carries the slot's ``hivex_episode``
-summary on the step its episode ends; ``VecMonitor`` counts per-agent returns and lengths.
+summary on the step its episode ends; ``VecMonitor`` counts per-agent returns and lengths. Where the environment
+masks actions, ``infos[i]`` (and ``reset_infos[i]``) hold the slot's row of the vector env's mask under the key it
+has there (``discrete_action_mask`` in the flat view of a hybrid environment: :mod:`hivex_dsl.adapters.flat`).
 """
 
 from __future__ import annotations
@@ -14,8 +16,11 @@ from typing import Any, Optional, Sequence
 import numpy as np
 from stable_baselines3.common.vec_env.base_vec_env import VecEnv
 
-from .flat import flat_vector_env
+from .flat import DISCRETE_MASK_KEY, flat_vector_env
 from .gymnasium import slot_values
+
+
+MASK_KEYS = ("action_mask", DISCRETE_MASK_KEY)
 
 
 class SB3VecEnv(VecEnv):
@@ -31,9 +36,9 @@ class SB3VecEnv(VecEnv):
 
     def reset(self):
         seed = self._seeds[0] if self._seeds and self._seeds[0] is not None else None
-        observations, _ = self.env.reset(seed=seed)
+        observations, infos = self.env.reset(seed=seed)
         self._reset_seeds()
-        self.reset_infos = [{} for _ in range(self.num_envs)]
+        self.reset_infos = self._slot_infos(infos)
         return observations
 
     def step_async(self, actions: np.ndarray) -> None:
@@ -42,12 +47,21 @@ class SB3VecEnv(VecEnv):
     def step_wait(self):
         observations, rewards, terminated, truncated, infos = self.env.step(self._actions)
         dones = terminated | truncated
-        slot_infos: list[dict] = [{} for _ in range(self.num_envs)]
+        slot_infos = self._slot_infos(infos)
         for i in np.flatnonzero(dones):
             slot_infos[i]["terminal_observation"] = infos["final_obs"][i]
             slot_infos[i]["TimeLimit.truncated"] = bool(truncated[i] and not terminated[i])
             slot_infos[i]["hivex_episode"] = slot_values(infos["hivex_episode"], i)
         return observations, rewards.astype(np.float32), dones, slot_infos
+
+    def _slot_infos(self, infos: dict[str, Any]) -> list[dict]:
+        """One info dict per slot, holding its row of the action mask where the vector env's infos have one."""
+        slot_infos: list[dict] = [{} for _ in range(self.num_envs)]
+        for key in MASK_KEYS:
+            if key in infos:
+                for info, row in zip(slot_infos, infos[key]):
+                    info[key] = row
+        return slot_infos
 
     def close(self) -> None:
         self.env.close()

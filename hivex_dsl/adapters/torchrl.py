@@ -22,7 +22,9 @@ observation and reward are zeros, and the action TorchRL still sends for it is a
 (PettingZoo's ``state()``, :mod:`hivex_dsl.runtime.global_state`: every agent's vector observation and the world's facts
 no agent observes) is the root ``"state"`` key (``return_state=True``), for a centralised critic. The infos are not passed on: TorchRL builds
 its info spec from the reset infos, which are empty; the per-step reward terms and ``hivex_episode`` summaries stay
-in the parallel env's infos.
+in the parallel env's infos. So does a hybrid environment's action mask (DBR's and AWS's drop): the flat Box action
+has no choice for TorchRL's mask to close; an environment with a Discrete or MultiDiscrete action and a mask would
+hand it on as TorchRL reads it (``infos[agent]["action_mask"]``, joined by the joint view).
 """
 
 from __future__ import annotations
@@ -40,7 +42,7 @@ GROUP = "agents"
 def marl_view(env):
     """The PettingZoo parallel env as TorchRL's stock multi-agent modules take it: flat observations (and, for
     hybrid actions, one flat Box action), and one Discrete action for a MultiDiscrete environment."""
-    env = FlatParallelEnv(env)
+    env = FlatParallelEnv(env, discrete_mask=False)
     if isinstance(env.action_space(env.possible_agents[0]), spaces.MultiDiscrete):
         env = JointDiscreteParallelEnv(env)
     return env

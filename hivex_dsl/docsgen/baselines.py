@@ -204,7 +204,8 @@ def _level_label(level: int | None, names: tuple[str, ...]) -> str:
 
 
 # The PPO choices where this toolkit first did otherwise than ML-Agents, each now ML-Agents' by default.
-ML_AGENTS_CHOICES = ("max_grad_norm", "weight_init", "policy_loss", "continuous_actions", "curiosity_module")
+ML_AGENTS_CHOICES = ("max_grad_norm", "weight_init", "policy_loss", "continuous_actions", "curiosity_module",
+                     "action_masks")
 
 
 def earlier_choices(records: dict[str, dict[str, Any]]) -> dict[str, Any]:

@@ -44,6 +44,15 @@ def zeros_policy(space: spaces.Space, shape: tuple[int, int]) -> Policy:
     return lambda observations: actions
 
 
+def decide(act: Policy, observations: Any, core: Any) -> Any:
+    """``act``'s actions for ``observations`` of the :class:`~hivex_dsl.runtime.BatchedEnv` ``core``: a policy with a
+    true ``takes_action_mask`` attribute (a trained network's) is given the environment's action mask, (batch, agents,
+    N) int8 or None, as its second argument; the others see the observations alone."""
+    if getattr(act, "takes_action_mask", False):
+        return act(observations, core.action_mask())
+    return act(observations)
+
+
 def in_float64(observations: Any) -> Any:
     """``observations`` (an array or a dict of them) with every float32 array as float64, for the scripted
     policies. Their trigonometry on float32 differs by CPU: numpy's float32 arctan2 is not correctly rounded

@@ -16,7 +16,7 @@ from ..compiler import CompiledScenario
 from ..runtime.batched import BatchedEnv, Split
 from ..sim.spaces import check_actions
 from ..sim.statistics import pooled
-from .policies import Policy, make_policy
+from .policies import Policy, decide, make_policy
 
 
 @dataclass
@@ -76,7 +76,9 @@ def rollout(compiled: CompiledScenario, policy: str | Policy, episodes: int, spl
 
     ``seed`` (optional) restarts the split's seed stream and seeds the random policy (0 otherwise);
     ``progress`` (a :class:`hivex_dsl.evaluation.progress.EpisodeBar`) is told of steps and episodes. The policy
-    acts once per decision (every ``decision_period`` physics steps); its steps are decisions.
+    acts once per decision (every ``decision_period`` physics steps); its steps are decisions. A policy with a true
+    ``takes_action_mask`` attribute (a trained network's) is also given the environment's action mask
+    (:func:`~hivex_dsl.evaluation.policies.decide`).
     """
     core = BatchedEnv(compiled, batch=1, split=split)
     space = core.sim.action_space
@@ -95,7 +97,8 @@ def rollout(compiled: CompiledScenario, policy: str | Policy, episodes: int, spl
         step = 0
         while core.alive.any():
             live = core.alive[0].copy()
-            actions = check_actions(space, act(observations), compiled.agent_names, core.sim.action_meanings)
+            actions = check_actions(space, decide(act, observations, core), compiled.agent_names,
+                                    core.sim.action_meanings)
             result = core.step(actions)
             observations = result.observations
             for name, tracer in traces.items():

@@ -17,7 +17,7 @@ import numpy as np
 from ..compiler import CompiledScenario
 from ..runtime.batched import BatchedEnv, Split
 from ..sim.spaces import check_actions
-from ..evaluation.policies import Policy, make_policy
+from ..evaluation.policies import Policy, decide, make_policy
 
 DEFAULT_SPLIT: Split = "test"  # a replay plays the seeds `hivex evaluate` plays
 
@@ -139,7 +139,7 @@ def record(compiled: CompiledScenario, policy: str | Policy, policy_info: dict[s
     while core.alive.any() and decision < limit:
         rows["playing"].append(core.alive[0].copy())
         rows["observations"].append(flat_per_agent(vector_part(observations), agents))
-        actions = check_actions(space, act(observations), compiled.agent_names, core.sim.action_meanings)
+        actions = check_actions(space, decide(act, observations, core), compiled.agent_names, core.sim.action_meanings)
         result = core.step(actions)
         observations = result.observations
         decision += 1

@@ -105,6 +105,7 @@ class BatchedEnv:
         self.everyone_playing = False  # == bool(self.alive.all()), kept so a step needs no reduction for it
         self.oldest_clock = 0  # == int(self.clock.max()): a step knows without a reduction whether a world truncates
         self._step_info = getattr(self.sim, "step_info", None)
+        self._action_mask = getattr(self.sim, "action_mask", None)  # see contract.MasksActions
         world_events = compiled.entry.world_events
         held = getattr(self.sim, "held_events", ())  # the simulator holds these agents (see contract.HoldsEndings)
         self._agent_ends_on = tuple(e for e in compiled.ends_on if e not in world_events and e not in held)
@@ -172,6 +173,20 @@ class BatchedEnv:
     def observe(self) -> Any:
         self._require_reset()
         return self.sim.observe(self.state)
+
+    @property
+    def masks_actions(self) -> bool:
+        """Whether the simulator says which discrete choices are open at a decision (:meth:`action_mask`)."""
+        return self._action_mask is not None
+
+    def action_mask(self) -> Optional[np.ndarray]:
+        """(batch, agents, N) int8, 1 where a choice of the discrete branches is open at the next decision (N the
+        branches' sizes summed, branch after branch; Gymnasium's and PettingZoo's mask dtype), or None where the
+        simulator masks nothing (see :class:`~hivex_dsl.runtime.contract.MasksActions`)."""
+        self._require_reset()
+        if self._action_mask is None:
+            return None
+        return self._action_mask(self.state).astype(np.int8)
 
     def _clear(self, mask: np.ndarray) -> None:
         self.clock[mask] = 0

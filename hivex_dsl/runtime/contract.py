@@ -130,6 +130,19 @@ class ReportsStepInfo(Protocol):
 
 
 @runtime_checkable
+class MasksActions(Protocol):
+    """May: which choices of the discrete action branches can do anything at this decision, as the original's agents
+    wrote them for ML-Agents (``WriteDiscreteActionMask``): a drop with nothing to drop, or where it cannot land. A
+    policy that reads the mask never picks a closed choice (``hivex train``'s categorical, as ML-Agents' does); the
+    simulator still accepts one and does nothing with it, as the original's scene did. The adapters hand it on as
+    ``infos["action_mask"]``."""
+
+    def action_mask(self, state: Any) -> np.ndarray:
+        """``(B, A, N)`` bool, ``N`` the discrete branches' sizes summed, branch after branch (ML-Agents' layout):
+        true where the choice is open. Every branch keeps at least one open choice."""
+
+
+@runtime_checkable
 class StacksObservations(Protocol):
     """May: a vector observation of several stacked frames."""
 
@@ -145,7 +158,7 @@ class StacksObservations(Protocol):
 
 
 REQUIRED = (Simulator,)
-OPTIONAL = (Respawns, HoldsEndings, ReportsStepInfo, StacksObservations)
+OPTIONAL = (Respawns, HoldsEndings, ReportsStepInfo, MasksActions, StacksObservations)
 
 
 def members(protocol: type) -> list[tuple[str, str, str]]:
@@ -174,5 +187,5 @@ def missing_members(simulator: Any) -> list[str]:
     return [name for name, _, _ in members(Simulator) if not hasattr(simulator, name)]
 
 
-__all__ = ["StepOutcome", "Simulator", "Respawns", "HoldsEndings", "ReportsStepInfo", "StacksObservations", "REQUIRED",
-           "OPTIONAL", "members", "missing_members"]
+__all__ = ["StepOutcome", "Simulator", "Respawns", "HoldsEndings", "ReportsStepInfo", "MasksActions", "StacksObservations",
+           "REQUIRED", "OPTIONAL", "members", "missing_members"]

@@ -64,6 +64,34 @@ def hold_inactive(actions: Any, active: np.ndarray, placeholder: Any) -> Any:
     return np.where(mask, actions, placeholder).astype(np.asarray(actions).dtype, copy=False)
 
 
+def toggle_mask(open_: np.ndarray) -> np.ndarray:
+    """The action mask (B, A, 2) bool of one two-choice branch {0 do nothing, 1 act} from where acting is open
+    (B, A) bool: doing nothing is always open (see :class:`hivex_dsl.runtime.contract.MasksActions`)."""
+    return np.stack([np.ones_like(open_, dtype=bool), open_.astype(bool, copy=False)], axis=-1)
+
+
+def sampling_mask(space: spaces.Space, row: np.ndarray) -> Any:
+    """One agent's action mask row (N,) int8 over the discrete branches (branch after branch) -> the mask
+    ``space.sample(mask=...)`` takes, as PettingZoo's ``infos[agent]["action_mask"]`` holds it: the row for a
+    Discrete space, a tuple of per-branch rows for a MultiDiscrete one, ``{"continuous": None, "discrete": ...}``
+    for the hybrid Dict (rows are views of ``row``)."""
+    if isinstance(space, spaces.Dict):
+        return {key: sampling_mask(sub, row) if isinstance(sub, (spaces.Discrete, spaces.MultiDiscrete)) else None
+                for key, sub in space.spaces.items()}
+    if isinstance(space, spaces.MultiDiscrete):
+        return tuple(np.split(row, np.cumsum(space.nvec)[:-1]))
+    return row
+
+
+def mask_row(mask: Any) -> np.ndarray:
+    """:func:`sampling_mask`'s structure back to the row (N,) int8 it was made from."""
+    if isinstance(mask, Mapping):
+        return mask_row(next(part for part in mask.values() if part is not None))
+    if isinstance(mask, tuple):
+        return np.concatenate(mask).astype(np.int8, copy=False)
+    return np.asarray(mask, np.int8)
+
+
 def stack_agent_actions(space: spaces.Space, actions: Any, agents: Sequence[str], meanings: str = "") -> Any:
     """Per-agent actions (PettingZoo style) {agent: action} -> one checked array shaped (1, agents) +
     space.shape of the space's dtype, or {part: such an array} for a Dict space.

@@ -25,7 +25,7 @@ from typing import Any
 
 from ..compiler import CompiledScenario, compile, compile_all
 from ..evaluation.report import collect_returns
-from .checkpoint import RESUMABLE_CHANGES, action_space_of, load_checkpoint, older_defaults
+from .checkpoint import RESUMABLE_CHANGES, acting_interface, load_checkpoint, older_defaults
 from .config import PPOConfig, TrainError
 from .evaluate import evaluate
 from .grid import point_dir
@@ -170,7 +170,7 @@ def add_seed(record: Path, run_dir: Path) -> dict[str, Any]:
     hyperparameters = read_json(run_dir / "config.json", "config")["hyperparameters"]
     trained = load_checkpoint(run_dir / "checkpoint.pt")
     # through the config model: a record made before a key existed holds what the key meant then
-    then = older_defaults(data["hyperparameters"], action_space_of(trained["compiled"]))
+    then = older_defaults(data["hyperparameters"], *acting_interface(trained["compiled"]))
     recorded = PPOConfig(**then).model_dump(mode="json")
     changed = sorted(k for k, v in hyperparameters.items() if k not in SEED_CHANGES and recorded.get(k) != v)
     if changed:

@@ -28,14 +28,15 @@ def merge_steps(tensor: torch.Tensor) -> torch.Tensor:
 
 class Rollout:
     """(T, S) storage of one rollout; observations as a dict of (T, S, ...) tensors; log-probabilities (T, S),
-    or (T, S, logp_columns) with one per action dimension.
+    or (T, S, logp_columns) with one per action dimension; with ``mask_width`` the action masks the policy acted
+    under, (T, S, mask_width) bool (``mask``; None without).
 
     The observations live in (T + 1, S, ...) frames whose last row is the observation after the rollout's
     last step, so the observations (rows :T) and the next observations (rows 1:) are both views, never copies
     (a camera buffer is tens of MB)."""
 
     def __init__(self, steps: int, slots: int, first_obs: dict[str, torch.Tensor], continuous: int, discrete: int,
-                 signals: int = 1, logp_columns: int = 0):
+                 signals: int = 1, logp_columns: int = 0, mask_width: int = 0):
         self.capacity = steps
         self._frames = {k: torch.zeros((steps + 1,) + v.shape, dtype=v.dtype) for k, v in first_obs.items()}
         self._stepwise = {
@@ -45,6 +46,9 @@ class Rollout:
             "rewards": torch.zeros(steps, slots),
             "values": torch.zeros((steps, slots) + ((signals,) if signals > 1 else ())),  # one column per signal
             **{name: torch.zeros(steps, slots) for name in ("terminated", "done", "valid")}}
+        if mask_width:
+            self._stepwise["mask"] = torch.ones(steps, slots, mask_width, dtype=torch.bool)
+        self.mask: torch.Tensor | None = None
         self.limit(steps)
         self.end(first_obs)
         self.gathered = RowBuffers()

@@ -263,21 +263,25 @@ def _compiled(path: str | Path, scenario: dict[str, Any]) -> CompiledScenario:
 def _hyperparameters(path: str | Path, config: dict[str, Any], compiled: CompiledScenario) -> PPOConfig:
     """The checkpoint's hyperparameters, keys added since it was written read as they meant then."""
     try:
-        return PPOConfig.model_validate(older_defaults(config, action_space_of(compiled)))
+        return PPOConfig.model_validate(older_defaults(config, *acting_interface(compiled)))
     except ValidationError as exc:
         problems = "; ".join(describe(err, err["loc"][:1], PPOConfig)[0] for err in exc.errors(include_url=False))
         raise TrainError(_one_line(f"{path} holds bad hyperparameters: {problems}")) from None
 
 
-def older_defaults(config: dict[str, Any], action_space: Any) -> dict[str, Any]:
-    """The hyperparameters ``config`` of a checkpoint (or record) of a policy over ``action_space``, with what a
-    key added since meant when they were written, where it changes anything for this policy: every policy from
-    before ``weight_init`` started from ``cleanrl`` weights, a curiosity module from before ``curiosity_module``
-    is ``hivex_v1``, continuous actions from before ``continuous_actions`` were clipped, and more than one action
-    dimension from before ``policy_loss`` shared one ``joint`` ratio, and every run from before ``summary_freq``
-    wrote a curve point every update (``summary_freq: 1``). (``max_grad_norm`` was always written.)"""
+def older_defaults(config: dict[str, Any], action_space: Any, masks_actions: bool = False) -> dict[str, Any]:
+    """The hyperparameters ``config`` of a checkpoint (or record) of a policy over ``action_space`` (in an
+    environment that ``masks_actions`` or not), with what a key added since meant when they were written, where it
+    changes anything for this policy: every policy from before ``weight_init`` started from ``cleanrl`` weights, a
+    curiosity module from before ``curiosity_module`` is ``hivex_v1``, continuous actions from before
+    ``continuous_actions`` were clipped, more than one action dimension from before ``policy_loss`` shared one
+    ``joint`` ratio, every run from before ``summary_freq`` wrote a curve point every update (``summary_freq: 1``),
+    and a policy from before ``action_masks`` ignored its environment's masks. (``max_grad_norm`` was always
+    written.)"""
     layout = ActionLayout.of(action_space)
     then: dict[str, Any] = {"weight_init": "cleanrl", "summary_freq": 1}
+    if masks_actions:
+        then["action_masks"] = False
     strength = config.get("curiosity_strength", 0)
     if isinstance(strength, (int, float)) and strength > 0:  # not a number: PPOConfig says so
         then["curiosity_module"] = "hivex_v1"
@@ -288,11 +292,13 @@ def older_defaults(config: dict[str, Any], action_space: Any) -> dict[str, Any]:
     return then | config
 
 
-def action_space_of(compiled: CompiledScenario) -> Any:
-    """The single-agent action space of ``compiled`` (one world built, not reset)."""
+def acting_interface(compiled: CompiledScenario) -> tuple[Any, bool]:
+    """The single-agent action space of ``compiled`` and whether its environment masks actions (one world built,
+    not reset)."""
     from ..adapters.gymnasium import HivexVectorEnv
 
-    return HivexVectorEnv(compiled, num_worlds=1).single_action_space
+    env = HivexVectorEnv(compiled, num_worlds=1)
+    return env.single_action_space, env.core.masks_actions
 
 
 def policy_for(checkpoint: dict[str, Any], compiled: CompiledScenario, device: str = "cpu") -> ActorCritic:

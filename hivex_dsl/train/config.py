@@ -96,6 +96,12 @@ checkpoint or record written before its key existed reads as that choice where i
   dimension, each continuous dimension and each discrete branch, clipped on its own against the shared
   advantage and averaged, and the Gaussian part's entropy the mean over its dimensions) or ``joint`` (textbook
   PPO: one ratio of the joint probability, every entropy summed; with one action dimension they are the same).
+- ``action_masks``: ``true`` (as ML-Agents: where the environment says which discrete choices are open, Drone-Based
+  Reforestation's and Aerial Wildfire Suppression's drop, ``infos["action_mask"]``, a closed choice's logit is
+  -1e8, so the policy never picks it, its probability and entropy are 0, and the update evaluates each experience
+  under the mask it was taken with) or ``false`` (the masks ignored: every choice open at every decision). Without
+  masks in the environment both are the same; the records of those two environments trained before the key
+  existed trained ``false``.
 """
 
 from __future__ import annotations
@@ -186,6 +192,7 @@ class PPOConfig(StrictModel):
     curiosity_module: Literal["ml_agents", "hivex_v1"] = "ml_agents"
     continuous_actions: Literal["ml_agents", "clip"] = "ml_agents"
     policy_loss: Literal["ml_agents", "joint"] = "ml_agents"
+    action_masks: bool = True
 
     def precision_problem(self) -> str | None:
         """Why ``precision`` cannot run on ``device`` (tf32 is a GPU mode), or None."""

@@ -34,13 +34,17 @@ def _published(compiled: CompiledScenario) -> dict[str, Any] | None:
 
 
 def network_policy(agent: torch.nn.Module, agents: int, deterministic: bool = False) -> Callable[[Any], Any]:
-    """The network as a batched policy of one world: observations (1, agents, ...) -> actions (1, agents, ...)."""
+    """The network as a batched policy of one world: observations (1, agents, ...) and the action mask (1, agents, N)
+    or None -> actions (1, agents, ...); it takes the mask where the network was trained to (``action_masks``)."""
 
-    def ppo(observations: Any) -> Any:
+    def ppo(observations: Any, action_mask: np.ndarray | None = None) -> Any:
+        mask = None if action_mask is None else torch.as_tensor(action_mask.reshape(agents, -1), dtype=torch.bool)
         with torch.no_grad():
-            cont, disc, _ = agent.act(to_tensors(flatten_slots(observations, agents)), deterministic=deterministic)
+            cont, disc, _ = agent.act(to_tensors(flatten_slots(observations, agents)), deterministic=deterministic,
+                                      mask=mask)
         return unflatten_slots(agent.layout.to_env(cont, disc), (1, agents))
 
+    ppo.takes_action_mask = agent.takes_masks  # type: ignore[attr-defined]
     return ppo
 
 

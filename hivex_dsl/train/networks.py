@@ -20,6 +20,7 @@ from .config import PPOConfig, TrainError
 
 MIN_IMAGE = {"simple": 20, "resnet": 15}  # ML-Agents' minimum camera sizes per encoder
 HALF_LOG_2PI = 0.5 * math.log(2 * math.pi)
+CLOSED_LOGIT = -1e8  # a masked choice's logit, as ML-Agents' MultiCategoricalDistribution._mask_branch sets it
 
 
 def observation_keys(space: spaces.Space) -> dict[str, tuple[int, ...]]:
@@ -240,6 +241,9 @@ class ActorCritic(nn.Module):
         self.log_std = nn.Parameter(torch.zeros(self.layout.continuous))
         # ML-Agents' policy loss takes one probability ratio per action dimension; "joint" one for them all
         self.per_dimension = cfg.policy_loss == "ml_agents"
+        # ML-Agents' masked categorical: a closed choice's logit is set to -1e8, so it is never sampled and adds
+        # nothing to the entropy; without the key's choice (or a branch) the masks given are ignored
+        self.takes_masks = cfg.action_masks and bool(self.layout.nvec)
         self.logp_columns = self.layout.continuous + len(self.layout.nvec) if self.per_dimension else 0
         if cfg.weight_init == "ml_agents":
             self._init_like_ml_agents()
@@ -261,7 +265,8 @@ class ActorCritic(nn.Module):
     def _here(self, *tensors):
         """Inputs moved to the network's device (rollouts stay in CPU memory; outputs come back there)."""
         device = self.value.weight.device
-        return [{k: v.to(device) for k, v in t.items()} if isinstance(t, dict) else t.to(device) for t in tensors]
+        return [{k: v.to(device) for k, v in t.items()} if isinstance(t, dict) else None if t is None else t.to(device)
+                for t in tensors]
 
     def observe(self, obs: dict[str, torch.Tensor]) -> None:
         """Update the running normaliser with a rollout batch of observations."""
@@ -283,24 +288,29 @@ class ActorCritic(nn.Module):
         vector = self._vector(obs)
         return None if vector is None else self.norm(vector)
 
-    def _heads(self, obs: dict[str, torch.Tensor], vector: torch.Tensor | None):
-        """-> the Gaussian means (B, c) or None, and each categorical part's log-probabilities [(B, n_i)].
+    def _heads(self, obs: dict[str, torch.Tensor], vector: torch.Tensor | None, mask: torch.Tensor | None = None):
+        """-> the Gaussian means (B, c) or None, and each categorical part's log-probabilities [(B, n_i)], the
+        choices that ``mask`` (B, sum(nvec)) bool closes at probability 0 (where :attr:`takes_masks`).
 
         Written out rather than built from ``torch.distributions`` objects: their construction costs more
         than the small networks themselves in PPO's hot loop (see benchmarks/train_throughput.py)."""
         hidden = self.actor(obs, vector)
         mu = self.mu(hidden) if self.mu is not None else None
-        log_probs = [torch.log_softmax(chunk, dim=1) for chunk in torch.split(self.logits(hidden), self.layout.nvec, 1)] \
-            if self.logits is not None else []
-        return mu, log_probs
+        if self.logits is None:
+            return mu, []
+        logits = self.logits(hidden)
+        if mask is not None and self.takes_masks:
+            logits = logits.masked_fill(~mask, CLOSED_LOGIT)
+        return mu, [torch.log_softmax(chunk, dim=1) for chunk in torch.split(logits, self.layout.nvec, 1)]
 
-    def act(self, obs: dict[str, torch.Tensor], deterministic: bool = False):
+    def act(self, obs: dict[str, torch.Tensor], deterministic: bool = False, mask: torch.Tensor | None = None):
         """-> continuous (B, c), discrete (B, d) int64, log-prob (B,) (see :meth:`_log_prob_entropy`): sampled, or
-        the modes if deterministic. The critic's values come apart (:meth:`get_value`): a rollout's are computed
-        after it, in big batches (``ppo.rollout_values``)."""
-        (obs,) = self._here(obs)
+        the modes if deterministic; ``mask`` (B, sum(nvec)) bool, the environment's open choices (optional). The
+        critic's values come apart (:meth:`get_value`): a rollout's are computed after it, in big batches
+        (``ppo.rollout_values``)."""
+        obs, mask = self._here(obs, mask)
         vector = self._normalised(obs)
-        mu, log_probs = self._heads(obs, vector)
+        mu, log_probs = self._heads(obs, vector, mask)
         batch = next(iter(obs.values())).shape[0]
         device = self.value.weight.device
         if mu is None:
@@ -315,11 +325,13 @@ class ActorCritic(nn.Module):
         logp, _ = self._log_prob_entropy(mu, log_probs, cont, disc)
         return cont.cpu(), disc.cpu(), logp.cpu()
 
-    def evaluate(self, obs: dict[str, torch.Tensor], cont: torch.Tensor, disc: torch.Tensor):
-        """-> log-prob (B,) or (B, logp_columns), entropy (B,), value (B,) of given actions."""
-        obs, cont, disc = self._here(obs, cont, disc)
+    def evaluate(self, obs: dict[str, torch.Tensor], cont: torch.Tensor, disc: torch.Tensor,
+                 mask: torch.Tensor | None = None):
+        """-> log-prob (B,) or (B, logp_columns), entropy (B,), value (B,) of given actions, under the ``mask`` they
+        were taken with (optional, as :meth:`act`)."""
+        obs, cont, disc, mask = self._here(obs, cont, disc, mask)
         vector = self._normalised(obs)
-        mu, log_probs = self._heads(obs, vector)
+        mu, log_probs = self._heads(obs, vector, mask)
         logp, entropy = self._log_prob_entropy(mu, log_probs, cont, disc)
         return logp.cpu(), entropy.cpu(), self._value(obs, vector).cpu()
 

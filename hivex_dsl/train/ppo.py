@@ -58,15 +58,15 @@ def gae(rewards: torch.Tensor, values: torch.Tensor, next_value: torch.Tensor, t
 
 
 def make_env(compiled: CompiledScenario, num_worlds: int, split: str, ended_agents: EndedAgents = "respawn"
-             ) -> tuple[HivexVectorEnv, Any]:
-    """The vector env on ``split`` and its first observations, reset on the split's seed (explicitly, so
-    every run of one seed plays the same worlds); ``ended_agents``: see :class:`HivexVectorEnv`."""
+             ) -> tuple[HivexVectorEnv, Any, dict[str, Any]]:
+    """The vector env on ``split``, its first observations and the reset's infos, reset on the split's seed
+    (explicitly, so every run of one seed plays the same worlds); ``ended_agents``: see :class:`HivexVectorEnv`."""
     try:
         env = HivexVectorEnv(compiled, num_worlds=num_worlds, split=split, ended_agents=ended_agents)
     except ValueError as exc:
         raise TrainError(f"cannot run {compiled.name!r} on its {split} seeds: {exc}") from None
-    observations, _ = env.reset(seed=int(getattr(compiled.seeds, split)))
-    return env, observations
+    observations, infos = env.reset(seed=int(getattr(compiled.seeds, split)))
+    return env, observations, infos
 
 
 def make_optimizer(agent: nn.Module, learning_rate: float) -> torch.optim.Optimizer:
@@ -92,20 +92,32 @@ def schedule(cfg: PPOConfig, progress: float) -> tuple[float, float, float]:
     return cfg.learning_rate * left, lerp(cfg.beta, 1e-5), lerp(cfg.epsilon, 0.1)
 
 
-def start_rollouts(observations: Any, agent: ActorCritic, steps: int) -> tuple[dict[str, Any], Rollout]:
-    """The collection state after a reset to ``observations`` (obs, previous done, active; see :func:`collect`)
-    and the (``steps``, slots) storage its rollouts fill, sized for ``agent``'s actions and value heads."""
+def start_rollouts(observations: Any, agent: ActorCritic, steps: int, infos: dict[str, Any] | None = None
+                   ) -> tuple[dict[str, Any], Rollout]:
+    """The collection state after a reset to ``observations`` and its ``infos`` (obs, previous done, active, the
+    action mask where ``agent`` takes the env's; see :func:`collect`) and the (``steps``, slots) storage its
+    rollouts fill, sized for ``agent``'s actions, value heads and masks."""
     obs = to_tensors(observations)
     slots = next(iter(obs.values())).shape[0]
-    state = {"obs": obs, "done": np.zeros(slots, bool), "active": np.ones(slots, bool)}
-    return state, rollout_storage(obs, agent, steps)
+    state = {"obs": obs, "done": np.zeros(slots, bool), "active": np.ones(slots, bool),
+             "mask": action_mask(infos or {}, agent)}
+    width = 0 if state["mask"] is None else state["mask"].shape[1]
+    return state, rollout_storage(obs, agent, steps, width)
 
 
-def rollout_storage(obs: dict[str, torch.Tensor], agent: ActorCritic, steps: int) -> Rollout:
-    """The (``steps``, slots) storage of rollouts from observations like ``obs`` (slots, ...) for ``agent``."""
+def action_mask(infos: dict[str, Any], agent: ActorCritic) -> torch.Tensor | None:
+    """The open choices (slots, N) bool of the vector env's ``infos["action_mask"]`` where ``agent`` takes masks;
+    None otherwise (every choice open)."""
+    mask = infos.get("action_mask")
+    return torch.as_tensor(mask, dtype=torch.bool) if mask is not None and agent.takes_masks else None
+
+
+def rollout_storage(obs: dict[str, torch.Tensor], agent: ActorCritic, steps: int, mask_width: int = 0) -> Rollout:
+    """The (``steps``, slots) storage of rollouts from observations like ``obs`` (slots, ...) for ``agent``, with
+    action masks of ``mask_width`` choices (none at 0)."""
     slots = next(iter(obs.values())).shape[0]
     return Rollout(steps, slots, obs, agent.layout.continuous, len(agent.layout.nvec), agent.signals,
-                   agent.logp_columns)
+                   agent.logp_columns, mask_width)
 
 
 def planned_agent_steps(max_steps: int, done: int, slots: int) -> int:
@@ -130,7 +142,7 @@ def forward_precision(cfg: PPOConfig):
 def collect(env: HivexVectorEnv, agent: ActorCritic, buf: Rollout, state: dict[str, Any], cfg: PPOConfig,
             episodes: EpisodeLog, on_step: Callable[[], None] | None = None,
             until: Callable[[np.ndarray, np.ndarray], bool] | None = None, steps: int | None = None) -> torch.Tensor:
-    """Fill ``buf`` with one rollout from ``state`` (obs, previous done, active) of ``steps`` (default: the storage's
+    """Fill ``buf`` with one rollout from ``state`` (obs, previous done, active, mask) of ``steps`` (default: the storage's
     capacity); -> V(next obs) (S,). ``on_step`` (optional) is called after each step of every slot (the progress
     bar moves within a rollout). ``until`` (optional; :func:`update_due`) is asked after each step with the slots
     whose step was an experience and those whose episode ended (both (S,) bool); when it says True the rollout
@@ -146,8 +158,12 @@ def collect(env: HivexVectorEnv, agent: ActorCritic, buf: Rollout, state: dict[s
             buf.obs[k][t] = v
         valid = acting_mask(state["done"], state["active"])
         buf.valid[t] = torch.as_tensor(valid, dtype=torch.float32)
+        # None: every choice open (no masks, an agent that takes none, or a storage made without them)
+        mask = state.get("mask") if buf.mask is not None else None
+        if mask is not None:
+            buf.mask[t] = mask
         with torch.no_grad(), forward_precision(cfg):
-            cont, disc, logp = agent.act(obs)
+            cont, disc, logp = agent.act(obs, mask=mask)
         buf.cont[t], buf.disc[t], buf.logp[t] = cont, disc, logp
         next_obs, reward, terminated, truncated, infos = env.step(agent.layout.to_env(cont, disc))
         done = terminated | truncated
@@ -155,7 +171,7 @@ def collect(env: HivexVectorEnv, agent: ActorCritic, buf: Rollout, state: dict[s
         buf.terminated[t] = torch.as_tensor(terminated, dtype=torch.float32)
         buf.done[t] = torch.as_tensor(done, dtype=torch.float32)
         episodes.record(infos)
-        state["obs"], state["done"] = to_tensors(next_obs), done
+        state["obs"], state["done"], state["mask"] = to_tensors(next_obs), done, action_mask(infos, agent)
         state["active"] = np.asarray(infos.get("active", np.ones_like(done)), dtype=bool)
         if on_step is not None:
             on_step()
@@ -216,6 +232,8 @@ def update_data(buf: Rollout, advantages: torch.Tensor, returns: torch.Tensor, w
     valid = np.flatnonzero(buf.flat("valid").numpy() > 0)
     data = {"obs": buf.flat_obs(), "cont": buf.flat("cont"), "disc": buf.flat("disc"), "old_logp": buf.flat("logp"),
             "old_values": buf.flat("values"), "returns": merge_steps(returns), "adv": advantages.reshape(-1)}
+    if buf.mask is not None:
+        data["mask"] = buf.flat("mask")
     if with_next_obs:
         data["next_obs"] = buf.flat_next_obs()
     if valid.size:
@@ -244,7 +262,7 @@ def ppo_loss(agent: ActorCritic, mb: dict[str, Any], beta: float, epsilon: float
 
     With one log-probability per action dimension (B, D), each dimension's ratio is clipped on its own against
     the shared advantage and the surrogate is their mean (ML-Agents' trust_region_policy_loss)."""
-    logp, entropy, value = agent.evaluate(mb["obs"], mb["cont"], mb["disc"])
+    logp, entropy, value = agent.evaluate(mb["obs"], mb["cont"], mb["disc"], mb.get("mask"))
     log_ratio = logp - mb["old_logp"]
     ratio = log_ratio.exp()
     adv = mb["adv"] if log_ratio.dim() == 1 else mb["adv"][:, None]
@@ -364,7 +382,7 @@ def _train(compiled: CompiledScenario, cfg: PPOConfig, run: RunDir, progress: bo
     torch.set_num_threads(cfg.torch_threads)
     torch.manual_seed(cfg.seed + done_before)
     rng = np.random.default_rng([cfg.seed, done_before])
-    env, obs = make_env(compiled, cfg.num_worlds, "train", cfg.ended_agents)
+    env, obs, infos = make_env(compiled, cfg.num_worlds, "train", cfg.ended_agents)
     agent = ActorCritic(env.single_observation_space, env.single_action_space, cfg).to(torch_device(cfg.device))
     optimizer = make_optimizer(agent, cfg.learning_rate)
     curiosity, curiosity_optimizer = None, None
@@ -378,7 +396,7 @@ def _train(compiled: CompiledScenario, cfg: PPOConfig, run: RunDir, progress: bo
             if module is not None:
                 module.load_state_dict(resumed["training"][name])
     slots, steps = env.num_envs, cfg.rollout_length(env.num_envs)
-    state, buf = start_rollouts(obs, agent, steps)
+    state, buf = start_rollouts(obs, agent, steps, infos)
     run.write_json("config.json", {"hyperparameters": cfg.model_dump(mode="json"), "scenario": compiled.resolved()})
     episodes, scalars = EpisodeLog(), ScalarLog(run)
     bar = Progress(planned_agent_steps(cfg.max_steps, done_before, slots), enabled=progress, label=compiled.name,

@@ -144,5 +144,5 @@ def test_drone_based_reforestation_trains_with_ended_drones_waiting_for_their_wo
     cfg = make_config(ENV, {}, {})
     assert cfg.ended_agents == "wait"
     assert make_config("aerial_wildfire_suppression", {}, {}).ended_agents == "respawn"
-    env, _ = make_env(hivex_dsl.compile({"hivex": 1, "environment": ENV}), 1, "train", cfg.ended_agents)
+    env, _, _ = make_env(hivex_dsl.compile({"hivex": 1, "environment": ENV}), 1, "train", cfg.ended_agents)
     assert not env.respawns

@@ -52,7 +52,7 @@ def training_winds(actions: np.random.Generator, steps: int) -> tuple[np.ndarray
     """The main wind (steps,) and the local wind at each turbine (steps, 8) of WFC main's training world, as `hivex
     train` makes it, played with uniform random actions drawn from ``actions`` (a stand-in for one training seed's
     policy) for ``steps`` vector steps (an episode is 5,000 of them and the masked restart)."""
-    env, _ = make_env(hivex_dsl.compile(WFC_MAIN), 1, "train")
+    env, _, _ = make_env(hivex_dsl.compile(WFC_MAIN), 1, "train")
     mains, local = np.empty(steps), np.empty((steps, env.num_envs))
     for t in range(steps):
         env.step(actions.integers(0, 3, env.num_envs))
@@ -81,7 +81,7 @@ def test_the_training_worlds_main_wind_sweeps_the_circle_in_seven_episodes():
     The wind is stepped on its own from the world's reset state and stream, which the world draws nothing else from
     (a turn draws nothing, the test above; a restart continues the world): stepped whole, the world gave the same
     main wind at every one of the first 300,000 steps."""
-    env, _ = make_env(hivex_dsl.compile(WFC_MAIN), 1, "train")
+    env, _, _ = make_env(hivex_dsl.compile(WFC_MAIN), 1, "train")
     wind, stream, spec = env.core.state.wind, env.core.rng, env.core.sim.wind_spec
     main = np.empty(7 * EPISODE)
     for t in range(main.size):

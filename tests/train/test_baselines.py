@@ -331,7 +331,7 @@ def test_a_committed_record_s_command_trains_with_its_hyperparameters(record):
     """The page's command reproduces a record (or a grid record, which trained a sweep): today's defaults with its
     --set values are every hyperparameter the record trained with (keys added since it was written read as they
     meant then)."""
-    from hivex_dsl.train.checkpoint import action_space_of, older_defaults
+    from hivex_dsl.train.checkpoint import acting_interface, older_defaults
 
     from hivex_dsl.cli import build_parser
     from hivex_dsl.cli.train_commands import train_config
@@ -341,7 +341,7 @@ def test_a_committed_record_s_command_trains_with_its_hyperparameters(record):
     words = shlex.split(data["command"].splitlines()[0])
     assert words[:3] == ["hivex", "train", scenario]
     now = train_config(data["environment"], build_parser().parse_args(words[1:]))  # as `hivex train` reads it
-    then = older_defaults(data["hyperparameters"], action_space_of(compile_all(ROOT / scenario)[0]))
+    then = older_defaults(data["hyperparameters"], *acting_interface(compile_all(ROOT / scenario)[0]))
     assert now.model_dump() == PPOConfig(**then).model_dump()
 
 

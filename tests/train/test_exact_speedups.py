@@ -65,14 +65,14 @@ def two_updates(environment: str, curiosity: bool) -> tuple[list[dict[str, float
     cfg = make_config(environment, {"num_worlds": 2, "buffer_fill": "rollout", "buffer_size": 48, "batch_size": 16,
                                     "num_epoch": 2, "hidden_units": 16,
                                     "curiosity_strength": 0.01 if curiosity else 0.0})
-    env, obs = ppo.make_env(compile(short_scenario(environment)), cfg.num_worlds, "train")
+    env, obs, infos = ppo.make_env(compile(short_scenario(environment)), cfg.num_worlds, "train")
     agent = ActorCritic(env.single_observation_space, env.single_action_space, cfg)
     optimizer = ppo.make_optimizer(agent, cfg.learning_rate)
     module = None
     if curiosity:
         module = Curiosity(env.single_observation_space, agent.layout, cfg)
         module = (module, ppo.make_optimizer(module, cfg.curiosity_learning_rate))
-    state, buf = ppo.start_rollouts(obs, agent, cfg.rollout_length(env.num_envs))
+    state, buf = ppo.start_rollouts(obs, agent, cfg.rollout_length(env.num_envs), infos)
     rng, episodes, losses = np.random.default_rng(0), EpisodeLog(), []
     for _ in range(2):
         next_value = ppo.collect(env, agent, buf, state, cfg, episodes)
@@ -149,9 +149,9 @@ def test_the_rollout_values_and_curiosity_rewards_are_the_step_by_step_ones():
     torch.manual_seed(0)
     cfg = make_config("ocean_plastic_collection", {"num_worlds": 2, "buffer_size": 48, "batch_size": 16,
                                                    "hidden_units": 16, "curiosity_strength": 0.01})
-    env, obs = ppo.make_env(compile(short_scenario("ocean_plastic_collection")), cfg.num_worlds, "train")
+    env, obs, infos = ppo.make_env(compile(short_scenario("ocean_plastic_collection")), cfg.num_worlds, "train")
     agent = ActorCritic(env.single_observation_space, env.single_action_space, cfg)
-    state, buf = ppo.start_rollouts(obs, agent, cfg.rollout_length(env.num_envs))
+    state, buf = ppo.start_rollouts(obs, agent, cfg.rollout_length(env.num_envs), infos)
     next_value = ppo.collect(env, agent, buf, state, cfg, EpisodeLog())
     with torch.no_grad():
         stepwise = torch.stack([agent.get_value({k: v[t] for k, v in buf.obs.items()}) for t in range(len(buf.values))])

@@ -93,9 +93,9 @@ def test_every_valid_experience_is_trained_on_once_per_epoch():
     buf.obs["obs"][..., 0] = torch.arange(buf.valid.numel(), dtype=torch.float32).reshape(buf.valid.shape)  # ids
     seen, evaluate = [], agent.evaluate
 
-    def spy(obs, cont, disc):
+    def spy(obs, cont, disc, mask=None):
         seen.extend(obs["obs"][:, 0].tolist())
-        return evaluate(obs, cont, disc)
+        return evaluate(obs, cont, disc, mask)
 
     agent.evaluate = spy
     update(agent, torch.optim.Adam(agent.parameters()), buf, advantages, returns, cfg, 0.01, 0.2,

@@ -24,7 +24,7 @@ class FixedPolicy:
     def __init__(self, logp: torch.Tensor):
         self.logp = logp
 
-    def evaluate(self, obs, cont, disc):
+    def evaluate(self, obs, cont, disc, mask=None):
         return self.logp, torch.zeros(2), torch.zeros(2)
 
 

@@ -47,13 +47,13 @@ def first_update(environment: str, precision: str, curiosity: bool = False) -> d
     layers = {"num_worlds": 1, "buffer_fill": "rollout", "buffer_size": 32, "batch_size": 16, "num_epoch": 1,
               "hidden_units": 16, "precision": precision, "curiosity_strength": 0.01 if curiosity else 0.0}
     cfg = make_config(environment, layers)
-    env, obs = make_env(compile(short_scenario(environment)), cfg.num_worlds, "train")
+    env, obs, infos = make_env(compile(short_scenario(environment)), cfg.num_worlds, "train")
     agent = ActorCritic(env.single_observation_space, env.single_action_space, cfg)
     module = None
     if curiosity:
         module = Curiosity(env.single_observation_space, agent.layout, cfg)
         module = (module, make_optimizer(module, cfg.curiosity_learning_rate))
-    state, buf = start_rollouts(obs, agent, cfg.rollout_length(env.num_envs))
+    state, buf = start_rollouts(obs, agent, cfg.rollout_length(env.num_envs), infos)
     next_value = collect(env, agent, buf, state, cfg, EpisodeLog())
     advantages, returns, _ = advantages_and_returns(buf, next_value, cfg, module and module[0])
     return update(agent, make_optimizer(agent, cfg.learning_rate), buf, advantages, returns, cfg, cfg.beta,

@@ -12,6 +12,7 @@ from gymnasium import spaces
 from ...base.numeric import and_not, clamp, constant
 from ...runtime.batched import StepOutcome
 from ...sim.batching import assemble, read_only, replace_worlds
+from ...sim.spaces import toggle_mask
 from ...sim.fire import any_burning, douse, fire_step_unchecked
 from ...sim.fire.search import closest_burning_at
 from ...sim.procgen.weather import weather_step
@@ -374,6 +375,18 @@ class AerialWildfireSimulator:
         vector[..., 7] = sighting.plane_found
         # the state's own camera array (drawn in step): read-only, so an in-place edit raises
         return {"vector": vector, "visual": read_only(state.visual)}
+
+    def action_mask(self, state: AerialWildfireState) -> np.ndarray:
+        """(B, A, 2) bool: the drop is open to a flying plane that holds water over the island's land, as the
+        release's WriteDiscreteActionMask opens it (water held, and the ray cast down hits the terrain above the
+        sea); never in the Find tasks unless params.water_in_find_tasks (rewards/aerial_wildfire_suppression.yaml,
+        'What the cameras see past the border, and the drop's action mask')."""
+        open_ = state.flying & state.water
+        if not self.handles_water:
+            open_ = np.zeros_like(open_)
+        elif np.count_nonzero(open_):
+            open_ &= self._over_land(state.maps.ground, state.position)
+        return toggle_mask(open_)
 
     state_components = state_components  # the global state's world facts: see global_state.py
     world_state = world_state

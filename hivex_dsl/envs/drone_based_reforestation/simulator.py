@@ -15,6 +15,7 @@ from ...runtime.batched import StepOutcome
 from ...sim.batching import evolve, read_only, replace_worlds
 from ...sim.procgen.terrain import TerrainSpec, generate_terrain
 from ...sim.procgen.wind import wrap_angle
+from ...sim.spaces import toggle_mask
 from .camera import NEW_TREE_GRAY, STATION_GRAY, TREE_GRAY, Raster, camera_images, ground_shade, stamp_disks, to_byte
 from .fertility import (FAR_M, Grid, GridSet, distance_reward, fertility, forest_grid, interpolation_matrix,
                         logged_tree_distance, nearest_new_tree_distance, nearest_tree_distance, same_step_distance,
@@ -397,6 +398,13 @@ class DroneReforestationSimulator:
         """vector (B, A, 20) float32 (two stacks, newest first); visual (B, A, 16, 16, 1) float32."""
         visual = camera_images(state.camera, self.raster, state.position[..., :2], self.camera_half_width(state))
         return {"vector": read_only(state.frames), "visual": visual}
+
+    def action_mask(self, state: DroneState) -> np.ndarray:
+        """(B, A, 2) bool: the drop is open to a living drone that holds a seed at least drop_min_distance_m from
+        its station, where a drop plants one (the stores aside); read from the original's Entropy panels
+        (rewards/drone_based_reforestation.yaml, 'The drop's action mask')."""
+        distance, _ = self._station_distances(state.position, state.station)
+        return toggle_mask(state.alive & state.holding & (distance >= self.params.drop_min_distance_m))
 
     state_components = state_components  # the global state's world facts: see global_state.py
     world_state = world_state
