@@ -31,6 +31,10 @@ from .view import (build_look, drawn_border_m, frame_template, is_tiled, plane_c
 PICKUP_EVENT = "picked_up_water"
 # Events of one plane; a task that ends on one of them takes that plane out of the game (see _sense).
 FINDING_EVENTS = ("found_fire", "found_village")
+# [orig] The release's WriteDiscreteActionMask opens the drop where the ray cast down hits the terrain (layer 8) at a
+# height of at least 0.02, where its DropWater needs 10 (our SEA_LEVEL_M, 7 m, fitted to the untrained planes' first
+# drops, stands for that): the mask is open over a low shore where a drop does nothing.
+MASK_TERRAIN_M = 0.02
 PLANE_EVENTS = (PICKUP_EVENT, "dropped_water") + FINDING_EVENTS
 SPAWN_REDRAWS = 16  # a spawn that sees the fire is drawn again up to this many times (then kept)
 EVENTS = {
@@ -289,12 +293,23 @@ class AerialWildfireSimulator:
 
     def _over_land(self, ground: np.ndarray, position: np.ndarray) -> np.ndarray:
         """(B, A) bool: the ground (B, C, C) under each plane is island land (not sea, not the water ring)."""
+        inside, cell = self._cells_under(position)
+        return inside & (ground.reshape(-1).take(cell) != SEA)
+
+    def _over_terrain(self, height: np.ndarray, position: np.ndarray) -> np.ndarray:
+        """(B, A) bool: the terrain (heights (B, C, C)) under each plane stands at least MASK_TERRAIN_M high."""
+        inside, cell = self._cells_under(position)
+        return inside & (height.reshape(-1).take(cell) >= MASK_TERRAIN_M)
+
+    def _cells_under(self, position: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(B, A) bool whether each plane (``position`` (B, A, 2) metres) is over the island's grid, and (B, A) the
+        flat index of the (B, C, C) grid cell under it (clamped onto the grid where it is not)."""
         half, cells = self.params.island_half_extent_m, self.forest_spec.cells
         cell = np.floor((position + half) / self.cell_m)  # (B, A, 2): col, row
         inside = ((cell >= 0) & (cell < cells)).all(axis=-1)
         col, row = clamp(cell, 0, cells - 1).astype(np.int64).transpose(2, 0, 1)
         world = np.arange(position.shape[0])[:, None]
-        return inside & (ground.reshape(-1).take((world * cells + row) * cells + col) != SEA)
+        return inside, (world * cells + row) * cells + col
 
     def _drop(self, fire, look: np.ndarray, position: np.ndarray, direction: np.ndarray, dropping: np.ndarray):
         """Wet the swath of every dropping plane and redraw it in ``look``.
@@ -377,15 +392,15 @@ class AerialWildfireSimulator:
         return {"vector": vector, "visual": read_only(state.visual)}
 
     def action_mask(self, state: AerialWildfireState) -> np.ndarray:
-        """(B, A, 2) bool: the drop is open to a flying plane that holds water over the island's land, as the
-        release's WriteDiscreteActionMask opens it (water held, and the ray cast down hits the terrain above the
-        sea); never in the Find tasks unless params.water_in_find_tasks (rewards/aerial_wildfire_suppression.yaml,
+        """(B, A, 2) bool: the drop is open to a flying plane that holds water over terrain at least MASK_TERRAIN_M
+        high, as the release's WriteDiscreteActionMask opens it, though its DropWater drops only over higher ground
+        (here: above the sea level SEA_LEVEL_M), so over a low shore the branch is open and a drop does nothing. The
+        mask knows no task: the Find tasks' planes, which neither drop nor refill (params.water_in_find_tasks), keep
+        their first water and the branch open wherever they fly over the island (rewards/aerial_wildfire_suppression.yaml,
         'What the cameras see past the border, and the drop's action mask')."""
         open_ = state.flying & state.water
-        if not self.handles_water:
-            open_ = np.zeros_like(open_)
-        elif np.count_nonzero(open_):
-            open_ &= self._over_land(state.maps.ground, state.position)
+        if np.count_nonzero(open_):
+            open_ &= self._over_terrain(state.maps.height, state.position)
         return toggle_mask(open_)
 
     state_components = state_components  # the global state's world facts: see global_state.py
