@@ -161,8 +161,8 @@ class HivexParallelEnv(Rendering, ParallelEnv):
         return obs, rewards, terminations, truncations, infos
 
     def _report_masks(self, infos: dict[str, dict[str, Any]]) -> None:
-        """``infos[agent]["action_mask"]`` (N,) int8 for every agent that acts next, where the environment masks
-        actions (see the class)."""
+        """``infos[agent]["action_mask"]``, the agent's row of the environment's mask in the form its action space
+        samples with, for every agent that acts next, where the environment masks actions (see the class)."""
         if self.core.masks_actions:
             rows, space = self.core.action_mask()[0], self.core.sim.action_space
             for agent in self.agents:

@@ -187,5 +187,5 @@ def missing_members(simulator: Any) -> list[str]:
     return [name for name, _, _ in members(Simulator) if not hasattr(simulator, name)]
 
 
-__all__ = ["StepOutcome", "Simulator", "Respawns", "HoldsEndings", "ReportsStepInfo", "MasksActions", "StacksObservations",
-           "REQUIRED", "OPTIONAL", "members", "missing_members"]
+__all__ = ["StepOutcome", "Simulator", "Respawns", "HoldsEndings", "ReportsStepInfo", "MasksActions",
+           "StacksObservations", "REQUIRED", "OPTIONAL", "members", "missing_members"]

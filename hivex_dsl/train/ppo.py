@@ -142,9 +142,9 @@ def forward_precision(cfg: PPOConfig):
 def collect(env: HivexVectorEnv, agent: ActorCritic, buf: Rollout, state: dict[str, Any], cfg: PPOConfig,
             episodes: EpisodeLog, on_step: Callable[[], None] | None = None,
             until: Callable[[np.ndarray, np.ndarray], bool] | None = None, steps: int | None = None) -> torch.Tensor:
-    """Fill ``buf`` with one rollout from ``state`` (obs, previous done, active, mask) of ``steps`` (default: the storage's
-    capacity); -> V(next obs) (S,). ``on_step`` (optional) is called after each step of every slot (the progress
-    bar moves within a rollout). ``until`` (optional; :func:`update_due`) is asked after each step with the slots
+    """Fill ``buf`` with one rollout from ``state`` (obs, previous done, active, mask) of ``steps`` (default: the
+    storage's capacity); -> V(next obs) (S,). ``on_step`` (optional) is called after each step of every slot (the
+    progress bar moves within a rollout). ``until`` (optional; :func:`update_due`) is asked after each step with the slots
     whose step was an experience and those whose episode ended (both (S,) bool); when it says True the rollout
     ends there, ``buf`` limited to the steps taken.
 
