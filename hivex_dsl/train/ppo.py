@@ -144,8 +144,8 @@ def collect(env: HivexVectorEnv, agent: ActorCritic, buf: Rollout, state: dict[s
             until: Callable[[np.ndarray, np.ndarray], bool] | None = None, steps: int | None = None) -> torch.Tensor:
     """Fill ``buf`` with one rollout from ``state`` (obs, previous done, active, mask) of ``steps`` (default: the
     storage's capacity); -> V(next obs) (S,). ``on_step`` (optional) is called after each step of every slot (the
-    progress bar moves within a rollout). ``until`` (optional; :func:`update_due`) is asked after each step with the slots
-    whose step was an experience and those whose episode ended (both (S,) bool); when it says True the rollout
+    progress bar moves within a rollout). ``until`` (optional; :func:`update_due`) is asked after each step with the
+    slots whose step was an experience and those whose episode ended (both (S,) bool); when it says True the rollout
     ends there, ``buf`` limited to the steps taken.
 
     The policy acts step by step; the critic values every frame once the rollout is done (as ML-Agents' trajectory

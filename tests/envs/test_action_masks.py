@@ -90,7 +90,8 @@ def test_the_dbr_drop_opens_to_a_living_seed_holder_at_least_the_drop_distance_f
     sim, state = simulator(DBR, agents=5)
     far = sim.params.drop_min_distance_m
     station = state.station[0]
-    offsets = [(far + 0.5, 0.0, 0.0), (far - 0.5, 0.0, 0.0), (0.0, far * 0.8, far * 0.8), (far + 5, 0, 0), (far + 5, 0, 0)]
+    offsets = [(far + 0.5, 0.0, 0.0), (far - 0.5, 0.0, 0.0), (0.0, far * 0.8, far * 0.8), (far + 5, 0.0, 0.0),
+               (far + 5, 0.0, 0.0)]
     position = (station + np.array(offsets))[None]
     state = replace(state, position=position, holding=np.array([[True, True, True, False, True]]),
                     alive=np.array([[True, True, True, True, False]]))

@@ -396,8 +396,8 @@ class AerialWildfireSimulator:
         high, as the release's WriteDiscreteActionMask opens it, though its DropWater drops only over higher ground
         (here: above the sea level SEA_LEVEL_M), so over a low shore the branch is open and a drop does nothing. The
         mask knows no task: the Find tasks' planes, which neither drop nor refill (params.water_in_find_tasks), keep
-        their first water and the branch open wherever they fly over the island (rewards/aerial_wildfire_suppression.yaml,
-        'What the cameras see past the border, and the drop's action mask')."""
+        their first water and the branch open wherever they fly over the island (the reward table's note 'What the
+        cameras see past the border, and the drop's action mask')."""
         open_ = state.flying & state.water
         if np.count_nonzero(open_):
             open_ &= self._over_terrain(state.maps.height, state.position)
