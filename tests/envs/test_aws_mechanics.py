@@ -22,7 +22,8 @@ HALF = 600.0
 
 @pytest.fixture(scope="module")
 def compiled():
-    return hivex_dsl.compile({"hivex": 1, "environment": "aerial_wildfire_suppression", "agents": 2})
+    return hivex_dsl.compile({"hivex": 1, "environment": "aerial_wildfire_suppression", "agents": 2,
+                              "params": {"camera_images": "rendered"}})  # the camera's test looks at its picture
 
 
 @pytest.fixture(scope="module")

@@ -358,7 +358,7 @@ def test_a_drop_s_reward_statistics_are_logged_where_a_scenario_weighs_drops_0()
     logs a drop's statistics as the drop's reward as computed all the same. The scripted pilot drops near the forest,
     flies back for a seed and drops again."""
     compiled = hivex_dsl.compile({"hivex": 1, "environment": ENV, "task": "main", "terrain_level": 1,
-                                  "weights": {"drop_seed": 0.0}})
+                                  "weights": {"drop_seed": 0.0}, "params": {"camera_images": "rendered"}})
     assert compiled.weights["drop_seed"] == 0.0
     done = rollout(compiled, "scripted", 1)
     drops = done.statistics["Tree Drop Count"]

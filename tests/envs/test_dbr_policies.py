@@ -12,6 +12,7 @@ from hivex_dsl.evaluation.report import collect_returns
 from hivex_dsl.runtime import BatchedEnv
 
 ENV = "drone_based_reforestation"
+SIGHTED = {"params": {"camera_images": "rendered"}}  # the pilot's eyes: a blank camera shows it no tree
 
 
 def good_trees(compiled, policy_name: str, worlds: int = 2, seed: int = 6000) -> np.ndarray:
@@ -27,7 +28,7 @@ def good_trees(compiled, policy_name: str, worlds: int = 2, seed: int = 6000) ->
 
 @pytest.fixture(scope="module")
 def main_level_4():
-    return hivex_dsl.compile({"hivex": 1, "environment": ENV, "task": "main", "terrain_level": 4})
+    return hivex_dsl.compile({"hivex": 1, "environment": ENV, "task": "main", "terrain_level": 4, **SIGHTED})
 
 
 def test_scripted_drones_plant_many_more_good_trees_than_random_ones(main_level_4):
@@ -47,7 +48,7 @@ def test_scripted_main_task_returns_dwarf_random_and_the_published_baseline(main
 
 
 def test_scripted_drones_come_home_before_the_battery_runs_out():
-    compiled = hivex_dsl.compile(f"{ENV}/main")
+    compiled = hivex_dsl.compile({"hivex": 1, "environment": ENV, "task": "main", **SIGHTED})
     core = BatchedEnv(compiled, batch=1, split="test")
     policy = make_policy("scripted", compiled, core.sim.action_space, core.shape)
     observations = core.reset()
@@ -69,5 +70,5 @@ def test_scripted_collects_the_single_100_of_the_finding_sub_tasks(task):
 
 @pytest.mark.parametrize("agents, level", [(1, 10), (12, 7)])
 def test_scripted_plants_with_any_agent_count_and_terrain(agents, level):
-    compiled = hivex_dsl.compile({"hivex": 1, "environment": ENV, "agents": agents, "terrain_level": level})
+    compiled = hivex_dsl.compile({"hivex": 1, "environment": ENV, "agents": agents, "terrain_level": level, **SIGHTED})
     assert good_trees(compiled, "scripted", worlds=1).min() >= 2 * agents

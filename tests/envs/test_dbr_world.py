@@ -121,7 +121,7 @@ def test_every_world_has_a_forest_away_from_the_station_and_open_ground_to_plant
 
 
 def test_the_camera_footprint_grows_with_height_above_ground():
-    compiled, sim = compiled_sim()
+    compiled, sim = compiled_sim(params={"camera_images": "rendered"})
     state = sim.reset(np.random.default_rng(0), 1)
     pad_pixels = []
     for height in (1.5, 4.0, 10.0, 24.0):  # footprint half widths 2 (the minimum), 4, 10, 24 m

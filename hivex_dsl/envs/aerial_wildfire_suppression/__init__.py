@@ -87,6 +87,8 @@ ENTRY = register(EnvironmentEntry(
         "the border, some wet trees): above the level-1 cell only (-69.6, where the paper's planes crashed in "
         "62% of their episodes and met the fire 42%), below every other level's.",
         "Camera: 42x42 RGB pixels of 5 m (ours), forward up, colours: ground shaded by height, sea and water ring blue, "
-        "village magenta, trees green/orange/dark/blue for existing/burning/burnt/wet.",
+        "village magenta, trees green/orange/dark/blue for existing/burning/burnt/wet. It is drawn only under "
+        "params.camera_images rendered: by default it is blank (zeros), as the original's runs saw it, every config "
+        "that ran having started Unity without graphics (hivex_dsl/sim/cameras.py; the reward table's notes).",
     ),
 ))

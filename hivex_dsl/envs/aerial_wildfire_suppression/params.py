@@ -12,6 +12,7 @@ from typing import ClassVar, Literal
 
 from pydantic import Field, model_validator
 
+from ...sim.cameras import CameraParams
 from ...sim.fire import FireSpec
 from ...sim.procgen.wind import WindParams
 from ..island import RedrawIsland, redraw_island_field
@@ -19,7 +20,7 @@ from ..island import RedrawIsland, redraw_island_field
 CAMERA_PIXELS = 42  # [paper] 42x42x3 downward camera
 
 
-class AerialWildfireParams(WindParams, FireSpec):
+class AerialWildfireParams(WindParams, FireSpec, CameraParams):
     LATE_FIELDS: ClassVar[tuple[str, ...]] = (WindParams.LATE_FIELDS + FireSpec.FIRE_LATE_FIELDS
                                                + ("turn_rule", "finished_planes", "spawn_rule", "episodes_continue"))
 

@@ -12,6 +12,7 @@ from gymnasium import spaces
 from ...base.numeric import and_not, clamp, constant
 from ...runtime.batched import StepOutcome
 from ...sim.batching import assemble, read_only, replace_worlds
+from ...sim.cameras import blank_images
 from ...sim.spaces import toggle_mask
 from ...sim.fire import any_burning, douse, fire_step_unchecked
 from ...sim.fire.search import closest_burning_at
@@ -187,6 +188,8 @@ class AerialWildfireSimulator:
 
     def _cameras(self, position: np.ndarray, heading: np.ndarray, look: np.ndarray, trees: np.ndarray,
                  ground: np.ndarray, facing: np.ndarray | None = None) -> np.ndarray:
+        if not self.params.cameras_render:
+            return blank_images(heading.shape + (CAMERA_PIXELS, CAMERA_PIXELS, 3))
         return plane_cameras(position, heading, look, trees, ground, self.frame, self.camera_offsets, facing)
 
     respawn_where = respawn_where  # single planes in running worlds: see respawn.py

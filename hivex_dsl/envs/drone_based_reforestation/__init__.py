@@ -46,7 +46,9 @@ ENTRY = register(EnvironmentEntry(
         "The visual observation is 16 x 16 x 1 as the spec table says (the process diagram's prose says 32 x 32). "
         "It samples a per-world grayscale raster (2 m cells: ground shaded by height, existing trees, planted "
         "trees, the station) on a north-up square footprint below the drone whose half width is the height above "
-        "ground x tan(45 degrees); north-up (a gimbal camera) is this project's choice.",
+        "ground x tan(45 degrees); north-up (a gimbal camera) is this project's choice. It is drawn only under "
+        "params.camera_images rendered: by default it is blank (zeros), as the original's runs saw it, every config "
+        "that ran having started Unity without graphics (hivex_dsl/sim/cameras.py; the reward table's notes).",
         "Direction is the drone's forward vector; drones stay level, so its z component is always 0.",
         "The vector observation stacks two frames, newest first: this decision's and the previous decision's, as "
         "ML-Agents' stacking sensor does (the reward table's note \"Observation stacks shift once a decision\"); an "

@@ -15,11 +15,12 @@ import numpy as np
 from pydantic import Field, model_validator
 
 from ...lang.spec.common import StrictModel
+from ...sim.cameras import CameraParams
 from ...sim.procgen.terrain import TerrainSpec, terrain_spec_for_level
 from .forest import ReforestationForestSpec
 
 
-class DroneBasedReforestationParams(StrictModel):
+class DroneBasedReforestationParams(CameraParams):
     height_bound_m: float = Field(65.0, ge=10.0, le=100.0, description=(
         "[orig, fitted] Drones fly no higher than this (metres above sea level); heights are normalised by it. The "
         "paper gives 40 m, but the original's Find High Terrain records put its drones higher in the frame its "

@@ -8,6 +8,8 @@ on its next trip. Without a seed (where returns pay), or when the battery would
 not last the way home with a margin: fly back to the station and land on it until the return
 recharges and reloads it (a docking charges only on a return: the pilot remembers whether it has
 been away, which it cannot observe). Where returns pay nothing, a seedless drone searches on.
+Where the camera is blank (``camera_images: blank``, the original's runs), it sees no tree and drops
+its seed once the spiral has taken it ``BLIND_DROP_M`` from the station.
 """
 
 from __future__ import annotations
@@ -34,6 +36,7 @@ SWEEP_OFFSET = np.radians(30.0)  # [ours] off the centre when turning back at th
 SPIRAL_GAP_M = 50.0  # between the turns of the search spiral: a little less than the camera's width at cruise height
 SPIRAL_START_M = 30.0  # straight out from the station to here, then round it
 SPOT_REACHED_M = 5.0  # at the remembered drop spot with no tree in sight: forget it
+BLIND_DROP_M = 60.0  # [ours] a pilot whose camera is blank drops its seed this far from the station
 
 
 def _pixel_grid() -> tuple[np.ndarray, np.ndarray]:
@@ -135,7 +138,7 @@ def scripted_policy(compiled) -> Callable[[dict], dict]:
         seeking = (holding | ~fetches | (~reloads & ~out)) & enough & ~gather & ~charging & ~(hopping & out)
 
         hw = np.maximum(p.camera_min_half_width_m, above * view)
-        tree = image < TREE_BELOW
+        tree = (image < TREE_BELOW) & p.cameras_render  # a blank camera's zeros are no trees
         tree_distance = np.where(tree, reach, np.inf).min(axis=-1) * hw
         tree_bearing = bearing[np.where(tree, reach, np.inf).argmin(axis=-1)]
         planted = (image >= TREE_BELOW) & (image < NEW_TREE_BELOW)
@@ -164,6 +167,8 @@ def scripted_policy(compiled) -> Callable[[dict], dict]:
         crowded = sees_tree & planted_near & ~over_forest
         target = np.where(crowded, tree_bearing + np.pi / 2.0, target)
         ready = sees_tree & (tree_distance <= DROP_MAX_M) & ~over_forest & ~planted_near
+        if not p.cameras_render:  # blind (the original's blank camera): drop a seed once out on the spiral
+            ready = holding & (home_distance >= BLIND_DROP_M)
         # nearing the drop window, slow so that a throttle held for a decision stops in it rather than flying through
         approach = np.where(sees_tree & ~over_forest, (tree_distance - DROP_MIN_M) / (p.drone_speed_m * period), 1.0)
         throttle, steer = steer_toward(heading, target, np.where(ready, 0.0, approach))

@@ -13,6 +13,7 @@ from gymnasium import spaces
 from ...base.numeric import all_true, clamp
 from ...runtime.batched import StepOutcome
 from ...sim.batching import evolve, read_only, replace_worlds
+from ...sim.cameras import blank_images
 from ...sim.procgen.terrain import TerrainSpec, generate_terrain
 from ...sim.procgen.wind import wrap_angle
 from ...sim.spaces import toggle_mask
@@ -396,7 +397,10 @@ class DroneReforestationSimulator:
 
     def observe(self, state: DroneState) -> dict[str, np.ndarray]:
         """vector (B, A, 20) float32 (two stacks, newest first); visual (B, A, 16, 16, 1) float32."""
-        visual = camera_images(state.camera, self.raster, state.position[..., :2], self.camera_half_width(state))
+        if self.params.cameras_render:
+            visual = camera_images(state.camera, self.raster, state.position[..., :2], self.camera_half_width(state))
+        else:
+            visual = blank_images(state.position.shape[:2] + self.observation_space["visual"].shape)
         return {"vector": read_only(state.frames), "visual": visual}
 
     def action_mask(self, state: DroneState) -> np.ndarray:
