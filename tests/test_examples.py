@@ -34,8 +34,9 @@ def test_cleanrl_ppo_trains_a_few_hundred_steps(env_id):
 
 @pytest.mark.ecosystem("sb3")
 @pytest.mark.parametrize("env_id", ENV_IDS)
-def test_sb3_ppo_trains_a_few_hundred_steps(env_id):
+def test_sb3_ppo_trains_a_few_hundred_steps(env_id, tmp_path, monkeypatch):
     pytest.importorskip("stable_baselines3")
+    monkeypatch.setenv("SB3_LOGDIR", str(tmp_path))  # SB3's logger makes a folder, by default a new one in /tmp
     model = load("sb3_ppo").main(["--scenario", f"{env_id}/main", "--num-worlds", "1", "--n-steps", "32",
                                   "--total-timesteps", "300", "--episode-length", "20"])
     assert model.num_timesteps >= 300
