@@ -17,6 +17,7 @@ import numpy as np
 import hivex_dsl
 from hivex_dsl.evaluation.policies import random_policy
 from hivex_dsl.compiler.registry import environments
+from hivex_dsl.evaluation.bench import bench_scenario
 
 from bench_procgen import median_ms
 
@@ -25,7 +26,7 @@ BATCHES = (1, 256)
 
 def stepped_state(env_id: str, batch: int):
     """(simulator, state, actions, rng) of ``batch`` worlds after 20 random steps."""
-    compiled = hivex_dsl.compile(f"{env_id}/main")
+    compiled = bench_scenario(env_id)  # cameras drawn: the blank default skips them
     sim = compiled.entry.make_simulator(compiled)
     rng = np.random.default_rng(0)
     policy = random_policy(sim.action_space, (batch, compiled.agents), rng)
