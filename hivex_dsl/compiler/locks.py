@@ -20,6 +20,7 @@ from typing import Any
 from ..base.errors import Problem, ScenarioError, did_you_mean, show
 from ..lang.blame import MISSING as _MISSING, get as _get
 from ..lang.loader import Loaded, PathKey, load_text
+from . import registry
 from .scenario import LOCK_VERSION, CompiledScenario, compile_scenario
 
 LOCK_KEYS = ("hivex_lock", "fingerprint", "scenario", "task_index", "ends_on", "sweep_point",
@@ -46,7 +47,7 @@ def compile_lock(loaded: Loaded) -> CompiledScenario:
         _fail(loaded, ("scenario", "sweep"), "a lock holds one resolved scenario; 'sweep' is not allowed in it "
                                              "(lock each point: `hivex compile FILE -o DIR`)", key=True)
     point = _sweep_point(loaded, scenario)
-    inner = Loaded(loaded.source, _without_point_suffix(scenario, point),
+    inner = Loaded(loaded.source, as_written(_without_point_suffix(scenario, point)),
                    {path[1:]: loc for path, loc in loaded.marks.items() if path[:1] == ("scenario",)},
                    {path[1:]: loc for path, loc in loaded.key_marks.items() if path[:1] == ("scenario",)})
     compiled = dataclasses.replace(compile_scenario(inner)[0], sweep_point=MappingProxyType(point))
@@ -62,6 +63,20 @@ def compile_lock(loaded: Loaded) -> CompiledScenario:
     if problems:
         raise ScenarioError(problems)
     return compiled
+
+
+def as_written(scenario: Any) -> Any:
+    """A resolved scenario (a lock's or a checkpoint's, every param written out) read as it meant when written:
+    a param added since (its params model's ``ADDED_FIELDS``) that it lacks takes the value that does what was
+    done then. Anything else, or a scenario this cannot place, is returned as is for the compiler to judge."""
+    if not isinstance(scenario, dict) or not isinstance(scenario.get("params"), dict):
+        return scenario
+    entry = registry.environments().get(scenario.get("environment"))
+    if entry is None:
+        return scenario
+    missing = {name: before for name, before in entry.params_model.ADDED_FIELDS.items()
+               if name not in scenario["params"]}
+    return {**scenario, "params": {**scenario["params"], **missing}} if missing else scenario
 
 
 def _sweep_point(loaded: Loaded, scenario: dict) -> dict[str, Any]:

@@ -135,6 +135,9 @@ class CompiledScenario:
         fingerprint_params = getattr(self.params, "fingerprint_params", None)  # params that leave out inert fields
         if fingerprint_params is not None:
             content["params"] = fingerprint_params()
+        for name, before in type(self.params).ADDED_FIELDS.items():  # what was done before they came: as before
+            if content["params"].get(name) == before:
+                content["params"] = {key: value for key, value in content["params"].items() if key != name}
         content["ends_on"] = list(self.ends_on)
         content["term_contracts"] = [contract.as_dict() for contract in self.term_contracts]
         if self.unpaid:  # only then: every scenario without one keeps its fingerprint

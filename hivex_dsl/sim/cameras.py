@@ -14,7 +14,7 @@ constant tells a network nothing, and ``blank`` sends zeros.
 
 from __future__ import annotations
 
-from typing import Literal
+from typing import Any, ClassVar, Literal
 
 import numpy as np
 from pydantic import Field
@@ -25,6 +25,8 @@ CameraImages = Literal["blank", "rendered"]
 
 
 class CameraParams(StrictModel):
+    ADDED_FIELDS: ClassVar[dict[str, Any]] = {"camera_images": "rendered"}  # locks and checkpoints from before drew
+
     camera_images: CameraImages = Field("blank", description=(
         "[records] 'blank': the camera observation keeps its shape and space but is all zeros, as the original's "
         "runs saw it: every config that ran sets no_graphics true, under which ML-Agents' CameraSensor renders "

@@ -14,7 +14,7 @@ import torch
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from ..base.errors import ScenarioError, got
-from ..compiler import CompiledScenario, compile
+from ..compiler import CompiledScenario, as_written, compile
 from ..lang.spec.validate import describe
 from .config import PPOConfig, TrainError
 from .devices import torch_device
@@ -252,9 +252,9 @@ def _check_finite(path: str | Path, tensors: Any, what: str) -> None:
 
 
 def _compiled(path: str | Path, scenario: dict[str, Any]) -> CompiledScenario:
-    """The scenario the checkpoint trained on, compiled."""
+    """The scenario the checkpoint trained on, compiled, params added since read as they meant then."""
     try:
-        return compile(scenario)
+        return compile(as_written(scenario))
     except ScenarioError as exc:
         problems = "; ".join(problem.message for problem in exc.problems)
         raise TrainError(_one_line(f"{path} holds a scenario that does not compile: {problems}")) from None

@@ -68,3 +68,21 @@ def test_a_blind_scripted_drone_pilot_still_plants():
         observations = core.step(policy(observations)).observations
     # without sight it drops each seed 60 m out on its spiral, flies home for another and drops again
     assert core.state.new_count[0] >= 2 * compiled.agents
+
+
+@pytest.mark.parametrize("environment", CAMERA_ENVIRONMENTS)
+def test_a_lock_written_before_the_cameras_went_blank_still_draws_them(environment):
+    """A lock (or a checkpoint: the same resolved scenario) from before ``camera_images`` has every other param and
+    drew its cameras: it compiles to rendered cameras with the fingerprint it was written with; a lock of today's
+    default keeps its blank ones, under a fingerprint of its own."""
+    drawn = hivex_dsl.compile({"hivex": 1, "environment": environment, "params": RENDERED})
+    blank = hivex_dsl.compile({"hivex": 1, "environment": environment})
+    assert blank.fingerprint != drawn.fingerprint
+    older = drawn.to_lock()
+    del older["scenario"]["params"]["camera_images"]
+    assert "camera_images" not in older["scenario"]["params"] and len(older["scenario"]["params"]) > 10
+    again = hivex_dsl.compile(older)
+    assert again.params.camera_images == "rendered" and again.fingerprint == older["fingerprint"] == drawn.fingerprint
+    assert hivex_dsl.compile(blank.to_lock()).params.camera_images == "blank"
+    # a scenario a person writes is not resolved: there the default stands
+    assert hivex_dsl.compile({"hivex": 1, "environment": environment, "params": {}}).params.camera_images == "blank"

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import Any, ClassVar
+
 from pydantic import BaseModel, ConfigDict
 
 SCHEMA_VERSION = 1
@@ -26,3 +28,9 @@ class StrictModel(BaseModel):
         validate_default=True,
         use_attribute_docstrings=False,
     )
+    # params added after scenarios were locked or trained, each with the value that does what was done before it,
+    # where the default does otherwise: a resolved scenario written without one (a lock's, a checkpoint's) is read
+    # with that value, and the fingerprint leaves the field out while it holds it, so such a scenario keeps its
+    # fingerprint (hivex_dsl.compiler.scenario.as_written). Fields whose default does what was done before need no
+    # entry: a model's LATE_FIELDS leave them out of its fingerprint at their defaults.
+    ADDED_FIELDS: ClassVar[dict[str, Any]] = {}
