@@ -101,7 +101,6 @@ def measure_parallel(env_id: str, seconds: float) -> Measurement:
     """PettingZoo ParallelEnv (batch 1) of the environment's bundled main scenario, random actions; then
     the same loop with the environment's work replayed (:func:`replay_one_step`) for ``api_floor_us``."""
     from ..adapters.factory import parallel_env
-    from ..compiler import compile
     from ..sim.spaces import stack_agent_actions
     from .policies import random_policy
 
@@ -192,7 +191,6 @@ def replay_one_step(env: Any, actions: Any) -> None:
 def measure_vector(env_id: str, seconds: float, batch: int) -> Measurement:
     """Gymnasium vector env of ``batch`` worlds (autoreset included), random actions for every slot."""
     from ..adapters.factory import vector_env
-    from ..compiler import compile
     from .policies import random_policy
 
     compiled = bench_scenario(env_id)

@@ -31,6 +31,6 @@ class StrictModel(BaseModel):
     # params added after scenarios were locked or trained, each with the value that does what was done before it,
     # where the default does otherwise: a resolved scenario written without one (a lock's, a checkpoint's) is read
     # with that value, and the fingerprint leaves the field out while it holds it, so such a scenario keeps its
-    # fingerprint (hivex_dsl.compiler.scenario.as_written). Fields whose default does what was done before need no
+    # fingerprint (hivex_dsl.compiler.locks.as_written). Fields whose default does what was done before need no
     # entry: a model's LATE_FIELDS leave them out of its fingerprint at their defaults.
     ADDED_FIELDS: ClassVar[dict[str, Any]] = {}
