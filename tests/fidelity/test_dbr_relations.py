@@ -34,7 +34,9 @@ BEST_SO_FAR = {"find_high_potential_area": ("Highest Potential Soild Found", "hi
 
 
 def compiled(task: str, level: int = 1):
-    return hivex_dsl.compile({"hivex": 1, "environment": ENV, "task": task, "terrain_level": level})
+    """The task with the camera drawn: the scripted pilot finds the forest with it (blind, its drops pay little)."""
+    return hivex_dsl.compile({"hivex": 1, "environment": ENV, "task": task, "terrain_level": level,
+                              "params": {"camera_images": "rendered"}})
 
 
 def mean(cell: published.PublishedCell, name: str) -> float:
