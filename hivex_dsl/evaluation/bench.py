@@ -87,14 +87,13 @@ def _live_only(actions: dict, live: list) -> dict:
 def bench_scenario(env_id: str):
     """The environment's bundled main scenario, its cameras drawn where it has them (``camera_images: rendered``):
     the blank default skips the drawing, so the benchmark times the costlier path a researcher may ask for."""
-    from ..compiler import compile, registry
-    from ..lang.loader import load_file
+    from ..adapters.registration import make_scenario
+    from ..compiler import compile
 
     compiled = compile(f"{env_id}/main")
     if "camera_images" not in type(compiled.params).model_fields:
         return compiled
-    main = load_file(registry.resolve_scenario(f"{env_id}/main")).data
-    return compile({**main, "params": {**main.get("params", {}), "camera_images": "rendered"}})
+    return make_scenario(env_id, "main", params={"camera_images": "rendered"})  # the main files set no params
 
 
 def measure_parallel(env_id: str, seconds: float) -> Measurement:
