@@ -8,9 +8,9 @@ register themselves here when the registry imports them by name; no module here 
 """
 
 from .dispatch import compile, compile_all, compile_loaded
-from .locks import as_written
+from .locks import as_written, written
 from .scenario import (LOCK_VERSION, MAX_SWEEP_EXPRESSION_CHARS, MAX_SWEEP_EXPRESSIONS, MAX_SWEEP_POINTS,
                        MAX_SWEEP_VALUES, CompiledScenario)
 
-__all__ = ["CompiledScenario", "LOCK_VERSION", "as_written", "MAX_SWEEP_EXPRESSION_CHARS", "MAX_SWEEP_EXPRESSIONS",
-           "MAX_SWEEP_POINTS", "MAX_SWEEP_VALUES", "compile", "compile_all", "compile_loaded"]
+__all__ = ["CompiledScenario", "LOCK_VERSION", "MAX_SWEEP_EXPRESSION_CHARS", "MAX_SWEEP_EXPRESSIONS", "MAX_SWEEP_POINTS",
+           "MAX_SWEEP_VALUES", "as_written", "compile", "compile_all", "compile_loaded", "written"]

@@ -50,7 +50,7 @@ def compile_lock(loaded: Loaded) -> CompiledScenario:
     inner = Loaded(loaded.source, as_written(_without_point_suffix(scenario, point)),
                    {path[1:]: loc for path, loc in loaded.marks.items() if path[:1] == ("scenario",)},
                    {path[1:]: loc for path, loc in loaded.key_marks.items() if path[:1] == ("scenario",)})
-    compiled = dataclasses.replace(compile_scenario(inner)[0], sweep_point=MappingProxyType(point))
+    compiled = dataclasses.replace(written(compile_scenario(inner)[0], scenario), sweep_point=MappingProxyType(point))
     stored = data["fingerprint"]
     if stored != compiled.fingerprint:
         _fail(loaded, ("fingerprint",), f"fingerprint {show(stored)} does not match the content ({compiled.fingerprint}): "
@@ -74,9 +74,18 @@ def as_written(scenario: Any) -> Any:
     entry = registry.environments().get(scenario.get("environment"))
     if entry is None:
         return scenario
-    missing = {name: before for name, before in entry.params_model.ADDED_FIELDS.items()
+    missing = {name: before for name, before in entry.params_model.added_fields().items()
                if name not in scenario["params"]}
     return {**scenario, "params": {**scenario["params"], **missing}} if missing else scenario
+
+
+def written(compiled: CompiledScenario, scenario: Any) -> CompiledScenario:
+    """``compiled`` (from ``as_written(scenario)``) under the fingerprint ``scenario`` was written with: one that
+    hashes only the params it holds. A param added since is then no change of content (a lock or checkpoint from
+    before it, not edited, keeps matching its stored fingerprint), while any value it holds, edited, added or
+    deleted, still changes the hash."""
+    params = scenario.get("params") if isinstance(scenario, dict) else None
+    return dataclasses.replace(compiled, written_params=frozenset(params)) if isinstance(params, dict) else compiled
 
 
 def _sweep_point(loaded: Loaded, scenario: dict) -> dict[str, Any]:

@@ -58,6 +58,9 @@ class CompiledScenario:
     schedules: Mapping[str, WeightSchedule] = field(default_factory=dict)  # weights moving with env steps
     expressions: Any = None  # a reward.expressions.ScenarioExpressions when the scenario writes any
     unpaid: frozenset[str] = frozenset()  # weighted terms the task logs in its statistics but does not pay
+    # the params a stored resolved scenario (a lock's, a checkpoint's) was written with, None for a scenario file:
+    # its fingerprint hashes those alone, as it was hashed when written (hivex_dsl.compiler.locks.written)
+    written_params: frozenset[str] | None = None
 
     @property
     def term_contracts(self) -> tuple:
@@ -132,12 +135,10 @@ class CompiledScenario:
     def fingerprint(self) -> str:
         """sha256 of what determines behaviour: resolved content (not name) and term contracts."""
         content = {key: value for key, value in self.resolved().items() if key != "name"}
-        fingerprint_params = getattr(self.params, "fingerprint_params", None)  # params that leave out inert fields
-        if fingerprint_params is not None:
-            content["params"] = fingerprint_params()
-        for name, before in type(self.params).ADDED_FIELDS.items():  # what was done before they came: as before
-            if content["params"].get(name) == before:
-                content["params"] = {key: value for key, value in content["params"].items() if key != name}
+        added = type(self.params).added_fields()  # at what was done before they came, they leave no trace
+        content["params"] = {key: value for key, value in content["params"].items()
+                             if not (key in added and value == added[key])
+                             and (self.written_params is None or key in self.written_params)}
         content["ends_on"] = list(self.ends_on)
         content["term_contracts"] = [contract.as_dict() for contract in self.term_contracts]
         if self.unpaid:  # only then: every scenario without one keeps its fingerprint

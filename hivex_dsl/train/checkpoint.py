@@ -14,7 +14,7 @@ import torch
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from ..base.errors import ScenarioError, got
-from ..compiler import CompiledScenario, as_written, compile
+from ..compiler import CompiledScenario, as_written, compile, written
 from ..lang.spec.validate import describe
 from .config import PPOConfig, TrainError
 from .devices import torch_device
@@ -252,9 +252,10 @@ def _check_finite(path: str | Path, tensors: Any, what: str) -> None:
 
 
 def _compiled(path: str | Path, scenario: dict[str, Any]) -> CompiledScenario:
-    """The scenario the checkpoint trained on, compiled, params added since read as they meant then."""
+    """The scenario the checkpoint trained on, compiled, params added since read as they meant then, under the
+    fingerprint it was written with."""
     try:
-        return compile(as_written(scenario))
+        return written(compile(as_written(scenario)), scenario)
     except ScenarioError as exc:
         problems = "; ".join(problem.message for problem in exc.problems)
         raise TrainError(_one_line(f"{path} holds a scenario that does not compile: {problems}")) from None

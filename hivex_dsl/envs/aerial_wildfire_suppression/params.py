@@ -8,10 +8,11 @@ weather are generators (a scenario overrides them under `generators:`).
 
 from __future__ import annotations
 
-from typing import ClassVar, Literal
+from typing import Any, ClassVar, Literal
 
 from pydantic import Field, model_validator
 
+from ...lang.spec.common import AS_DEFAULT
 from ...sim.cameras import CameraParams
 from ...sim.fire import FireSpec
 from ...sim.procgen.wind import WindParams
@@ -21,8 +22,10 @@ CAMERA_PIXELS = 42  # [paper] 42x42x3 downward camera
 
 
 class AerialWildfireParams(WindParams, FireSpec, CameraParams):
-    LATE_FIELDS: ClassVar[tuple[str, ...]] = (WindParams.LATE_FIELDS + FireSpec.FIRE_LATE_FIELDS
-                                               + ("turn_rule", "finished_planes", "spawn_rule", "episodes_continue"))
+    # water_in_find_tasks: the Find tasks' planes dropped and refilled before it came (issue 52, session 40)
+    ADDED_FIELDS: ClassVar[dict[str, Any]] = {
+        **dict.fromkeys(("turn_rule", "finished_planes", "spawn_rule", "episodes_continue"), AS_DEFAULT),
+        "water_in_find_tasks": True}
 
     border_half_extent_m: float = Field(750.0, ge=100.0, le=10_000.0, description=(
         "[paper] Half the side of the square border (1500 x 1500); crossing it ends that plane's episode."))

@@ -9,7 +9,7 @@ overrides them under `generators:`).
 
 from __future__ import annotations
 
-from typing import ClassVar, Literal
+from typing import Literal
 
 from pydantic import Field, model_validator
 
@@ -19,7 +19,6 @@ from ..island import RedrawIsland, redraw_island_field
 
 
 class WildfireResourceParams(WindParams, FireSpec):
-    LATE_FIELDS: ClassVar[tuple[str, ...]] = WindParams.LATE_FIELDS + FireSpec.FIRE_LATE_FIELDS
 
     island_half_extent_m: float = Field(600.0, ge=50.0, le=10_000.0, description=(
         "[paper] Half the side of the island square (1200 x 1200), shared with Aerial Wildfire Suppression. "

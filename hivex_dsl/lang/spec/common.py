@@ -13,6 +13,16 @@ MAX_WEIGHT = 1.0e6
 MAX_SEED = 2**32 - 1
 
 
+class _AsDefault:
+    """The earlier value of an added field that its default already does (StrictModel.ADDED_FIELDS)."""
+
+    def __repr__(self) -> str:
+        return "AS_DEFAULT"
+
+
+AS_DEFAULT = _AsDefault()
+
+
 class StrictModel(BaseModel):
     """Frozen, closed, strictly typed: nothing a user wrote is coerced or dropped.
 
@@ -28,9 +38,18 @@ class StrictModel(BaseModel):
         validate_default=True,
         use_attribute_docstrings=False,
     )
-    # params added after scenarios were locked or trained, each with the value that does what was done before it,
-    # where the default does otherwise: a resolved scenario written without one (a lock's, a checkpoint's) is read
-    # with that value, and the fingerprint leaves the field out while it holds it, so such a scenario keeps its
-    # fingerprint (hivex_dsl.compiler.locks.as_written). Fields whose default does what was done before need no
-    # entry: a model's LATE_FIELDS leave them out of its fingerprint at their defaults.
+    # Params added after scenarios were locked or trained, each with the value that does what was done before it
+    # (AS_DEFAULT where the default does). A resolved scenario written without one (a lock's, a checkpoint's) is read
+    # with that value (hivex_dsl.compiler.locks.as_written), and the fingerprint leaves the field out while it holds
+    # it, so a scenario file that does what it did before keeps its fingerprint and the records trained on it stay
+    # matched to it. A model's entries add to its bases' (added_fields).
     ADDED_FIELDS: ClassVar[dict[str, Any]] = {}
+
+    @classmethod
+    def added_fields(cls) -> dict[str, Any]:
+        """Every added field of this model and its bases -> the JSON value that does what was done before it."""
+        merged: dict[str, Any] = {}
+        for klass in reversed(cls.__mro__):
+            merged.update(vars(klass).get("ADDED_FIELDS", {}))
+        return {name: cls.model_fields[name].default if before is AS_DEFAULT else before
+                for name, before in merged.items()}

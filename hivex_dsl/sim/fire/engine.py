@@ -22,12 +22,12 @@ from __future__ import annotations
 
 import enum
 from dataclasses import dataclass
-from typing import ClassVar, Literal
+from typing import Any, ClassVar, Literal
 
 import numpy as np
 from pydantic import Field
 
-from ...lang.spec.common import StrictModel
+from ...lang.spec.common import AS_DEFAULT, StrictModel
 from ..batching import put_worlds
 from ..procgen.forest import ForestSpec
 
@@ -73,9 +73,8 @@ class FireSpec(StrictModel):
         "[ours] The wind the downwind factor reads: 'main' the world's main wind; 'local' [orig] the wind at the "
         "burning tree, the main wind turned by the wind's noise field, as the release's Wind.GetWindAtLocation."))
 
-    # added after records were trained on FireSpec: an environment's params list them in LATE_FIELDS, so a
-    # scenario that leaves them at their defaults keeps its fingerprint (WindParams.fingerprint_params)
-    FIRE_LATE_FIELDS: ClassVar[tuple[str, ...]] = ("spread_weather_at", "spread_max_distance_m", "spread_wind")
+    ADDED_FIELDS: ClassVar[dict[str, Any]] = dict.fromkeys(
+        ("spread_weather_at", "spread_max_distance_m", "spread_wind"), AS_DEFAULT)
 
 
 # The tree states as NumPy scalars: comparing a uint8 grid with an IntEnum member casts the whole grid

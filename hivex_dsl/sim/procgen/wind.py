@@ -24,7 +24,7 @@ import numpy as np
 from pydantic import Field
 
 from ...base.numeric import constant
-from ...lang.spec.common import StrictModel
+from ...lang.spec.common import AS_DEFAULT, StrictModel
 from ..batching import assemble, pad_by_world, replace_worlds, select_worlds
 from .noise import blend_corners, corner_gradients, draw_lattice, octave_frequencies, sum_octaves
 
@@ -91,19 +91,8 @@ class WindParams(StrictModel):
     wind_noise_octaves: int = Field(2, ge=1, le=8, description="[ours] Octaves of the wind noise field.")
     wind_drift_m: float = Field(1.0, ge=0.0, le=100.0, description="[ours] Metres the wind noise field moves with the main wind per step.")
 
-    # fields added after records were trained on these params: see fingerprint_params
-    LATE_FIELDS: ClassVar[tuple[str, ...]] = ("wind_original_law", "wind_lerp_speed", "wind_frame_steps")
-
-    def fingerprint_params(self) -> dict[str, Any]:
-        """The params as a scenario's fingerprint hashes them: the ``LATE_FIELDS`` (the original law's, and those
-        an environment's params add) are left out while they hold their defaults, so every scenario from before
-        them keeps its fingerprint (and the records trained on it stay matched to it); any other value, inert or
-        not, changes it, so an edited lock is still caught."""
-        dump = self.model_dump(mode="json")
-        for name in self.LATE_FIELDS:
-            if dump[name] == type(self).model_fields[name].default:
-                del dump[name]
-        return dump
+    ADDED_FIELDS: ClassVar[dict[str, Any]] = dict.fromkeys(
+        ("wind_original_law", "wind_lerp_speed", "wind_frame_steps"), AS_DEFAULT)
 
     def wind_spec(self) -> WindSpec:
         return WindSpec(ease_rate=self.wind_ease_rate, target_shift_deg=self.wind_target_shift_deg,
