@@ -88,7 +88,9 @@ class AerialWildfireParams(WindParams, FireSpec, CameraParams):
         "[ours] Whether the cameras draw the dark outside beyond the border. The release's border is a test of "
         "coordinates alone (CrossedBorderCheck: |x| or |z| at least 750 m) inside a terrain of about 1,666 m whose "
         "sea runs on past it, so its cameras see water on both sides of it; false draws the water ring there too, "
-        "and only the observed position tells a plane where the border is (the reward table's notes)."))
+        "and only the observed position tells a plane where the border is (the reward table's notes). Drawn only "
+        "under camera_images rendered: the blank camera of the original's runs (the default) shows no border at "
+        "all, so the default stays true, as every record trained."))
     fire_step_interval: int = Field(22, ge=1, le=1_000, description=(
         "[records] Environment steps per fire step, fitted to the original's first training points: with the "
         "release's spread rules a fire step every 22 steps makes Fire too Close to City a plane-decision over the "
