@@ -186,7 +186,8 @@ def test_a_grid_point_with_its_curve_is_measured_and_one_without_a_page_named(tm
 
 def test_a_record_keeping_episode_length_is_measured_and_drawn_on_it_too(tmp_path):
     record = _three_seeds()
-    record["curve_panels"] = {"Episode Length": [4_999.0, 4_999.0, 4_000.0]}  # the original's: 4,999 at every point
+    # 5,000 decisions an episode, logged as the original's 4,999 at every point (compare.as_logged_there)
+    record["curve_panels"] = {"Episode Length": [5_000.0, 5_000.0, 4_001.0]}
     (tmp_path / "wind_farm_control.json").write_text(json.dumps(record))
     (c,), images, page = _fidelity(tmp_path)
     assert c["panels"] == ["Cumulative Reward", "Episode Length"]

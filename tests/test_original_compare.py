@@ -57,6 +57,21 @@ def test_the_measure_by_hand(cell, run):
     assert lengths == ["within", "within", "within", "no point"]  # 210 in 180-220; none near 1,000
 
 
+def test_our_episodes_are_measured_as_ml_agents_logged_them():
+    """ML-Agents' AgentProcessor counts every experience but the terminal one toward Environment/Episode Length, so
+    Wind Farm Control's episodes of 5,000 decisions log 4,999 at every point of the original's event files: ours of
+    5,000 decisions measure within that collapsed band, where 5,000 set beside it raw lay above it."""
+    steps = np.arange(0, 1001, 50)
+    flat = lambda value: _panel("Episode Length", _line(steps, np.full(len(steps), value), 0.0))  # noqa: E731
+    cell = OriginalCell("wind_farm_control", 0, 0, "made_up.pdf", "A made-up page",
+                        {"Cumulative Reward": _panel("Cumulative Reward", _line(steps, steps / 10, 5.0)),
+                         "Episode Length": flat(4_999.0)})
+    run = compare.from_points([{"agent_steps": s, "return": 0.0, "length": 5_000.0} for s in steps])
+    rows = [r for r in compare.measure(run, cell) if r.panel == "Episode Length"]
+    assert [(r.ours.value, r.verdict) for r in rows] == [(4_999.0, "within")] * 4
+    assert compare.as_logged_there("Water Pickup", np.array([3.0])) == 3.0  # sums are logged as they are
+
+
 def test_only_the_panels_both_log_are_compared(cell, run):
     assert compare.shared_panels(run, cell) == ["Cumulative Reward", "Episode Length"]
 
@@ -98,7 +113,7 @@ def _run_dir(tmp_path, points):
 
 def test_hivex_curves_prints_the_table_and_draws_the_figure(tmp_path, capsys):
     pytest.importorskip("matplotlib")
-    run = _run_dir(tmp_path, [{"agent_steps": s, "return": 5_000.0, "episodes": 8, "length": 4_999.0}
+    run = _run_dir(tmp_path, [{"agent_steps": s, "return": 5_000.0, "episodes": 8, "length": 5_000.0}
                               for s in range(40_000, 8_000_001, 40_000)])
     assert main(["curves", str(run), "-o", str(tmp_path / "curves.png")]) == 0
     out = capsys.readouterr().out
@@ -220,7 +235,8 @@ def test_a_record_keeps_every_panel_of_its_curve_and_gives_it_back(cell, run):
     assert [(r.panel, r.fraction, r.ours) for r in compare.measure(again, cell)] == \
         [(r.panel, r.fraction, r.ours) for r in compare.measure(run, cell)]
     at_10 = [r for r in compare.measure(again, cell) if r.fraction == 0.1]
-    assert [(r.panel, r.ours.value) for r in at_10] == [("Cumulative Reward", 18.0), ("Episode Length", 210.0)]
+    # 210 decisions an episode, logged as ML-Agents logs them: 209
+    assert [(r.panel, r.ours.value) for r in at_10] == [("Cumulative Reward", 18.0), ("Episode Length", 209.0)]
     # a record of before (the return only) weighs every point alike: (12 + 20) / 2 at 10%
     plain = compare.from_record({"environment": "aerial_wildfire_suppression", "curve": rows})
     assert compare.measure(plain, cell)[0].ours.value == 16.0 and list(plain.panels) == ["Cumulative Reward"]

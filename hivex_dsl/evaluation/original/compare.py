@@ -24,6 +24,11 @@ points averaged what ended in a window of worlds that had long since drifted apa
 (:func:`measure_seeds`) are measured each so, and their mean (unweighted: each seed is one run, as each of the
 original's three is one) against the same band.
 
+Our Episode Length is set beside theirs as ML-Agents logged it (:func:`as_logged_there`): its AgentProcessor counts
+an episode's experiences less the terminal one, so an episode of ``n`` decisions logs ``n - 1`` (Wind Farm Control's
+5,000-decision episodes: 4,999 at every one of the original's points), where a RunCurve, a run's curve.json and a
+record hold our decisions.
+
 :mod:`.figure` draws every panel both log: our curves over the original's mean and band.
 """
 
@@ -161,10 +166,19 @@ def pooled_radius(run: RunCurve, known: np.ndarray, distance: np.ndarray, window
     return max(window / 2, radius) if radius <= NEAREST_WITHIN * budget else window / 2
 
 
+def as_logged_there(panel: str, values: np.ndarray) -> np.ndarray:
+    """Our ``panel``'s values (n,) as the original's trainer would have logged them. ML-Agents' AgentProcessor adds
+    an experience for every decision, but counts toward Environment/Episode Length only those that are not the
+    episode's last (``if not terminated: episode_steps += 1``), so an episode of ``n`` decisions, ended or cut by the
+    time limit, logs ``n - 1``; the statistics and the return are sums it logs as they are."""
+    return values - 1.0 if panel == EPISODE_LENGTH else values
+
+
 def ours_at(run: RunCurve, panel: str, step: float, window: float, budget: float) -> Ours:
-    """Our ``panel`` at ``step``: the episode-weighted mean of our points within :func:`pooled_radius` of it, else
-    the nearest point within :data:`NEAREST_WITHIN` of ``budget``, else none (see the module's docstring)."""
-    values = run.panels[panel]
+    """Our ``panel`` at ``step`` (:func:`as_logged_there`): the episode-weighted mean of our points within
+    :func:`pooled_radius` of it, else the nearest point within :data:`NEAREST_WITHIN` of ``budget``, else none (see
+    the module's docstring)."""
+    values = as_logged_there(panel, run.panels[panel])
     known = ~np.isnan(values)
     distance = np.abs(run.steps - step)
     near = known & (distance <= pooled_radius(run, known, distance, window, budget))

@@ -8,7 +8,7 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from .compare import CompareError, RunCurve, shared_panels
+from .compare import CompareError, RunCurve, as_logged_there, shared_panels
 from .curves import OriginalCell
 from .evidence import RETURN
 
@@ -77,14 +77,15 @@ def _draw_panel(ax: Any, run: RunCurve, cell: OriginalCell, name: str, others: S
     assert training is not None
     ax.fill_between(training.band_steps, training.lower, training.upper, color="tab:red", alpha=0.2, linewidth=0)
     ax.plot(training.steps, training.mean, color="tab:red", linewidth=1, label="original, training")
-    values = run.panels[name]
+    values = as_logged_there(name, run.panels[name])
     known = ~np.isnan(values)
     ax.plot(run.steps[known], values[known], color="tab:blue", linewidth=0.8, alpha=0.8,
             marker="o" if known.sum() < 20 else None, markersize=3, label=f"{run.label}, training")
     for other in others:
         if name in other.panels:
-            known = ~np.isnan(other.panels[name])
-            ax.plot(other.steps[known], other.panels[name][known], color="tab:blue", linewidth=0.8, alpha=0.5,
+            values = as_logged_there(name, other.panels[name])
+            known = ~np.isnan(values)
+            ax.plot(other.steps[known], values[known], color="tab:blue", linewidth=0.8, alpha=0.5,
                     linestyle="--", label=f"{other.label}, training")
     if name == RETURN and run.test is not None:
         ax.plot(*run.test, "s", color="tab:purple", markersize=3, label="ours, checkpoints on test seeds")
