@@ -126,3 +126,23 @@ def test_only_the_lone_plane_at_3_m_or_the_waiting_world_at_5_m_meet_the_untrain
     assert low <= straight_flight_steps(3.0, 1).mean() <= high
     assert low <= straight_flight_steps(5.0, 3).mean() <= high
     assert straight_flight_steps(3.0, 3).mean() > high + 40
+
+
+def test_waiting_pickers_over_the_seabed_give_the_untrained_entropy():
+    """The release's mask opens the drop to a plane holding water over terrain at least 0.02 m high, frozen or not,
+    and a waiting picker holds its water just past 600 m, over terrain that runs on under the ring (the reward
+    table's note "Pick Up Water's untrained entropy"). Random planes under the release's rules wait for over a
+    quarter of their decisions, about two in five of the ring's inner edge stands that high, and the entropy that
+    predicts (ML-Agents' untrained Gaussian, 1.419, plus ln 2 for every open decision) lies within 0.05 of the
+    original's first training point at level 5 (1.564), where planes that never wait, this toolkit's default, give
+    1.419, 0.145 short."""
+    from ..benchmark_scripts import benchmark_script
+
+    script = benchmark_script("aws_waiting_pickers")
+    waiting, length = script.waiting_share(5, episodes=8)
+    edge = script.ring_edge_over_terrain(5, worlds=8)
+    assert 0.25 < waiting < 0.5 and 120 < length < 250
+    assert 0.25 < edge < 0.6
+    first = original_curves("aerial_wildfire_suppression", 5, 5).panel("Entropy").training.mean[0]
+    predicted = script.GAUSSIAN_ENTROPY + math.log(2) * waiting * edge
+    assert abs(predicted - first) < 0.05 < first - script.GAUSSIAN_ENTROPY
