@@ -12,7 +12,6 @@ from typing import Any, ClassVar, Literal
 
 from pydantic import Field, model_validator
 
-from ...lang.spec.common import AS_DEFAULT
 from ...sim.cameras import CameraParams
 from ...sim.fire import FireSpec
 from ...sim.procgen.wind import WindParams
@@ -22,9 +21,11 @@ CAMERA_PIXELS = 42  # [paper] 42x42x3 downward camera
 
 
 class AerialWildfireParams(WindParams, FireSpec, CameraParams):
-    # water_in_find_tasks: the Find tasks' planes dropped and refilled before it came (issue 52, session 40)
+    # each with what was done before it came, written out (not AS_DEFAULT) so that a default changed later does not
+    # change what an older lock or checkpoint plays: the lone planes' rules (issue 52, sessions 34-38), and Find
+    # tasks' planes that dropped and refilled (session 40)
     ADDED_FIELDS: ClassVar[dict[str, Any]] = {
-        **dict.fromkeys(("turn_rule", "finished_planes", "spawn_rule", "episodes_continue"), AS_DEFAULT),
+        "turn_rule": "proportional", "finished_planes": "respawn", "spawn_rule": "ours", "episodes_continue": 0,
         "water_in_find_tasks": True}
 
     border_half_extent_m: float = Field(750.0, ge=100.0, le=10_000.0, description=(

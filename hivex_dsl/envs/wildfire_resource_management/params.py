@@ -19,7 +19,6 @@ from ..island import RedrawIsland, redraw_island_field
 
 
 class WildfireResourceParams(WindParams, FireSpec):
-
     island_half_extent_m: float = Field(600.0, ge=50.0, le=10_000.0, description=(
         "[paper] Half the side of the island square (1200 x 1200), shared with Aerial Wildfire Suppression. "
         "Must equal the forest generator's half extent."))

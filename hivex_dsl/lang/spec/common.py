@@ -39,7 +39,8 @@ class StrictModel(BaseModel):
         use_attribute_docstrings=False,
     )
     # Params added after scenarios were locked or trained, each with the value that does what was done before it
-    # (AS_DEFAULT where the default does). A resolved scenario written without one (a lock's, a checkpoint's) is read
+    # (AS_DEFAULT where the default does; write the value out before changing such a default, or older locks and
+    # checkpoints would play the new one). A resolved scenario written without one (a lock's, a checkpoint's) is read
     # with that value (hivex_dsl.compiler.locks.as_written), and the fingerprint leaves the field out while it holds
     # it, so a scenario file that does what it did before keeps its fingerprint and the records trained on it stay
     # matched to it. A model's entries add to its bases' (added_fields).
