@@ -121,7 +121,9 @@ def test_added_fields_gather_every_base_s():
     model = registry.environments()["aerial_wildfire_suppression"].params_model
     aws = model.added_fields()
     assert aws["camera_images"] == "rendered" and aws["water_in_find_tasks"] is True  # not their defaults
-    for name in ("wind_original_law", "spread_wind", "finished_planes"):  # the wind's, the fire's, its own
+    for name in ("wind_original_law", "spread_wind"):  # the wind's and the fire's, added at their defaults
         assert aws[name] == model.model_fields[name].default, name
+    assert aws["finished_planes"] == "respawn" != model.model_fields["finished_planes"].default  # its own: the lone
+    # planes' rule until the release's became the default (session 43)
     wrm = registry.environments()["wildfire_resource_management"].params_model.added_fields()
     assert {"wind_original_law", "spread_weather_at"} <= set(wrm) and "camera_images" not in wrm

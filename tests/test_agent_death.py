@@ -22,6 +22,8 @@ from gymnasium.wrappers.vector import RecordEpisodeStatistics
 import hivex_dsl
 from hivex_dsl.adapters.flat import FlatParallelEnv, flat_vector_env
 
+from .aws_rules import LONE_PLANES
+
 # Long enough for an agent flying straight to reach the border from any spawn, so every one dies at least once
 # whatever the seed: an AWS plane (5 m a step) crosses the +/-750 m square's diagonal (2,121 m) in 425 steps.
 LENGTH = {"ocean_plastic_collection": 400, "aerial_wildfire_suppression": 430}
@@ -31,6 +33,8 @@ def scenario(environment: str) -> dict:
     # period 1 (OPC defaults to 5): the deaths below are counted in physics steps, one a step() call. OPC's crash
     # ends the crashed vessel alone here (crash_outcome: end): its default, end_world, ends the whole world's episode
     extra = {"params": {"crash_outcome": "end"}} if environment == "ocean_plastic_collection" else {}
+    if environment == "aerial_wildfire_suppression":  # a plane's own ending: the lone planes (the release's wait)
+        extra = {"params": LONE_PLANES}
     return {"hivex": 1, "environment": environment, "episode_length": LENGTH[environment], "decision_period": 1,
             "seeds": {"train": 1, "test": 2}, **extra}
 
@@ -323,8 +327,11 @@ def fire_out_in_world_zero(restepped, environment: str):
         events["fire_out"][0] |= calls[0] == FIRE_OUT_STEP  # a world event holds for every agent of its world
         return new, outcome._replace(events=events)
 
+    # AWS's lone planes draw a fresh world every episode; under episodes_continue (the release's) a world is drawn
+    # afresh when its fire is out, not on this event alone, which the test forces while the fire still burns
+    lone = {"params": LONE_PLANES} if environment == "aerial_wildfire_suppression" else {}
     compiled = hivex_dsl.compile({"hivex": 1, "environment": environment, "episode_length": ONE_EPISODE,
-                                  "seeds": {"train": 1, "test": 2}})
+                                  "seeds": {"train": 1, "test": 2}, **lone})
     assert "fire_out" in compiled.ends_on and "fire_out" in compiled.entry.world_events
     return restepped(compiled, step)
 

@@ -124,7 +124,11 @@ def original_first_entropy(environment: str, task_index: int, level: int) -> flo
 
 @pytest.mark.parametrize("environment, task, level, tolerance", [
     (DBR, "main", 1, 0.005),  # the branch open about one decision in 300 there (0.0014 of entropy), here as seldom
-    (AWS, "main", 1, 0.03),  # ours opens over the shore 7% of decisions, the original's about 9%
+    # the original's branch open about 9.6% of decisions; ours 2.7% under the release's plane rules, the defaults
+    # since session 43 (7% under the lone planes before): the 7 m sea that stands for the release's 10 m drop
+    # threshold makes a drop over 7-10 m ground work, and close the branch, where the release's planes kept their
+    # water and the branch open there (the reward table's note 'What the cameras see past the border ...')
+    (AWS, "main", 1, 0.05),
 ])
 def test_an_untrained_masked_policy_starts_at_the_original_s_entropy(environment, task, level, tolerance):
     first = original_first_entropy(environment, 0, level)

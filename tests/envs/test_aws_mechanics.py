@@ -15,6 +15,7 @@ import hivex_dsl
 from hivex_dsl.envs.aerial_wildfire_suppression.simulator import AerialWildfireSimulator
 from hivex_dsl.sim.fire import TreeState, fire_reset
 from hivex_dsl.runtime import BatchedEnv
+from ..aws_rules import LONE_PLANES
 
 CELL = 3.0
 HALF = 600.0
@@ -22,8 +23,9 @@ HALF = 600.0
 
 @pytest.fixture(scope="module")
 def compiled():
+    # the camera's test looks at its picture; the mechanics worked by hand are those of the lone planes
     return hivex_dsl.compile({"hivex": 1, "environment": "aerial_wildfire_suppression", "agents": 2,
-                              "params": {"camera_images": "rendered"}})  # the camera's test looks at its picture
+                              "params": {"camera_images": "rendered", **LONE_PLANES}})
 
 
 @pytest.fixture(scope="module")
@@ -243,7 +245,7 @@ def test_worlds_that_cannot_work_are_compile_errors(override, message):
 @pytest.mark.parametrize("redraw", ["seed", "episode"])
 def test_a_world_starting_a_new_episode_keeps_its_island_unless_told_otherwise(redraw):
     compiled = hivex_dsl.compile({"hivex": 1, "environment": "aerial_wildfire_suppression",
-                                  "params": {"redraw_island": redraw}})
+                                  "params": {"redraw_island": redraw, **LONE_PLANES}})
     sim = AerialWildfireSimulator(compiled)
     rng = np.random.default_rng(5)
     state = sim.reset(rng, 2)
@@ -271,7 +273,8 @@ def test_by_default_every_episode_of_a_seed_stream_draws_a_new_world(environment
     def height_map(state):  # DBR keeps its terrain in ``heights``, the island environments in ``maps``
         return (state.heights if environment == "drone_based_reforestation" else state.maps.height).copy()
 
-    env = hivex_dsl.parallel_env({"hivex": 1, "environment": environment, "episode_length": 5})  # DBR decides every 5th
+    lone = {"params": LONE_PLANES} if environment == "aerial_wildfire_suppression" else {}  # worlds that do not go on
+    env = hivex_dsl.parallel_env({"hivex": 1, "environment": environment, "episode_length": 5, **lone})  # DBR: 5th
     env.reset(seed=1)
     first = height_map(env.core.state)
     env.reset()  # continues the stream: a new world
@@ -335,7 +338,8 @@ def test_a_forest_too_sparse_to_light_as_asked_starts_with_what_it_has():
 def test_what_a_plane_saw_when_its_task_ended_does_not_depend_on_other_worlds_resetting():
     """A plane that finds fire ends its find-fire episode with that sighting in its last observation,
     whether or not another world of the batch starts a new episode in the same step."""
-    sc = hivex_dsl.compile("aerial_wildfire_suppression/find_fire")
+    sc = hivex_dsl.compile({"hivex": 1, "environment": "aerial_wildfire_suppression", "task": "find_fire",
+                            "params": LONE_PLANES})  # a finder's episode ends as it finds
     env = BatchedEnv(sc, 2)
     observations = env.reset(seed=4)
     pilot = sc.entry.scripted_policy(sc)
@@ -355,7 +359,8 @@ def test_what_a_plane_saw_when_its_task_ended_does_not_depend_on_other_worlds_re
 def test_nothing_is_paid_on_the_first_step_for_where_a_plane_happens_to_start(task):
     # issue 15: a plane without water spawning over the water ring filled up (+1, x100 in Pick Up Water) and one
     # spawning within 150 m of the village found it (+100) on the first step, whatever it did
-    compiled = hivex_dsl.compile({"hivex": 1, "environment": "aerial_wildfire_suppression", "task": task})
+    compiled = hivex_dsl.compile({"hivex": 1, "environment": "aerial_wildfire_suppression", "task": task,
+                                  "params": LONE_PLANES})  # this toolkit's spawn keeps them away
     sim = AerialWildfireSimulator(compiled)
     state = sim.reset(np.random.default_rng(7), 64)
     gap = state.position - state.maps.village[:, None, :]
@@ -368,8 +373,9 @@ def test_nothing_is_paid_on_the_first_step_for_where_a_plane_happens_to_start(ta
 
 def test_no_plane_starts_or_respawns_with_the_fire_in_view():
     """Uniform spawns put about one plane in eleven within sight of the fire (measured with the redraw off),
-    which would pay Find Fire on the first step for nothing; the fire, like the village, is found by flying."""
-    compiled = hivex_dsl.compile({"hivex": 1, "environment": "aerial_wildfire_suppression"})
+    which would pay Find Fire on the first step for nothing; the fire, like the village, is found by flying (this
+    toolkit's spawn; the release's keeps nothing away)."""
+    compiled = hivex_dsl.compile({"hivex": 1, "environment": "aerial_wildfire_suppression", "params": LONE_PLANES})
     sim = AerialWildfireSimulator(compiled)
     rng = np.random.default_rng(3)
     state = sim.reset(rng, 128)
@@ -386,7 +392,7 @@ def test_no_plane_starts_or_respawns_with_the_fire_in_view():
 def test_a_spawn_is_drawn_again_only_where_it_sees_the_fire(monkeypatch):
     import hivex_dsl.envs.aerial_wildfire_suppression.simulator as simulator
 
-    compiled = hivex_dsl.compile({"hivex": 1, "environment": "aerial_wildfire_suppression"})
+    compiled = hivex_dsl.compile({"hivex": 1, "environment": "aerial_wildfire_suppression", "params": LONE_PLANES})
     sim = AerialWildfireSimulator(compiled)
     monkeypatch.setattr(simulator, "SPAWN_REDRAWS", 0)
     uniform = sim.reset(np.random.default_rng(3), 128)

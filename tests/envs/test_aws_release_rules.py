@@ -21,6 +21,8 @@ import hivex_dsl
 from hivex_dsl.envs.aerial_wildfire_suppression import statistics, terms
 from hivex_dsl.runtime import BatchedEnv
 
+from ..aws_rules import LONE_PLANES
+
 RELEASE = {"finished_planes": "wait", "turn_rule": "full", "plane_speed_m": 5.0}
 ISLAND = 600.0
 
@@ -139,7 +141,7 @@ def test_the_pick_up_tasks_cost_of_time_charges_waiting_planes_only_when_they_wa
     np.testing.assert_allclose(terms.time_step_without_water(None, state, None, params), [[-1 / 30, 0.0, 0.0]])
 
 
-@pytest.mark.parametrize("params", [{}, RELEASE])
+@pytest.mark.parametrize("params", [LONE_PLANES, RELEASE, {}])
 def test_respawning_and_waiting_planes_keep_one_episode_per_plane_or_per_world(params):
     env = BatchedEnv(compiled("pick_up_water", **params))
     env.reset(seed=6)
@@ -149,18 +151,25 @@ def test_respawning_and_waiting_planes_keep_one_episode_per_plane_or_per_world(p
         if result.ended[0].any():
             lengths.append(env.lengths[0][result.ended[0]].tolist())
             break
-    # a respawning plane ends alone on its pick-up; waiting ones all end together
-    assert (len(lengths[0]) == 3) == (params.get("finished_planes") == "wait")
+    # a respawning plane ends alone on its pick-up; waiting ones (the default since session 43) all end together
+    assert (len(lengths[0]) == 3) == (params.get("finished_planes", "wait") == "wait")
 
 
-def test_the_late_fields_at_their_defaults_leave_the_fingerprint_alone_and_any_other_value_changes_it():
-    """The fingerprint leaves the late fields out at their defaults (as it does the wind's original law), so every
-    record trained before them stays matched to its scenario; setting one to another value is another world."""
+def test_the_rules_added_late_keep_the_fingerprints_of_the_lone_planes_and_of_the_release_s_rules():
+    """The fingerprint leaves the rules added in sessions 34-38 out while they hold what was done before them (the
+    lone planes' proportional turn, respawn, spawn and fresh worlds), so every record trained before them stays
+    matched to its scenario; the defaults since session 43 (the release's rules) hash as the release's rules
+    spelled out did, so the runs trained so before match today's main scenario; any other value is another world."""
     plain = compiled("main")
-    spelled = compiled("main", finished_planes="respawn", turn_rule="proportional", spawn_rule="ours")
-    assert spelled.fingerprint == plain.fingerprint
-    assert type(plain.params).added_fields()["finished_planes"] == "respawn"
-    for name, value in (("finished_planes", "wait"), ("turn_rule", "full"), ("spawn_rule", "release")):
+    release = {"finished_planes": "wait", "turn_rule": "full", "spawn_rule": "release", "episodes_continue": 1,
+               "plane_speed_m": 5.0}
+    assert compiled("main", **release).fingerprint == plain.fingerprint
+    lone = compiled("main", **LONE_PLANES)
+    before = dict(LONE_PLANES)
+    del before["plane_speed_m"]  # not a late rule: always hashed
+    assert compiled("main", plane_speed_m=3.0).fingerprint != lone.fingerprint  # the late rules count here
+    assert {name: type(plain.params).added_fields()[name] for name in before} == before
+    for name, value in (("finished_planes", "respawn"), ("turn_rule", "proportional"), ("spawn_rule", "ours")):
         assert compiled("main", **{name: value}).fingerprint != plain.fingerprint, name
 
 

@@ -175,12 +175,13 @@ def test_the_terms_are_their_plain_formulas_bit_for_bit(sim):
     every = np.ones((4, 3))
     expected = {
         "crossed_border": -100.0 * state.crossed, "pick_up_water": 1.0 * state.picked_up,
-        "fire_out": 10.0 * (state.fire_went_out[:, None] * every),
+        "fire_out": 10.0 * (state.fire_went_out[:, None] * state.flying),  # a waiting plane is frozen: unpaid
         "too_close_to_village": -50.0 * (state.village_threatened[:, None] * every),
         "time_step_burning": -0.01 * (state.burning[:, None] * every),
         "find_fire": 100.0 * state.found_fire, "find_village": 100.0 * state.found_village,
         "extinguishing_tree": 5.0 * state.extinguished, "preparing_tree": 1.0 * state.prepared,
-        "time_step_without_water": -p.water_wait_penalty * (state.flying & ~state.water)}
+        # waiting planes (the default) pay the pick-up task's time while they wait, as the release charges it
+        "time_step_without_water": -p.water_wait_penalty * ((state.flying & ~state.water) | ~state.flying)}
     for name, value in expected.items():
         got = np.asarray(terms.TERMS[name](state, state, None, p), dtype=np.float64)
         np.testing.assert_array_equal(got, value)
@@ -213,8 +214,8 @@ def test_planes_out_of_the_game_beyond_the_island_keep_their_picture_which_stays
     policy = np.random.default_rng(9)
     kept = 0
     for step in range(400):
-        actions = {"continuous": policy.uniform(-0.05, 0.05, (1, 3, 1)).astype(np.float32),
-                   "discrete": policy.integers(0, 2, (1, 3, 1))}
+        steer = np.where(policy.random((1, 3, 1)) < 0.9, 0.0, policy.uniform(-0.05, 0.05, (1, 3, 1)))  # mostly on
+        actions = {"continuous": steer.astype(np.float32), "discrete": policy.integers(0, 2, (1, 3, 1))}
         prev_flying = state.flying
         state, _ = sim.step(state, actions, rng)
         kept += int((~prev_flying).sum())

@@ -16,8 +16,9 @@ The release's planes wait for their world (params.finished_planes wait): a world
 up, so its Episode Length is the longest of three flights, and every plane pays the time cost until then. The
 longest of three straight flights, from the geometry alone (below), is about 298 steps at 3 m and 179 at 5 m; the
 original's untrained planes took 172 to 250 decisions at the first summary point of all ten levels, which the one
-plane's flight at 3 m (about 192) and the waiting world's at 5 m meet and the waiting world's at 3 m does not. So
-at this toolkit's 3 m planes respawn alone by default (the reward table's notes).
+plane's flight at 3 m (about 192) and the waiting world's at 5 m meet and the waiting world's at 3 m does not.
+Since session 43 the defaults are the release's rules (5 m, waiting planes; the reward table's notes); the tests
+below that work the lone plane at 3 m by hand ask for its rules (tests/aws_rules.py).
 """
 
 from __future__ import annotations
@@ -32,6 +33,8 @@ from hivex_dsl.evaluation.original.curves import original_curves
 from hivex_dsl.evaluation.published import cell
 from hivex_dsl.evaluation.rollout import rollout
 
+from ..aws_rules import LONE_PLANES
+
 EPISODES = 40
 LEVEL = 3
 MEAN_EDGE_DISTANCE = 2 / math.pi * (2 * math.log(1 + math.sqrt(2)) - (2 * math.sqrt(2) - 2) / 3)  # x half-side
@@ -45,13 +48,13 @@ def _pick_up_water(**params):
 
 @pytest.fixture(scope="module")
 def straight():
-    compiled = _pick_up_water()
+    compiled = _pick_up_water(**LONE_PLANES)
     return compiled, rollout(compiled, "zeros", EPISODES, split="test")
 
 
 @pytest.fixture(scope="module")
 def waiting():
-    compiled = _pick_up_water(finished_planes="wait")
+    compiled = _pick_up_water(**{**LONE_PLANES, "finished_planes": "wait"})
     return compiled, rollout(compiled, "zeros", EPISODES, split="test")
 
 

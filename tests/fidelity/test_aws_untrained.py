@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import pytest
 
+from ..aws_rules import LONE_PLANES
 from ..benchmark_scripts import benchmark_script
 
 script = benchmark_script("aws_untrained")
@@ -13,10 +14,10 @@ def test_random_planes_pay_pick_up_water_its_time_alone_or_waiting():
     """Pick Up Water pays 100 less a thirtieth a step before the pick-up (tests/fidelity/test_aws_pick_up_water.py):
     a lone plane's return is 100 - (L - 1) / 30, linear in L, so the means obey it too; a waiting plane pays every
     step of its world's L, the pick-up step's thirtieth at most aside."""
-    length, ret, original_length, _ = script.untrained("pick_up_water", 3, {}, 4)
+    length, ret, original_length, _ = script.untrained("pick_up_water", 3, LONE_PLANES, 4)
     assert ret == pytest.approx(100 - (length - 1) / 30)
     assert 150 < original_length < 250  # the original's untrained planes (194.7 at level 3)
-    length, ret, _, _ = script.untrained("pick_up_water", 3, {"finished_planes": "wait"}, 4)
+    length, ret, _, _ = script.untrained("pick_up_water", 3, {}, 4)  # the defaults: planes wait for their world
     assert 100 - length / 30 - 1e-9 <= ret <= 100 - (length - 1) / 30 + 1e-9
 
 

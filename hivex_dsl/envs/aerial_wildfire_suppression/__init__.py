@@ -57,12 +57,14 @@ ENTRY = register(EnvironmentEntry(
         "Pick-up Water: the paper's first condition (`p_x < eh or p_x > -eh ...`) always holds; the term pays +1 when a "
         "plane without water is inside the border and outside the island, which is when it refills (ENVIRONMENTS.md).",
         "Find Fire, Find Village and Too Close to Village pay once per episode (the first time), Fire Out once when "
-        "the fire goes out; a task that ends on the event ends the plane's episode on that step.",
+        "the fire goes out; a task that ends on the event finishes the plane on that step (by default it waits for "
+        "its world, the release's rule; with finished_planes respawn its episode ends).",
         "Find Fire pays when a burning tree is inside the plane's +/-150 m view square (the observation's square, "
-        "ENVIRONMENTS.md), where the paper's equation writes a distance under 150 m. A plane never spawns with the "
-        "fire in view (ours): a spawn that sees it is drawn again (up to 16 times), as a spawn inside the village "
-        "radius is pushed out of it, so both are found by flying; otherwise about one plane in eleven found the fire "
-        "for nothing on its first step.",
+        "ENVIRONMENTS.md), where the paper's equation writes a distance under 150 m. The release's spawn (the "
+        "default) keeps nothing away, so a plane may start with the fire in view or within the village radius and "
+        "find it on its first step, as the original's could; this toolkit's spawn (spawn_rule ours) draws a spawn "
+        "that sees the fire again (up to 16 times) and pushes one inside the village radius out of it, so both are "
+        "found by flying.",
         "The paper's main text also mentions a time-step penalty of -1/MaxStep and +100 for reaching the water; "
         "neither is in its reward table, which wins (ENVIRONMENTS.md), so the terms are the table's rows (+1 for a "
         "pick-up, x100 only in the pick-up-water task).",

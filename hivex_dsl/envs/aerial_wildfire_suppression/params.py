@@ -29,43 +29,43 @@ class AerialWildfireParams(WindParams, FireSpec, CameraParams):
         "water_in_find_tasks": True}
 
     border_half_extent_m: float = Field(750.0, ge=100.0, le=10_000.0, description=(
-        "[paper] Half the side of the square border (1500 x 1500); crossing it ends that plane's episode."))
+        "[paper] Half the side of the square border (1500 x 1500); crossing it finishes that plane (see "
+        "finished_planes)."))
     island_half_extent_m: float = Field(600.0, ge=50.0, le=10_000.0, description=(
         "[paper] Half the side of the island square (1200 x 1200); beyond it, up to the border, is the water ring. "
         "Must equal the forest generator's half extent."))
-    plane_speed_m: float = Field(3.0, gt=0.0, le=50.0, description=(
-        "[records] Metres a plane flies per step, fitted to the original's Pick Up Water pages (issue 52, the reward "
-        "table's notes): its untrained policy took 203 steps to the water ring on average over the ten levels, a "
-        "random flight here takes 117 at 5 m (the release's figure) and 187-211 at 3 m. The release's own rules "
-        "(5 m, turn_rule full, finished_planes wait) meet those pages too, but train planes above the original's "
-        "return band (the reward table's notes)."))
+    plane_speed_m: float = Field(5.0, gt=0.0, le=50.0, description=(
+        "[orig] Metres a plane flies per step: the release's HivexAgent speed, applied once an academy step. With "
+        "waiting planes its Pick Up Water worlds last their slowest plane's flight, which meets the original's "
+        "untrained 172-250 decisions; 3 was this toolkit's fit to those pages read as one plane's flight, the "
+        "default until issue 52's session 43 (the reward table's notes)."))
     turn_rate_deg: float = Field(5.0, gt=0.0, le=45.0, description="[orig] Degrees a plane turns per step at steer +/-1.")
-    turn_rule: Literal["proportional", "full"] = Field("proportional", description=(
-        "[ours] 'proportional': a plane turns turn_rate_deg x steer a step. 'full' [orig]: any nonzero steer turns "
-        "the whole turn_rate_deg its way, as the release's Transform.Rotate about an axis scaled by the steer, "
-        "which Unity normalises (the reward table's notes)."))
-    finished_planes: Literal["respawn", "wait"] = Field("respawn", description=(
-        "[ours] 'respawn': a plane that crossed the border or met its task's end starts a new episode alone over "
-        "the burning island. 'wait' [orig]: it stops and plays on, paid what its world still pays it (the pick-up "
-        "task's cost of time included, not Fire Out; a waiting finder of the fire or the village is paid and "
-        "counted again every step), until AgentDone's count of finishes reaches the plane count; then all their "
-        "episodes end together and the world starts afresh, as the release's AgentManager ends them. At this "
-        "toolkit's 3 m a waiting world's Pick Up Water lasts its slowest straight flight, about 298 steps, against "
-        "the original's untrained 172-250 decisions, so planes respawn by default (the reward table's notes)."))
-    episodes_continue: int = Field(0, ge=0, le=1, description=(
+    turn_rule: Literal["proportional", "full"] = Field("full", description=(
+        "'full' [orig]: any nonzero steer turns the whole turn_rate_deg its way, as the release's Transform.Rotate "
+        "about an axis scaled by the steer, which Unity normalises. 'proportional' [ours]: a plane turns "
+        "turn_rate_deg x steer a step, the default until issue 52's session 43 (the reward table's notes)."))
+    finished_planes: Literal["respawn", "wait"] = Field("wait", description=(
+        "'wait' [orig]: a plane that crossed the border or met its task's end stops and plays on, paid what its "
+        "world still pays it (the pick-up task's cost of time included, not Fire Out; a waiting finder of the fire "
+        "or the village is paid and counted again every step), until AgentDone's count of finishes reaches the "
+        "plane count; then all their episodes end together and the world starts afresh, as the release's "
+        "AgentManager ends them (Pick Up Water's pages obey it point for point, its untrained entropy too: the "
+        "reward table's notes). 'respawn' [ours]: it starts a new episode alone over the burning island, the "
+        "default until issue 52's session 43."))
+    episodes_continue: int = Field(1, ge=0, le=1, description=(
         "[orig] 1: an episode cut by the time limit continues its world, as the release's MaxStep does (each "
         "plane's OnEpisodeBegin only respawns it): the island, the forest and its fire, the wind, the weather, "
         "the count of finishes (finished_planes wait) and the village's flag go on, so a fire that reached the "
         "village costs every plane again on the first step of each episode after; the world is drawn afresh "
         "only when the fire goes out or the count reaches the plane count (the release's TriggerDone). 0 [ours]: "
-        "every episode starts a fresh world (the reward table's notes)."))
+        "every episode starts a fresh world, the default until issue 52's session 43 (the reward table's notes)."))
     spawn_radius_m: float = Field(750.0, ge=0.0, le=10_000.0, description=(
         "[orig] Planes spawn uniformly within this distance of the centre (inside the border) with a random heading."))
-    spawn_rule: Literal["ours", "release"] = Field("ours", description=(
-        "[ours] 'ours': uniform over the spawn disk, planes without water over the island two steps from the ring, "
-        "every plane two steps beyond the village radius and out of the fire's sight. 'release' [orig]: the "
-        "release's RespawnAgent, a direction from a uniform point of a square, normalised, a distance uniform up "
-        "to spawn_radius_m, nothing kept away (the reward table's notes)."))
+    spawn_rule: Literal["ours", "release"] = Field("release", description=(
+        "'release' [orig]: the release's RespawnAgent, a direction from a uniform point of a square, normalised, a "
+        "distance uniform up to spawn_radius_m, nothing kept away. 'ours' [ours]: uniform over the spawn disk, "
+        "planes without water over the island two steps from the ring, every plane two steps beyond the village "
+        "radius and out of the fire's sight, the default until issue 52's session 43 (the reward table's notes)."))
     spawn_holding_water: Literal["auto", "always", "never"] = Field("auto", description=(
         "[orig] Whether planes start holding water; auto: they do, except in tasks that end on picking up water."))
     water_in_find_tasks: bool = Field(False, description=(

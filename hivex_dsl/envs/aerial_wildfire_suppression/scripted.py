@@ -18,7 +18,7 @@ PATROL_LEAD_RAD = np.radians(35.0)  # aim this far ahead along the patrol circle
 PREPARE_BAND_M = 40.0  # when preparing trees: drop within this distance of the patrol circle
 # the village is found within 150 m of it and stands within 450 m of the centre on each axis: spiral arms 200 m apart
 # out to 680 m (past the square's corners, 636 m out, and short of the border) pass within 111 m of every such point,
-# one sweep about 2,400 steps at 3 m
+# one sweep about 2,400 steps at 3 m a step, 1,440 at 5 m
 SEARCH_ARM_SPACING_M = 200.0
 SEARCH_OUTER_M = 680.0
 
