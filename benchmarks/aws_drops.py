@@ -75,15 +75,12 @@ def policy_of(name: str, compiled, core: BatchedEnv, level: int, grid: Path | No
     return checkpoint_policies(found[0])(compiled)
 
 
-def play(level: int, task: str, policy: str, worlds: int, episodes: int, generators: dict, grid: Path | None,
-         params: dict | None = None) -> tuple[dict[str, np.ndarray], dict[str, np.ndarray]]:
-    """Per drop (wet, height, sea, swath) and per plane (length, dropped) arrays over ``episodes`` of ``worlds``
-    (``params`` over the scenario's, where given)."""
+def play(level: int, task: str, policy: str, worlds: int, episodes: int, generators: dict, grid: Path | None
+         ) -> tuple[dict[str, np.ndarray], dict[str, np.ndarray]]:
+    """Per drop (wet, height, sea, swath) and per plane (length, dropped) arrays over ``episodes`` of ``worlds``."""
     scenario = {"hivex": 1, "environment": ENVIRONMENT, "task": task, "terrain_level": level}
     if generators:
         scenario["generators"] = generators
-    if params:
-        scenario["params"] = params
     compiled = hivex_dsl.compile(scenario)
     core = BatchedEnv(compiled, batch=1 if policy == "trained" else worlds, split="test")
     act = policy_of(policy, compiled, core, level, grid)

@@ -20,12 +20,12 @@ import math
 import numpy as np
 
 import hivex_dsl
+from hivex_dsl.envs.aerial_wildfire_suppression.simulator import MASK_TERRAIN_M
 from hivex_dsl.evaluation.original import compare
 from hivex_dsl.sim.procgen.terrain import generate_terrain, terrain_spec_for_level
 
 RELEASE_RULES = {"plane_speed_m": 5.0, "turn_rule": "full", "finished_planes": "wait", "spawn_rule": "release"}
 GAUSSIAN_ENTROPY = 0.5 * math.log(2 * math.pi * math.e)  # ML-Agents' untrained log-std 0: 1.419
-MASK_TERRAIN_M = 0.02
 RING_EDGE_M = 602.0
 
 
