@@ -4,6 +4,8 @@
   buffers; the reference concatenates and gathers afresh): the same bytes, so losses and weights equal to the bit.
 - Camera encoders in channels-last layout (the reference: torch's default layout): the same float32 function
   in another memory order, equal up to rounding.
+- Blank cameras (all zeros, the default in AWS and DBR) encoded once a batch and repeated (the reference
+  encodes every row): the same function of the same inputs, equal up to rounding.
 - Network passes batched (the critic values every frame after the rollout instead of one slot batch a step with
   the actions, curiosity encodes each frame once instead of a transition's two observations apart): the same
   float32 function of the same inputs, so equal up to the order BLAS sums in. On this machine that order depends
@@ -131,6 +133,48 @@ def test_channels_last_cameras_change_nothing_but_rounding(environment, monkeypa
     monkeypatch.setattr(networks, "camera_encoder", default_layout)
     plain_losses, _ = two_updates(environment, curiosity=True)
     assert_losses_within_rounding(fast_losses, plain_losses)
+
+
+@pytest.mark.parametrize("environment", ["aerial_wildfire_suppression", "drone_based_reforestation"])
+def test_blank_cameras_encoded_once_change_nothing_but_rounding(environment, monkeypatch):
+    """AWS's simple encoder and DBR's ResNet on their default blank cameras: two updates' losses with each blank
+    batch encoded once against every row encoded."""
+    encode, once = networks.encode, []
+
+    def counting(encoder, images):
+        once.append(images.shape[0] > 1 and not images.any())
+        return encode(encoder, images)
+
+    monkeypatch.setattr(networks, "encode", counting)
+    fast_losses, _ = two_updates(environment, curiosity=environment == "drone_based_reforestation")
+    assert once and all(once)  # the default camera is blank, so every batch of more than one row took the shortcut
+    monkeypatch.setattr(networks, "encode", lambda encoder, images: encoder(images))
+    plain_losses, _ = two_updates(environment, curiosity=environment == "drone_based_reforestation")
+    assert_losses_within_rounding(fast_losses, plain_losses)
+
+
+@pytest.mark.parametrize("kind,shape", [("simple", (42, 42, 3)), ("resnet", (16, 16, 1))])
+def test_a_blank_batch_is_encoded_once_and_a_seen_one_row_by_row(kind, shape):
+    """Values and gradients of a blank batch equal every row's own pass; one lit pixel anywhere in the batch
+    sends the whole batch through the full pass (its blank rows still equal the blank image's encoding)."""
+    torch.manual_seed(0)
+    encoder = networks.camera_encoder(kind, shape, 8)
+    blank = torch.zeros(5, *shape)
+    out = networks.encode(encoder, blank)
+    (out * torch.arange(1.0, 9.0)).sum().backward()
+    fast_grads = [p.grad.clone() for p in encoder.parameters()]
+    encoder.zero_grad()
+    rows = torch.cat([encoder(blank[i:i + 1]) for i in range(5)])
+    (rows * torch.arange(1.0, 9.0)).sum().backward()
+    torch.testing.assert_close(out, rows, rtol=1e-5, atol=1e-6)
+    for fast, plain in zip(fast_grads, [p.grad for p in encoder.parameters()]):
+        torch.testing.assert_close(fast, plain, rtol=1e-4, atol=1e-5)
+    seen = blank.clone()
+    seen[3, 2, 1, 0] = 1.0
+    with torch.no_grad():
+        lit = networks.encode(encoder, seen)
+        assert not torch.allclose(lit[3], rows[0].detach(), rtol=1e-5, atol=1e-6)  # the lit row is its own
+        torch.testing.assert_close(lit[[0, 1, 2, 4]], rows[:4].detach(), rtol=1e-5, atol=1e-6)
 
 
 def test_camera_convolutions_hold_their_weights_channels_last():
