@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import replace
 from functools import partial
 from typing import NamedTuple
@@ -84,6 +85,7 @@ class AerialWildfireSimulator:
         self.cell_m = self.forest_spec.spacing_m
         self.weather_lookup = grid_lookup(self.forest_spec.cells, p.weather_grid_cells)
         self.operands = _Operands.of(p, self.cell_m)
+        self.frame_casts = p.terrain_cast == "frame"
         self._query_shapes: dict[tuple[int, int], tuple[np.ndarray, np.ndarray]] = {}
 
     # ---- reset -------------------------------------------------------------------------
@@ -154,7 +156,7 @@ class AerialWildfireSimulator:
         look = build_look(island.fire.trees, island.maps.ground, self.frame_template, self.frame, tiled)
         return AerialWildfireState(
             maps=island.maps, fire=island.fire, wind=island.wind, weather=island.weather, tick=0,
-            position=position, heading=heading, water=water, flying=flying,
+            position=position, heading=heading, water=water, flying=flying, cast_at=position,
             sighting=self._sight_of(island.fire, island.maps.village, position, flying),
             seen_fire=no, seen_village=no, village_hit=np.zeros(batch, bool), village_reached=np.zeros(batch, bool),
             crossed=no, picked_up=no, dropped=no, found_fire=no, found_village=no,
@@ -241,7 +243,7 @@ class AerialWildfireSimulator:
             found_fire, found_village = events["found_fire"], events["found_village"]
         visual = self._cameras_after(prev, flight, fire.trees)
         new = assemble(AerialWildfireState, maps=prev.maps, **moved, position=flight.position, heading=flight.heading,
-                       water=flight.water, flying=flying, sighting=sighting, seen_fire=prev.seen_fire | found_fire,
+                       water=flight.water, flying=flying, cast_at=flight.cast_at, sighting=sighting, seen_fire=prev.seen_fire | found_fire,
                        seen_village=prev.seen_village | found_village, village_hit=prev.village_hit | threatened,
                        village_reached=reached,
                        crossed=flight.crossed, picked_up=flight.picked, dropped=flight.dropping, found_fire=found_fire,
@@ -290,9 +292,17 @@ class AerialWildfireSimulator:
         picked = and_not(still & (outside > k.island_half) & handles, water)
         water = water | picked
         dropping = still & water & (actions["discrete"][..., 0] == 1) & handles
+        cast_at = position
+        if self.frame_casts:  # the drop reads the last frame's cast; this step's move is cast if it ends a frame
+            dropping_over = state.cast_at
+            if not frame_ends(state.tick, self.params.wind_frame_steps):
+                cast_at = state.cast_at
+        else:
+            dropping_over = position
         if np.count_nonzero(dropping):
-            dropping &= self._over_land(state.maps.ground, position)
-        return Flight(heading, facing, position, outside, still, crossed, picked, and_not(water, dropping), dropping)
+            dropping &= self._over_land(state.maps.ground, dropping_over)
+        return Flight(heading, facing, position, outside, still, crossed, picked, and_not(water, dropping), dropping,
+                      cast_at)
 
     def _over_land(self, ground: np.ndarray, position: np.ndarray) -> np.ndarray:
         """(B, A) bool: the ground (B, C, C) under each plane is island land (not sea, not the water ring)."""
@@ -403,7 +413,7 @@ class AerialWildfireSimulator:
         cameras see past the border, and the drop's action mask')."""
         open_ = state.flying & state.water
         if np.count_nonzero(open_):
-            open_ &= self._over_terrain(state.maps.height, state.position)
+            open_ &= self._over_terrain(state.maps.height, state.cast_at if self.frame_casts else state.position)
         return toggle_mask(open_)
 
     state_components = state_components  # the global state's world facts: see global_state.py
@@ -413,6 +423,12 @@ class AerialWildfireSimulator:
         from .render import draw_island
 
         return draw_island(state, index, self.params)
+
+
+def frame_ends(tick: int, frame_steps: float) -> bool:
+    """Whether the step from ``tick`` ends a rendered frame (one every ``frame_steps`` academy steps), after which
+    the release's Update casts each plane's ray down (params.terrain_cast 'frame')."""
+    return math.floor((tick + 1) / frame_steps) > math.floor(tick / frame_steps)
 
 
 class _Operands(NamedTuple):
@@ -440,7 +456,7 @@ class _Operands(NamedTuple):
 class Flight(NamedTuple):
     """The planes after their move: heading (B, A), facing (B, A, 2) its (cos, sin), position (B, A, 2),
     outside (B, A) max(|x|, |y|) of the position, and (B, A) bool flying, crossed the border, picked up water,
-    holding water, dropping water."""
+    holding water, dropping water, and where each plane last read the ground (B, A, 2) (params.terrain_cast)."""
 
     heading: np.ndarray
     facing: np.ndarray
@@ -451,9 +467,10 @@ class Flight(NamedTuple):
     picked: np.ndarray
     water: np.ndarray
     dropping: np.ndarray
+    cast_at: np.ndarray
 
 
 # Per-world arrays of the state (world axis first) that a partial reset replaces.
-_PER_WORLD = ("position", "heading", "water", "flying", "seen_fire", "seen_village", "village_hit", "village_reached",
+_PER_WORLD = ("position", "heading", "water", "flying", "cast_at", "seen_fire", "seen_village", "village_hit", "village_reached",
               "crossed", "picked_up", "dropped", "found_fire", "found_village", "extinguished", "prepared",
               "fire_went_out", "village_threatened", "burning", "finishes", "visual")

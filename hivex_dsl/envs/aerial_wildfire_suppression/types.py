@@ -34,6 +34,9 @@ class AerialWildfireState:
     heading: np.ndarray  # (B, A)
     water: np.ndarray  # (B, A) bool holding water
     flying: np.ndarray  # (B, A) bool; false once a plane crossed the border
+    # (B, A, 2) metres: where each plane last read the ground below it (params.terrain_cast: its position after
+    # every step under 'step', at the last rendered frame under 'frame')
+    cast_at: np.ndarray
     sighting: Sighting
     # latches of one-off rewards within an episode
     seen_fire: np.ndarray  # (B, A) bool
