@@ -33,8 +33,7 @@ def respawn_where(sim, state: AerialWildfireState, mask: np.ndarray, rng: np.ran
     # a respawned plane reads the ground at its spawn at once (the release's keeps its last hit until the next frame)
     cast_at = np.where(mask[..., None], spawn_position, state.cast_at)
     return replace(state, position=position, heading=heading, water=np.where(mask, spawn_water, state.water),
-                   cast_at=cast_at,
-                   flying=flying, sighting=sighting, seen_fire=state.seen_fire & off,
+                   cast_at=cast_at, flying=flying, sighting=sighting, seen_fire=state.seen_fire & off,
                    seen_village=state.seen_village & off, crossed=state.crossed & off,
                    picked_up=state.picked_up & off, dropped=state.dropped & off, found_fire=state.found_fire & off,
                    found_village=state.found_village & off, extinguished=np.where(mask, 0, state.extinguished),

@@ -243,9 +243,9 @@ class AerialWildfireSimulator:
             found_fire, found_village = events["found_fire"], events["found_village"]
         visual = self._cameras_after(prev, flight, fire.trees)
         new = assemble(AerialWildfireState, maps=prev.maps, **moved, position=flight.position, heading=flight.heading,
-                       water=flight.water, flying=flying, cast_at=flight.cast_at, sighting=sighting, seen_fire=prev.seen_fire | found_fire,
-                       seen_village=prev.seen_village | found_village, village_hit=prev.village_hit | threatened,
-                       village_reached=reached,
+                       water=flight.water, flying=flying, cast_at=flight.cast_at, sighting=sighting,
+                       seen_fire=prev.seen_fire | found_fire, seen_village=prev.seen_village | found_village,
+                       village_hit=prev.village_hit | threatened, village_reached=reached,
                        crossed=flight.crossed, picked_up=flight.picked, dropped=flight.dropping, found_fire=found_fire,
                        found_village=found_village, fire_went_out=went_out, village_threatened=threatened,
                        burning=any_burning(fire), finishes=finishes, look=prev.look, visual=visual)
@@ -471,6 +471,6 @@ class Flight(NamedTuple):
 
 
 # Per-world arrays of the state (world axis first) that a partial reset replaces.
-_PER_WORLD = ("position", "heading", "water", "flying", "cast_at", "seen_fire", "seen_village", "village_hit", "village_reached",
-              "crossed", "picked_up", "dropped", "found_fire", "found_village", "extinguished", "prepared",
-              "fire_went_out", "village_threatened", "burning", "finishes", "visual")
+_PER_WORLD = ("position", "heading", "water", "flying", "cast_at", "seen_fire", "seen_village", "village_hit",
+              "village_reached", "crossed", "picked_up", "dropped", "found_fire", "found_village", "extinguished",
+              "prepared", "fire_went_out", "village_threatened", "burning", "finishes", "visual")
