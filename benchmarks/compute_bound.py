@@ -2,6 +2,9 @@
 
     python benchmarks/compute_bound.py [--env ID ...] [--set NAME=VALUE ...] [-o benchmarks/results/compute_bound.json]
 
+With -o the rows are merged into the file: a row of the same environment, thread count and machine is replaced,
+the others are kept.
+
 For each environment's main scenario at the paper's hyperparameters it runs one real training iteration of
 `hivex train`'s loop (a rollout of buffer_size agent-steps, the curiosity rewards, advantages, and num_epoch
 passes of minibatch PPO and curiosity updates) under torch's FLOP counter (torch.utils.flop_counter, which
@@ -105,16 +108,23 @@ def main() -> None:
     parser.add_argument("-o", "--output", type=Path)
     args = parser.parse_args()
     overrides = parse_assignments(args.assignments)
-    rows = []
     for env in args.env or registry.environments():
         row = measure(env, overrides)
-        rows.append(row)
         print(f"{env:32} {row['flop_per_agent_step'] / 1e6:10.1f} MFLOP/agent-step "
               f"(update {100 * row['update_flop_per_agent_step'] / row['flop_per_agent_step']:.0f}%)  "
               f"{row['attained_flop_per_s'] / 1e9:7.1f} GFLOP/s attained  "
               f"bound {row['compute_bound_agent_steps_per_s']:10,.0f} agent-steps/s", flush=True)
-    if args.output:
-        args.output.write_text(json.dumps({"rows": rows}, indent=2) + "\n")
+        if args.output:  # after each environment, merged: the file keeps every row not measured again
+            args.output.write_text(json.dumps(merged(args.output, [row]), indent=2) + "\n")
+
+
+def merged(path: Path, rows: list[dict]) -> dict:
+    """The report at ``path`` (if any) with ``rows`` replacing its rows of the same environment, thread count and
+    machine; the others are kept."""
+    key = lambda row: (row["machine"], row["environment"], row["threads"])  # noqa: E731
+    report = json.loads(path.read_text()) if path.is_file() else {"rows": []}
+    fresh = {key(row) for row in rows}
+    return {"rows": [row for row in report["rows"] if key(row) not in fresh] + rows}
 
 
 if __name__ == "__main__":

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import json
+
 import pytest
 from torch import nn
 
@@ -37,3 +39,16 @@ def test_the_bound_is_the_attained_rate_over_the_work(benchmark):
     row = benchmark.measure("wind_farm_control", TINY)
     assert row["attained_flop_per_s"] > 0
     assert row["compute_bound_agent_steps_per_s"] == pytest.approx(row["attained_flop_per_s"] / row["flop_per_agent_step"])
+
+
+def test_writing_a_report_keeps_the_rows_not_measured_again(benchmark, tmp_path):
+    """-o merges: measuring two environments must not drop the other environments' rows (it once did)."""
+    path = tmp_path / "compute_bound.json"
+    old = [{"machine": "m", "environment": env, "threads": 2, "bound": i} for i, env in enumerate(("a", "b", "c"))]
+    path.write_text(json.dumps({"rows": old}))
+    report = benchmark.merged(path, [{"machine": "m", "environment": "b", "threads": 2, "bound": 9},
+                                     {"machine": "m", "environment": "b", "threads": 1, "bound": 7}])
+    rows = {(r["environment"], r["threads"]): r["bound"] for r in report["rows"]}
+    assert rows == {("a", 2): 0, ("b", 2): 9, ("c", 2): 2, ("b", 1): 7}
+    other_machine = benchmark.merged(path, [{"machine": "n", "environment": "a", "threads": 2, "bound": 5}])
+    assert len(other_machine["rows"]) == 4  # another machine's row is added, not swapped for this one's
