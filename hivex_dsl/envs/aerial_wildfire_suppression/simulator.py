@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 from dataclasses import replace
 from functools import partial
 from typing import NamedTuple
@@ -18,7 +17,7 @@ from ...sim.spaces import toggle_mask
 from ...sim.fire import any_burning, douse, fire_step_unchecked
 from ...sim.fire.search import closest_burning_at
 from ...sim.procgen.weather import weather_step
-from ...sim.procgen.wind import wind_step, wrap_angle
+from ...sim.procgen.wind import frame_ends, wind_step, wrap_angle
 from ..island import (SEA, IslandMaps, IslandSpecs, fire_wind, grid_lookup, restart_where, start_islands,
                       weather_reader)
 from .camera import pixel_offsets
@@ -423,12 +422,6 @@ class AerialWildfireSimulator:
         from .render import draw_island
 
         return draw_island(state, index, self.params)
-
-
-def frame_ends(tick: int, frame_steps: float) -> bool:
-    """Whether the step from ``tick`` ends a rendered frame (one every ``frame_steps`` academy steps), after which
-    the release's Update casts each plane's ray down (params.terrain_cast 'frame')."""
-    return math.floor((tick + 1) / frame_steps) > math.floor(tick / frame_steps)
 
 
 class _Operands(NamedTuple):

@@ -177,12 +177,19 @@ def _ease(state: WindState, draws: np.ndarray, constants: _WindOperands) -> tupl
     return main, _retarget(state.target, reached, draws, constants)
 
 
+def frame_ends(clock, frame_steps):
+    """Whether the step from academy step ``clock`` (a number or an array) ends a rendered frame, one every
+    ``frame_steps`` academy steps: when the release's Update methods run (the wind's CalcMainWind, Aerial Wildfire
+    Suppression's terrain cast)."""
+    return np.floor((clock + 1.0) / frame_steps) > np.floor(clock / frame_steps)
+
+
 def _original_frame(state: WindState, draws: np.ndarray, constants: _WindOperands):
     """Law original (Wind.CalcMainWind), on the worlds whose step ends a frame: retarget if the main vector is
     within the tolerance of the target (the fraction restarts at 0), grow the fraction, and lerp the
     unnormalised main vector toward the target's unit vector by it (Unity's Lerp clamps it at 1).
     -> main (B,), target (B,), vector (B, 2), fraction (B,)."""
-    frame = np.floor((state.clock + 1.0) / constants.frame_steps) > np.floor(state.clock / constants.frame_steps)
+    frame = frame_ends(state.clock, constants.frame_steps)
     if not np.count_nonzero(frame):
         return state.main, state.target, state.vector, state.fraction
     gap = np.abs(wrap_angle(state.target - state.main))
