@@ -103,9 +103,11 @@ class AerialWildfireParams(WindParams, FireSpec, CameraParams):
     fire_step_interval: int = Field(22, ge=1, le=1_000, description=(
         "[records] Environment steps per fire step, fitted to the original's first training points: with the "
         "release's spread rules a fire step every 22 steps makes Fire too Close to City a plane-decision over the "
-        "first 90,000 agent-steps 0.97 times the original's (median over the ten levels; 15 gave 1.50, 18 1.19, 33 "
-        "0.55; benchmarks/aws_early_fire.py). A tree burns for 220 steps. The release's frames read literally give "
-        "33 (a fire step every two rendered frames; the reward table's notes)."))
+        "first 90,000 agent-steps 0.97 times the original's under the lone planes' rules (median over the ten "
+        "levels; 15 gave 1.50, 18 1.19, 33 0.55; benchmarks/aws_early_fire.py). Under the release's rules the main "
+        "record's three seeds read 0.80 at level 1 as the mean of their runs, and binned by Episode Length the "
+        "grid's fire reaches the village as often as the original's (the reward table's notes). A tree burns for "
+        "220 steps. The release's frames read literally give 33 (a fire step every two rendered frames)."))
     low_overcast: float = Field(0.0, ge=0.0, le=1.0, description=(
         "[orig] Overcast below this counts as a factor of spread. The release counts it only where the overcast "
         "is exactly 0, which its raw Perlin overcast map almost never is: 0 counts it nowhere."))
