@@ -17,7 +17,7 @@ from ..evaluation.audit import compared
 from ..evaluation.progress import EpisodeBar, bar
 from ..evaluation.rollout import rollout
 from .checkpoint import load_checkpoint, policy_for
-from .networks import to_tensors
+from .networks import fixed_weights, to_tensors
 
 
 def _spread(values: np.ndarray) -> dict[str, float]:
@@ -74,8 +74,8 @@ def play(compiled: CompiledScenario, agent: torch.nn.Module, episodes: int, spli
     shows a bar over the decisions on stderr where it is a terminal."""
     torch.manual_seed(seed)
     decisions = compiled.episode_decisions
-    with limited_threads(torch_threads), bar(episodes * decisions, f"evaluate {compiled.name}", unit="decision",
-                                      enabled=progress) as shown:
+    with limited_threads(torch_threads), fixed_weights(), bar(episodes * decisions, f"evaluate {compiled.name}",
+                                                              unit="decision", enabled=progress) as shown:
         done = rollout(compiled, network_policy(agent, compiled.agents, deterministic), episodes, split,
                        progress=EpisodeBar(shown, decisions))
     return {"return": done.returns.reshape(-1), "reward_terms": {k: v.reshape(-1) for k, v in done.terms.items()},

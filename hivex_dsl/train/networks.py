@@ -8,8 +8,10 @@ key ``"obs"``, a Dict observation keeps its keys. A key whose single space is (H
 from __future__ import annotations
 
 import math
+from contextlib import contextmanager
+from contextvars import ContextVar
 from dataclasses import dataclass, replace
-from typing import Any, Literal
+from typing import Any, Iterator, Literal
 
 import numpy as np
 import torch
@@ -208,11 +210,39 @@ def encode(encoder: nn.Module, images: torch.Tensor) -> torch.Tensor:
     camera the original's runs observed, the default in AWS and DBR) is encoded once and repeated: every row of
     the full pass is that one row (the encoders treat rows apart), and the repeat's backward sums its rows'
     gradients as the full pass's does, so the same function up to float rounding, at a fraction of the cost (half
-    of a blind AWS minibatch's update; benchmarks/train_throughput.py). Checked in
-    tests/train/test_exact_speedups.py."""
-    if images.shape[0] > 1 and _blank(images):
-        return encoder(images[:1]).expand(images.shape[0], -1)
+    of a blind AWS minibatch's update; benchmarks/train_throughput.py). Inside :func:`fixed_weights` the row is
+    encoded once for the whole block. Checked in tests/train/test_exact_speedups.py."""
+    if images.shape[0] > 0 and _blank(images):
+        return _blank_row(encoder, images).expand(images.shape[0], -1)
     return encoder(images)
+
+
+_BLANK_ROWS: ContextVar[dict | None] = ContextVar("blank_rows", default=None)
+
+
+@contextmanager
+def fixed_weights() -> Iterator[None]:
+    """A block in which no network's weights change (a rollout's acting, an evaluation's episodes): each camera
+    encoder's blank row is encoded once for the block instead of once a step, a policy pass at batch 3 spending
+    most of its time there otherwise. Only passes without gradients use it; the rows go when the block ends, so
+    the next block sees the weights an update left."""
+    token = _BLANK_ROWS.set({})
+    try:
+        yield
+    finally:
+        _BLANK_ROWS.reset(token)
+
+
+def _blank_row(encoder: nn.Module, images: torch.Tensor) -> torch.Tensor:
+    """``encoder`` of one blank image shaped as ``images``' rows -> (1, out), from the block's rows where one is open
+    (:func:`fixed_weights`) and the pass keeps no gradient."""
+    rows = _BLANK_ROWS.get()
+    if rows is None or torch.is_grad_enabled():
+        return encoder(images[:1])
+    key = (id(encoder), tuple(images.shape[1:]), images.dtype, images.device, torch.is_autocast_enabled())
+    if key not in rows:
+        rows[key] = encoder(images[:1])
+    return rows[key]
 
 
 def _blank(images: torch.Tensor) -> bool:

@@ -29,7 +29,7 @@ from .config import PPOConfig, TrainError
 from .curiosity import Curiosity
 from .devices import autocast, matmul_precision, torch_device
 from .logs import EpisodeLog, Progress, ScalarLog
-from .networks import ActorCritic, to_tensors
+from .networks import ActorCritic, fixed_weights, to_tensors
 from .buffer import FinishedTrajectories, Rollout, RowBuffers, in_chunks, merge_steps
 from .rundir import RunDir
 
@@ -152,6 +152,16 @@ def collect(env: HivexVectorEnv, agent: ActorCritic, buf: Rollout, state: dict[s
     processing does), in batches of thousands rather than one slot batch a step: the weights are the same
     throughout, so are the values (``tests/train/test_exact_speedups.py``), at a fraction of the CPU time."""
     buf.limit(buf.capacity if steps is None else steps)
+    with fixed_weights():
+        _act_and_step(env, agent, buf, state, cfg, episodes, on_step, until)
+    buf.end(state["obs"])
+    return rollout_values(agent, buf, cfg)
+
+
+def _act_and_step(env: HivexVectorEnv, agent: ActorCritic, buf: Rollout, state: dict[str, Any], cfg: PPOConfig,
+                  episodes: EpisodeLog, on_step: Callable[[], None] | None,
+                  until: Callable[[np.ndarray, np.ndarray], bool] | None) -> None:
+    """:func:`collect`'s steps: the policy acts on ``state``, the environment steps, ``buf`` records both."""
     for t in range(buf.rewards.shape[0]):
         obs = state["obs"]
         for k, v in obs.items():
@@ -178,8 +188,6 @@ def collect(env: HivexVectorEnv, agent: ActorCritic, buf: Rollout, state: dict[s
         if until is not None and until(valid, done):
             buf.limit(t + 1)
             break
-    buf.end(state["obs"])
-    return rollout_values(agent, buf, cfg)
 
 
 def rollout_values(agent: ActorCritic, buf: Rollout, cfg: PPOConfig) -> torch.Tensor:

@@ -5,7 +5,8 @@
 - Camera encoders in channels-last layout (the reference: torch's default layout): the same float32 function
   in another memory order, equal up to rounding.
 - Blank cameras (all zeros, the default in AWS and DBR) encoded once a batch and repeated (the reference
-  encodes every row): the same function of the same inputs, equal up to rounding.
+  encodes every row): the same function of the same inputs, equal up to rounding. While acting (a rollout, an
+  evaluation) once a block of fixed weights: the same pass of the same image, so the same bits.
 - Network passes batched (the critic values every frame after the rollout instead of one slot batch a step with
   the actions, curiosity encodes each frame once instead of a transition's two observations apart): the same
   float32 function of the same inputs, so equal up to the order BLAS sums in. On this machine that order depends
@@ -14,6 +15,8 @@
 """
 
 from __future__ import annotations
+
+import contextlib
 
 import numpy as np
 import pytest
@@ -175,6 +178,66 @@ def test_a_blank_batch_is_encoded_once_and_a_seen_one_row_by_row(kind, shape):
         lit = networks.encode(encoder, seen)
         assert not torch.allclose(lit[3], rows[0].detach(), rtol=1e-5, atol=1e-6)  # the lit row is its own
         torch.testing.assert_close(lit[[0, 1, 2, 4]], rows[:4].detach(), rtol=1e-5, atol=1e-6)
+
+
+def test_a_block_of_fixed_weights_encodes_the_blank_row_once_without_gradients():
+    """Inside ``fixed_weights`` a pass without gradients encodes the blank row once for every batch size; a pass
+    with gradients, a lit batch and any pass outside the block encode afresh, and the next block sees new weights."""
+    torch.manual_seed(0)
+    encoder = networks.camera_encoder("simple", (42, 42, 3), 8)
+    calls = []
+    encoder.register_forward_hook(lambda module, inputs, output: calls.append(inputs[0].shape[0]))
+    blank = torch.zeros(6, 42, 42, 3)
+    with torch.no_grad():
+        plain = networks.encode(encoder, blank[:3])
+    assert calls == [1]
+    with networks.fixed_weights(), torch.no_grad():
+        first = networks.encode(encoder, blank[:3])
+        again = networks.encode(encoder, blank)
+        lit = blank.clone()
+        lit[0, 0, 0, 0] = 1.0
+        networks.encode(encoder, lit)
+    assert calls == [1, 1, 6]  # the row once, then the lit batch whole
+    assert torch.equal(first, plain) and torch.equal(again, plain[:1].expand(6, -1))
+    with networks.fixed_weights():
+        networks.encode(encoder, blank).sum().backward()  # with gradients: a fresh row, its graph kept
+    assert calls == [1, 1, 6, 1] and all(p.grad is not None for p in encoder.parameters())
+    with torch.no_grad():
+        for parameter in encoder.parameters():
+            parameter.add_(0.1)
+        with networks.fixed_weights():
+            moved = networks.encode(encoder, blank[:3])
+        fresh = encoder(blank[:1])
+    assert calls[-2:] == [1, 1] and torch.equal(moved[0], fresh[0]) and not torch.equal(moved, plain)
+
+
+@pytest.mark.parametrize("environment", ["aerial_wildfire_suppression", "drone_based_reforestation"])
+def test_acting_on_blank_cameras_encodes_once_a_rollout_and_changes_no_bit(environment, monkeypatch):
+    """The acting passes of a rollout share one blank row (an encoder call a rollout instead of one a step): two
+    updates' losses and weights are those of acting without the block, bit for bit."""
+    calls, acts = [], []
+    forward, act = torch.nn.Sequential.forward, ActorCritic.act
+
+    def counted(self, images):
+        if isinstance(self[0], networks.Channels):  # a camera encoder's pass (its first layer reorders channels)
+            calls.append(images.shape[0])
+        return forward(self, images)
+
+    def counted_act(self, *args, **kwargs):
+        acts.append(1)
+        return act(self, *args, **kwargs)
+
+    monkeypatch.setattr(torch.nn.Sequential, "forward", counted)
+    monkeypatch.setattr(ActorCritic, "act", counted_act)
+    fast_losses, fast_weights = two_updates(environment, curiosity=False)
+    fast_calls = len(calls)
+    monkeypatch.setattr(ppo, "fixed_weights", contextlib.nullcontext)
+    calls.clear()
+    acts.clear()
+    plain_losses, plain_weights = two_updates(environment, curiosity=False)
+    assert fast_losses == plain_losses and torch.equal(fast_weights, plain_weights)
+    # the same passes but the acting steps', which shrink to one a rollout
+    assert len(calls) - fast_calls == len(acts) - 2 and len(acts) > 2
 
 
 def test_camera_convolutions_hold_their_weights_channels_last():
