@@ -42,15 +42,16 @@ def test_only_the_two_environments_with_a_drop_mask_their_actions():
 
 def aws_world(sim, state, planes, water=True, flying=True):
     """Planes at [(x, y)] over a sea floor at 0 m, a low shore of 3 m (x in [0, 100)) and high ground of 20 m
-    (x in [100, 300))."""
+    (x in [100, 300)), each having last cast its ray where it is placed (either terrain_cast reads the same)."""
     height = np.zeros_like(state.maps.height)
     cols = (np.arange(height.shape[-1]) + 0.5) * AWS_CELL - AWS_HALF
     height[..., (cols >= 0) & (cols < 100)] = 3.0
     height[..., (cols >= 100) & (cols < 300)] = 20.0
     ground = np.where(height > SEA_LEVEL_M, 0, SEA).astype(state.maps.ground.dtype)
     shape = (1, len(planes))
+    position = np.array([planes], float)
     return replace(state, maps=replace(state.maps, height=height, ground=ground),
-                   position=np.array([planes], float), heading=np.zeros(shape),
+                   position=position, cast_at=position.copy(), heading=np.zeros(shape),
                    water=np.broadcast_to(np.asarray(water), shape).copy(),
                    flying=np.broadcast_to(np.asarray(flying), shape).copy())
 

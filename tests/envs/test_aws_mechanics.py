@@ -45,7 +45,8 @@ def centre_of(x: float, y: float) -> tuple[float, float]:
 
 
 def world(base, planes, trees=(), water=True, village=(-400.0, -400.0)):
-    """State with planes [(x, y, heading_deg)], only ``trees`` [(x, y, TreeState)] and flat land everywhere."""
+    """State with planes [(x, y, heading_deg)], only ``trees`` [(x, y, TreeState)] and flat land everywhere; each
+    plane last cast its ray where it is placed (under terrain_cast 'frame' as under 'step')."""
     sim, state = base
     exists = np.zeros((1, 400, 400), bool)
     ignite = np.zeros((1, 400, 400), bool)
@@ -58,8 +59,8 @@ def world(base, planes, trees=(), water=True, village=(-400.0, -400.0)):
     maps = replace(state.maps, ground=np.zeros_like(state.maps.ground), height=np.zeros_like(state.maps.height),
                    village=np.array([village]))
     shape = (1, n)
-    new = replace(state, maps=maps, fire=fire,
-                  position=np.array([[[x, y] for x, y, _ in planes]], float),
+    position = np.array([[[x, y] for x, y, _ in planes]], float)
+    new = replace(state, maps=maps, fire=fire, position=position, cast_at=position.copy(),
                   heading=np.radians(np.array([[h for _, _, h in planes]], float)),
                   water=np.full(shape, water), flying=np.ones(shape, bool),
                   seen_fire=np.zeros(shape, bool), seen_village=np.zeros(shape, bool), village_hit=np.zeros(1, bool),
