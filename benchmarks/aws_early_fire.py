@@ -51,11 +51,16 @@ def pooled(curve: RunCurve, panel: str, steps: float) -> float:
     return float((curve.panels[panel][early] * weight).sum() / (curve.panels[LENGTH][early] * weight).sum())
 
 
-def original_pooled(level: int, panel: str, steps: float) -> float:
-    """The same of the original's main-task page at ``level``: its summary points' means up to ``steps``."""
+def original_points(level: int, steps: float):
+    """The original's main-task page at ``level`` and its summary points' agent-steps up to ``steps`` (K,)."""
     cell = original_curves(ENVIRONMENT, 0, level)
     at = cell.panel(LENGTH).training.band_steps
-    at = at[at <= steps]
+    return cell, at[at <= steps]
+
+
+def original_pooled(level: int, panel: str, steps: float) -> float:
+    """The same of the original's main-task page at ``level``: its summary points' means up to ``steps``."""
+    cell, at = original_points(level, steps)
     values = cell.panel(panel).training.mean_at(at)
     return float(values.sum() / cell.panel(LENGTH).training.mean_at(at).sum())
 
@@ -103,9 +108,7 @@ def by_length(curves: dict[int, RunCurve], steps: float, panel: str = PANELS[0],
         points = summary_points(curve)
         early = points.steps <= steps
         add(ours, points.panels[LENGTH][early], points.panels[panel][early], points.episodes[early])
-        cell = original_curves(ENVIRONMENT, 0, level)
-        at = cell.panel(LENGTH).training.band_steps
-        at = at[at <= steps]
+        cell, at = original_points(level, steps)
         add(theirs, cell.panel(LENGTH).training.mean_at(at), cell.panel(panel).training.mean_at(at), np.ones(len(at)))
     with np.errstate(invalid="ignore", divide="ignore"):
         mine, original = ours[0] / ours[1], theirs[0] / theirs[1]
