@@ -74,14 +74,15 @@ class AerialWildfireParams(WindParams, FireSpec, CameraParams):
         "calls FindFireTask or FindVillageTask alone), so their planes keep the water they start with; their "
         "published test cells log no drop, pick-up or prepared tree at any level (the reward table's notes). True "
         "is the rule before issue 52's session 40."))
-    terrain_cast: Literal["step", "frame"] = Field("step", description=(
+    terrain_cast: Literal["step", "frame"] = Field("frame", description=(
         "Where a plane reads the ground for the drop's action mask and for whether its drop lands. 'frame' [orig]: "
         "the release's HivexAgent.AutoAdjustHeight casts a ray down once a rendered frame (Update; every "
         "wind_frame_steps academy steps under mlagents-learn's defaults) and keeps the hit, which "
         "WriteDiscreteActionMask and DropWater read, so both see where the plane was at the last frame: a plane "
         "that flew out over the sea may still drop (its water lost) and one that flew in over land waits for the "
-        "next frame. 'step' [ours]: the ground under the plane at each step, the default (the reward table's "
-        "notes)."))
+        "next frame; the default since issue 52's session 46, when its three level-1 seeds and its grid were trained "
+        "to the end (the reward table's notes). 'step' [ours]: the ground under the plane at each step, the rule "
+        "before."))
     redraw_island: RedrawIsland = redraw_island_field()
     drop_points: int = Field(4, ge=1, le=8, description="[orig] Points of the water swath, the first under the plane.")
     drop_point_spacing_m: float = Field(20.0, ge=0.0, le=100.0, description="[orig] Metres between swath points, ahead of the plane.")
