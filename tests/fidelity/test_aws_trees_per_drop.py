@@ -5,8 +5,8 @@ and Prepare Trees policies 9-64. The original's own records show that this is wh
 what its world allowed: its untrained planes wet 100-166 trees a drop in every task and level, its Drop Water
 planes (one drop an episode) 144-299 at every stage of training, and its trained planes wet fewer a drop the more
 often they drop, while wetting more trees an episode than when untrained. Our world gives a random first drop
-about the original's trees at levels 5-10 and fewer at levels 1-4, never more. (The reward table's notes give the
-figures.)
+about the original's trees, within the error of our sample (9% short at level 1, 13% over at level 10). (The
+reward table's notes give the figures.)
 """
 
 from __future__ import annotations
@@ -105,15 +105,37 @@ def test_a_swath_covers_the_cells_of_four_30_m_discs_20_m_apart():
 
 def test_our_random_first_drop_wets_the_original_s_trees_at_levels_1_and_10():
     """Random planes in Drop Water, 24 test-seed worlds: a drop where a plane first drops holds about what the
-    original's untrained planes found (148 trees at level 1, 279 at level 10). Over 120 worlds a level, with ground
-    up to 7 m sea and the lone planes of before session 43: 136, 232, 286, 301 and 288 at levels 1, 3, 5, 8 and 10
-    against 148, 238, 285, 293 and 279; with every cell above 0 m land (before issue 52's sea level) 103 at level 1,
-    30% short. Under the release's plane rules, the defaults since (their random planes turn a whole 5 degrees every
-    step and start nearer the centre): 121 and 295 at levels 1 and 10 on these 24 worlds, 18% short and 6% over."""
+    original's untrained planes found (148 trees at level 1, 279 at level 10), within 2.5 standard errors of our
+    64-65 drops' mean (the original's figure pools hundreds of episodes a summary point, so ours carries the error).
+    Over 120 worlds a level, with ground up to 7 m sea and the lone planes of before session 43: 136, 232, 286, 301
+    and 288 at levels 1, 3, 5, 8 and 10 against 148, 238, 285, 293 and 279; with every cell above 0 m land (before
+    issue 52's sea level) 103 at level 1, 3.7 standard errors short. Under the release's plane rules (session 43)
+    and the ground read once a frame (terrain_cast 'frame', the default since session 46), on these 24 worlds: 135.0
+    (standard error 13.9) and 316.0 (19.1) at levels 1 and 10, 0.9 and 1.9 standard errors from the original's;
+    with the ground read every step ('step', before) 121 and 295."""
     (level_1, _), (level_10, planes) = random_drop_water(1), random_drop_water(10)
-    assert level_1["wet"].mean() == pytest.approx(trees_a_drop(DROP_WATER, 1, UNTRAINED)[0], rel=0.2)
-    assert level_10["wet"].mean() == pytest.approx(trees_a_drop(DROP_WATER, 10, UNTRAINED)[0], rel=0.1)
+    for level, wet in ((1, level_1["wet"]), (10, level_10["wet"])):
+        error = wet.std(ddof=1) / np.sqrt(wet.size)
+        assert abs(wet.mean() - trees_a_drop(DROP_WATER, level, UNTRAINED)[0]) < 2.5 * error, level
+        assert error < 0.12 * wet.mean()  # enough drops that the bound still tells a sparse world from the original's
     assert planes["dropped"].mean() > 0.8  # as the original's untrained planes: 0.93 drops an episode at level 10
+
+
+def test_dropwater_s_10_m_read_as_our_sea_wets_more_than_the_original_at_level_1_where_our_7_m_meets_it():
+    """The release's DropWater drops only where the cast reads terrain of 10 m or more, its mask opening at 0.02 m;
+    generators.terrain.sea_level_m 10 is that reading here (no drop over ground up to 10 m, the mask still open from
+    0.02 m). Random planes in Drop Water under the release's plane rules and the frame's cast, 48 test-seed worlds a
+    level: 7 m wets 151.5, 258.4, 311.5, 305.8 and 288.7 trees a first drop at levels 1, 3, 5, 8 and 10 after 45.6,
+    27.9, 31.0, 24.2 and 23.2 decisions, 10 m 180.1, 276.3, 322.0, 320.0 and 297.6 after 54.8, 35.8, 34.7, 29.6 and
+    26.0, against the original's untrained 147.6, 237.7, 284.7, 293.0 and 278.5 after 50, 31, 24, 20.5 and 20: 7 m
+    nearer in trees at every level and in time at four of five. Our heights are the release's recipe on a scale of
+    our own (the reward table's note 'Trees wetted a water drop'), so the 7 m sea stands for the release's 10 m."""
+    theirs = trees_a_drop(DROP_WATER, 1, UNTRAINED)[0]
+    wet = {sea: play(1, "drop_water", "random", 48, 1, {"terrain": {"sea_level_m": sea}}, None)[0]["wet"]
+           for sea in (7, 10)}
+    error = {sea: values.std(ddof=1) / np.sqrt(values.size) for sea, values in wet.items()}
+    assert abs(wet[7].mean() - theirs) < 2.5 * error[7]
+    assert wet[10].mean() - theirs > 2.5 * error[10]
 
 
 def test_the_untrained_planes_time_to_their_first_drop_falls_with_the_level_as_the_original_s():
