@@ -14,9 +14,9 @@ import pytest
 import hivex_dsl
 from hivex_dsl.evaluation.rollout import rollout
 from hivex_dsl.envs.drone_based_reforestation.camera import NEW_TREE_GRAY, to_byte
-from hivex_dsl.envs.drone_based_reforestation.fertility import (FAR_M, distance_reward, sample_bilinear, seed_reward,
-                                                                tree_distance_raster)
+from hivex_dsl.envs.drone_based_reforestation.fertility import FAR_M, distance_reward, seed_reward, tree_distance_raster
 from hivex_dsl.envs.drone_based_reforestation.statistics import distance_to_existing_trees
+from hivex_dsl.sim.grids import sample_bilinear
 from hivex_dsl.sim.reward.composer import RewardComposer
 
 ENV = "drone_based_reforestation"

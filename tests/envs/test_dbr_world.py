@@ -12,9 +12,9 @@ from hypothesis import given, settings, strategies as st
 import hivex_dsl
 from hivex_dsl import ScenarioError
 from hivex_dsl.envs.drone_based_reforestation.camera import STATION_GRAY
-from hivex_dsl.envs.drone_based_reforestation.fertility import (FAR_M, Grid, nearest_tree_distance, sample_bilinear,
-                                                                tree_distance_raster)
+from hivex_dsl.envs.drone_based_reforestation.fertility import FAR_M, nearest_tree_distance, tree_distance_raster
 from hivex_dsl.envs.drone_based_reforestation.params import forest_preset, terrain_preset
+from hivex_dsl.sim.grids import Grid, sample_bilinear
 from hivex_dsl.sim.procgen.terrain import Terrain, generate_terrain
 
 ENV = "drone_based_reforestation"

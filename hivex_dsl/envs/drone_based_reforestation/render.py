@@ -6,7 +6,8 @@ from __future__ import annotations
 import numpy as np
 
 from ...sim.render.canvas import Canvas, colormap
-from .fertility import FAR_M, sample_bilinear
+from ...sim.grids import sample_bilinear
+from .fertility import FAR_M
 from .types import STATION_PAD_M, DroneState
 
 SIZE_PX = 480

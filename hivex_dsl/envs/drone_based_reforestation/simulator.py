@@ -18,9 +18,9 @@ from ...sim.procgen.terrain import TerrainSpec, generate_terrain
 from ...sim.procgen.wind import wrap_angle
 from ...sim.spaces import toggle_mask
 from .camera import NEW_TREE_GRAY, STATION_GRAY, TREE_GRAY, Raster, camera_images, ground_shade, stamp_disks, to_byte
-from .fertility import (FAR_M, Grid, GridSet, distance_reward, fertility, forest_grid, interpolation_matrix,
-                        logged_tree_distance, nearest_new_tree_distance, nearest_tree_distance, same_step_distance,
-                        sample_bilinear, seed_reward, storage_slots, tree_distance_raster)
+from ...sim.grids import GridSet, interpolation_matrix, sample_bilinear, terrain_grid
+from .fertility import (FAR_M, distance_reward, fertility, forest_grid, logged_tree_distance, nearest_new_tree_distance,
+                        nearest_tree_distance, same_step_distance, seed_reward, storage_slots, tree_distance_raster)
 from .global_state import state_components, world_state
 from .forest import ReforestationForestSpec, place_reforestation_forest
 from .params import DroneBasedReforestationParams
@@ -82,7 +82,7 @@ class DroneReforestationSimulator:
         self.station_logs_docking = compiled.task_name not in INERT_STATION_TASKS
         t, f = self.terrain_spec, self.forest_spec
         self.half = t.extent_m / 2.0
-        self.terrain_grid = Grid(-self.half, t.extent_m / (t.size - 1), t.size)
+        self.terrain_grid = terrain_grid(t)
         self.forest_grid = forest_grid(f)
         self._below = GridSet((self.terrain_grid, self.forest_grid))  # sampled under every drone each step
         self.raster = Raster.covering(self.half, p.camera_cell_m)

@@ -12,7 +12,8 @@ import math
 import numpy as np
 
 from ...sim.reward.vocabulary import Vocabulary, flag, quantity
-from .fertility import fertility, forest_grid, sample_bilinear
+from ...sim.grids import sample_bilinear
+from .fertility import fertility, forest_grid
 
 
 def declare(compiled) -> dict:
