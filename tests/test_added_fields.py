@@ -38,7 +38,8 @@ def test_the_session_39_checkpoint_scenario_keeps_the_fingerprint_it_was_stored_
     compiled = read_as_stored(OLD["scenario"])
     assert compiled.fingerprint == OLD["fingerprint"]
     missing = set(compiled.resolved()["params"]) - set(OLD["scenario"]["params"])
-    assert missing == {"camera_images", "camera_sees_border", "water_in_find_tasks", "episodes_continue", "terrain_cast"}
+    assert missing == {"camera_images", "camera_sees_border", "water_in_find_tasks", "episodes_continue", "terrain_cast",
+                       "drop_mask"}
 
 
 def test_it_plays_what_was_done_when_it_was_written():
@@ -47,6 +48,7 @@ def test_it_plays_what_was_done_when_it_was_written():
     assert params.water_in_find_tasks is True  # Find tasks' planes dropped and refilled until session 40
     assert params.camera_sees_border is True and params.episodes_continue == 0  # their defaults did so already
     assert params.terrain_cast == "step"  # the ground read every step (session 44 added the release's frames)
+    assert params.drop_mask == "flying"  # open to flying planes alone (session 46 added the release's mask)
 
 
 def test_an_old_lock_compiles_under_its_stored_fingerprint():

@@ -126,12 +126,15 @@ class IslandMaps:
     ground: (B, C, C) uint8 palette index of the ground without trees (camera and render).
     village: (B, 2) float64 village centre in metres.
     exists: (B, C, C) bool where a tree grows at the start of an episode.
+    terrain: (B, n, n) float32 the terrain generator's whole height map (its ``size`` nodes over ``extent_m``,
+        :func:`hivex_dsl.sim.grids.terrain_grid`), which runs on under the water ring past the forest grid.
     """
 
     height: np.ndarray
     ground: np.ndarray
     village: np.ndarray
     exists: np.ndarray
+    terrain: np.ndarray
 
 
 @dataclass(frozen=True)
@@ -168,11 +171,11 @@ class IslandSpecs:
 
 def draw_maps(rng: np.random.Generator, count: int, specs: IslandSpecs) -> IslandMaps:
     """``count`` new islands (the generators run once per world: resets only)."""
-    cells = specs.forest.cells
+    cells, nodes = specs.forest.cells, specs.terrain.size
     drawn = [draw_island(rng, specs.terrain, specs.forest) for _ in range(count)]
     if not drawn:
         return IslandMaps(np.zeros((0, cells, cells), np.float32), np.zeros((0, cells, cells), np.uint8),
-                          np.zeros((0, 2)), np.zeros((0, cells, cells), bool))
+                          np.zeros((0, 2)), np.zeros((0, cells, cells), bool), np.zeros((0, nodes, nodes), np.float32))
     return IslandMaps(*(np.stack(part) for part in zip(*drawn)))
 
 
@@ -307,21 +310,23 @@ def grid_lookup(cells_of_forest: int, weather_cells: int) -> np.ndarray:
 def build_island(rng: np.random.Generator, terrain_spec: TerrainSpec, forest_spec: ForestSpec,
                  ignition_spec: IgnitionSpec, conditions: np.ndarray) -> Island:
     """Draw one world. ``conditions`` (G, G, 3) is the world's weather grid (ignition prefers dry, hot cells)."""
-    height, ground, village, exists = draw_island(rng, terrain_spec, forest_spec)
+    height, ground, village, exists, _ = draw_island(rng, terrain_spec, forest_spec)
     ignite = ignition_of(exists, village, conditions, forest_spec, ignition_spec)
     return Island(height=height, ground=ground, village=village, exists=exists, ignite=ignite)
 
 
 def draw_island(rng: np.random.Generator, terrain_spec: TerrainSpec, forest_spec: ForestSpec
-                ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """The lasting part of a world: height (C, C) float32, ground (C, C) uint8, village (2,), trees (C, C) bool."""
+                ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The lasting part of a world: height (C, C) float32, ground (C, C) uint8, village (2,), trees (C, C) bool and
+    the whole terrain (n, n) float32."""
     terrain = generate_terrain(rng, terrain_spec)
     centres = cell_centre_xy(forest_spec).reshape(-1, 2)
     cells = forest_spec.cells
     height = terrain.height_at(centres).reshape(cells, cells)
     forest = place_forest(rng, forest_spec, terrain.height_at, terrain.village)
     ground = ground_palette(height, centres.reshape(cells, cells, 2), terrain.village, terrain_spec)
-    return height.astype(np.float32), ground, np.asarray(terrain.village, float), forest.grid >= 0
+    return (height.astype(np.float32), ground, np.asarray(terrain.village, float), forest.grid >= 0,
+            terrain.heights.astype(np.float32))
 
 
 def ignition_of(exists: np.ndarray, village: np.ndarray, conditions: np.ndarray, forest_spec: ForestSpec,

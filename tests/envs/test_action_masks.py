@@ -143,3 +143,48 @@ def test_without_masks_the_untrained_policy_starts_far_above_the_original():
     unmasked = untrained_entropy(DBR, "main", 1, action_masks=False)
     assert unmasked == pytest.approx(GAUSSIAN_ENTROPY + np.log(2), abs=2e-3)
     assert unmasked - original_first_entropy(DBR, 0, 1) > 0.6
+
+
+def ring_terrain(sim, state, metres: float = 1.0, start_x: float = 610.0, end_x: float = 720.0):
+    """``state`` with its whole terrain at 0 m but for ``metres`` under the water ring at x in [start_x, end_x]."""
+    grid = sim.terrain_grid
+    x = grid.origin + np.arange(grid.n) * grid.cell
+    terrain = np.zeros_like(state.maps.terrain)
+    terrain[..., (x >= start_x) & (x <= end_x)] = metres
+    return replace(state, maps=replace(state.maps, terrain=terrain))
+
+
+@pytest.mark.parametrize("drop_mask, opened", [("flying", [True, False, False, False]),
+                                               ("release", [True, True, True, False])])
+def test_the_release_s_mask_opens_to_waiting_planes_and_over_the_ring_s_seabed(drop_mask, opened):
+    """params.drop_mask 'release': the release's WriteDiscreteActionMask tests neither the freeze flag nor the
+    island's edge. Planes holding water: flying over high ground; waiting over high ground; flying over the ring
+    (650 m) above 1 m of seabed; waiting past the border (760 m) above 0 m. None of the drops it opens does
+    anything (a waiting plane does not drop; the ring is no land), and reading the mask changes nothing."""
+    sim, state = simulator(AWS, agents=4, params={"drop_mask": drop_mask})
+    state = aws_world(sim, state, [(200.0, 0.0), (200.0, 30.0), (650.0, 0.0), (760.0, 0.0)],
+                      flying=[True, False, True, False])
+    state = ring_terrain(sim, state)
+    water = state.water.copy()
+    assert sim.action_mask(state)[0, :, 1].tolist() == opened
+    np.testing.assert_array_equal(state.water, water)
+    actions = {"continuous": np.zeros((1, 4, 1), np.float32), "discrete": np.ones((1, 4, 1), np.int64)}
+    after, outcome = sim.step(state, actions, np.random.default_rng(0))
+    assert outcome.events["dropped_water"][0].tolist() == [True, False, False, False]
+    assert after.water[0].tolist() == [False, True, True, True]
+
+
+def test_the_whole_terrain_is_the_generator_s_map_and_the_island_s_heights_are_read_from_it():
+    """The maps keep the terrain generator's whole height map (241 nodes over 1,666 m), and the forest grid's
+    heights are that map's bilinear surface at the cells' centres."""
+    from hivex_dsl.sim.grids import sample_bilinear
+
+    sim, state = simulator(AWS)
+    grid = sim.terrain_grid
+    assert state.maps.terrain.shape == (1, 241, 241)
+    assert (grid.origin, grid.n) == (-833.0, 241) and grid.cell == pytest.approx(1666.0 / 240)
+    centres = (np.arange(400) + 0.5) * AWS_CELL - AWS_HALF
+    rows = np.array([7, 200, 391])
+    points = np.stack(np.broadcast_arrays(centres[None, :], centres[rows][:, None]), -1).reshape(1, -1, 2)
+    read = sample_bilinear(state.maps.terrain, grid, points).reshape(len(rows), 400)
+    np.testing.assert_allclose(read, state.maps.height[0, rows], atol=1e-3)

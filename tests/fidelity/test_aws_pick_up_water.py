@@ -137,8 +137,8 @@ def test_waiting_pickers_over_the_seabed_give_the_untrained_entropy():
     table's note "Pick Up Water's untrained entropy"). Random planes under the release's rules wait for over a
     quarter of their decisions, about two in five of the ring's inner edge stands that high, and the entropy that
     predicts (ML-Agents' untrained Gaussian, 1.419, plus ln 2 for every open decision) lies within 0.05 of the
-    original's first training point at level 5 (1.564), where planes that never wait, this toolkit's default, give
-    1.419, 0.145 short."""
+    original's first training point at level 5 (1.564), where a mask open to flying planes alone (this toolkit's
+    default, params.drop_mask 'flying') gives 1.419, 0.145 short; the next test reads the mask itself."""
     from ..benchmark_scripts import benchmark_script
 
     script = benchmark_script("aws_waiting_pickers")
@@ -149,3 +149,37 @@ def test_waiting_pickers_over_the_seabed_give_the_untrained_entropy():
     first = original_curves("aerial_wildfire_suppression", 5, 5).panel("Entropy").training.mean[0]
     predicted = script.GAUSSIAN_ENTROPY + math.log(2) * waiting * edge
     assert abs(predicted - first) < 0.05 < first - script.GAUSSIAN_ENTROPY
+
+
+def test_random_pickers_never_drop_as_the_original_s_never_did():
+    """The original logs no drop and no prepared tree in Pick Up Water at any level, in the test and all through
+    training, untrained included: its planes end at the pick-up, and the drop was closed when they decided (they held
+    no water), though the release fills them before reading the drop. Random planes here, 10 test episodes at level
+    10 (where the frame's cast most often leaves the last cast on land as a plane crosses onto the ring), drop
+    nothing either; before the drop read the water held at the decision they dropped 0.3 times a plane-episode there
+    and prepared 6.5 trees (the audit suite's row)."""
+    published = cell("aerial_wildfire_suppression", 5, 10).statistics
+    assert published["AerialWildfireSuppression/Water Drop"][0] == 0.0
+    training = original_curves("aerial_wildfire_suppression", 5, 10).panel("Water Drop").training
+    assert float(np.max(training.mean)) == 0.0
+    compiled = hivex_dsl.compile({"hivex": 1, "environment": "aerial_wildfire_suppression", "task": "pick_up_water",
+                                  "terrain_level": 10})
+    played = rollout(compiled, "random", 10, split="test")
+    assert played.statistics["Water Pickup"].mean() > 0.9
+    assert played.statistics["Water Drop"].sum() == 0 and played.statistics["Preparing Trees"].sum() == 0
+
+
+@pytest.mark.parametrize("level", [1, 10])
+def test_the_release_s_mask_gives_the_original_s_untrained_entropy(level):
+    """params.drop_mask 'release' (the waiting pickers' open drop over the seabed; the reward table's notes): random
+    planes under the release's rules, 20 test episodes, have the drop open at 10.5% and 13.1% of their decisions at
+    levels 1 and 10, an untrained entropy (ML-Agents' Gaussian 1.419 plus ln 2 a decision open) of 1.492 and 1.510
+    against the original's first training point 1.508 and 1.540; this toolkit's default ('flying') opens it nowhere,
+    1.419, 0.089 and 0.121 short."""
+    from ..benchmark_scripts import benchmark_script
+
+    script = benchmark_script("aws_waiting_pickers")
+    first = original_curves("aerial_wildfire_suppression", 5, level).panel("Entropy").training.mean[0]
+    release = script.GAUSSIAN_ENTROPY + math.log(2) * script.open_share(level, 20)
+    assert abs(release - first) < 0.05
+    assert script.open_share(level, 5, drop_mask="flying") == 0.0

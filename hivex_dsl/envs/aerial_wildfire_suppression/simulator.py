@@ -13,6 +13,7 @@ from ...base.numeric import and_not, clamp, constant
 from ...runtime.batched import StepOutcome
 from ...sim.batching import assemble, read_only, replace_worlds
 from ...sim.cameras import blank_images
+from ...sim.grids import sample_bilinear, terrain_grid
 from ...sim.spaces import toggle_mask
 from ...sim.fire import any_burning, douse, fire_step_unchecked
 from ...sim.fire.search import closest_burning_at
@@ -85,6 +86,8 @@ class AerialWildfireSimulator:
         self.weather_lookup = grid_lookup(self.forest_spec.cells, p.weather_grid_cells)
         self.operands = _Operands.of(p, self.cell_m)
         self.frame_casts = p.terrain_cast == "frame"
+        self.release_mask = p.drop_mask == "release"
+        self.terrain_grid = terrain_grid(self.island.terrain)
         self._query_shapes: dict[tuple[int, int], tuple[np.ndarray, np.ndarray]] = {}
 
     # ---- reset -------------------------------------------------------------------------
@@ -289,8 +292,10 @@ class AerialWildfireSimulator:
         still = flying ^ crossed  # flying & ~crossed
         handles = self.handles_water
         picked = and_not(still & (outside > k.island_half) & handles, water)
-        water = water | picked
+        # only water held when the plane decided drops: the release's mask closed the drop to a plane without water,
+        # though its OnActionReceived fills it (PickupWater) before DropWater reads the action
         dropping = still & water & (actions["discrete"][..., 0] == 1) & handles
+        water = water | picked
         cast_at = position
         if self.frame_casts:  # the drop reads the last frame's cast; this step's move is cast if it ends a frame
             dropping_over = state.cast_at
@@ -308,10 +313,15 @@ class AerialWildfireSimulator:
         inside, cell = self._cells_under(position)
         return inside & (ground.reshape(-1).take(cell) != SEA)
 
-    def _over_terrain(self, height: np.ndarray, position: np.ndarray) -> np.ndarray:
-        """(B, A) bool: the terrain (heights (B, C, C)) under each plane stands at least MASK_TERRAIN_M high."""
+    def _over_terrain(self, maps: IslandMaps, position: np.ndarray) -> np.ndarray:
+        """(B, A) bool: the terrain under each plane (``position`` (B, A, 2) metres) stands at least MASK_TERRAIN_M
+        high: its forest-grid cell's height, and past the grid, under params.drop_mask 'release', the whole
+        terrain's (the water ring's seabed); else nothing past the grid."""
         inside, cell = self._cells_under(position)
-        return inside & (height.reshape(-1).take(cell) >= MASK_TERRAIN_M)
+        high = inside & (maps.height.reshape(-1).take(cell) >= MASK_TERRAIN_M)
+        if self.release_mask and not inside.all():
+            high |= ~inside & (sample_bilinear(maps.terrain, self.terrain_grid, position) >= MASK_TERRAIN_M)
+        return high
 
     def _cells_under(self, position: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(B, A) bool whether each plane (``position`` (B, A, 2) metres) is over the island's grid, and (B, A) the
@@ -409,10 +419,11 @@ class AerialWildfireSimulator:
         (here: above the sea level SEA_LEVEL_M), so over a low shore the branch is open and a drop does nothing. The
         mask knows no task: the Find tasks' planes, which neither drop nor refill (params.water_in_find_tasks), keep
         their first water and the branch open wherever they fly over the island (the reward table's note 'What the
-        cameras see past the border, and the drop's action mask')."""
-        open_ = state.flying & state.water
+        cameras see past the border, and the drop's action mask'). Under params.drop_mask 'release' it opens to
+        waiting planes too and over the water ring's seabed, where a drop does nothing."""
+        open_ = state.water.copy() if self.release_mask else state.flying & state.water  # narrowed in place below
         if np.count_nonzero(open_):
-            open_ &= self._over_terrain(state.maps.height, state.cast_at if self.frame_casts else state.position)
+            open_ &= self._over_terrain(state.maps, state.cast_at if self.frame_casts else state.position)
         return toggle_mask(open_)
 
     state_components = state_components  # the global state's world facts: see global_state.py
