@@ -10,8 +10,12 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import lru_cache
+from typing import TYPE_CHECKING
 
 import numpy as np
+
+if TYPE_CHECKING:
+    from .procgen.terrain import TerrainSpec
 
 
 @dataclass(frozen=True)
@@ -23,7 +27,7 @@ class Grid:
     n: int
 
 
-def terrain_grid(spec) -> Grid:
+def terrain_grid(spec: TerrainSpec) -> Grid:
     """The grid of a terrain generator spec's height map (``size`` nodes over ``extent_m``, centred on 0)."""
     return Grid(-spec.extent_m / 2.0, spec.extent_m / (spec.size - 1), spec.size)
 
