@@ -39,6 +39,11 @@ def random_drop_water(level: int) -> tuple[dict[str, np.ndarray], dict[str, np.n
     return play(level, "drop_water", "random", 24, 1, {}, None)
 
 
+def standard_error(values: np.ndarray) -> float:
+    """The standard error of the mean of ``values`` (N,): their sample spread over the square root of N."""
+    return float(values.std(ddof=1) / np.sqrt(values.size))
+
+
 @lru_cache(maxsize=None)
 def trees_a_drop(task: int, level: int, window: tuple[int, int]) -> tuple[float, float]:
     return pooled_ratio(AWS, task, level, TREES, "Water Drop", *window)
@@ -115,7 +120,7 @@ def test_our_random_first_drop_wets_the_original_s_trees_at_levels_1_and_10():
     with the ground read every step ('step', before) 121 and 295."""
     (level_1, _), (level_10, planes) = random_drop_water(1), random_drop_water(10)
     for level, wet in ((1, level_1["wet"]), (10, level_10["wet"])):
-        error = wet.std(ddof=1) / np.sqrt(wet.size)
+        error = standard_error(wet)
         assert abs(wet.mean() - trees_a_drop(DROP_WATER, level, UNTRAINED)[0]) < 2.5 * error, level
         assert error < 0.12 * wet.mean()  # enough drops that the bound still tells a sparse world from the original's
     assert planes["dropped"].mean() > 0.8  # as the original's untrained planes: 0.93 drops an episode at level 10
@@ -133,7 +138,7 @@ def test_dropwater_s_10_m_read_as_our_sea_wets_more_than_the_original_at_level_1
     theirs = trees_a_drop(DROP_WATER, 1, UNTRAINED)[0]
     wet = {sea: play(1, "drop_water", "random", 48, 1, {"terrain": {"sea_level_m": sea}}, None)[0]["wet"]
            for sea in (7, 10)}
-    error = {sea: values.std(ddof=1) / np.sqrt(values.size) for sea, values in wet.items()}
+    error = {sea: standard_error(values) for sea, values in wet.items()}
     assert abs(wet[7].mean() - theirs) < 2.5 * error[7]
     assert wet[10].mean() - theirs > 2.5 * error[10]
 
