@@ -74,12 +74,6 @@ def test_the_aws_drop_opens_over_terrain_as_the_release_wrote_it_and_drops_only_
     assert sim.action_mask(after)[0, :, 1].tolist() == [True, False, False, False]  # the shore plane keeps its water
 
 
-def test_a_plane_that_crossed_the_border_has_its_drop_closed():
-    sim, state = simulator(AWS, agents=2)
-    state = aws_world(sim, state, [(200.0, 0.0), (200.0, 30.0)], flying=[True, False])
-    assert sim.action_mask(state)[0, :, 1].tolist() == [True, False]
-
-
 def test_the_mask_knows_no_task_so_find_task_planes_keep_their_water_and_an_open_branch():
     sim, state = simulator(AWS, agents=2, task="find_fire")
     state = aws_world(sim, state, [(200.0, 0.0), (-200.0, 0.0)])

@@ -137,8 +137,8 @@ def test_waiting_pickers_over_the_seabed_give_the_untrained_entropy():
     table's note "Pick Up Water's untrained entropy"). Random planes under the release's rules wait for over a
     quarter of their decisions, about two in five of the ring's inner edge stands that high, and the entropy that
     predicts (ML-Agents' untrained Gaussian, 1.419, plus ln 2 for every open decision) lies within 0.05 of the
-    original's first training point at level 5 (1.564), where a mask open to flying planes alone (this toolkit's
-    default, params.drop_mask 'flying') gives 1.419, 0.145 short; the next test reads the mask itself."""
+    original's first training point at level 5 (1.564), where a mask open to flying planes alone (params.drop_mask
+    'flying', the default before session 47) gives 1.419, 0.145 short; the next test reads the mask itself."""
     from ..benchmark_scripts import benchmark_script
 
     script = benchmark_script("aws_waiting_pickers")
@@ -174,8 +174,8 @@ def test_the_release_s_mask_gives_the_original_s_untrained_entropy(level):
     """params.drop_mask 'release' (the waiting pickers' open drop over the seabed; the reward table's notes): random
     planes under the release's rules, 20 test episodes, have the drop open at 10.5% and 13.1% of their decisions at
     levels 1 and 10, an untrained entropy (ML-Agents' Gaussian 1.419 plus ln 2 a decision open) of 1.492 and 1.510
-    against the original's first training point 1.508 and 1.540; this toolkit's default ('flying') opens it nowhere,
-    1.419, 0.089 and 0.121 short."""
+    against the original's first training point 1.508 and 1.540 (this toolkit's default since session 47); 'flying',
+    the rule before, opens it nowhere, 1.419, 0.089 and 0.121 short."""
     from ..benchmark_scripts import benchmark_script
 
     script = benchmark_script("aws_waiting_pickers")

@@ -83,13 +83,14 @@ class AerialWildfireParams(WindParams, FireSpec, CameraParams):
         "next frame; the default since issue 52's session 46, when its three level-1 seeds and its grid were trained "
         "to the end (the reward table's notes). 'step' [ours]: the ground under the plane at each step, the rule "
         "before."))
-    drop_mask: Literal["flying", "release"] = Field("flying", description=(
+    drop_mask: Literal["flying", "release"] = Field("release", description=(
         "Which planes the drop's action mask opens to, and over what ground. 'release' [orig]: the release's "
         "WriteDiscreteActionMask tests neither the freeze flag nor the island's edge, so any plane holding water, "
         "flying or waiting (finished_planes wait), where its cast (terrain_cast) reads terrain at least 0.02 m "
         "high on the generator's whole map, which runs on under the water ring past the island's 600 m; a drop "
-        "it opens to a waiting plane, or over the ring, does nothing. 'flying' [ours]: flying planes over the "
-        "island's forest grid alone, the default every record trained (the reward table's notes)."))
+        "it opens to a waiting plane, or over the ring, does nothing; the default since issue 52's session 47, "
+        "when its three level-1 seeds and its grid were trained to the end (the reward table's notes). 'flying' "
+        "[ours]: flying planes over the island's forest grid alone, the rule before."))
     redraw_island: RedrawIsland = redraw_island_field()
     drop_points: int = Field(4, ge=1, le=8, description="[orig] Points of the water swath, the first under the plane.")
     drop_point_spacing_m: float = Field(20.0, ge=0.0, le=100.0, description="[orig] Metres between swath points, ahead of the plane.")
