@@ -2,11 +2,14 @@
 
     python benchmarks/aws_drops.py [--task main] [--policy random|scripted|trained] [--levels 1,2,...]
                                    [--worlds 8] [--episodes 1] [--grid /work/runs/aws-grid]
-                                   [--generators '{"terrain": {"sea_level_m": 7}}']
+                                   [--generators '{"terrain": {"sea_level_m": 7}}'] [--params '{"drop_ground": "terrain"}']
 
 Plays test-seed episodes and logs every drop: the trees it wetted, the ground height and the distance to the sea
 under the plane, and how many trees its swath held when the episode began (so the share it found still dry).
-Per plane it logs the decisions it played and whether it dropped at all: in Drop Water (task drop_water) an
+It also logs whether the plane was over the water ring (past the island's square) when it dropped: a drop the
+last frame's terrain cast let through there wets nothing (params.terrain_cast 'frame'), the loop the original's
+late records show (pick-ups within one of the drops at a few trees a drop). Per plane it logs the decisions it
+played and whether it dropped at all: in Drop Water (task drop_water) an
 episode ends on the first drop, so that is the untrained planes' time to their first drop, the original's
 Episode Length at its first summary points. Beside each level it prints the original's trees a drop, pooled over
 its first 90,000 agent-steps (hivex_dsl.evaluation.original.evidence.pooled_ratio). ``--policy trained`` plays
@@ -75,17 +78,19 @@ def policy_of(name: str, compiled, core: BatchedEnv, level: int, grid: Path | No
     return checkpoint_policies(found[0])(compiled)
 
 
-def play(level: int, task: str, policy: str, worlds: int, episodes: int, generators: dict, grid: Path | None
-         ) -> tuple[dict[str, np.ndarray], dict[str, np.ndarray]]:
-    """Per drop (wet, height, sea, swath) and per plane (length, dropped) arrays over ``episodes`` of ``worlds``."""
+def play(level: int, task: str, policy: str, worlds: int, episodes: int, generators: dict, grid: Path | None,
+         params: dict | None = None) -> tuple[dict[str, np.ndarray], dict[str, np.ndarray]]:
+    """Per drop (wet, height, sea, swath, ring) and per plane (length, dropped) arrays over ``episodes`` of ``worlds``."""
     scenario = {"hivex": 1, "environment": ENVIRONMENT, "task": task, "terrain_level": level}
     if generators:
         scenario["generators"] = generators
+    if params:
+        scenario["params"] = params
     compiled = hivex_dsl.compile(scenario)
     core = BatchedEnv(compiled, batch=1 if policy == "trained" else worlds, split="test")
     act = policy_of(policy, compiled, core, level, grid)
     p, spec = compiled.params, compiled.generators["forest"]
-    drops, planes = {k: [] for k in ("wet", "height", "sea", "swath")}, {"length": [], "dropped": []}
+    drops, planes = {k: [] for k in ("wet", "height", "sea", "swath", "ring")}, {"length": [], "dropped": []}
     for episode in range(episodes):
         observations = core.reset() if episode == 0 else core.reset_worlds(np.ones(core.batch, bool))
         start = core.state.maps
@@ -102,6 +107,7 @@ def play(level: int, task: str, policy: str, worlds: int, episodes: int, generat
             cell = np.clip(((s.position[world, plane] + p.island_half_extent_m) // spec.spacing_m).astype(np.int64),
                            0, spec.cells - 1)
             drops["wet"].append(s.prepared[world, plane] + s.extinguished[world, plane])
+            drops["ring"].append(np.abs(s.position[world, plane]).max(axis=-1) > p.island_half_extent_m)
             drops["height"].append(start.height[world, cell[:, 1], cell[:, 0]])
             drops["sea"].append(sea[world, cell[:, 1], cell[:, 0]])
             drops["swath"].append(swath_trees(core.sim, start.exists, world, s.position[world, plane],
@@ -125,7 +131,10 @@ def row(level: int, drops: dict[str, np.ndarray], planes: dict[str, np.ndarray])
     if not len(drops["wet"]):
         return f"L{level:2d}: no drop; planes' mean length {planes['length'].mean():6.1f}"
     dry = drops["wet"].sum() / max(drops["swath"].sum(), 1)
-    return (f"L{level:2d}: {len(drops['wet']):4d} drops, {drops['wet'].mean():6.1f} trees a drop (swath held "
+    ring = drops["ring"].astype(bool)
+    land = f"{drops['wet'][~ring].mean():6.1f}" if (~ring).any() else "     -"
+    return (f"L{level:2d}: {len(drops['wet']):4d} drops, {drops['wet'].mean():6.1f} trees a drop ({ring.mean():4.2f} "
+            f"of the drops over the ring; over land {land} a drop) (swath held "
             f"{drops['swath'].mean():6.1f} at the start, {dry:4.2f} of them still dry), ground median "
             f"{np.median(drops['height']):5.1f} m, sea median {np.median(drops['sea']):4.0f} m "
             f"({np.mean(drops['sea'] < 60):4.2f} within 60 m); planes: length {planes['length'].mean():6.1f}, "
@@ -141,12 +150,14 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--episodes", type=int, default=1)
     parser.add_argument("--grid", type=Path, default=None, help="a `hivex train` sweep folder (--policy trained)")
     parser.add_argument("--generators", default="{}", help="a scenario's generators: overrides, as JSON")
+    parser.add_argument("--params", default="{}", help="a scenario's params: overrides, as JSON")
     args = parser.parse_args(argv)
     try:
         levels = [int(v) for v in args.levels.split(",")]
-        generators = json.loads(args.generators)
+        generators, params = json.loads(args.generators), json.loads(args.params)
         for level in levels:
-            drops, planes = play(level, args.task, args.policy, args.worlds, args.episodes, generators, args.grid)
+            drops, planes = play(level, args.task, args.policy, args.worlds, args.episodes, generators, args.grid,
+                                 params)
             print(f"{row(level, drops, planes)}  | {original_trees_a_drop(args.task, level)}", flush=True)
     except (HivexError, ValueError) as error:
         print(f"aws_drops: {error}", file=sys.stderr)

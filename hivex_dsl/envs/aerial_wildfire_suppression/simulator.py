@@ -87,7 +87,9 @@ class AerialWildfireSimulator:
         self.operands = _Operands.of(p, self.cell_m)
         self.frame_casts = p.terrain_cast == "frame"
         self.release_mask = p.drop_mask == "release"
+        self.drops_past_island = p.drop_ground == "terrain"
         self.terrain_grid = terrain_grid(self.island.terrain)
+        self.sea_level_m = self.island.terrain.sea_level_m  # the ground grid's SEA: height at or below it
         self._query_shapes: dict[tuple[int, int], tuple[np.ndarray, np.ndarray]] = {}
 
     # ---- reset -------------------------------------------------------------------------
@@ -304,14 +306,19 @@ class AerialWildfireSimulator:
         else:
             dropping_over = position
         if np.count_nonzero(dropping):
-            dropping &= self._over_land(state.maps.ground, dropping_over)
+            dropping &= self._over_land(state.maps, dropping_over)
         return Flight(heading, facing, position, outside, still, crossed, picked, and_not(water, dropping), dropping,
                       cast_at)
 
-    def _over_land(self, ground: np.ndarray, position: np.ndarray) -> np.ndarray:
-        """(B, A) bool: the ground (B, C, C) under each plane is island land (not sea, not the water ring)."""
+    def _over_land(self, maps: IslandMaps, position: np.ndarray) -> np.ndarray:
+        """(B, A) bool: the ground under each plane (``position`` (B, A, 2) metres) is land above the sea: its
+        forest-grid cell is not sea, and past the grid, under params.drop_ground 'terrain', the generator's whole map
+        stands above the sea level there (a headland under the water ring); else nothing past the grid."""
         inside, cell = self._cells_under(position)
-        return inside & (ground.reshape(-1).take(cell) != SEA)
+        land = inside & (maps.ground.reshape(-1).take(cell) != SEA)
+        if self.drops_past_island and not inside.all():
+            land |= ~inside & (sample_bilinear(maps.terrain, self.terrain_grid, position) > self.sea_level_m)
+        return land
 
     def _over_terrain(self, maps: IslandMaps, position: np.ndarray) -> np.ndarray:
         """(B, A) bool: the terrain under each plane (``position`` (B, A, 2) metres) stands at least MASK_TERRAIN_M
