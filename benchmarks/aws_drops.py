@@ -1,6 +1,6 @@
 """Where Aerial Wildfire Suppression's planes drop their water and how many trees a drop wets, per terrain level.
 
-    python benchmarks/aws_drops.py [--task main] [--policy random|scripted|trained] [--levels 1,2,...]
+    python benchmarks/aws_drops.py [--task main] [--policy random|scripted|trained] [--levels 1,2,...] [--headlands]
                                    [--worlds 8] [--episodes 1] [--grid /work/runs/aws-grid]
                                    [--generators '{"terrain": {"sea_level_m": 7}}'] [--params '{"drop_ground": "terrain"}']
 
@@ -8,7 +8,9 @@ Plays test-seed episodes and logs every drop: the trees it wetted, the ground he
 under the plane, and how many trees its swath held when the episode began (so the share it found still dry).
 It also logs whether the plane was over the water ring (past the island's square) when it dropped: a drop the
 last frame's terrain cast let through there wets nothing (params.terrain_cast 'frame'), the loop the original's
-late records show (pick-ups within one of the drops at a few trees a drop). Per plane it logs the decisions it
+late records show (pick-ups within one of the drops at a few trees a drop). ``--headlands`` prints instead, per level,
+how much terrain stands above the sea past the island's square (up to the border), where under params.drop_ground
+'terrain' (the release's DropWater) a plane refills and drops without crossing back. Per plane it logs the decisions it
 played and whether it dropped at all: in Drop Water (task drop_water) an
 episode ends on the first drop, so that is the untrained planes' time to their first drop, the original's
 Episode Length at its first summary points. Beside each level it prints the original's trees a drop, pooled over
@@ -32,6 +34,7 @@ from hivex_dsl.envs.island import SEA
 from hivex_dsl.evaluation.original.evidence import EvidenceError, pooled_ratio
 from hivex_dsl.evaluation.policies import make_policy
 from hivex_dsl.runtime.batched import BatchedEnv
+from hivex_dsl.sim.grids import sample_bilinear
 from hivex_dsl.sim.fire.water import covered_cells
 
 ENVIRONMENT = "aerial_wildfire_suppression"
@@ -118,6 +121,21 @@ def play(level: int, task: str, policy: str, worlds: int, episodes: int, generat
     return {k: join(v) for k, v in drops.items()}, {k: join(v) for k, v in planes.items()}
 
 
+def headlands(level: int, worlds: int, lattice_m: float = 2.5) -> tuple[float, float]:
+    """The share of ``worlds`` test-seed worlds whose terrain stands above the sea somewhere between the island's
+    square and the border, and that land's mean area (m^2 a world), on a lattice of ``lattice_m``."""
+    compiled = hivex_dsl.compile({"hivex": 1, "environment": ENVIRONMENT, "task": "main", "terrain_level": level})
+    core = BatchedEnv(compiled, batch=worlds, split="test")
+    core.reset()
+    p, sim = compiled.params, core.sim
+    axis = np.arange(-p.border_half_extent_m, p.border_half_extent_m + lattice_m / 2, lattice_m)
+    x, y = np.meshgrid(axis, axis)
+    ring = np.maximum(np.abs(x), np.abs(y)) > p.island_half_extent_m
+    points = np.broadcast_to(np.stack([x[ring], y[ring]], axis=-1), (worlds, int(ring.sum()), 2))
+    land = sample_bilinear(core.state.maps.terrain, sim.terrain_grid, np.ascontiguousarray(points)) > sim.sea_level_m
+    return float(land.any(axis=1).mean()), float(land.sum(axis=1).mean() * lattice_m ** 2)
+
+
 def original_trees_a_drop(task: str, level: int) -> str:
     compiled = hivex_dsl.compile({"hivex": 1, "environment": ENVIRONMENT, "task": task, "terrain_level": level})
     try:
@@ -151,11 +169,15 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--grid", type=Path, default=None, help="a `hivex train` sweep folder (--policy trained)")
     parser.add_argument("--generators", default="{}", help="a scenario's generators: overrides, as JSON")
     parser.add_argument("--params", default="{}", help="a scenario's params: overrides, as JSON")
+    parser.add_argument("--headlands", action="store_true", help="print the land past the island's square instead")
     args = parser.parse_args(argv)
     try:
         levels = [int(v) for v in args.levels.split(",")]
         generators, params = json.loads(args.generators), json.loads(args.params)
-        for level in levels:
+        for level in levels if args.headlands else ():
+            share, area = headlands(level, args.worlds)
+            print(f"L{level:2d}: {share:4.2f} of worlds hold land above the sea past the island, {area:6.0f} m^2 a world")
+        for level in () if args.headlands else levels:
             drops, planes = play(level, args.task, args.policy, args.worlds, args.episodes, generators, args.grid,
                                  params)
             print(f"{row(level, drops, planes)}  | {original_trees_a_drop(args.task, level)}", flush=True)

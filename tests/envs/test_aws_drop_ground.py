@@ -73,3 +73,14 @@ def test_over_a_headland_a_plane_refills_and_drops_every_other_decision():
         drops.append(bool(outcome.events["dropped_water"][0, 0]))
     assert picks == [True, False] * 3 and drops == [False, True] * 3
     assert (state.position[0, 0, 0] - 640.0) == pytest.approx(6 * sim.params.plane_speed_m)  # still over it
+
+
+def test_the_land_past_the_island_grows_with_the_terrain_level():
+    """A level scales the same seed's heights (its height multiplier), so on the same test worlds land above the sea
+    past the island's square only grows with the level: rare at level 1, where the original's late planes dropped
+    least (benchmarks/aws_drops.py --headlands)."""
+    from ..benchmark_scripts import benchmark_script
+
+    script = benchmark_script("aws_drops")
+    (share_1, area_1), (share_10, area_10) = script.headlands(1, worlds=8), script.headlands(10, worlds=8)
+    assert share_1 <= share_10 and 0 < area_1 < area_10 / 5

@@ -88,9 +88,9 @@ class AerialWildfireParams(WindParams, FireSpec, CameraParams):
         "WriteDiscreteActionMask tests neither the freeze flag nor the island's edge, so any plane holding water, "
         "flying or waiting (finished_planes wait), where its cast (terrain_cast) reads terrain at least 0.02 m "
         "high on the generator's whole map, which runs on under the water ring past the island's 600 m; a drop "
-        "it opens to a waiting plane, or over the ring, does nothing; the default since issue 52's session 47, "
-        "when its three level-1 seeds and its grid were trained to the end (the reward table's notes). 'flying' "
-        "[ours]: flying planes over the island's forest grid alone, the rule before."))
+        "it opens to a waiting plane, or over the ring's seabed below the sea level, does nothing; the default "
+        "since issue 52's session 47, when its three level-1 seeds and its grid were trained to the end (the reward "
+        "table's notes). 'flying' [ours]: flying planes over the island's forest grid alone, the rule before."))
     drop_ground: Literal["island", "terrain"] = Field("island", description=(
         "Over what ground a drop lands (its water is spent and counted as a Water Drop), read where the plane's "
         "cast is (terrain_cast). 'terrain' [orig]: the release's DropWater tests only that its cast hit the terrain "

@@ -427,7 +427,8 @@ class AerialWildfireSimulator:
         mask knows no task: the Find tasks' planes, which neither drop nor refill (params.water_in_find_tasks), keep
         their first water and the branch open wherever they fly over the island (the reward table's note 'What the
         cameras see past the border, and the drop's action mask'). Under params.drop_mask 'release' it opens to
-        waiting planes too and over the water ring's seabed, where a drop does nothing."""
+        waiting planes too and over the water ring's seabed, where a drop does nothing below the sea level (above it,
+        on a headland past the island, it lands under params.drop_ground 'terrain')."""
         open_ = state.water.copy() if self.release_mask else state.flying & state.water  # narrowed in place below
         if np.count_nonzero(open_):
             open_ &= self._over_terrain(state.maps, state.cast_at if self.frame_casts else state.position)
