@@ -1,21 +1,22 @@
 """Where Aerial Wildfire Suppression's planes drop their water and how many trees a drop wets, per terrain level.
 
-    python benchmarks/aws_drops.py [--task main] [--policy random|scripted|trained] [--levels 1,2,...] [--headlands]
-                                   [--worlds 8] [--episodes 1] [--grid /work/runs/aws-grid]
-                                   [--generators '{"terrain": {"sea_level_m": 7}}'] [--params '{"drop_ground": "terrain"}']
+    python benchmarks/aws_drops.py [--task main] [--policy random|scripted|trained] [--levels 1,2,...]
+                                   [--worlds 8] [--episodes 1] [--grid /work/runs/aws-grid] [--headlands]
+                                   [--generators '{"terrain": {"sea_level_m": 7}}']
+                                   [--params '{"drop_ground": "terrain"}']
 
 Plays test-seed episodes and logs every drop: the trees it wetted, the ground height and the distance to the sea
-under the plane, and how many trees its swath held when the episode began (so the share it found still dry).
-It also logs whether the plane was over the water ring (past the island's square) when it dropped: a drop the
-last frame's terrain cast let through there wets nothing (params.terrain_cast 'frame'), the loop the original's
-late records show (pick-ups within one of the drops at a few trees a drop). ``--headlands`` prints instead, per level,
-how much terrain stands above the sea past the island's square (up to the border), where under params.drop_ground
-'terrain' (the release's DropWater) a plane refills and drops without crossing back. Per plane it logs the decisions it
-played and whether it dropped at all: in Drop Water (task drop_water) an
-episode ends on the first drop, so that is the untrained planes' time to their first drop, the original's
-Episode Length at its first summary points. Beside each level it prints the original's trees a drop, pooled over
-its first 90,000 agent-steps (hivex_dsl.evaluation.original.evidence.pooled_ratio). ``--policy trained`` plays
-the checkpoint of ``--grid``'s run of that level, one world at a time. The reward table's notes record what it
+under the plane, how many trees its swath held when the episode began (so the share it found still dry), and
+whether the plane was over the water ring (past the island's square): a drop the last frame's terrain cast let
+through there wets nothing (params.terrain_cast 'frame'), the loop the original's late records show (pick-ups
+within one of the drops at a few trees a drop). Per plane it logs the decisions it played and whether it dropped
+at all: in Drop Water (task drop_water) an episode ends on the first drop, so that is the untrained planes' time to
+their first drop, the original's Episode Length at its first summary points. Beside each level it prints the
+original's trees a drop, pooled over its first 90,000 agent-steps
+(hivex_dsl.evaluation.original.evidence.pooled_ratio). ``--policy trained`` plays the checkpoint of ``--grid``'s
+run of that level, one world at a time. ``--headlands`` prints instead, per level, how much terrain stands above
+the sea between the island's square and the border, where under params.drop_ground 'terrain' (the release's
+DropWater) a plane refills and drops without crossing back. The reward table's notes record what it
 printed (issue 52).
 """
 
@@ -34,8 +35,8 @@ from hivex_dsl.envs.island import SEA
 from hivex_dsl.evaluation.original.evidence import EvidenceError, pooled_ratio
 from hivex_dsl.evaluation.policies import make_policy
 from hivex_dsl.runtime.batched import BatchedEnv
-from hivex_dsl.sim.grids import sample_bilinear
 from hivex_dsl.sim.fire.water import covered_cells
+from hivex_dsl.sim.grids import sample_bilinear
 
 ENVIRONMENT = "aerial_wildfire_suppression"
 TREES = ("Preparing Trees", "Extinguishing Trees")
@@ -83,7 +84,8 @@ def policy_of(name: str, compiled, core: BatchedEnv, level: int, grid: Path | No
 
 def play(level: int, task: str, policy: str, worlds: int, episodes: int, generators: dict, grid: Path | None,
          params: dict | None = None) -> tuple[dict[str, np.ndarray], dict[str, np.ndarray]]:
-    """Per drop (wet, height, sea, swath, ring) and per plane (length, dropped) arrays over ``episodes`` of ``worlds``."""
+    """Per drop (wet, height, sea, swath, ring) and per plane (length, dropped) arrays over ``episodes`` of
+    ``worlds``."""
     scenario = {"hivex": 1, "environment": ENVIRONMENT, "task": task, "terrain_level": level}
     if generators:
         scenario["generators"] = generators
@@ -176,7 +178,8 @@ def main(argv: list[str] | None = None) -> int:
         generators, params = json.loads(args.generators), json.loads(args.params)
         for level in levels if args.headlands else ():
             share, area = headlands(level, args.worlds)
-            print(f"L{level:2d}: {share:4.2f} of worlds hold land above the sea past the island, {area:6.0f} m^2 a world")
+            print(f"L{level:2d}: {share:4.2f} of worlds hold land above the sea past the island, "
+                  f"{area:6.0f} m^2 a world")
         for level in () if args.headlands else levels:
             drops, planes = play(level, args.task, args.policy, args.worlds, args.episodes, generators, args.grid,
                                  params)

@@ -63,8 +63,8 @@ def test_over_the_sea_past_the_island_no_drop_lands_under_either_rule():
 
 
 def test_over_a_headland_a_plane_refills_and_drops_every_other_decision():
-    """Six decisions asking to drop from 640 m, without water: pick-up, drop, pick-up, drop, ... each pick-up paid
-    as the release's PickupWater pays it, each drop counted though it wets nothing."""
+    """Six decisions asking to drop from 640 m, without water: pick-up, drop, pick-up, drop, ..., as the release's
+    PickupWater and DropWater take turns there; each drop counts though it wets nothing."""
     sim, state = headland("terrain", 640.0, water=False)
     picks, drops = [], []
     for _ in range(6):
