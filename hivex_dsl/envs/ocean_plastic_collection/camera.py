@@ -167,7 +167,8 @@ def as_pairs(z: np.ndarray) -> np.ndarray:
 
 
 def sense(field: PebbleField, position: np.ndarray, facing: np.ndarray, speed: np.ndarray,
-          active: np.ndarray, geometry: Geometry, sweeping: Optional[np.ndarray]) -> Sensing:
+          active: np.ndarray, geometry: Geometry, sweeping: Optional[np.ndarray],
+          allowance: Optional[np.ndarray] = None) -> Sensing:
     """Collect with every sweeping vessel, then read every active vessel's camera and nearby count.
 
     position (B, A, 2) metres, facing (B, A) complex unit headings exp(i heading), speed (B, A)
@@ -177,7 +178,9 @@ def sense(field: PebbleField, position: np.ndarray, facing: np.ndarray, speed: n
     and ``|left| <= collector_half_width`` (the collector moved ``speed`` metres along the heading,
     so this is the area it swept). A collector that did not move sweeps nothing, so a vessel spawned
     over pebbles does not take them before it moves. A pebble two vessels reach goes to the lower agent
-    index. Inactive vessels neither collect nor see (their camera and count are 0).
+    index. ``allowance`` (slots,), if given, caps how many each vessel collects, the nearest to its centre
+    first; the rest float on (a pebble two vessels reach stays with the lower index even where its cap leaves
+    it). Inactive vessels neither collect nor see (their camera and count are 0).
     """
     batch, agents = facing.shape
     slots = batch * agents
@@ -192,7 +195,8 @@ def sense(field: PebbleField, position: np.ndarray, facing: np.ndarray, speed: n
     if sweeping is not None and np.count_nonzero(sweeping):
         hits = (_swept(local, speed.take(slot), floating, geometry) & sweeping.reshape(-1).take(slot)).nonzero()[0]
         if hits.size:
-            alive, collected = _collect(field.alive, pebble[hits], slot[hits], slots)
+            distance = np.abs(local[hits]) if allowance is not None else None
+            alive, collected = _collect(field.alive, pebble[hits], slot[hits], slots, allowance, distance)
             floating &= alive.take(pebble)
     counts = np.bincount(_camera_bins(slot, local, floating, geometry), minlength=slots * CAMERA_BINS)
     camera = counts.reshape(slots, CAMERA_BINS)[:, :-1]  # without the unseen bin
@@ -217,15 +221,24 @@ def _nearby(slot: np.ndarray, local: np.ndarray, floating: np.ndarray, slots: in
     return np.bincount(slot[near], minlength=slots)
 
 
-def _collect(alive: np.ndarray, hit_pebble: np.ndarray, hit_slot: np.ndarray, slots: int):
-    """Remove the hit pebbles; each goes to its first (lowest) slot, hits being ordered by slot.
+def _collect(alive: np.ndarray, hit_pebble: np.ndarray, hit_slot: np.ndarray, slots: int,
+             allowance: Optional[np.ndarray] = None, hit_distance: Optional[np.ndarray] = None):
+    """Remove the hit pebbles; each goes to its first (lowest) slot, hits being ordered by slot. With
+    ``allowance`` (slots,) a slot takes at most that many, the smallest ``hit_distance`` (hits,) first.
 
     Returns the new alive mask (B, N) and collected counts per slot (slots,).
     """
     taken, first = np.unique(hit_pebble, return_index=True)  # first occurrence = lowest slot
+    owner = hit_slot[first]
+    if allowance is not None:
+        order = np.lexsort((hit_distance[first], owner))  # by slot, the nearest first
+        ranked = owner[order]
+        rank = np.arange(order.size) - np.searchsorted(ranked, ranked)  # place within its slot's hits
+        keep = order[rank < allowance[ranked]]
+        taken, owner = taken[keep], owner[keep]
     alive = alive.copy()
     alive.reshape(-1)[taken] = False
-    return alive, np.bincount(hit_slot[first], minlength=slots)
+    return alive, np.bincount(owner, minlength=slots)
 
 
 def _camera_bins(slot: np.ndarray, local: np.ndarray, floating: np.ndarray, geometry: Geometry) -> np.ndarray:

@@ -8,7 +8,7 @@ world, its pollution heat map, the pebble count and the spawn rules are generato
 
 from __future__ import annotations
 
-from typing import Literal
+from typing import Any, ClassVar, Literal
 
 from pydantic import Field
 
@@ -18,6 +18,9 @@ CrashOutcome = Literal["end_world", "end", "respawn"]
 
 
 class OceanPlasticCollectionParams(StrictModel):
+    # each with what was done before it came, written out (not AS_DEFAULT): collection uncapped (issue 52, session 48)
+    ADDED_FIELDS: ClassVar[dict[str, Any]] = {"collect_per_decision": 0}
+
     acceleration: float = Field(0.2, gt=0.0, le=1.0, description=(
         "[orig] Metres per step added to the vessel's speed on each step it accelerates (throttle 1); fitted with "
         "turn_rate_deg to the original's untrained policy, whose vessel-episodes last 32.5-35.2 decisions (the reward "
@@ -45,5 +48,10 @@ class OceanPlasticCollectionParams(StrictModel):
         "reward table's ending note) ends the episode of every vessel of the world, the crashed one paying -100; "
         "'end' ends that vessel's episode alone, as the original Aerial Wildfire Suppression does at its border; "
         "'respawn' moves it to a free spawn point at rest on the next step, its episode going on."))
+    collect_per_decision: int = Field(0, ge=0, le=100, description=(
+        "[ours] At most this many pebbles a vessel collects within one decision, the nearest first (0: no cap, the "
+        "default). The original's training pace stays near one pebble a decision in every collecting task (the "
+        "reward table's pace note), as a release that takes one pebble an action would; 1 models that reading, "
+        "left to test: a cap needs a denser field than the supply fitted without one."))
     respawn_candidates: int = Field(16, ge=1, le=256, description=(
         "[ours] Random spawn points tried per respawn; the one farthest from the other vessels is taken."))

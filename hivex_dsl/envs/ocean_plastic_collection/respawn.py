@@ -33,6 +33,7 @@ def respawn_where(sim, state: OceanState, mask: np.ndarray, rng: np.random.Gener
                   crashed=state.crashed & ~mask, crossed_border=state.crossed_border & ~mask,
                   collided_vessel=state.collided_vessel & ~mask, closest=np.where(mask, closest, state.closest),
                   collected=np.where(mask, 0, state.collected), collected_total=np.where(mask, 0, state.collected_total),
+                  decision_collected=np.where(mask, 0, state.decision_collected),
                   nearby=np.where(mask, sensing.nearby, state.nearby), nearby_best=np.where(mask, 0, state.nearby_best),
                   vector=np.where(picked, vector, state.vector),
                   visual=np.where(picked[..., None, None], visual, state.visual))

@@ -105,6 +105,8 @@ class OceanPlasticSimulator:
         })
         self.action_space = spaces.MultiDiscrete([2, 3])
         self.motion = Motion.of(params)
+        self.period = compiled.decision_period
+        self.cap = params.collect_per_decision  # 0: no cap
 
     # -- reset ------------------------------------------------------------------------------------
 
@@ -125,8 +127,9 @@ class OceanPlasticSimulator:
         zeros = np.zeros(shape, np.int64)
         return OceanState(position=position, heading=heading, speed=speed, active=active, crashed=no,
                           crossed_border=no, collided_vessel=no, closest=closest,
-                          collected=zeros, collected_total=zeros,
-                          nearby=zeros, nearby_best=zeros, pebbles=field, heat=heat, vector=vector, visual=visual)
+                          collected=zeros, collected_total=zeros, decision_collected=zeros,
+                          tick=np.zeros(batch, np.int64), nearby=zeros, nearby_best=zeros, pebbles=field, heat=heat,
+                          vector=vector, visual=visual)
 
     def reset_where(self, state: OceanState, mask: np.ndarray, rng: np.random.Generator) -> OceanState:
         count = int(np.count_nonzero(mask))
@@ -151,7 +154,8 @@ class OceanPlasticSimulator:
         collided = closest < p.collision_distance_m
         crashed = border | collided
         sweeping = active & ((speed > 0) | (heading != before))  # a collector at rest sweeps nothing
-        sensing = sense(state.pebbles, position, facing, speed, active, self.geometry, sweeping)
+        so_far, allowance = self._allowance(state)
+        sensing = sense(state.pebbles, position, facing, speed, active, self.geometry, sweeping, allowance)
         terminated = np.zeros(crashed.shape, bool)
         ends = p.crash_outcome != "respawn"
         if ends and np.count_nonzero(crashed):
@@ -166,13 +170,24 @@ class OceanPlasticSimulator:
         new = assemble(OceanState,
             position=position, heading=heading, speed=speed, active=active, crashed=crashed,
             crossed_border=border, collided_vessel=collided, closest=closest, collected=sensing.collected,
-            collected_total=state.collected_total + sensing.collected, nearby=sensing.nearby,
+            collected_total=state.collected_total + sensing.collected,
+            decision_collected=so_far + sensing.collected if self.cap else so_far, tick=state.tick + 1,
+            nearby=sensing.nearby,
             nearby_best=np.maximum(state.nearby_best, sensing.nearby), pebbles=pebbles,
             heat=state.heat, vector=self._vector(position, facing, distances, closest, state.vector),
             visual=self._visual(sensing, state.visual))
         events = {"crossed_border": border, "collided_with_other_vessel": collided,
                   "collided_with_trash": sensing.collected > 0, "crash_ended_world": self._world_crash(crashed)}
         return new, StepOutcome(terminated=terminated, events=events)
+
+    def _allowance(self, state: OceanState) -> tuple[np.ndarray, np.ndarray | None]:
+        """The pebbles each vessel collected earlier in this step's decision (B, A), and how many more it may
+        collect this step under params.collect_per_decision (slots,), None without a cap."""
+        if not self.cap:
+            return state.decision_collected, None
+        starts = (state.tick % self.period == 0)[:, None]  # this step begins a decision
+        so_far = np.where(starts, 0, state.decision_collected)
+        return so_far, np.maximum(self.cap - so_far, 0).reshape(-1)
 
     def _world_crash(self, crashed: np.ndarray) -> np.ndarray:
         """(B, A) bool: under ``crash_outcome: end_world``, every vessel of a world in which one crashed this step

@@ -44,6 +44,8 @@ class OceanState:
     closest: np.ndarray  # (B, A) metres to the closest other active vessel (inf without one)
     collected: np.ndarray  # (B, A) int64 pebbles collected this step
     collected_total: np.ndarray  # (B, A) int64 pebbles collected this episode
+    decision_collected: np.ndarray  # (B, A) int64 pebbles collected since the decision began (0 without a cap)
+    tick: np.ndarray  # (B,) int64 physics steps since the world's reset: a decision begins where tick % period == 0
     nearby: np.ndarray  # (B, A) int64 pebbles within the nearby radius (0 at reset)
     nearby_best: np.ndarray  # (B, A) int64 highest nearby count of the vessel's episode (0 at reset: ntc_old = 0)
     pebbles: PebbleField
