@@ -317,7 +317,7 @@ class AerialWildfireSimulator:
         inside, cell = self._cells_under(position)
         land = inside & (maps.ground.reshape(-1).take(cell) != SEA)
         if self.drops_past_island and not inside.all():
-            land |= ~inside & (sample_bilinear(maps.terrain, self.terrain_grid, position) > self.sea_level_m)
+            land |= ~inside & (self._terrain_height(maps, position) > self.sea_level_m)
         return land
 
     def _over_terrain(self, maps: IslandMaps, position: np.ndarray) -> np.ndarray:
@@ -327,8 +327,13 @@ class AerialWildfireSimulator:
         inside, cell = self._cells_under(position)
         high = inside & (maps.height.reshape(-1).take(cell) >= MASK_TERRAIN_M)
         if self.release_mask and not inside.all():
-            high |= ~inside & (sample_bilinear(maps.terrain, self.terrain_grid, position) >= MASK_TERRAIN_M)
+            high |= ~inside & (self._terrain_height(maps, position) >= MASK_TERRAIN_M)
         return high
+
+    def _terrain_height(self, maps: IslandMaps, position: np.ndarray) -> np.ndarray:
+        """(B, A) metres: the generator's whole height map under each plane (``position`` (B, A, 2) metres), which
+        runs on under the water ring past the forest grid."""
+        return sample_bilinear(maps.terrain, self.terrain_grid, position)
 
     def _cells_under(self, position: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(B, A) bool whether each plane (``position`` (B, A, 2) metres) is over the island's grid, and (B, A) the
