@@ -91,14 +91,15 @@ class AerialWildfireParams(WindParams, FireSpec, CameraParams):
         "it opens to a waiting plane, or over the ring's seabed below the sea level, does nothing; the default "
         "since issue 52's session 47, when its three level-1 seeds and its grid were trained to the end (the reward "
         "table's notes). 'flying' [ours]: flying planes over the island's forest grid alone, the rule before."))
-    drop_ground: Literal["island", "terrain"] = Field("island", description=(
+    drop_ground: Literal["island", "terrain"] = Field("terrain", description=(
         "Over what ground a drop lands (its water is spent and counted as a Water Drop), read where the plane's "
         "cast is (terrain_cast). 'terrain' [orig]: the release's DropWater tests only that its cast hit the terrain "
         "at 10 m or more (here above the sea level, 7 m), wherever that lies: past the island's 600 m too, where "
         "the generator's headlands run on under the water ring and PickupWater fills every plane without water, so "
         "a plane over such a headland refills and drops every other decision, its swath wetting what lies within "
-        "its reach. 'island' [ours]: land of the island's forest grid alone, the rule before (the reward table's "
-        "notes)."))
+        "its reach; the default since issue 52's session 49, when its three level-1 seeds and its grid were "
+        "trained to the end (the reward table's notes). 'island' [ours]: land of the island's forest grid alone, "
+        "the rule before."))
     redraw_island: RedrawIsland = redraw_island_field()
     drop_points: int = Field(4, ge=1, le=8, description="[orig] Points of the water swath, the first under the plane.")
     drop_point_spacing_m: float = Field(20.0, ge=0.0, le=100.0, description="[orig] Metres between swath points, ahead of the plane.")
