@@ -3,7 +3,7 @@
     python benchmarks/aws_drops.py [--task main] [--policy random|scripted|trained] [--levels 1,2,...]
                                    [--worlds 8] [--episodes 1] [--grid /work/runs/aws-grid] [--headlands]
                                    [--generators '{"terrain": {"sea_level_m": 7}}']
-                                   [--params '{"drop_ground": "terrain"}']
+                                   [--params '{"drop_ground": "island"}']
 
 Plays test-seed episodes and logs every drop: the trees it wetted, the ground height and the distance to the sea
 under the plane, how many trees its swath held when the episode began (so the share it found still dry), and
@@ -15,8 +15,8 @@ their first drop, the original's Episode Length at its first summary points. Bes
 original's trees a drop, pooled over its first 90,000 agent-steps
 (hivex_dsl.evaluation.original.evidence.pooled_ratio). ``--policy trained`` plays the checkpoint of ``--grid``'s
 run of that level, one world at a time. ``--headlands`` prints instead, per level, how much terrain stands above
-the sea between the island's square and the border, where under params.drop_ground 'terrain' (the release's
-DropWater) a plane refills and drops without crossing back. The reward table's notes record what it
+the sea between the island's square and the border, where under params.drop_ground 'terrain' (the default, the
+release's DropWater) a plane refills and drops without crossing back. The reward table's notes record what it
 printed (issue 52).
 """
 
