@@ -68,8 +68,8 @@ def original_end(level: int) -> dict[str, tuple[float, float, float]]:
 
 
 def looped(level: int, worlds: int, params: dict) -> dict[str, float]:
-    """The looper's plane-episodes over ``worlds`` test episodes (one world each) at ``level``: the mean of each
-    panel of PANELS, the return and Episode Length (decisions) included, and of Water Pickup."""
+    """The looper's plane-episodes over ``worlds`` test episodes (one world each) at ``level``: the mean of the
+    return, of Episode Length (decisions) and of every logged statistic, by its panel name."""
     compiled = hivex_dsl.compile({"hivex": 1, "environment": ENVIRONMENT, "task": 0, "agents": 3,
                                   "terrain_level": level, "params": params})
     played = rollout(compiled, coast_looper(compiled), worlds, split="test")

@@ -93,7 +93,8 @@ def test_the_main_records_three_seeds_read_the_early_fire_as_measured_by_hand():
     201 plane-episodes (0, 1 and 2 of the fire's arrivals, each ending a world's three plane-episodes; drops landing
     over the island's grid alone read the same, seed 0 in 258), so one arrival moves the reading by about a third of
     the original's: the record trained under the mask open to flying planes alone, with the same fire, read 1.55
-    (1.24 of it; 6, 1 and 1 arrivals) and the per-step cast's of session 43 1.00. The fire's pace is read from the grid's ten levels (the tests above and below), not from this one."""
+    (1.24 of it; 6, 1 and 1 arrivals) and the per-step cast's of session 43 1.00. The fire's pace is read from the
+    grid's ten levels (the tests above and below), not from this one."""
     lines = script.report("main record", script.record_seeds(), 90_000)
     assert "L1 0.34/1.25" in lines[1]
     assert float(lines[1].rsplit("median ratio ", 1)[1]) == pytest.approx(0.27, abs=0.005)
