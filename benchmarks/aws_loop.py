@@ -24,7 +24,7 @@ import numpy as np
 
 import hivex_dsl
 from hivex_dsl import HivexError
-from hivex_dsl.envs.aerial_wildfire_suppression.scripted import steer_towards
+from hivex_dsl.envs.aerial_wildfire_suppression.scripted import coast_target, steer_towards
 from hivex_dsl.evaluation.original.curves import original_curves
 from hivex_dsl.evaluation.original.evidence import curve_points
 from hivex_dsl.evaluation.rollout import rollout
@@ -43,10 +43,7 @@ def coast_looper(compiled) -> Callable[[dict], dict]:
     def act(observations: dict) -> dict:
         vector = observations["vector"].astype(np.float64)
         position, heading = vector[..., 0:2] * scale, np.arctan2(vector[..., 3], vector[..., 2])
-        along_x = np.abs(position[..., 0]) >= np.abs(position[..., 1])
-        side = np.where(position >= 0.0, 1.0, -1.0) * edge
-        target = np.where(along_x[..., None], np.stack([side[..., 0], position[..., 1]], axis=-1),
-                          np.stack([position[..., 0], side[..., 1]], axis=-1))
+        target = coast_target(position, edge, edge)  # a ring of no width: the edge's nearest point
         far = np.hypot(*np.moveaxis(target - position, -1, 0)) > CIRCLE_FROM_M
         steer = np.where(far, steer_towards(position, heading, target, turn), 1.0)
         drop = np.ones(position.shape[:-1] + (1,), np.int64)
