@@ -95,13 +95,14 @@ def danger_rules(position, direction, half, ahead_m, steer, throttle):
     return np.where(danger, home, steer), np.where(danger, 0, throttle)
 
 
-def group_rules(gap, bearing, speed, close_m, sprint_m, steer, throttle):
+def group_rules(gap, bearing, speed, close_m, sprint_m, burst_m, steer, throttle):
     """Head for the closest vessel: at full speed while far, creeping (at most CREEP_SPEED) once
-    within ``sprint_m``, and idle once nearer than GROUP_BAND of the close distance."""
+    within ``sprint_m``, drifting once a decision's throttle (``burst_m`` of travel) would carry it inside
+    the close distance, and idle once nearer than GROUP_BAND of the close distance."""
     far = np.isfinite(gap) & (gap >= GROUP_BAND * close_m)
     sprint = gap > sprint_m
     steer = np.where(far, steer_toward(bearing), steer)
-    creep = (speed < CREEP_SPEED).astype(np.int64)
+    creep = ((speed < CREEP_SPEED) & (gap > close_m + burst_m)).astype(np.int64)
     throttle = np.where(far, np.where(sprint, 1, creep), np.where(np.isfinite(gap), 0, throttle))
     return steer, throttle
 
@@ -111,6 +112,16 @@ def avoid_rules(gap, bearing, avoid_m, idle_m, steer, throttle):
     ahead = (gap < avoid_m) & (np.abs(bearing) < np.pi / 2)
     steer = np.where(ahead, np.where(bearing > 0, 2, 1), steer)
     return steer, np.where(ahead, (gap >= idle_m).astype(np.int64), throttle)
+
+
+def burst_travel(acceleration: float, drag: float, period: int) -> float:
+    """Metres a vessel at rest travels on one decision of full throttle (``period`` physics steps) and the coast
+    after it, as the simulator moves it (speed = (1 - drag) x speed + acceleration, then a step of that speed)."""
+    speed, travel = 0.0, 0.0
+    for _ in range(period):
+        speed = (1.0 - drag) * speed + acceleration
+        travel += speed
+    return travel + speed * (1.0 - drag) / drag
 
 
 def scripted_policy(compiled) -> Callable[[dict], np.ndarray]:
@@ -123,12 +134,14 @@ def scripted_policy(compiled) -> Callable[[dict], np.ndarray]:
     worth = 1.0 / (1.0 + steps_away / PATIENCE_STEPS)
     period = compiled.decision_period  # the stacked positions are a decision, this many physics steps, apart
     hold_still = weights.get("collect_trash", 0.0) < 0.0
-    group_up = weights.get("close_to_other_vessel", 0.0) > 0.0
+    # Closeness that only a collision reaches (a collision distance at or past the close distance) is not sought.
+    group_up = weights.get("close_to_other_vessel", 0.0) > 0.0 and params.collision_distance_m < params.close_distance_m
     # Distances in steps of travel at top speed, so the skipper keeps its margins at any vessel pace (issue 52: the
     # default vessels run 2 m a step, where margins fitted at 0.5 m a step crashed most worlds' vessels).
     clear_m, ahead_m, sprint_m = AVOID_STEPS * top_speed, DANGER_AHEAD_STEPS * top_speed, GROUP_SPRINT_STEPS * top_speed
     # Grouping vessels creep, so they turn away only when nearly touching, and then idle.
     avoid_m = GROUP_AVOID * params.collision_distance_m if group_up else clear_m
+    burst_m = burst_travel(params.acceleration, params.drag, period)
     idle_m = avoid_m if group_up else clear_m / 2
 
     def act(observations: dict) -> np.ndarray:
@@ -149,7 +162,7 @@ def scripted_policy(compiled) -> Callable[[dict], np.ndarray]:
         if group_up:
             speed = np.hypot(*np.moveaxis(vector[..., 0:2] - vector[..., 6:8], -1, 0)) * (half / period)
             steer, throttle = group_rules(gap, neighbour_bearing, speed, params.close_distance_m, sprint_m,
-                                           steer, throttle)
+                                           burst_m, steer, throttle)
         steer, throttle = avoid_rules(gap, neighbour_bearing, avoid_m, idle_m, steer, throttle)
         steer, throttle = danger_rules(position, direction, half, ahead_m, steer, throttle)
         return np.stack([throttle, steer], axis=-1).astype(np.int64)
