@@ -11,8 +11,9 @@ ENV = "ocean_plastic_collection"
 STEPS = 1000
 
 
-def short(task: str):
-    return hivex_dsl.compile({"hivex": 1, "environment": ENV, "task": task, "episode_length": STEPS})
+def short(task: str, **params):
+    return hivex_dsl.compile({"hivex": 1, "environment": ENV, "task": task, "episode_length": STEPS,
+                              "params": params})
 
 
 @pytest.fixture(scope="module")
@@ -38,6 +39,16 @@ def test_scripted_stays_inside_the_border_and_clear_of_the_others(main_runs):
 def test_avoid_plastic_holds_still_and_group_up_keeps_company():
     avoid, sums = collect_returns(short("avoid_plastic"), "scripted", episodes=1, split="test", seed=6000)
     assert sums["collect_trash"].sum() <= 1.0 and avoid.mean() >= -101.0 / 3
-    group, sums = collect_returns(short("group_up"), "scripted", episodes=1, split="test", seed=6000)
+    # with vessels colliding within 5 m, a 5-10 m band where closeness pays without a crash
+    group, sums = collect_returns(short("group_up", collision_distance_m=5.0), "scripted", episodes=1, split="test",
+                                  seed=6000)
     assert sums["collided_with_other_vessel"].sum() == 0.0
     assert sums["close_to_other_vessel"].mean() >= 1.0 * STEPS / 2  # close (+1 a step) for at least half the steps
+
+
+def test_group_up_collects_where_closeness_would_be_a_collision(main_runs):
+    """At the default collision distance, 10 m, no closer than the close distance, closeness pays only on a
+    collision's step: the skipper collects as in the main task instead, on the same worlds, the same pebbles."""
+    group, sums = collect_returns(short("group_up"), "scripted", episodes=2, split="test", seed=6000)
+    assert sums["collided_with_other_vessel"].sum() == 0.0 and sums["close_to_other_vessel"].sum() == 0.0
+    assert sums["collect_trash"].tolist() == main_runs["scripted"][1]["collect_trash"].tolist()
