@@ -47,8 +47,8 @@ def test_avoid_plastic_holds_still_and_group_up_keeps_company():
 
 
 def test_group_up_collects_where_closeness_would_be_a_collision(main_runs):
-    """At the default collision distance, 10 m, no closer than the close distance, closeness pays only on a
-    collision's step: the skipper collects as in the main task instead, on the same worlds, the same pebbles."""
+    """At the default collision distance, 10 m, no closer than the close distance, closeness pays nothing (a
+    vessel that near has collided): the skipper collects as in the main task instead, the same pebbles."""
     group, sums = collect_returns(short("group_up"), "scripted", episodes=2, split="test", seed=6000)
     assert sums["collided_with_other_vessel"].sum() == 0.0 and sums["close_to_other_vessel"].sum() == 0.0
     assert sums["collect_trash"].tolist() == main_runs["scripted"][1]["collect_trash"].tolist()

@@ -77,7 +77,8 @@ def test_group_up_pays_closeness_by_the_step_not_tenfold():
     """Published Group Up (868.7) exceeds the main task (823.3) by 45: at +10 a step that is 4.5 close steps
     of 5000, at +1 45. The prose's +1 is the term's value; a scripted group that stays together most of the
     episode earns a few thousand, not tens of thousands. Measured with vessels colliding within 5 m, a band of
-    5-10 m to hold: at the default 10 m closeness pays only on a collision's step (the reward table's ending note)."""
+    5-10 m to hold: at the default 10 m closeness pays nothing, a vessel that near having collided (the reward
+    table's ending note)."""
     group = compile_task(2)
     assert group.entry.terms["close_to_other_vessel"].contract.high == 1.0
     close = episodes(2, "scripted", 5.0).terms["close_to_other_vessel"].mean()

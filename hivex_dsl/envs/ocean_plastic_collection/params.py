@@ -39,8 +39,8 @@ class OceanPlasticCollectionParams(StrictModel):
         "size; fitted to the original's records (issue 52; the reward table's ending note): trained at 5 m, this "
         "project's first choice, the vessels learned to outlive the original's about 150 decisions by half again "
         "and returned 2-3 times its return, at 10 m they live nearly as long; and at 10 m Close to Other Vessel "
-        "(within close_distance_m, 10 m) pays only on a collision's step, as the original's Group Up, which returned "
-        "about what its main task did, shows."))
+        "(within close_distance_m, 10 m) pays nothing, a vessel that near having collided, as the original's Group "
+        "Up, which returned about what its main task did, shows."))
     close_distance_m: float = Field(10.0, gt=0.0, le=200.0, description=(
         "[paper] d_thresh of Close to Other Vessel: the reward is given while the closest vessel is at most this far."))
     nearby_radius_m: float = Field(25.0, gt=0.0, le=100.0, description=(
