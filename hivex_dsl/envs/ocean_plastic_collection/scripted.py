@@ -21,6 +21,7 @@ from typing import Callable
 import numpy as np
 
 from .camera import CAMERA_CELL_M, CAMERA_CELLS, CAMERA_HALF_M
+from .simulator import Motion, move
 
 LOOKAHEAD_M = 30.0
 BORDER_MARGIN_M = 25.0  # the course is turned home when it runs this close to the border
@@ -114,14 +115,14 @@ def avoid_rules(gap, bearing, avoid_m, idle_m, steer, throttle):
     return steer, np.where(ahead, (gap >= idle_m).astype(np.int64), throttle)
 
 
-def burst_travel(acceleration: float, drag: float, period: int) -> float:
-    """Metres a vessel at rest travels on one decision of full throttle (``period`` physics steps) and the coast
-    after it, as the simulator moves it (speed = (1 - drag) x speed + acceleration, then a step of that speed)."""
-    speed, travel = 0.0, 0.0
+def burst_travel(motion: Motion, period: int) -> float:
+    """Metres a vessel at rest travels on one decision of full throttle (``period`` physics steps of the
+    simulator's :func:`move`) and the coast after it (speed x keep / (1 - keep), the geometric tail)."""
+    position, heading, speed = np.zeros((1, 1, 2)), np.zeros((1, 1)), np.zeros((1, 1))
+    throttle, active = np.array([[[1, 0]]]), np.ones((1, 1), bool)
     for _ in range(period):
-        speed = (1.0 - drag) * speed + acceleration
-        travel += speed
-    return travel + speed * (1.0 - drag) / drag
+        position, heading, speed, _ = move(position, heading, speed, throttle, active, motion)
+    return float(position[0, 0, 0] + speed[0, 0] * motion.keep / (1.0 - motion.keep))
 
 
 def scripted_policy(compiled) -> Callable[[dict], np.ndarray]:
@@ -141,7 +142,7 @@ def scripted_policy(compiled) -> Callable[[dict], np.ndarray]:
     clear_m, ahead_m, sprint_m = AVOID_STEPS * top_speed, DANGER_AHEAD_STEPS * top_speed, GROUP_SPRINT_STEPS * top_speed
     # Grouping vessels creep, so they turn away only when nearly touching, and then idle.
     avoid_m = GROUP_AVOID * params.collision_distance_m if group_up else clear_m
-    burst_m = burst_travel(params.acceleration, params.drag, period)
+    burst_m = burst_travel(Motion.of(params), period)
     idle_m = avoid_m if group_up else clear_m / 2
 
     def act(observations: dict) -> np.ndarray:
