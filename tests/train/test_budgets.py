@@ -25,9 +25,6 @@ APPENDIX_TITLES = {"wind_farm_control": "Wind Farm Control", "ocean_plastic_coll
                    "wildfire_resource_management": "Wildfire Resource Management",
                    "aerial_wildfire_suppression": "Aerial Wildfire Suppression"}
 # trained on several worlds and the fixed rollout until their records are re-fitted to one (issue 52; the notes)
-SEVERAL_WORLDS_STILL = {"ocean_plastic_collection"}
-
-
 def flat(config: dict) -> dict:
     """An ML-Agents trainer config's ``behaviors.Agent`` as this toolkit's flat keys (config.py's mapping)."""
     agent = config["behaviors"]["Agent"]
@@ -58,8 +55,6 @@ def test_the_defaults_are_the_config_that_ran(paper, environment):
     defaults = make_config(environment).model_dump()
     expected = flat(ran)
     expected.pop("threaded", None)
-    if environment in SEVERAL_WORLDS_STILL:
-        expected.pop("num_worlds")
     assert {k: defaults[k] for k in expected} == expected
 
 
@@ -73,14 +68,12 @@ def test_a_config_that_ran_counts_one_world_and_one_world_fills_as_ml_agents(pap
     counted = re.search(r"summary_freq: (\d+) # (\d+) \w+ a (\d+) steps = (\d+)", text)
     assert counted and int(counted[1]) == int(counted[2]) * int(counted[3]) == int(counted[4])
     cfg = make_config(environment)
-    assert (cfg.buffer_fill == "trajectories") == (cfg.num_worlds == 1) != (environment in SEVERAL_WORLDS_STILL)
+    assert cfg.num_worlds == 1 and cfg.buffer_fill == "trajectories"
 
 
 @pytest.mark.parametrize("environment", ENVIRONMENTS)
 def test_the_appendix_block_names_every_value_where_the_appendix_differs(paper, environment):
     ran, written = paper_defaults(environment), flat(appendix_config(paper, environment))
-    if environment in SEVERAL_WORLDS_STILL:
-        ran.pop("num_worlds")
     differing = {k: v for k, v in written.items() if k in ran and ran[k] != v}
     assert appendix(environment) == differing
 
