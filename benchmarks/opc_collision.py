@@ -5,8 +5,9 @@ this toolkit's record, trained at a collision distance of 5 m, learned to live 1
 curves of runs of the main scenario at other collision distances, as `hivex train` wrote them, beside the commands
 that trained them, for tests/fidelity/test_opc_collision.py and the reward table's ending note:
 
-    hivex train SCENARIO -o runs/opc-coll10-s0 --seed 0 --set torch_threads=1   (SCENARIO: the main scenario with
-        params: {collision_distance_m: 10.0}; stopped when it had passed half the budget)
+    hivex train SCENARIO -o runs/opc-coll10-s0 --seed 0 --set torch_threads=1 --set num_worlds=8 \
+        --set buffer_fill=rollout   (SCENARIO: the main scenario with params: {collision_distance_m: 10.0}; the
+        committed record's protocol, 8 worlds on the fixed rollout; stopped when it had passed half the budget)
     python benchmarks/opc_collision.py runs/opc-coll10-s0 [RUN ...] -o benchmarks/results/opc_collision.json
 
 and prints each run's Episode Length, Local Reward and return at 10, 25 and 50% of the budget beside the original's
@@ -31,7 +32,7 @@ class RunError(Exception):
 
 
 def read_run(folder: Path) -> dict:
-    """One run's collision distance, seed, hyperparameters' budget and training curve (curve.json's points)."""
+    """One run's collision distance, seed, hyperparameters and training curve (curve.json's points)."""
     try:
         config = json.loads((folder / "config.json").read_text())
         points = json.loads((folder / "curve.json").read_text())
@@ -42,9 +43,10 @@ def read_run(folder: Path) -> dict:
         raise RunError(f"{folder}: a run of {scenario.get('environment')!r}, expected {ENV!r}")
     if not points:
         raise RunError(f"{folder}: its curve holds no training point yet")
+    hyperparameters = config["hyperparameters"]
     return {"collision_distance_m": scenario["params"]["collision_distance_m"],
-            "seed": config["hyperparameters"]["seed"], "max_steps": config["hyperparameters"]["max_steps"],
-            "scenario": scenario, "agent_steps": points[-1]["agent_steps"],
+            "seed": hyperparameters["seed"], "max_steps": hyperparameters["max_steps"],
+            "hyperparameters": hyperparameters, "scenario": scenario, "agent_steps": points[-1]["agent_steps"],
             "curve": [{key: point[key] for key in KEPT} for point in points]}
 
 
