@@ -11,6 +11,7 @@ from hivex_dsl.cli import main
 from hivex_dsl.evaluation.original import compare
 from hivex_dsl.evaluation.original.curves import Curve, OriginalCell, OriginalPanel, original_curves
 from hivex_dsl.evaluation.original.digitise import VALUE_RESOLUTION_PT
+from hivex_dsl.evaluation.original.runs import read_run
 
 
 def _line(steps, mean, half_width) -> Curve:
@@ -102,12 +103,12 @@ def test_a_real_cell_wind_farm_control_pattern_0():
         assert all(r.ours.first == r.ours.last == r.step for r in rows)  # one of our points a summary period
 
 
-def _run_dir(tmp_path, points):
+def _run_dir(tmp_path, points, seed=0):
     run = tmp_path / "run"
-    run.mkdir()
+    run.mkdir(parents=True)
     (run / "curve.json").write_text(json.dumps(points))
     (run / "summary.json").write_text(json.dumps({"environment": "wind_farm_control", "task_index": 0, "level": 0,
-                                                  "seed": 0, "agent_steps": 8_000_000}))
+                                                  "seed": seed, "agent_steps": 8_000_000}))
     return run
 
 
@@ -129,6 +130,69 @@ def test_hivex_curves_refuses_what_is_no_run(tmp_path, capsys):
     run = _run_dir(tmp_path, [])
     assert main(["curves", str(run)]) == 2
     assert "no episode ended" in capsys.readouterr().err
+
+
+def _unfinished_run_dir(tmp_path, name, scenario, seed, points):
+    """A run directory as `hivex train` leaves it while training: config.json, and curve.json once it checkpointed."""
+    import hivex_dsl
+
+    run = tmp_path / name
+    run.mkdir()
+    resolved = hivex_dsl.compile(scenario).resolved()
+    (run / "config.json").write_text(json.dumps({"hyperparameters": {"seed": seed}, "scenario": resolved}))
+    if points is not None:
+        (run / "curve.json").write_text(json.dumps(points))
+    return run
+
+
+WFC_MAIN = {"hivex": 1, "environment": "wind_farm_control", "task": 0, "pattern": 0, "agents": 8,
+            "episode_length": 5000, "seeds": {"train": 5000, "test": 6000}}
+
+
+def test_a_run_still_training_is_measured_to_its_last_checkpoint(tmp_path, capsys):
+    """No summary.json yet: the cell comes from its config.json's scenario, the curve from its last checkpoint."""
+    points = [{"agent_steps": s, "return": 840.0, "episodes": 1, "length": 5_000.0} for s in range(40_000, 800_001,
+                                                                                                     40_000)]
+    run = _unfinished_run_dir(tmp_path, "run", WFC_MAIN, 2, points)
+    read = read_run(run)
+    assert (read.environment, read.task_index, read.level) == ("wind_farm_control", 0, 0)
+    assert read.curve.label == "this toolkit, seed 2 (unfinished)" and read.curve.last_step == 800_000
+    assert main(["curves", str(run)]) == 0
+    out = capsys.readouterr().out
+    assert "this toolkit, seed 2 (unfinished) against the original's WindFarmControl_results_pattern_0_task_0.pdf" in out
+    assert "this run 800,000" in out
+    assert "| Cumulative Reward | 10% | 800,000 | 840 (800,000) |" in out  # below the original's band there
+    assert "| Cumulative Reward | 25% | 2,000,000 | - |" in out  # not trained so far yet
+
+
+def test_a_run_that_has_not_checkpointed_says_so(tmp_path, capsys):
+    run = _unfinished_run_dir(tmp_path, "run", WFC_MAIN, 0, None)
+    assert main(["curves", str(run)]) == 2
+    assert "still training" in capsys.readouterr().err
+
+
+def test_hivex_curves_measures_other_seeds_runs_given_with_it(tmp_path, capsys):
+    """Three seeds' run directories: each measured, then their mean against the band, by hand."""
+    steps = range(40_000, 8_000_001, 40_000)
+    runs = [_run_dir(tmp_path / str(seed), [{"agent_steps": s, "return": value, "episodes": 8, "length": 5_000.0}
+                                            for s in steps], seed)
+            for seed, value in ((0, 5_000.0), (1, 4_000.0), (2, 4_300.0))]
+    args = ["curves", str(runs[0]), "--with", str(runs[1]), "--with", str(runs[2])]
+    assert main(args) == 0
+    out = capsys.readouterr().out
+    assert out.count("| Cumulative Reward | 100% |") == 4  # seed 0, the two given with it, and the mean
+    assert "| seed 0 | seed 1 | seed 2 | mean of seeds |" in out
+    both = out.split("every seed and their mean:")[1]
+    # (5,000 + 4,000 + 4,300) / 3 = 4,433: below the original's band of 4,559 - 4,597 at 100%
+    assert "| 4,433 | 4,583 | 4,559 - 4,597 | below |" in both
+
+
+def test_hivex_curves_refuses_a_seed_of_another_cell(tmp_path, capsys):
+    wfc = _run_dir(tmp_path, [{"agent_steps": 40_000, "return": 1.0, "episodes": 8, "length": 5_000.0}])
+    other = _unfinished_run_dir(tmp_path, "other", {**WFC_MAIN, "pattern": 1}, 1,
+                                [{"agent_steps": 40_000, "return": 1.0, "episodes": 8, "length": 5_000.0}])
+    assert main(["curves", str(wfc), "--with", str(other)]) == 2
+    assert "--with takes other seeds of the same cell" in capsys.readouterr().err
 
 
 def test_an_unsettled_drone_based_reforestation_page_is_asked_for():

@@ -5,8 +5,12 @@ from __future__ import annotations
 import argparse
 import sys
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from .argtypes import positive
+
+if TYPE_CHECKING:
+    from ..evaluation.original.runs import Run
 
 
 def add_command(sub: argparse._SubParsersAction) -> None:
@@ -16,6 +20,9 @@ def add_command(sub: argparse._SubParsersAction) -> None:
                    help="a run directory of `hivex train`, or a baseline record (benchmarks/baselines/<env>.json)")
     p.add_argument("scenario", nargs="?", metavar="SCENARIO",
                    help="compare with the original's cell of this scenario (default: the cell the run trained)")
+    p.add_argument("--with", dest="more", action="append", type=Path, default=[], metavar="RUN",
+                   help="another training seed's run of the same cell (repeatable): each measured too, then every "
+                        "seed and their mean")
     p.add_argument("--point", metavar="SELECTOR", help="with a sweep SCENARIO: its point, as `hivex evaluate` takes it")
     p.add_argument("--page-task", type=int, metavar="N",
                    help="the original page's own task index, where it differs from the paper's (Drone-Based "
@@ -28,8 +35,16 @@ def add_command(sub: argparse._SubParsersAction) -> None:
 
 def cmd_curves(args: argparse.Namespace) -> int:
     from ..evaluation.original import compare
+    from ..evaluation.original.runs import read_run
 
-    run = compare.read_run(args.run)
+    run = read_run(args.run)
+    others = list(run.others)
+    for path in args.more:
+        more = read_run(path)
+        if (more.environment, more.task_index, more.level) != (run.environment, run.task_index, run.level):
+            raise compare.CompareError(f"{path} trained {_cell(more)}, {args.run} {_cell(run)}: --with takes other "
+                                       "seeds of the same cell")
+        others += [more.curve, *more.others]
     environment, task_index, level = run.environment, run.task_index, run.level
     if args.scenario is not None:
         from .points import one_point
@@ -45,15 +60,20 @@ def cmd_curves(args: argparse.Namespace) -> int:
     sys.stdout.write(f"{run.curve.label} against the original's {cell.file} ({cell.title}); the original trained "
                      f"{budget:,} agent-steps, this run {run.curve.last_step:,}\n\n")
     sys.stdout.write(compare.table(compare.measure(run.curve, cell)) + "\n")
-    for other in run.others:
+    for other in others:
         sys.stdout.write(f"\n{other.label}:\n\n" + compare.table(compare.measure(other, cell)) + "\n")
-    if run.others:
-        seeds = [run.curve, *run.others]
+    if others:
+        seeds = [run.curve, *others]
         sys.stdout.write("\nevery seed and their mean:\n\n" + compare.seeds_table(
             compare.measure_seeds(seeds, cell), [s.label.removeprefix("this toolkit, ") for s in seeds]) + "\n")
     if args.output is not None:
         from ..evaluation.original.figure import plot
 
-        path = plot(run.curve, cell, args.output, columns=args.columns, others=run.others)
+        path = plot(run.curve, cell, args.output, columns=args.columns, others=tuple(others))
         sys.stdout.write(f"\nwrote {path}\n")
     return 0
+
+
+def _cell(run: "Run") -> str:
+    """A run's cell in words: environment, the paper's task index and level."""
+    return f"{run.environment} task {run.task_index}" + ("" if run.level is None else f" level {run.level}")

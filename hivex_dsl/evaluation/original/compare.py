@@ -36,7 +36,6 @@ from __future__ import annotations
 
 import re
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any, Sequence
 
 import numpy as np
@@ -292,41 +291,6 @@ def measure_seeds(runs: Sequence[RunCurve], cell: OriginalCell, fractions: Seque
     return rows
 
 
-@dataclass(frozen=True)
-class Run:
-    """A run read from disk: its curve and the cell it trained (environment id, the paper's task index, level)."""
-
-    curve: RunCurve
-    environment: str
-    task_index: int
-    level: int | None
-    others: tuple[RunCurve, ...] = ()  # a record's other training seeds with curves
-
-
-def read_run(path: Path) -> Run:
-    """A `hivex train` run directory (curve.json and summary.json) or a committed baseline record (a .json file)."""
-    import json
-
-    path = Path(path)
-    if not path.exists():
-        raise CompareError(f"{path}: no such run directory or baseline record")
-    try:
-        others: list[RunCurve] = []
-        if path.is_dir():
-            summary = json.loads((path / "summary.json").read_text())
-            curve = from_points(json.loads((path / "curve.json").read_text()), f"this toolkit, seed {summary['seed']}")
-        else:
-            summary = json.loads(path.read_text())
-            curve, *others = seed_curves(summary)
-        environment, task, level = summary["environment"], summary["task_index"], summary["level"]
-    except FileNotFoundError as exc:
-        raise CompareError(f"{path} is no run directory of `hivex train` (no {Path(exc.filename).name}) and no "
-                           "baseline record") from None
-    except (KeyError, TypeError, ValueError) as exc:
-        raise CompareError(f"{path} is no run directory of `hivex train` and no baseline record ({exc})") from None
-    return Run(curve, environment, paper_task_index(environment, task), level, tuple(others))
-
-
 def paper_task_index(environment: str, task_index: int) -> int:
     """The paper's index (the published results' key) of the toolkit's task ``task_index`` of ``environment``."""
     from ...compiler.registry import get
@@ -392,7 +356,7 @@ def table(rows: Sequence[Row]) -> str:
     return "\n".join(lines)
 
 
-__all__ = ["CompareError", "FRACTIONS", "Ours", "Row", "Run", "RunCurve", "SeedsRow", "from_points",
+__all__ = ["CompareError", "FRACTIONS", "Ours", "Row", "RunCurve", "SeedsRow", "from_points",
            "from_record", "is_stale", "record_panels", "measure", "measure_seeds", "original_cell", "ours_at", "paper_task_index",
-           "number", "read_run", "seed_curves", "seeds_table", "shared_panels", "summary_interval", "table", "verdict"]
+           "number", "seed_curves", "seeds_table", "shared_panels", "summary_interval", "table", "verdict"]
 
