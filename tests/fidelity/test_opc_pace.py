@@ -69,3 +69,29 @@ def test_the_originals_training_pace_stays_near_a_pebble_a_decision_in_every_col
         ratio = panels["Local Reward"].training.mean_at(late) / length.mean_at(late)
         assert len(late) > 130
         assert round(float(ratio.mean()), 2) == mean and round(float(ratio.max()), 2) == peak
+
+
+def avoid_plastic_touches_and_local(params: dict) -> tuple[np.ndarray, np.ndarray]:
+    """Random play in Avoid Plastic (4 test worlds): what touching paid each vessel-episode (Collide with Trash, -1
+    a step that takes pebbles) and its Local (-1 a pebble)."""
+    scenario = hivex_dsl.compile({"hivex": 1, "environment": ENV, "task": 3, "agents": 3, "episode_length": 5000,
+                                  "seeds": {"train": 5000, "test": 6000}, "params": params})
+    played = rollout(scenario, "random", 4, split="test")
+    return played.terms["collide_with_trash"].ravel(), played.statistics["Local Reward"].ravel()
+
+
+def test_a_cap_of_one_pebble_a_decision_cannot_give_the_originals_avoid_plastic_records():
+    """The ceiling near a pebble a decision is not a cap (params.collect_per_decision 1, the capped reading of the
+    pace note). Under a cap of one a step takes at most one pebble, so Avoid Plastic pays -1 for every pebble its
+    Local counts and a vessel-episode returns exactly its Local, whatever the policy; the original's test points
+    that lived to the limit return 0.45-0.99 of their Local (test_opc_local), so some of its touching steps took
+    several pebbles. Uncapped, as by default, they do here too."""
+    capped_touches, capped_local = avoid_plastic_touches_and_local({"collect_per_decision": 1})
+    assert capped_local.sum() < -20 and np.array_equal(capped_touches, capped_local)
+    touches, local = avoid_plastic_touches_and_local({})
+    assert local.sum() < -20 and touches.sum() / local.sum() < 0.99
+    panels = original_curves(ENV, 3, None).panels
+    steps = panels["Episode Length"].test.steps
+    lived = panels["Episode Length"].test.mean_at(steps) > 990
+    ratio = panels["Cumulative Reward"].test.mean_at(steps)[lived] / panels["Local Reward"].test.mean_at(steps)[lived]
+    assert lived.sum() == 9 and ratio.max() < 0.995, ratio
