@@ -58,6 +58,8 @@ class OceanPlasticCollectionParams(StrictModel):
         "default). The original's training pace stays near one pebble a decision in every collecting task (the "
         "reward table's pace note), as a release that takes one pebble an action would; 1 models that reading. "
         "Trained in issue 52's session 49 on its own fit (8,000 pebbles on an even map), it held the pace at or "
-        "below the original's but lengthened the vessels' lives, so it is not the default (the pace note)."))
+        "below the original's but lengthened the vessels' lives, so it is not the default; and the original's Avoid "
+        "Plastic records rule it out, as under it a vessel-episode returns exactly its Local there, where the "
+        "original's return 0.45-0.99 of theirs (the pace note)."))
     respawn_candidates: int = Field(16, ge=1, le=256, description=(
         "[ours] Random spawn points tried per respawn; the one farthest from the other vessels is taken."))
