@@ -159,7 +159,8 @@ def test_a_run_still_training_is_measured_to_its_last_checkpoint(tmp_path, capsy
     assert read.curve.label == "this toolkit, seed 2 (unfinished)" and read.curve.last_step == 800_000
     assert main(["curves", str(run)]) == 0
     out = capsys.readouterr().out
-    assert "this toolkit, seed 2 (unfinished) against the original's WindFarmControl_results_pattern_0_task_0.pdf" in out
+    assert ("this toolkit, seed 2 (unfinished) against the original's WindFarmControl_results_pattern_0_task_0.pdf"
+            in out)
     assert "this run 800,000" in out
     assert "| Cumulative Reward | 10% | 800,000 | 840 (800,000) |" in out  # below the original's band there
     assert "| Cumulative Reward | 25% | 2,000,000 | - |" in out  # not trained so far yet
