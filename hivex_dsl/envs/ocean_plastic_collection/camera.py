@@ -241,6 +241,47 @@ def _collect(alive: np.ndarray, hit_pebble: np.ndarray, hit_slot: np.ndarray, sl
     return alive, np.bincount(owner, minlength=slots)
 
 
+def heat_camera(heat: np.ndarray, position: np.ndarray, facing: np.ndarray, active: np.ndarray,
+                half_extent: float) -> np.ndarray:
+    """(B, A, 25, 25) float32 the pollution heat map under every vessel's camera, read as a satellite would:
+    each cell the map's density at the cell's centre (bilinear between the map's cell centres) over the world's
+    densest cell, so in [0, 1]; 0 beyond the border and for inactive vessels. The pebbles themselves, and the
+    water a vessel swept, do not show (params.camera_source 'heat_map').
+
+    heat (B, R, R) as :func:`hivex_dsl.sim.procgen.pollution.pollution_map` (row i along y, column j along x);
+    position (B, A, 2) metres; facing (B, A) complex unit headings; active (B, A) bool."""
+    resolution = heat.shape[1]
+    cell_m = 2.0 * half_extent / resolution
+    points = as_complex(position)[..., None, None] + facing[..., None, None] * _CELL_CENTRES  # (B, A, 25, 25)
+    x, y = points.real, points.imag
+    inside = (np.abs(x) <= half_extent) & (np.abs(y) <= half_extent) & active[..., None, None]
+    column = np.clip((x + half_extent) / cell_m - 0.5, 0.0, resolution - 1.0)
+    row = np.clip((y + half_extent) / cell_m - 0.5, 0.0, resolution - 1.0)
+    j0 = np.minimum(column.astype(np.int64), resolution - 2)
+    i0 = np.minimum(row.astype(np.int64), resolution - 2)
+    fx, fy = column - j0, row - i0
+    flat = heat.reshape(heat.shape[0], -1)
+    base = i0 * resolution + j0
+    worlds = np.arange(heat.shape[0])[:, None, None, None]
+    corner = lambda offset: flat[worlds, base + offset]  # noqa: E731
+    value = ((corner(0) * (1.0 - fx) + corner(1) * fx) * (1.0 - fy)
+             + (corner(resolution) * (1.0 - fx) + corner(resolution + 1) * fx) * fy)
+    value *= 1.0 / flat.max(axis=1)[:, None, None, None]
+    return np.where(inside, value, 0.0).astype(np.float32)
+
+
+def _cell_centres() -> np.ndarray:
+    """(25, 25) complex128 every camera cell's centre in a vessel's frame, forward + i left metres: row 0 the
+    farthest ahead, column 0 the farthest left (as :func:`_camera_bins` bins pebbles)."""
+    offsets = CAMERA_HALF_M - (np.arange(CAMERA_CELLS) + 0.5) * CAMERA_CELL_M
+    centres = offsets[:, None] + 1j * offsets[None, :]
+    centres.setflags(write=False)
+    return centres
+
+
+_CELL_CENTRES = _cell_centres()
+
+
 def _camera_bins(slot: np.ndarray, local: np.ndarray, floating: np.ndarray, geometry: Geometry) -> np.ndarray:
     """(M,) bin ``slot * CAMERA_BINS + cell`` of every candidate at ``local`` (M,) forward + i left metres:
     its camera cell, or the unseen bin outside the camera and for collected pebbles. Column 0 is the

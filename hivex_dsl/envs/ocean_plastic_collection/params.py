@@ -15,11 +15,12 @@ from pydantic import Field
 from ...lang.spec.common import StrictModel
 
 CrashOutcome = Literal["end_world", "end", "respawn"]
+CameraSource = Literal["pebbles", "heat_map"]
 
 
 class OceanPlasticCollectionParams(StrictModel):
     # each with what was done before it came, written out (not AS_DEFAULT): collection uncapped (issue 52, session 48)
-    ADDED_FIELDS: ClassVar[dict[str, Any]] = {"collect_per_decision": 0}
+    ADDED_FIELDS: ClassVar[dict[str, Any]] = {"collect_per_decision": 0, "camera_source": "pebbles"}
 
     acceleration: float = Field(0.2, gt=0.0, le=1.0, description=(
         "[orig] Metres per step added to the vessel's speed on each step it accelerates (throttle 1); fitted with "
@@ -47,6 +48,12 @@ class OceanPlasticCollectionParams(StrictModel):
         "[paper] d_threshold of Nearby Trash Count Delta: pebbles nearer than this count as nearby."))
     camera_full_count: int = Field(2, ge=1, le=100, description=(
         "[ours] Pebbles in one 2 m camera cell that read as trash density 1; fewer read proportionally less."))
+    camera_source: CameraSource = Field("pebbles", description=(
+        "[ours] What the 25 x 25 visual observation shows. 'pebbles': the floating pebbles counted in each 2 m cell "
+        "(camera_full_count of them read 1), so a vessel sees what it can still collect and the water it swept; "
+        "'heat_map': the pollution heat map the pebbles were drawn from, each cell its density over the world's "
+        "densest (the original's process figure draws the visual observation as a 'Garbage Patch Satellite "
+        "Mapping' of the heat map's colours; the reward table's pace note)."))
     crash_outcome: CrashOutcome = Field("end_world", description=(
         "[orig] What follows a crash (crossing the border or colliding with another vessel) besides the paper's "
         "-100, on which the paper is silent. 'end_world' (the original's Episode Length and return curves: the "

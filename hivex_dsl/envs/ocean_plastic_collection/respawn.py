@@ -27,7 +27,7 @@ def respawn_where(sim, state: OceanState, mask: np.ndarray, rng: np.random.Gener
     distances = neighbour_distances(position, active)
     closest = distances.min(axis=-1)
     vector = sim._vector(position, facing, distances, closest, np.zeros_like(state.vector))
-    visual = sim._visual(sensing, np.zeros_like(state.visual))
+    visual = sim._visual(sensing, state.heat, position, facing, active, np.zeros_like(state.visual))
     picked = mask[..., None]
     return evolve(state, position=position, heading=heading, speed=speed, active=active,
                   crashed=state.crashed & ~mask, crossed_border=state.crossed_border & ~mask,

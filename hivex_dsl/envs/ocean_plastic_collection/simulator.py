@@ -22,7 +22,7 @@ from ...runtime.batched import StepOutcome
 from ...sim.batching import assemble, read_only, replace_worlds
 from ...sim.procgen.pollution import PollutionSpec, SpawnSpec, pollution_map, sample_pebbles, spawn_vessels
 from ...sim.procgen.wind import wrap_angle
-from .camera import CAMERA_CELLS, Geometry, Sensing, as_pairs, build_field, sense
+from .camera import CAMERA_CELLS, Geometry, Sensing, as_pairs, build_field, heat_camera, sense
 from .global_state import state_components, world_state
 from .neighbours import neighbour_distances
 from .params import OceanPlasticCollectionParams
@@ -123,7 +123,8 @@ class OceanPlasticSimulator:
         distances = neighbour_distances(position, active)
         closest = distances.min(axis=-1)
         vector = self._vector(position, facing, distances, closest, np.zeros(shape + (FRAME * STACKS,), np.float32))
-        visual = self._visual(sensing, np.zeros(shape + (CAMERA_CELLS, CAMERA_CELLS, STACKS), np.float32))
+        visual = self._visual(sensing, heat, position, facing, active,
+                              np.zeros(shape + (CAMERA_CELLS, CAMERA_CELLS, STACKS), np.float32))
         zeros = np.zeros(shape, np.int64)
         return OceanState(position=position, heading=heading, speed=speed, active=active, crashed=no,
                           crossed_border=no, collided_vessel=no, closest=closest,
@@ -175,7 +176,7 @@ class OceanPlasticSimulator:
             nearby=sensing.nearby,
             nearby_best=np.maximum(state.nearby_best, sensing.nearby), pebbles=pebbles,
             heat=state.heat, vector=self._vector(position, facing, distances, closest, state.vector),
-            visual=self._visual(sensing, state.visual))
+            visual=self._visual(sensing, state.heat, position, facing, active, state.visual))
         events = {"crossed_border": border, "collided_with_other_vessel": collided,
                   "collided_with_trash": sensing.collected > 0, "crash_ended_world": self._world_crash(crashed)}
         return new, StepOutcome(terminated=terminated, events=events)
@@ -231,13 +232,18 @@ class OceanPlasticSimulator:
         out[..., FRAME:] = previous[..., :FRAME]
         return out
 
-    def _visual(self, sensing: Sensing, previous: np.ndarray) -> np.ndarray:
-        """(B, A, 25, 25, 2) float32: trash density min(1, count / camera_full_count), newest first (stacked as
-        :meth:`_vector`'s frames are)."""
-        full = self.params.camera_full_count
-        density = sensing.camera.astype(np.float32)
-        np.minimum(density, full, out=density)
-        density *= np.float32(1.0 / full)
+    def _visual(self, sensing: Sensing, heat: np.ndarray, position: np.ndarray, facing: np.ndarray,
+                active: np.ndarray, previous: np.ndarray) -> np.ndarray:
+        """(B, A, 25, 25, 2) float32: trash density, newest first (stacked as :meth:`_vector`'s frames are):
+        min(1, count / camera_full_count) of the pebbles, or the heat map's (:func:`heat_camera`), as
+        params.camera_source says."""
+        if self.params.camera_source == "heat_map":
+            density = heat_camera(heat, position, facing, active, self.half_extent)
+        else:
+            full = self.params.camera_full_count
+            density = sensing.camera.astype(np.float32)
+            np.minimum(density, full, out=density)
+            density *= np.float32(1.0 / full)
         out = np.empty(previous.shape, np.float32)
         out[..., 0] = density
         out[..., 1] = previous[..., 0]
