@@ -15,7 +15,7 @@ from pydantic import Field
 from ...lang.spec.common import StrictModel
 
 CrashOutcome = Literal["end_world", "end", "respawn"]
-CameraSource = Literal["pebbles", "heat_map"]
+CameraSource = Literal["pebbles", "heat_map", "blank"]
 
 
 class OceanPlasticCollectionParams(StrictModel):
@@ -53,7 +53,8 @@ class OceanPlasticCollectionParams(StrictModel):
         "(camera_full_count of them read 1), so a vessel sees what it can still collect and the water it swept; "
         "'heat_map': the pollution heat map the pebbles were drawn from, each cell its density over the world's "
         "densest (the original's process figure draws the visual observation as a 'Garbage Patch Satellite "
-        "Mapping' of the heat map's colours; the reward table's pace note)."))
+        "Mapping' of the heat map's colours); 'blank': zeros, what a rendered camera sends under the configs' "
+        "no_graphics (the reward table's pace note)."))
     crash_outcome: CrashOutcome = Field("end_world", description=(
         "[orig] What follows a crash (crossing the border or colliding with another vessel) besides the paper's "
         "-100, on which the paper is silent. 'end_world' (the original's Episode Length and return curves: the "

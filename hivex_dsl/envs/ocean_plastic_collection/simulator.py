@@ -239,6 +239,8 @@ class OceanPlasticSimulator:
         params.camera_source says."""
         if self.params.camera_source == "heat_map":
             density = heat_camera(heat, position, facing, active, self.half_extent)
+        elif self.params.camera_source == "blank":
+            density = np.zeros(previous.shape[:-1], np.float32)
         else:
             full = self.params.camera_full_count
             density = sensing.camera.astype(np.float32)
