@@ -58,12 +58,15 @@ def five_metre_record() -> list[compare.RunCurve]:
 
 
 def test_every_recorded_run_is_the_main_scenario_at_its_distance():
-    """The runs differ from the main scenario at today's defaults in the collision distance alone, so their lives
-    compare with each other and with the record's (trained at 5 m and 8 worlds, its other choices today's)."""
+    """The runs differ from the main scenario at today's defaults in the collision distance and the camera alone
+    (they saw the pebbles), so their lives compare with each other and with the record's (trained at 5 m and 8
+    worlds with the pebble camera, its other choices today's)."""
     main = hivex_dsl.compile(ROOT / "scenarios" / ENV / "main.yaml").resolved()
     for run in recorded_runs():
         scenario = as_written(run["scenario"])  # params added since take the value that did what was done then
-        assert {**scenario["params"], "collision_distance_m": DEFAULT} == main["params"]
+        assert scenario["params"]["camera_source"] == "pebbles"  # as the record's, whatever the default
+        assert {**scenario["params"], "collision_distance_m": DEFAULT, "camera_source": main["params"]["camera_source"]
+                } == main["params"]
         for key in ("task", "agents", "episode_length", "decision_period", "weights", "generators", "seeds"):
             assert scenario[key] == main[key], key
         assert run["agent_steps"] >= 0.2 * run["max_steps"]

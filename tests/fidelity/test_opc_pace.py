@@ -25,9 +25,17 @@ ENV = "ocean_plastic_collection"
 TRAINED_LIFE = 150  # decisions: the original's trained vessel-episodes last 133-184 at its main task's test points
 
 
-def compiled(episode_length: int):
+def compiled(episode_length: int, camera_source: str = "pebbles"):
     return hivex_dsl.compile({"hivex": 1, "environment": ENV, "task": 0, "agents": 3,
-                              "episode_length": episode_length, "seeds": {"train": 5000, "test": 6000}})
+                              "episode_length": episode_length, "seeds": {"train": 5000, "test": 6000},
+                              "params": {"camera_source": camera_source}})
+
+
+def skipper_pace(camera_source: str, worlds: int) -> tuple[float, float]:
+    """The scripted skipper over 150-decision lives on test worlds: pebbles a vessel a decision lived, and the
+    share of worlds that lived to the end (none crashed)."""
+    play = rollout(compiled(TRAINED_LIFE * 5, camera_source), "scripted", worlds, split="test")
+    return float(play.terms["collect_trash"].sum() / (play.lengths.sum() / 5)), float(np.mean(play.lengths == 750))
 
 
 def local_per_episode_length(task: int) -> float:
@@ -43,18 +51,32 @@ def test_the_originals_trained_local_tracks_its_episode_length():
 
 
 def test_the_skipper_collects_at_the_originals_trained_pace_over_a_trained_life():
-    """The scripted skipper over 150-decision lives (all as long: 750 physics steps, none crashes in these 4 test
-    worlds) collects 1.43 pebbles a vessel a decision (1.40 over 200), at least the original's trained r (about 1.0,
-    the module docstring) and under 1.5 r, as a long-lived collector steering for pebbles should. The supply and map
-    fitted to the untrained records (6,000 pebbles, contrast 1.5, no hotspots) keep it there: the same supply under
-    the four hotspots first chosen gave it 1.92, an even map 1.24. At the pace before issue 52's fit (top speed 0.5 m
-    a step, 3,000 pebbles) it collected 0.43 a decision, under half of r: the original's vessels could not have been
-    that slow."""
-    play = rollout(compiled(TRAINED_LIFE * 5), "scripted", 4, split="test")
+    """The scripted skipper steering by the pebbles it sees (the pebble camera) over 150-decision lives (all as long:
+    750 physics steps, none crashes in these 4 test worlds) collects 1.43 pebbles a vessel a decision (1.40 over
+    200), at least the original's trained r (about 1.0, the module docstring) and under 1.5 r, as a long-lived
+    collector steering for pebbles should. The supply and map fitted to the untrained records (6,000 pebbles,
+    contrast 1.5, no hotspots) keep it there: the same supply under the four hotspots first chosen gave it 1.92, an
+    even map 1.24. At the pace before issue 52's fit (top speed 0.5 m a step, 3,000 pebbles) it collected 0.43 a
+    decision, under half of r: the original's vessels could not have been that slow."""
+    play = rollout(compiled(TRAINED_LIFE * 5, "pebbles"), "scripted", 4, split="test")
     assert (play.lengths == TRAINED_LIFE * 5).all()
     pace = play.terms["collect_trash"].mean() / TRAINED_LIFE
     ratio = local_per_episode_length(0)
     assert ratio <= pace <= 1.5 * ratio, (pace, ratio)
+
+
+def test_what_the_camera_shows_sets_the_skippers_pace_and_a_blind_one_collects_the_originals():
+    """The same skipper over the same 16 test worlds and 150-decision lives, by what its camera shows
+    (params.camera_source; the reward table's note 'What the vessels saw'): steering by the pebbles it collects 1.48
+    pebbles a decision, by the heat map, which does not show the water swept, 1.23, and blind (a blank camera: it
+    goes straight at full speed and turns home at the border) 0.92, within a tenth of the original's trained r
+    (about 1.0, the module docstring), which no collector that aims can come down to."""
+    paces = {source: skipper_pace(source, 16) for source in ("pebbles", "heat_map", "blank")}
+    (by_pebbles, lived_pebbles), (by_heat, _), (blind, lived_blind) = paces.values()
+    ratio = local_per_episode_length(0)
+    assert lived_pebbles == lived_blind == 1.0
+    assert blind < ratio < by_heat < 0.9 * by_pebbles, paces
+    assert abs(blind - ratio) < 0.1 * ratio, (blind, ratio)
 
 
 def test_the_originals_training_pace_stays_near_a_pebble_a_decision_in_every_collecting_task():

@@ -30,8 +30,8 @@ def played(task: int, policy: str, length: int = 5000, pebble_count: int | None 
     """Per agent-episode: (pebbles per step (T,), crashed per step (T,), Local, Global, Global's episode sum);
     ``pebble_count`` overrides the world's supply, ``pace`` (acceleration, turn_rate_deg) the vessels'."""
     supply = {} if pebble_count is None else {"generators": {"pollution": {"pebble_count": pebble_count}}}
-    if pace is not None:
-        supply["params"] = {"acceleration": pace[0], "turn_rate_deg": pace[1]}
+    if pace is not None:  # the slow skipper of a sparse world steers by the pebbles it sees (the pebble camera)
+        supply["params"] = {"acceleration": pace[0], "turn_rate_deg": pace[1], "camera_source": "pebbles"}
     # period 1, so that an env step is a physics step and the per-step state counted by hand is every step's: the
     # running means tick per physics step whatever the period (the default, 5, holds each action five steps)
     compiled = hivex_dsl.compile({"hivex": 1, "environment": "ocean_plastic_collection", "task": task, "agents": 3,

@@ -1,4 +1,5 @@
-"""params.camera_source 'heat_map': the visual observation shows the pollution heat map, not the pebbles.
+"""params.camera_source 'heat_map': the visual observation shows the pollution heat map, not the pebbles; 'blank'
+shows nothing.
 
 Worked by hand on a 200 m world whose 64 x 64 heat map (6.25 m cells, centres at -196.875 + 6.25 j metres) rises
 by one unit a column along x: between two cell centres the camera reads the straight line through them, over the
@@ -65,9 +66,19 @@ def test_the_simulator_shows_the_heat_map_and_not_what_was_swept():
     np.testing.assert_array_equal(new.visual[..., 1], state.visual[..., 0])
 
 
-@pytest.mark.parametrize("source", ["pebbles", "heat_map"])
+@pytest.mark.parametrize("source", ["pebbles", "heat_map"])  # (blank: below)
 def test_the_picture_is_a_density_in_the_unit_interval(source):
     sim = simulator(3, camera_source=source)
     state = sim.reset(np.random.default_rng(3), 4)
     assert state.visual.dtype == np.float32 and 0.0 <= state.visual.min() and state.visual.max() <= 1.0
     assert state.visual[..., 0].any()
+
+
+def test_a_blank_camera_shows_nothing_in_either_stack():
+    sim = simulator(3, camera_source="blank")
+    state = sim.reset(np.random.default_rng(3), 2)
+    for _ in range(3):
+        state, _ = sim.step(state, np.ones((2, 3, 2), np.int64), np.random.default_rng(4))
+    assert state.visual.shape == (2, 3, CAMERA_CELLS, CAMERA_CELLS, 2) and not state.visual.any()
+    assert state.collected_total.sum() > 0 or state.nearby.sum() > 0  # the pebbles are there, unseen
+
