@@ -61,8 +61,10 @@ ENTRY = register(EnvironmentEntry(
         "direction (2, cos and sin of the heading) and the closest other vessel's position (2, / half extent; "
         "(0, 0) when no other vessel is in the world); visual Box(25, 25, 2) = two stacks of the trash camera on the "
         "last axis, 25 x 25 cells of 2 m centred on and turned with the vessel (row 0 ahead, column 0 to the left), "
-        "each cell min(1, pebbles / camera_full_count). The older stack holds the previous decision's observation "
-        "and starts as zeros, as ML-Agents' stacking sensors do (the reward table's note on observation stacks).",
+        "each cell min(1, pebbles / camera_full_count) (params.camera_source 'pebbles', the default; 'heat_map' "
+        "shows the heat map's density instead, 'blank' nothing). The older stack holds the previous decision's "
+        "observation and starts as zeros, as ML-Agents' stacking sensors do (the reward table's note on observation "
+        "stacks).",
         "The paper gives -100 for crossing the border or colliding with another vessel but does not say what "
         "follows; by default (crash_outcome: end_world) the episode of every vessel of the world ends, as the "
         "original's Episode Length and returns show (the reward table's ending note); crash_outcome: end ends "

@@ -49,12 +49,13 @@ class OceanPlasticCollectionParams(StrictModel):
     camera_full_count: int = Field(2, ge=1, le=100, description=(
         "[ours] Pebbles in one 2 m camera cell that read as trash density 1; fewer read proportionally less."))
     camera_source: CameraSource = Field("pebbles", description=(
-        "[ours] What the 25 x 25 visual observation shows. 'pebbles': the floating pebbles counted in each 2 m cell "
-        "(camera_full_count of them read 1), so a vessel sees what it can still collect and the water it swept; "
-        "'heat_map': the pollution heat map the pebbles were drawn from, each cell its density over the world's "
-        "densest (the original's process figure draws the visual observation as a 'Garbage Patch Satellite "
-        "Mapping' of the heat map's colours); 'blank': zeros, what a rendered camera sends under the configs' "
-        "no_graphics (the reward table's pace note)."))
+        "[ours] What the 25 x 25 visual observation shows. 'pebbles' (the default; the README's 'Trash (625)' and "
+        "the process figure's 25 x 25 grid of 2 m cells, a GridSensor's settings): the floating pebbles counted in "
+        "each 2 m cell, camera_full_count of them reading 1; 'heat_map' (the process figure's colours): the "
+        "pollution heat map the pebbles were drawn from, each cell its density over the world's densest; 'blank': "
+        "zeros, what a rendered camera sends under the configs' no_graphics. Trained, the seeing readings pass the "
+        "original's pace and return by a quarter of the budget and the blind one stays at half its return (the "
+        "reward table's note 'What the vessels saw')."))
     crash_outcome: CrashOutcome = Field("end_world", description=(
         "[orig] What follows a crash (crossing the border or colliding with another vessel) besides the paper's "
         "-100, on which the paper is silent. 'end_world' (the original's Episode Length and return curves: the "
