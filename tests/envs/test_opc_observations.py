@@ -17,7 +17,7 @@ NOOP = [0, 0]
 
 def simulator(agents: int = 1, **params):
     """The pebble camera (params.camera_source 'pebbles') unless ``params`` say otherwise: these tests place
-    pebbles in it; tests/envs/test_opc_heat_camera.py works the heat map's."""
+    pebbles in it; tests/envs/test_opc_camera_sources.py works the others."""
     params = {"camera_source": "pebbles", **params}
     sc = hivex_dsl.compile({"hivex": 1, "environment": ENV, "agents": agents, "params": params})
     return sc.entry.make_simulator(sc)
@@ -110,7 +110,8 @@ def test_the_binned_camera_and_nearby_count_match_a_loop_over_every_pebble(half,
     near_vessels = np.concatenate([v + rng.uniform(-70, 70, (150, 2)) for v in vessels])
     pebbles = np.clip(np.concatenate([near_vessels, rng.uniform(-half, half, (400, 2))]), -half, half)
     sc = hivex_dsl.compile({"hivex": 1, "environment": ENV, "agents": 4,
-                            "params": {"collision_distance_m": 0.1, "nearby_radius_m": radius, "camera_source": "pebbles"},
+                            "params": {"collision_distance_m": 0.1, "nearby_radius_m": radius,
+                                       "camera_source": "pebbles"},
                             "generators": {"pollution": {"half_extent_m": half}, "spawn": {"half_extent_m": half}}})
     new, obs = observe_after_noop(sc.entry.make_simulator(sc), vessels, headings, pebbles)
     left = new.pebbles.positions[0][new.pebbles.alive[0]]  # some may have been swept at rest
