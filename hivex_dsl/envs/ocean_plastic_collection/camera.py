@@ -22,6 +22,7 @@ from typing import NamedTuple, Optional
 
 import numpy as np
 
+from ...sim.grids import Grid, sample_bilinear
 from .types import PebbleField
 
 CAMERA_CELLS = 25  # [paper] 25 x 25 visual observation
@@ -250,23 +251,14 @@ def heat_camera(heat: np.ndarray, position: np.ndarray, facing: np.ndarray, acti
 
     heat (B, R, R) as :func:`hivex_dsl.sim.procgen.pollution.pollution_map` (row i along y, column j along x);
     position (B, A, 2) metres; facing (B, A) complex unit headings; active (B, A) bool."""
-    resolution = heat.shape[1]
+    batch, resolution = heat.shape[:2]
     cell_m = 2.0 * half_extent / resolution
+    centres = Grid(-half_extent + cell_m / 2.0, cell_m, resolution)  # the map's cell centres, row i along y
     points = as_complex(position)[..., None, None] + facing[..., None, None] * _CELL_CENTRES  # (B, A, 25, 25)
     x, y = points.real, points.imag
     inside = (np.abs(x) <= half_extent) & (np.abs(y) <= half_extent) & active[..., None, None]
-    column = np.clip((x + half_extent) / cell_m - 0.5, 0.0, resolution - 1.0)
-    row = np.clip((y + half_extent) / cell_m - 0.5, 0.0, resolution - 1.0)
-    j0 = np.minimum(column.astype(np.int64), resolution - 2)
-    i0 = np.minimum(row.astype(np.int64), resolution - 2)
-    fx, fy = column - j0, row - i0
-    flat = heat.reshape(heat.shape[0], -1)
-    base = i0 * resolution + j0
-    worlds = np.arange(heat.shape[0])[:, None, None, None]
-    corner = lambda offset: flat[worlds, base + offset]  # noqa: E731
-    value = ((corner(0) * (1.0 - fx) + corner(1) * fx) * (1.0 - fy)
-             + (corner(resolution) * (1.0 - fx) + corner(resolution + 1) * fx) * fy)
-    value *= 1.0 / flat.max(axis=1)[:, None, None, None]
+    value = sample_bilinear(heat, centres, np.stack([x, y], axis=-1).reshape(batch, -1, 2)).reshape(x.shape)
+    value *= 1.0 / heat.reshape(batch, -1).max(axis=1)[:, None, None, None]
     return np.where(inside, value, 0.0).astype(np.float32)
 
 
