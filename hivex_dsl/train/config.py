@@ -60,6 +60,9 @@ catalogue) trains on :class:`PPOConfig`'s own defaults. How each key maps onto t
 - ``reward_signals.curiosity`` (WRM, DBR, OPC) flattened: ``curiosity_strength`` (0 turns the signal off),
   ``curiosity_gamma``, ``curiosity_encoding_size``, ``curiosity_learning_rate``; its encoder uses the run's
   ``vis_encode_type`` and ``num_layers`` (the paper's curiosity network_settings name the same encoder).
+  ``curiosity_encoding_size`` is the width ML-Agents built, not always the config's ``encoding_size``: where a
+  curiosity block also names ``network_settings`` (DBR's and OPC's), release_20 ignores ``encoding_size`` and
+  takes ``network_settings.hidden_units``, 128 by default (tests/train/test_budgets.py reads the configs so).
   ``curiosity.py`` is ML-Agents' module; the critic gets a second value head for it.
 
 Ours (ML-Agents has no such key): ``num_worlds`` (parallel copies of the scenario; the paper appendix's AWS config

@@ -24,7 +24,7 @@ APPENDIX_TITLES = {"wind_farm_control": "Wind Farm Control", "ocean_plastic_coll
                    "drone_based_reforestation": "Drone-Based Reforestation",
                    "wildfire_resource_management": "Wildfire Resource Management",
                    "aerial_wildfire_suppression": "Aerial Wildfire Suppression"}
-# trained on several worlds and the fixed rollout until their records are re-fitted to one (issue 52; the notes)
+ML_AGENTS_HIDDEN_UNITS = 128  # NetworkSettings.hidden_units' default in mlagents/trainers/settings.py
 def flat(config: dict) -> dict:
     """An ML-Agents trainer config's ``behaviors.Agent`` as this toolkit's flat keys (config.py's mapping)."""
     agent = config["behaviors"]["Agent"]
@@ -35,9 +35,20 @@ def flat(config: dict) -> dict:
     keys |= {"gamma": signals["extrinsic"]["gamma"], "reward_strength": signals["extrinsic"]["strength"]}
     if "curiosity" in signals:
         keys |= {f"curiosity_{k}": v for k, v in signals["curiosity"].items() if k != "network_settings"}
+        keys["curiosity_encoding_size"] = curiosity_width(signals["curiosity"])
     keys |= {k: agent[k] for k in ("max_steps", "time_horizon", "summary_freq", "keep_checkpoints")}
     keys["num_worlds"] = config["env_settings"].get("num_envs", 1)  # mlagents-learn's default: one environment
     return keys
+
+
+def curiosity_width(curiosity: dict) -> int:
+    """The width of the curiosity module's encoder that ML-Agents (release_20, the one hivex's README installs) builds
+    from a config's curiosity block: RewardSignalSettings.structure warns that encoding_size is deprecated and uses it
+    as the module's hidden_units only where the block names no network_settings; a block that names them gets
+    NetworkSettings' hidden_units, 128 by default (mlagents/trainers/settings.py)."""
+    if "network_settings" in curiosity:
+        return curiosity["network_settings"].get("hidden_units", ML_AGENTS_HIDDEN_UNITS)
+    return curiosity["encoding_size"]
 
 
 def appendix_config(paper: Path, environment: str) -> dict:
@@ -136,3 +147,17 @@ def test_the_evidence_module_s_appendix_budgets_are_the_hyperparameter_files():
     for environment, (max_steps, summary_freq) in evidence.APPENDIX.items():
         written = paper_defaults(environment) | appendix(environment)
         assert (written["max_steps"], written["summary_freq"]) == (max_steps, summary_freq), environment
+
+
+@pytest.mark.parametrize("environment", ["wildfire_resource_management", "drone_based_reforestation",
+                                         "ocean_plastic_collection"])
+def test_the_curiosity_encoder_s_settings_are_the_run_s(paper, environment):
+    """The curiosity module encodes with the run's vis_encode_type and num_layers and no normalisation
+    (hivex_dsl/train/curiosity.py); the network_settings each config that ran gives its curiosity block (ML-Agents'
+    defaults where it names none: simple, 2 layers, no normalisation) say the same, so only the width needs a key."""
+    ran = yaml.safe_load((paper / "original-configs" / "train" / f"{CONFIG_NAMES[environment]}_hivex.yaml").read_text())
+    settings = ran["behaviors"]["Agent"]["reward_signals"]["curiosity"].get("network_settings", {})
+    cfg = make_config(environment)
+    assert settings.get("vis_encode_type", "simple") == cfg.vis_encode_type
+    assert settings.get("num_layers", 2) == cfg.num_layers
+    assert settings.get("normalize", False) is False

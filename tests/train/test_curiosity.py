@@ -47,6 +47,19 @@ def test_the_papers_configs_add_curiosity_and_wfc_aws_do_not():
                          "ocean_plastic_collection": 0.1, "wind_farm_control": 0.0, "aerial_wildfire_suppression": 0.0}
 
 
+def test_the_module_is_as_wide_as_ml_agents_built_it_from_the_configs_that_ran():
+    """By hand from original-configs/train: DBR's and OPC's curiosity blocks name network_settings (vis_encode_type
+    resnet) beside encoding_size 256, so ML-Agents' release_20 ignored encoding_size there (a deprecation warning)
+    and built the module's encoder at NetworkSettings' default hidden_units, 128; WRM's block names none, so its
+    encoding_size, 256, became the width. The module's encoder and forward model's output are that wide."""
+    widths = {env: make_config(env).curiosity_encoding_size for env in (
+        "wildfire_resource_management", "drone_based_reforestation", "ocean_plastic_collection")}
+    assert widths == {"wildfire_resource_management": 256, "drone_based_reforestation": 128,
+                      "ocean_plastic_collection": 128}
+    module = Curiosity(OBS, ActionLayout.of(HYBRID), make_config("ocean_plastic_collection"))
+    assert module.forward_model[-1].out_features == 128 and module.inverse_model[0].in_features == 2 * 128
+
+
 def test_no_reward_before_the_first_update_then_min_of_strength_times_error_and_one():
     obs, following, cont, disc = _transitions()
     weak, strong = _module(0.1), _module(1.0)  # same seed: the same weights
