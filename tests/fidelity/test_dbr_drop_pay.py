@@ -134,8 +134,8 @@ def test_more_drops_come_with_fewer_run_outs_in_the_original_as_here():
     """A return that reloads refills the battery too: over the original's summary points after 10% of its budget (ten
     levels, 1,810 points) Out of Energy Count falls by 0.53 a drop (1.46 - 0.53 x drops, correlation -0.51); over the
     committed record's three seeds (this toolkit's rule: a full battery and a seed a return) it falls with the drops
-    too (correlation -0.75 after 10% of the budget), to about 0 where its drones shuttle home for seed after seed
-    (5-11 drops a drone-episode at the end; the record's note), which the original's runs, ending at 1.01-1.11
+    too (correlation -0.77 after 10% of the budget), to about 0 where its drones shuttle home for seed after seed
+    (3-9 drops a drone-episode over the last tenth; the record's note), which the original's runs, ending at 1.01-1.11
     drops, never did: a relation, not a level, that the two share."""
     drops, run_outs = [], []
     for level in LEVELS:
