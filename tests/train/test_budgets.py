@@ -25,6 +25,8 @@ APPENDIX_TITLES = {"wind_farm_control": "Wind Farm Control", "ocean_plastic_coll
                    "wildfire_resource_management": "Wildfire Resource Management",
                    "aerial_wildfire_suppression": "Aerial Wildfire Suppression"}
 ML_AGENTS_HIDDEN_UNITS = 128  # NetworkSettings.hidden_units' default in mlagents/trainers/settings.py
+
+
 def flat(config: dict) -> dict:
     """An ML-Agents trainer config's ``behaviors.Agent`` as this toolkit's flat keys (config.py's mapping)."""
     agent = config["behaviors"]["Agent"]
