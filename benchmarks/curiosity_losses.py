@@ -1,0 +1,116 @@
+"""The curiosity module's losses on random-play transitions, with the vector observation at its scale or scaled up.
+
+    python benchmarks/curiosity_losses.py drone_based_reforestation [--scale 1 10] [--steps 600] [--decisions 600]
+    python benchmarks/curiosity_losses.py ocean_plastic_collection --steps 300 --decisions 150 --set camera_source=blank
+
+The module (hivex_dsl.train.curiosity, the environment's default hyperparameters) is trained offline on the
+transitions of random play in the main scenario's training worlds (8 worlds; continuous actions drawn from N(0, 1) as
+the untrained policy samples them and sent as ML-Agents sends them, clip(a, -3, 3) / 3; each discrete choice uniform
+among the open ones), minibatches of 256,
+and its forward and inverse losses printed every 100 steps, with each continuous action dimension's share of variance
+the inverse model leaves. The original's Curiosity Forward and Inverse Loss panels read beside these (the reward
+tables' notes 'The curiosity losses'): how much a decision changes the observation against its scale sets them.
+"""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+import numpy as np
+import torch
+import yaml
+
+import hivex_dsl
+from hivex_dsl.adapters.gymnasium import HivexVectorEnv
+from hivex_dsl.train.config import make_config
+from hivex_dsl.train.curiosity import Curiosity
+from hivex_dsl.train.networks import ActionLayout
+
+SCENARIOS = Path(__file__).resolve().parents[1] / "scenarios"
+
+
+def random_transitions(environment: str, params: dict, decisions: int, worlds: int = 8, seed: int = 0):
+    """(env, obs, next_obs, continuous actions, discrete actions) of random play in the main scenario's training
+    worlds, the steps that ended an episode left out, observations as dicts of tensors (N, ...). A discrete choice is
+    drawn among the open ones where the environment masks (as a masked untrained policy draws it)."""
+    scenario = yaml.safe_load((SCENARIOS / environment / "main.yaml").read_text())
+    env = HivexVectorEnv(hivex_dsl.compile(scenario | {"params": params}), num_worlds=worlds)
+    layout = ActionLayout.of(env.single_action_space)
+    rng = np.random.default_rng(seed)
+    obs, infos = env.reset(seed=seed)
+    before, after, conts, discs = [], [], [], []
+    for _ in range(decisions):
+        cont = rng.normal(size=(env.num_envs, layout.continuous)).astype(np.float32)
+        disc = open_choices(rng, layout.nvec, infos.get("action_mask"), env.num_envs)
+        following, _, terminated, truncated, infos = env.step(
+            layout.to_env(torch.as_tensor(cont), torch.as_tensor(disc)))
+        kept = ~(terminated | truncated)
+        before.append({k: v[kept] for k, v in obs.items()})
+        after.append({k: v[kept] for k, v in following.items()})
+        conts.append(cont[kept])
+        discs.append(disc[kept])
+        obs = following
+    joined = lambda frames: {k: torch.as_tensor(np.concatenate([f[k] for f in frames])) for k in frames[0]}
+    return env, joined(before), joined(after), torch.as_tensor(np.concatenate(conts)), \
+        torch.as_tensor(np.concatenate(discs))
+
+
+def open_choices(rng: np.random.Generator, nvec, mask: np.ndarray | None, slots: int) -> np.ndarray:
+    """(slots, branches) int64: each branch's choice uniform among its open ones (all open without a mask)."""
+    columns, start = [], 0
+    for n in nvec:
+        allowed = np.ones((slots, n), bool) if mask is None else np.asarray(mask, bool)[:, start:start + n]
+        weights = allowed / allowed.sum(axis=1, keepdims=True)
+        columns.append((weights.cumsum(axis=1) > rng.random((slots, 1))).argmax(axis=1))
+        start += n
+    return np.stack(columns, axis=1).astype(np.int64) if columns else np.zeros((slots, 0), np.int64)
+
+
+def train_module(environment, env, obs, following, cont, disc, scale: float, steps: int) -> None:
+    """Train a fresh module (torch seed 0) on the transitions with the vector observation times ``scale``; print."""
+    torch.manual_seed(0)
+    module = Curiosity(env.single_observation_space, ActionLayout.of(env.single_action_space), make_config(environment))
+    optimizer = torch.optim.Adam(module.parameters(), lr=make_config(environment).curiosity_learning_rate)
+    scaled = [{**o, "vector": o["vector"] * scale} for o in (obs, following)]
+    for step in range(steps + 1):
+        rows = torch.randint(0, len(disc), (256,))
+        total, forward, inverse = module.loss(*({k: v[rows] for k, v in o.items()} for o in scaled), cont[rows], disc[rows])
+        optimizer.zero_grad()
+        total.backward()
+        optimizer.step()
+        if step % 100 == 0:
+            print(f"scale {scale:g} step {step}: forward {float(forward):.4f} inverse {float(inverse):.3f}"
+                  f"{left_variance(module, scaled, cont)}", flush=True)
+
+
+def left_variance(module: Curiosity, scaled: list[dict], cont: torch.Tensor) -> str:
+    """Each continuous action dimension's mean squared error of the inverse model over its variance ('' without)."""
+    if cont.shape[1] == 0:
+        return ""
+    with torch.no_grad():
+        predicted = module.inverse_model(torch.cat([module._encode(scaled[0]), module._encode(scaled[1])], dim=1))
+        share = (predicted[:, :cont.shape[1]] - cont).square().mean(0) / cont.var(0)
+    return "; continuous variance left " + " ".join(f"{s:.2f}" for s in share.tolist())
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("environment", choices=["drone_based_reforestation", "ocean_plastic_collection",
+                                                "wildfire_resource_management"])
+    parser.add_argument("--scale", type=float, nargs="+", default=[1.0, 10.0])
+    parser.add_argument("--steps", type=int, default=600)
+    parser.add_argument("--decisions", type=int, default=600)
+    parser.add_argument("--set", action="append", default=[], metavar="PARAM=VALUE", help="a scenario param")
+    args = parser.parse_args()
+    torch.set_num_threads(1)
+    params = dict(item.split("=", 1) for item in args.set)
+    env, obs, following, cont, disc = random_transitions(args.environment, params, args.decisions)
+    print(f"{len(disc)} transitions; vector observation's change a decision, std by component: "
+          + " ".join(f"{v:.4f}" for v in (following["vector"] - obs["vector"]).std(0).tolist()))
+    for scale in args.scale:
+        train_module(args.environment, env, obs, following, cont, disc, scale, args.steps)
+
+
+if __name__ == "__main__":
+    main()
