@@ -51,9 +51,13 @@ def random_transitions(environment: str, params: dict, decisions: int, worlds: i
         conts.append(cont[kept])
         discs.append(disc[kept])
         obs = following
-    joined = lambda frames: {k: torch.as_tensor(np.concatenate([f[k] for f in frames])) for k in frames[0]}
     return env, joined(before), joined(after), torch.as_tensor(np.concatenate(conts)), \
         torch.as_tensor(np.concatenate(discs))
+
+
+def joined(frames: list[dict]) -> dict[str, torch.Tensor]:
+    """Per-step observation dicts -> one dict of tensors, the steps' rows one after another."""
+    return {k: torch.as_tensor(np.concatenate([f[k] for f in frames])) for k in frames[0]}
 
 
 def open_choices(rng: np.random.Generator, nvec, mask: np.ndarray | None, slots: int) -> np.ndarray:
@@ -70,8 +74,9 @@ def open_choices(rng: np.random.Generator, nvec, mask: np.ndarray | None, slots:
 def train_module(environment, env, obs, following, cont, disc, scale: float, steps: int) -> None:
     """Train a fresh module (torch seed 0) on the transitions with the vector observation times ``scale``; print."""
     torch.manual_seed(0)
-    module = Curiosity(env.single_observation_space, ActionLayout.of(env.single_action_space), make_config(environment))
-    optimizer = torch.optim.Adam(module.parameters(), lr=make_config(environment).curiosity_learning_rate)
+    cfg = make_config(environment)
+    module = Curiosity(env.single_observation_space, ActionLayout.of(env.single_action_space), cfg)
+    optimizer = torch.optim.Adam(module.parameters(), lr=cfg.curiosity_learning_rate)
     scaled = [{**o, "vector": o["vector"] * scale} for o in (obs, following)]
     for step in range(steps + 1):
         rows = torch.randint(0, len(disc), (256,))
