@@ -44,9 +44,9 @@ def train_with_noise(compiled, cfg, run_dir: Path, sigma: float) -> dict:
     rng = np.random.default_rng([cfg.seed, 0x5EED])
     plain = ppo.advantages_and_returns
 
-    def noisy(buf, next_value, cfg, curiosity):
+    def noisy(buf, next_value, cfg, curiosity, episodes=None):
         add_noise(buf.rewards, buf.valid, sigma, rng)
-        return plain(buf, next_value, cfg, curiosity)
+        return plain(buf, next_value, cfg, curiosity, episodes)
 
     ppo.advantages_and_returns = noisy
     try:

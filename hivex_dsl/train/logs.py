@@ -38,15 +38,31 @@ def episode_summaries(infos: dict[str, Any]) -> dict[str, Any] | None:
 
 
 class EpisodeLog:
-    """Gathers per-agent episode summaries between two reports."""
+    """Gathers per-agent episode summaries between two reports, and the episode sums of the trainer's own reward
+    signals (:meth:`record_signal`)."""
 
     def __init__(self) -> None:
         self._parts: list[dict[str, Any]] = []
+        self._running: dict[str, np.ndarray] = {}  # signal -> (S,) each slot's sum over its episode so far
+        self._signal_sums: dict[str, list[np.ndarray]] = {}  # signal -> the sums of episodes ended since a drain
 
     def record(self, infos: dict[str, Any]) -> None:
         summary = episode_summaries(infos)
         if summary is not None and summary["return"].size:
             self._parts.append(summary)
+
+    def record_signal(self, name: str, rewards: np.ndarray, ended: np.ndarray) -> None:
+        """Add one rollout's rewards (T, S) of a reward signal the trainer computes (curiosity's, weighted by its
+        strength) to each slot's episode sum; where ``ended`` (T, S) marks an episode's last experience, its sum is
+        kept for the next drain and the slot's sum starts again. ML-Agents reports the same sum at an agent's
+        episode end as ``Policy/<Signal> Reward``."""
+        running = self._running.setdefault(name, np.zeros(rewards.shape[1]))
+        sums = self._signal_sums.setdefault(name, [])
+        for reward, end in zip(np.asarray(rewards, np.float64), np.asarray(ended, bool)):
+            running += reward
+            if end.any():
+                sums.append(running[end].copy())
+                running[end] = 0.0
 
     def values(self) -> dict[str, Any]:
         """Every recorded summary concatenated (same layout as one summary); {} if none."""
@@ -62,11 +78,13 @@ class EpisodeLog:
                 "statistics": nested("statistics"), "running": running}
 
     def drain(self) -> dict[str, Any]:
-        """Means since the last drain: ``{"return", "length", "episodes", "reward_terms", "statistics"}``. A
+        """Means since the last drain: ``{"return", "length", "episodes", "reward_terms", "statistics", "signals"}``
+        (``signals``: each trainer signal's mean episode sum, where an episode ended with one). A
         running-mean statistic is pooled, as the original's TensorBoard point is: every value added in any of the
         episodes weighs the same (:func:`hivex_dsl.sim.statistics.pooled`), not each episode's mean."""
         values = self.values()
-        self._parts = []
+        signals = {name: float(np.concatenate(sums).mean()) for name, sums in self._signal_sums.items() if sums}
+        self._parts, self._signal_sums = [], {}
         if not values:
             return {}
         mean = lambda group: {k: float(v.mean()) for k, v in group.items() if v.size}  # noqa: E731
@@ -74,7 +92,7 @@ class EpisodeLog:
                         if parts["sums"].size}
         return {"return": float(values["return"].mean()), "length": float(values["length"].mean()),
                 "episodes": int(values["return"].size), "reward_terms": mean(values["reward_terms"]),
-                "statistics": mean(values["statistics"]) | pooled_means}
+                "statistics": mean(values["statistics"]) | pooled_means, "signals": signals}
 
 
 class ScalarLog:
@@ -97,6 +115,7 @@ class ScalarLog:
             scalars |= {"episode/return": episodes["return"], "episode/length": episodes["length"]}
             scalars |= {f"reward_terms/{k}": v for k, v in episodes["reward_terms"].items()}
             scalars |= {f"statistics/{k}": v for k, v in episodes["statistics"].items()}
+            scalars |= {f"episode/{k}_reward": v for k, v in episodes.get("signals", {}).items()}
         scalars |= {f"losses/{k}": v for k, v in losses.items()}
         scalars |= {f"charts/{k}": v for k, v in charts.items()}
         for tag, value in scalars.items():

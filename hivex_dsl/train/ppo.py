@@ -301,17 +301,20 @@ def train_curiosity(module: Curiosity, optimizer: torch.optim.Optimizer, mb: dic
     return forward, inverse
 
 
-def advantages_and_returns(buf: Rollout, next_value: torch.Tensor, cfg: PPOConfig,
-                           curiosity: Curiosity | None) -> tuple[torch.Tensor, torch.Tensor, dict[str, float]]:
+def advantages_and_returns(buf: Rollout, next_value: torch.Tensor, cfg: PPOConfig, curiosity: Curiosity | None,
+                           episodes: EpisodeLog | None = None) -> tuple[torch.Tensor, torch.Tensor, dict[str, float]]:
     """GAE of every reward signal -> (summed advantages (T, S), returns (T, S[, K]), charts).
 
     With curiosity, its rewards for the rollout come from the module as it is now (ML-Agents rewards a
-    trajectory when it is processed), over valid transitions only, and are discounted with its own gamma."""
+    trajectory when it is processed), over valid transitions only, and are discounted with its own gamma;
+    ``episodes`` gets them, to report each agent-episode's sum (the original's Curiosity Reward panel)."""
     if curiosity is None:
         advantages, returns = gae(buf.rewards, buf.values, next_value, buf.terminated, buf.done, cfg.gamma, cfg.lambd)
         return advantages, returns, {}
     intrinsic = curiosity.rollout_rewards(buf.flat_frames(), buf.flat("cont"), buf.flat("disc"))
     intrinsic = intrinsic.reshape(buf.rewards.shape) * buf.valid
+    if episodes is not None:
+        episodes.record_signal("curiosity", intrinsic.numpy(), (buf.done * buf.valid).numpy() > 0)
     rewards = torch.stack([buf.rewards, intrinsic], dim=-1)
     gammas = torch.tensor([cfg.gamma, cfg.curiosity_gamma])
     advantages, returns = gae(rewards, buf.values, next_value, buf.terminated, buf.done, gammas, cfg.lambd)
@@ -436,7 +439,7 @@ def _train(compiled: CompiledScenario, cfg: PPOConfig, run: RunDir, progress: bo
                                  until=update_due(cfg, slots), steps=length)
             length = buf.rewards.shape[0]
             agent.observe(buf.flat_obs())
-            advantages, returns, signal_charts = advantages_and_returns(buf, next_value, cfg, curiosity)
+            advantages, returns, signal_charts = advantages_and_returns(buf, next_value, cfg, curiosity, episodes)
             losses = update(agent, optimizer, buf, advantages, returns, cfg, beta, epsilon, rng,
                             None if curiosity is None else (curiosity, curiosity_optimizer))
             agent_steps += length * slots
@@ -447,7 +450,8 @@ def _train(compiled: CompiledScenario, cfg: PPOConfig, run: RunDir, progress: bo
             if summary:
                 curve.append({"agent_steps": agent_steps, "wall_s": round(wall, 3), "return": summary["return"],
                               "episodes": summary["episodes"], "length": summary["length"],
-                              "statistics": summary["statistics"]})
+                              "statistics": summary["statistics"],
+                              **{f"{k}_reward": v for k, v in summary["signals"].items()}})
             scalars.write(agent_steps, summary, losses, {"learning_rate": lr, "beta": beta, "epsilon": epsilon,
                                                          "agent_steps_per_s": (agent_steps - done_before)
                                                          / max(wall - wall_before, 1e-9),

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import json
+
 import numpy as np
 import pytest
 import torch
@@ -113,7 +115,8 @@ def test_a_rollout_with_curiosity_has_two_value_columns_and_masks_reset_transiti
     buf = Rollout(12, env.num_envs, state["obs"], 0, len(agent.layout.nvec), agent.signals, agent.logp_columns)
     next_value = collect(env, agent, buf, state, cfg, EpisodeLog())
     assert agent.signals == 2 and buf.values.shape == (12, env.num_envs, 2) and next_value.shape == (env.num_envs, 2)
-    advantages, returns, charts = advantages_and_returns(buf, next_value, cfg, module)
+    episodes = EpisodeLog()
+    advantages, returns, charts = advantages_and_returns(buf, next_value, cfg, module, episodes)
     assert advantages.shape == (12, env.num_envs) and returns.shape == (12, env.num_envs, 2)
     assert charts["curiosity_reward"] > 0
     # the step after each 5-step episode is a reset transition: valid 0, so its curiosity reward is 0
@@ -121,6 +124,10 @@ def test_a_rollout_with_curiosity_has_two_value_columns_and_masks_reset_transiti
     flat = module.rewards(buf.flat_obs(), buf.flat_next_obs(), buf.flat("cont"), buf.flat("disc"))
     masked = flat.reshape(12, env.num_envs) * buf.valid
     assert masked[5].abs().sum() == 0 and masked[4].abs().sum() > 0
+    # each agent-episode's sum (steps 0-4 and 6-10), as ML-Agents reports Policy/Curiosity Reward
+    sums = torch.cat([masked[0:5].sum(0), masked[6:11].sum(0)])
+    episodes.record({"hivex_episode": {"return": np.zeros(1), "length": np.ones(1)}, "_hivex_episode": np.ones(1, bool)})
+    assert episodes.drain()["signals"]["curiosity"] == pytest.approx(float(sums.mean()), rel=1e-6)
 
 
 @pytest.mark.parametrize("strength", [0.0, 0.02])
@@ -156,3 +163,22 @@ def test_the_inverse_loss_of_continuous_actions_is_their_summed_squared_error(va
     # by hand: per transition (0 + 1), (1 + 0), (1 + 1) -> mean 4/3
     _, _, inverse = module.loss(obs, following, cont, torch.zeros(3, 0, dtype=torch.int64))
     assert float(inverse) == pytest.approx(scale * 4.0 / 3.0)
+
+
+def test_training_logs_each_agent_episode_s_curiosity_sum_as_the_original_s_panel(tiny, tmp_path):
+    from hivex_dsl.evaluation.original.compare import from_points
+    from hivex_dsl.train import ppo
+
+    compiled = compile(short_scenario("wildfire_resource_management", episode_length=8))
+    cfg = make_config("wildfire_resource_management", tiny, {"curiosity_encoding_size": 8, "curiosity_strength": 0.5})
+    ppo.train(compiled, cfg, tmp_path, progress=False)
+    points = json.loads((tmp_path / "curve.json").read_text())
+    sums = [p["curiosity_reward"] for p in points]
+    # each step's reward is min(strength x error, 1), so an episode's sum lies within [0, its decisions]
+    assert all(0.0 <= s <= p["length"] for s, p in zip(sums, points)) and max(sums) > 0
+    assert from_points(points).panels["Curiosity Reward"].tolist() == sums
+    cfg = make_config("wildfire_resource_management", tiny, {"curiosity_strength": 0.0})
+    ppo.train(compiled, cfg, tmp_path / "plain", progress=False)
+    plain = json.loads((tmp_path / "plain" / "curve.json").read_text())
+    assert not any("curiosity_reward" in p for p in plain)
+    assert "Curiosity Reward" not in from_points(plain).panels

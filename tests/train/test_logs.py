@@ -76,3 +76,23 @@ def test_training_logs_opc_global_reward_pooled_over_the_changes_of_its_running_
     assert drained["episodes"] == expected_sums.size > 2 * env.num_envs - 1
     assert expected_counts.sum() > 0
     assert drained["statistics"]["Global Reward"] == pytest.approx(expected_sums.sum() / expected_counts.sum())
+
+
+def test_a_signal_s_episode_sums_run_across_rollouts_and_restart_at_each_end():
+    log = EpisodeLog()
+    # two slots; slot 0's episode ends on the second step, slot 1's runs on into the next rollout
+    log.record_signal("curiosity", np.array([[0.5, 1.0], [0.25, 2.0], [1.0, 0.0]]),
+                      np.array([[False, False], [True, False], [False, False]]))
+    log.record_signal("curiosity", np.array([[0.5, 0.5]]), np.array([[True, True]]))
+    log.record(_infos("hivex_episode"))
+    # ended: slot 0's 0.5 + 0.25, then its 1.0 + 0.5; slot 1's 1.0 + 2.0 + 0.0 + 0.5
+    assert log.drain()["signals"] == {"curiosity": (0.75 + 1.5 + 3.5) / 3}
+    # a drain keeps the sums of episodes still running, and reports none twice
+    log.record_signal("curiosity", np.array([[2.0, 4.0]]), np.array([[True, False]]))
+    log.record(_infos("hivex_episode"))
+    assert log.drain()["signals"] == {"curiosity": 2.0}
+    log.record_signal("curiosity", np.array([[0.0, 1.0]]), np.array([[False, True]]))
+    log.record(_infos("hivex_episode"))
+    assert log.drain()["signals"] == {"curiosity": 5.0}
+    log.record(_infos("hivex_episode"))
+    assert log.drain()["signals"] == {}

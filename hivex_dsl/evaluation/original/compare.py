@@ -2,7 +2,8 @@
 
 A :class:`RunCurve` is one of our runs' training curve: per summary point the agent-steps, the episodes it pools,
 and per panel (the original's panel titles: ``"Cumulative Reward"``, ``"Episode Length"`` and the statistics,
-which this toolkit names as the original logs them, :mod:`hivex_dsl.sim.statistics`) the value. It is read from a
+which this toolkit names as the original logs them, :mod:`hivex_dsl.sim.statistics`, and with curiosity
+``"Curiosity Reward"``, an agent-episode's sum of its strength-weighted rewards) the value. It is read from a
 run directory's curve.json (:func:`from_points`) or a committed baseline record, which keeps the return, and since
 issue 52 Episode Length and the statistics too (:func:`from_record`, :func:`record_panels`; :func:`seed_curves` gives every training seed a record holds, :func:`is_stale` whether its
 note marks it trained before a simulator change).
@@ -47,6 +48,8 @@ from .evidence import EPISODE_LENGTH, RETURN, curve_points
 FRACTIONS = (0.1, 0.25, 0.5, 1.0)
 NEAREST_WITHIN = 0.05  # of the budget: how far from a step our nearest point may lie where none is within w / 2
 FULL_SHARE = 0.5  # of a full point's episodes: what ours at a step pools at least, where the budget allows
+# a curve.json key of the trainer's own signals' mean episode sum -> the original's panel of the same sum
+SIGNAL_PANELS = {"curiosity_reward": "Curiosity Reward"}
 
 
 class CompareError(HivexError, ValueError):
@@ -73,8 +76,8 @@ class RunCurve:
 
 
 def from_points(points: Sequence[dict[str, Any]], label: str = "this toolkit") -> RunCurve:
-    """A run directory's curve.json rows (``agent_steps``, ``return``, ``episodes``; ``length`` and ``statistics``
-    where the run wrote them) as a :class:`RunCurve`."""
+    """A run directory's curve.json rows (``agent_steps``, ``return``, ``episodes``; ``length``, ``statistics`` and
+    ``curiosity_reward`` where the run wrote them) as a :class:`RunCurve`."""
     if not points:
         raise CompareError("the run's curve has no point: no episode ended while it trained")
     steps = np.array([p["agent_steps"] for p in points], dtype=float)
@@ -85,6 +88,9 @@ def from_points(points: Sequence[dict[str, Any]], label: str = "this toolkit") -
     names = sorted({name for p in points for name in p.get("statistics", {})})
     panels |= {name: np.array([p.get("statistics", {}).get(name, np.nan) for p in points], dtype=float)
                for name in names}
+    for key, panel in SIGNAL_PANELS.items():
+        if any(key in p for p in points):
+            panels[panel] = np.array([p.get(key, np.nan) for p in points], dtype=float)
     return RunCurve(steps, episodes, panels, label)
 
 
