@@ -99,6 +99,13 @@ def left_variance(module: Curiosity, scaled: list[dict], cont: torch.Tensor) -> 
     return "; continuous variance left " + " ".join(f"{s:.2f}" for s in share.tolist())
 
 
+def scenario_params(items: list[str]) -> dict:
+    """``--set`` items (PARAM=VALUE) as a scenario's params, each value read as YAML reads it (18 a number, blank a
+    string), so a numeric param passes the scenario's checks."""
+    pairs = [item.split("=", 1) for item in items]
+    return {key: yaml.safe_load(value) for key, value in pairs}
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("environment", choices=["drone_based_reforestation", "ocean_plastic_collection",
@@ -109,7 +116,7 @@ def main() -> None:
     parser.add_argument("--set", action="append", default=[], metavar="PARAM=VALUE", help="a scenario param")
     args = parser.parse_args()
     torch.set_num_threads(1)
-    params = dict(item.split("=", 1) for item in args.set)
+    params = scenario_params(args.set)
     env, obs, following, cont, disc = random_transitions(args.environment, params, args.decisions)
     print(f"{len(disc)} transitions; vector observation's change a decision, std by component: "
           + " ".join(f"{v:.4f}" for v in (following["vector"] - obs["vector"]).std(0).tolist()))

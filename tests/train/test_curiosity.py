@@ -18,6 +18,7 @@ from hivex_dsl.train.networks import ActionLayout, ActorCritic, to_tensors
 from hivex_dsl.train.buffer import Rollout
 from hivex_dsl.train.ppo import advantages_and_returns, collect, gae, train_curiosity
 
+from ..benchmark_scripts import benchmark_script
 from .conftest import short_scenario
 
 OBS = spaces.Box(-1.0, 1.0, (4,), np.float32)
@@ -182,3 +183,11 @@ def test_training_logs_each_agent_episode_s_curiosity_sum_as_the_original_s_pane
     plain = json.loads((tmp_path / "plain" / "curve.json").read_text())
     assert not any("curiosity_reward" in p for p in plain)
     assert "Curiosity Reward" not in from_points(plain).panels
+
+
+def test_the_losses_benchmark_reads_a_set_param_as_yaml_does():
+    script = benchmark_script("curiosity_losses")
+    params = script.scenario_params(["turn_rate_deg=18", "camera_images=rendered"])
+    assert params == {"turn_rate_deg": 18, "camera_images": "rendered"}
+    _, obs, following, cont, _ = script.random_transitions("drone_based_reforestation", params, decisions=3, worlds=1)
+    assert cont.shape == (len(obs["vector"]), 3) and following["vector"].shape == obs["vector"].shape
