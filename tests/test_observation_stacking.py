@@ -63,16 +63,17 @@ def test_a_vessel_s_older_stack_is_where_it_was_at_the_previous_decision(period)
 @pytest.mark.parametrize("period", [5, 1])
 def test_a_drone_s_older_stack_is_its_height_at_the_previous_decision(period):
     env = env_of(DBR, period)
-    bound = env.compiled.params.height_bound_m
+    p = env.compiled.params
+    metres = p.height_bound_m / p.vector_observation_gain  # per unit of an observed height (height / bound, gained)
     first = env.reset(seed=0)["vector"][0]
-    start = first[:, 3] * bound  # height above sea level
-    assert np.all(start + 2 * period * env.compiled.params.climb_speed_m < bound)  # no drone reaches the bound
+    start = first[:, 3] * metres  # height above sea level
+    assert np.all(start + 2 * period * p.climb_speed_m < p.height_bound_m)  # no drone reaches the bound
     obs = [first]
     for decision in (1, 2):
         obs.append(env.step(climb(env.agents)).observations["vector"][0])
-        rise = env.compiled.params.climb_speed_m * period
-        np.testing.assert_allclose(obs[-1][:, 3] * bound, start + decision * rise, atol=1e-4)
-        np.testing.assert_allclose(obs[-1][:, 13] * bound, start + (decision - 1) * rise, atol=1e-4)
+        rise = p.climb_speed_m * period
+        np.testing.assert_allclose(obs[-1][:, 3] * metres, start + decision * rise, atol=1e-4)
+        np.testing.assert_allclose(obs[-1][:, 13] * metres, start + (decision - 1) * rise, atol=1e-4)
         np.testing.assert_array_equal(obs[-1][:, 10:20], obs[-2][:, 0:10])
 
 

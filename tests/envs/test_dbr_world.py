@@ -147,8 +147,26 @@ def test_vector_observation_holds_the_normalised_state_and_the_previous_step():
     assert compiled.params.height_bound_m == bound
     expected = [(20.0 - ground) / bound, 0.5, -0.25, 20.0 / bound, 0.0, 1.0, 0.0, state.station[0, 2] / bound, 1.0,
                 0.8 - 0.001]
-    np.testing.assert_allclose(vector[:10], expected, atol=1e-6)
-    np.testing.assert_array_equal(vector[10:], before)
+    gain = compiled.params.vector_observation_gain  # the frame is sent times it
+    np.testing.assert_allclose(vector[:10], gain * np.array(expected), atol=1e-6)
+    np.testing.assert_array_equal(vector[10:], gain * before)
+    assert sim.observation_space["vector"].contains(sim.observe(state)["vector"][0, 0])
+
+
+def test_the_vector_is_sent_times_its_gain_and_a_scenario_stored_before_the_gain_reads_one():
+    from hivex_dsl.compiler import as_written, written
+
+    compiled, sim = compiled_sim()
+    state = sim.reset(np.random.default_rng(0), 2)
+    np.testing.assert_array_equal(sim.observe(state)["vector"], 3.0 * state.frames)
+    assert sim.observation_space["vector"].contains(sim.observe(state)["vector"][1, 2])
+    stored = compiled.resolved()
+    del stored["params"]["vector_observation_gain"]  # a lock or checkpoint written before the gain existed
+    before = written(hivex_dsl.compile(as_written(stored)), stored)
+    assert before.params.vector_observation_gain == 1.0
+    np.testing.assert_array_equal(before.entry.make_simulator(before).observe(state)["vector"], state.frames)
+    with pytest.raises(ScenarioError, match="vector_observation_gain"):
+        compiled_sim(params={"vector_observation_gain": 0.0})
 
 
 @pytest.mark.parametrize("generators, field", [

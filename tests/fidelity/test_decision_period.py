@@ -118,8 +118,9 @@ def test_the_dbr_pilot_steers_and_climbs_by_the_decision_not_the_step():
         heading = np.pi - np.radians(15.0)  # home lies at pi: a left turn of 15 degrees
         vector = np.zeros((1, 1, 20), np.float32)
         above = 10.0 - 1.25  # HOME_HEIGHT_M above the ground, 1.25 m short
-        vector[0, 0, :10] = [above / p.height_bound_m, 100.0 / half, 0.0, (20.0 + above) / p.height_bound_m,
-                             np.cos(heading), np.sin(heading), 0.0, 0.0, 0.0, 1.0]
+        vector[0, 0, :10] = p.vector_observation_gain * np.array([
+            above / p.height_bound_m, 100.0 / half, 0.0, (20.0 + above) / p.height_bound_m,
+            np.cos(heading), np.sin(heading), 0.0, 0.0, 0.0, 1.0])  # the frame as the drone observes it
         visual = np.ones((1, 1, 16, 16, 1), np.float32)  # open ground, no tree in sight
         actions = act({"vector": vector, "visual": visual})["continuous"][0, 0]
         assert actions[1] == pytest.approx(steer, abs=1e-5)

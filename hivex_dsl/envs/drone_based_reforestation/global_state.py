@@ -34,7 +34,7 @@ def world_state(self, state: DroneState) -> tuple[np.ndarray, np.ndarray]:
         np.clip(station, -1.0, 1.0),
         np.clip(state.energy.mean(axis=1), 0.0, 1.0)[:, None],
     ], axis=1)
-    return state.frames, world
+    return self.vector_observation(state), world
 
 
 def state_facts(simulator, state: DroneState, params) -> dict[str, list[float]]:

@@ -9,7 +9,7 @@ forest is this environment's own patch field, forest.py).
 
 from __future__ import annotations
 
-from typing import Literal
+from typing import Any, ClassVar, Literal
 
 import numpy as np
 from pydantic import Field, model_validator
@@ -21,12 +21,24 @@ from .forest import ReforestationForestSpec
 
 
 class DroneBasedReforestationParams(CameraParams):
+    ADDED_FIELDS: ClassVar[dict[str, Any]] = {"vector_observation_gain": 1.0}  # what locks and checkpoints saw before
+
     height_bound_m: float = Field(65.0, ge=10.0, le=100.0, description=(
         "[orig, fitted] Drones fly no higher than this (metres above sea level); heights are normalised by it. The "
         "paper gives 40 m, but the original's Find High Terrain records put its drones higher in the frame its "
         "height reward reads: published 44.5-47.2 m at every terrain level, summary points of the training runs up "
         "to 53.5-56.3 m (mean of three runs) and 58.3-62.7 m (their band); 65 m is the first 5 m above every point "
         "(the reward table's notes)."))
+    vector_observation_gain: float = Field(3.0, gt=0.0, le=10.0, description=(
+        "[records, fitted] The vector observation (both stacks, every component) is sent times this gain, so a "
+        "decision changes it that much more. The original's release scaled its observations in a way not on "
+        "record (its README: 'Normalized: True'); its training records say its networks saw larger changes than "
+        "this toolkit's normalised frames (1): at 1 the curiosity module's forward loss is 5-15 times the "
+        "original's panel below it all through training and its Curiosity Reward a drone-episode about a fifth, "
+        "and PPO learns a reloading loop the original's drones never did; at 3 the forward loss meets the "
+        "original's over its first 100k agent-steps and the drones drop one seed and run out, as the original's "
+        "(the reward table's notes 'The curiosity losses', 'The observation's scale, probed' and 'The vector "
+        "observation's gain'). The global state keeps the frames unscaled."))
     drone_speed_m: float = Field(1.0, gt=0.0, le=2.0, description=(
         "[ours] Horizontal metres flown per step at full throttle (at most 2 m so a step never crosses two "
         "2.5 m running-back increments)."))

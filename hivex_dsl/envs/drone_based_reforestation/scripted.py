@@ -112,7 +112,7 @@ def scripted_policy(compiled) -> Callable[[dict], dict]:
     def act(observations: dict) -> dict:
         frames = observations["vector"]
         fresh = ~frames[..., 10:20].any(axis=-1)  # a first observation's older stack is zeros (no real frame is)
-        v = frames[..., :10].astype(np.float64)
+        v = frames[..., :10].astype(np.float64) / p.vector_observation_gain
         image = observations["visual"][..., 0].reshape(v.shape[:2] + (-1,))
         above, x, y, z = v[..., 0] * bound, v[..., 1] * half, v[..., 2] * half, v[..., 3] * bound
         heading = np.arctan2(v[..., 5], v[..., 4])

@@ -96,7 +96,8 @@ class DroneReforestationSimulator:
         # steps a docking lasts: the time to charge an empty battery, whatever this one held
         self.charging_cycle = int(np.ceil(1.0 / p.charge_per_step - 1e-9))
         self._view = np.tan(np.radians(p.camera_fov_deg) / 2.0)
-        vector = spaces.Box(-1.0, 1.0, (VECTOR_SIZE * self.observation_stacks,), np.float32)
+        gain = p.vector_observation_gain
+        vector = spaces.Box(-gain, gain, (VECTOR_SIZE * self.observation_stacks,), np.float32)
         visual = spaces.Box(0.0, 1.0, (16, 16, 1), np.float32)
         self.observation_space = spaces.Dict({"vector": vector, "visual": visual})
         self.action_space = spaces.Dict({"continuous": spaces.Box(-1.0, 1.0, (3,), np.float32),
@@ -396,12 +397,18 @@ class DroneReforestationSimulator:
         return np.maximum(self.params.camera_min_half_width_m, height * self._view)
 
     def observe(self, state: DroneState) -> dict[str, np.ndarray]:
-        """vector (B, A, 20) float32 (two stacks, newest first); visual (B, A, 16, 16, 1) float32."""
+        """vector (B, A, 20) float32 (two stacks, newest first; the frames times vector_observation_gain); visual
+        (B, A, 16, 16, 1) float32."""
         if self.params.cameras_render:
             visual = camera_images(state.camera, self.raster, state.position[..., :2], self.camera_half_width(state))
         else:
             visual = blank_images(state.position.shape[:2] + self.observation_space["visual"].shape)
-        return {"vector": read_only(state.frames), "visual": visual}
+        return {"vector": read_only(self.vector_observation(state)), "visual": visual}
+
+    def vector_observation(self, state: DroneState) -> np.ndarray:
+        """(B, A, 20) float32: the frames times params.vector_observation_gain, as the drones observe them."""
+        gain = self.params.vector_observation_gain
+        return state.frames if gain == 1.0 else state.frames * np.float32(gain)
 
     def action_mask(self, state: DroneState) -> np.ndarray:
         """(B, A, 2) bool: the drop is open to a living drone that holds a seed at least drop_min_distance_m from
