@@ -52,7 +52,9 @@ ENTRY = register(EnvironmentEntry(
         "Direction is the drone's forward vector; drones stay level, so its z component is always 0.",
         "The vector observation stacks two frames, newest first: this decision's and the previous decision's, as "
         "ML-Agents' stacking sensor does (the reward table's note \"Observation stacks shift once a decision\"); an "
-        "episode's first observation repeats its frame in both.",
+        "episode's first observation repeats its frame in both. Each frame holds the state normalised (heights over "
+        "height_bound_m, positions over the half extent) and is sent times params.vector_observation_gain, 3, "
+        "fitted to the original's curiosity records (the reward table's note \"The vector observation's gain\").",
         "The world is the shared terrain and forest recipes scaled to the paper's 400 m square, with peaks below "
         "the paper's 40 m height bound (see the generator slots); drones may fly to height_bound_m (65 m, fitted to "
         "the original's Find High Terrain records; the reward table's notes); the station sits at the centre. A "

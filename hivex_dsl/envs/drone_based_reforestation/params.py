@@ -31,14 +31,14 @@ class DroneBasedReforestationParams(CameraParams):
         "(the reward table's notes)."))
     vector_observation_gain: float = Field(3.0, gt=0.0, le=10.0, description=(
         "[records, fitted] The vector observation (both stacks, every component) is sent times this gain, so a "
-        "decision changes it that much more. The original's release scaled its observations in a way not on "
-        "record (its README: 'Normalized: True'); its training records say its networks saw larger changes than "
-        "this toolkit's normalised frames (1): at 1 the curiosity module's forward loss is 5-15 times the "
-        "original's panel below it all through training and its Curiosity Reward a drone-episode about a fifth, "
-        "and PPO learns a reloading loop the original's drones never did; at 3 the forward loss meets the "
-        "original's over its first 100k agent-steps and the drones drop one seed and run out, as the original's "
-        "(the reward table's notes 'The curiosity losses', 'The observation's scale, probed' and 'The vector "
-        "observation's gain'). The global state keeps the frames unscaled."))
+        "decision changes it that much more. How the original's release scaled its observations is not on record "
+        "(its README: 'Normalized: True'); its training records say its networks saw larger changes than this "
+        "toolkit's normalised frames (gain 1). At 1 the curiosity module's forward loss lies 5-15 times under the "
+        "original's panel all through training, its Curiosity Reward a drone-episode is a fifth to a tenth of the "
+        "original's, and PPO learns a reloading loop the original's drones never did; at 3 the forward loss meets "
+        "the original's over its first 100k agent-steps and the drones drop one seed and run out, as the "
+        "original's did (the reward table's notes 'The curiosity losses', 'The observation's scale, probed' and "
+        "'The vector observation's gain'). The global state holds the vector as the drones observe it."))
     drone_speed_m: float = Field(1.0, gt=0.0, le=2.0, description=(
         "[ours] Horizontal metres flown per step at full throttle (at most 2 m so a step never crosses two "
         "2.5 m running-back increments)."))
