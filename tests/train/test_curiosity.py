@@ -127,7 +127,8 @@ def test_a_rollout_with_curiosity_has_two_value_columns_and_masks_reset_transiti
     assert masked[5].abs().sum() == 0 and masked[4].abs().sum() > 0
     # each agent-episode's sum (steps 0-4 and 6-10), as ML-Agents reports Policy/Curiosity Reward
     sums = torch.cat([masked[0:5].sum(0), masked[6:11].sum(0)])
-    episodes.record({"hivex_episode": {"return": np.zeros(1), "length": np.ones(1)}, "_hivex_episode": np.ones(1, bool)})
+    ended = {"hivex_episode": {"return": np.zeros(1), "length": np.ones(1)}, "_hivex_episode": np.ones(1, bool)}
+    episodes.record(ended)  # a drain reports only where an episode ended
     assert episodes.drain()["signals"]["curiosity"] == pytest.approx(float(sums.mean()), rel=1e-6)
 
 
