@@ -11,6 +11,9 @@ VENV ?= .venv
 BIN := $(VENV)/bin
 CONSTRAINTS := .ci/constraints.txt
 SCENARIO ?= wind_farm_control/main
+# pytest-xdist workers of `make test`, each taking whole test files (module fixtures train once); 2 fills CI's two
+# cores and halves its run. `make test TEST_WORKERS=auto` takes one a core; 0 runs in this process.
+TEST_WORKERS ?= 2
 STEPS ?= 2560000
 
 .PHONY: run test rllib clean
@@ -33,7 +36,7 @@ run: $(VENV)/.installed-run
 	$(BIN)/python examples/first_run.py --scenario scenarios/$(SCENARIO).yaml --steps $(STEPS)
 
 test: $(VENV)/.installed-test
-	SDL_VIDEODRIVER=dummy $(BIN)/pytest
+	SDL_VIDEODRIVER=dummy $(BIN)/pytest -n $(TEST_WORKERS) --dist loadfile
 	$(BIN)/hivex docs --check
 
 # RLlib's install is heavy (ray, ~80 MB wheel plus dependencies): its own target and CI step, in its own venv, since
