@@ -2,6 +2,7 @@
 
     python benchmarks/curiosity_losses.py drone_based_reforestation [--scale 1 10] [--steps 600] [--decisions 600]
     python benchmarks/curiosity_losses.py ocean_plastic_collection --steps 300 --decisions 150 --set camera_source=blank
+    python benchmarks/curiosity_losses.py drone_based_reforestation --scale 1 --noise 0 0.1 0.3 --set vector_observation_gain=1
 
 The module (hivex_dsl.train.curiosity, the environment's default hyperparameters) is trained offline on the
 transitions of random play in the main scenario's training worlds (8 worlds; continuous actions drawn from N(0, 1) as
@@ -10,6 +11,8 @@ among the open ones), minibatches of 256,
 and its forward and inverse losses printed every 100 steps, with each continuous action dimension's share of variance
 the inverse model leaves. The original's Curiosity Forward and Inverse Loss panels read beside these (the reward
 tables' notes 'The curiosity losses'): how much a decision changes the observation against its scale sets them.
+``--noise`` adds Gaussian noise of each standard deviation to every vector frame (a frame keeps its noise when it
+moves to the older stack), to ask whether observations the module cannot predict raise its forward loss.
 """
 
 from __future__ import annotations
@@ -71,6 +74,23 @@ def open_choices(rng: np.random.Generator, nvec, mask: np.ndarray | None, slots:
     return np.stack(columns, axis=1).astype(np.int64) if columns else np.zeros((slots, 0), np.int64)
 
 
+def with_noise(obs: dict, following: dict, sigma: float, stacks: int = 2, seed: int = 1) -> tuple[dict, dict]:
+    """The transitions with N(0, sigma) noise on each vector frame (N, stacks x frame, newest first; two stacks, as
+    the camera environments observe): the newest frame of ``obs`` carries the same noise as the older stack of
+    ``following`` (one frame, observed twice), and an older stack of zeros (a first observation's) stays zeros."""
+    if stacks != 2:
+        raise ValueError(f"with_noise takes two stacks, not {stacks}")
+    vector, later = obs["vector"].clone(), following["vector"].clone()
+    frame = vector.shape[1] // stacks
+    gen = torch.Generator().manual_seed(seed)
+    older, shared, newest = (torch.randn(len(vector), frame, generator=gen) * sigma for _ in range(3))
+    vector[:, frame:] += older * vector[:, frame:].abs().sum(1, keepdim=True).gt(0)
+    vector[:, :frame] += shared
+    later[:, frame:] += shared
+    later[:, :frame] += newest
+    return {**obs, "vector": vector}, {**following, "vector": later}
+
+
 def train_module(environment, env, obs, following, cont, disc, scale: float, steps: int) -> None:
     """Train a fresh module (torch seed 0) on the transitions with the vector observation times ``scale``; print."""
     torch.manual_seed(0)
@@ -113,6 +133,8 @@ def main() -> None:
     parser.add_argument("--scale", type=float, nargs="+", default=[1.0, 10.0])
     parser.add_argument("--steps", type=int, default=600)
     parser.add_argument("--decisions", type=int, default=600)
+    parser.add_argument("--noise", type=float, nargs="+", default=[0.0], metavar="SIGMA",
+                        help="Gaussian noise's standard deviation on every vector frame (each in turn)")
     parser.add_argument("--set", action="append", default=[], metavar="PARAM=VALUE", help="a scenario param")
     args = parser.parse_args()
     torch.set_num_threads(1)
@@ -120,8 +142,12 @@ def main() -> None:
     env, obs, following, cont, disc = random_transitions(args.environment, params, args.decisions)
     print(f"{len(disc)} transitions; vector observation's change a decision, std by component: "
           + " ".join(f"{v:.4f}" for v in (following["vector"] - obs["vector"]).std(0).tolist()))
-    for scale in args.scale:
-        train_module(args.environment, env, obs, following, cont, disc, scale, args.steps)
+    for sigma in args.noise:
+        noisy = with_noise(obs, following, sigma, env.core.sim.observation_stacks) if sigma > 0 else (obs, following)
+        if len(args.noise) > 1:
+            print(f"noise {sigma:g}")
+        for scale in args.scale:
+            train_module(args.environment, env, *noisy, cont, disc, scale, args.steps)
 
 
 if __name__ == "__main__":

@@ -192,3 +192,19 @@ def test_the_losses_benchmark_reads_a_set_param_as_yaml_does():
     assert params == {"turn_rate_deg": 18, "camera_images": "rendered"}
     _, obs, following, cont, _ = script.random_transitions("drone_based_reforestation", params, decisions=3, worlds=1)
     assert cont.shape == (len(obs["vector"]), 3) and following["vector"].shape == obs["vector"].shape
+
+
+def test_the_losses_benchmark_s_noise_follows_a_frame_into_the_older_stack():
+    script = benchmark_script("curiosity_losses")
+    obs = {"vector": torch.tensor([[1.0, 2.0, 3.0, 4.0], [5.0, 6.0, 0.0, 0.0]]), "visual": torch.zeros(2, 1)}
+    following = {"vector": torch.tensor([[7.0, 8.0, 1.0, 2.0], [9.0, 1.0, 5.0, 6.0]]), "visual": torch.ones(2, 1)}
+    noisy, later = script.with_noise(obs, following, 0.5)
+    # the frame obs shows newest is the one following shows older: the same noise on both
+    assert torch.equal(noisy["vector"][:, :2] - obs["vector"][:, :2], later["vector"][:, 2:] - following["vector"][:, 2:])
+    assert not torch.equal(noisy["vector"][:, :2], obs["vector"][:, :2])
+    assert torch.equal(noisy["vector"][1, 2:], torch.zeros(2))  # a first observation's older stack stays zeros
+    assert (later["vector"][:, :2] - following["vector"][:, :2]).abs().gt(0).all()
+    assert torch.equal(obs["vector"][0], torch.tensor([1.0, 2.0, 3.0, 4.0]))  # the inputs are not changed
+    assert noisy["visual"] is obs["visual"]
+    with pytest.raises(ValueError, match="two stacks"):
+        script.with_noise(obs, following, 0.5, stacks=3)
