@@ -2,7 +2,8 @@
 
     python benchmarks/curiosity_losses.py drone_based_reforestation [--scale 1 10] [--steps 600] [--decisions 600]
     python benchmarks/curiosity_losses.py ocean_plastic_collection --steps 300 --decisions 150 --set camera_source=blank
-    python benchmarks/curiosity_losses.py drone_based_reforestation --scale 1 --noise 0 0.1 0.3 --set vector_observation_gain=1
+    python benchmarks/curiosity_losses.py drone_based_reforestation --scale 1 --noise 0 0.1 0.3 \
+        --set vector_observation_gain=1
 
 The module (hivex_dsl.train.curiosity, the environment's default hyperparameters) is trained offline on the
 transitions of random play in the main scenario's training worlds (8 worlds; continuous actions drawn from N(0, 1) as

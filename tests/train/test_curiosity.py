@@ -200,7 +200,8 @@ def test_the_losses_benchmark_s_noise_follows_a_frame_into_the_older_stack():
     following = {"vector": torch.tensor([[7.0, 8.0, 1.0, 2.0], [9.0, 1.0, 5.0, 6.0]]), "visual": torch.ones(2, 1)}
     noisy, later = script.with_noise(obs, following, 0.5)
     # the frame obs shows newest is the one following shows older: the same noise on both
-    assert torch.equal(noisy["vector"][:, :2] - obs["vector"][:, :2], later["vector"][:, 2:] - following["vector"][:, 2:])
+    shown_newest = noisy["vector"][:, :2] - obs["vector"][:, :2]
+    assert torch.equal(shown_newest, later["vector"][:, 2:] - following["vector"][:, 2:])
     assert not torch.equal(noisy["vector"][:, :2], obs["vector"][:, :2])
     assert torch.equal(noisy["vector"][1, 2:], torch.zeros(2))  # a first observation's older stack stays zeros
     assert (later["vector"][:, :2] - following["vector"][:, :2]).abs().gt(0).all()
