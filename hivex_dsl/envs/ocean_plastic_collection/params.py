@@ -8,9 +8,10 @@ world, its pollution heat map, the pebble count and the spawn rules are generato
 
 from __future__ import annotations
 
-from typing import Any, ClassVar, Literal
+import math
+from typing import Any, ClassVar, Literal, Optional
 
-from pydantic import Field
+from pydantic import Field, model_validator
 
 from ...lang.spec.common import StrictModel
 
@@ -20,14 +21,21 @@ CameraSource = Literal["pebbles", "heat_map", "blank"]
 
 class OceanPlasticCollectionParams(StrictModel):
     # each with what was done before it came, written out (not AS_DEFAULT): collection uncapped (issue 52, session 48)
-    ADDED_FIELDS: ClassVar[dict[str, Any]] = {"collect_per_decision": 0, "camera_source": "pebbles"}
+    ADDED_FIELDS: ClassVar[dict[str, Any]] = {"collect_per_decision": 0, "camera_source": "pebbles",
+                                              "max_speed_m": None}
 
     acceleration: float = Field(0.2, gt=0.0, le=1.0, description=(
         "[orig] Metres per step added to the vessel's speed on each step it accelerates (throttle 1); fitted with "
         "turn_rate_deg to the original's untrained policy, whose vessel-episodes last 32.5-35.2 decisions (the reward "
         "table's pace note)."))
-    drag: float = Field(0.1, ge=0.05, le=1.0, description=(
-        "[ours] Fraction of its speed a vessel loses each step; top speed is acceleration / drag (2 m per step)."))
+    drag: float = Field(0.1, ge=0.0, le=1.0, description=(
+        "[ours] Fraction of its speed a vessel loses each step; top speed is acceleration / drag (2 m per step), or "
+        "max_speed_m where that is lower. 0 (with max_speed_m): a vessel holds its speed when it does not "
+        "throttle, so once moving it cannot slow down."))
+    max_speed_m: Optional[float] = Field(None, gt=0.0, le=20.0, description=(
+        "[ours] A vessel's speed, metres per step, never exceeds this (null: no cap, the default; top speed is then "
+        "acceleration / drag). With drag 0 it is the speed every moving vessel keeps: the reading of the original's "
+        "records under test in issue 52 (the reward table's note 'Early lives')."))
     turn_rate_deg: float = Field(6.0, gt=0.0, le=45.0, description=(
         "[orig] Degrees a vessel turns per step while steering right or left (it turns at any speed); fitted with "
         "acceleration (the reward table's pace note)."))
@@ -72,3 +80,16 @@ class OceanPlasticCollectionParams(StrictModel):
         "original's return 0.45-0.99 of theirs (the pace note)."))
     respawn_candidates: int = Field(16, ge=1, le=256, description=(
         "[ours] Random spawn points tried per respawn; the one farthest from the other vessels is taken."))
+
+    @property
+    def top_speed_m(self) -> float:
+        """Metres per step a vessel that always throttles approaches: acceleration / drag, at most max_speed_m."""
+        free = self.acceleration / self.drag if self.drag > 0 else math.inf
+        return min(free, math.inf if self.max_speed_m is None else self.max_speed_m)
+
+    @model_validator(mode="after")
+    def _speed_bounded(self) -> "OceanPlasticCollectionParams":
+        if self.drag == 0 and self.max_speed_m is None:
+            raise ValueError("drag 0 needs max_speed_m: without drag and a cap a throttling vessel's speed grows "
+                             "without bound; give max_speed_m (metres per step) or a drag above 0")
+        return self

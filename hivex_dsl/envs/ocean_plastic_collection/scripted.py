@@ -117,19 +117,21 @@ def avoid_rules(gap, bearing, avoid_m, idle_m, steer, throttle):
 
 def burst_travel(motion: Motion, period: int) -> float:
     """Metres a vessel at rest travels on one decision of full throttle (``period`` physics steps of the
-    simulator's :func:`move`) and the coast after it (speed x keep / (1 - keep), the geometric tail)."""
+    simulator's :func:`move`) and the coast after it (speed x keep / (1 - keep), the geometric tail; without drag
+    the coast never ends, infinite)."""
     position, heading, speed = np.zeros((1, 1, 2)), np.zeros((1, 1)), np.zeros((1, 1))
     throttle, active = np.array([[[1, 0]]]), np.ones((1, 1), bool)
     for _ in range(period):
         position, heading, speed, _ = move(position, heading, speed, throttle, active, motion)
-    return float(position[0, 0, 0] + speed[0, 0] * motion.keep / (1.0 - motion.keep))
+    coast = speed[0, 0] * motion.keep / (1.0 - motion.keep) if motion.keep < 1.0 else np.inf  # no drag: it never stops
+    return float(position[0, 0, 0] + coast)
 
 
 def scripted_policy(compiled) -> Callable[[dict], np.ndarray]:
     """observations {vector (B, A, 12), visual (B, A, 25, 25, 2)} -> actions (B, A, 2)."""
     params, weights = compiled.params, compiled.weights
     half = compiled.generators["pollution"].half_extent_m
-    top_speed = params.acceleration / params.drag
+    top_speed = params.top_speed_m
     forward, right = cell_centres()
     steps_away = np.hypot(forward, right) / top_speed + np.abs(np.arctan2(right, forward)) / np.radians(params.turn_rate_deg)
     worth = 1.0 / (1.0 + steps_away / PATIENCE_STEPS)

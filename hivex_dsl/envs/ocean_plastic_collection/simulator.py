@@ -41,11 +41,13 @@ class Motion(NamedTuple):
     turn: np.ndarray  # (3,) heading change (radians) per steer action
     thrust: np.ndarray  # (2,) speed added (metres per step) per throttle action
     keep: float  # fraction of its speed a vessel keeps each step
+    cap: float | None = None  # the speed no vessel exceeds (params.max_speed_m), None without a cap
 
     @classmethod
     def of(cls, params: OceanPlasticCollectionParams) -> "Motion":
         return cls(turn=np.radians(params.turn_rate_deg) * STEER_SIGN,
-                   thrust=params.acceleration * np.array([0.0, 1.0]), keep=1.0 - params.drag)
+                   thrust=params.acceleration * np.array([0.0, 1.0]), keep=1.0 - params.drag,
+                   cap=params.max_speed_m)
 
 
 @lru_cache(maxsize=16)
@@ -63,13 +65,16 @@ def crossed_border(position: np.ndarray, active: np.ndarray, half_extent: float)
 
 def move(position: np.ndarray, heading: np.ndarray, speed: np.ndarray, actions: np.ndarray, active: np.ndarray,
          motion: Motion) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """Turn, then speed <- speed * (1 - drag) + acceleration * throttle, then advance along the new heading.
+    """Turn, then speed <- speed * (1 - drag) + acceleration * throttle (at most the cap, where the scenario
+    sets one), then advance along the new heading.
 
     actions (B, A, 2): throttle {0, 1}, steer {0 noop, 1 right, 2 left}. Inactive vessels stay put.
     Returns position, heading, speed and ``facing`` = exp(i heading) (B, A) complex, the unit heading.
     """
     turned = wrap_angle(heading + motion.turn[actions[..., 1]])
     speed = speed * motion.keep + motion.thrust[actions[..., 0]]
+    if motion.cap is not None:
+        speed = np.minimum(speed, motion.cap)
     if all_true(active):
         heading = turned
     else:
@@ -98,7 +103,7 @@ class OceanPlasticSimulator:
         self.half_extent = self.pollution.half_extent_m
         self.geometry = Geometry(half_extent=self.half_extent, collector_reach=params.collector_reach_m,
                                  collector_half_width=params.collector_half_width_m,
-                                 nearby_radius=params.nearby_radius_m, top_speed=params.acceleration / params.drag)
+                                 nearby_radius=params.nearby_radius_m, top_speed=params.top_speed_m)
         self.observation_space = spaces.Dict({
             "vector": spaces.Box(-1.0, 1.0, (FRAME * STACKS,), np.float32),
             "visual": spaces.Box(0.0, 1.0, (CAMERA_CELLS, CAMERA_CELLS, STACKS), np.float32),

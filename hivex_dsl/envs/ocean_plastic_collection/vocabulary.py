@@ -16,7 +16,7 @@ from ...sim.reward.vocabulary import Vocabulary, flag, quantity
 def _reach(compiled) -> tuple[float, float]:
     """(top speed, how far from the centre a vessel can be): it stops where it crossed the border."""
     p = compiled.params
-    top_speed = p.acceleration / p.drag  # speed <- speed (1 - drag) + acceleration * throttle from rest
+    top_speed = p.top_speed_m  # speed <- speed (1 - drag) + acceleration * throttle from rest, at most the cap
     return top_speed, compiled.generators["pollution"].half_extent_m + top_speed
 
 
