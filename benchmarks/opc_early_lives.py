@@ -77,7 +77,8 @@ def hand_made(throttle: float, steer: tuple, band: float, home: float, seed: int
 
 def policies(worlds: int, seed: int) -> None:
     compiled = main_task()
-    print(f"{'policy':18s} {'entropy':>8s} {'decisions':>10s} {'Local':>7s} {'pace':>6s} {'return':>8s}   ({worlds} test worlds)")
+    print(f"{'policy':18s} {'entropy':>8s} {'decisions':>10s} {'Local':>7s} {'pace':>6s} {'return':>8s}   "
+          f"({worlds} test worlds)")
     for name, throttle, steer, band, home in POLICIES:
         act = hand_made(throttle, steer, band, home, seed)
         played = rollout(compiled, act, worlds, seed=seed)
@@ -117,7 +118,8 @@ def checkpoint(path: str, worlds: int, seed: int) -> None:
     for name, where in (("all", np.ones(len(table), bool)), ("risky", table[:, 0] > 0), ("interior", table[:, 0] == 0)):
         part = table[where]
         print(f"  {name:8s} share {where.mean():.3f}  entropy {part[:, 1].mean():.2f}  p(throttle) "
-              f"{part[:, 2].mean():.2f}  p(steer home) {part[:, 3].mean():.2f}  p(likeliest steer) {part[:, 4].mean():.2f}")
+              f"{part[:, 2].mean():.2f}  p(steer home) {part[:, 3].mean():.2f}  "
+              f"p(likeliest steer) {part[:, 4].mean():.2f}")
 
 
 def main() -> None:

@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 import hivex_dsl
-from hivex_dsl.envs.ocean_plastic_collection.params import OceanPlasticCollectionParams
 from hivex_dsl.base.errors import HivexError
+from hivex_dsl.envs.ocean_plastic_collection.params import OceanPlasticCollectionParams
 
 from .test_opc_mechanics import GO, NOOP, hand_built, simulator, step
 
@@ -62,7 +62,7 @@ def test_drag_0_without_a_cap_is_a_clear_error():
 
 
 def test_a_scenario_that_does_not_cap_keeps_its_fingerprint():
-    """max_speed_m None is what every scenario did before the param came (ADDED_FIELDS): records stay matched."""
+    """max_speed_m null (None) is what every scenario did before the param came (ADDED_FIELDS): records stay matched."""
     plain = hivex_dsl.compile({"hivex": 1, "environment": ENV, "agents": 3})
     written = hivex_dsl.compile({"hivex": 1, "environment": ENV, "agents": 3, "params": {"max_speed_m": None}})
     capped = hivex_dsl.compile({"hivex": 1, "environment": ENV, "agents": 3, "params": {"max_speed_m": 1.0}})

@@ -1,7 +1,7 @@
 """benchmarks/opc_early_lives.py: how the original's nearly random vessels lived long early in training (issue 52).
 
 At 75,000 agent-steps of the main task the original's vessel-episodes lasted about 150 decisions (219 at 120,000)
-while its policy's entropy was still 1.58-1.63 nats and it collected at random play's pace. A policy that spends
+while its policy's entropy was still 1.58-1.67 nats and it collected at random play's pace. A policy that spends
 little entropy can live that long only by deciding where it matters: a border reflex does, a brake or a curl
 (state-independent biases) does not. The reward table's note 'Early lives' has the evidence."""
 

@@ -16,8 +16,8 @@ def state_components(self) -> tuple[StateComponent, ...]:
         StateComponent("plastic left", 1, 0.0, 1.0, "Pebbles still floating / pebbles at the start."),
         StateComponent("plastic centre", 2, -1.0, 1.0, "Mean (x, y) of the floating pebbles / half extent "
                        "(0 without any)."),
-        StateComponent("speed", 1, 0.0, 1.0, "The vessel's speed / top speed (acceleration / drag, at most max_speed_m).",
-                       per_agent=True),
+        StateComponent("speed", 1, 0.0, 1.0, "The vessel's speed / top speed (acceleration / drag, at most "
+                       "max_speed_m).", per_agent=True),
         StateComponent("collected", 1, 0.0, 1.0, "Pebbles the vessel collected this episode / pebbles at the "
                        "start.", per_agent=True),
     )
