@@ -1,8 +1,8 @@
 """Ocean Plastic Collection: how a nearly random policy lives long, and what a trained one decides where (issue 52).
 
 The original's vessel-episodes lived 150-219 decisions at 75,000-125,000 agent-steps of the main task while its
-policy's entropy was still 1.58-1.63 (uniform: ln 2 + ln 3 = 1.79) and it collected at random play's pace (Local
-over Episode Length 0.49-0.61); this toolkit's seeds lived 65-143 there. Two questions, two modes:
+policy's entropy was still 1.58-1.67 (uniform: ln 2 + ln 3 = 1.79) and it collected at random play's pace (Local
+over Episode Length 0.49-0.61); this toolkit's seeds lived 51-156 there. Two questions, two modes:
 
     python benchmarks/opc_early_lives.py policies [--worlds N]
         hand-made policies over N test worlds: uniform play; a brake (throttle less often); a curl (steer one way
@@ -59,6 +59,11 @@ def entropy(probabilities: np.ndarray) -> np.ndarray:
     return -(probabilities * np.log(np.clip(probabilities, 1e-12, 1.0))).sum(-1)
 
 
+def draw(rng: np.random.Generator, probabilities: np.ndarray) -> np.ndarray:
+    """(A, n) rows that each sum to 1 -> (A,) one choice a row, drawn with ``rng``."""
+    return (rng.random(len(probabilities))[:, None] > probabilities.cumsum(-1)).sum(-1)
+
+
 def hand_made(throttle: float, steer: tuple, band: float, home: float, seed: int) -> Callable:
     """A batched policy (observations (1, A, ...) -> actions (1, A, 2)) that records each decision's entropy."""
     rng, steer = np.random.default_rng(seed), np.asarray(steer)
@@ -67,7 +72,7 @@ def hand_made(throttle: float, steer: tuple, band: float, home: float, seed: int
     def act(observations):
         risky, toward = risky_and_home(np.asarray(observations["vector"])[0], band)
         probabilities = np.where(risky[:, None], reflex[toward], steer)
-        choice = (rng.random(len(risky))[:, None] > probabilities.cumsum(-1)).sum(-1)
+        choice = draw(rng, probabilities)
         act.entropies.extend(entropy(probabilities) + entropy(np.array([throttle, 1 - throttle])))
         return np.stack([(rng.random(len(risky)) < throttle).astype(np.int64), choice], -1)[None]
 
@@ -105,8 +110,7 @@ def checkpoint(path: str, worlds: int, seed: int) -> None:
         risky, toward = risky_and_home(np.asarray(observations["vector"])[0], BAND)
         rows.extend(zip(risky, entropy(throttle) + entropy(steer), throttle[:, 1],
                         steer[np.arange(len(steer)), toward], steer.max(-1)))
-        picks = [(rng.random(len(p))[:, None] > (p / p.sum(-1, keepdims=True)).cumsum(-1)).sum(-1)
-                 for p in (throttle, steer)]
+        picks = [draw(rng, p / p.sum(-1, keepdims=True)) for p in (throttle, steer)]
         return np.stack(picks, -1)[None]
 
     played = rollout(compiled, act, worlds, split="train", seed=seed)

@@ -28,8 +28,9 @@ def played(name: str) -> tuple[float, float, float]:
     """(mean entropy, decisions a vessel-episode, pebbles a decision) of a hand-made policy over the test worlds."""
     _, throttle, steer, band, home = next(row for row in script.POLICIES if row[0] == name)
     act = script.hand_made(throttle, steer, band, home, seed=1)
-    rolled = script.rollout(script.main_task(), act, WORLDS, seed=1)
-    decisions = rolled.lengths / 5
+    compiled = script.main_task()
+    rolled = script.rollout(compiled, act, WORLDS, seed=1)
+    decisions = rolled.lengths / compiled.decision_period
     return float(np.mean(act.entropies)), float(decisions.mean()), float(rolled.statistics["Local Reward"].sum()
                                                                          / decisions.sum())
 
