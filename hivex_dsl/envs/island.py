@@ -55,14 +55,14 @@ RedrawIsland = Literal["seed", "episode"]
 def redraw_island_field() -> Any:
     """The ``redraw_island`` param of the island environments (AWS, WRM): one default, one meaning."""
     return Field("episode", description=(
-        "[ours] When a world draws a new island (terrain, village, forest): 'episode' (the default) for every "
-        "episode, each drawn from the split's seed stream, as Drone-Based Reforestation draws its world; 'seed' "
-        "only when a seed starts a stream (the first reset, reset(seed=...), every episode of a per-episode seed "
-        "list), keeping it for the episodes that continue the stream in either adapter (faster: an island costs "
-        "about 60 ms to draw, a new fire on a kept one a few ms). The paper's protocol is one seed per run (train "
-        "5000, test 6000) over hundreds of episodes, with a terrain level standing for a family of worlds (its "
-        "figures show a different world per seed), so a run sees a new world every episode. Fire, weather and "
-        "wind are new every episode either way."))
+        "[orig] When a world draws a new island (terrain, village, forest): 'episode' (the default) for every "
+        "episode, each drawn from the split's seed stream, as the original's Aerial Wildfire Suppression release "
+        "does (a new terrain seed and village spot from Unity's generator for every new world, which runs on from "
+        "the run's one seed: the reward table's note 'New worlds in the release'; Wildfire Resource Management's "
+        "build is not public and follows by analogy); 'seed' only when a seed starts a stream (the first reset, "
+        "reset(seed=...), every episode of a per-episode seed list), keeping it for the episodes that continue the "
+        "stream in either adapter (faster: an island costs about 60 ms to draw, a new fire on a kept one a few ms), "
+        "an approximation the original did not make. Fire, weather and wind are new every episode either way."))
 
 
 ISLAND_GENERATORS = {
