@@ -45,6 +45,9 @@ class EpisodeLog:
         self._parts: list[dict[str, Any]] = []
         self._running: dict[str, np.ndarray] = {}  # signal -> (S,) each slot's sum over its episode so far
         self._signal_sums: dict[str, list[np.ndarray]] = {}  # signal -> the sums of episodes ended since a drain
+        self._open: np.ndarray | None = None  # (S, 1 + K) each slot's open trajectory: experiences, then value sums
+        self._estimates: list[np.ndarray] = []  # (n, K) the mean value estimates of trajectories cut since a drain
+        self._heads: tuple[str, ...] = ()
 
     def record(self, infos: dict[str, Any]) -> None:
         summary = episode_summaries(infos)
@@ -64,6 +67,23 @@ class EpisodeLog:
                 sums.append(running[end].copy())
                 running[end] = 0.0
 
+    def record_estimates(self, heads: tuple[str, ...], values: np.ndarray, valid: np.ndarray, done: np.ndarray,
+                         time_horizon: int) -> None:
+        """Add one rollout's value estimates (T, S, K), one column per value head named in ``heads``, of the
+        experiences where ``valid`` (T, S). A slot's trajectory is cut where its episode ends (``done`` (T, S)) or once
+        it holds ``time_horizon`` experiences, as ML-Agents' AgentProcessor cuts it; each cut trajectory's mean value
+        is kept for the next drain, as ML-Agents' trainer reports ``Policy/<Signal> Value Estimate`` (the mean of
+        the critic's estimates over a trajectory, when it processes it)."""
+        values = np.asarray(values, np.float64).reshape(valid.shape + (len(heads),))
+        if self._open is None or self._open.shape != (valid.shape[1], 1 + len(heads)):
+            self._open, self._heads = np.zeros((valid.shape[1], 1 + len(heads))), tuple(heads)
+        for value, experience, end in zip(values, np.asarray(valid, bool), np.asarray(done, bool)):
+            self._open[experience] += np.concatenate([np.ones((experience.sum(), 1)), value[experience]], axis=1)
+            cut = (self._open[:, 0] > 0) & ((self._open[:, 0] >= time_horizon) | end)
+            if cut.any():
+                self._estimates.append(self._open[cut, 1:] / self._open[cut, :1])
+                self._open[cut] = 0.0
+
     def values(self) -> dict[str, Any]:
         """Every recorded summary concatenated (same layout as one summary); {} if none."""
         if not self._parts:
@@ -78,21 +98,25 @@ class EpisodeLog:
                 "statistics": nested("statistics"), "running": running}
 
     def drain(self) -> dict[str, Any]:
-        """Means since the last drain: ``{"return", "length", "episodes", "reward_terms", "statistics", "signals"}``
-        (``signals``: each trainer signal's mean episode sum, where an episode ended with one). A
+        """Means since the last drain: ``{"return", "length", "episodes", "reward_terms", "statistics", "signals",
+        "estimates"}`` (``signals``: each trainer signal's mean episode sum, where an episode ended with one;
+        ``estimates``: each value head's mean over the trajectories cut, :meth:`record_estimates`). A
         running-mean statistic is pooled, as the original's TensorBoard point is: every value added in any of the
         episodes weighs the same (:func:`hivex_dsl.sim.statistics.pooled`), not each episode's mean."""
         values = self.values()
         signals = {name: float(np.concatenate(sums).mean()) for name, sums in self._signal_sums.items() if sums}
-        self._parts, self._signal_sums = [], {}
-        if not values:
+        if not values:  # no point without an ended episode; the cut trajectories' estimates wait for the next one
+            self._signal_sums = {}
             return {}
+        estimates = dict(zip(self._heads, np.concatenate(self._estimates).mean(0).tolist())) if self._estimates else {}
+        self._parts, self._signal_sums, self._estimates = [], {}, []
         mean = lambda group: {k: float(v.mean()) for k, v in group.items() if v.size}  # noqa: E731
         pooled_means = {name: pooled(parts["sums"], parts["counts"]) for name, parts in values["running"].items()
                         if parts["sums"].size}
         return {"return": float(values["return"].mean()), "length": float(values["length"].mean()),
                 "episodes": int(values["return"].size), "reward_terms": mean(values["reward_terms"]),
-                "statistics": mean(values["statistics"]) | pooled_means, "signals": signals}
+                "statistics": mean(values["statistics"]) | pooled_means, "signals": signals,
+                "estimates": estimates}
 
 
 class ScalarLog:
@@ -116,6 +140,7 @@ class ScalarLog:
             scalars |= {f"reward_terms/{k}": v for k, v in episodes["reward_terms"].items()}
             scalars |= {f"statistics/{k}": v for k, v in episodes["statistics"].items()}
             scalars |= {f"episode/{k}_reward": v for k, v in episodes.get("signals", {}).items()}
+            scalars |= {f"policy/{k}_value_estimate": v for k, v in episodes.get("estimates", {}).items()}
         scalars |= {f"losses/{k}": v for k, v in losses.items()}
         scalars |= {f"charts/{k}": v for k, v in charts.items()}
         for tag, value in scalars.items():

@@ -271,6 +271,9 @@ def ml_agents_linear(layer: nn.Linear, kind: Literal["kaiming", "xavier"], gain:
         layer.bias.zero_()
 
 
+VALUE_HEADS = ("extrinsic", "curiosity")  # the critic's value heads in column order, named as ML-Agents' signals
+
+
 class ActorCritic(nn.Module):
     """Separate actor and critic bodies (as ML-Agents), shared by every slot (parameter sharing)."""
 

@@ -29,7 +29,7 @@ from .config import PPOConfig, TrainError
 from .curiosity import Curiosity
 from .devices import autocast, matmul_precision, torch_device
 from .logs import EpisodeLog, Progress, ScalarLog
-from .networks import ActorCritic, fixed_weights, to_tensors
+from .networks import VALUE_HEADS, ActorCritic, fixed_weights, to_tensors
 from .buffer import FinishedTrajectories, Rollout, RowBuffers, in_chunks, merge_steps
 from .rundir import RunDir
 
@@ -438,6 +438,8 @@ def _train(compiled: CompiledScenario, cfg: PPOConfig, run: RunDir, progress: bo
             next_value = collect(env, agent, buf, state, cfg, episodes, on_step=lambda: bar.advance(slots, None),
                                  until=update_due(cfg, slots), steps=length)
             length = buf.rewards.shape[0]
+            episodes.record_estimates(VALUE_HEADS[:agent.signals], buf.values.numpy(), buf.valid.numpy() > 0,
+                                      buf.done.numpy() > 0, cfg.time_horizon)
             agent.observe(buf.flat_obs())
             advantages, returns, signal_charts = advantages_and_returns(buf, next_value, cfg, curiosity, episodes)
             losses = update(agent, optimizer, buf, advantages, returns, cfg, beta, epsilon, rng,
@@ -451,7 +453,8 @@ def _train(compiled: CompiledScenario, cfg: PPOConfig, run: RunDir, progress: bo
                 curve.append({"agent_steps": agent_steps, "wall_s": round(wall, 3), "return": summary["return"],
                               "episodes": summary["episodes"], "length": summary["length"],
                               "statistics": summary["statistics"],
-                              **{f"{k}_reward": v for k, v in summary["signals"].items()}})
+                              **{f"{k}_reward": v for k, v in summary["signals"].items()},
+                              **{f"{k}_value_estimate": v for k, v in summary["estimates"].items()}})
             scalars.write(agent_steps, summary, losses, {"learning_rate": lr, "beta": beta, "epsilon": epsilon,
                                                          "agent_steps_per_s": (agent_steps - done_before)
                                                          / max(wall - wall_before, 1e-9),

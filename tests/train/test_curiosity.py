@@ -179,11 +179,16 @@ def test_training_logs_each_agent_episode_s_curiosity_sum_as_the_original_s_pane
     # each step's reward is min(strength x error, 1), so an episode's sum lies within [0, its decisions]
     assert all(0.0 <= s <= p["length"] for s, p in zip(sums, points)) and max(sums) > 0
     assert from_points(points).panels["Curiosity Reward"].tolist() == sums
+    # each value head's mean estimate too, as the original's Extrinsic and Curiosity Value Estimate panels
+    for key, panel in (("extrinsic_value_estimate", "Extrinsic Value Estimate"),
+                       ("curiosity_value_estimate", "Curiosity Value Estimate")):
+        assert from_points(points).panels[panel].tolist() == [p[key] for p in points]
     cfg = make_config("wildfire_resource_management", tiny, {"curiosity_strength": 0.0})
     ppo.train(compiled, cfg, tmp_path / "plain", progress=False)
     plain = json.loads((tmp_path / "plain" / "curve.json").read_text())
-    assert not any("curiosity_reward" in p for p in plain)
-    assert "Curiosity Reward" not in from_points(plain).panels
+    assert not any("curiosity_reward" in p or "curiosity_value_estimate" in p for p in plain)
+    assert all(np.isfinite(p["extrinsic_value_estimate"]) for p in plain)
+    assert {"Curiosity Reward", "Curiosity Value Estimate"}.isdisjoint(from_points(plain).panels)
 
 
 def test_the_losses_benchmark_reads_a_set_param_as_yaml_does():

@@ -96,3 +96,37 @@ def test_a_signal_s_episode_sums_run_across_rollouts_and_restart_at_each_end():
     assert log.drain()["signals"] == {"curiosity": 5.0}
     log.record(_infos("hivex_episode"))
     assert log.drain()["signals"] == {}
+
+
+def test_value_estimates_are_averaged_per_trajectory_cut_at_episode_ends_and_the_time_horizon():
+    """Two slots, two heads, time horizon 3, over two rollouts (ML-Agents' AgentProcessor cuts a trajectory there).
+    Slot 0: experiences valued 1, 2 (episode ends), then 4, 5, 6 (three: cut by the horizon), then 8 (open).
+    Slot 1: 10, an idle step (not an experience: its value is ignored), 20, then 30 (episode ends) in rollout two."""
+    log = EpisodeLog()
+    values = np.array([[1.0, 10.0], [2.0, 99.0], [4.0, 20.0]])
+    valid = np.array([[True, True], [True, False], [True, True]])
+    done = np.array([[False, False], [True, False], [False, False]])
+    heads = np.stack([values, values / 10], axis=-1)  # the second head reads a tenth of the first
+    log.record_estimates(("extrinsic", "curiosity"), heads, valid, done, time_horizon=3)
+    values = np.array([[5.0, 30.0], [6.0, 0.0], [8.0, 0.0]])
+    valid = np.array([[True, True], [True, False], [True, False]])
+    done = np.array([[False, True], [False, False], [False, False]])
+    log.record_estimates(("extrinsic", "curiosity"), np.stack([values, values / 10], axis=-1), valid, done, 3)
+    log.record(_infos("hivex_episode"))
+    # trajectories cut: slot 0 (1, 2) -> 1.5 and (4, 5, 6) -> 5; slot 1 (10, 20, 30) -> 20, at its episode's end
+    # and at the horizon alike; the open (8) waits for the next drain
+    drained = log.drain()
+    assert drained["estimates"]["extrinsic"] == pytest.approx((1.5 + 5.0 + 20.0) / 3)
+    assert drained["estimates"]["curiosity"] == pytest.approx((0.15 + 0.5 + 2.0) / 3)
+    log.record_estimates(("extrinsic", "curiosity"), np.array([[[9.0, 0.9], [0.0, 0.0]]]), np.array([[True, False]]),
+                         np.array([[True, False]]), 3)
+    log.record(_infos("hivex_episode"))
+    assert log.drain()["estimates"] == {"extrinsic": pytest.approx(8.5), "curiosity": pytest.approx(0.85)}
+
+
+def test_value_estimates_wait_for_a_point_with_an_ended_episode():
+    log = EpisodeLog()
+    log.record_estimates(("extrinsic",), np.array([[[3.0]]]), np.array([[True]]), np.array([[True]]), 10)
+    assert log.drain() == {}  # no episode summary yet: no point, and the estimate is kept
+    log.record(_infos("hivex_episode"))
+    assert log.drain()["estimates"] == {"extrinsic": 3.0}

@@ -48,8 +48,10 @@ from .evidence import EPISODE_LENGTH, RETURN, curve_points
 FRACTIONS = (0.1, 0.25, 0.5, 1.0)
 NEAREST_WITHIN = 0.05  # of the budget: how far from a step our nearest point may lie where none is within w / 2
 FULL_SHARE = 0.5  # of a full point's episodes: what ours at a step pools at least, where the budget allows
-# a curve.json key of the trainer's own signals' mean episode sum -> the original's panel of the same sum
-SIGNAL_PANELS = {"curiosity_reward": "Curiosity Reward"}
+# a curve.json key of the trainer's own numbers (a signal's mean episode sum, a value head's mean estimate) -> the
+# original's panel of the same number
+SIGNAL_PANELS = {"curiosity_reward": "Curiosity Reward", "extrinsic_value_estimate": "Extrinsic Value Estimate",
+                 "curiosity_value_estimate": "Curiosity Value Estimate"}
 
 
 class CompareError(HivexError, ValueError):
@@ -77,7 +79,7 @@ class RunCurve:
 
 def from_points(points: Sequence[dict[str, Any]], label: str = "this toolkit") -> RunCurve:
     """A run directory's curve.json rows (``agent_steps``, ``return``, ``episodes``; ``length``, ``statistics`` and
-    ``curiosity_reward`` where the run wrote them) as a :class:`RunCurve`."""
+    ``curiosity_reward`` and the value estimates where the run wrote them) as a :class:`RunCurve`."""
     if not points:
         raise CompareError("the run's curve has no point: no episode ended while it trained")
     steps = np.array([p["agent_steps"] for p in points], dtype=float)
