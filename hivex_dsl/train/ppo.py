@@ -216,7 +216,8 @@ def update(agent: ActorCritic, optimizer: torch.optim.Optimizer, buf: Rollout, a
     for _ in range(cfg.num_epoch):
         for mb in minibatches(data, valid, cfg.batch_size, rng, buf.gathered):
             with forward_precision(cfg):
-                loss, (policy_loss, value_loss, entropy, log_ratio) = ppo_loss(agent, mb, beta, epsilon)
+                loss, (policy_loss, value_loss, entropy, log_ratio) = ppo_loss(
+                    agent, mb, beta, epsilon, clip_value=cfg.value_loss == "ml_agents")
             optimizer.zero_grad()
             loss.backward()
             if cfg.max_grad_norm > 0:
@@ -263,10 +264,11 @@ def minibatches(data: dict[str, Any], valid: np.ndarray, batch_size: int, rng: n
         yield _slice_rows(shuffled, start, start + batch_size)
 
 
-def ppo_loss(agent: ActorCritic, mb: dict[str, Any], beta: float, epsilon: float
+def ppo_loss(agent: ActorCritic, mb: dict[str, Any], beta: float, epsilon: float, clip_value: bool = True
              ) -> tuple[torch.Tensor, tuple[torch.Tensor, ...]]:
-    """ML-Agents' PPO loss of a minibatch: the clipped surrogate, 0.5 x the clipped value loss, minus beta x the
-    entropy; -> (loss, (policy loss, value loss, mean entropy, log-ratios (B,) or (B, D))).
+    """ML-Agents' PPO loss of a minibatch: the clipped surrogate, 0.5 x the value loss (with ``clip_value`` its
+    estimates clipped within ``epsilon`` of the old ones, ML-Agents' trust region), minus beta x the entropy;
+    -> (loss, (policy loss, value loss, mean entropy, log-ratios (B,) or (B, D))).
 
     With one log-probability per action dimension (B, D), each dimension's ratio is clipped on its own against
     the shared advantage and the surrogate is their mean (ML-Agents' trust_region_policy_loss)."""
@@ -275,8 +277,11 @@ def ppo_loss(agent: ActorCritic, mb: dict[str, Any], beta: float, epsilon: float
     ratio = log_ratio.exp()
     adv = mb["adv"] if log_ratio.dim() == 1 else mb["adv"][:, None]
     policy_loss = torch.max(-adv * ratio, -adv * ratio.clamp(1 - epsilon, 1 + epsilon)).mean()
-    clipped = mb["old_values"] + (value - mb["old_values"]).clamp(-epsilon, epsilon)
-    value_loss = torch.max((value - mb["returns"]).square(), (clipped - mb["returns"]).square()).mean()
+    value_loss = (value - mb["returns"]).square()
+    if clip_value:
+        clipped = mb["old_values"] + (value - mb["old_values"]).clamp(-epsilon, epsilon)
+        value_loss = torch.max(value_loss, (clipped - mb["returns"]).square())
+    value_loss = value_loss.mean()
     entropy = entropy.mean()
     return policy_loss + 0.5 * value_loss - beta * entropy, (policy_loss, value_loss, entropy, log_ratio)
 
