@@ -40,6 +40,22 @@ def tiny():
     return dict(TINY)
 
 
+def weights_under_each(compiled, settings: dict, key: str, choices: tuple, tmp_path: Path) -> dict:
+    """Train ``compiled`` once per choice of the hyperparameter ``key`` (``settings`` the rest) -> the final
+    weights of each run (state dicts), by choice."""
+    import torch
+
+    from hivex_dsl.train.config import make_config
+    from hivex_dsl.train.ppo import train
+
+    weights = {}
+    for choice in choices:
+        train(compiled, make_config(compiled.environment, settings | {key: choice}), tmp_path / choice,
+              progress=False)
+        weights[choice] = torch.load(tmp_path / choice / "checkpoint.pt", weights_only=True)["model"]
+    return weights
+
+
 def record_baseline_script():
     """benchmarks/record_baseline.py as a module."""
     return benchmark_script("record_baseline")

@@ -7,10 +7,9 @@ import pytest
 import torch
 
 from hivex_dsl.compiler import compile
-from hivex_dsl.train.config import make_config
-from hivex_dsl.train.ppo import ppo_loss, train
+from hivex_dsl.train.ppo import ppo_loss
 
-from .conftest import short_scenario
+from .conftest import short_scenario, weights_under_each
 
 # two samples, two action dimensions: ratios (1.5, 0.9) with advantage 2 and (1.5, 0.5) with advantage -1
 OLD = torch.zeros(2, 2)
@@ -47,21 +46,14 @@ def test_joint_clips_the_ratio_of_the_joint_probability():
 
 def test_with_one_action_dimension_both_losses_train_the_same_weights(tiny, tmp_path):
     """Wind Farm Control's one Discrete(3) branch: ML-Agents' per-dimension loss is the joint one."""
-    wfc = compile(short_scenario("wind_farm_control"))
-    weights = {}
-    for loss in ("ml_agents", "joint"):
-        train(wfc, make_config(wfc.environment, tiny, {"policy_loss": loss}), tmp_path / loss, progress=False)
-        weights[loss] = torch.load(tmp_path / loss / "checkpoint.pt", weights_only=True)["model"]
+    weights = weights_under_each(compile(short_scenario("wind_farm_control")), tiny, "policy_loss",
+                                 ("ml_agents", "joint"), tmp_path)
     assert weights["ml_agents"].keys() == weights["joint"].keys()
     assert all(torch.equal(weights["ml_agents"][k], weights["joint"][k]) for k in weights["joint"])
 
 
 def test_with_several_dimensions_the_losses_train_different_weights(tiny, tmp_path):
     opc = compile(short_scenario("ocean_plastic_collection"))  # MultiDiscrete([2, 3]): two branches
-    weights = {}
-    for loss in ("ml_agents", "joint"):
-        cfg = make_config(opc.environment, tiny, {"policy_loss": loss, "curiosity_strength": 0.0,
-                                                  "vis_encode_type": "simple", "hidden_units": 8})
-        train(opc, cfg, tmp_path / loss, progress=False)
-        weights[loss] = torch.load(tmp_path / loss / "checkpoint.pt", weights_only=True)["model"]
+    small = tiny | {"curiosity_strength": 0.0, "vis_encode_type": "simple", "hidden_units": 8}
+    weights = weights_under_each(opc, small, "policy_loss", ("ml_agents", "joint"), tmp_path)
     assert not all(torch.equal(weights["ml_agents"][k], weights["joint"][k]) for k in weights["joint"])

@@ -8,10 +8,9 @@ import pytest
 import torch
 
 from hivex_dsl.compiler import compile
-from hivex_dsl.train.config import make_config
-from hivex_dsl.train.ppo import ppo_loss, train
+from hivex_dsl.train.ppo import ppo_loss
 
-from .conftest import short_scenario
+from .conftest import short_scenario, weights_under_each
 
 
 class Critic:
@@ -49,9 +48,6 @@ def test_unclipped_is_the_plain_squared_error():
 
 
 def test_the_choice_reaches_training(tiny, tmp_path):
-    opc = compile(short_scenario("ocean_plastic_collection"))
-    weights = {}
-    for choice in ("ml_agents", "unclipped"):
-        train(opc, make_config(opc.environment, tiny, {"value_loss": choice}), tmp_path / choice, progress=False)
-        weights[choice] = torch.load(tmp_path / choice / "checkpoint.pt", weights_only=True)["model"]
+    weights = weights_under_each(compile(short_scenario("ocean_plastic_collection")), tiny, "value_loss",
+                                 ("ml_agents", "unclipped"), tmp_path)
     assert any(not torch.equal(weights["ml_agents"][k], weights["unclipped"][k]) for k in weights["unclipped"])
