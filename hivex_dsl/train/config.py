@@ -99,11 +99,12 @@ checkpoint or record written before its key existed reads as that choice where i
   dimension, each continuous dimension and each discrete branch, clipped on its own against the shared
   advantage and averaged, and the Gaussian part's entropy the mean over its dimensions) or ``joint`` (textbook
   PPO: one ratio of the joint probability, every entropy summed; with one action dimension they are the same).
-- ``value_loss``: ``ml_agents`` (as ML-Agents' trust_region_value_loss: each value head's squared error, its
-  estimate clipped within ``epsilon`` of the one the experience was gathered with, the larger of the two taken,
-  so an update moves an estimate about ``epsilon`` toward its return at most) or ``unclipped`` (the plain squared
-  error). The original's Ocean Plastic Collection critic moved like the unclipped one (its Extrinsic Value
-  Estimate panel; the reward table's note 'The critic's pace'), which ML-Agents' code does not explain.
+- ``value_loss``: ``clipped`` (as ML-Agents' code writes trust_region_value_loss: each value head's squared
+  error, its estimate clipped within ``epsilon`` of the one the experience was gathered with, the larger of the
+  two taken, so an update moves an estimate little more than ``epsilon`` toward its return) or ``unclipped`` (the
+  plain squared error). The original's critics moved like the unclipped one, several units an update, in Ocean
+  Plastic Collection and Wildfire Resource Management alike (their Extrinsic Value Estimate panels; the reward
+  tables' notes 'The critic's pace'), which ML-Agents' code does not explain.
 - ``action_masks``: ``true`` (as ML-Agents: where the environment says which discrete choices are open, Drone-Based
   Reforestation's and Aerial Wildfire Suppression's drop, ``infos["action_mask"]``, a closed choice's logit is
   -1e8, so the policy never picks it, its probability and entropy are 0, and the update evaluates each experience
@@ -200,7 +201,7 @@ class PPOConfig(StrictModel):
     curiosity_module: Literal["ml_agents", "hivex_v1"] = "ml_agents"
     continuous_actions: Literal["ml_agents", "clip"] = "ml_agents"
     policy_loss: Literal["ml_agents", "joint"] = "ml_agents"
-    value_loss: Literal["ml_agents", "unclipped"] = "ml_agents"
+    value_loss: Literal["clipped", "unclipped"] = "clipped"
     action_masks: bool = True
 
     def precision_problem(self) -> str | None:

@@ -217,7 +217,7 @@ def update(agent: ActorCritic, optimizer: torch.optim.Optimizer, buf: Rollout, a
         for mb in minibatches(data, valid, cfg.batch_size, rng, buf.gathered):
             with forward_precision(cfg):
                 loss, (policy_loss, value_loss, entropy, log_ratio) = ppo_loss(
-                    agent, mb, beta, epsilon, clip_value=cfg.value_loss == "ml_agents")
+                    agent, mb, beta, epsilon, clip_value=cfg.value_loss == "clipped")
             optimizer.zero_grad()
             loss.backward()
             if cfg.max_grad_norm > 0:

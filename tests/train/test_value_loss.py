@@ -1,6 +1,6 @@
-"""``value_loss``: ML-Agents' trust region clips each estimate within epsilon of the one its experience was gathered
-with and takes the larger error, so an estimate moved past that toward its return gets no gradient; ``unclipped``
-is the plain squared error."""
+"""``value_loss``: ``clipped`` (ML-Agents' trust region) holds each estimate within epsilon of the one its
+experience was gathered with and takes the larger error, so an estimate moved past that toward its return gets no
+gradient; ``unclipped`` is the plain squared error."""
 
 from __future__ import annotations
 
@@ -28,7 +28,7 @@ MINIBATCH = {"obs": {}, "cont": None, "disc": None, "old_logp": torch.zeros(2), 
              "old_values": torch.zeros(2), "returns": torch.tensor([5.0, -1.0])}
 
 
-def test_ml_agents_clips_each_estimate_within_epsilon_of_its_old_one():
+def test_clipped_holds_each_estimate_within_epsilon_of_its_old_one():
     critic = Critic([3.0, -0.1])
     loss, (_, value_loss, *_) = ppo_loss(critic, MINIBATCH, beta=0.0, epsilon=0.2)
     # by hand: sample 1 max((5 - 3)^2, (5 - 0.2)^2) = 23.04 (the clipped term: no gradient); sample 2 within the
@@ -49,5 +49,5 @@ def test_unclipped_is_the_plain_squared_error():
 
 def test_the_choice_reaches_training(tiny, tmp_path):
     weights = weights_under_each(compile(short_scenario("ocean_plastic_collection")), tiny, "value_loss",
-                                 ("ml_agents", "unclipped"), tmp_path)
-    assert any(not torch.equal(weights["ml_agents"][k], weights["unclipped"][k]) for k in weights["unclipped"])
+                                 ("clipped", "unclipped"), tmp_path)
+    assert any(not torch.equal(weights["clipped"][k], weights["unclipped"][k]) for k in weights["unclipped"])
