@@ -141,8 +141,8 @@ def from_record(record: dict[str, Any]) -> RunCurve:
 
 def record_panels(run: RunCurve, digits: int = 4) -> dict[str, Any]:
     """What a record keeps of a run's curve beside its ``curve`` rows, which hold the return: ``curve_episodes`` (the
-    agent-episodes each point pools) and ``curve_panels`` (every other panel, Episode Length and the statistics, one
-    value a point, null where a point lacks one), so :func:`from_record` gives back the run's :class:`RunCurve`."""
+    agent-episodes each point pools) and ``curve_panels`` (every other panel, Episode Length, the statistics and the
+    trainer's own numbers, one value a point, null where a point lacks one), so :func:`from_record` gives back the run's :class:`RunCurve`."""
     def kept(values: np.ndarray) -> list[float | None]:
         return [None if np.isnan(v) else round(float(v), digits) for v in values]
 
