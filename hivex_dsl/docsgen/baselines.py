@@ -205,7 +205,7 @@ def _level_label(level: int | None, names: tuple[str, ...]) -> str:
 
 # The PPO choices where this toolkit first did otherwise than ML-Agents, each now ML-Agents' by default.
 ML_AGENTS_CHOICES = ("max_grad_norm", "weight_init", "policy_loss", "continuous_actions", "curiosity_module",
-                     "action_masks")
+                     "action_masks", "value_loss")
 
 
 def earlier_choices(records: dict[str, dict[str, Any]]) -> dict[str, Any]:
@@ -213,15 +213,17 @@ def earlier_choices(records: dict[str, dict[str, Any]]) -> dict[str, Any]:
 
     ``at_defaults`` and ``earlier_records``: abbreviations of the records that set none and of those that set
     some; ``earlier``: per choice key, the abbreviations of the records that set another value (a key a record
-    lacks, such as ``continuous_actions`` where every action is discrete, does not count).
+    lacks counts as what it meant for every policy then, ``checkpoint.ALWAYS_THEN``; one whose meaning depended on
+    the policy, such as ``continuous_actions`` where every action is discrete, does not count).
     """
+    from ..train.checkpoint import ALWAYS_THEN
     from ..train.config import PPOConfig
 
     defaults = {key: PPOConfig.model_fields[key].default for key in ML_AGENTS_CHOICES}
     earlier: dict[str, list[str]] = {key: [] for key in ML_AGENTS_CHOICES}
     at_defaults, earlier_records = [], []
     for env_id in [env_id for env_id in registry.environments() if env_id in records]:
-        trained_with = records[env_id]["hyperparameters"]
+        trained_with = ALWAYS_THEN | records[env_id]["hyperparameters"]
         name = registry.get(env_id).info.abbreviation
         differs = [key for key in ML_AGENTS_CHOICES if key in trained_with and trained_with[key] != defaults[key]]
         for key in differs:

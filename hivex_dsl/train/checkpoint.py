@@ -270,6 +270,10 @@ def _hyperparameters(path: str | Path, config: dict[str, Any], compiled: Compile
         raise TrainError(_one_line(f"{path} holds bad hyperparameters: {problems}")) from None
 
 
+# keys added since, with what their absence meant for every policy alike
+ALWAYS_THEN: dict[str, Any] = {"weight_init": "cleanrl", "summary_freq": 1, "value_loss": "clipped"}
+
+
 def older_defaults(config: dict[str, Any], action_space: Any, masks_actions: bool = False) -> dict[str, Any]:
     """The hyperparameters ``config`` of a checkpoint (or record) of a policy over ``action_space`` (in an
     environment that ``masks_actions`` or not), with what a key added since meant when they were written, where it
@@ -277,10 +281,11 @@ def older_defaults(config: dict[str, Any], action_space: Any, masks_actions: boo
     curiosity module from before ``curiosity_module`` is ``hivex_v1``, continuous actions from before
     ``continuous_actions`` were clipped, more than one action dimension from before ``policy_loss`` shared one
     ``joint`` ratio, every run from before ``summary_freq`` wrote a curve point every update (``summary_freq: 1``),
-    and a policy from before ``action_masks`` ignored its environment's masks. (``max_grad_norm`` was always
-    written.)"""
+    a policy from before ``action_masks`` ignored its environment's masks, and every critic from before
+    ``value_loss`` learned under the ``clipped`` trust region (:data:`ALWAYS_THEN`). (``max_grad_norm`` was
+    always written.)"""
     layout = ActionLayout.of(action_space)
-    then: dict[str, Any] = {"weight_init": "cleanrl", "summary_freq": 1}
+    then: dict[str, Any] = dict(ALWAYS_THEN)
     if masks_actions:
         then["action_masks"] = False
     strength = config.get("curiosity_strength", 0)

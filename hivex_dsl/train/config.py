@@ -99,12 +99,16 @@ checkpoint or record written before its key existed reads as that choice where i
   dimension, each continuous dimension and each discrete branch, clipped on its own against the shared
   advantage and averaged, and the Gaussian part's entropy the mean over its dimensions) or ``joint`` (textbook
   PPO: one ratio of the joint probability, every entropy summed; with one action dimension they are the same).
-- ``value_loss``: ``clipped`` (as ML-Agents' code writes trust_region_value_loss: each value head's squared
-  error, its estimate clipped within ``epsilon`` of the one the experience was gathered with, the larger of the
-  two taken, so an update moves an estimate little more than ``epsilon`` toward its return) or ``unclipped`` (the
-  plain squared error). The original's critics moved like the unclipped one, several units an update, in Ocean
-  Plastic Collection and Wildfire Resource Management alike (their Extrinsic Value Estimate panels; the reward
-  tables' notes 'The critic's pace'), which ML-Agents' code does not explain.
+- ``value_loss``: ``unclipped`` (the plain squared error of each value head, which is what ML-Agents release_20
+  computes: its buffer files a trajectory's value estimates under the returns' key,
+  ``RewardSignalUtil.value_estimates_key`` returning ``RewardSignalKeyPrefix.RETURNS`` since its buffer-key enums,
+  Unity-Technologies/ml-agents PR #4907 of February 2021, still so in issue #6281 of 2026, so the returns
+  overwrite them and trust_region_value_loss clips each estimate within ``epsilon`` of its own target, a term never
+  larger than the plain error, which the max then takes) or ``clipped`` (the trust region as that code means it:
+  the estimate clipped within ``epsilon`` of the one the experience was gathered with, the larger error taken, so
+  an update moves an estimate little more than ``epsilon`` toward its return). The original's Extrinsic Value
+  Estimate panels move as the unclipped critic does, several units an update where the clipped one moves tenths
+  (the reward tables' notes 'The critic's pace').
 - ``action_masks``: ``true`` (as ML-Agents: where the environment says which discrete choices are open, Drone-Based
   Reforestation's and Aerial Wildfire Suppression's drop, ``infos["action_mask"]``, a closed choice's logit is
   -1e8, so the policy never picks it, its probability and entropy are 0, and the update evaluates each experience
@@ -201,7 +205,7 @@ class PPOConfig(StrictModel):
     curiosity_module: Literal["ml_agents", "hivex_v1"] = "ml_agents"
     continuous_actions: Literal["ml_agents", "clip"] = "ml_agents"
     policy_loss: Literal["ml_agents", "joint"] = "ml_agents"
-    value_loss: Literal["clipped", "unclipped"] = "clipped"
+    value_loss: Literal["unclipped", "clipped"] = "unclipped"
     action_masks: bool = True
 
     def precision_problem(self) -> str | None:

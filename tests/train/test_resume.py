@@ -174,8 +174,9 @@ def test_keys_added_since_read_as_what_they_meant_then_where_they_change_the_pol
     from hivex_dsl.train.checkpoint import older_defaults
 
     hybrid = spaces.Dict({"continuous": spaces.Box(-1.0, 1.0, (1,)), "discrete": spaces.MultiDiscrete([2])})
-    # every policy from before weight_init started from cleanrl; every run before summary_freq logged each update
-    before = {"seed": 3, "weight_init": "cleanrl", "summary_freq": 1}
+    # every policy from before weight_init started from cleanrl; every run before summary_freq logged each update;
+    # every critic from before value_loss learned clipped
+    before = {"seed": 3, "weight_init": "cleanrl", "summary_freq": 1, "value_loss": "clipped"}
     assert older_defaults({"seed": 3}, hybrid) == before | {"continuous_actions": "clip", "policy_loss": "joint"}
     assert older_defaults({"seed": 3}, spaces.MultiDiscrete([2, 3])) == before | {"policy_loss": "joint"}
     assert older_defaults({"seed": 3}, spaces.Discrete(3)) == before  # one dimension: the losses agree
