@@ -2,6 +2,7 @@
 original's planes logged at the end of their training.
 
     python benchmarks/aws_loop.py [--levels 1,5,7,10] [--worlds 8] [--params '{"drop_ground": "island"}']
+                                  [--generators '{"terrain": {"sea_level_m": 10}}']
 
 The coast looper flies to the nearest point of the island's edge and then circles across it at full turn, asking
 for the drop at every step. Past the edge it refills (Pick Up Water, +1); back over the coast, its last frame's
@@ -64,11 +65,15 @@ def original_end(level: int) -> dict[str, tuple[float, float, float]]:
     return out
 
 
-def looped(level: int, worlds: int, params: dict) -> dict[str, float]:
-    """The looper's plane-episodes over ``worlds`` test episodes (one world each) at ``level``: the mean of the
-    return, of Episode Length (decisions) and of every logged statistic, by its panel name."""
-    compiled = hivex_dsl.compile({"hivex": 1, "environment": ENVIRONMENT, "task": 0, "agents": 3,
-                                  "terrain_level": level, "params": params})
+def looped(level: int, worlds: int, params: dict, generators: dict | None = None) -> dict[str, float]:
+    """The looper's plane-episodes over ``worlds`` test episodes (one world each) at ``level``, under the scenario
+    ``params`` and ``generators`` overrides: the mean of the return, of Episode Length (decisions) and of every
+    logged statistic, by its panel name."""
+    scenario = {"hivex": 1, "environment": ENVIRONMENT, "task": 0, "agents": 3, "terrain_level": level,
+                "params": params}
+    if generators:
+        scenario["generators"] = generators
+    compiled = hivex_dsl.compile(scenario)
     played = rollout(compiled, coast_looper(compiled), worlds, split="test")
     decisions = np.ceil(played.lengths / compiled.decision_period)
     ours = {"Cumulative Reward": float(played.returns.mean()), "Episode Length": float(decisions.mean())}
@@ -76,9 +81,9 @@ def looped(level: int, worlds: int, params: dict) -> dict[str, float]:
     return ours
 
 
-def report(level: int, worlds: int, params: dict) -> list[str]:
+def report(level: int, worlds: int, params: dict, generators: dict | None = None) -> list[str]:
     """:func:`looped` at ``level`` beside the original's training at the end of its budget."""
-    ours, theirs = looped(level, worlds, params), original_end(level)
+    ours, theirs = looped(level, worlds, params, generators), original_end(level)
     lines = [f"L{level}: coast looper over {worlds} test worlds against the original's training at its end "
              "(mean [lowest run-highest run])"]
     for name in PANELS:
@@ -93,20 +98,25 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--levels", default="1,5,7,10", help="terrain levels, comma-separated")
     parser.add_argument("--worlds", type=int, default=8, help="test worlds (three planes each) a level")
     parser.add_argument("--params", default="{}", help="AWS params as JSON, e.g. '{\"drop_ground\": \"island\"}'")
+    parser.add_argument("--generators", default="{}",
+                        help="a scenario's generators overrides as JSON, e.g. '{\"terrain\": {\"sea_level_m\": 10}}'")
     args = parser.parse_args(argv)
     try:
         levels = [int(x) for x in args.levels.split(",")]
     except ValueError:
         print(f"aws_loop: --levels: expected terrain levels separated by commas, got {args.levels!r}", file=sys.stderr)
         return 2
-    try:
-        params = json.loads(args.params)
-    except json.JSONDecodeError as error:
-        print(f"aws_loop: --params: expected a JSON object, got {args.params!r} ({error})", file=sys.stderr)
-        return 2
+    overrides = {}
+    for name in ("params", "generators"):
+        text = getattr(args, name)
+        try:
+            overrides[name] = json.loads(text)
+        except json.JSONDecodeError as error:
+            print(f"aws_loop: --{name}: expected a JSON object, got {text!r} ({error})", file=sys.stderr)
+            return 2
     try:
         for level in levels:
-            print("\n".join(report(level, args.worlds, params)), flush=True)
+            print("\n".join(report(level, args.worlds, overrides["params"], overrides["generators"])), flush=True)
     except (HivexError, ValueError) as error:
         print(f"aws_loop: {error}", file=sys.stderr)
         return 2

@@ -41,3 +41,26 @@ def test_every_drop_of_the_looper_follows_a_refill():
 def test_a_bad_params_argument_is_a_clear_error(capsys):
     assert script.main(["--levels", "7", "--worlds", "1", "--params", '{"drop_ground": "sea"}']) == 2
     assert "drop_ground" in capsys.readouterr().err
+
+
+def test_the_generators_argument_reaches_the_compiled_scenario(monkeypatch):
+    """`--generators` is how the reward table's note on the level-1 drop gap raised the sea to 10 m (DropWater's
+    literal threshold): the looper's worlds must be drawn under it, not under the defaults."""
+    seen = []
+    compile_scenario = script.hivex_dsl.compile
+
+    def spy(scenario):
+        seen.append(scenario)
+        return compile_scenario(scenario)
+
+    monkeypatch.setattr(script.hivex_dsl, "compile", spy)
+    assert script.main(["--levels", "1", "--worlds", "1", "--generators", '{"terrain": {"sea_level_m": 10}}']) == 0
+    assert [scenario.get("generators") for scenario in seen] == [{"terrain": {"sea_level_m": 10}}]
+    assert seen[0]["terrain_level"] == 1
+
+
+def test_a_bad_generators_argument_is_a_clear_error(capsys):
+    assert script.main(["--levels", "1", "--worlds", "1", "--generators", '{"terrain": {"sea_level": 10}}']) == 2
+    assert "did you mean 'sea_level_m'" in capsys.readouterr().err
+    assert script.main(["--levels", "1", "--worlds", "1", "--generators", "{terrain"]) == 2
+    assert "--generators: expected a JSON object" in capsys.readouterr().err
