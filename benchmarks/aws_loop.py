@@ -69,11 +69,8 @@ def looped(level: int, worlds: int, params: dict, generators: dict | None = None
     """The looper's plane-episodes over ``worlds`` test episodes (one world each) at ``level``, under the scenario
     ``params`` and ``generators`` overrides: the mean of the return, of Episode Length (decisions) and of every
     logged statistic, by its panel name."""
-    scenario = {"hivex": 1, "environment": ENVIRONMENT, "task": 0, "agents": 3, "terrain_level": level,
-                "params": params}
-    if generators:
-        scenario["generators"] = generators
-    compiled = hivex_dsl.compile(scenario)
+    compiled = hivex_dsl.compile({"hivex": 1, "environment": ENVIRONMENT, "task": 0, "agents": 3,
+                                  "terrain_level": level, "params": params, "generators": generators or {}})
     played = rollout(compiled, coast_looper(compiled), worlds, split="test")
     decisions = np.ceil(played.lengths / compiled.decision_period)
     ours = {"Cumulative Reward": float(played.returns.mean()), "Episode Length": float(decisions.mean())}
