@@ -214,3 +214,31 @@ def test_the_losses_benchmark_s_noise_follows_a_frame_into_the_older_stack():
     assert noisy["visual"] is obs["visual"]
     with pytest.raises(ValueError, match="two stacks"):
         script.with_noise(obs, following, 0.5, stacks=3)
+
+
+def test_the_along_episodes_benchmark_keeps_each_agent_episode_s_decisions_once(tiny, tmp_path):
+    """A drone-episode of the short scenario ends at its time limit, 8 decisions (40 physics steps at period 5),
+    so 2 episodes of the world's 3 drones are 6 x 8 transitions, each decision index 0-7 six times: no step across a
+    reset and none of a third episode is kept."""
+    from hivex_dsl.train import ppo
+
+    compiled = compile(short_scenario("drone_based_reforestation", episode_length=40))
+    assert compiled.episode_decisions == 8 and compiled.agents == 3
+    ppo.train(compiled, make_config("drone_based_reforestation", tiny, {"curiosity_encoding_size": 8}), tmp_path,
+              progress=False)
+    found = benchmark_script("curiosity_along_episodes").play(tmp_path, episodes=2)
+    assert found.episodes == 6
+    assert np.bincount(found.index).tolist() == [6] * 8
+    assert found.error.shape == (48,) and (found.error >= 0).all() and found.change.shape == (48, 20)
+
+
+def test_the_along_episodes_benchmark_bins_the_capped_reward_by_decision_index():
+    script = benchmark_script("curiosity_along_episodes")
+    found = script.Transitions(index=np.array([0, 1, 5]), error=np.array([1.0, 20.0, 3.0]),
+                               change=np.array([[0.0, 2.0], [2.0, 0.0], [1.0, 1.0]]), episodes=2, strength=0.1)
+    first, second = script.by_index(found, [0, 2, 10, 20])  # the empty last bin is left out
+    # rewards min(0.1 e, 1): 0.1 and 1 (20 capped) in the first bin, 0.3 in the second; over 2 agent-episodes
+    assert (first["transitions"], first["mean_error"], first["median_error"]) == (2, 10.5, 10.5)
+    assert first["reward_per_episode"] == pytest.approx(0.55) and first["change"].tolist() == [1.0, 1.0]
+    assert (second["from"], second["to"], second["transitions"]) == (2, 10, 1)
+    assert second["reward_per_episode"] == pytest.approx(0.15)
