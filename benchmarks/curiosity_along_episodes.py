@@ -6,10 +6,11 @@ The run's checkpoint (its policy and its curiosity module, as they ended) plays 
 the scenario it trained on, in its training worlds and as the trainer steps them (its ``ended_agents``). Each
 transition the trainer would learn from (the agent acted: ``acting_mask``, so no agent waiting out its world and no
 step across a reset) is kept with its forward error e (the module's reward before strength and cap, so reward =
-min(strength x e, 1)) and its decision's index in its agent-episode. Per bin of that index it prints the transitions,
-the mean and median e, the curiosity reward the bin adds to an agent-episode, and the mean absolute change of each
-vector component. The original's Curiosity Reward panel (a sum over an agent-episode) reads beside the total: the
-reward tables' notes 'The curiosity losses' and 'The critic's pace trained to the end' for Drone-Based Reforestation.
+min(strength x e, 1)) and its decision's index in its agent-episode. Per bin of that index (``--bins``' edges, the
+last bin running on to the longest agent-episode's end) it prints the transitions, the mean and median e, the
+curiosity reward the bin adds to an agent-episode, and the mean absolute change of each vector component. The
+original's Curiosity Reward panel (a sum over an agent-episode) reads beside the total: Drone-Based Reforestation's
+note 'Where the module's error lies along a drone-episode'.
 """
 
 from __future__ import annotations
@@ -108,7 +109,7 @@ def main() -> None:
     print(f"{args.run}: {len(found.error)} transitions, {found.episodes} agent-episodes ended; curiosity reward "
           f"{total:.3f} an agent-episode, mean e {found.error.mean():.4f}, median {np.median(found.error):.4f}")
     with np.printoptions(precision=3, suppress=True, linewidth=200):
-        for row in by_index(found, args.bins):
+        for row in by_index(found, sorted(set(args.bins) | {int(found.index.max()) + 1})):  # the last bin to the end
             print(f"decisions {row['from']}-{row['to']}: {row['transitions']} transitions, e mean "
                   f"{row['mean_error']:.4f} median {row['median_error']:.4f}, reward {row['reward_per_episode']:.3f} "
                   f"an agent-episode; change {row['change']}")
