@@ -71,13 +71,13 @@ def play(run: Path, episodes: int, seed: int = 0) -> Transitions:
             error = module._forward_error(module._encode(now), module._encode(following),
                                           module._action_input(cont, disc)).numpy()
             change = (following["vector"] - now["vector"]).abs().numpy()
-            kept += [(age[i], error[i], change[i]) for i in np.flatnonzero(valid)]
+            kept.append((age[valid], error[valid], change[valid]))
             done = terminated | truncated
             active = np.asarray(infos.get("active", np.ones_like(done)), dtype=bool)
             ended += done & valid
             age = np.where(done, 0, age + valid)
-    index, error, change = zip(*kept)
-    return Transitions(np.array(index), np.array(error), np.stack(change), int(ended.sum()), module.strength)
+    index, error, change = (np.concatenate(part) for part in zip(*kept))
+    return Transitions(index, error, change, int(ended.sum()), module.strength)
 
 
 def by_index(found: Transitions, edges: list[int]) -> list[dict]:
