@@ -73,7 +73,8 @@ and sampling; the environment's seeds are the scenario's), ``device``, ``torch_t
 machine's free cores up to 8, :func:`free_cores`: those this process may use less the share the 1-minute load
 average keeps busy, since threads beyond the free cores slow a run down many times over; on 2 quiet cores the camera
 environments train 1.4-1.8x faster on both than on one; set 1 for concurrent runs on a shared machine, and a number
-to reproduce a record exactly, since the thread count can change the last bits of torch's reductions), ``precision``
+to reproduce a record exactly, since the thread count can change the last bits of torch's reductions; a record
+reproduces to the digit only on a processor that takes the same kernels too, which its machine names), ``precision``
 (``exact``, the default: float32 everywhere; ``bf16``: the update's and the rollout's forward passes under bfloat16
 autocast, on CPU or GPU, not bit-identical; on 2 CPU cores it trained OPC (ResNet encoders, curiosity) 1.4x faster
 (372 -> 514 agent-steps/s), DBR 1.1x and AWS (simple encoder) no faster; ``tf32``: float32 storage with

@@ -397,3 +397,19 @@ def test_a_throughput_row_replaces_only_its_own_machines_row(tmp_path):
     assert merged(path, [h200])["rows"] == [row, h200]
     again = row | {"agent_steps_per_s": 29_000.0}
     assert merged(path, [again])["rows"] == [again]
+
+
+def test_a_record_names_the_processor_model_that_made_it(tmp_path):
+    """A record reproduces to the digit only on a processor that takes the same kernels, so its machine names the
+    model: the first processor's name with its family and model numbers, and a clear stand-in where /proc/cpuinfo
+    is absent or names none (an ARM board lists no model name)."""
+    from hivex_dsl.train.baselines import cpu_model, machine
+
+    cpuinfo = tmp_path / "cpuinfo"
+    block = "processor\t: {i}\nvendor_id\t: GenuineIntel\ncpu family\t: 6\nmodel\t\t: {m}\nmodel name\t: Xeon {m}\n"
+    cpuinfo.write_text(block.format(i=0, m=167) + "\n" + block.format(i=1, m=85))
+    assert cpu_model(cpuinfo) == "Xeon 167 family 6 model 167"
+    cpuinfo.write_text("processor\t: 0\nBogoMIPS\t: 50.00\nCPU implementer\t: 0x41\n")
+    assert cpu_model(cpuinfo) == "an unnamed processor"
+    assert cpu_model(tmp_path / "missing") == "an unnamed processor"
+    assert "torch's" in machine() and " kernels, " in machine()
