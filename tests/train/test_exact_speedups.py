@@ -89,12 +89,16 @@ def two_updates(environment: str, curiosity: bool) -> tuple[list[dict[str, float
 
 
 def assert_losses_within_rounding(fast_losses, plain_losses):
-    """Every update's losses, name by name, equal up to float32 rounding."""
+    """Every update's losses, name by name, equal up to float32 rounding. The policy loss is a mean of advantage
+    times ratio that nearly cancels (about 1e-4 here), so its rounding is that of the values the advantages are
+    made of, not of itself: float32's 1.2e-7 of values up to about 100 (AWS's returns) moves a row's advantage by
+    about 1e-5 and a minibatch's mean by up to about 1e-6 (1.4e-7 seen on an AVX-512 machine, under 1e-7 on an
+    AVX2 one). The rollout's values rolled by one step move AWS's second policy loss by 8.5e-5."""
     assert len(fast_losses) == len(plain_losses)
     for fast, plain in zip(fast_losses, plain_losses):
         assert fast.keys() == plain.keys()
         for name in fast:
-            assert fast[name] == pytest.approx(plain[name], rel=1e-4, abs=1e-7), name
+            assert fast[name] == pytest.approx(plain[name], rel=1e-4, abs=1e-6 if name == "policy" else 1e-7), name
 
 
 @pytest.mark.parametrize("environment,curiosity", [("ocean_plastic_collection", True),
