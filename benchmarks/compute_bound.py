@@ -32,7 +32,7 @@ from torch.utils.flop_counter import FlopCounterMode
 
 from hivex_dsl.compiler import registry
 from hivex_dsl.compiler import compile
-from hivex_dsl.train.baselines import machine
+from hivex_dsl.train.devices import machine
 from hivex_dsl.train.config import make_config, parse_assignments
 from hivex_dsl.train.curiosity import Curiosity
 from hivex_dsl.train.logs import EpisodeLog

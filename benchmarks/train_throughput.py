@@ -31,7 +31,7 @@ from pathlib import Path
 from hivex_dsl.compiler import registry
 from hivex_dsl.adapters.gymnasium import HivexVectorEnv
 from hivex_dsl.compiler import compile
-from hivex_dsl.train.baselines import machine
+from hivex_dsl.train.devices import machine
 from hivex_dsl.train.config import Overrides, make_config, parse_assignments
 from hivex_dsl.train.ppo import train
 

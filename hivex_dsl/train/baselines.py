@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import hashlib
 import json
-import platform
 from pathlib import Path
 from typing import Any
 
@@ -27,6 +26,7 @@ from ..compiler import CompiledScenario, compile, compile_all
 from ..evaluation.report import collect_returns
 from .checkpoint import RESUMABLE_CHANGES, acting_interface, load_checkpoint, older_defaults
 from .config import PPOConfig, TrainError
+from .devices import machine
 from .evaluate import evaluate
 from .grid import point_dir
 from .rundir import dumps, file_digest
@@ -43,42 +43,6 @@ def level_of(compiled, policy: str, episodes: int) -> dict[str, float]:
     returns, _ = collect_returns(compiled, policy, episodes, "test")
     per_agent = returns.reshape(-1)
     return {"mean": float(per_agent.mean()), "std": float(per_agent.std())}
-
-
-def machine(device: str = "cpu") -> str:
-    """The machine in words: processor (its model and the kernels torch picks on it), cores, OS, Python, and the GPU
-    when ``device`` is a CUDA one. A run reproduces its record to the digit only on a processor taking the same
-    kernels: MKL and torch pick them by the instruction sets they find, and a last-bit difference in one update
-    grows into another run (WFC's seed 0 left its record at 240k agent-steps on an AVX-512 Xeon)."""
-    import os
-
-    import torch
-
-    processor = platform.processor() or platform.machine()
-    words = (f"{processor}, {cpu_model()}, torch's {torch.backends.cpu.get_cpu_capability()} kernels, "
-             f"{os.cpu_count()} cores, {platform.system()}, Python {platform.python_version()}")
-    if device.startswith("cuda"):
-        words += f", {torch.cuda.get_device_name(torch.device(device))} (torch {torch.__version__})"
-    return words
-
-
-def cpu_model(cpuinfo: Path = Path("/proc/cpuinfo")) -> str:
-    """The first processor's model as the kernel reports it in ``cpuinfo``: its name, with its family and model
-    numbers where given (a virtual machine's name is often generic: "Intel(R) Xeon(R) Processor"), or "an
-    unnamed processor" where there is no such file or name (not Linux, some ARM boards)."""
-    try:
-        text = cpuinfo.read_text()
-    except OSError:
-        return "an unnamed processor"
-    first = {}
-    for line in text.split("\n\n", 1)[0].splitlines():
-        key, colon, value = line.partition(":")
-        if colon:
-            first[key.strip()] = value.strip()
-    name = first.get("model name") or "an unnamed processor"
-    numbers = " ".join(f"{word} {first[key]}" for key, word in (("cpu family", "family"), ("model", "model"))
-                       if first.get(key))
-    return f"{name} {numbers}" if numbers else name
 
 
 def test_curve(run_dir: Path, episodes: int) -> list[list[float]]:
@@ -127,7 +91,7 @@ def record_baseline(run_dir: Path, scenario: str, out_dir: Path, episodes: int =
         "environment": compiled.environment, "scenario": scenario, "task": compiled.task_name,
         "task_index": compiled.task_index, "level": compiled.level, "command": command, "note": note,
         "agent_steps": summary["agent_steps"], "wall_s": summary["wall_s"], "seed": summary["seed"],
-        "resumed_at": summary.get("resumed_at", []), "machine": machine(),
+        "resumed_at": summary.get("resumed_at", []), "machine": "; ".join(trained_on(summary)),
         "hyperparameters": read_json(run_dir / "config.json", "config")["hyperparameters"],
         "test": {k: report[k] for k in ("seed", "episodes", "agent_episodes", "actions", "return", "statistics")},
         "published": report["published"],
@@ -234,7 +198,9 @@ def record_grid(grid_dir: Path, sweep: str, out_dir: Path, episodes: int = 10, c
     the points in neither are listed by name under ``untrained`` instead of refused; at least one must be recorded.
 
     The record already there is of the same sweep when it is of the same content (:func:`sweep_fingerprint`), however
-    the sweep's path is written; one of another sweep is refused, and replaced only with ``replace``."""
+    the sweep's path is written; one of another sweep is refused, and replaced only with ``replace``. Each row names
+    the machines its point trained on (:func:`trained_on`) and the record every one of them, since a run reproduces
+    only on alike processors."""
     grid_dir, out_dir = Path(grid_dir), Path(out_dir)
     _check_episodes(episodes)
     points = compile_all(sweep)
@@ -263,18 +229,31 @@ def record_grid(grid_dir: Path, sweep: str, out_dir: Path, episodes: int = 10, c
         rows[index] = {"name": point.name, "task": point.task_name, "task_index": point.task_index,
                        "level": point.level, "fingerprint": point.fingerprint,
                        "agent_steps": summary["agent_steps"], "wall_s": summary["wall_s"], "seed": summary["seed"],
-                       "resumed_at": summary.get("resumed_at", []),
+                       "resumed_at": summary.get("resumed_at", []), "machines": trained_on(summary),
                        "return": report["return"], "statistics": report["statistics"], "published": report["published"],
                        **{policy: level_of(point, policy, episodes) for policy in LEVEL_POLICIES},
                        **curve_fields(run_dirs[index])}
     data = {"environment": points[0].environment, "sweep": sweep, "sweep_fingerprint": sweep_fingerprint(points),
-            "command": command, "note": note, "machine": machine(), "hyperparameters": configs[0], "test": test,
+            "command": command, "note": note, "machine": "; ".join(_grid_machines(rows)),
+            "hyperparameters": configs[0], "test": test,
             "points": [rows[index] for index in sorted(rows)], "untrained": untrained}
     record = out_dir / GRIDS / f"{data['environment']}.json"
     text = dumps(data, record, 1)
     record.parent.mkdir(parents=True, exist_ok=True)
     record.write_text(text)
     return data
+
+
+def trained_on(summary: dict[str, Any]) -> list[str]:
+    """The machines a run trained on (its summary's, in words), or this one for a run from before summaries named
+    them, which is taken to be recorded where it trained."""
+    return summary.get("machines") or [machine()]
+
+
+def _grid_machines(rows: dict[int, dict[str, Any]]) -> list[str]:
+    """Every machine the grid's points trained on, each once in the points' order."""
+    named = [word for index in sorted(rows) for word in rows[index]["machines"]]
+    return [word for index, word in enumerate(named) if word not in named[:index]]
 
 
 def sweep_fingerprint(points: list[CompiledScenario]) -> str:
@@ -294,7 +273,9 @@ def _recorded_rows(record: Path, sweep: str, points: list[CompiledScenario], rep
         raise TrainError(f"{record} records another sweep ({data.get('sweep')!r}, {len(data['points'])} points "
                          f"recorded) than {sweep} ({len(points)} points): give --replace to replace it, or record "
                          "into another folder")
-    return {"rows": {row["name"]: row for row in data["points"]}, "hyperparameters": data["hyperparameters"],
+    # a row from before rows named their machines trained on its record's
+    rows = {row["name"]: {"machines": [data["machine"]]} | row for row in data["points"]}
+    return {"rows": rows, "hyperparameters": data["hyperparameters"],
             "test": data["test"], "path": record}
 
 

@@ -55,6 +55,7 @@ class TrainingState(LayoutPart):
     curiosity_optimizer: OptimizerState | None = None
     curve: list[dict[str, float | dict[str, float]]]  # a point's numbers, and its statistics by name
     resumed_at: list[int] = []
+    machines: list[str] = []  # the machines it trained on, in words (devices.machine), each once as first used
 
 
 class Layout(LayoutPart):

@@ -27,7 +27,7 @@ from ..compiler import CompiledScenario
 from .checkpoint import resume_state, save_checkpoint, save_numbered_checkpoint
 from .config import PPOConfig, TrainError
 from .curiosity import Curiosity
-from .devices import autocast, matmul_precision, torch_device
+from .devices import autocast, machine, matmul_precision, torch_device
 from .logs import EpisodeLog, Progress, ScalarLog
 from .networks import VALUE_HEADS, ActorCritic, fixed_weights, to_tensors
 from .buffer import FinishedTrajectories, Rollout, RowBuffers, in_chunks, merge_steps
@@ -421,6 +421,9 @@ def _train(compiled: CompiledScenario, cfg: PPOConfig, run: RunDir, progress: bo
     resumed_at = list(resumed["training"].get("resumed_at", [])) if resumed else []
     if resumed and done_before < cfg.max_steps:
         resumed_at.append(done_before)
+    # the machines it trained on, each once in the order first used: a run reproduces only on alike processors
+    machines = list(resumed["training"].get("machines", [])) if resumed else []
+    machines += [here for here in [machine(cfg.device)] if here not in machines]
     wall_before = (resumed["wall_s"] or 0.0) if resumed else 0.0
     next_checkpoint = (agent_steps // cfg.checkpoint_every + 1) * cfg.checkpoint_every
     next_summary = (agent_steps // cfg.summary_freq + 1) * cfg.summary_freq  # ML-Agents' summary_freq
@@ -430,7 +433,7 @@ def _train(compiled: CompiledScenario, cfg: PPOConfig, run: RunDir, progress: bo
         """The run directory's resumable checkpoint.pt, and the curve so far (to follow a long run)."""
         training = {name: module.state_dict() for name, module in modules.items() if module is not None}
         save_checkpoint(run_dir / "checkpoint.pt", agent, cfg, compiled, steps, wall,
-                        training | {"curve": curve, "resumed_at": resumed_at}, write=run.write)
+                        training | {"curve": curve, "resumed_at": resumed_at, "machines": machines}, write=run.write)
         run.write_json("curve.json", curve, indent=1)
         scalars.flush()
 
@@ -478,7 +481,7 @@ def _train(compiled: CompiledScenario, cfg: PPOConfig, run: RunDir, progress: bo
     result = {"scenario": compiled.name, "environment": compiled.environment, "task_index": compiled.task_index,
               "level": compiled.level, "agent_steps": agent_steps, "wall_s": round(wall, 3), "seed": cfg.seed,
               "final_return": curve[-1]["return"] if curve else None, "checkpoint": "checkpoint.pt",
-              "stopped_early": stop.requested, "resumed_at": resumed_at}
+              "stopped_early": stop.requested, "resumed_at": resumed_at, "machines": machines}
     run.write_json("summary.json", result)
     return result
 

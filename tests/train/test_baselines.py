@@ -403,7 +403,7 @@ def test_a_record_names_the_processor_model_that_made_it(tmp_path):
     """A record reproduces to the digit only on a processor that takes the same kernels, so its machine names the
     model: the first processor's name with its family and model numbers, and a clear stand-in where /proc/cpuinfo
     is absent or names none (an ARM board lists no model name)."""
-    from hivex_dsl.train.baselines import cpu_model, machine
+    from hivex_dsl.train.devices import cpu_model, machine
 
     cpuinfo = tmp_path / "cpuinfo"
     block = "processor\t: {i}\nvendor_id\t: GenuineIntel\ncpu family\t: 6\nmodel\t\t: {m}\nmodel name\t: Xeon {m}\n"

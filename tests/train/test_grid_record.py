@@ -197,6 +197,30 @@ def test_a_grid_trained_in_parts_keeps_the_points_recorded_before(grid, tmp_path
     assert both["test"] == whole["test"] and both["hyperparameters"] == whole["hyperparameters"]
 
 
+def test_a_grid_trained_in_parts_names_the_machine_of_every_part(grid, tmp_path):
+    """Point 0 recorded from an earlier machine's record, from before rows named their machines (its record's
+    machine stands for it); point 1 trained here: each row names its own, and the record both, in the points'
+    order, so a reader knows which points reproduce on which processor."""
+    from hivex_dsl.train.devices import machine
+
+    shutil.copytree(grid / "runs", tmp_path / "runs")
+    point_0, point_1 = sorted((tmp_path / "runs").glob("00*"))
+    shutil.move(point_1, tmp_path / "later")
+    first = record_grid(tmp_path / "runs", str(grid / "sweep.yaml"), tmp_path / "out", episodes=2, partial=True)
+    assert first["machine"] == machine() and first["points"][0]["machines"] == [machine()]
+
+    def as_of_an_older_machine(data):
+        data["machine"] = "an older machine"
+        del data["points"][0]["machines"]
+
+    _record_with(tmp_path / "out", as_of_an_older_machine)
+    shutil.rmtree(point_0)
+    shutil.move(tmp_path / "later", point_1)
+    both = record_grid(tmp_path / "runs", str(grid / "sweep.yaml"), tmp_path / "out", episodes=2)
+    assert [row["machines"] for row in both["points"]] == [["an older machine"], [machine()]]
+    assert both["machine"] == f"an older machine; {machine()}"
+
+
 def _record_with(out, edit) -> None:
     path = out / "grids" / "wind_farm_control.json"
     data = json.loads(path.read_text())

@@ -264,3 +264,20 @@ def test_a_second_ctrl_c_ends_the_command_at_once_without_a_traceback(monkeypatc
     finally:
         signal.signal(signal.SIGINT, found)
     assert capsys.readouterr().err == "hivex: interrupted\n", f"SIGINT's handler before the test: {found!r}"
+
+
+def test_a_run_names_every_machine_it_trained_on(wrm, tiny, tmp_path, monkeypatch):
+    """A run reproduces only on alike processors, so its summary (and the checkpoint it goes on from) lists each
+    machine it trained on once, in the order first used: stopped on one, resumed on another, then on the first."""
+    from hivex_dsl.train import ppo
+
+    cfg, run = make_config(wrm.environment, tiny | {"max_steps": 450}), tmp_path / "run"
+    monkeypatch.setattr(ppo, "machine", lambda device: f"machine A ({device})")
+    assert train(wrm, cfg, run, progress=False, on_update=stop_after_first_update)["machines"] == ["machine A (cpu)"]
+    monkeypatch.setattr(ppo, "machine", lambda device: "machine B")
+    second = train(wrm, cfg, run, progress=False, resume=True, on_update=stop_after_first_update)
+    assert second["machines"] == ["machine A (cpu)", "machine B"]
+    monkeypatch.setattr(ppo, "machine", lambda device: f"machine A ({device})")
+    third = train(wrm, cfg, run, progress=False, resume=True)
+    assert not third["stopped_early"] and third["machines"] == ["machine A (cpu)", "machine B"]
+    assert json.loads((run / "summary.json").read_text())["machines"] == third["machines"]
