@@ -252,8 +252,7 @@ def trained_on(summary: dict[str, Any]) -> list[str]:
 
 def _grid_machines(rows: dict[int, dict[str, Any]]) -> list[str]:
     """Every machine the grid's points trained on, each once in the points' order."""
-    named = [word for index in sorted(rows) for word in rows[index]["machines"]]
-    return [word for index, word in enumerate(named) if word not in named[:index]]
+    return list(dict.fromkeys(word for index in sorted(rows) for word in rows[index]["machines"]))
 
 
 def sweep_fingerprint(points: list[CompiledScenario]) -> str:

@@ -422,8 +422,8 @@ def _train(compiled: CompiledScenario, cfg: PPOConfig, run: RunDir, progress: bo
     if resumed and done_before < cfg.max_steps:
         resumed_at.append(done_before)
     # the machines it trained on, each once in the order first used: a run reproduces only on alike processors
-    machines = list(resumed["training"].get("machines", [])) if resumed else []
-    machines += [here for here in [machine(cfg.device)] if here not in machines]
+    before = resumed["training"].get("machines", []) if resumed else []
+    machines = list(dict.fromkeys([*before, machine(cfg.device)]))
     wall_before = (resumed["wall_s"] or 0.0) if resumed else 0.0
     next_checkpoint = (agent_steps // cfg.checkpoint_every + 1) * cfg.checkpoint_every
     next_summary = (agent_steps // cfg.summary_freq + 1) * cfg.summary_freq  # ML-Agents' summary_freq
