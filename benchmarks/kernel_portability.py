@@ -1,0 +1,132 @@
+"""Which math-kernel settings make a training run the same on every processor: the WFC main record's first points.
+
+    python benchmarks/kernel_portability.py [--points 8] [--setting NAME ...] [-o benchmarks/results/kernel_portability.json]
+    python benchmarks/kernel_portability.py --report   # the committed file's machines, setting by setting
+
+A run of `hivex train` reproduces to the digit on an alike processor only: float32 matrix products take the
+kernels MKL picks for the processor, and their rounding parts two runs' learning within a few hundred thousand
+agent-steps (Wind Farm Control's seed 0 leaves its record's curve at 240,040 agent-steps on an Intel Xeon of
+family 6 model 167, and follows it to the digit on the AMD EPYC of family 26 model 2). MKL's Conditional
+Numerical Reproducibility (MKL_CBWR) pins one code path; ATen (ATEN_CPU_CAPABILITY) and NumPy choose their own
+vector kernels. This script trains the WFC main record's command (seed 0, one torch thread) under each setting in
+a fresh process, stops it after --points summary points, and writes each point's return. With -o the rows are
+merged into the file, one per machine (``hivex_dsl.train.devices.machine``), so that sessions on other processors
+add theirs; --report says, per setting, which machines agree to the last digit. A setting every machine agrees
+under is a portable way to train a record; none is the default until two processor kinds agree under it.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+from hivex_dsl.train.devices import machine
+from hivex_dsl.train.rundir import dumps
+
+ROOT = Path(__file__).resolve().parents[1]
+SCENARIO = "scenarios/wind_farm_control/main.yaml"
+COMMAND = ["hivex", "train", SCENARIO, "--seed", "0", "--set", "torch_threads=1", "--no-progress"]
+SETTINGS: dict[str, dict[str, str]] = {
+    "default": {},
+    "mkl-compatible": {"MKL_CBWR": "COMPATIBLE,STRICT"},
+    "mkl-avx2": {"MKL_CBWR": "AVX2,STRICT"},
+    "mkl-compatible-aten-default": {"MKL_CBWR": "COMPATIBLE,STRICT", "ATEN_CPU_CAPABILITY": "default"},
+}
+KERNEL_VARIABLES = ("MKL_CBWR", "ATEN_CPU_CAPABILITY", "MKL_ENABLE_INSTRUCTIONS", "NPY_DISABLE_CPU_FEATURES")
+
+
+def first_points(setting: dict[str, str], points: int, timeout_s: float = 1_800.0) -> list[float]:
+    """The returns of the first ``points`` summary points of :data:`COMMAND` trained under ``setting`` (environment
+    variables set before torch loads; any of :data:`KERNEL_VARIABLES` the caller's shell set is cleared)."""
+    env = {k: v for k, v in os.environ.items() if k not in KERNEL_VARIABLES} | setting
+    with tempfile.TemporaryDirectory() as scratch:
+        curve = Path(scratch) / "run" / "curve.json"
+        process = subprocess.Popen([*COMMAND, "-o", str(Path(scratch) / "run")], cwd=ROOT, env=env,
+                                   stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+        start = time.monotonic()
+        try:
+            while len(read := _curve(curve)) < points:
+                if process.poll() is not None:
+                    raise RuntimeError(f"training under {setting} ended early: {process.stderr.read()[-2000:]}")
+                if time.monotonic() - start > timeout_s:
+                    raise RuntimeError(f"training under {setting} logged {len(read)} points in {timeout_s:.0f} s")
+                time.sleep(0.5)
+        finally:
+            process.kill()
+            process.wait()
+    return [round(point["return"], 4) for point in read[:points]]
+
+
+def _curve(path: Path) -> list[dict]:
+    try:
+        return json.loads(path.read_text(encoding="utf-8"))
+    except (FileNotFoundError, json.JSONDecodeError):  # not written yet, or caught mid-write
+        return []
+
+
+def merge(recorded: dict, this_machine: str, measured: dict[str, list[float]], points: int) -> dict:
+    """``recorded`` (the results file's content, or {}) with ``this_machine``'s row set to ``measured``'s settings
+    (its other settings kept); rows of other machines and the file's notes unchanged. Rows must read the same
+    number of points."""
+    if recorded and recorded["points"] != points:
+        raise ValueError(f"the file holds {recorded['points']} points a setting, this run {points}: use --points "
+                         f"{recorded['points']}")
+    machines = dict(recorded.get("machines", {}))
+    machines[this_machine] = dict(machines.get(this_machine, {})) | measured
+    return {"scenario": SCENARIO, "command": " ".join(COMMAND), "settings": SETTINGS, "points": points,
+            "notes": recorded.get("notes", []), "machines": machines}
+
+
+def agreement(recorded: dict) -> dict[str, list[list[str]]]:
+    """Per setting, the machines that measured it grouped by identical returns (largest group first): a setting
+    with one group over two or more machines reproduces across them."""
+    found: dict[str, dict[tuple, list[str]]] = {}
+    for name, settings in recorded.get("machines", {}).items():
+        for setting, returns in settings.items():
+            found.setdefault(setting, {}).setdefault(tuple(returns), []).append(name)
+    return {setting: sorted(groups.values(), key=len, reverse=True) for setting, groups in found.items()}
+
+
+def report(recorded: dict, record_curve: list[float] | None = None) -> list[str]:
+    lines = []
+    for setting, groups in agreement(recorded).items():
+        machines = sum(len(group) for group in groups)
+        verdict = ("one result" if len(groups) == 1 else f"{len(groups)} different results") + f" on {machines} machine(s)"
+        lines.append(f"{setting}: {verdict}")
+        for group in groups:
+            returns = recorded["machines"][group[0]][setting]
+            same = " (the committed record's curve)" if record_curve and returns == record_curve[:len(returns)] else ""
+            lines.append(f"  {returns[:8]}{same}: " + "; ".join(group))
+    return lines
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--points", type=int, default=8, help="summary points a setting (40,000 agent-steps each)")
+    parser.add_argument("--setting", action="append", choices=sorted(SETTINGS), help="only these (repeatable)")
+    parser.add_argument("-o", "--output", type=Path, help="merge this machine's row into this JSON file")
+    parser.add_argument("--report", type=Path, nargs="?", const=ROOT / "benchmarks/results/kernel_portability.json",
+                        help="report a results file's agreement instead of measuring")
+    args = parser.parse_args(argv)
+    record = json.loads((ROOT / "benchmarks/baselines/wind_farm_control.json").read_text(encoding="utf-8"))
+    record_curve = [round(point[2], 4) for point in record["curve"]]
+    if args.report:
+        print("\n".join(report(json.loads(args.report.read_text(encoding="utf-8")), record_curve)))
+        return 0
+    measured = {name: first_points(SETTINGS[name], args.points) for name in args.setting or SETTINGS}
+    recorded = json.loads(args.output.read_text(encoding="utf-8")) if args.output and args.output.is_file() else {}
+    merged = merge(recorded, machine(), measured, args.points)
+    if args.output:
+        args.output.write_text(dumps(merged, args.output, 1), encoding="utf-8")
+    print("\n".join(report(merged, record_curve)))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

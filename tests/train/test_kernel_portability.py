@@ -1,0 +1,54 @@
+"""benchmarks/kernel_portability.py: merging machines' rows and telling which settings agree across them."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from .conftest import benchmark_script
+
+script = benchmark_script("kernel_portability")
+RESULTS = Path(__file__).resolve().parents[2] / "benchmarks" / "results" / "kernel_portability.json"
+
+
+def test_a_machine_s_row_replaces_only_the_settings_it_measured():
+    recorded = script.merge({}, "amd", {"default": [1.0, 2.0], "mkl-avx2": [1.0, 3.0]}, 2)
+    recorded["notes"] = ["by hand"]
+    recorded = script.merge(recorded, "xeon", {"default": [1.0, 2.5]}, 2)
+    again = script.merge(recorded, "amd", {"mkl-avx2": [1.0, 4.0]}, 2)
+    assert again["machines"] == {"amd": {"default": [1.0, 2.0], "mkl-avx2": [1.0, 4.0]}, "xeon": {"default": [1.0, 2.5]}}
+    assert again["notes"] == ["by hand"]
+    assert recorded["machines"]["amd"]["mkl-avx2"] == [1.0, 3.0]  # the file read is not changed in place
+
+
+def test_rows_of_another_length_are_refused():
+    recorded = script.merge({}, "amd", {"default": [1.0, 2.0]}, 2)
+    with pytest.raises(ValueError, match="--points 2"):
+        script.merge(recorded, "xeon", {"default": [1.0, 2.0, 3.0]}, 3)
+
+
+def test_machines_are_grouped_by_identical_returns_per_setting():
+    recorded = {"points": 2, "machines": {
+        "amd": {"default": [1.0, 2.0], "mkl-compatible": [1.0, 5.0]},
+        "xeon": {"default": [1.0, 2.5], "mkl-compatible": [1.0, 5.0]},
+        "epyc-2": {"default": [1.0, 2.0]}}}
+    assert script.agreement(recorded) == {"default": [["amd", "epyc-2"], ["xeon"]],
+                                          "mkl-compatible": [["amd", "xeon"]]}
+    lines = script.report(recorded, record_curve=[1.0, 2.0, 7.0])
+    assert lines[0] == "default: 2 different results on 3 machine(s)"
+    assert lines[1] == "  [1.0, 2.0] (the committed record's curve): amd; epyc-2"
+    assert lines[3] == "mkl-compatible: one result on 2 machine(s)"
+
+
+def test_the_committed_file_holds_the_wfc_record_s_curve_under_the_default_of_some_machine():
+    """The WFC main record (seed 0) reproduced to the digit on the AMD EPYC of family 26 model 2 (session 63, its
+    first 28 summary points); the Xeon of family 6 model 167 leaves it at the sixth point (session 62)."""
+    recorded = json.loads(RESULTS.read_text(encoding="utf-8"))
+    record = json.loads((RESULTS.parents[1] / "baselines" / "wind_farm_control.json").read_text(encoding="utf-8"))
+    curve = [round(point[2], 4) for point in record["curve"][:recorded["points"]]]
+    defaults = {name: row["default"] for name, row in recorded["machines"].items() if "default" in row}
+    assert [name for name, returns in defaults.items() if returns == curve] == [
+        "x86_64, AMD EPYC family 26 model 2, torch's AVX512 kernels, 2 cores, Linux, Python 3.11.7"]
+    assert all(returns[:5] == curve[:5] for returns in defaults.values())  # the first 200,000 agent-steps agree
