@@ -94,6 +94,8 @@ def agreement(recorded: dict) -> dict[str, list[list[str]]]:
 
 
 def report(recorded: dict, record_curve: list[float] | None = None) -> list[str]:
+    """:func:`agreement` as lines: per setting how many results over how many machines, then each group's returns
+    (marked where they are ``record_curve``'s first points) and its machines."""
     lines = []
     for setting, groups in agreement(recorded).items():
         machines = sum(len(group) for group in groups)
