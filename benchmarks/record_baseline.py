@@ -50,8 +50,10 @@ def main() -> None:
     parser.add_argument("--replace", action="store_true",
                         help="with --grid: replace the committed record of the environment's grid when it records "
                              "another sweep (refused without)")
-    parser.add_argument("--command", default="", help="the exact commands that trained the run (shown on the page)")
-    parser.add_argument("--note", default="", help="one paragraph shown under the curve")
+    parser.add_argument("--command", help="the exact commands that trained the run (shown on the page; "
+                                           "the record's own of the same scenario or sweep is kept when not given)")
+    parser.add_argument("--note", help="one paragraph shown under the curve (the record's own of the same "
+                                        "scenario or sweep is kept when not given)")
     parser.add_argument("--curve-episodes", type=positive, default=3,
                         help="test episodes per intermediate checkpoint (the test-seed curve)")
     args = parser.parse_args()

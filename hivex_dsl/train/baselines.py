@@ -78,14 +78,18 @@ def curve_fields(run_dir: Path) -> dict[str, Any]:
 
 
 def record_baseline(run_dir: Path, scenario: str, out_dir: Path, episodes: int = 10,
-                    command: str = "", note: str = "", curve_episodes: int = 3) -> dict[str, Any]:
+                    command: str | None = None, note: str | None = None, curve_episodes: int = 3) -> dict[str, Any]:
     """Write ``out_dir/<environment>.json`` and ``.png`` for the run in ``run_dir`` trained on ``scenario``
-    (the bundled path, e.g. ``scenarios/wind_farm_control/main.yaml``); -> the JSON's content."""
+    (the bundled path, e.g. ``scenarios/wind_farm_control/main.yaml``); -> the JSON's content. A ``command`` or
+    ``note`` not given (None) is the record's already there of the same scenario, as in :func:`record_grid`."""
     run_dir, out_dir = Path(run_dir), Path(out_dir)
     _check_episodes(episodes)
     summary = read_json(run_dir / "summary.json", "summary")
     compiled = compile(scenario)
     _check_trained(run_dir, compiled, scenario)
+    earlier = _earlier_words(out_dir / f"{compiled.environment}.json", scenario)
+    command = earlier["command"] if command is None else command
+    note = earlier["note"] if note is None else note
     report = evaluate(run_dir / "checkpoint.pt", split="test", episodes=episodes)
     data = {
         "environment": compiled.environment, "scenario": scenario, "task": compiled.task_name,
@@ -107,6 +111,13 @@ def record_baseline(run_dir: Path, scenario: str, out_dir: Path, episodes: int =
 
     learning_curve(data, out_dir / f"{compiled.environment}.png")
     return data
+
+
+def _earlier_words(record: Path, scenario: str) -> dict[str, str]:
+    """The command and note of the baseline record at ``record`` when it records ``scenario``; empty otherwise."""
+    data = read_json(record, "baseline record") if record.is_file() else {}
+    words = data if data.get("scenario") == scenario else {}
+    return {"command": words.get("command", ""), "note": words.get("note", "")}
 
 
 # what a run's JSON file holds at the top level, by its kind (in messages: "not a run's summary")
@@ -184,8 +195,8 @@ def add_seed(record: Path, run_dir: Path) -> dict[str, Any]:
 GRIDS = "grids"  # under the baselines folder: grids/<environment>.json
 
 
-def record_grid(grid_dir: Path, sweep: str, out_dir: Path, episodes: int = 10, command: str = "",
-                note: str = "", partial: bool = False, replace: bool = False) -> dict[str, Any]:
+def record_grid(grid_dir: Path, sweep: str, out_dir: Path, episodes: int = 10, command: str | None = None,
+                note: str | None = None, partial: bool = False, replace: bool = False) -> dict[str, Any]:
     """Write ``out_dir/grids/<environment>.json`` for the grid trained in ``grid_dir`` on ``sweep`` (the bundled
     path, e.g. ``scenarios/wind_farm_control/paper_suite.yaml``); -> the JSON's content.
 
@@ -200,7 +211,9 @@ def record_grid(grid_dir: Path, sweep: str, out_dir: Path, episodes: int = 10, c
     The record already there is of the same sweep when it is of the same content (:func:`sweep_fingerprint`), however
     the sweep's path is written; one of another sweep is refused, and replaced only with ``replace``. Each row names
     the machines its point trained on (:func:`trained_on`) and the record every one of them, since a run reproduces
-    only on alike processors."""
+    only on alike processors. A ``command`` or ``note`` not given (None) is the record's already there of the same
+    sweep (someone wrote it by hand; re-recording must not drop it), and empty where there is none or with
+    ``replace``."""
     grid_dir, out_dir = Path(grid_dir), Path(out_dir)
     _check_episodes(episodes)
     points = compile_all(sweep)
@@ -234,7 +247,8 @@ def record_grid(grid_dir: Path, sweep: str, out_dir: Path, episodes: int = 10, c
                        **{policy: level_of(point, policy, episodes) for policy in LEVEL_POLICIES},
                        **curve_fields(run_dirs[index])}
     data = {"environment": points[0].environment, "sweep": sweep, "sweep_fingerprint": sweep_fingerprint(points),
-            "command": command, "note": note, "machine": "; ".join(_grid_machines(rows)),
+            "command": earlier["command"] if command is None else command,
+            "note": earlier["note"] if note is None else note, "machine": "; ".join(_grid_machines(rows)),
             "hyperparameters": configs[0], "test": test,
             "points": [rows[index] for index in sorted(rows)], "untrained": untrained}
     record = out_dir / GRIDS / f"{data['environment']}.json"
@@ -263,10 +277,10 @@ def sweep_fingerprint(points: list[CompiledScenario]) -> str:
 
 def _recorded_rows(record: Path, sweep: str, points: list[CompiledScenario], replace: bool) -> dict[str, Any]:
     """The grid record already at ``record``, of ``points`` (the sweep ``sweep``): its rows by point name,
-    hyperparameters and test; no rows where there is none yet, or with ``replace``. A record of another sweep
-    is refused (it is replaced only with ``replace``)."""
+    hyperparameters, test, command and note; no rows (and no words) where there is none yet, or with ``replace``.
+    A record of another sweep is refused (it is replaced only with ``replace``)."""
     if not record.is_file() or replace:
-        return {"rows": {}}
+        return {"rows": {}, "command": "", "note": ""}
     data = read_json(record, "grid record")
     if not _of_sweep(data, points):
         raise TrainError(f"{record} records another sweep ({data.get('sweep')!r}, {len(data['points'])} points "
@@ -274,8 +288,8 @@ def _recorded_rows(record: Path, sweep: str, points: list[CompiledScenario], rep
                          "into another folder")
     # a row from before rows named their machines trained on its record's
     rows = {row["name"]: {"machines": [data["machine"]]} | row for row in data["points"]}
-    return {"rows": rows, "hyperparameters": data["hyperparameters"],
-            "test": data["test"], "path": record}
+    return {"rows": rows, "hyperparameters": data["hyperparameters"], "test": data["test"], "path": record,
+            "command": data.get("command", ""), "note": data.get("note", "")}
 
 
 def _of_sweep(data: dict[str, Any], points: list[CompiledScenario]) -> bool:

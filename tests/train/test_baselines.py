@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import os
 import shlex
+import shutil
 from pathlib import Path
 
 import pytest
@@ -50,6 +51,22 @@ def test_the_record_holds_test_levels_and_curve(recorded):
     # all-scripted turbines face the wind: they must beat uniformly random ones on the same seeds
     assert data["scripted"]["mean"] > data["random"]["mean"]
     assert all(row[0] > 0 for row in data["curve"])
+
+
+def test_re_recording_keeps_the_note_and_command_of_the_same_scenario(recorded, tmp_path):
+    """A record's note is written by hand over sessions: recording the scenario's run again without --note keeps
+    it; a record of another scenario lends it none."""
+    from hivex_dsl.train.baselines import record_baseline
+
+    out, data = recorded
+    shutil.copytree(out, tmp_path / "out")
+    run, scenario = out.parents[1] / "run", data["scenario"]
+    again = record_baseline(run, scenario, tmp_path / "out", episodes=1, curve_episodes=1)
+    assert (again["command"], again["note"]) == ("hivex train x", "a note")
+    record = tmp_path / "out" / "wind_farm_control.json"
+    record.write_text(json.dumps(json.loads(record.read_text()) | {"scenario": "scenarios/other.yaml"}))
+    other = record_baseline(run, scenario, tmp_path / "out", episodes=1, curve_episodes=1, note="new")
+    assert (other["command"], other["note"]) == ("", "new")
 
 
 def test_the_record_keeps_episode_length_and_every_statistic_beside_the_return(recorded):

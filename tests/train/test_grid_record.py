@@ -197,6 +197,20 @@ def test_a_grid_trained_in_parts_keeps_the_points_recorded_before(grid, tmp_path
     assert both["test"] == whole["test"] and both["hyperparameters"] == whole["hyperparameters"]
 
 
+def test_re_recording_a_grid_keeps_the_note_and_command_written_for_it(grid, tmp_path):
+    """Session 63: recording the WRM grid's second part without --note emptied the record's hand-written note.
+    Not given, the note and command are the record's own (of the same sweep); given, even empty, they are what is
+    given; a record of another sweep, replaced, leaves no words behind."""
+    record_grid(grid / "runs", str(grid / "sweep.yaml"), tmp_path, episodes=2, command="hivex train a", note="Part 1.")
+    again = record_grid(grid / "runs", str(grid / "sweep.yaml"), tmp_path, episodes=2)
+    assert (again["command"], again["note"]) == ("hivex train a", "Part 1.")
+    assert record_grid(grid / "runs", str(grid / "sweep.yaml"), tmp_path, episodes=2, note="Both.")["note"] == "Both."
+    assert record_grid(grid / "runs", str(grid / "sweep.yaml"), tmp_path, episodes=2, command="")["command"] == ""
+    _record_with(tmp_path, lambda d: d.update(sweep_fingerprint="sha256:0"))
+    fresh = record_grid(grid / "runs", str(grid / "sweep.yaml"), tmp_path, episodes=2, replace=True)
+    assert (fresh["command"], fresh["note"]) == ("", "")
+
+
 def test_a_grid_trained_in_parts_names_the_machine_of_every_part(grid, tmp_path):
     """Point 0 recorded from an earlier machine's record, from before rows named their machines (its record's
     machine stands for it); point 1 trained here: each row names its own, and the record both, in the points'
