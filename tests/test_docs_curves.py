@@ -175,11 +175,12 @@ def test_a_grid_point_with_its_curve_is_measured_and_one_without_a_page_named(tm
                                                               ("drone_based_reforestation", False)]
     wfc, dbr = found
     assert wfc["rows"] == [{"task_index": 0, "task": "generate_energy", "level": 0,
-                            "cells": ["no point", "no point", "no point", "4,990, above"]}]
+                            "cells": ["no point", "no point", "no point", "4,990, above"],
+                            "tail": "4,990 / 4,572 (1.09)"}]  # the original's 20 points past 7.2M: 4,571.7
     assert dbr["rows"] == [] and dbr["without"] == ["dbr-3"]
     _, _, page = _fidelity(tmp_path)
     assert "### `wind_farm_control` grid (stale record)" in page
-    assert "| 0 `generate_energy` | 0 | no point | no point | no point | 4,990, above |" in page
+    assert "| 0 `generate_energy` | 0 | no point | no point | no point | 4,990, above | 4,990 / 4,572 (1.09) |" in page
     assert "Points with no page of the original to set them beside: dbr-3." in page
     assert grid_comparisons(tmp_path / "missing") == []
 

@@ -2,7 +2,7 @@
 record, the measure of :mod:`hivex_dsl.evaluation.original.compare` for every training seed it holds and their mean,
 every panel it keeps, and a small figure of the return and Episode Length (drawn here, compared as pixels by `hivex docs --check`; only the five main tasks' records are
 drawn, so the check stays quick); per grid record whose points hold their training curves, a compact table of the
-measure of each point's return (no figure). A record whose note marks it stale is shown as such, not as evidence."""
+measure of each point's return and its pool over the last tenth of the budget (no figure). A record whose note marks it stale is shown as such, not as evidence."""
 
 from __future__ import annotations
 
@@ -107,12 +107,15 @@ def _grid_comparison(record: dict[str, Any]) -> dict[str, Any] | None:
         if cell is None:
             without.append(point["name"])
             continue
-        measured = [r for r in compare.measure(compare.from_record(point | {"environment": environment}), cell)
-                    if r.panel == compare.RETURN]
+        run = compare.from_record(point | {"environment": environment})
+        measured = [r for r in compare.measure(run, cell) if r.panel == compare.RETURN]
+        tail = compare.tail_return(run, cell)
         rows.append({"task_index": compare.paper_task_index(environment, point["task_index"]), "task": point["task"],
                      "level": "-" if point["level"] is None else point["level"],
                      "cells": [f"{compare.number(r.ours.value)}, {r.verdict}" if r.ours.value is not None
-                               else "no point" for r in measured]})
+                               else "no point" for r in measured],
+                     "tail": "no point" if tail.ours is None else
+                             f"{compare.number(tail.ours)} / {compare.number(tail.theirs)} ({tail.ratio:.2f})"})
     if not rows and not without:
         return None
     return {"environment": environment, "stale": compare.is_stale(record), "rows": rows, "without": without,
