@@ -2,7 +2,8 @@
 record, the measure of :mod:`hivex_dsl.evaluation.original.compare` for every training seed it holds and their mean,
 every panel it keeps, and a small figure of the return and Episode Length (drawn here, compared as pixels by `hivex docs --check`; only the five main tasks' records are
 drawn, so the check stays quick); per grid record whose points hold their training curves, a compact table of the
-measure of each point's return and its pool over the last tenth of the budget (no figure). A record whose note marks it stale is shown as such, not as evidence."""
+measure of each point's return and its pool over the last tenth of the budget (no figure). A record whose note
+marks it stale is shown as such, not as evidence."""
 
 from __future__ import annotations
 
