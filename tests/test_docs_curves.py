@@ -140,6 +140,10 @@ def test_a_record_of_three_seeds_shows_each_seed_and_their_mean(tmp_path):
     assert "| Cumulative Reward | 100% | 8,000,000 | 4,990 (8,000,000), above | 4,980 (8,000,000), above | " \
            "4,970 (8,000,000), above | 4,980 |" in page
     assert c["counts"] == {"within": 0, "above": 2, "below": 1, "no point": 1}
+    # the last tenth (past 7.2M) holds each seed's 8M point alone: 4,990, 4,980 and 4,970 over the original's 4,571.7
+    # (its event files' 20 points there), mean 4,980 (1.09)
+    assert "the seeds' mean\nreturn is 4,980 against the original's 4,572 (1.09)." in page
+    assert "| Cumulative Reward | 7,200,000 | 4,990 (1.09) | 4,980 (1.09) | 4,970 (1.09) | 4,980 (1.09) | 4,572 |" in page
     assert "Seeds measured: seed 0, seed 1, seed 2 (1 of the record's 4 seeds was recorded without its training" in page
     assert "Stale record" not in page and "stale record" not in page
     assert set(images) == {"images/curves/wind_farm_control.png"}

@@ -289,41 +289,6 @@ def test_the_original_wfc_cell_holds_its_event_files_facts():
     assert entropy.training.mean_at(40_000) == pytest.approx(1.0961, abs=VALUE_RESOLUTION_PT * entropy.y_per_pt + 5e-5)
 
 
-def test_the_last_tenth_pools_ours_by_episodes_and_the_original_s_points_by_hand(cell, run):
-    """Budget 1,000: the last tenth is past 900, where the original's points are 950 and 1,000 (means 95 and 100);
-    ours at 950 (one episode, 90) and 1,000 (three, 110) pool to 105, the point at 900 before it and the one at
-    1,050 beyond the original's budget left out."""
-    points = [{"agent_steps": s, "return": r, "episodes": e} for s, r, e in
-              ((900, 1_000.0, 5), (950, 90.0, 1), (1_000, 110.0, 3), (1_050, -1_000.0, 9))]
-    tail = compare.tail_return(compare.from_points(points), cell)
-    assert (tail.ours, tail.theirs, tail.start) == (105.0, 97.5, 900)
-    assert tail.ratio == pytest.approx(105.0 / 97.5)
-    none = compare.tail_return(run, cell)  # its last point is at 900, not past it
-    assert none.ours is None and none.ratio is None and none.theirs == 97.5
-
-
-def test_the_last_tenth_of_the_original_wfc_cell_is_its_event_files_mean(wfc_event_runs):
-    """Wind Farm Control pattern 0: the three training runs' Cumulative Reward at their 20 summary points past 7.2M,
-    averaged over the runs at each point and then over the points, from the event files (4,571.7). The digitised
-    mean is exact to the tick labels' resolution at the line's kept vertices and within 1/9 pt (Curve.mean_at) at
-    the two the PDF dropped there (7.36M and 7.68M), so the pool is within a twentieth of each one's bound."""
-    by_step: dict[float, list[float]] = {}
-    for i in range(3):
-        for step, value in wfc_event_runs[f"train_run_{i}"]["Environment/Cumulative Reward"]:
-            if step > 7_200_000:
-                by_step.setdefault(step, []).append(value)
-    assert len(by_step) == 20 and all(len(values) == 3 for values in by_step.values())
-    expected = float(np.mean([np.mean(values) for values in by_step.values()]))
-    cell = original_curves("wind_farm_control", 0, 0)
-    points = [{"agent_steps": 8_000_000, "return": 4_600.0, "episodes": 8}]
-    tail = compare.tail_return(compare.from_points(points), cell)
-    training, per_pt = cell.panel("Cumulative Reward").training, cell.panel("Cumulative Reward").y_per_pt
-    dropped = sum(step not in training.steps for step in by_step)
-    assert dropped == 2
-    tolerance = ((20 - dropped) * VALUE_RESOLUTION_PT * per_pt + dropped * per_pt / 9) / 20 + 0.05  # 0.05: rounding
-    assert tail.theirs == pytest.approx(expected, abs=tolerance) and tail.ours == 4_600.0
-
-
 def test_a_record_keeps_every_panel_of_its_curve_and_gives_it_back(cell, run):
     """The fixture run (points at 90 and 110 of one and three episodes, lengths 210) kept as a record keeps it: the
     return in ``curve`` rows, the episodes and the other panels beside them; measured as the run itself is."""

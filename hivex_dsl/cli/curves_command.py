@@ -15,7 +15,8 @@ if TYPE_CHECKING:
 
 def add_command(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("curves", help="a run's learning curves against the original's (mean and band of its 3 runs) "
-                                      "at 10, 25, 50 and 100%% of the original's budget; -o draws them")
+                                      "at 10, 25, 50 and 100%% of the original's budget, and pooled over its last tenth; "
+                                      "-o draws them")
     p.add_argument("run", type=Path, metavar="RUN",
                    help="a run directory of `hivex train`, or a baseline record (benchmarks/baselines/<env>.json)")
     p.add_argument("scenario", nargs="?", metavar="SCENARIO",
@@ -36,6 +37,7 @@ def add_command(sub: argparse._SubParsersAction) -> None:
 def cmd_curves(args: argparse.Namespace) -> int:
     from ..evaluation.original import compare
     from ..evaluation.original.runs import read_run
+    from ..evaluation.original.tail import tail_seeds, tail_table
 
     run = read_run(args.run)
     others = list(run.others)
@@ -62,10 +64,14 @@ def cmd_curves(args: argparse.Namespace) -> int:
     sys.stdout.write(compare.table(compare.measure(run.curve, cell)) + "\n")
     for other in others:
         sys.stdout.write(f"\n{other.label}:\n\n" + compare.table(compare.measure(other, cell)) + "\n")
+    seeds = [run.curve, *others]
+    labels = [s.label.removeprefix("this toolkit, ") for s in seeds]
     if others:
-        seeds = [run.curve, *others]
         sys.stdout.write("\nevery seed and their mean:\n\n" + compare.seeds_table(
-            compare.measure_seeds(seeds, cell), [s.label.removeprefix("this toolkit, ") for s in seeds]) + "\n")
+            compare.measure_seeds(seeds, cell), labels) + "\n")
+    ends = tail_seeds(seeds, cell)
+    sys.stdout.write(f"\npooled over the last tenth of the original's budget (from {ends[0].start:,} agent-steps), "
+                     "in parentheses over the original's:\n\n" + tail_table(ends, labels) + "\n")
     if args.output is not None:
         from ..evaluation.original.figure import plot
 

@@ -1,9 +1,11 @@
 """Our recorded learning curves beside the original's, for the baselines and fidelity pages: per committed main-task
 record, the measure of :mod:`hivex_dsl.evaluation.original.compare` for every training seed it holds and their mean,
-every panel it keeps, and a small figure of the return and Episode Length (drawn here, compared as pixels by `hivex docs --check`; only the five main tasks' records are
-drawn, so the check stays quick); per grid record whose points hold their training curves, a compact table of the
-measure of each point's return and its pool over the last tenth of the budget (no figure). A record whose note
-marks it stale is shown as such, not as evidence."""
+every panel it keeps, each panel pooled over the last tenth of the budget
+(:mod:`~hivex_dsl.evaluation.original.tail`), and a small figure of the return and Episode Length (drawn here,
+compared as pixels by `hivex docs --check`; only the five main tasks' records are drawn, so the check stays quick);
+per grid record whose points hold their training curves, a compact table of the measure of each point's return and
+its pool over the last tenth of the budget (no figure). A record whose note marks it stale is shown as such, not as
+evidence."""
 
 from __future__ import annotations
 
@@ -16,6 +18,7 @@ import numpy as np
 from ..compiler import registry
 from ..evaluation.original import compare
 from ..evaluation.original.curves import OriginalCell, original_curves
+from ..evaluation.original.tail import tail, tail_seeds, tail_table
 
 IMAGES = "images/curves"  # docs-relative folder of the figures
 
@@ -72,12 +75,17 @@ def _comparison(record: dict[str, Any]) -> tuple[dict[str, Any], np.ndarray] | N
     rows = compare.measure_seeds(runs, cell)
     budget = _budget(cell)
     verdicts = [r.verdict for r in rows]
+    ends = tail_seeds(runs, cell)
+    end = next(e for e in ends if e.panel == compare.RETURN)
     seeds = [str(run.label.removeprefix("this toolkit, ").removesuffix(" (stale record)")) for run in runs]
     context = {"environment": environment, "file": cell.file, "title": cell.title, "stale": compare.is_stale(record),
                "seeds": seeds, "seeds_recorded": 1 + len(record.get("other_seeds", [])),
                "image": f"{IMAGES}/{environment}.png", "table": compare.seeds_table(rows, seeds),
                "counts": {word: verdicts.count(word) for word in ("within", "above", "below", "no point")},
                "panels": list(dict.fromkeys(r.panel for r in rows)), "budget": _number(budget),
+               "tail_table": tail_table(ends, seeds), "tail_start": _number(end.start),
+               "tail_return": None if end.value is None else
+               {"ours": compare.number(end.value), "theirs": compare.number(end.theirs), "ratio": f"{end.ratio:.2f}"},
                **{f"record_{k}": v for k, v in budget_words(record, budget).items()}}
     drawn = [p for p in (compare.RETURN, compare.EPISODE_LENGTH) if p in compare.shared_panels(runs[0], cell)]
     return context, picture(runs[0], cell, drawn, others=runs[1:])
@@ -110,13 +118,13 @@ def _grid_comparison(record: dict[str, Any]) -> dict[str, Any] | None:
             continue
         run = compare.from_record(point | {"environment": environment})
         measured = [r for r in compare.measure(run, cell) if r.panel == compare.RETURN]
-        tail = compare.tail_return(run, cell)
+        end = tail(run, cell)
         rows.append({"task_index": compare.paper_task_index(environment, point["task_index"]), "task": point["task"],
                      "level": "-" if point["level"] is None else point["level"],
                      "cells": [f"{compare.number(r.ours.value)}, {r.verdict}" if r.ours.value is not None
                                else "no point" for r in measured],
-                     "tail": "no point" if tail.ours is None else
-                             f"{compare.number(tail.ours)} / {compare.number(tail.theirs)} ({tail.ratio:.2f})"})
+                     "tail": "no point" if end.ours is None else
+                             f"{compare.number(end.ours)} / {compare.number(end.theirs)} ({end.ratio:.2f})"})
     if not rows and not without:
         return None
     return {"environment": environment, "stale": compare.is_stale(record), "rows": rows, "without": without,

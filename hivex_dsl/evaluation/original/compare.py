@@ -23,9 +23,9 @@ Suppression's grid trained: a point of up to 36 every 3,000 steps), and a narrow
 would hold only the odd early ending (a crash's -100 for a policy earning hundreds), where each of the original's
 points averaged what ended in a window of worlds that had long since drifted apart. Several training seeds
 (:func:`measure_seeds`) are measured each so, and their mean (unweighted: each seed is one run, as each of the
-original's three is one) against the same band. :func:`tail_return` pools the return over the last tenth of the
-budget, ours and the original's alike, which reads the policy where one point of the original's reads the draw of
-its episodes (its runs may share them: Wildfire Resource Management's fires).
+original's three is one) against the same band. :mod:`.tail` pools every panel over the last tenth of the budget,
+ours and the original's alike, which reads the policy where one point of the original's reads the draw of its
+episodes (its runs may share them: Wildfire Resource Management's fires).
 
 Our Episode Length is set beside theirs as ML-Agents logged it (:func:`as_logged_there`): its AgentProcessor counts
 an episode's experiences less the terminal one, so an episode of ``n`` decisions logs ``n - 1`` (Wind Farm Control's
@@ -302,39 +302,6 @@ def measure_seeds(runs: Sequence[RunCurve], cell: OriginalCell, fractions: Seque
 
 
 
-TAIL = 0.1  # of the original's budget: the end of training :func:`tail_return` pools
-
-
-@dataclass(frozen=True)
-class Tail:
-    """The return pooled over the last :data:`TAIL` of the original's budget: ``ours`` (None where no point of ours
-    lies there) and ``theirs``, from ``start`` agent-steps to the budget's end."""
-
-    ours: float | None
-    theirs: float
-    start: int
-
-    @property
-    def ratio(self) -> float | None:
-        return None if self.ours is None or self.theirs == 0 else self.ours / self.theirs
-
-
-def tail_return(run: RunCurve, cell: OriginalCell, share: float = TAIL) -> Tail:
-    """The return over the last ``share`` of the original's budget: ours the mean of our points past its start
-    weighted by their episodes, the original's the mean of its summary points' means past it. One point of the
-    original's is the draw of the episodes that ended in it, and its three runs may draw the same ones (Wildfire
-    Resource Management's fires: its band about 5% of its mean where its mean moves about 31% from one point to the
-    next), so the measure's verdict at a fraction reads that draw where a pool over many points reads the policy."""
-    training = cell.panels[RETURN].training
-    if training is None or not len(training.band_steps):
-        raise CompareError(f"the original's {cell.file} draws no training band of the return")
-    budget = training.last_step
-    start = (1.0 - share) * budget
-    theirs = float(np.mean(training.mean_at(training.band_steps[training.band_steps > start])))
-    late = (run.steps > start) & (run.steps <= budget) & ~np.isnan(run.panels[RETURN])
-    weights = run.episodes[late]
-    ours = float((run.panels[RETURN][late] * weights).sum() / weights.sum()) if weights.sum() > 0 else None
-    return Tail(ours, theirs, int(start))
 
 def paper_task_index(environment: str, task_index: int) -> int:
     """The paper's index (the published results' key) of the toolkit's task ``task_index`` of ``environment``."""
