@@ -391,15 +391,15 @@ def test_no_plane_starts_or_respawns_with_the_fire_in_view():
 
 
 def test_a_spawn_is_drawn_again_only_where_it_sees_the_fire(monkeypatch):
-    import hivex_dsl.envs.aerial_wildfire_suppression.simulator as simulator
+    import hivex_dsl.envs.aerial_wildfire_suppression.spawn as spawn
 
     compiled = hivex_dsl.compile({"hivex": 1, "environment": "aerial_wildfire_suppression", "params": LONE_PLANES})
     sim = AerialWildfireSimulator(compiled)
-    monkeypatch.setattr(simulator, "SPAWN_REDRAWS", 0)
+    monkeypatch.setattr(spawn, "SPAWN_REDRAWS", 0)
     uniform = sim.reset(np.random.default_rng(3), 128)
     sees = uniform.sighting.plane_found
     assert 0.02 < sees.mean() < 0.2  # the case exists, and is not the rule
-    monkeypatch.setattr(simulator, "SPAWN_REDRAWS", 16)
+    monkeypatch.setattr(spawn, "SPAWN_REDRAWS", 16)
     redrawn = sim.reset(np.random.default_rng(3), 128)
     assert np.array_equal(redrawn.position[~sees], uniform.position[~sees])
     assert not np.isclose(redrawn.position[sees], uniform.position[sees]).all(axis=-1).any()

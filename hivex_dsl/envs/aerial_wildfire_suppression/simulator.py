@@ -13,18 +13,20 @@ from ...base.numeric import and_not, clamp, constant
 from ...runtime.batched import StepOutcome
 from ...sim.batching import assemble, read_only, replace_worlds
 from ...sim.cameras import blank_images
-from ...sim.grids import sample_bilinear, terrain_grid
+from ...sim.grids import terrain_grid
 from ...sim.spaces import toggle_mask
 from ...sim.fire import any_burning, douse, fire_step_unchecked
 from ...sim.fire.search import closest_burning_at
 from ...sim.procgen.weather import weather_step
 from ...sim.procgen.wind import frame_ends, wind_step, wrap_angle
-from ..island import (SEA, IslandMaps, IslandSpecs, fire_wind, grid_lookup, restart_where, start_islands,
+from ..island import (IslandMaps, IslandSpecs, fire_wind, grid_lookup, restart_where, start_islands,
                       weather_reader)
 from .camera import pixel_offsets
 from .global_state import state_components, world_state
 from .params import CAMERA_PIXELS, AerialWildfireParams
+from .ground import MASK_TERRAIN_M, over_land, over_terrain
 from .respawn import continue_worlds, respawn_where, world_goes_on
+from .spawn import spawn, spawn_out_of_sight
 from .waiting import count_finishes
 from .types import AerialWildfireState, Sighting
 from .view import (build_look, drawn_border_m, frame_template, is_tiled, plane_cameras, redraw_cells,
@@ -33,12 +35,7 @@ from .view import (build_look, drawn_border_m, frame_template, is_tiled, plane_c
 PICKUP_EVENT = "picked_up_water"
 # Events of one plane; a task that ends on one of them takes that plane out of the game (see _sense).
 FINDING_EVENTS = ("found_fire", "found_village")
-# [orig] The release's WriteDiscreteActionMask opens the drop where the ray cast down hits the terrain (layer 8) at a
-# height of at least 0.02, where its DropWater needs 10 (our SEA_LEVEL_M, 7 m, fitted to the untrained planes' first
-# drops, stands for that): the mask is open over a low shore where a drop does nothing.
-MASK_TERRAIN_M = 0.02
 PLANE_EVENTS = (PICKUP_EVENT, "dropped_water") + FINDING_EVENTS
-SPAWN_REDRAWS = 16  # a spawn that sees the fire is drawn again up to this many times (then kept)
 EVENTS = {
     PICKUP_EVENT: "a plane without water entered the water ring and filled up",
     "dropped_water": "a plane dropped its water over land",
@@ -94,57 +91,8 @@ class AerialWildfireSimulator:
 
     # ---- reset -------------------------------------------------------------------------
 
-    def _spawn(self, rng: np.random.Generator, count: int, village: np.ndarray
-               ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Positions (count, A, 2) uniform in the spawn disk clipped to the border, or, for planes without water
-        (which would fill up on the first step over the ring), uniform over the island at least two steps from the
-        ring; pushed two steps beyond the village radius (the village is found by flying to it); headings; water.
-        ``village`` (count, 2)."""
-        p, shape = self.params, (count, self.agents)
-        if p.spawn_rule == "release":
-            return self._release_spawn(rng, shape)
-        if self.spawn_water:
-            limit = p.border_half_extent_m
-            radius = p.spawn_radius_m * np.sqrt(rng.random(shape))
-            angle = rng.uniform(-np.pi, np.pi, shape)
-            position = np.clip(np.stack([radius * np.cos(angle), radius * np.sin(angle)], axis=-1), -limit, limit)
-        else:
-            limit = p.island_half_extent_m - 2.0 * p.plane_speed_m
-            position = rng.uniform(-limit, limit, shape + (2,))
-        gap = position - village[:, None, :]
-        distance = np.hypot(gap[..., 0], gap[..., 1])
-        push = np.maximum(p.village_radius_m + 2.0 * p.plane_speed_m, distance) / np.maximum(distance, 1e-9)
-        position = np.clip(village[:, None, :] + gap * push[..., None], -limit, limit)
-        heading = rng.uniform(-np.pi, np.pi, shape)
-        return position, heading, np.full(shape, self.spawn_water)
-
-    def _release_spawn(self, rng: np.random.Generator, shape: tuple[int, int]
-                       ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """The release's RespawnAgent: a direction from a uniform point of the square [-1, 1]^2, normalised, a
-        distance uniform up to spawn_radius_m, a uniform heading; nothing kept away from ring, village or fire."""
-        square = rng.uniform(-1.0, 1.0, shape + (2,))
-        direction = square / np.maximum(np.hypot(square[..., 0], square[..., 1]), 1e-12)[..., None]
-        position = direction * rng.uniform(0.0, self.params.spawn_radius_m, shape)[..., None]
-        limit = self.params.border_half_extent_m
-        heading = rng.uniform(-np.pi, np.pi, shape)
-        return np.clip(position, -limit, limit), heading, np.full(shape, self.spawn_water)
-
-    def _spawn_out_of_sight(self, rng: np.random.Generator, fire, village: np.ndarray, mask: np.ndarray | None = None
-                            ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """:meth:`_spawn`, drawn again (at most SPAWN_REDRAWS times) for the planes (where ``mask`` (B, A), all by
-        default) whose view already holds a burning tree: as the village, the fire is found by flying to it
-        (``spawn_rule: release`` draws once, as the release does)."""
-        position, heading, water = self._spawn(rng, len(village), village)
-        if self.params.spawn_rule == "release":
-            return position, heading, water
-        flying = np.ones(position.shape[:2], bool) if mask is None else mask
-        for _ in range(SPAWN_REDRAWS):
-            sees = self._sight_of(fire, village, position, flying).plane_found
-            if not sees.any():
-                break
-            again, turned, _ = self._spawn(rng, len(village), village)
-            position, heading = np.where(sees[..., None], again, position), np.where(sees, turned, heading)
-        return position, heading, water
+    _spawn = spawn  # where planes start, out of the fire's sight: see spawn.py
+    _spawn_out_of_sight = spawn_out_of_sight
 
     def reset(self, rng: np.random.Generator, batch: int) -> AerialWildfireState:
         return self._fresh(rng, batch, None)
@@ -310,40 +258,8 @@ class AerialWildfireSimulator:
         return Flight(heading, facing, position, outside, still, crossed, picked, and_not(water, dropping), dropping,
                       cast_at)
 
-    def _over_land(self, maps: IslandMaps, position: np.ndarray) -> np.ndarray:
-        """(B, A) bool: the ground under each plane (``position`` (B, A, 2) metres) is land above the sea: its
-        forest-grid cell is not sea, and past the grid, under params.drop_ground 'terrain', the generator's whole map
-        stands above the sea level there (a headland under the water ring); else nothing past the grid."""
-        inside, cell = self._cells_under(position)
-        land = inside & (maps.ground.reshape(-1).take(cell) != SEA)
-        if self.drops_past_island and not inside.all():
-            land |= ~inside & (self._terrain_height(maps, position) > self.sea_level_m)
-        return land
-
-    def _over_terrain(self, maps: IslandMaps, position: np.ndarray) -> np.ndarray:
-        """(B, A) bool: the terrain under each plane (``position`` (B, A, 2) metres) stands at least MASK_TERRAIN_M
-        high: its forest-grid cell's height, and past the grid, under params.drop_mask 'release', the whole
-        terrain's (the water ring's seabed); else nothing past the grid."""
-        inside, cell = self._cells_under(position)
-        high = inside & (maps.height.reshape(-1).take(cell) >= MASK_TERRAIN_M)
-        if self.release_mask and not inside.all():
-            high |= ~inside & (self._terrain_height(maps, position) >= MASK_TERRAIN_M)
-        return high
-
-    def _terrain_height(self, maps: IslandMaps, position: np.ndarray) -> np.ndarray:
-        """(B, A) metres: the generator's whole height map under each plane (``position`` (B, A, 2) metres), which
-        runs on under the water ring past the forest grid."""
-        return sample_bilinear(maps.terrain, self.terrain_grid, position)
-
-    def _cells_under(self, position: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """(B, A) bool whether each plane (``position`` (B, A, 2) metres) is over the island's grid, and (B, A) the
-        flat index of the (B, C, C) grid cell under it (clamped onto the grid where it is not)."""
-        half, cells = self.params.island_half_extent_m, self.forest_spec.cells
-        cell = np.floor((position + half) / self.cell_m)  # (B, A, 2): col, row
-        inside = ((cell >= 0) & (cell < cells)).all(axis=-1)
-        col, row = clamp(cell, 0, cells - 1).astype(np.int64).transpose(2, 0, 1)
-        world = np.arange(position.shape[0])[:, None]
-        return inside, (world * cells + row) * cells + col
+    _over_land = over_land  # the ground under the planes: see ground.py
+    _over_terrain = over_terrain
 
     def _drop(self, fire, look: np.ndarray, position: np.ndarray, direction: np.ndarray, dropping: np.ndarray):
         """Wet the swath of every dropping plane and redraw it in ``look``.
