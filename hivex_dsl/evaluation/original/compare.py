@@ -277,13 +277,19 @@ class SeedsRow:
     @property
     def value(self) -> float | None:
         """The mean of the seeds that have a point near the step (None: none has)."""
-        values = [o.value for o in self.seeds if o.value is not None]
-        return sum(values) / len(values) if values else None
+        return mean_of_seeds([o.value for o in self.seeds])
 
     @property
     def verdict(self) -> str:
         """The seeds' mean within, above or below the original's band (``no point`` where no seed has one)."""
         return verdict(self.value, self.lower, self.upper)
+
+
+def mean_of_seeds(values: Sequence[float | None]) -> float | None:
+    """The unweighted mean of the seeds' values that are known, one a seed as the original's mean is of its three
+    runs (None where none is)."""
+    known = [v for v in values if v is not None]
+    return sum(known) / len(known) if known else None
 
 
 def measure_seeds(runs: Sequence[RunCurve], cell: OriginalCell, fractions: Sequence[float] = FRACTIONS) -> list[SeedsRow]:
@@ -368,7 +374,8 @@ def table(rows: Sequence[Row]) -> str:
     return "\n".join(lines)
 
 
-__all__ = ["CompareError", "FRACTIONS", "Ours", "Row", "RunCurve", "SeedsRow", "from_points",
-           "from_record", "is_stale", "record_panels", "measure", "measure_seeds", "original_cell", "ours_at", "paper_task_index",
-           "number", "seed_curves", "seeds_table", "shared_panels", "summary_interval", "table", "verdict"]
+__all__ = ["CompareError", "FRACTIONS", "Ours", "Row", "RunCurve", "SeedsRow", "from_points", "from_record",
+           "is_stale", "record_panels", "mean_of_seeds", "measure", "measure_seeds", "original_cell", "ours_at",
+           "paper_task_index", "number", "seed_curves", "seeds_table", "shared_panels", "summary_interval", "table",
+           "verdict"]
 

@@ -18,7 +18,7 @@ from typing import Sequence
 
 import numpy as np
 
-from .compare import CompareError, RunCurve, as_logged_there, number, shared_panels
+from .compare import CompareError, RunCurve, as_logged_there, mean_of_seeds, number, shared_panels
 from .curves import OriginalCell
 from .evidence import RETURN
 
@@ -71,8 +71,7 @@ class SeedsTail:
     @property
     def value(self) -> float | None:
         """The mean of the seeds that have a point there (None: none has)."""
-        values = [t.ours for t in self.seeds if t.ours is not None]
-        return sum(values) / len(values) if values else None
+        return mean_of_seeds([t.ours for t in self.seeds])
 
     @property
     def ratio(self) -> float | None:
