@@ -17,19 +17,16 @@ from ...sim.cameras import blank_images
 from ...sim.procgen.terrain import TerrainSpec, generate_terrain
 from ...sim.procgen.wind import wrap_angle
 from ...sim.spaces import toggle_mask
-from .camera import NEW_TREE_GRAY, STATION_GRAY, TREE_GRAY, Raster, camera_images, ground_shade, stamp_disks, to_byte
+from .camera import STATION_GRAY, TREE_GRAY, Raster, camera_images, ground_shade, stamp_disks, to_byte
 from ...sim.grids import GridSet, interpolation_matrix, sample_bilinear, terrain_grid
-from .fertility import (FAR_M, distance_reward, fertility, forest_grid, logged_tree_distance, nearest_new_tree_distance,
-                        nearest_tree_distance, same_step_distance, seed_reward, storage_slots, tree_distance_raster)
+from .fertility import FAR_M, fertility, forest_grid, nearest_new_tree_distance, tree_distance_raster
 from .global_state import state_components, world_state
 from .forest import ReforestationForestSpec, place_reforestation_forest
 from .params import DroneBasedReforestationParams
+from .planting import alive_only, plant, running_back, running_back_fields, wanted_drops
 from .respawn import respawn_where
 from .types import STATION_PAD_M, VECTOR_SIZE, DroneState, Flight
 
-SEED_REWARD_MULTIPLIER = 20.0  # [paper] sdrm
-DISTANCE_REWARD_MULTIPLIER = 10.0  # [paper] drm
-RUNNING_BACK_REWARD = 20.0  # [paper] r_p
 # [ours] Group Up's drones start scattered (drones that start together would be grouped from the first step). [orig]
 # Pick-up Seed's start at the station, as Explore Furthest's, against the paper's text ("the initial position of
 # drones is random"): the first training points of the two tasks' pages are identical in every statistic (issue 52;
@@ -233,62 +230,9 @@ class DroneReforestationSimulator:
         position[..., 2] = z
         return Flight(position, xy, z, heading, direction, ground, det)
 
-    def _drop(self, state: DroneState, points: np.ndarray, world: np.ndarray
-              ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Plant the seeds released at ``points`` (M, 2) of worlds ``world`` (M,, sorted): each becomes a new
-        tree, written into ``new_trees``, ``new_quality`` and the camera raster in place. Returns r_s, r_d and
-        det (M,), det being exact at any distance (0 in a world without trees)."""
-        p = self.params
-        det = nearest_tree_distance(state.tree_xy, self.forest_grid, world, points, p.max_tree_distance_m)
-        dnt = nearest_new_tree_distance(state.new_trees[:, : int(state.new_count.max())], world, points)
-        dnt = np.minimum(dnt, same_step_distance(world, points))
-        seed = seed_reward(det, dnt, p.min_tree_distance_m, p.max_tree_distance_m, SEED_REWARD_MULTIPLIER)
-        sdd = np.hypot(*(points - state.station[world, :2]).T)
-        slot = storage_slots(state.new_count, world)
-        state.new_trees[world, slot] = points
-        state.new_quality[world, slot] = seed / SEED_REWARD_MULTIPLIER
-        stamp_disks(state.camera, self.raster, world, points, p.tree_crown_radius_m, NEW_TREE_GRAY)
-        return (seed, distance_reward(seed, sdd, self.half, DISTANCE_REWARD_MULTIPLIER),
-                logged_tree_distance(state.tree_xy, world, points, det))
-
-    def _releases(self, state: DroneState, wants: np.ndarray) -> np.ndarray:
-        """(B, A) the drones whose wish to drop is granted: all, unless their world's store of planted trees
-        is full (the last in agent order keep their seeds)."""
-        world, agent = np.nonzero(wants)
-        full = storage_slots(state.new_count, world) >= self.params.new_tree_capacity
-        granted = wants.copy()
-        granted[world[full], agent[full]] = False
-        return granted
-
-    def _running_back(self, state: DroneState, increment: np.ndarray, alive: np.ndarray | None) -> np.ndarray:
-        """r_rb (B, A): paid when a drone running back reaches a closer increment than any since its drop, down to
-        d_charge / s. The paper's r_p * rbm / (d_init - d_charge / s) with d_init the drop's station distance in
-        metres, as the paper defines it (d_0 alone is "in incremental steps"): a whole run back from D metres pays
-        r_p * rbm * (floor(D / s) - d_charge / s) / (D - d_charge / s), about r_p * rbm * 0.3 for the original's
-        drops 25-50 m out, what its Drop Seed and main-task records leave for this term (the reward table's note
-        "Incremental Running Back's d_init")."""
-        p = self.params
-        closer = _alive_only(state.back_active & (increment < state.back_best), alive)
-        if not np.count_nonzero(closer):  # (count_nonzero is the cheapest "any" on small arrays)
-            return np.zeros(closer.shape)
-        first_inside = p.charge_radius_m / p.running_back_step_m  # d_charge / s: the increments inside pay nothing
-        span = state.back_init - first_inside  # metres less increments, as the paper writes it; > 0 for any drop
-        reward = RUNNING_BACK_REWARD * state.back_multiplier / np.where(span > 0, span, 1.0)
-        paid = closer & (span > 0) & (increment >= first_inside)
-        return np.where(paid, clamp(reward, 0.0, RUNNING_BACK_REWARD), 0.0)
-
-    def _back(self, state: DroneState, drops: np.ndarray, distance: np.ndarray, increment: np.ndarray,
-              outside: np.ndarray, r_s: np.ndarray, r_d: np.ndarray, dropping: bool) -> dict[str, np.ndarray]:
-        """The running-back bookkeeping after this step: a drop starts it (d_init its station ``distance`` (B, A) in
-        metres), reaching the station ends it. Without a drop (``dropping`` false) the drop-time fields stay."""
-        best = np.where(state.back_active, np.minimum(state.back_best, increment), state.back_best)
-        if not dropping:
-            return {"back_active": state.back_active & outside, "back_best": best}
-        return {"back_active": (state.back_active | drops) & outside,
-                "back_init": np.where(drops, distance, state.back_init),
-                "back_best": np.where(drops, increment, best),
-                "back_multiplier": np.where(drops, (r_s + r_d) / (SEED_REWARD_MULTIPLIER + DISTANCE_REWARD_MULTIPLIER),
-                                            state.back_multiplier)}
+    _wanted_drops = wanted_drops  # the seed's drop and the running back after it: see planting.py
+    _plant = plant
+    _running_back = running_back
 
     def _energy(self, state: DroneState, docked: np.ndarray, alive: np.ndarray | None) -> np.ndarray:
         """(B, A) battery after this step: ``charge_per_step`` more (at most full) when charging (``docked``, alive
@@ -304,26 +248,6 @@ class DroneReforestationSimulator:
         np.putmask(energy, energy <= 1e-9, 0.0)
         return energy
 
-    def _wanted_drops(self, state: DroneState, actions, distance: np.ndarray, alive: np.ndarray | None) -> np.ndarray:
-        """(B, A) living drones that hold a seed, are at least drop_min_distance_m from the station (``distance``
-        (B, A), 3D) and ask to drop it."""
-        if not np.count_nonzero(state.holding):  # nobody can drop a seed (skips the ops below)
-            return np.zeros(distance.shape, bool)
-        asked = (np.asarray(actions["discrete"])[..., 0] == 1) & state.holding
-        return _alive_only(asked & (distance >= self.params.drop_min_distance_m), alive)
-
-    def _plant(self, state: DroneState, wants: np.ndarray, position: np.ndarray
-               ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        """Release the seeds of the drones that ``wants`` (B, A) to drop one, as far as the stores allow, and plant
-        them. Returns the drops made (B, A), their r_s, r_d and det (B, A) and the planted-tree counts (B,)."""
-        r_s, r_d, det = np.zeros(wants.shape), np.zeros(wants.shape), np.zeros(wants.shape)
-        drops = self._releases(state, wants)
-        world, agent = np.nonzero(drops)
-        if len(world):  # every wish may be refused by full stores
-            r_s[world, agent], r_d[world, agent], det[world, agent] = self._drop(
-                state, position[world, agent, :2], world)
-        return drops, r_s, r_d, det, state.new_count + np.bincount(world, minlength=len(state.new_count))
-
     def step(self, state: DroneState, actions, rng: np.random.Generator) -> tuple[DroneState, StepOutcome]:
         """actions: continuous (B, A, 3) throttle, steer, up/down; discrete (B, A, 1) drop seed."""
         p, shape = self.params, state.alive.shape
@@ -338,13 +262,13 @@ class DroneReforestationSimulator:
             drops, r_s, r_d, det, new_count = self._plant(state, drops, flight.position)
         else:
             r_s, r_d, det, new_count = np.zeros(shape), np.zeros(shape), np.zeros(shape), state.new_count
-        back, running_back = {}, np.zeros(shape)
+        back, paid_back = {}, np.zeros(shape)
         if dropping or np.count_nonzero(state.back_active):
             increment = (distance * (1.0 / p.running_back_step_m)).astype(np.int64)  # floor: distances are >= 0
-            running_back = self._running_back(state, increment, alive)
-            back = self._back(state, drops, distance, increment, outside, r_s, r_d, dropping)
+            paid_back = self._running_back(state, increment, alive)
+            back = running_back_fields(state, drops, distance, increment, outside, r_s, r_d, dropping)
 
-        docked = _alive_only(inside, alive)
+        docked = alive_only(inside, alive)
         docked_steps = np.where(docked, state.docked_steps + 1, 0)
         energy = self._energy(state, docked, alive)
         # back, and docked a whole charging cycle: the seed is taken then, the battery full whatever it held
@@ -368,7 +292,7 @@ class DroneReforestationSimulator:
             best_height=np.maximum(state.best_height, _zero_unless_alive(flight.z, alive)),
             best_distance=np.maximum(state.best_distance, _zero_unless_alive(np.minimum(reach, self.half), alive)),
             dropped=drops, seed_reward=r_s, distance_reward=r_d, drop_tree_distance=det, returned=returned,
-            found_tree=_alive_only(flight.tree_distance <= p.close_tree_radius_m, alive), running_back=running_back,
+            found_tree=alive_only(flight.tree_distance <= p.close_tree_radius_m, alive), running_back=paid_back,
             frames=self._frames(state.frames, flight, state.station, holding, energy), **back)
         events = {"returned_to_station": returned, "found_close_tree": new.found_tree, "planted_tree": drops}
         return new, StepOutcome(terminated=~new.alive, events=events)
@@ -379,7 +303,7 @@ class DroneReforestationSimulator:
         is within dot_min."""
         p = self.params
         here = fertility(det, p.min_tree_distance_m, p.max_tree_distance_m)
-        better = _alive_only(here > state.best_fertility, alive)
+        better = alive_only(here > state.best_fertility, alive)
         if not np.count_nonzero(better):
             return state.best_fertility
         best = np.where(better, here, state.best_fertility)
@@ -432,11 +356,6 @@ def spawn_ring_radius(p: DroneBasedReforestationParams, count: int) -> float:
     if count < 2:
         return p.spawn_radius_m
     return max(p.spawn_radius_m, p.spawn_gap_m / (2.0 * np.sin(np.pi / count)))
-
-
-def _alive_only(mask: np.ndarray, alive: np.ndarray | None) -> np.ndarray:
-    """``mask & alive`` (B, A); ``alive`` None stands for every drone alive, the common case, which needs no op."""
-    return mask if alive is None else mask & alive
 
 
 def _zero_unless_alive(values: np.ndarray, alive: np.ndarray | None) -> np.ndarray:

@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from ...sim.statistics import StatisticSet
-from .simulator import DISTANCE_REWARD_MULTIPLIER
+from .planting import DISTANCE_REWARD_MULTIPLIER
 
 STATISTICS = StatisticSet("drone_based_reforestation", "DroneBasedReforestation")
 

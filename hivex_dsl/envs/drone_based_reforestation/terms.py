@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 
 from ...sim.reward.terms import TermRegistry
-from .simulator import DISTANCE_REWARD_MULTIPLIER, RUNNING_BACK_REWARD, SEED_REWARD_MULTIPLIER
+from .planting import DISTANCE_REWARD_MULTIPLIER, RUNNING_BACK_REWARD, SEED_REWARD_MULTIPLIER
 
 TERMS = TermRegistry("drone_based_reforestation")
 
