@@ -1,4 +1,4 @@
-"""The storage of one PPO rollout and the row gathers of its update's shuffles.
+"""The storage of one PPO rollout, its rows flattened for the update, and the row gathers of the update's shuffles.
 
 Both avoid copies of the camera observations, which dominate the memory traffic of the visual environments'
 updates (tens of MB a rollout), without changing a number: see ``tests/train/test_exact_speedups.py``.
@@ -127,3 +127,38 @@ class RowBuffers:
             kept = self._tensors[key] = torch.empty((source.shape[0],) + source.shape[1:], dtype=source.dtype,
                                                     device=source.device)
         return torch.index_select(source, 0, index.to(source.device), out=kept[:index.numel()])
+
+
+def update_data(buf: Rollout, advantages: torch.Tensor, returns: torch.Tensor, with_next_obs: bool = False
+                ) -> tuple[dict[str, Any], np.ndarray]:
+    """The rollout flat (T * S rows) for the update, advantages normalised over the valid rows; -> (data, the
+    valid rows' indices). Masked rows stay in ``data`` (copying the valid ones out costs a camera copy)."""
+    valid = np.flatnonzero(buf.flat("valid").numpy() > 0)
+    data = {"obs": buf.flat_obs(), "cont": buf.flat("cont"), "disc": buf.flat("disc"), "old_logp": buf.flat("logp"),
+            "old_values": buf.flat("values"), "returns": merge_steps(returns), "adv": advantages.reshape(-1)}
+    if buf.mask is not None:
+        data["mask"] = buf.flat("mask")
+    if with_next_obs:
+        data["next_obs"] = buf.flat_next_obs()
+    if valid.size:
+        valid_adv = data["adv"][valid]
+        data["adv"] = (data["adv"] - valid_adv.mean()) / (valid_adv.std(unbiased=False) + 1e-8)
+    return data, valid
+
+
+def minibatches(data: dict[str, Any], valid: np.ndarray, batch_size: int, rng: np.random.Generator,
+                buffers: RowBuffers | None = None):
+    """One epoch over the ``valid`` rows of ``data`` in a fresh random order: minibatches of ``batch_size`` rows.
+
+    The rows are shuffled with one gather per epoch (cameras make it the costly copy), into ``buffers`` when
+    given (kept from one epoch to the next), and the minibatches are slices of it, views: a gather per minibatch
+    costs more small ops in the update's hot loop."""
+    order = torch.as_tensor(valid[rng.permutation(valid.size)])
+    shuffled = (buffers or RowBuffers()).take(data, order)
+    for start in range(0, valid.size, batch_size):
+        yield _slice_rows(shuffled, start, start + batch_size)
+
+
+def _slice_rows(data: dict[str, Any], start: int, stop: int) -> dict[str, Any]:
+    """Rows ``start:stop`` of ``data`` (tensors, and nested dicts of them), as views."""
+    return {k: _slice_rows(v, start, stop) if isinstance(v, dict) else v[start:stop] for k, v in data.items()}

@@ -26,6 +26,7 @@ from typing import Any, Sequence
 from ..compiler import CompiledScenario, compile
 from .config import PPOConfig, TrainError
 from .rundir import Inventory, RunDir, check_claimable, file_digest, writer_of
+from .stopping import StopRequests
 
 
 def point_dir(run_dir: Path, index: int, compiled: CompiledScenario) -> Path:
@@ -158,8 +159,6 @@ def _in_processes(work: list[tuple], modes: list[tuple[bool, bool]], jobs: int) 
     """Train the points ``jobs`` at a time, each in a fresh (spawned) process, in their order; -> the summaries
     of the points trained, in grid order. Ctrl-C or SIGTERM stops the points under way after their update (each
     keeps its checkpoint) and starts no other; a point that fails stops the grid the same way, then raises."""
-    from .ppo import StopRequests
-
     context = get_context("spawn")
     finished, stop_points = context.Queue(), context.Event()
     waiting, running, results = list(range(len(work))), {}, {}

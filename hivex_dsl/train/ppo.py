@@ -12,8 +12,6 @@ Hyperparameters and their ML-Agents meaning: ``config.py``.
 
 from __future__ import annotations
 
-import signal
-import threading
 import time
 from pathlib import Path
 from typing import Any, Callable
@@ -30,8 +28,9 @@ from .curiosity import Curiosity
 from .devices import autocast, machine, matmul_precision, torch_device
 from .logs import EpisodeLog, Progress, ScalarLog
 from .networks import VALUE_HEADS, ActorCritic, fixed_weights, to_tensors
-from .buffer import FinishedTrajectories, Rollout, RowBuffers, in_chunks, merge_steps
+from .buffer import FinishedTrajectories, Rollout, in_chunks, minibatches, update_data
 from .rundir import RunDir
+from .stopping import StopRequests
 
 
 def gae(rewards: torch.Tensor, values: torch.Tensor, next_value: torch.Tensor, terminated: torch.Tensor,
@@ -234,36 +233,6 @@ def update(agent: ActorCritic, optimizer: torch.optim.Optimizer, buf: Rollout, a
     return {k: float(torch.stack(v).mean()) for k, v in losses.items()} | ratio_stats(torch.cat(log_ratios), epsilon)
 
 
-def update_data(buf: Rollout, advantages: torch.Tensor, returns: torch.Tensor, with_next_obs: bool = False
-                ) -> tuple[dict[str, Any], np.ndarray]:
-    """The rollout flat (T * S rows) for the update, advantages normalised over the valid rows; -> (data, the
-    valid rows' indices). Masked rows stay in ``data`` (copying the valid ones out costs a camera copy)."""
-    valid = np.flatnonzero(buf.flat("valid").numpy() > 0)
-    data = {"obs": buf.flat_obs(), "cont": buf.flat("cont"), "disc": buf.flat("disc"), "old_logp": buf.flat("logp"),
-            "old_values": buf.flat("values"), "returns": merge_steps(returns), "adv": advantages.reshape(-1)}
-    if buf.mask is not None:
-        data["mask"] = buf.flat("mask")
-    if with_next_obs:
-        data["next_obs"] = buf.flat_next_obs()
-    if valid.size:
-        valid_adv = data["adv"][valid]
-        data["adv"] = (data["adv"] - valid_adv.mean()) / (valid_adv.std(unbiased=False) + 1e-8)
-    return data, valid
-
-
-def minibatches(data: dict[str, Any], valid: np.ndarray, batch_size: int, rng: np.random.Generator,
-                buffers: RowBuffers | None = None):
-    """One epoch over the ``valid`` rows of ``data`` in a fresh random order: minibatches of ``batch_size`` rows.
-
-    The rows are shuffled with one gather per epoch (cameras make it the costly copy), into ``buffers`` when
-    given (kept from one epoch to the next), and the minibatches are slices of it, views: a gather per minibatch
-    costs more small ops in the update's hot loop."""
-    order = torch.as_tensor(valid[rng.permutation(valid.size)])
-    shuffled = (buffers or RowBuffers()).take(data, order)
-    for start in range(0, valid.size, batch_size):
-        yield _slice_rows(shuffled, start, start + batch_size)
-
-
 def ppo_loss(agent: ActorCritic, mb: dict[str, Any], beta: float, epsilon: float, clip_value: bool = True
              ) -> tuple[torch.Tensor, tuple[torch.Tensor, ...]]:
     """ML-Agents' PPO loss of a minibatch: the clipped surrogate, 0.5 x the value loss (with ``clip_value`` its
@@ -325,47 +294,6 @@ def advantages_and_returns(buf: Rollout, next_value: torch.Tensor, cfg: PPOConfi
     advantages, returns = gae(rewards, buf.values, next_value, buf.terminated, buf.done, gammas, cfg.lambd)
     mean = float(intrinsic.sum() / buf.valid.sum().clamp(min=1))
     return advantages.sum(-1), returns, {"curiosity_reward": mean}
-
-
-class StopRequests:
-    """Within it, SIGINT (Ctrl-C) and SIGTERM set ``requested`` instead of killing the run, so training stops
-    after the update under way and still writes its checkpoint, curve and summary. A second Ctrl-C kills.
-    Only the main thread can take signals; elsewhere (a Ray task's thread) it requests nothing. ``also``, an
-    event (``threading.Event`` or ``multiprocessing.Event``), requests a stop when set: a grid's parent process
-    stops the points it runs in processes of their own through it."""
-
-    SIGNALS = (signal.SIGINT, signal.SIGTERM)
-
-    def __init__(self, also: Any = None) -> None:
-        self._asked = False
-        self._also = also
-        self._previous: dict[int, Any] = {}
-
-    @property
-    def requested(self) -> bool:
-        return self._asked or (self._also is not None and self._also.is_set())
-
-    @requested.setter
-    def requested(self, value: bool) -> None:
-        self._asked = value
-
-    def _request(self, signum: int, frame: Any) -> None:
-        self.requested = True
-        signal.signal(signal.SIGINT, self._previous.get(signal.SIGINT, signal.default_int_handler))
-
-    def __enter__(self) -> "StopRequests":
-        if threading.current_thread() is threading.main_thread():
-            self._previous = {sig: signal.signal(sig, self._request) for sig in self.SIGNALS}
-        return self
-
-    def __exit__(self, *exc: Any) -> None:
-        for sig, handler in self._previous.items():
-            signal.signal(sig, handler)
-
-
-def _slice_rows(data: dict[str, Any], start: int, stop: int) -> dict[str, Any]:
-    """Rows ``start:stop`` of ``data`` (tensors, and nested dicts of them), as views."""
-    return {k: _slice_rows(v, start, stop) if isinstance(v, dict) else v[start:stop] for k, v in data.items()}
 
 
 def train(compiled: CompiledScenario, cfg: PPOConfig, run_dir: Path, progress: bool = True,
