@@ -289,3 +289,16 @@ def test_the_training_log_counts_episode_lengths_in_decisions_where_a_summary_ha
     assert episode_summaries(infos)["length"].tolist() == [2, 4]  # the empty episode (0 decisions) left out
     del summary["decisions"]  # a summary of before decision periods: its steps were its decisions
     assert episode_summaries(infos)["length"].tolist() == [10, 20]
+
+
+def test_a_rollout_counts_each_agents_decisions_an_ending_inside_a_period_included():
+    """Random vessels (period 5) crash between decisions: a vessel-episode of n physics steps lasted ceil(n / 5)
+    decisions, which the rollout keeps beside the physics steps (`hivex evaluate`'s Episode Length reads them)."""
+    from hivex_dsl.evaluation.rollout import rollout
+
+    compiled = hivex_dsl.compile({"hivex": 1, "environment": "ocean_plastic_collection"})
+    played = rollout(compiled, "random", 4)
+    assert compiled.decision_period == 5
+    np.testing.assert_array_equal(played.decisions, -(-played.lengths // 5))
+    assert (played.lengths % 5 != 0).any()  # some ended inside a period
+    assert (played.decisions < compiled.episode_decisions).all()

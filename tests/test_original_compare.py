@@ -328,3 +328,17 @@ def test_a_window_between_synchronous_ends_widens_to_a_full_point():
     assert compare.ours_at(_synchronous_run(), compare.RETURN, 54_000, 9_000, 5e5).value == -100.0
     # a window that already holds a full point pools it alone
     assert compare.ours_at(_synchronous_run(), compare.RETURN, 110_000, 9_000, 1.8e6).value == 600.0
+
+
+def test_the_original_s_test_average_of_a_paper_cell(wfc_event_runs):
+    """The average sheet's value of a cell (what `hivex evaluate` sets beside our Episode Length): for WFC pattern 0
+    the mean of its three test runs' every summary point in the event files, to the printed decimal."""
+    for tag in ("Environment/Episode Length", "Environment/Cumulative Reward"):
+        points = [value for run in ("test_run_0", "test_run_1", "test_run_2") for _, value in wfc_event_runs[run][tag]]
+        average = compare.original_test_average("wind_farm_control", 0, 0, tag)
+        assert average == pytest.approx(np.mean(points), abs=0.05), tag
+    assert compare.original_test_average("wind_farm_control", 0, 0, "Environment/No Such Tag") is None
+    assert compare.original_test_average("ocean_plastic_collection", 0, None, "Environment/Episode Length") < 999
+    # the pages' "Task: 2" of DBR is not the paper's task 2 (issue 52 item 11), so no value is lent to it
+    assert compare.original_test_average("drone_based_reforestation", 2, 1, "Environment/Episode Length") is None
+    assert compare.original_test_average("drone_based_reforestation", 0, 1, "Environment/Episode Length") <= 399

@@ -45,12 +45,14 @@ class TermTrace:
 @dataclass
 class Rollout:
     """``episodes`` whole episodes of one policy: every array is (episodes, agents); ``lengths`` in physics steps,
-    traces per decision (see :meth:`hivex_dsl.runtime.BatchedEnv.step`)."""
+    ``decisions`` each agent's decisions in its episode (an agent ending inside a decision period ends on that
+    decision), traces per decision (see :meth:`hivex_dsl.runtime.BatchedEnv.step`)."""
 
     compiled: CompiledScenario
     policy: str  # the policy's name ('scripted', 'random', 'zeros', or a callable's __name__)
     returns: np.ndarray
     lengths: np.ndarray
+    decisions: np.ndarray
     terms: dict[str, np.ndarray]  # unweighted per-term episode sums of the active terms
     statistics: dict[str, np.ndarray]  # logged statistics' per agent-episode values (see hivex_dsl.sim.statistics)
     traces: dict[str, TermTrace] = field(default_factory=dict)  # per active term, when traced
@@ -87,7 +89,7 @@ def rollout(compiled: CompiledScenario, policy: str | Policy, episodes: int, spl
     else:
         act = make_policy(policy, compiled, space, core.shape, seed=0 if seed is None else seed)
     shape = (episodes, core.agents)
-    returns, lengths = np.zeros(shape), np.zeros(shape, np.int64)
+    returns, lengths, decisions = np.zeros(shape), np.zeros(shape, np.int64), np.zeros(shape, np.int64)
     terms = {name: np.zeros(shape) for name in core.composer.active}
     statistics = {name: np.zeros(shape) for name in core.statistics.names}
     running = {name: (np.zeros(shape), np.zeros(shape, np.int64)) for name in core.running.terms}
@@ -106,7 +108,7 @@ def rollout(compiled: CompiledScenario, policy: str | Policy, episodes: int, spl
             step += 1
             if progress:
                 progress.step(episode, step, compiled.episode_decisions)
-        returns[episode], lengths[episode] = core.returns[0], core.lengths[0]
+        returns[episode], lengths[episode], decisions[episode] = core.returns[0], core.lengths[0], core.decisions[0]
         for name in terms:
             terms[name][episode] = core.term_sums[name][0]
         for name, sums in core.statistic_sums().items():
@@ -115,7 +117,7 @@ def rollout(compiled: CompiledScenario, policy: str | Policy, episodes: int, spl
             sums[episode], counts[episode] = core.running.sums[name][0], core.running.counts[name][0]
         if progress:
             progress.episode_done(episode, float(returns[episode].mean()), step)
-    return Rollout(compiled, policy, returns, lengths, terms, statistics, traces, running)
+    return Rollout(compiled, policy, returns, lengths, decisions, terms, statistics, traces, running)
 
 
 __all__ = ["Rollout", "TermTrace", "rollout"]

@@ -1,5 +1,6 @@
 """`hivex evaluate`: the paper's test protocol (the trained policy, frozen, on the test seeds), reported as
-the mean and spread of the per-agent return and of every published statistic, beside the published cell."""
+the mean and spread of the per-agent return, Episode Length and every published statistic, beside the published cell
+(and the original's test Episode Length, which the paper did not publish, from its plot pages)."""
 
 from __future__ import annotations
 
@@ -14,6 +15,8 @@ from ..adapters.gymnasium import flatten_slots, unflatten_slots
 from ..compiler import CompiledScenario
 from ..evaluation import published
 from ..evaluation.audit import compared
+from ..evaluation.original.compare import as_logged_there, original_test_average
+from ..evaluation.original.evidence import EPISODE_LENGTH
 from ..evaluation.progress import EpisodeBar, bar
 from ..evaluation.rollout import rollout
 from .checkpoint import load_checkpoint, policy_for
@@ -25,12 +28,20 @@ def _spread(values: np.ndarray) -> dict[str, float]:
 
 
 def _published(compiled: CompiledScenario) -> dict[str, Any] | None:
-
     cell = published.cell_for(compiled)
     if cell is None:
         return None
     return {"return": {"mean": cell.return_mean, "std": cell.return_std},
             "statistics": {name: {"mean": mean, "std": std} for name, (mean, std) in cell.statistics.items()}}
+
+
+def _original_episode_length(compiled: CompiledScenario) -> float | None:
+    """The original's Episode Length over the test runs of the published cell the scenario reproduces (its average
+    sheet's value: the mean of the test curve); None where the scenario is no published cell or the sheet has none."""
+    cell = published.cell_for(compiled)
+    if cell is None:
+        return None
+    return original_test_average(cell.environment, cell.task_index, cell.level, f"Environment/{EPISODE_LENGTH}")
 
 
 def network_policy(agent: torch.nn.Module, agents: int, deterministic: bool = False) -> Callable[[Any], Any]:
@@ -64,6 +75,8 @@ def play(compiled: CompiledScenario, agent: torch.nn.Module, episodes: int, spli
          ) -> dict[str, Any]:
     """The policy's first ``episodes`` episodes of ``split``, one after another in one world: the same episodes
     the random and scripted levels play (:func:`hivex_dsl.evaluation.rollout.rollout`), every one whole, however long.
+    Each agent-episode's Episode Length is its decisions less one, as ML-Agents logs it
+    (:func:`~hivex_dsl.evaluation.original.compare.as_logged_there`).
 
     (Counting the first episodes to end across parallel worlds would favour short ones: in WRM, where an
     episode ends when its fire goes out, that halved the measured return.) -> flat per-agent arrays.
@@ -78,7 +91,9 @@ def play(compiled: CompiledScenario, agent: torch.nn.Module, episodes: int, spli
                                                               unit="decision", enabled=progress) as shown:
         done = rollout(compiled, network_policy(agent, compiled.agents, deterministic), episodes, split,
                        progress=EpisodeBar(shown, decisions))
-    return {"return": done.returns.reshape(-1), "reward_terms": {k: v.reshape(-1) for k, v in done.terms.items()},
+    return {"return": done.returns.reshape(-1),
+            "episode_length": as_logged_there(EPISODE_LENGTH, done.decisions.reshape(-1).astype(float)),
+            "reward_terms": {k: v.reshape(-1) for k, v in done.terms.items()},
             "weighted_reward_terms": {k: done.weighted(k).reshape(-1) for k in done.terms},
             "statistics": {k: v.reshape(-1) for k, v in done.statistics.items()}, "pooled": done.pooled()}
 
@@ -112,19 +127,21 @@ def evaluate(checkpoint: str | Path, scenario: CompiledScenario | None = None, s
             "trained_wall_s": loaded.get("wall_s"),
             "split": split, "seed": getattr(compiled.seeds, split), "episodes": episodes,
             "agent_episodes": int(played["return"].size), "actions": "mode" if deterministic else "sampled",
-            "return": _spread(played["return"]),
+            "return": _spread(played["return"]), "episode_length": _spread(played["episode_length"]),
             "statistics": {k: _spread(v) | ({"pooled": played["pooled"][k]} if k in played["pooled"] else {})
                            for k, v in played["statistics"].items()},
             "reward_terms": {k: _spread(v) for k, v in played["reward_terms"].items()},
             "weighted_reward_terms": {k: _spread(v) for k, v in played["weighted_reward_terms"].items()},
             "weights": {k: compiled.weights[k] for k in played["reward_terms"]},
-            "published": _published(compiled), "caveat": published.caveat(compiled)}
+            "published": _published(compiled), "original_episode_length": _original_episode_length(compiled),
+            "caveat": published.caveat(compiled)}
 
 
 def format_report(report: dict[str, Any]) -> str:
     """A table: ours (mean, std) beside the published (mean, std) of the return and every statistic (a running
-    mean's mean in its pooled form, :func:`hivex_dsl.evaluation.audit.compared`), then each reward term's weighted
-    episode sum (its weight times its sum, as `hivex audit` shows it; they add up to the return)."""
+    mean's mean in its pooled form, :func:`hivex_dsl.evaluation.audit.compared`) and beside the original's test
+    average of Episode Length, then each reward term's weighted episode sum (its weight times its sum, as `hivex
+    audit` shows it; they add up to the return)."""
     cell = report["published"] or {"return": None, "statistics": {}}
     lines = [f"{report['scenario']}  {report['split']} seed {report['seed']}, {report['episodes']} episodes "
              f"({report['agent_episodes']} agent episodes), {report['actions']} actions, "
@@ -132,15 +149,24 @@ def format_report(report: dict[str, Any]) -> str:
              f"{'':36} {'mean':>12} {'std':>10}   {'published':>12} {'std':>10}"]
 
     def row(name: str, ours: dict[str, float], paper: dict[str, float] | None) -> str:
-        theirs = f"{paper['mean']:12.3f} {paper['std']:10.3f}" if paper else f"{'-':>12} {'-':>10}"
+        if paper is None:
+            theirs = f"{'-':>12} {'-':>10}"
+        else:  # the original's test Episode Length is an average without a spread
+            theirs = f"{paper['mean']:12.3f} " + (f"{paper['std']:10.3f}" if "std" in paper else f"{'-':>10}")
         return f"{name[:36]:36} {compared(ours):12.3f} {ours['std']:10.3f}   {theirs}"
 
     lines.append(row("return", report["return"], cell["return"]))
+    original_length = report["original_episode_length"]
+    lines.append(row(EPISODE_LENGTH, report["episode_length"],
+                     None if original_length is None else {"mean": original_length}))
     for name, ours in report["statistics"].items():
         paper = next((v for k, v in cell["statistics"].items() if k.split("/", 1)[-1] == name), None)
         lines.append(row(name, ours, paper))
     for name, ours in report["weighted_reward_terms"].items():  # as `hivex audit` shows them: weight x episode sum
         lines.append(row(f"term {name} x{report['weights'][name]:g} (weighted)", ours, None))
+    if original_length is not None:
+        lines.append(f"({EPISODE_LENGTH}: decisions less one, as ML-Agents logs it; beside it the original's test "
+                     "average from its plot pages, which the paper did not publish)")
     if report["published"] is None:
         lines.append(f"(no published result: {report['caveat']})" if report.get("caveat") else
                      "(the paper published no result for this task and level)")

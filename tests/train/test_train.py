@@ -11,9 +11,10 @@ import torch
 
 from hivex_dsl.cli import main
 from hivex_dsl.compiler import compile
+from hivex_dsl.evaluation.original import compare
 from hivex_dsl.train.checkpoint import load_checkpoint, seal
 from hivex_dsl.train.config import make_config
-from hivex_dsl.train.evaluate import evaluate
+from hivex_dsl.train.evaluate import _original_episode_length, evaluate, format_report
 from hivex_dsl.train.ppo import train
 
 from .conftest import ENVIRONMENTS, short_scenario
@@ -71,11 +72,28 @@ def test_the_commands_train_and_evaluate(tmp_path, capsys):
     report = json.loads(capsys.readouterr().out)
     # a 16-step episode (turning fast, see short_scenario) is not the paper's setting, so its cell (WFC pattern 0,
     # task 0: 4611.6) is not set beside it
-    assert report["published"] is None
+    assert report["published"] is None and report["original_episode_length"] is None
+    assert report["episode_length"] == {"mean": 15.0, "std": 0.0}  # 16 decisions, logged less one as ML-Agents does
     assert report["caveat"] == ("the paper's result for this task and level (return 4612) is not this scenario's: it "
                                 "differs from the paper's setting in episode_length, params")
     assert main(["evaluate", str(run / "checkpoint.pt"), "--episodes", "1"]) == 0
     assert f"(no published result: {report['caveat']})" in capsys.readouterr().out
+
+
+def test_the_report_sets_episode_length_beside_the_original_s_test_average():
+    """Only a scenario that is the paper's cell borrows the original's test Episode Length (its plot pages' average
+    sheet; the paper published none), and the table shows it without a spread, with a line saying what it is."""
+    paper = compile("scenarios/ocean_plastic_collection/main.yaml")
+    average = compare.original_test_average("ocean_plastic_collection", 0, None, "Environment/Episode Length")
+    assert _original_episode_length(paper) == average and 133 < average < 184  # the test points' lengths
+    assert _original_episode_length(compile(short_scenario("ocean_plastic_collection"))) is None
+    report = {"scenario": "opc-main", "split": "test", "seed": 6000, "episodes": 1, "agent_episodes": 3,
+              "actions": "sampled", "trained_agent_steps": 10, "return": {"mean": 5.0, "std": 1.0},
+              "episode_length": {"mean": 40.0, "std": 2.0}, "original_episode_length": average, "statistics": {},
+              "weighted_reward_terms": {}, "weights": {}, "published": None, "caveat": None}
+    lines = format_report(report).splitlines()
+    assert lines[3].split() == ["Episode", "Length", "40.000", "2.000", f"{average:.3f}", "-"]
+    assert "the original's test average from its plot pages, which the paper did not publish" in lines[4]
 
 
 def test_bad_training_input_is_a_clear_error(tmp_path, capsys):

@@ -336,6 +336,18 @@ def original_cell(environment: str, task_index: int, level: int | None, page_tas
     return cell
 
 
+def original_test_average(environment: str, task_index: int, level: int | None, tag: str) -> float | None:
+    """The original's ``tag`` (``"Environment/Episode Length"``) averaged over the test curve of the paper's cell
+    (``task_index`` as the paper indexes it), as its average sheet prints it; None where the sheet has no value or
+    the pages index that task otherwise (Drone-Based Reforestation's beyond :data:`SETTLED_DBR_TASKS`)."""
+    from .curves import average_sheet
+
+    if environment == "drone_based_reforestation" and task_index not in SETTLED_DBR_TASKS:
+        return None
+    found = average_sheet(environment).get(tag, {}).get((task_index, level))
+    return None if found is None else found.value
+
+
 def number(value: float) -> str:
     """A value as the tables show it: two decimals below 100, whole numbers with thousands separators above."""
     return f"{value:,.2f}" if abs(value) < 100 else f"{value:,.0f}"
@@ -375,7 +387,6 @@ def table(rows: Sequence[Row]) -> str:
 
 
 __all__ = ["CompareError", "FRACTIONS", "Ours", "Row", "RunCurve", "SeedsRow", "from_points", "from_record",
-           "is_stale", "record_panels", "mean_of_seeds", "measure", "measure_seeds", "original_cell", "ours_at",
-           "paper_task_index", "number", "seed_curves", "seeds_table", "shared_panels", "summary_interval", "table",
-           "verdict"]
-
+           "is_stale", "record_panels", "mean_of_seeds", "measure", "measure_seeds", "original_cell",
+           "original_test_average", "ours_at", "paper_task_index", "number", "seed_curves", "seeds_table",
+           "shared_panels", "summary_interval", "table", "verdict"]
