@@ -71,11 +71,22 @@ def _row(env_id: str, data: dict[str, Any] | None) -> dict[str, Any]:
         "image": f"images/baselines/{env_id}.png", "note": data.get("note", ""), "reached": _reached(data),
         "commands": [data["command"]] if data.get("command") else row["commands"],
         "seeds": _seeds(data),
-        "statistics": [{"name": name, "ours": statistic_cell(value),
-                        "published": _spread(_published_statistic(data["published"], name))}
-                       for name, value in data["test"]["statistics"].items()],
+        "statistics": _episode_length_rows(data["test"]) + [
+            {"name": name, "ours": statistic_cell(value),
+             "published": _spread(_published_statistic(data["published"], name))}
+            for name, value in data["test"]["statistics"].items()],
     }
     return row
+
+
+def _episode_length_rows(test: dict[str, Any]) -> list[dict[str, str]]:
+    """The test Episode Length (decisions less one, as ML-Agents logs it) beside the original's test average, which
+    the paper did not publish; none for a record made before `hivex evaluate` reported it."""
+    if "episode_length" not in test:
+        return []
+    original = test.get("original_episode_length")
+    theirs = "-" if original is None else f"{_number(original)} (the original's test average, unpublished)"
+    return [{"name": "Episode Length", "ours": _spread(test["episode_length"]), "published": theirs}]
 
 
 def pooled_return(data: dict[str, Any]) -> dict[str, float]:

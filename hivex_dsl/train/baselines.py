@@ -97,7 +97,8 @@ def record_baseline(run_dir: Path, scenario: str, out_dir: Path, episodes: int =
         "agent_steps": summary["agent_steps"], "wall_s": summary["wall_s"], "seed": summary["seed"],
         "resumed_at": summary.get("resumed_at", []), "machine": "; ".join(trained_on(summary)),
         "hyperparameters": read_json(run_dir / "config.json", "config")["hyperparameters"],
-        "test": {k: report[k] for k in ("seed", "episodes", "agent_episodes", "actions", "return", "statistics")},
+        "test": {k: report[k] for k in ("seed", "episodes", "agent_episodes", "actions", "return", "episode_length",
+                                        "original_episode_length", "statistics")},
         "published": report["published"],
         **{policy: level_of(compiled, policy, episodes) for policy in LEVEL_POLICIES},
         **curve_fields(run_dir),
@@ -182,7 +183,8 @@ def add_seed(record: Path, run_dir: Path) -> dict[str, Any]:
     report = evaluate(run_dir / "checkpoint.pt", split="test", episodes=data["test"]["episodes"])
     entry = {"seed": summary["seed"], "agent_steps": summary["agent_steps"], "wall_s": summary["wall_s"],
              "resumed_at": summary.get("resumed_at", []), "threads": hyperparameters["torch_threads"],
-             "return": report["return"], "statistics": report["statistics"], **curve_fields(run_dir)}
+             "return": report["return"], "episode_length": report["episode_length"],
+             "statistics": report["statistics"], **curve_fields(run_dir)}
     others = [e for e in data.get("other_seeds", []) if e["seed"] != entry["seed"]]
     data["other_seeds"] = sorted([*others, entry], key=lambda e: e["seed"])
     record.write_text(dumps(data, record, 1))

@@ -83,6 +83,21 @@ def test_the_record_keeps_episode_length_and_every_statistic_beside_the_return(r
     assert data["curve_panels"]["Extrinsic Value Estimate"] == [round(p["extrinsic_value_estimate"], 4) for p in curve]
 
 
+def test_the_test_episode_length_sits_beside_the_original_s_test_average(recorded):
+    """12-step episodes that never end early log 11 decisions (ML-Agents counts one less); beside them the
+    original's WFC pattern 0 test runs, whose every point in the event files logs 4,999."""
+    out, data = recorded
+    assert data["test"]["episode_length"] == {"mean": 11.0, "std": 0.0}
+    assert data["test"]["original_episode_length"] == 4999.0
+    (row,) = baselines_context(out)["trained"]
+    assert row["statistics"][0] == {"name": "Episode Length", "ours": "11.00 ± 0.00",
+                                    "published": "4,999.00 (the original's test average, unpublished)"}
+    older = dict(data, test={k: v for k, v in data["test"].items() if "episode_length" not in k})
+    from hivex_dsl.docsgen.baselines import _row
+
+    assert [s["name"] for s in _row("wind_farm_control", older)["statistics"]] == list(data["test"]["statistics"])
+
+
 def test_every_kept_checkpoint_is_scored_on_the_test_seeds(recorded):
     _, data = recorded
     # checkpoints at 64, 128 and 192 agent-steps; the newest two are kept
@@ -297,6 +312,7 @@ def test_another_seed_is_evaluated_on_the_record_s_test_episodes(seeds):
     assert entry["curve_panels"]["Episode Length"] == [round(p["length"], 4) for p in curve]
     alone = evaluate(runs["seed1"] / "checkpoint.pt", split="test", episodes=data["test"]["episodes"])
     assert entry["return"] == alone["return"]  # the same episodes as the record's own evaluation
+    assert entry["episode_length"] == alone["episode_length"]
     assert json.loads(record.read_text()) == data
     assert add_seed(record, runs["seed1"])["other_seeds"] == [entry]  # adding it again replaces it
 
