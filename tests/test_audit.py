@@ -252,7 +252,8 @@ def _ending_term_audit(lengths_by_policy, before_end=0):
     for policy, length in zip(AUDIT_POLICIES, lengths_by_policy):
         trace = TermTrace(low=0.0, high=1.0, nonzero=6, live=6 * length, before_end=before_end)
         rollouts[policy] = Rollout(compiled, policy, returns=np.ones((2, 3)), lengths=np.full((2, 3), length),
-                                   decisions=np.full((2, 3), length), terms={"pick": np.ones((2, 3))}, statistics={}, traces={"pick": trace})
+                                   decisions=np.full((2, 3), length), terms={"pick": np.ones((2, 3))},
+                                   statistics={}, traces={"pick": trace})
     return find_flags(ScenarioAudit(compiled, rollouts, None))
 
 

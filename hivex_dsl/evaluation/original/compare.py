@@ -321,11 +321,17 @@ def paper_task_index(environment: str, task_index: int) -> int:
 SETTLED_DBR_TASKS = (0, 1)
 
 
+def pages_index_otherwise(environment: str, task_index: int) -> bool:
+    """Whether the original's pages index the paper's task ``task_index`` otherwise (Drone-Based Reforestation's
+    tasks beyond :data:`SETTLED_DBR_TASKS`), so its page and sheet values cannot be looked up by that index."""
+    return environment == "drone_based_reforestation" and task_index not in SETTLED_DBR_TASKS
+
+
 def original_cell(environment: str, task_index: int, level: int | None, page_task: int | None = None) -> OriginalCell:
     """The original's page of the paper's cell (``page_task``: the page's own task index, where it differs)."""
     from .curves import original_curves
 
-    if page_task is None and environment == "drone_based_reforestation" and task_index not in SETTLED_DBR_TASKS:
+    if page_task is None and pages_index_otherwise(environment, task_index):
         raise CompareError(f"the original's pages index Drone-Based Reforestation's tasks as the configs that ran "
                            f"list them, which differ from the paper's index {task_index} (issue 52 item 11): give "
                            "the page's task index")
@@ -339,10 +345,10 @@ def original_cell(environment: str, task_index: int, level: int | None, page_tas
 def original_test_average(environment: str, task_index: int, level: int | None, tag: str) -> float | None:
     """The original's ``tag`` (``"Environment/Episode Length"``) averaged over the test curve of the paper's cell
     (``task_index`` as the paper indexes it), as its average sheet prints it; None where the sheet has no value or
-    the pages index that task otherwise (Drone-Based Reforestation's beyond :data:`SETTLED_DBR_TASKS`)."""
+    the pages index that task otherwise (:func:`pages_index_otherwise`)."""
     from .curves import average_sheet
 
-    if environment == "drone_based_reforestation" and task_index not in SETTLED_DBR_TASKS:
+    if pages_index_otherwise(environment, task_index):
         return None
     found = average_sheet(environment).get(tag, {}).get((task_index, level))
     return None if found is None else found.value
@@ -388,5 +394,5 @@ def table(rows: Sequence[Row]) -> str:
 
 __all__ = ["CompareError", "FRACTIONS", "Ours", "Row", "RunCurve", "SeedsRow", "from_points", "from_record",
            "is_stale", "record_panels", "mean_of_seeds", "measure", "measure_seeds", "original_cell",
-           "original_test_average", "ours_at", "paper_task_index", "number", "seed_curves", "seeds_table",
-           "shared_panels", "summary_interval", "table", "verdict"]
+           "original_test_average", "ours_at", "pages_index_otherwise", "paper_task_index", "number", "seed_curves",
+           "seeds_table", "shared_panels", "summary_interval", "table", "verdict"]
