@@ -1,7 +1,8 @@
 """Ocean Plastic Collection: how long trained vessels live against the collision distance (issue 52).
 
 The original's trained vessel-episodes end after about 150 decisions (its Episode Length at 50-100% of the budget);
-this toolkit's record, trained at a collision distance of 5 m, learned to live 193-246. This records the training
+this toolkit's record until session 69 (benchmarks/results/opc_record_5m.json), trained at a collision distance of
+5 m, learned to live 193-246. This records the training
 curves of runs of the main scenario at other collision distances, as `hivex train` wrote them, beside the commands
 that trained them, for tests/fidelity/test_opc_collision.py and the reward table's ending note:
 
