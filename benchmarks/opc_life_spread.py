@@ -1,0 +1,125 @@
+"""Ocean Plastic Collection: how widely trained vessel lives spread, the original's and ours (issue 52).
+
+The original's trained vessel-episodes last about 160 decisions on average; what ends them is not recorded. A
+timer-like ending (a fuel, a shift) would give lives near their mean; crashes at a steady rate would spread them as
+an exponential does, their standard deviation about their mean (coefficient of variation 1). Neither record keeps
+single lives, but both keep summary points, each the mean life of the world-episodes that ended in it, and how much
+those points scatter tells how widely the lives behind them spread:
+
+- the original's band at a summary point spans its three runs' least and greatest value (a 95% bootstrap band of
+  three runs), and the range of three draws of a normal is 1.693 of its standard deviation on average; a point of
+  mean m pools n = 5,000 / m world-episodes (15,000 agent-steps of one world of three vessels, whose episodes end
+  together), so the lives' deviation is mean range / 1.693 x sqrt(n);
+- the original's mean line: successive points of the three runs' mean differ by the lives' deviation times
+  sqrt((1 / n_i + 1 / n_j) / 3), offsets between the runs cancelling;
+- ours: each seed's successive points differ by the lives' deviation times sqrt(1 / n_i + 1 / n_j) (n the
+  world-episodes a point pools, a third of its agent-episodes).
+
+Differences between runs widen the original's ranges and a trend widens successive differences, so each reads an
+upper bound. Also, with the runs' TensorBoard files, each seed's policy entropy beside the original's Entropy panel:
+
+    python benchmarks/opc_life_spread.py [--runs RUN_DIR ...]
+
+reads the original's digitised curves and the committed record (benchmarks/baselines/ocean_plastic_collection.json).
+"""
+
+from __future__ import annotations
+
+import argparse
+import glob
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+
+ENV = "ocean_plastic_collection"
+RECORD = Path(__file__).resolve().parent / "baselines" / f"{ENV}.json"
+FROM = 0.3  # of the budget: past the first learning, where lives have settled
+BUDGET = 3_000_000
+RANGE_OF_THREE = 1.693  # mean range of three draws of a standard normal
+WORLD_DECISIONS = 5_000  # a summary point of 15,000 agent-steps: 5,000 decisions of each of one world's 3 vessels
+FRACTIONS = (0.1, 0.25, 0.5, 0.75, 1.0)
+
+
+def spread_of_ranges(means: np.ndarray, ranges: np.ndarray, world_decisions: float = WORLD_DECISIONS) -> dict:
+    """Three runs' summary points: ``means`` (k,) and ``ranges`` (k,), the greatest less the least of the three at
+    each -> the lives' mean and coefficient of variation (upper bound), as the module says."""
+    worlds = world_decisions / means
+    deviation = np.mean(ranges / RANGE_OF_THREE * np.sqrt(worlds))
+    return {"mean": float(means.mean()), "cv": float(deviation / means.mean())}
+
+
+def spread_of_successive(lengths: np.ndarray, worlds: np.ndarray) -> dict:
+    """One run's summary points: mean lives ``lengths`` (k,) over ``worlds`` (k,) world-episodes each -> the lives'
+    mean and coefficient of variation (upper bound), from how successive points differ."""
+    scale = 1.0 / worlds[1:] + 1.0 / worlds[:-1]
+    deviation = np.sqrt(np.mean(np.diff(lengths) ** 2 / scale))
+    return {"mean": float(lengths.mean()), "cv": float(deviation / lengths.mean())}
+
+
+def original_spreads(start: float = FROM) -> dict[str, dict]:
+    """The original's main-task Episode Length from ``start`` of the budget on, read twice: from its band's ranges
+    (``ranges``) and from its mean line's successive points (``mean_line``: the three runs' mean pools three times
+    the world-episodes, and offsets between the runs cancel in its differences)."""
+    from hivex_dsl.evaluation.original import compare
+
+    training = compare.original_cell(ENV, 0, None).panel("Episode Length").training
+    steps = training.band_steps[training.band_steps >= start * BUDGET]
+    means = training.mean_at(steps)
+    late = training.band_steps >= start * BUDGET
+    return {"ranges": spread_of_ranges(means, training.upper[late] - training.lower[late]),
+            "mean_line": spread_of_successive(means, 3.0 * WORLD_DECISIONS / means)}
+
+
+def record_spreads(record: dict, start: float = FROM) -> dict[int, dict]:
+    """Each training seed of a baseline record (its own and its ``other_seeds``) -> its lives' spread."""
+    spreads = {}
+    for run in [record, *record.get("other_seeds", [])]:
+        steps = np.array([row[0] for row in run["curve"]], dtype=float)
+        lengths = np.array(run["curve_panels"]["Episode Length"], dtype=float)
+        worlds = np.array(run["curve_episodes"], dtype=float) / 3.0
+        late = (steps >= start * BUDGET) & np.isfinite(lengths) & (worlds > 0)
+        spreads[run["seed"]] = spread_of_successive(lengths[late], worlds[late])
+    return spreads
+
+
+def entropy_at(run_dir: Path, fractions=FRACTIONS, window: float = 30_000) -> list[float | None]:
+    """A run's mean logged policy entropy (losses/entropy) within ``window`` agent-steps of each fraction."""
+    from tensorboard.backend.event_processing.event_accumulator import EventAccumulator
+
+    points = []
+    for name in sorted(glob.glob(str(Path(run_dir) / "tb" / "events.out.tfevents.*"))):
+        events = EventAccumulator(name, size_guidance={"scalars": 0})
+        events.Reload()
+        if "losses/entropy" in events.Tags()["scalars"]:
+            points += [(s.step, s.value) for s in events.Scalars("losses/entropy")]
+    steps, values = (np.array(c, dtype=float) for c in zip(*points)) if points else (np.empty(0), np.empty(0))
+    near = [np.abs(steps - f * BUDGET) < window for f in fractions]
+    return [float(values[n].mean()) if n.any() else None for n in near]
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--runs", nargs="*", type=Path, default=[], help="run folders for the entropy (their tb/)")
+    args = parser.parse_args(argv)
+    original = original_spreads()
+    print(f"the original, from {FROM:.0%} of the budget: mean life {original['ranges']['mean']:.0f} decisions, "
+          f"coefficient of variation at most {original['ranges']['cv']:.2f} (its band's ranges) and "
+          f"{original['mean_line']['cv']:.2f} (its mean line's successive points)")
+    for seed, spread in record_spreads(json.loads(RECORD.read_text())).items():
+        print(f"the record, seed {seed}: mean life {spread['mean']:.0f}, coefficient of variation at most "
+              f"{spread['cv']:.2f}")
+    if args.runs:
+        from hivex_dsl.evaluation.original import compare
+
+        entropy = compare.original_cell(ENV, 0, None).panel("Entropy").training
+        print("entropy at " + ", ".join(f"{f:.0%}" for f in FRACTIONS) + ": the original "
+              + ", ".join(f"{entropy.mean_at(f * BUDGET):.2f}" for f in FRACTIONS))
+        for run in args.runs:
+            print(f"  {run}: " + ", ".join("-" if v is None else f"{v:.2f}" for v in entropy_at(run)))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
