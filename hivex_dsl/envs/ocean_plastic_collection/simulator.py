@@ -42,12 +42,13 @@ class Motion(NamedTuple):
     thrust: np.ndarray  # (2,) speed added (metres per step) per throttle action
     keep: float  # fraction of its speed a vessel keeps each step
     cap: float | None = None  # the speed no vessel exceeds (params.max_speed_m), None without a cap
+    noise: float = 0.0  # standard deviation (radians) of the sea's random turn each step (params.heading_noise_deg)
 
     @classmethod
     def of(cls, params: OceanPlasticCollectionParams) -> "Motion":
         return cls(turn=np.radians(params.turn_rate_deg) * STEER_SIGN,
                    thrust=params.acceleration * np.array([0.0, 1.0]), keep=1.0 - params.drag,
-                   cap=params.max_speed_m)
+                   cap=params.max_speed_m, noise=np.radians(params.heading_noise_deg))
 
 
 @lru_cache(maxsize=16)
@@ -82,6 +83,11 @@ def move(position: np.ndarray, heading: np.ndarray, speed: np.ndarray, actions: 
         speed = np.where(active, speed, 0.0)
     facing = np.exp(1j * heading)
     return position + as_pairs(speed * facing), heading, speed, facing
+
+
+def drift_heading(heading: np.ndarray, active: np.ndarray, noise: float, rng: np.random.Generator) -> np.ndarray:
+    """(B, A) headings each active vessel's turned by a normal draw of standard deviation ``noise`` (radians)."""
+    return wrap_angle(heading + np.where(active, rng.normal(0.0, noise, heading.shape), 0.0))
 
 
 class OceanPlasticSimulator:
@@ -152,7 +158,10 @@ class OceanPlasticSimulator:
         position, heading, speed = state.position, state.heading, state.speed
         if p.crash_outcome == "respawn" and np.count_nonzero(state.crashed):
             position, heading, speed = self._respawn(position, heading, speed, state.crashed, rng)
-        active, before = state.active, heading
+        active = state.active
+        if self.motion.noise > 0:
+            heading = drift_heading(heading, active, self.motion.noise, rng)
+        before = heading  # a vessel the sea turned at rest sweeps nothing
         position, heading, speed, facing = move(position, heading, speed, np.asarray(actions), active, self.motion)
         border = crossed_border(position, active, self.half_extent)
         distances = neighbour_distances(position, active)
