@@ -2,9 +2,9 @@
 
 The original's trained vessel-episodes end after about 150 decisions (its Episode Length at 50-100% of the budget);
 this toolkit's record until session 69 (benchmarks/results/opc_record_5m.json), trained at a collision distance of
-5 m, learned to live 193-246. This records the training
-curves of runs of the main scenario at other collision distances, as `hivex train` wrote them, beside the commands
-that trained them, for tests/fidelity/test_opc_collision.py and the reward table's ending note:
+5 m, learned to live 193-246. This records the training curves of runs of the main scenario at other collision
+distances, as `hivex train` wrote them, beside the commands that trained them, for
+tests/fidelity/test_opc_collision.py and the reward table's ending note:
 
     hivex train SCENARIO -o runs/opc-coll10-s0 --seed 0 --set torch_threads=1 --set num_worlds=8 \
         --set buffer_fill=rollout   (SCENARIO: the main scenario with params: {collision_distance_m: 10.0}; the

@@ -65,9 +65,8 @@ def original_spreads(start: float = FROM) -> dict[str, dict]:
     from hivex_dsl.evaluation.original import compare
 
     training = compare.original_cell(ENV, 0, None).panel("Episode Length").training
-    steps = training.band_steps[training.band_steps >= start * BUDGET]
-    means = training.mean_at(steps)
     late = training.band_steps >= start * BUDGET
+    means = training.mean_at(training.band_steps[late])
     return {"ranges": spread_of_ranges(means, training.upper[late] - training.lower[late]),
             "mean_line": spread_of_successive(means, 3.0 * WORLD_DECISIONS / means)}
 
