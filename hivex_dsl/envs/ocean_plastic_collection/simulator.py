@@ -118,6 +118,7 @@ class OceanPlasticSimulator:
         self.motion = Motion.of(params)
         self.period = compiled.decision_period
         self.cap = params.collect_per_decision  # 0: no cap
+        self.sight = np.inf if params.neighbour_sight_m is None else params.neighbour_sight_m
 
     # -- reset ------------------------------------------------------------------------------------
 
@@ -234,15 +235,16 @@ class OceanPlasticSimulator:
     def _vector(self, position: np.ndarray, facing: np.ndarray, distances: np.ndarray, closest: np.ndarray,
                 previous: np.ndarray) -> np.ndarray:
         """(B, A, 12) float32: this step's frame (position / H, (cos, sin) heading, closest active
-        vessel's position / H or (0, 0) without one), then the previous physics step's frame (at a decision
-        period above 1 the runtime puts the previous decision's there: :mod:`hivex_dsl.sim.stacking`). ``distances``
-        (B, A, A) from :func:`neighbour_distances`, ``closest`` (B, A) their minimum over the last axis."""
+        vessel's position / H, or (0, 0) without one or past params.neighbour_sight_m), then the previous physics
+        step's frame (at a decision period above 1 the runtime puts the previous decision's there:
+        :mod:`hivex_dsl.sim.stacking`). ``distances`` (B, A, A) from :func:`neighbour_distances`, ``closest`` (B, A)
+        their minimum over the last axis."""
         local = clamp(position * (1.0 / self.half_extent), -1.0, 1.0)
         neighbour = local[_worlds(len(position)), distances.argmin(axis=-1)]
         out = np.empty(previous.shape, np.float32)
         out[..., 0:2] = local
         out[..., 2:4] = as_pairs(facing)
-        out[..., 4:6] = neighbour * np.isfinite(closest)[..., None]
+        out[..., 4:6] = neighbour * (np.isfinite(closest) & (closest <= self.sight))[..., None]
         out[..., FRAME:] = previous[..., :FRAME]
         return out
 
