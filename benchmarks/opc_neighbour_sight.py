@@ -2,7 +2,7 @@
 
 The original's trained worlds crash at a steady rate, about once every 160 decisions, with policies sharper than
 ours (the reward table's ending note). A collector that cannot see the other vessels meets them by chance where the
-plastic draws them all, and a steady rate of chance meetings is what its records show. This plays the scripted
+plastic draws them all, which would crash its worlds at such a steady rate. This plays the scripted
 skipper, which steers for dense water and turns away from a vessel it sees close ahead, on the main task's test
 worlds at several of params.neighbour_sight_m (how far the vector observation sends the closest vessel; null: at any
 distance, the default), and uniform random play beside it (which reads nothing, so any sight plays it alike):
