@@ -51,7 +51,7 @@ class OceanPlasticCollectionParams(StrictModel):
         "metres away, (0, 0) otherwise, as a vessel with no neighbour is (null: at any distance, the default; 0: "
         "never, vessels blind to each other). A probe of issue 52's open question, what makes the original's "
         "trained worlds crash about once every 160 decisions: a blind scripted skipper lives that long, but PPO "
-        "trained blind to a fifth of the budget learned to outlive it as seeing vessels do (the reward table's note "
+        "trained blind to a quarter of the budget learned to outlive it as seeing vessels do (the reward table's note "
         "'Vessels blind to each other')."))
     collector_reach_m: float = Field(3.0, gt=0.0, le=20.0, description=(
         "[ours] The collector reaches this far ahead of the vessel's centre; a pebble it sweeps over is collected."))
