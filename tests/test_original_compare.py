@@ -12,6 +12,7 @@ from hivex_dsl.evaluation.original import compare
 from hivex_dsl.evaluation.original.curves import Curve, OriginalCell, OriginalPanel, original_curves
 from hivex_dsl.evaluation.original.digitise import VALUE_RESOLUTION_PT
 from hivex_dsl.evaluation.original.runs import read_run
+from hivex_dsl.evaluation.original.seeds import among_seeds, exchangeable_shares, measure_seeds, seeds_table
 
 
 def _line(steps, mean, half_width) -> Curve:
@@ -241,7 +242,7 @@ def seeds() -> list[compare.RunCurve]:
 
 
 def test_every_seed_and_their_mean_against_the_band_by_hand(cell, seeds):
-    rows = {r.fraction: r for r in compare.measure_seeds(seeds, cell) if r.panel == "Cumulative Reward"}
+    rows = {r.fraction: r for r in measure_seeds(seeds, cell) if r.panel == "Cumulative Reward"}
     at_10 = rows[0.1]
     assert [o.value for o in at_10.seeds] == [18.0, 6.0, None]  # (10 + 26) / 2; seed 2 has no point within 50
     assert at_10.value == 12.0 and at_10.verdict == "within"  # (18 + 6) / 2 in 5-15, though seed 0 alone is above
@@ -249,11 +250,34 @@ def test_every_seed_and_their_mean_against_the_band_by_hand(cell, seeds):
     assert last.value == pytest.approx((104 + 110 + 90) / 3) and last.verdict == "within"
     assert [compare.verdict(o.value, last.lower, last.upper) for o in last.seeds] == ["within", "above", "below"]
     assert rows[0.25].value is None and rows[0.25].verdict == "no point"  # no seed within 50 of 250
-    table = compare.seeds_table(list(rows.values()), ["seed 0", "seed 1", "seed 2"])
+    # the original's mean (10 at 100, 100 at 1,000) among the seeds: 6-18 holds 10; 90-110 holds 100
+    assert at_10.among == "within" and last.among == "within" and rows[0.25].among == "too few seeds"
+    table = seeds_table(list(rows.values()), ["seed 0", "seed 1", "seed 2"])
     assert "| panel | budget | agent-step | seed 0 | seed 1 | seed 2 | mean of seeds |" in table
     assert ("| Cumulative Reward | 10% | 100 | 18.00 (95-105), above | 6.00 (100), within | - | 12.00 | 10.00 | "
-            "5.00 - 15.00 | within |") in table
-    assert "| Cumulative Reward | 25% | 250 | - | - | - | - | 25.00 | 20.00 - 30.00 | no point |" in table
+            "5.00 - 15.00 | within | within |") in table
+    assert "| Cumulative Reward | 25% | 250 | - | - | - | - | 25.00 | 20.00 - 30.00 | no point | too few seeds |" in table
+
+
+def test_where_the_original_falls_among_the_seeds_by_hand():
+    assert among_seeds(146.0, [397.0, 157.0, 248.0]) == "below all"  # OPC's Episode Length at 50%, by hand
+    assert among_seeds(400.0, [397.0, 157.0, None]) == "above all"
+    assert among_seeds(157.0, [397.0, 157.0, 248.0]) == "within"  # the range's ends belong to it
+    assert among_seeds(4999.0, [4999.0, 4999.0]) == "within"  # a panel every run logs alike
+    assert among_seeds(10.0, [12.0, None, None]) == "too few seeds"  # one value has no range
+    # n + 1 exchangeable draws: each is the lowest with chance 1 / (n + 1); three seeds hold the fourth half the time
+    assert exchangeable_shares(3) == {"within": 0.5, "below all": 0.25, "above all": 0.25}
+    assert sum(exchangeable_shares(5).values()) == pytest.approx(1.0) and exchangeable_shares(2)["within"] == 1 / 3
+    with pytest.raises(compare.CompareError, match="two seeds or more"):
+        exchangeable_shares(1)
+
+
+def test_the_exchangeable_shares_hold_for_draws_of_one_distribution():
+    rng = np.random.default_rng(7)
+    draws = rng.normal(size=(20_000, 4))  # three seeds and one more run, all drawn alike
+    found = [among_seeds(row[3], row[:3]) for row in draws]
+    for word, share in exchangeable_shares(3).items():
+        assert found.count(word) / len(found) == pytest.approx(share, abs=0.015)
 
 
 def test_a_record_marked_stale_is_labelled_so():

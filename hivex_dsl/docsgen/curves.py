@@ -17,6 +17,7 @@ import numpy as np
 
 from ..compiler import registry
 from ..evaluation.original import compare
+from ..evaluation.original import seeds as seeds_measure
 from ..evaluation.original.curves import OriginalCell, original_curves
 from ..evaluation.original.tail import tail, tail_seeds, tail_table
 
@@ -72,7 +73,7 @@ def _comparison(record: dict[str, Any]) -> tuple[dict[str, Any], np.ndarray] | N
     from ..evaluation.original.figure import picture
 
     runs = compare.seed_curves(record)
-    rows = compare.measure_seeds(runs, cell)
+    rows = seeds_measure.measure_seeds(runs, cell)
     budget = _budget(cell)
     verdicts = [r.verdict for r in rows]
     ends = tail_seeds(runs, cell)
@@ -80,8 +81,9 @@ def _comparison(record: dict[str, Any]) -> tuple[dict[str, Any], np.ndarray] | N
     seeds = [str(run.label.removeprefix("this toolkit, ").removesuffix(" (stale record)")) for run in runs]
     context = {"environment": environment, "file": cell.file, "title": cell.title, "stale": compare.is_stale(record),
                "seeds": seeds, "seeds_recorded": 1 + len(record.get("other_seeds", [])),
-               "image": f"{IMAGES}/{environment}.png", "table": compare.seeds_table(rows, seeds),
+               "image": f"{IMAGES}/{environment}.png", "table": seeds_measure.seeds_table(rows, seeds),
                "counts": {word: verdicts.count(word) for word in ("within", "above", "below", "no point")},
+               "among": among_counts(rows, len(runs)),
                "panels": list(dict.fromkeys(r.panel for r in rows)), "budget": _number(budget),
                "tail_table": tail_table(ends, seeds), "tail_start": _number(end.start),
                "tail_return": None if end.value is None else
@@ -89,6 +91,19 @@ def _comparison(record: dict[str, Any]) -> tuple[dict[str, Any], np.ndarray] | N
                **{f"record_{k}": v for k, v in budget_words(record, budget).items()}}
     drawn = [p for p in (compare.RETURN, compare.EPISODE_LENGTH) if p in compare.shared_panels(runs[0], cell)]
     return context, picture(runs[0], cell, drawn, others=runs[1:])
+
+
+def among_counts(rows: list[seeds_measure.SeedsRow], seeds: int) -> dict[str, Any] | None:
+    """How often the original's mean falls within our seeds' range, below all or above all of them, beside the
+    shares one more seed would (:func:`~hivex_dsl.evaluation.original.seeds.exchangeable_shares`, as percentages);
+    None with fewer than two seeds."""
+    if seeds < 2:
+        return None
+    found = [r.among for r in rows if r.among != "too few seeds"]
+    shares = seeds_measure.exchangeable_shares(seeds)
+    return {"points": len(found), "seeds": seeds,
+            **{word.replace(" ", "_"): found.count(word) for word in shares},
+            "expected": {word.replace(" ", "_"): f"{share:.0%}" for word, share in shares.items()}}
 
 
 def grid_comparisons(directory: Path | None) -> list[dict[str, Any]]:

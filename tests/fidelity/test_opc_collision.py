@@ -22,6 +22,7 @@ import hivex_dsl
 from hivex_dsl.compiler.locks import as_written
 from hivex_dsl.envs.ocean_plastic_collection.params import OceanPlasticCollectionParams
 from hivex_dsl.evaluation.original import compare
+from hivex_dsl.evaluation.original.seeds import SeedsRow, measure_seeds
 
 from ..benchmark_scripts import benchmark_script
 
@@ -46,9 +47,9 @@ def curves_at(distance: float) -> list[compare.RunCurve]:
             if run["collision_distance_m"] == distance]
 
 
-def rows(runs: list[compare.RunCurve], fractions=(0.25, 0.5)) -> dict[tuple[str, float], compare.SeedsRow]:
+def rows(runs: list[compare.RunCurve], fractions=(0.25, 0.5)) -> dict[tuple[str, float], SeedsRow]:
     """The seeds' mean of each panel at ``fractions`` of the budget against the original's band."""
-    measured = compare.measure_seeds(runs, compare.original_cell(ENV, 0, None), fractions)
+    measured = measure_seeds(runs, compare.original_cell(ENV, 0, None), fractions)
     return {(row.panel, row.fraction): row for row in measured}
 
 

@@ -22,7 +22,7 @@ episodes that run to the time limit end together in one point (12 worlds of 3 pl
 Suppression's grid trained: a point of up to 36 every 3,000 steps), and a narrow window between two such points
 would hold only the odd early ending (a crash's -100 for a policy earning hundreds), where each of the original's
 points averaged what ended in a window of worlds that had long since drifted apart. Several training seeds
-(:func:`measure_seeds`) are measured each so, and their mean (unweighted: each seed is one run, as each of the
+(:func:`.seeds.measure_seeds`) are measured each so, and their mean (unweighted: each seed is one run, as each of the
 original's three is one) against the same band. :mod:`.tail` pools every panel over the last tenth of the budget,
 ours and the original's alike, which reads the policy where one point of the original's reads the draw of its
 episodes (its runs may share them: Wildfire Resource Management's fires).
@@ -261,54 +261,6 @@ def measure(run: RunCurve, cell: OriginalCell, fractions: Sequence[float] = FRAC
     return rows
 
 
-@dataclass(frozen=True)
-class SeedsRow:
-    """One panel at one fraction of the original's budget: every training seed's value (``seeds``, in the runs'
-    order) and their mean against the original's mean and band."""
-
-    panel: str
-    fraction: float
-    step: int
-    seeds: tuple[Ours, ...]
-    mean: float
-    lower: float
-    upper: float
-
-    @property
-    def value(self) -> float | None:
-        """The mean of the seeds that have a point near the step (None: none has)."""
-        return mean_of_seeds([o.value for o in self.seeds])
-
-    @property
-    def verdict(self) -> str:
-        """The seeds' mean within, above or below the original's band (``no point`` where no seed has one)."""
-        return verdict(self.value, self.lower, self.upper)
-
-
-def mean_of_seeds(values: Sequence[float | None]) -> float | None:
-    """The unweighted mean of the seeds' values that are known, one a seed as the original's mean is of its three
-    runs (None where none is)."""
-    known = [v for v in values if v is not None]
-    return sum(known) / len(known) if known else None
-
-
-def measure_seeds(runs: Sequence[RunCurve], cell: OriginalCell, fractions: Sequence[float] = FRACTIONS) -> list[SeedsRow]:
-    """:func:`measure` of every run (a seed without a point at a panel's fraction counts as none there), and their
-    mean, per panel any run shares with the original, in the first run's order."""
-    if not runs:
-        raise CompareError("no training seed to measure")
-    measured = [{(r.panel, r.fraction): r for r in measure(run, cell, fractions)} for run in runs]
-    keys = list(dict.fromkeys(key for rows in measured for key in rows))
-    rows = []
-    for key in keys:
-        first = next(m[key] for m in measured if key in m)
-        seeds = tuple(m[key].ours if key in m else Ours(None) for m in measured)
-        rows.append(SeedsRow(first.panel, first.fraction, first.step, seeds, first.mean, first.lower, first.upper))
-    return rows
-
-
-
-
 def paper_task_index(environment: str, task_index: int) -> int:
     """The paper's index (the published results' key) of the toolkit's task ``task_index`` of ``environment``."""
     from ...compiler.registry import get
@@ -359,7 +311,7 @@ def number(value: float) -> str:
     return f"{value:,.2f}" if abs(value) < 100 else f"{value:,.0f}"
 
 
-def _ours(ours: Ours) -> str:
+def ours_cell(ours: Ours) -> str:
     if ours.value is None:
         return "-"
     where = "" if ours.first is None else f" ({ours.first:,})" if ours.first == ours.last \
@@ -367,32 +319,17 @@ def _ours(ours: Ours) -> str:
     return number(ours.value) + where
 
 
-def seeds_table(rows: Sequence[SeedsRow], labels: Sequence[str]) -> str:
-    """:func:`measure_seeds` as a Markdown table: panel, fraction, the original's step, each seed (``labels``: its
-    value, the steps it pools, its verdict), the seeds' mean, the original's mean and band, the mean's verdict."""
-    seeds = "".join(f" {label} |" for label in labels)
-    lines = [f"| panel | budget | agent-step |{seeds} mean of seeds | original mean | original band | verdict |",
-             "| --- | --- | --- |" + " --- |" * len(labels) + " --- | --- | --- | --- |"]
-    for r in rows:
-        each = "".join(f" {_ours(o)}{'' if o.value is None else ', ' + verdict(o.value, r.lower, r.upper)} |"
-                       for o in r.seeds)
-        mean = "-" if r.value is None else number(r.value)
-        lines.append(f"| {r.panel} | {r.fraction:.0%} | {r.step:,} |{each} {mean} | {number(r.mean)} | "
-                     f"{number(r.lower)} - {number(r.upper)} | {r.verdict} |")
-    return "\n".join(lines)
-
-
 def table(rows: Sequence[Row]) -> str:
     """The measure as a Markdown table: panel, fraction, the original's step, ours (the steps it pools), the
     original's mean and band, the verdict."""
     lines = ["| panel | budget | agent-step | ours (our steps) | original mean | original band | verdict |",
              "| --- | --- | --- | --- | --- | --- | --- |"]
-    lines += [f"| {r.panel} | {r.fraction:.0%} | {r.step:,} | {_ours(r.ours)} | {number(r.mean)} | "
+    lines += [f"| {r.panel} | {r.fraction:.0%} | {r.step:,} | {ours_cell(r.ours)} | {number(r.mean)} | "
               f"{number(r.lower)} - {number(r.upper)} | {r.verdict} |" for r in rows]
     return "\n".join(lines)
 
 
-__all__ = ["CompareError", "FRACTIONS", "Ours", "Row", "RunCurve", "SeedsRow", "from_points", "from_record",
-           "is_stale", "record_panels", "mean_of_seeds", "measure", "measure_seeds", "original_cell",
-           "original_test_average", "ours_at", "pages_index_otherwise", "paper_task_index", "number", "seed_curves",
-           "seeds_table", "shared_panels", "summary_interval", "table", "verdict"]
+__all__ = ["CompareError", "FRACTIONS", "Ours", "Row", "RunCurve", "from_points", "from_record",
+           "is_stale", "record_panels", "measure", "original_cell",
+           "original_test_average", "ours_at", "pages_index_otherwise", "paper_task_index", "number", "ours_cell", "seed_curves",
+           "shared_panels", "summary_interval", "table", "verdict"]

@@ -18,7 +18,8 @@ from typing import Sequence
 
 import numpy as np
 
-from .compare import CompareError, RunCurve, as_logged_there, mean_of_seeds, number, shared_panels
+from .compare import CompareError, RunCurve, as_logged_there, number, shared_panels
+from .seeds import mean_of_seeds
 from .curves import OriginalCell
 from .evidence import RETURN
 
