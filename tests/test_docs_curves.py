@@ -147,6 +147,7 @@ def test_a_record_of_three_seeds_shows_each_seed_and_their_mean(tmp_path):
     assert "| 2,298 | 1,958 - 2,926 | below | above all |" in page and "| no point | too few seeds |" in page
     assert ("Of the 2 points where two seeds or more have a value, the original's mean lies within our seeds' range\n"
             "at 0, below all of them at 1 and above all at 1") in page
+    assert "| `wind_farm_control` | 3 | 4 | 0 | 0 of 2 (50% expected) | 1 (25%) | 1 (25%) |" in page  # at a glance
     # the last tenth (past 7.2M) holds each seed's 8M point alone: 4,990, 4,980 and 4,970 over the original's 4,571.7
     # (its event files' 20 points there), mean 4,980 (1.09)
     assert "the seeds' mean\nreturn is 4,980 against the original's 4,572 (1.09)." in page
