@@ -16,7 +16,12 @@ those points scatter tells how widely the lives behind them spread:
   world-episodes a point pools, a third of its agent-episodes).
 
 Differences between runs widen the original's ranges and a trend widens successive differences, so each reads an
-upper bound. Also, with the runs' TensorBoard files, each seed's policy entropy beside the original's Entropy panel:
+upper bound. How often the worlds crash, window by window: a summary point of the original's holds 5,000
+decisions of one world, so its rate is 1,000 / its mean life (Episode Length plus the terminal decision ML-Agents
+does not count) world-crashes a thousand world-decisions, each window the mean of its points' rates; ours is the
+window's world-episodes over its decisions (nearly every life of either ends on a crash: the reward table's ending
+note), and the original's rate is set among our seeds' (hivex_dsl.evaluation.original.seeds.among_seeds). Also,
+with the runs' TensorBoard files, each seed's policy entropy beside the original's Entropy panel:
 
     python benchmarks/opc_life_spread.py [--runs RUN_DIR ...]
 
@@ -83,6 +88,51 @@ def record_spreads(record: dict, start: float = FROM) -> dict[int, dict]:
     return spreads
 
 
+RATE_WINDOW = 150_000  # agent-steps a window of the crash rates: ten of the original's summary points
+
+
+def original_crash_rates(window: float = RATE_WINDOW) -> np.ndarray:
+    """(w,) the original's world-crashes a thousand world-decisions in each ``window`` of its budget: the mean over
+    the window's summary points of 1,000 / (Episode Length + 1)."""
+    from hivex_dsl.evaluation.original import compare
+
+    training = compare.original_cell(ENV, 0, None).panel("Episode Length").training
+    rates = 1000.0 / (training.mean_at(training.band_steps) + 1.0)
+    which = (training.band_steps // window).astype(int)
+    return np.array([rates[which == w].mean() for w in range(int(np.ceil(BUDGET / window)))])
+
+
+def crash_rates(steps: np.ndarray, lengths: np.ndarray, episodes: np.ndarray, window: float = RATE_WINDOW,
+                budget: float = BUDGET) -> np.ndarray:
+    """(w,) one run's world-crashes a thousand world-decisions in each ``window``: 1,000 x its points' world-episodes
+    over their decisions, from each point's step, mean life (decisions) and agent-episodes (k,); NaN where a
+    window holds no point."""
+    known = np.isfinite(lengths) & (episodes > 0)
+    which = (steps // window).astype(int)
+    rates = np.full(int(np.ceil(budget / window)), np.nan)
+    for w in range(len(rates)):
+        here = known & (which == w)
+        if here.any():
+            rates[w] = 1000.0 * episodes[here].sum() / (lengths[here] * episodes[here]).sum()
+    return rates
+
+
+def record_crash_rates(record: dict, window: float = RATE_WINDOW) -> dict[int, np.ndarray]:
+    """Each training seed of a baseline record -> :func:`crash_rates`."""
+    return {run["seed"]: crash_rates(np.array([row[0] for row in run["curve"]], dtype=float),
+                                     np.array(run["curve_panels"]["Episode Length"], dtype=float),
+                                     np.array(run["curve_episodes"], dtype=float), window)
+            for run in [record, *record.get("other_seeds", [])]}
+
+
+def run_crash_rates(run_dir: Path, window: float = RATE_WINDOW) -> np.ndarray:
+    """A run folder's :func:`crash_rates`, from its curve.json."""
+    points = json.loads((Path(run_dir) / "curve.json").read_text())  # a list of summary points
+    lengths = np.array([np.nan if p.get("length") is None else p["length"] for p in points], dtype=float)
+    return crash_rates(np.array([p["agent_steps"] for p in points], dtype=float), lengths,
+                       np.array([p.get("episodes", 0) for p in points], dtype=float), window)
+
+
 def entropy_at(run_dir: Path, fractions=FRACTIONS, window: float = 30_000) -> list[float | None]:
     """A run's mean logged policy entropy (losses/entropy) within ``window`` agent-steps of each fraction."""
     from tensorboard.backend.event_processing.event_accumulator import EventAccumulator
@@ -98,9 +148,27 @@ def entropy_at(run_dir: Path, fractions=FRACTIONS, window: float = 30_000) -> li
     return [float(values[n].mean()) if n.any() else None for n in near]
 
 
+def print_crash_rates(runs: list[Path]) -> None:
+    """Window by window: the original's rate, each seed of the record's, where the original's lies among them, and
+    each of ``runs``'s (not counted among the record's seeds)."""
+    from hivex_dsl.evaluation.original.seeds import among_seeds
+
+    original, record = original_crash_rates(), record_crash_rates(json.loads(RECORD.read_text()))
+    extra = {str(run): run_crash_rates(run) for run in runs}
+    print(f"\nworld-crashes a thousand world-decisions, {RATE_WINDOW:,} agent-steps a window: the original | the "
+          f"record's seeds {', '.join(map(str, record))} | the original among them" + (" | " + ", ".join(extra)
+                                                                                       if extra else ""))
+    for w, theirs in enumerate(original):
+        ours = [rates[w] for rates in record.values()]
+        among = among_seeds(theirs, [None if np.isnan(v) else v for v in ours])
+        more = "".join(f" | {'-' if np.isnan(r[w]) else f'{r[w]:.1f}'}" for r in extra.values())
+        print(f"  {w * RATE_WINDOW / 1e6:.2f}M: {theirs:.1f} | " + " ".join(f"{v:.1f}" for v in ours)
+              + f" | {among}{more}")
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--runs", nargs="*", type=Path, default=[], help="run folders for the entropy (their tb/)")
+    parser.add_argument("--runs", nargs="*", type=Path, default=[], help="run folders: their entropy (tb/) and crash rates (curve.json)")
     args = parser.parse_args(argv)
     original = original_spreads()
     print(f"the original, from {FROM:.0%} of the budget: mean life {original['ranges']['mean']:.0f} decisions, "
@@ -109,6 +177,7 @@ def main(argv: list[str] | None = None) -> int:
     for seed, spread in record_spreads(json.loads(RECORD.read_text())).items():
         print(f"the record, seed {seed}: mean life {spread['mean']:.0f}, coefficient of variation at most "
               f"{spread['cv']:.2f}")
+    print_crash_rates(args.runs)
     if args.runs:
         from hivex_dsl.evaluation.original import compare
 
