@@ -12,7 +12,8 @@ from hivex_dsl.evaluation.original import compare
 from hivex_dsl.evaluation.original.curves import Curve, OriginalCell, OriginalPanel, original_curves
 from hivex_dsl.evaluation.original.digitise import VALUE_RESOLUTION_PT
 from hivex_dsl.evaluation.original.runs import read_run
-from hivex_dsl.evaluation.original.seeds import among_seeds, exchangeable_shares, measure_seeds, seeds_table
+from hivex_dsl.evaluation.original.seeds import (among_seeds, among_tally, among_words, exchangeable_shares,
+                                                 measure_seeds, seeds_table)
 
 
 def _line(steps, mean, half_width) -> Curve:
@@ -186,7 +187,11 @@ def test_hivex_curves_measures_other_seeds_runs_given_with_it(tmp_path, capsys):
     assert "| seed 0 | seed 1 | seed 2 | mean of seeds |" in out
     both = out.split("every seed and their mean:")[1]
     # (5,000 + 4,000 + 4,300) / 3 = 4,433: below the original's band of 4,559 - 4,597 at 100%
-    assert "| 4,433 | 4,583 | 4,559 - 4,597 | below |" in both
+    assert "| 4,433 | 4,583 | 4,559 - 4,597 | below | within |" in both  # 4,583 lies in 4,000-5,000
+    # Episode Length: every seed 4,999 as the original logs, the ends of the range included
+    assert "| Episode Length | 100% |" in both and "| 4,999 | 4,999 | 4,999 - 4,999 | within | within |" in both
+    # the original's 2,298 and 3,828 at 10 and 25% lie below all of 4,000-5,000; its 4,475 and 4,583 within
+    assert "within their range at 6, below all at 2, above all at 0 (one more seed drawn as ours were: 50%" in both
 
 
 def test_hivex_curves_refuses_a_seed_of_another_cell(tmp_path, capsys):
@@ -252,6 +257,10 @@ def test_every_seed_and_their_mean_against_the_band_by_hand(cell, seeds):
     assert rows[0.25].value is None and rows[0.25].verdict == "no point"  # no seed within 50 of 250
     # the original's mean (10 at 100, 100 at 1,000) among the seeds: 6-18 holds 10; 90-110 holds 100
     assert at_10.among == "within" and last.among == "within" and rows[0.25].among == "too few seeds"
+    assert among_tally(list(rows.values())) == {"within": 2, "below all": 0, "above all": 0}
+    assert among_words(list(rows.values()), 3).startswith(
+        "the original's mean among our 3 seeds, at the 2 points where two or more have a value: within their range "
+        "at 2, below all at 0, above all at 0 (one more seed drawn as ours were: 50%, 25% and 25% of points")
     table = seeds_table(list(rows.values()), ["seed 0", "seed 1", "seed 2"])
     assert "| panel | budget | agent-step | seed 0 | seed 1 | seed 2 | mean of seeds |" in table
     assert ("| Cumulative Reward | 10% | 100 | 18.00 (95-105), above | 6.00 (100), within | - | 12.00 | 10.00 | "

@@ -37,7 +37,7 @@ def add_command(sub: argparse._SubParsersAction) -> None:
 def cmd_curves(args: argparse.Namespace) -> int:
     from ..evaluation.original import compare
     from ..evaluation.original.runs import read_run
-    from ..evaluation.original.seeds import measure_seeds, seeds_table
+    from ..evaluation.original.seeds import among_words, measure_seeds, seeds_table
     from ..evaluation.original.tail import tail_seeds, tail_table
 
     run = read_run(args.run)
@@ -68,7 +68,9 @@ def cmd_curves(args: argparse.Namespace) -> int:
     seeds = [run.curve, *others]
     labels = [s.label.removeprefix("this toolkit, ") for s in seeds]
     if others:
-        sys.stdout.write("\nevery seed and their mean:\n\n" + seeds_table(measure_seeds(seeds, cell), labels) + "\n")
+        rows = measure_seeds(seeds, cell)
+        sys.stdout.write("\nevery seed and their mean:\n\n" + seeds_table(rows, labels) + "\n\n"
+                         + among_words(rows, len(seeds)) + "\n")
     ends = tail_seeds(seeds, cell)
     sys.stdout.write(f"\npooled over the last tenth of the original's budget (from {ends[0].start:,} agent-steps), "
                      "in parentheses over the original's:\n\n" + tail_table(ends, labels) + "\n")

@@ -99,10 +99,9 @@ def among_counts(rows: list[seeds_measure.SeedsRow], seeds: int) -> dict[str, An
     None with fewer than two seeds."""
     if seeds < 2:
         return None
-    found = [r.among for r in rows if r.among != "too few seeds"]
-    shares = seeds_measure.exchangeable_shares(seeds)
-    return {"points": len(found), "seeds": seeds,
-            **{word.replace(" ", "_"): found.count(word) for word in shares},
+    found, shares = seeds_measure.among_tally(rows), seeds_measure.exchangeable_shares(seeds)
+    return {"points": sum(found.values()), "seeds": seeds,
+            **{word.replace(" ", "_"): count for word, count in found.items()},
             "expected": {word.replace(" ", "_"): f"{share:.0%}" for word, share in shares.items()}}
 
 

@@ -70,6 +70,24 @@ def exchangeable_shares(seeds: int) -> dict[str, float]:
     return {"within": (seeds - 1) / (seeds + 1), "below all": 1 / (seeds + 1), "above all": 1 / (seeds + 1)}
 
 
+def among_tally(rows: Sequence[SeedsRow]) -> dict[str, int]:
+    """How many of ``rows`` hold the original's mean within the seeds' range, below all and above all (the rows with
+    fewer than two seeds' values left out)."""
+    found = [r.among for r in rows]
+    return {word: found.count(word) for word in ("within", "below all", "above all")}
+
+
+def among_words(rows: Sequence[SeedsRow], seeds: int) -> str:
+    """A sentence counting where the original's mean falls among ``seeds`` seeds over ``rows`` (the points where two
+    or more have a value), beside the shares of :func:`exchangeable_shares`."""
+    found, shares = among_tally(rows), exchangeable_shares(seeds)
+    return (f"the original's mean among our {seeds} seeds, at the {sum(found.values())} points where two or more "
+            f"have a value: within their range at {found['within']}, below all at {found['below all']}, above "
+            f"all at {found['above all']} (one more seed drawn as ours were: {shares['within']:.0%}, "
+            f"{shares['below all']:.0%} and {shares['above all']:.0%} of points; the original's three runs shared "
+            "one seed, so its band is their timing's spread, not a seed's)")
+
+
 def mean_of_seeds(values: Sequence[float | None]) -> float | None:
     """The unweighted mean of the seeds' values that are known, one a seed as the original's mean is of its three
     runs (None where none is)."""
@@ -109,4 +127,4 @@ def seeds_table(rows: Sequence[SeedsRow], labels: Sequence[str]) -> str:
     return "\n".join(lines)
 
 
-__all__ = ["SeedsRow", "among_seeds", "exchangeable_shares", "mean_of_seeds", "measure_seeds", "seeds_table"]
+__all__ = ["SeedsRow", "among_seeds", "among_tally", "among_words", "exchangeable_shares", "mean_of_seeds", "measure_seeds", "seeds_table"]
