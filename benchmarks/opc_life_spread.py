@@ -168,7 +168,8 @@ def print_crash_rates(runs: list[Path]) -> None:
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--runs", nargs="*", type=Path, default=[], help="run folders: their entropy (tb/) and crash rates (curve.json)")
+    parser.add_argument("--runs", nargs="*", type=Path, default=[],
+                        help="run folders: their entropy (tb/) and crash rates (curve.json)")
     args = parser.parse_args(argv)
     original = original_spreads()
     print(f"the original, from {FROM:.0%} of the budget: mean life {original['ranges']['mean']:.0f} decisions, "

@@ -329,7 +329,7 @@ def table(rows: Sequence[Row]) -> str:
     return "\n".join(lines)
 
 
-__all__ = ["CompareError", "FRACTIONS", "Ours", "Row", "RunCurve", "from_points", "from_record",
-           "is_stale", "record_panels", "measure", "original_cell",
-           "original_test_average", "ours_at", "pages_index_otherwise", "paper_task_index", "number", "ours_cell", "seed_curves",
-           "shared_panels", "summary_interval", "table", "verdict"]
+__all__ = ["CompareError", "FRACTIONS", "Ours", "Row", "RunCurve", "from_points", "from_record", "is_stale",
+           "measure", "number", "original_cell", "original_test_average", "ours_at", "ours_cell",
+           "pages_index_otherwise", "paper_task_index", "record_panels", "seed_curves", "shared_panels",
+           "summary_interval", "table", "verdict"]

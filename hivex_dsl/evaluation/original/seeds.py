@@ -95,7 +95,8 @@ def mean_of_seeds(values: Sequence[float | None]) -> float | None:
     return sum(known) / len(known) if known else None
 
 
-def measure_seeds(runs: Sequence[RunCurve], cell: OriginalCell, fractions: Sequence[float] = FRACTIONS) -> list[SeedsRow]:
+def measure_seeds(runs: Sequence[RunCurve], cell: OriginalCell,
+                  fractions: Sequence[float] = FRACTIONS) -> list[SeedsRow]:
     """:func:`measure` of every run (a seed without a point at a panel's fraction counts as none there), and their
     mean, per panel any run shares with the original, in the first run's order."""
     if not runs:
@@ -127,4 +128,5 @@ def seeds_table(rows: Sequence[SeedsRow], labels: Sequence[str]) -> str:
     return "\n".join(lines)
 
 
-__all__ = ["SeedsRow", "among_seeds", "among_tally", "among_words", "exchangeable_shares", "mean_of_seeds", "measure_seeds", "seeds_table"]
+__all__ = ["SeedsRow", "among_seeds", "among_tally", "among_words", "exchangeable_shares", "mean_of_seeds",
+           "measure_seeds", "seeds_table"]
