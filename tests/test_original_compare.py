@@ -12,8 +12,8 @@ from hivex_dsl.evaluation.original import compare
 from hivex_dsl.evaluation.original.curves import Curve, OriginalCell, OriginalPanel, original_curves
 from hivex_dsl.evaluation.original.digitise import VALUE_RESOLUTION_PT
 from hivex_dsl.evaluation.original.runs import read_run
-from hivex_dsl.evaluation.original.seeds import (among_seeds, among_tally, among_words, exchangeable_shares,
-                                                 measure_seeds, seeds_table)
+from hivex_dsl.evaluation.original.seeds import (among_seeds, among_tally, among_words, band_over_range,
+                                                 exchangeable_shares, measure_seeds, seeds_table)
 
 
 def _line(steps, mean, half_width) -> Curve:
@@ -258,6 +258,9 @@ def test_every_seed_and_their_mean_against_the_band_by_hand(cell, seeds):
     # the original's mean (10 at 100, 100 at 1,000) among the seeds: 6-18 holds 10; 90-110 holds 100
     assert at_10.among == "within" and last.among == "within" and rows[0.25].among == "too few seeds"
     assert among_tally(list(rows.values())) == {"within": 2, "below all": 0, "above all": 0}
+    # the band's width over the seeds' range: 10 / (18 - 6) at 10%, 10 / (110 - 90) at 100%; their median
+    assert band_over_range(list(rows.values())) == pytest.approx((10 / 12 + 10 / 20) / 2)
+    assert band_over_range([rows[0.25]]) is None  # no seed there, so no range
     assert among_words(list(rows.values()), 3).startswith(
         "the original's mean among our 3 seeds, at the 2 points where two or more have a value: within their range "
         "at 2, below all at 0, above all at 0 (one more seed drawn as ours were: 50%, 25% and 25% of points")

@@ -100,7 +100,8 @@ def among_counts(rows: list[seeds_measure.SeedsRow], seeds: int) -> dict[str, An
     if seeds < 2:
         return None
     found, shares = seeds_measure.among_tally(rows), seeds_measure.exchangeable_shares(seeds)
-    return {"points": sum(found.values()), "seeds": seeds,
+    ratio = seeds_measure.band_over_range(rows)
+    return {"points": sum(found.values()), "seeds": seeds, "band_over_range": "-" if ratio is None else f"{ratio:.2f}",
             **{word.replace(" ", "_"): count for word, count in found.items()},
             "expected": {word.replace(" ", "_"): f"{share:.0%}" for word, share in shares.items()}}
 

@@ -18,6 +18,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Sequence
 
+import numpy as np
+
 from .compare import FRACTIONS, CompareError, Ours, RunCurve, measure, number, ours_cell, verdict
 from .curves import OriginalCell
 
@@ -77,6 +79,18 @@ def among_tally(rows: Sequence[SeedsRow]) -> dict[str, int]:
     return {word: found.count(word) for word in ("within", "below all", "above all")}
 
 
+def band_over_range(rows: Sequence[SeedsRow]) -> float | None:
+    """The median over ``rows`` of the original's band width over our seeds' range (greatest less least), where two
+    or more seeds have values that differ: how much narrower the original's runs, parted by timing alone, spread
+    than seeds that differ in weights (None where no row has such a range)."""
+    ratios = []
+    for r in rows:
+        known = [o.value for o in r.seeds if o.value is not None]
+        if len(known) >= 2 and max(known) > min(known):
+            ratios.append((r.upper - r.lower) / (max(known) - min(known)))
+    return float(np.median(ratios)) if ratios else None
+
+
 def among_words(rows: Sequence[SeedsRow], seeds: int) -> str:
     """A sentence counting where the original's mean falls among ``seeds`` seeds over ``rows`` (the points where two
     or more have a value), beside the shares of :func:`exchangeable_shares`."""
@@ -128,5 +142,5 @@ def seeds_table(rows: Sequence[SeedsRow], labels: Sequence[str]) -> str:
     return "\n".join(lines)
 
 
-__all__ = ["SeedsRow", "among_seeds", "among_tally", "among_words", "exchangeable_shares", "mean_of_seeds",
+__all__ = ["SeedsRow", "among_seeds", "among_tally", "among_words", "band_over_range", "exchangeable_shares", "mean_of_seeds",
            "measure_seeds", "seeds_table"]
