@@ -21,7 +21,8 @@ decisions of one world, so its rate is 1,000 / its mean life (Episode Length plu
 does not count) world-crashes a thousand world-decisions, each window the mean of its points' rates; ours is the
 window's world-episodes over its decisions (nearly every life of either ends on a crash: the reward table's ending
 note), and the original's rate is set among our seeds' (hivex_dsl.evaluation.original.seeds.among_seeds). Also,
-with the runs' TensorBoard files, each seed's policy entropy beside the original's Entropy panel:
+for run folders given with --runs, each one's rates beside them, split into collisions and border crossings from
+the reward terms its TensorBoard files log, and its policy entropy beside the original's Entropy panel:
 
     python benchmarks/opc_life_spread.py [--runs RUN_DIR ...]
 
@@ -133,19 +134,51 @@ def run_crash_rates(run_dir: Path, window: float = RATE_WINDOW) -> np.ndarray:
                        np.array([p.get("episodes", 0) for p in points], dtype=float), window)
 
 
-def entropy_at(run_dir: Path, fractions=FRACTIONS, window: float = 30_000) -> list[float | None]:
-    """A run's mean logged policy entropy (losses/entropy) within ``window`` agent-steps of each fraction."""
+def tb_scalars(run_dir: Path, tag: str) -> tuple[np.ndarray, np.ndarray]:
+    """(steps, values) of one TensorBoard scalar over every event file of a run folder's tb/ (a resumed run writes a
+    new file; a later file's value wins at a step both hold)."""
     from tensorboard.backend.event_processing.event_accumulator import EventAccumulator
 
-    points = []
+    found: dict[int, float] = {}
     for name in sorted(glob.glob(str(Path(run_dir) / "tb" / "events.out.tfevents.*"))):
         events = EventAccumulator(name, size_guidance={"scalars": 0})
         events.Reload()
-        if "losses/entropy" in events.Tags()["scalars"]:
-            points += [(s.step, s.value) for s in events.Scalars("losses/entropy")]
-    steps, values = (np.array(c, dtype=float) for c in zip(*points)) if points else (np.empty(0), np.empty(0))
+        if tag in events.Tags()["scalars"]:
+            found.update({s.step: s.value for s in events.Scalars(tag)})
+    steps = np.array(sorted(found), dtype=float)
+    return steps, np.array([found[int(s)] for s in steps], dtype=float)
+
+
+def crash_kinds(run_dir: Path, window: float = RATE_WINDOW, budget: float = BUDGET) -> dict[str, np.ndarray]:
+    """(w,) world-crashes a thousand world-decisions by kind, from a run's logged reward terms (each point's mean
+    over its vessel-episodes; the points of a window weighed alike): a border crossing charges its vessel -100, so
+    a world-episode crosses 3 x (-term / 100) times; a collision charges both vessels, 1.5 x (-term / 100); each
+    over the window's mean life (episode/length, decisions; a crash ends its world, so a vessel lives the world's
+    life). NaN where a window holds no point."""
+    steps, life = tb_scalars(run_dir, "episode/length")
+    rates = {}
+    for kind, tag, vessels in (("border", "reward_terms/crossed_border", 3.0),
+                               ("collision", "reward_terms/collided_with_other_vessel", 1.5)):
+        at, term = tb_scalars(run_dir, tag)
+        per_world = dict(zip(at, -term / 100.0 * vessels))
+        which = (steps // window).astype(int)
+        rates[kind] = np.full(int(np.ceil(budget / window)), np.nan)
+        for w in range(len(rates[kind])):
+            here = [i for i in np.flatnonzero(which == w) if steps[i] in per_world]
+            if here:
+                rates[kind][w] = 1000.0 * np.mean([per_world[steps[i]] for i in here]) / life[here].mean()
+    return rates
+
+
+def entropy_at(run_dir: Path, fractions=FRACTIONS, window: float = 30_000) -> list[float | None]:
+    """A run's mean logged policy entropy (losses/entropy) within ``window`` agent-steps of each fraction."""
+    steps, values = tb_scalars(run_dir, "losses/entropy")
     near = [np.abs(steps - f * BUDGET) < window for f in fractions]
     return [float(values[n].mean()) if n.any() else None for n in near]
+
+
+def _rate(value: float) -> str:
+    return "-" if np.isnan(value) else f"{value:.1f}"
 
 
 def print_crash_rates(runs: list[Path]) -> None:
@@ -155,13 +188,15 @@ def print_crash_rates(runs: list[Path]) -> None:
 
     original, record = original_crash_rates(), record_crash_rates(json.loads(RECORD.read_text()))
     extra = {str(run): run_crash_rates(run) for run in runs}
+    kinds = {str(run): crash_kinds(run) for run in runs}
     print(f"\nworld-crashes a thousand world-decisions, {RATE_WINDOW:,} agent-steps a window: the original | the "
-          f"record's seeds {', '.join(map(str, record))} | the original among them" + (" | " + ", ".join(extra)
-                                                                                       if extra else ""))
+          f"record's seeds {', '.join(map(str, record))} | the original among them"
+          + (" | " + ", ".join(extra) + " (collisions + border crossings, from the logged terms)" if extra else ""))
     for w, theirs in enumerate(original):
         ours = [rates[w] for rates in record.values()]
         among = among_seeds(theirs, [None if np.isnan(v) else v for v in ours])
-        more = "".join(f" | {'-' if np.isnan(r[w]) else f'{r[w]:.1f}'}" for r in extra.values())
+        more = "".join(f" | {_rate(r[w])} ({_rate(k['collision'][w])} + {_rate(k['border'][w])})"
+                       for r, k in zip(extra.values(), kinds.values()))
         print(f"  {w * RATE_WINDOW / 1e6:.2f}M: {theirs:.1f} | " + " ".join(f"{v:.1f}" for v in ours)
               + f" | {among}{more}")
 

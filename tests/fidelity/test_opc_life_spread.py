@@ -89,3 +89,20 @@ def test_the_originals_worlds_crash_more_often_than_every_seed_of_the_record():
     assert all(5.0 < original[w] < 7.0 for w in late), original
     where = [among_seeds(original[w], [rates[w] for rates in record.values()]) for w in late]
     assert where.count("above all") >= 15 and "below all" not in where, where
+
+
+def test_crash_kinds_from_the_logged_terms_by_hand(tmp_path):
+    """Two event files (a resumed run writes a second): at step 10 worlds lived 200 decisions and one vessel in three
+    paid a border crossing (-100 / 3 a vessel-episode: one crossing a world); at step 20 they lived 300 and two in
+    three paid a collision (one collision a world, charging both). Over the window: half a crossing and half a
+    collision a world-episode over a mean life of 250, 2.0 of each a thousand world-decisions."""
+    tensorboard = pytest.importorskip("torch.utils.tensorboard")
+    for step, life, border, collision in ((10, 200.0, -100 / 3, 0.0), (20, 300.0, 0.0, -200 / 3)):
+        writer = tensorboard.SummaryWriter(str(tmp_path / "tb"), filename_suffix=f".{step}")
+        writer.add_scalar("episode/length", life, step)
+        writer.add_scalar("reward_terms/crossed_border", border, step)
+        writer.add_scalar("reward_terms/collided_with_other_vessel", collision, step)
+        writer.close()
+    kinds = script.crash_kinds(tmp_path, window=100.0, budget=200.0)
+    assert kinds["border"][0] == pytest.approx(2.0) and kinds["collision"][0] == pytest.approx(2.0)
+    assert np.isnan(kinds["border"][1]) and np.isnan(kinds["collision"][1])
