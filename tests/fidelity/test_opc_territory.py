@@ -29,7 +29,8 @@ def test_the_uniform_references_hold_on_the_unit_square():
 
 def test_a_policy_is_read_at_every_decision_of_every_world():
     """Random play on two test worlds: every logged decision belongs to an episode (the script checks the count),
-    the vessels spawn apart (no pair starts within the 10 m that would have crashed them) and stay on the map."""
+    and the readings are positions on the map: pairs farther apart on average than the 10 m that crashes them and
+    nearer than the diagonal, strays under it."""
     compiled = script.main_task({})
     row = script.territory(compiled, script.named_policy("random", compiled), 2)
     assert row["life"] > 1 and 0 < row["crashes"] < 1000
