@@ -51,8 +51,8 @@ class OceanPlasticCollectionParams(StrictModel):
         "metres away, (0, 0) otherwise, as a vessel with no neighbour is (null: at any distance, the default; 0: "
         "never, vessels blind to each other). A probe of issue 52's open question, what makes the original's "
         "trained worlds crash about once every 160 decisions: a blind scripted skipper lives that long, but PPO "
-        "trained blind to half the budget crashes about two thirds as often as the original's and lives 1.7 times as "
-        "long (the reward table's note 'Vessels blind to each other')."))
+        "trained blind crashes no more often than PPO that sees, about two thirds as often as the original's, "
+        "keeping to its own part of the map (the reward table's note 'Vessels blind to each other')."))
     collector_reach_m: float = Field(3.0, gt=0.0, le=20.0, description=(
         "[ours] The collector reaches this far ahead of the vessel's centre; a pebble it sweeps over is collected."))
     collector_half_width_m: float = Field(1.5, gt=0.0, le=10.0, description=(
