@@ -89,7 +89,7 @@ def territory(compiled: hivex_dsl.CompiledScenario, act: Callable[..., Any], wor
     lives = played.decisions.max(axis=1)  # a crash ends its world: every vessel lives the world's life
     positions = np.array(log)
     if len(positions) != lives.sum():
-        raise AssertionError(f"logged {len(positions)} decisions, the episodes hold {lives.sum()}")
+        raise RuntimeError(f"logged {len(positions)} decisions, the episodes hold {lives.sum()}")
     episodes = np.split(positions, np.cumsum(lives)[:-1])
     pairs = pair_distances(positions)
     return {"life": float(lives.mean()), "crashes": 1000.0 * worlds / float(lives.sum()),

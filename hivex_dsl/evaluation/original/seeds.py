@@ -5,9 +5,10 @@ The original's three runs of a cell are one draw, not three: hivex's pipeline wr
 differ only in --run-id, whose env_settings.seed is 5000 in every config that ran (../shared/paper/original-configs/
 train), and mlagents-learn seeds torch, NumPy and the Unity environment from it, so they started from the same
 weights in the same worlds and parted only by the threaded trainer's timing (the fidelity page's Wind Farm Control
-note, where their 200 points correlate at 0.92-0.96). Its band is therefore the spread of that timing, narrower than
-the spread between seeds that differ in weights, and a seeds' mean outside it can still be a run drawn as the
-original's was. :func:`among_seeds` asks that like-with-like question instead: does the original's mean (one run's
+note, where their 200 points correlate at 0.92-0.96). Its band is therefore the spread of that timing, which can be
+narrower than the spread between seeds that differ in weights (:func:`band_over_range` says how much: a quarter of
+it in Wind Farm Control, about as wide in Aerial Wildfire Suppression), so a seeds' mean outside it can still be a
+run drawn as the original's was. :func:`among_seeds` asks that like-with-like question instead: does the original's mean (one run's
 worth) fall within the range of our seeds' values, below all of them or above all? Were the original's run one more
 draw of the same process as each of ours, it would do so at the shares :func:`exchangeable_shares` gives: with three
 seeds half the time within, a quarter below all and a quarter above all.
