@@ -9,6 +9,7 @@ from pathlib import Path
 from typing import Any
 
 from ..compiler import registry
+from ..evaluation.original.compare import seed_words
 from .curves import budget_source
 
 BASELINES_DIR = Path("benchmarks") / "baselines"
@@ -130,11 +131,12 @@ def _seeds(data: dict[str, Any]) -> dict[str, Any] | None:
     others = data.get("other_seeds", [])
     if not others:
         return None
-    runs = [{"seed": data["seed"], "return": data["test"]["return"], "agent_steps": data["agent_steps"],
+    runs = [{"seed": data["seed"], "world_seed": data["hyperparameters"].get("world_seed"),
+             "return": data["test"]["return"], "agent_steps": data["agent_steps"],
              "wall_s": data["wall_s"], "recorded": True}] + [{**e, "recorded": False} for e in others]
     means = [run["return"]["mean"] for run in runs]
     across = _spread({"mean": statistics.fmean(means), "std": statistics.pstdev(means)})
-    return {"rows": [{"seed": run["seed"] if not run["recorded"] else f"{run['seed']} (the record above)",
+    return {"rows": [{"seed": seed_words(run).removeprefix("seed ") + (" (the record above)" if run["recorded"] else ""),
                       "ours": _spread(run["return"]), "steps": f"{run['agent_steps']:,}",
                       "wall": f"{run['wall_s'] / 60:.1f} min"} for run in runs],
             "count": len(runs), "across": across, "cell": f"{across} ({len(runs)} seeds)"}

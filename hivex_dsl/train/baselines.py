@@ -31,7 +31,8 @@ from .evaluate import evaluate
 from .grid import point_dir
 from .rundir import dumps, file_digest
 
-SEED_CHANGES = RESUMABLE_CHANGES | {"seed"}  # what another seed's run may differ in: not what it learns from
+# what another seed's run may differ in: its weights' and sampling's seed and its training worlds' (world_seed)
+SEED_CHANGES = RESUMABLE_CHANGES | {"seed", "world_seed"}
 
 
 LEVEL_POLICIES = ("random", "scripted")  # the trivial and the hand-written policy every record sets beside PPO
@@ -181,7 +182,8 @@ def add_seed(record: Path, run_dir: Path) -> dict[str, Any]:
         raise TrainError(f"{run_dir} trained scenario {trained['compiled'].name!r}, which differs from the "
                          f"record's {data['scenario']}")
     report = evaluate(run_dir / "checkpoint.pt", split="test", episodes=data["test"]["episodes"])
-    entry = {"seed": summary["seed"], "agent_steps": summary["agent_steps"], "wall_s": summary["wall_s"],
+    entry = {"seed": summary["seed"], "world_seed": hyperparameters.get("world_seed"),
+             "agent_steps": summary["agent_steps"], "wall_s": summary["wall_s"],
              "resumed_at": summary.get("resumed_at", []), "threads": hyperparameters["torch_threads"],
              "return": report["return"], "episode_length": report["episode_length"],
              "statistics": report["statistics"], **curve_fields(run_dir)}

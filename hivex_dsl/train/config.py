@@ -69,7 +69,11 @@ Ours (ML-Agents has no such key): ``num_worlds`` (parallel copies of the scenari
 runs 12 environments, the configs that ran one), ``max_grad_norm`` (gradient clipping; 0, the default, clips none,
 as ML-Agents; the baselines recorded before it became the default clipped at 0.5 and their commands say so),
 ``checkpoint_every`` and ``keep_checkpoints`` (agent-steps between checkpoints, how many are kept), ``seed`` (torch
-and sampling; the environment's seeds are the scenario's), ``device``, ``torch_threads`` (``auto``, the default: the
+and sampling), ``world_seed`` (the stream of the training worlds: null, the default, is the scenario's
+``seeds.train``, as every run of a cell in the original shared its config's ``env_settings.seed``; an integer trains
+on worlds of its own, so seeds that differ in it differ in the worlds they met as well as in their weights, what the
+seeds' measure of ``evaluation.original.seeds`` needs where the worlds more than the policy set a curve's points;
+the test split is always the scenario's ``seeds.test``), ``device``, ``torch_threads`` (``auto``, the default: the
 machine's free cores up to 8, :func:`free_cores`: those this process may use less the share the 1-minute load
 average keeps busy, since threads beyond the free cores slow a run down many times over; on 2 quiet cores the camera
 environments train 1.4-1.8x faster on both than on one; set 1 for concurrent runs on a shared machine, and a number
@@ -123,7 +127,7 @@ from __future__ import annotations
 import os
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Annotated, Any, Callable, Literal, Mapping, Sequence, Union
+from typing import Annotated, Any, Callable, Literal, Mapping, Optional, Sequence, Union
 
 from pydantic import Field, ValidationError
 
@@ -194,6 +198,7 @@ class PPOConfig(StrictModel):
     checkpoint_every: int = Field(500_000, ge=1)
     keep_checkpoints: int = Field(5, ge=1)
     seed: int = Field(0, ge=0, le=2**32 - 1)
+    world_seed: Optional[int] = Field(None, ge=0, le=2**32 - 1)
     device: str = Field("cpu", pattern=r"^(cpu|cuda(:[0-9]+)?)$", json_schema_extra={"x-expected": DEVICES})
     torch_threads: Union[Annotated[int, Field(ge=1, le=256)], Literal["auto"]] = Field(
         "auto", json_schema_extra={"x-expected": THREADS})

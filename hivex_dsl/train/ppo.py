@@ -56,15 +56,16 @@ def gae(rewards: torch.Tensor, values: torch.Tensor, next_value: torch.Tensor, t
     return advantages, advantages + values
 
 
-def make_env(compiled: CompiledScenario, num_worlds: int, split: str, ended_agents: EndedAgents = "respawn"
-             ) -> tuple[HivexVectorEnv, Any, dict[str, Any]]:
-    """The vector env on ``split``, its first observations and the reset's infos, reset on the split's seed
-    (explicitly, so every run of one seed plays the same worlds); ``ended_agents``: see :class:`HivexVectorEnv`."""
+def make_env(compiled: CompiledScenario, num_worlds: int, split: str, ended_agents: EndedAgents = "respawn",
+             seed: int | None = None) -> tuple[HivexVectorEnv, Any, dict[str, Any]]:
+    """The vector env on ``split``, its first observations and the reset's infos, reset on ``seed`` or, where it is
+    None, the split's seed (explicitly, so every run of one seed plays the same worlds); ``ended_agents``: see
+    :class:`HivexVectorEnv`."""
     try:
         env = HivexVectorEnv(compiled, num_worlds=num_worlds, split=split, ended_agents=ended_agents)
     except ValueError as exc:
         raise TrainError(f"cannot run {compiled.name!r} on its {split} seeds: {exc}") from None
-    observations, infos = env.reset(seed=int(getattr(compiled.seeds, split)))
+    observations, infos = env.reset(seed=int(getattr(compiled.seeds, split) if seed is None else seed))
     return env, observations, infos
 
 
@@ -326,7 +327,7 @@ def _train(compiled: CompiledScenario, cfg: PPOConfig, run: RunDir, progress: bo
     torch.set_num_threads(cfg.torch_threads)
     torch.manual_seed(cfg.seed + done_before)
     rng = np.random.default_rng([cfg.seed, done_before])
-    env, obs, infos = make_env(compiled, cfg.num_worlds, "train", cfg.ended_agents)
+    env, obs, infos = make_env(compiled, cfg.num_worlds, "train", cfg.ended_agents, cfg.world_seed)
     agent = ActorCritic(env.single_observation_space, env.single_action_space, cfg).to(torch_device(cfg.device))
     optimizer = make_optimizer(agent, cfg.learning_rate)
     curiosity, curiosity_optimizer = None, None

@@ -291,7 +291,8 @@ def seeds(recorded, tmp_path_factory):
     record.write_text((out / "wind_farm_control.json").read_text())
     compiled = compile(data["scenario"])
     runs = {}
-    for name, overrides in (("seed1", {"seed": 1}), ("seed0", {}), ("gamma", {"seed": 2, "gamma": 0.5})):
+    for name, overrides in (("seed1", {"seed": 1}), ("seed0", {}), ("gamma", {"seed": 2, "gamma": 0.5}),
+                            ("worlds", {"seed": 3, "world_seed": 77})):
         hyperparameters = data["hyperparameters"] | overrides
         train(compiled, make_config("wind_farm_control", hyperparameters), root / name, progress=False)
         runs[name] = root / name
@@ -320,7 +321,7 @@ def test_another_seed_is_evaluated_on_the_record_s_test_episodes(seeds):
     means = [data["test"]["return"]["mean"], entry["return"]["mean"]]
     across = f"{sum(means) / 2:,.2f} ± {abs(means[0] - means[1]) / 2:,.2f}"  # population std of two values
     assert row["seeds"]["across"] == across and row["seeds"]["count"] == 2
-    assert [r["seed"] for r in row["seeds"]["rows"]] == ["0 (the record above)", 1]
+    assert [r["seed"] for r in row["seeds"]["rows"]] == ["0 (the record above)", "1"]
     page = render_docs(None, baselines=record.parent)["baselines.md"]
     assert f"| {across} (2 seeds) |" in page and "| 1 | " in page
 
@@ -334,6 +335,20 @@ def test_only_another_seed_of_the_same_config_is_added(seeds):
         add_seed(record, runs["seed0"])
     with pytest.raises(TrainError, match=r"gamma: 0.9 -> 0.5"):
         add_seed(record, runs["gamma"])
+
+
+def test_a_seed_on_worlds_of_its_own_is_another_seed_and_says_so(seeds, tmp_path):
+    from hivex_dsl.evaluation.original.compare import seed_curves
+    from hivex_dsl.train.baselines import add_seed
+
+    record, runs = seeds
+    (tmp_path / record.name).write_text(record.read_text())
+    data = add_seed(tmp_path / record.name, runs["worlds"])
+    assert [(e["seed"], e["world_seed"]) for e in data["other_seeds"] if e["seed"] == 3] == [(3, 77)]
+    labels = [run.label for run in seed_curves(data)]
+    assert labels[0] == "this toolkit, seed 0" and "this toolkit, seed 3 on worlds 77" in labels
+    (row,) = baselines_context(tmp_path)["trained"]
+    assert "3 on worlds 77" in [r["seed"] for r in row["seeds"]["rows"]]
 
 
 def test_a_record_older_than_a_hyperparameter_takes_its_default(seeds, tmp_path):

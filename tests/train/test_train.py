@@ -6,6 +6,7 @@ import json
 import os
 import signal
 
+import numpy as np
 import pytest
 import torch
 
@@ -56,6 +57,33 @@ def test_a_seed_decides_the_run(tiny, tmp_path):
     first, again, other = weights(1, "a"), weights(1, "b"), weights(2, "c")
     assert torch.equal(first, again)
     assert not torch.equal(first, other)
+
+
+def test_world_seed_trains_on_the_worlds_of_that_seed_and_tests_on_the_scenario_s(tiny, tmp_path):
+    from hivex_dsl.train.ppo import make_env
+
+    scenario = short_scenario("wildfire_resource_management")  # its fire and weather are drawn per world
+    compiled = compile(scenario)
+    own, other = compiled.seeds.train, compiled.seeds.train + 1
+    # world_seed X plays the worlds a scenario whose seeds.train is X plays
+    _, moved, _ = make_env(compiled, 2, "train", seed=other)
+    _, written, _ = make_env(compile(scenario | {"seeds": {"train": other, "test": compiled.seeds.test}}), 2, "train")
+    _, default, _ = make_env(compiled, 2, "train")
+    assert np.array_equal(moved, written)
+    assert not np.array_equal(moved, default)
+
+    def weights(name, world_seed):
+        cfg = make_config(compiled.environment, tiny, {"seed": 1, "world_seed": world_seed})
+        train(compiled, cfg, tmp_path / name, progress=False)
+        state = torch.load(tmp_path / name / "checkpoint.pt", weights_only=True)["model"]
+        return torch.cat([v.flatten().float() for v in state.values()])
+
+    unset, named, elsewhere = weights("a", None), weights("b", own), weights("c", other)
+    assert torch.equal(unset, named)  # unset, the scenario's own training seed
+    assert not torch.equal(unset, elsewhere)  # the same weights' seed, other worlds: another run
+    config = json.loads((tmp_path / "c" / "config.json").read_text())["hyperparameters"]
+    assert config["world_seed"] == other and config["seed"] == 1
+    assert evaluate(tmp_path / "c" / "checkpoint.pt", episodes=1)["seed"] == compiled.seeds.test
 
 
 def test_the_commands_train_and_evaluate(tmp_path, capsys):

@@ -129,7 +129,7 @@ def from_record(record: dict[str, Any]) -> RunCurve:
     test = record.get("test_curve") or []
     test_curve = (np.array([r[0] for r in test], dtype=float), np.array([r[2] for r in test], dtype=float)) if test else None
     stale = is_stale(record)
-    label = f"this toolkit, seed {record.get('seed', 0)}" + (" (stale record)" if stale else "")
+    label = f"this toolkit, {seed_words(record)}" + (" (stale record)" if stale else "")
     kept = {name: values for name, values in (record.get("curve_panels") or {}).items()}
     episodes = record.get("curve_episodes") or [1] * len(rows)
     wrong = [name for name, values in [("curve_episodes", episodes), *kept.items()] if len(values) != len(rows)]
@@ -139,6 +139,13 @@ def from_record(record: dict[str, Any]) -> RunCurve:
     panels = {RETURN: np.array([r[2] for r in rows], dtype=float)}
     panels |= {name: np.array([np.nan if v is None else v for v in values], dtype=float) for name, values in kept.items()}
     return RunCurve(steps, np.array(episodes, dtype=float), panels, label, test_curve, stale)
+
+
+def seed_words(record: dict[str, Any]) -> str:
+    """A record's (or one of its ``other_seeds``') training seed, and its training worlds' where it trained on worlds
+    of its own (``world_seed``): "seed 1", "seed 1 on worlds 5001"."""
+    worlds = record.get("world_seed", (record.get("hyperparameters") or {}).get("world_seed"))
+    return f"seed {record.get('seed', 0)}" + ("" if worlds is None else f" on worlds {worlds}")
 
 
 def record_panels(run: RunCurve, digits: int = 4) -> dict[str, Any]:

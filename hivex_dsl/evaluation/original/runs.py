@@ -9,7 +9,7 @@ from pathlib import Path
 from typing import Any
 
 from ...base.errors import HivexError
-from .compare import CompareError, RunCurve, from_points, paper_task_index, seed_curves
+from .compare import CompareError, RunCurve, from_points, paper_task_index, seed_curves, seed_words
 
 
 @dataclass(frozen=True)
@@ -38,10 +38,10 @@ def read_run(path: Path) -> Run:
                 raise CompareError(f"{path} is a run of `hivex train` still training (or stopped before its first "
                                    "checkpoint) with no curve yet: it writes curve.json with every checkpoint")
             curve = from_points(json.loads((path / "curve.json").read_text()),
-                                f"this toolkit, seed {summary['seed']} (unfinished)")
+                                f"this toolkit, {_seed_words(path, summary)} (unfinished)")
         elif path.is_dir():
             summary = json.loads((path / "summary.json").read_text())
-            curve = from_points(json.loads((path / "curve.json").read_text()), f"this toolkit, seed {summary['seed']}")
+            curve = from_points(json.loads((path / "curve.json").read_text()), f"this toolkit, {_seed_words(path, summary)}")
         else:
             summary = json.loads(path.read_text())
             curve, *others = seed_curves(summary)
@@ -52,6 +52,13 @@ def read_run(path: Path) -> Run:
     except (KeyError, TypeError, ValueError) as exc:
         raise CompareError(f"{path} is no run directory of `hivex train` and no baseline record ({exc})") from None
     return Run(curve, environment, paper_task_index(environment, task), level, tuple(others))
+
+
+def _seed_words(path: Path, summary: dict[str, Any]) -> str:
+    """The run's seed in words, with its training worlds' where its config.json names its own (:func:`seed_words`)."""
+    config = path / "config.json"
+    hyperparameters = json.loads(config.read_text())["hyperparameters"] if config.exists() else {}
+    return seed_words({"seed": summary["seed"], "world_seed": hyperparameters.get("world_seed")})
 
 
 def _unfinished_summary(path: Path) -> dict[str, Any]:
