@@ -145,12 +145,12 @@ def test_a_record_of_three_seeds_shows_each_seed_and_their_mean(tmp_path):
     among = dict(c["among"])
     # the band over the seeds' range: about 968 / (600 - 400) at 10% and 38 / (4,990 - 4,970) at 100%
     assert float(among.pop("band_over_range")) == pytest.approx((968 / 200 + 38 / 20) / 2, rel=0.02)
-    assert among == {"points": 2, "seeds": 3, "within": 0, "below_all": 1, "above_all": 1,
+    assert among == {"points": 2, "seeds": 3, "within": 0, "below_all": 1, "above_all": 1, "shared_swings": "-",
                      "expected": {"within": "50%", "below_all": "25%", "above_all": "25%"}}
     assert "| 2,298 | 1,958 - 2,926 | below | above all |" in page and "| no point | too few seeds |" in page
     assert ("Of the 2 points where two seeds or more have a value, the original's mean lies within our seeds' range\n"
             "at 0, below all of them at 1 and above all at 1") in page
-    assert ("| `wind_farm_control` | 3 | 4 | 0 | {among_ratio} | 0 of 2 (50% expected) | 1 (25%) | 1 (25%) |"
+    assert ("| `wind_farm_control` | 3 | 4 | 0 | {among_ratio} | - | 0 of 2 (50% expected) | 1 (25%) | 1 (25%) |"
             .format(among_ratio=c["among"]["band_over_range"]) in page)  # at a glance
     # the last tenth (past 7.2M) holds each seed's 8M point alone: 4,990, 4,980 and 4,970 over the original's 4,571.7
     # (its event files' 20 points there), mean 4,980 (1.09)

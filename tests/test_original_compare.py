@@ -13,7 +13,7 @@ from hivex_dsl.evaluation.original.curves import Curve, OriginalCell, OriginalPa
 from hivex_dsl.evaluation.original.digitise import VALUE_RESOLUTION_PT
 from hivex_dsl.evaluation.original.runs import read_run
 from hivex_dsl.evaluation.original.seeds import (among_seeds, among_tally, among_words, band_over_range,
-                                                 exchangeable_shares, measure_seeds, seeds_table)
+                                                 exchangeable_shares, measure_seeds, seeds_table, shared_swings)
 
 
 def _line(steps, mean, half_width) -> Curve:
@@ -282,6 +282,33 @@ def test_where_the_original_falls_among_the_seeds_by_hand():
     assert sum(exchangeable_shares(5).values()) == pytest.approx(1.0) and exchangeable_shares(2)["within"] == 1 / 3
     with pytest.raises(compare.CompareError, match="two seeds or more"):
         exchangeable_shares(1)
+
+
+def _swinging(steps, trend_slope, swing, panel=compare.RETURN) -> compare.RunCurve:
+    """A run whose ``panel`` is a straight trend plus ``swing`` (n,) at ``steps``."""
+    steps = np.asarray(steps, dtype=float)
+    return compare.RunCurve(steps, np.ones(len(steps)), {panel: trend_slope * steps / 1000 + swing})
+
+
+def test_shared_swings_by_hand():
+    steps = np.arange(60) * 1000
+    swing = np.where(np.arange(60) % 2 == 0, 5.0, -5.0)  # every other point up, then down
+    # a straight trend is its own running mean: the swings about it are the same whatever the slope
+    same = [_swinging(steps, 2.0, swing), _swinging(steps, -1.0, swing), _swinging(steps, 0.0, swing)]
+    assert shared_swings(same) == pytest.approx(1.0)
+    # pairs 1, -1 and -1: their median
+    assert shared_swings([*same[:2], _swinging(steps, 0.0, -swing)]) == pytest.approx(-1.0)
+    # a seed logged twice as often is read at the first seed's steps, where its points agree with the first's
+    finer = np.arange(119) * 500
+    finer_swing = np.where(finer % 1000 == 0, np.where(finer % 2000 == 0, 5.0, -5.0), 0.0)
+    assert shared_swings([same[0], _swinging(finer, 0.0, finer_swing)]) == pytest.approx(1.0)
+    assert shared_swings([same[0], _swinging(steps, 0.0, np.zeros(60))]) is None  # no swing: no correlation
+    rng = np.random.default_rng(3)
+    own = [_swinging(np.arange(500) * 1000, 1.0, rng.normal(size=500)) for _ in range(3)]
+    assert abs(shared_swings(own)) < 0.15  # swings of their own: no more shared than chance
+    assert shared_swings(same[:1]) is None  # one seed shares with none
+    assert shared_swings([_swinging(steps[:26], 0.0, swing[:26])] * 2) is None  # under 3 windows of points
+    assert shared_swings([same[0], _swinging(steps, 0.0, swing, panel="Episode Length")]) is None
 
 
 def test_the_exchangeable_shares_hold_for_draws_of_one_distribution():

@@ -83,7 +83,7 @@ def _comparison(record: dict[str, Any]) -> tuple[dict[str, Any], np.ndarray] | N
                "seeds": seeds, "seeds_recorded": 1 + len(record.get("other_seeds", [])),
                "image": f"{IMAGES}/{environment}.png", "table": seeds_measure.seeds_table(rows, seeds),
                "counts": {word: verdicts.count(word) for word in ("within", "above", "below", "no point")},
-               "among": among_counts(rows, len(runs)),
+               "among": among_counts(rows, runs),
                "panels": list(dict.fromkeys(r.panel for r in rows)), "budget": _number(budget),
                "tail_table": tail_table(ends, seeds), "tail_start": _number(end.start),
                "tail_return": None if end.value is None else
@@ -93,15 +93,18 @@ def _comparison(record: dict[str, Any]) -> tuple[dict[str, Any], np.ndarray] | N
     return context, picture(runs[0], cell, drawn, others=runs[1:])
 
 
-def among_counts(rows: list[seeds_measure.SeedsRow], seeds: int) -> dict[str, Any] | None:
-    """How often the original's mean falls within our seeds' range, below all or above all of them, beside the
-    shares one more seed would (:func:`~hivex_dsl.evaluation.original.seeds.exchangeable_shares`, as percentages);
-    None with fewer than two seeds."""
+def among_counts(rows: list[seeds_measure.SeedsRow], runs: list[compare.RunCurve]) -> dict[str, Any] | None:
+    """How often the original's mean falls within the range of the seeds ``runs``, below all or above all of them,
+    beside the shares one more seed would (:func:`~hivex_dsl.evaluation.original.seeds.exchangeable_shares`, as
+    percentages), and how much of their return's swings the seeds share
+    (:func:`~hivex_dsl.evaluation.original.seeds.shared_swings`); None with fewer than two seeds."""
+    seeds = len(runs)
     if seeds < 2:
         return None
     found, shares = seeds_measure.among_tally(rows), seeds_measure.exchangeable_shares(seeds)
-    ratio = seeds_measure.band_over_range(rows)
+    ratio, swings = seeds_measure.band_over_range(rows), seeds_measure.shared_swings(runs)
     return {"points": sum(found.values()), "seeds": seeds, "band_over_range": "-" if ratio is None else f"{ratio:.2f}",
+            "shared_swings": "-" if swings is None else f"{swings:.2f}",
             **{word.replace(" ", "_"): count for word, count in found.items()},
             "expected": {word.replace(" ", "_"): f"{share:.0%}" for word, share in shares.items()}}
 
