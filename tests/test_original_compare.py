@@ -13,7 +13,8 @@ from hivex_dsl.evaluation.original.curves import Curve, OriginalCell, OriginalPa
 from hivex_dsl.evaluation.original.digitise import VALUE_RESOLUTION_PT
 from hivex_dsl.evaluation.original.runs import read_run
 from hivex_dsl.evaluation.original.seeds import (among_seeds, among_tally, among_words, band_over_range,
-                                                 exchangeable_shares, measure_seeds, seeds_table, shared_swings)
+                                                 exchangeable_shares, measure_seeds, seeds_table, shared_swings,
+                                                 swings_words)
 
 
 def _line(steps, mean, half_width) -> Curve:
@@ -192,6 +193,7 @@ def test_hivex_curves_measures_other_seeds_runs_given_with_it(tmp_path, capsys):
     assert "| Episode Length | 100% |" in both and "| 4,999 | 4,999 | 4,999 - 4,999 | within | within |" in both
     # the original's 2,298 and 3,828 at 10 and 25% lie below all of 4,000-5,000; its 4,475 and 4,583 within
     assert "within their range at 6, below all at 2, above all at 0 (one more seed drawn as ours were: 50%" in both
+    assert "swings" not in both  # flat curves have none to share
 
 
 def test_hivex_curves_refuses_a_seed_of_another_cell(tmp_path, capsys):
@@ -296,6 +298,7 @@ def test_shared_swings_by_hand():
     # a straight trend is its own running mean: the swings about it are the same whatever the slope
     same = [_swinging(steps, 2.0, swing), _swinging(steps, -1.0, swing), _swinging(steps, 0.0, swing)]
     assert shared_swings(same) == pytest.approx(1.0)
+    assert swings_words(same).startswith("their return's swings from point to point correlate at 1.00 between seeds")
     # pairs 1, -1 and -1: their median
     assert shared_swings([*same[:2], _swinging(steps, 0.0, -swing)]) == pytest.approx(-1.0)
     # a seed logged twice as often is read at the first seed's steps, where its points agree with the first's
@@ -303,6 +306,7 @@ def test_shared_swings_by_hand():
     finer_swing = np.where(finer % 1000 == 0, np.where(finer % 2000 == 0, 5.0, -5.0), 0.0)
     assert shared_swings([same[0], _swinging(finer, 0.0, finer_swing)]) == pytest.approx(1.0)
     assert shared_swings([same[0], _swinging(steps, 0.0, np.zeros(60))]) is None  # no swing: no correlation
+    assert swings_words([same[0], _swinging(steps, 0.0, np.zeros(60))]) == ""
     rng = np.random.default_rng(3)
     own = [_swinging(np.arange(500) * 1000, 1.0, rng.normal(size=500)) for _ in range(3)]
     assert abs(shared_swings(own)) < 0.15  # swings of their own: no more shared than chance

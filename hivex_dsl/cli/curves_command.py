@@ -37,7 +37,7 @@ def add_command(sub: argparse._SubParsersAction) -> None:
 def cmd_curves(args: argparse.Namespace) -> int:
     from ..evaluation.original import compare
     from ..evaluation.original.runs import read_run
-    from ..evaluation.original.seeds import among_words, measure_seeds, seeds_table
+    from ..evaluation.original.seeds import among_words, measure_seeds, seeds_table, swings_words
     from ..evaluation.original.tail import tail_seeds, tail_table
 
     run = read_run(args.run)
@@ -71,6 +71,9 @@ def cmd_curves(args: argparse.Namespace) -> int:
         rows = measure_seeds(seeds, cell)
         sys.stdout.write("\nevery seed and their mean:\n\n" + seeds_table(rows, labels) + "\n\n"
                          + among_words(rows, len(seeds)) + "\n")
+        swings = swings_words(seeds)
+        if swings:
+            sys.stdout.write(swings + "\n")
     ends = tail_seeds(seeds, cell)
     sys.stdout.write(f"\npooled over the last tenth of the original's budget (from {ends[0].start:,} agent-steps), "
                      "in parentheses over the original's:\n\n" + tail_table(ends, labels) + "\n")

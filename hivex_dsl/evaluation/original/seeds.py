@@ -120,6 +120,16 @@ def shared_swings(runs: Sequence[RunCurve], panel: str = RETURN, window: int = S
     return float(np.median(pairs)) if pairs else None
 
 
+def swings_words(runs: Sequence[RunCurve]) -> str:
+    """A sentence saying how much of their return's swings the seeds ``runs`` share (:func:`shared_swings`), or ""
+    where that is not measured."""
+    shared = shared_swings(runs)
+    if shared is None:
+        return ""
+    return (f"their return's swings from point to point correlate at {shared:.2f} between seeds (near 1: they met "
+            "the same worlds, whose spread their range then leaves out; near 0: each seed's own)")
+
+
 def among_words(rows: Sequence[SeedsRow], seeds: int) -> str:
     """A sentence counting where the original's mean falls among ``seeds`` seeds over ``rows`` (the points where two
     or more have a value), beside the shares of :func:`exchangeable_shares`."""
@@ -172,4 +182,4 @@ def seeds_table(rows: Sequence[SeedsRow], labels: Sequence[str]) -> str:
 
 
 __all__ = ["SeedsRow", "among_seeds", "among_tally", "among_words", "band_over_range", "exchangeable_shares", "mean_of_seeds",
-           "measure_seeds", "seeds_table", "shared_swings"]
+           "measure_seeds", "seeds_table", "shared_swings", "swings_words"]
