@@ -69,7 +69,7 @@ Ours (ML-Agents has no such key): ``num_worlds`` (parallel copies of the scenari
 runs 12 environments, the configs that ran one), ``max_grad_norm`` (gradient clipping; 0, the default, clips none,
 as ML-Agents; the baselines recorded before it became the default clipped at 0.5 and their commands say so),
 ``checkpoint_every`` and ``keep_checkpoints`` (agent-steps between checkpoints, how many are kept), ``seed`` (torch
-and sampling), ``world_seed`` (the stream of the training worlds: null, the default, is the scenario's
+and sampling), ``world_seed`` (the stream of the training worlds: ``scenario``, the default, is the scenario's
 ``seeds.train``, as every run of a cell in the original shared its config's ``env_settings.seed``; an integer trains
 on worlds of its own, so seeds that differ in it differ in the worlds they met as well as in their weights, what the
 seeds' measure of ``evaluation.original.seeds`` needs where the worlds more than the policy set a curve's points;
@@ -127,7 +127,7 @@ from __future__ import annotations
 import os
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Annotated, Any, Callable, Literal, Mapping, Optional, Sequence, Union
+from typing import Annotated, Any, Callable, Literal, Mapping, Sequence, Union
 
 from pydantic import Field, ValidationError
 
@@ -153,6 +153,7 @@ HYPERPARAMETERS = Document("set of hyperparameters", "a mapping of hyperparamete
                            may_be_empty=True)
 DEVICES = "cpu, cuda or cuda:N (one GPU of several)"  # what the training loop runs on
 THREADS = "an integer from 1 to 256, or auto (this machine's cores, at most 8)"
+WORLD_SEEDS = "an integer from 0 to 4294967295, or scenario (the scenario's seeds.train)"
 Precision = Literal["exact", "bf16", "tf32"]
 MAX_AUTO_THREADS = 8  # past 8 the small networks' updates gain little; more belongs to concurrent runs
 MINIBATCH_KEYS = ("batch_size", "buffer_size")
@@ -198,7 +199,8 @@ class PPOConfig(StrictModel):
     checkpoint_every: int = Field(500_000, ge=1)
     keep_checkpoints: int = Field(5, ge=1)
     seed: int = Field(0, ge=0, le=2**32 - 1)
-    world_seed: Optional[int] = Field(None, ge=0, le=2**32 - 1)
+    world_seed: Union[Annotated[int, Field(ge=0, le=2**32 - 1)], Literal["scenario"]] = Field(
+        "scenario", json_schema_extra={"x-expected": WORLD_SEEDS})
     device: str = Field("cpu", pattern=r"^(cpu|cuda(:[0-9]+)?)$", json_schema_extra={"x-expected": DEVICES})
     torch_threads: Union[Annotated[int, Field(ge=1, le=256)], Literal["auto"]] = Field(
         "auto", json_schema_extra={"x-expected": THREADS})
@@ -227,6 +229,10 @@ class PPOConfig(StrictModel):
         if self.torch_threads != "auto":
             return self.torch_threads
         return max(1, min(free_cores(), MAX_AUTO_THREADS))
+
+    def own_worlds(self) -> int | None:
+        """The seed of this run's training worlds where it names its own (``world_seed``), None for the scenario's."""
+        return None if self.world_seed == "scenario" else self.world_seed
 
     def rollout_length(self, slots: int) -> int:
         """Steps of every slot per update, at most: with ``buffer_fill: rollout`` always ``buffer_size // slots``

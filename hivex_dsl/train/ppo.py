@@ -327,7 +327,7 @@ def _train(compiled: CompiledScenario, cfg: PPOConfig, run: RunDir, progress: bo
     torch.set_num_threads(cfg.torch_threads)
     torch.manual_seed(cfg.seed + done_before)
     rng = np.random.default_rng([cfg.seed, done_before])
-    env, obs, infos = make_env(compiled, cfg.num_worlds, "train", cfg.ended_agents, cfg.world_seed)
+    env, obs, infos = make_env(compiled, cfg.num_worlds, "train", cfg.ended_agents, cfg.own_worlds())
     agent = ActorCritic(env.single_observation_space, env.single_action_space, cfg).to(torch_device(cfg.device))
     optimizer = make_optimizer(agent, cfg.learning_rate)
     curiosity, curiosity_optimizer = None, None

@@ -81,6 +81,10 @@ def test_nothing_written_is_dropped_a_null_is_an_error_not_the_default(tmp_path)
     path.write_text("# the paper's gamma, please\ngamma:\n")
     assert problems(read_overrides(path)) == [f"{path}:2:7: gamma: expected a number from 0.0 to 1.0, got null"]
     assert problems({"seed": None}) == ["seed: expected an integer from 0 to 4294967295, got null"]
+    assert problems({"world_seed": None}) == [
+        "world_seed: expected an integer from 0 to 4294967295, or scenario (the scenario's seeds.train), got null"]
+    assert make_config("wind_farm_control").world_seed == "scenario"
+    assert make_config("wind_farm_control", {"world_seed": 7}).own_worlds() == 7
     with pytest.raises(TrainError, match=r"^--set gamma=: expected a value after '='$"):
         parse_assignments(["gamma="])
     with pytest.raises(TrainError, match=r"^--set gamma is given twice \(gamma=0.9, then gamma=0.8\): give it once$"):

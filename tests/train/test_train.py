@@ -78,7 +78,7 @@ def test_world_seed_trains_on_the_worlds_of_that_seed_and_tests_on_the_scenario_
         state = torch.load(tmp_path / name / "checkpoint.pt", weights_only=True)["model"]
         return torch.cat([v.flatten().float() for v in state.values()])
 
-    unset, named, elsewhere = weights("a", None), weights("b", own), weights("c", other)
+    unset, named, elsewhere = weights("a", "scenario"), weights("b", own), weights("c", other)
     assert torch.equal(unset, named)  # unset, the scenario's own training seed
     assert not torch.equal(unset, elsewhere)  # the same weights' seed, other worlds: another run
     config = json.loads((tmp_path / "c" / "config.json").read_text())["hyperparameters"]

@@ -145,7 +145,7 @@ def seed_words(record: dict[str, Any]) -> str:
     """A record's (or one of its ``other_seeds``') training seed, and its training worlds' where it trained on worlds
     of its own (``world_seed``): "seed 1", "seed 1 on worlds 5001"."""
     worlds = record.get("world_seed", (record.get("hyperparameters") or {}).get("world_seed"))
-    return f"seed {record.get('seed', 0)}" + ("" if worlds is None else f" on worlds {worlds}")
+    return f"seed {record.get('seed', 0)}" + ("" if worlds in (None, "scenario") else f" on worlds {worlds}")
 
 
 def record_panels(run: RunCurve, digits: int = 4) -> dict[str, Any]:
