@@ -306,7 +306,7 @@ def train(compiled: CompiledScenario, cfg: PPOConfig, run_dir: Path, progress: b
 
     ``resume`` goes on from ``run_dir/checkpoint.pt`` (see :func:`resume_state`): the weights, both optimizers,
     the curiosity module, the agent-steps, wall time and learning curve so far. As in ML-Agents' ``--resume``
-    the environments start afresh on the train seed, so a resumed run is not bit-identical to one never
+    the environments start afresh on the training worlds' seed, so a resumed run is not bit-identical to one never
     stopped. Ctrl-C, SIGTERM or setting ``stop_event`` stops the run after its update (:class:`StopRequests`).
     ``run``: the run directory already claimed (by a grid's point, which writes its evaluation there after)."""
     if cfg.precision_problem():

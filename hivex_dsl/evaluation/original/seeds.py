@@ -101,8 +101,8 @@ def shared_swings(runs: Sequence[RunCurve], panel: str = RETURN, window: int = S
     pairs of seeds, of the correlation of each one's swings (its values less their running mean over ``window``
     points, the edges left out) at the first seed's summary steps where every seed has a curve (the others
     interpolated). About 1 where the worlds set the swings and the seeds met the same worlds (Wildfire Resource
-    Management's fires on the scenario's training worlds: 0.97-0.98), about 0 where each seed's own; then the
-    seeds' range holds the worlds' spread, as :func:`among_seeds` asks of it. None with fewer than two seeds that
+    Management's fires on the scenario's training worlds: 0.97-0.98); about 0 where each seed's swings are its own,
+    and only then does the seeds' range hold the worlds' spread, as :func:`among_seeds` needs it to. None with fewer than two seeds that
     log ``panel``, too few points, or no pair whose swings both vary."""
     logging = [run for run in runs if panel in run.panels]
     if len(logging) < 2:
