@@ -1,6 +1,8 @@
 """Wildfire Resource Management: what an untrained policy earns for keeping and for giving, here and in the original.
 
     python benchmarks/wrm_untrained_shares.py [--inits 8] [--worlds 4] [--decisions 400] [--levels 1,5,10]
+    python benchmarks/wrm_untrained_shares.py --readings [--levels 1,5,10]   # uniform random play, other readings
+    python benchmarks/wrm_untrained_shares.py --model   # the nine towers' allocations alone, other mechanics
 
 The first training point of every original cell is (mostly) its untrained policy: one network (every config that
 ran has env_settings.seed 5000) on the same fires in all three tasks, whose first points agree. Two ratios of that
@@ -9,7 +11,14 @@ Individual Performance (keeping) and Reward for Moving Resources to Neighbours o
 each paid statistic divided by its task's weight (Keep All pays keeping x10, Distribute All giving x10). Beside them,
 this toolkit's untrained policies: networks initialised as `hivex train` initialises them (ML-Agents' layers, one per
 --inits seed, each on training worlds of its own), each playing its first --decisions decisions, the episodes that end
-pooled as ML-Agents pools a summary point. The reward table's note 'The untrained towers' records what it printed.
+pooled as ML-Agents pools a summary point. With --readings, uniform random play at each level read four ways:
+keeping as the term here pays it (P r_self^2) or as P times the resources held times r_self, giving as here (the
+neighbours' summed P times the share given) or per neighbour (each neighbour's P times the share given it). With
+--model, the allocations alone (no fire: P alike at every tower and step, so keeping is E[r_self^2] / E[held] and
+giving 3 E[given] / E[held]) under uniform random play, as the environment moves its tenths and with a tower's
+'Sub from Self' taking back what its neighbours gave it, first or in proportion to what it holds, each from
+nothing or from nine tenths on the tower itself. The reward table's note 'The untrained towers' records what it
+printed.
 """
 
 from __future__ import annotations
@@ -81,17 +90,131 @@ def untrained_shares(level: int, seed: int, worlds: int = 4, decisions: int = 40
     return shares(means[SELF], means[NEIGHBOURS], means[INDIVIDUAL])
 
 
+def readings(level: int, worlds: int = 16, steps: int = 1200, seed: int = 1) -> dict[str, float]:
+    """Uniform random play (actions from ``seed``) at ``level`` on the training seed's stream, each step's terms
+    read four ways and summed over the episodes that end: keeping as paid here (``self_squared``: P r_self^2) or
+    ``self_held`` (P times the share held times r_self), giving as paid here (``given_total``: the neighbours' summed
+    P times the share given) or ``given_each`` (each neighbour's P times the share given it), each over Individual
+    Performance."""
+    from hivex_dsl.envs.wildfire_resource_management.resources import NEIGHBOURS as TABLE, TENTHS
+    from hivex_dsl.envs.wildfire_resource_management.terms import tower_performance
+    from hivex_dsl.runtime.batched import BatchedEnv
+
+    compiled = hivex_dsl.compile({"hivex": 1, "environment": ENVIRONMENT, "terrain_level": level})
+    env = BatchedEnv(compiled, batch=worlds, split="train")
+    env.reset()
+    rng = np.random.default_rng(seed)
+    names = ("individual", "self_squared", "self_held", "given_total", "given_each")
+    running = {name: np.zeros((worlds, compiled.agents)) for name in names}
+    ended = dict.fromkeys(names, 0.0)
+    for _ in range(steps):
+        env.step(rng.integers(0, 3, (worlds, compiled.agents, 4)))
+        state = env.state
+        performance = tower_performance(state, env.sim.params)
+        kept, given = state.allocation[..., 0] / TENTHS, state.allocation[..., 1:] / TENTHS
+        held = state.support / TENTHS
+        neighbours = performance[:, TABLE]  # (worlds, towers, 3)
+        running["individual"] += performance * held
+        running["self_squared"] += performance * kept * kept
+        running["self_held"] += performance * held * kept
+        running["given_total"] += neighbours.sum(-1) * given.sum(-1)
+        running["given_each"] += (neighbours * given).sum(-1)
+        done = ~env.alive.any(axis=1)
+        if done.any():
+            for name in names:
+                ended[name] += running[name][done].sum()
+                running[name][done] = 0.0
+            env.reset_worlds(done)
+    return {name: ended[name] / ended["individual"] for name in names[1:]}
+
+
+TAKE_BACKS = ("none", "received_first", "proportional")
+
+
+def allocation_model(take_back: str = "none", initial_self_tenths: int = 0, worlds: int = 4000, steps: int = 160,
+                     skip: int = 20, seed: int = 0) -> tuple[float, float, float]:
+    """(keeping, giving, held) of the nine towers' allocations alone under uniform random play: keeping
+    E[r_self^2] / E[held], giving 3 E[given] / E[held] and held E[held] over the steps after ``skip`` of ``worlds``
+    worlds of ``steps`` steps (with P alike at every tower and step, keeping and giving as the terms here read them).
+    Tenths move as the environment moves them (resources.apply_actions, nine tenths allocatable); with
+    ``take_back`` a tower's 'Sub from Self' instead returns a tenth its neighbours gave it to its giver, first
+    ('received_first': before its own) or with the chance of its share of what the tower holds ('proportional')."""
+    from hivex_dsl.envs.wildfire_resource_management.resources import (SUBTRACT, TENTHS, TOWERS, apply_actions,
+                                                                       initial_resources, total_support)
+
+    if take_back not in TAKE_BACKS:
+        raise HivexError(f"take_back must be one of {', '.join(TAKE_BACKS)}, not {take_back!r}")
+    rng = np.random.default_rng(seed)
+    allocation, budget = initial_resources(worlds, TOWERS, initial_self_tenths)
+    held_back = 1  # the tenth no add can take (allocatable_tenths 9)
+    sums = np.zeros(3)
+    for step in range(steps):
+        actions = rng.integers(0, 3, (worlds, TOWERS, 4))
+        if take_back != "none":
+            asks = actions[..., 0] == SUBTRACT
+            _take_back(allocation, budget, asks, take_back, rng)
+            actions[..., 0][asks] = 0  # the tower's subtraction is spent
+        allocation, free, _ = apply_actions(allocation, budget - held_back, actions)
+        budget = free + held_back
+        if step >= skip:
+            kept, given = allocation[..., 0] / TENTHS, allocation[..., 1:].sum(-1) / TENTHS
+            held = total_support(allocation) / TENTHS
+            sums += ((kept * kept).mean(), given.mean(), held.mean())
+    squared, given, held = sums / (steps - skip)
+    return squared / held, 3 * given / held, held
+
+
+def _take_back(allocation: np.ndarray, budget: np.ndarray, asks: np.ndarray, mode: str,
+               rng: np.random.Generator) -> None:
+    """In place: every tower that ``asks`` (worlds, 9) gives back a tenth it holds, one a neighbour gave it (to that
+    giver's budget, the first giver in index order that gave one) or its own (to its own budget), as ``mode`` says."""
+    from hivex_dsl.envs.wildfire_resource_management.resources import NEIGHBOURS as TABLE, TOWERS
+
+    for tower in range(TOWERS):
+        givers = [(giver, 1 + slot) for giver in range(TOWERS) for slot in range(TABLE.shape[1])
+                  if TABLE[giver, slot] == tower]
+        received = sum(allocation[:, giver, slot] for giver, slot in givers).astype(float)
+        own = allocation[:, tower, 0].astype(float)
+        from_received = asks[:, tower] & (received > 0)
+        if mode == "proportional":
+            from_received &= rng.random(len(own)) < received / np.maximum(own + received, 1.0)
+        from_own = asks[:, tower] & ~from_received & (own > 0)
+        allocation[from_own, tower, 0] -= 1
+        budget[from_own, tower] += 1
+        for giver, slot in givers:  # the first giver holding a tenth here returns it
+            hit = from_received & (allocation[:, giver, slot] > 0)
+            allocation[hit, giver, slot] -= 1
+            budget[hit, giver] += 1
+            from_received &= ~hit
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--inits", type=int, default=8, help="untrained networks a level (training seeds 0..N-1)")
     parser.add_argument("--worlds", type=int, default=4, help="worlds each network plays (default 4)")
     parser.add_argument("--decisions", type=int, default=400, help="decisions each plays (default 400)")
     parser.add_argument("--levels", default="1,5,10", help="terrain levels, comma-separated")
+    parser.add_argument("--readings", action="store_true", help="uniform random play read four ways, per level")
+    parser.add_argument("--model", action="store_true", help="the allocations alone under other mechanics")
     args = parser.parse_args(argv)
     try:
         if args.inits < 1 or args.worlds < 1 or args.decisions < 1:
             raise HivexError("--inits, --worlds and --decisions must be at least 1")
         levels = [int(level) for level in args.levels.split(",")]
+        if args.model:
+            print("take back        from  keeping  giving  held")
+            for take_back in TAKE_BACKS:
+                for start in (0, 9):
+                    keeping, giving, held = allocation_model(take_back, start)
+                    print(f"{take_back:15s}  {start:4d}  {keeping:7.3f}  {giving:6.2f}  {held:4.2f}", flush=True)
+            return 0
+        if args.readings:
+            print("level  keeping: P r^2  P held r  |  giving: summed  each")
+            for level in levels:
+                r = readings(level)
+                print(f"{level:5d}  {r['self_squared']:14.3f}  {r['self_held']:8.3f}  |  {r['given_total']:14.2f}  "
+                      f"{r['given_each']:4.2f}", flush=True)
+            return 0
         print("level  original keeping (tasks 0-2)  giving (tasks 0-2)  count  |  ours keeping  giving (min-max)")
         for level in levels:
             theirs = np.array([original_first_point(task, level) for task in TASK_WEIGHTS])

@@ -61,6 +61,41 @@ def test_this_toolkit_s_untrained_towers_give_far_more_than_the_original_s():
         assert keeping < lowest_original_keep
 
 
+def test_a_tower_takes_back_a_tenth_its_neighbours_gave_it_first_by_hand():
+    from hivex_dsl.envs.wildfire_resource_management.resources import NEIGHBOURS, initial_resources
+
+    assert NEIGHBOURS[1, 2] == 4  # tower 1's third neighbour is the centre, tower 4
+    allocation, budget = initial_resources(3, 9, 0)
+    allocation[:2, 4, 0] = 3  # worlds 0 and 1: the centre keeps three tenths
+    allocation[0, 1, 3] = 2  # world 0: tower 1 gave it two more; world 2: it holds nothing
+    budget -= allocation.sum(-1).astype(budget.dtype)
+    total = allocation.sum(axis=(1, 2)) + budget.sum(-1)
+    asks = np.zeros((3, 9), bool)
+    asks[:, 4] = True
+    script._take_back(allocation, budget, asks, "received_first", np.random.default_rng(0))
+    assert allocation[0, 1, 3] == 1 and budget[0, 1] == 9 and allocation[0, 4, 0] == 3  # back to its giver
+    assert allocation[1, 4, 0] == 2 and budget[1, 4] == 8  # nothing received: its own
+    assert not allocation[2].any() and (budget[2] == 10).all()  # nothing held: nothing moves
+    np.testing.assert_array_equal(allocation.sum(axis=(1, 2)) + budget.sum(-1), total)
+
+
+def test_taking_back_what_was_given_keeps_it_from_the_neighbours():
+    """Uniform random play on the allocations alone: the environment's moves give most away; a 'Sub from Self'
+    that takes back first what neighbours gave keeps most, one in proportion to what is held lies between."""
+    giving = {mode: script.allocation_model(mode, worlds=400)[1] for mode in script.TAKE_BACKS}
+    assert giving["received_first"] < 0.8 < giving["proportional"] < 1.6 < 2.0 < giving["none"]
+    with pytest.raises(script.HivexError, match="take_back must be one of"):
+        script.allocation_model("sometimes")
+
+
+def test_giving_read_per_neighbour_never_exceeds_individual_performance():
+    """Each tenth given is held by the neighbour whose P pays for it, so over a world's towers the per-neighbour
+    reading is at most Individual Performance; the reading here is about three times what is given over held."""
+    found = script.readings(1, worlds=4, steps=400)
+    assert found["given_each"] <= 1.0
+    assert found["given_total"] > 1.5 and found["self_squared"] < found["self_held"]
+
+
 def test_bad_counts_are_refused_with_exit_2(capsys):
     assert script.main(["--inits", "0"]) == 2
     assert "must be at least 1" in capsys.readouterr().err
