@@ -136,9 +136,10 @@ def allocation_model(take_back: str = "none", initial_self_tenths: int = 0, worl
     """(keeping, giving, held) of the nine towers' allocations alone under uniform random play: keeping
     E[r_self^2] / E[held], giving 3 E[given] / E[held] and held E[held] over the steps after ``skip`` of ``worlds``
     worlds of ``steps`` steps (with P alike at every tower and step, keeping and giving as the terms here read them).
-    Tenths move as the environment moves them (resources.apply_actions, nine tenths allocatable); with
+    Tenths move as the environment moves them (resources.apply_actions, its default allocatable_tenths); with
     ``take_back`` a tower's 'Sub from Self' instead returns a tenth its neighbours gave it to its giver, first
     ('received_first': before its own) or with the chance of its share of what the tower holds ('proportional')."""
+    from hivex_dsl.envs.wildfire_resource_management.params import WildfireResourceParams
     from hivex_dsl.envs.wildfire_resource_management.resources import (SUBTRACT, TENTHS, TOWERS, apply_actions,
                                                                        initial_resources, total_support)
 
@@ -146,7 +147,7 @@ def allocation_model(take_back: str = "none", initial_self_tenths: int = 0, worl
         raise HivexError(f"take_back must be one of {', '.join(TAKE_BACKS)}, not {take_back!r}")
     rng = np.random.default_rng(seed)
     allocation, budget = initial_resources(worlds, TOWERS, initial_self_tenths)
-    held_back = 1  # the tenth no add can take (allocatable_tenths 9)
+    held_back = TENTHS - WildfireResourceParams().allocatable_tenths  # the tenths no add can take, as the env's
     sums = np.zeros(3)
     for step in range(steps):
         actions = rng.integers(0, 3, (worlds, TOWERS, 4))
