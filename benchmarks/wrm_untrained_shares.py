@@ -1,6 +1,7 @@
 """Wildfire Resource Management: what an untrained policy earns for keeping and for giving, here and in the original.
 
     python benchmarks/wrm_untrained_shares.py [--inits 8] [--worlds 4] [--decisions 400] [--levels 1,5,10]
+                                              [--as-printed]   # the terms as this project read them until session 74
     python benchmarks/wrm_untrained_shares.py --readings [--levels 1,5,10]   # uniform random play, other readings
     python benchmarks/wrm_untrained_shares.py --model   # the nine towers' allocations alone, other mechanics
 
@@ -11,14 +12,16 @@ Individual Performance (keeping) and Reward for Moving Resources to Neighbours o
 each paid statistic divided by its task's weight (Keep All pays keeping x10, Distribute All giving x10). Beside them,
 this toolkit's untrained policies: networks initialised as `hivex train` initialises them (ML-Agents' layers, one per
 --inits seed, each on training worlds of its own), each playing its first --decisions decisions, the episodes that end
-pooled as ML-Agents pools a summary point. With --readings, uniform random play at each level read four ways:
-keeping as the term here pays it (P r_self^2) or as P times the resources held times r_self, giving as here (the
-neighbours' summed P times the share given) or per neighbour (each neighbour's P times the share given it). With
---model, the allocations alone (no fire: P alike at every tower and step, so keeping is E[r_self^2] / E[held] and
-giving 3 E[given] / E[held]) under uniform random play, as the environment moves its tenths and with a tower's
-'Sub from Self' taking back what its neighbours gave it, first or in proportion to what it holds, each from
-nothing or from nine tenths on the tower itself. The reward table's note 'The untrained towers' records what it
-printed.
+pooled as ML-Agents pools a summary point; with --as-printed, under the terms' readings before session 74
+(own_term_weight kept_squared, neighbour_term_weight given_total). With --readings, uniform random play at each level
+read five ways: keeping as P r_self^2 (``self_squared``) or as P times the share held times r_self (``self_held``),
+giving as the neighbours' summed P times the share given (``given_total``), each neighbour's P times the share given
+it (``given_each``) or each neighbour's P times the share it holds times the share given it (``given_each_held``).
+With --model, the allocations alone (no fire: P alike at every tower and step, so keeping is E[r_self^2] / E[held]
+and giving 3 E[given] / E[held], the readings before session 74) under uniform random play, as the environment moves
+its tenths and with a tower's 'Sub from Self' taking back what its neighbours gave it, first or in proportion to what
+it holds, each from nothing or from nine tenths on the tower itself. The reward table's notes 'The untrained towers'
+and 'The terms read what the towers hold' record what it printed.
 """
 
 from __future__ import annotations
@@ -36,6 +39,7 @@ ENVIRONMENT = "wildfire_resource_management"
 SELF, NEIGHBOURS = "Reward for Moving Resources to Self", "Reward for Moving Resources to Neighbours"
 INDIVIDUAL, COUNT = "Individual Performance", "Individual Resource Count"
 TASK_WEIGHTS = {0: (1.0, 1.0), 1: (10.0, 1.0), 2: (1.0, 10.0)}  # (keeping, giving): the reward table's matrix
+AS_PRINTED = {"own_term_weight": "kept_squared", "neighbour_term_weight": "given_total"}  # the readings before
 
 
 def shares(keep: float, give: float, individual: float, task: int = 0) -> tuple[float, float]:
@@ -59,10 +63,11 @@ def original_first_point(task: int, level: int) -> tuple[float, float, float]:
     return (*shares(first(SELF), first(NEIGHBOURS), first(INDIVIDUAL), task), first(COUNT))
 
 
-def untrained_shares(level: int, seed: int, worlds: int = 4, decisions: int = 400) -> tuple[float, float]:
+def untrained_shares(level: int, seed: int, worlds: int = 4, decisions: int = 400,
+                     params: dict | None = None) -> tuple[float, float]:
     """(keeping, giving) of this toolkit's untrained policy of training ``seed`` (its network as `hivex train` builds
     it, sampling its actions) at ``level``, on training worlds 5000 + ``seed``: ``worlds`` worlds of the main task
-    play ``decisions`` decisions, and the episodes that end are pooled."""
+    play ``decisions`` decisions, and the episodes that end are pooled. ``params`` override the environment's."""
     import torch
 
     from hivex_dsl.train.config import make_config
@@ -70,7 +75,8 @@ def untrained_shares(level: int, seed: int, worlds: int = 4, decisions: int = 40
     from hivex_dsl.train.networks import ActorCritic, to_tensors
     from hivex_dsl.train.ppo import make_env
 
-    compiled = hivex_dsl.compile({"hivex": 1, "environment": ENVIRONMENT, "terrain_level": level})
+    compiled = hivex_dsl.compile({"hivex": 1, "environment": ENVIRONMENT, "terrain_level": level,
+                                  "params": dict(params or {})})
     cfg = make_config(ENVIRONMENT, {"seed": seed})
     torch.manual_seed(seed)  # as ppo.train seeds torch before it builds the network
     env, obs, _ = make_env(compiled, worlds, "train", cfg.ended_agents, 5000 + seed)
@@ -92,10 +98,11 @@ def untrained_shares(level: int, seed: int, worlds: int = 4, decisions: int = 40
 
 def readings(level: int, worlds: int = 16, steps: int = 1200, seed: int = 1) -> dict[str, float]:
     """Uniform random play (actions from ``seed``) at ``level`` on the training seed's stream, each step's terms
-    read four ways and summed over the episodes that end: keeping as paid here (``self_squared``: P r_self^2) or
-    ``self_held`` (P times the share held times r_self), giving as paid here (``given_total``: the neighbours' summed
-    P times the share given) or ``given_each`` (each neighbour's P times the share given it), each over Individual
-    Performance."""
+    read five ways and summed over the episodes that end, each over Individual Performance (P times the share held):
+    keeping as ``self_squared`` (P r_self^2, the equation as printed) or ``self_held`` (P times the share held times
+    r_self, the default since session 74), giving as ``given_total`` (the neighbours' summed P times the share given),
+    ``given_each`` (each neighbour's P times the share given it) or ``given_each_held`` (each neighbour's P times the
+    share it holds times the share given it, the default since session 74)."""
     from hivex_dsl.envs.wildfire_resource_management.resources import NEIGHBOURS as TABLE, TENTHS
     from hivex_dsl.envs.wildfire_resource_management.terms import tower_performance
     from hivex_dsl.runtime.batched import BatchedEnv
@@ -104,7 +111,7 @@ def readings(level: int, worlds: int = 16, steps: int = 1200, seed: int = 1) -> 
     env = BatchedEnv(compiled, batch=worlds, split="train")
     env.reset()
     rng = np.random.default_rng(seed)
-    names = ("individual", "self_squared", "self_held", "given_total", "given_each")
+    names = ("individual", "self_squared", "self_held", "given_total", "given_each", "given_each_held")
     running = {name: np.zeros((worlds, compiled.agents)) for name in names}
     ended = dict.fromkeys(names, 0.0)
     for _ in range(steps):
@@ -114,11 +121,13 @@ def readings(level: int, worlds: int = 16, steps: int = 1200, seed: int = 1) -> 
         kept, given = state.allocation[..., 0] / TENTHS, state.allocation[..., 1:] / TENTHS
         held = state.support / TENTHS
         neighbours = performance[:, TABLE]  # (worlds, towers, 3)
+        neighbours_held = (performance * held)[:, TABLE]
         running["individual"] += performance * held
         running["self_squared"] += performance * kept * kept
         running["self_held"] += performance * held * kept
         running["given_total"] += neighbours.sum(-1) * given.sum(-1)
         running["given_each"] += (neighbours * given).sum(-1)
+        running["given_each_held"] += (neighbours_held * given).sum(-1)
         done = ~env.alive.any(axis=1)
         if done.any():
             for name in names:
@@ -197,6 +206,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--levels", default="1,5,10", help="terrain levels, comma-separated")
     parser.add_argument("--readings", action="store_true", help="uniform random play read four ways, per level")
     parser.add_argument("--model", action="store_true", help="the allocations alone under other mechanics")
+    parser.add_argument("--as-printed", action="store_true",
+                        help="the untrained networks under the terms' readings before session 74")
     args = parser.parse_args(argv)
     try:
         if args.inits < 1 or args.worlds < 1 or args.decisions < 1:
@@ -210,16 +221,18 @@ def main(argv: list[str] | None = None) -> int:
                     print(f"{take_back:15s}  {start:4d}  {keeping:7.3f}  {giving:6.2f}  {held:4.2f}", flush=True)
             return 0
         if args.readings:
-            print("level  keeping: P r^2  P held r  |  giving: summed  each")
+            print("level  keeping: P r^2  P held r  |  giving: summed  each  each held")
             for level in levels:
                 r = readings(level)
                 print(f"{level:5d}  {r['self_squared']:14.3f}  {r['self_held']:8.3f}  |  {r['given_total']:14.2f}  "
-                      f"{r['given_each']:4.2f}", flush=True)
+                      f"{r['given_each']:4.2f}  {r['given_each_held']:9.2f}", flush=True)
             return 0
         print("level  original keeping (tasks 0-2)  giving (tasks 0-2)  count  |  ours keeping  giving (min-max)")
         for level in levels:
             theirs = np.array([original_first_point(task, level) for task in TASK_WEIGHTS])
-            ours = np.array([untrained_shares(level, seed, args.worlds, args.decisions) for seed in range(args.inits)])
+            params = AS_PRINTED if args.as_printed else None
+            ours = np.array([untrained_shares(level, seed, args.worlds, args.decisions, params)
+                             for seed in range(args.inits)])
             print(f"{level:5d}  {' '.join(f'{v:.3f}' for v in theirs[:, 0]):>28}  "
                   f"{' '.join(f'{v:.2f}' for v in theirs[:, 1]):>18}  {theirs[0, 2]:.2f}  |  "
                   f"{ours[:, 0].min():.3f}-{ours[:, 0].max():.3f}  {ours[:, 1].min():.2f}-{ours[:, 1].max():.2f}",

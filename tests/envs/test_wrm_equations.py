@@ -18,6 +18,8 @@ from hivex_dsl.envs.wildfire_resource_management.types import Sighting
 
 PARAMS = WildfireResourceParams()
 FIRE_ONLY = PARAMS.model_copy(update={"performance_weight": "none"})  # a tower's performance is its P alone
+# the own-tower and neighbourhood terms as this project read them until session 74: P r_self^2, sum P x r_given
+AS_PRINTED = PARAMS.model_copy(update={"own_term_weight": "kept_squared", "neighbour_term_weight": "given_total"})
 
 # P = (1 + (d' * 1000 / 270)^5)^(-1/2) with d' = 0.5 -/+ 0.5 min(1, d / 200) (approaching / not), by hand:
 #   d = 0:              d' = 0.5,  (1.851852)^5 = 21.778662  -> 22.778662^-0.5 = 0.2095250
@@ -78,15 +80,15 @@ def hand_state(keep_centre: int = 5):
 P_CENTRE, P_SOUTH = 0.7713829, 0.0775260  # towers 4 and 1 above
 
 
-def test_watch_tower_performance_is_p_times_own_share_squared():
-    value = watch_tower_performance(None, hand_state(keep_centre=5), None, PARAMS)[0]
+def test_watch_tower_performance_as_printed_is_p_times_own_share_squared():
+    value = watch_tower_performance(None, hand_state(keep_centre=5), None, AS_PRINTED)[0]
     assert value[4] == pytest.approx(P_CENTRE * 0.5 * 0.5, abs=1e-6)
     assert value[1] == pytest.approx(P_SOUTH * 1.0 * 1.0, abs=1e-6)
     assert np.all(value[[0, 2, 3, 5, 6, 7, 8]] == 0.0)
 
 
-def test_neighbour_performance_is_the_neighbours_sum_weighted_by_what_the_agent_gives_them():
-    value = neighbour_performance(None, hand_state(), None, PARAMS)[0]
+def test_neighbour_performance_given_total_is_the_neighbours_sum_weighted_by_what_the_agent_gives_them():
+    value = neighbour_performance(None, hand_state(), None, AS_PRINTED)[0]
     # tower 0 (neighbours 1, 3, 4) gives 0.3 in all: (0.0775260 + 0 + 0.7713829) * 0.3 = 0.2546727
     assert value[0] == pytest.approx(0.2546727, abs=1e-6)
     # tower 7 (neighbours 4, 6, 8) gives 1.0: (0.7713829 + 0 + 0) * 1.0, however it splits it
@@ -111,7 +113,7 @@ def test_idle_performance_applies_to_towers_without_fire():
 def test_the_collective_and_individual_read_p_times_what_a_tower_holds():
     """The hand state's supports: the centre keeps 5 and receives 1 from tower 0 (its neighbour 3) and 4 from tower
     7 (its neighbour 1): 1.0; tower 1 keeps 10 and receives 2 from tower 0 (its neighbour 1): 1.2. The own-tower
-    and neighbourhood terms still read P."""
+    and neighbourhood terms as printed read P alone, whatever performance_weight says."""
     from hivex_dsl.envs.wildfire_resource_management.resources import total_support
     from hivex_dsl.envs.wildfire_resource_management.statistics import individual_performance
 
@@ -124,12 +126,77 @@ def test_the_collective_and_individual_read_p_times_what_a_tower_holds():
     assert held[4] == pytest.approx(P_CENTRE * 1.0, abs=1e-6) and held[1] == pytest.approx(P_SOUTH * 1.2, abs=1e-6)
     # sqrt((0.7713829^2 + (0.0775260 * 1.2)^2) / 9) = sqrt(0.6036858 / 9) = 0.2589908
     assert collective_performance(None, state, None, resources)[0, 0] == pytest.approx(0.2589908, abs=1e-6)
-    np.testing.assert_array_equal(watch_tower_performance(None, state, None, resources),
-                                  watch_tower_performance(None, state, None, FIRE_ONLY))
-    np.testing.assert_array_equal(neighbour_performance(None, state, None, resources),
-                                  neighbour_performance(None, state, None, FIRE_ONLY))
+    printed_fire_only = AS_PRINTED.model_copy(update={"performance_weight": "none"})
+    np.testing.assert_array_equal(watch_tower_performance(None, state, None, AS_PRINTED),
+                                  watch_tower_performance(None, state, None, printed_fire_only))
+    np.testing.assert_array_equal(neighbour_performance(None, state, None, AS_PRINTED),
+                                  neighbour_performance(None, state, None, printed_fire_only))
     np.testing.assert_allclose(individual_performance(None, state, None, FIRE_ONLY)[0, [4, 1]], [P_CENTRE, P_SOUTH],
                                atol=1e-6)
+
+
+HELD_KEPT = AS_PRINTED.model_copy(update={"own_term_weight": "held_kept"})
+GIVEN_EACH = AS_PRINTED.model_copy(update={"neighbour_term_weight": "given_each"})
+
+
+def test_the_terms_read_what_the_towers_hold_by_default():
+    assert (PARAMS.own_term_weight, PARAMS.neighbour_term_weight) == ("held_kept", "given_each")
+
+
+def supported_hand_state():
+    from hivex_dsl.envs.wildfire_resource_management.resources import total_support
+
+    state = hand_state(keep_centre=5)
+    state.support = total_support(state.allocation)  # the centre holds 1.0, tower 1 holds 1.2 (the test above)
+    return state
+
+
+def test_held_kept_pays_the_tower_s_performance_times_the_share_it_keeps():
+    """Tower 4: 0.7713829 x 1.0 held x 0.5 kept = 0.3856915 (0.1928457 as P r^2); tower 1: 0.0775260 x 1.2 x 1.0 =
+    0.0930312 (0.0775260 as P r^2). Under performance_weight 'none' the tower's performance is P: P x r_self."""
+    value = watch_tower_performance(None, supported_hand_state(), None, HELD_KEPT)[0]
+    np.testing.assert_allclose(value, [0, 0.0930312, 0, 0, 0.3856915, 0, 0, 0, 0], atol=1e-6)
+    fire_only = HELD_KEPT.model_copy(update={"performance_weight": "none"})
+    value = watch_tower_performance(None, supported_hand_state(), None, fire_only)[0]
+    np.testing.assert_allclose(value[[1, 4]], [P_SOUTH * 1.0, P_CENTRE * 0.5], atol=1e-6)
+
+
+def test_given_each_pays_each_neighbour_s_performance_times_the_share_given_it():
+    """Tower 0 gives 0.2 to tower 1 (P 0.0775260, holding 1.2) and 0.1 to tower 4 (P 0.7713829, holding 1.0):
+    0.0186062 + 0.0771383 = 0.0957445; tower 7 gives 0.4 to tower 4 and 0.3 each to towers 6 and 8 (no fire):
+    0.3085532. With P alone: 0.0155052 + 0.0771383 = 0.0926435 and 0.3085532 again."""
+    value = neighbour_performance(None, supported_hand_state(), None, GIVEN_EACH)[0]
+    np.testing.assert_allclose(value, [0.0957445, 0, 0, 0, 0, 0, 0, 0.3085532, 0], atol=1e-6)
+    fire_only = GIVEN_EACH.model_copy(update={"performance_weight": "none"})
+    value = neighbour_performance(None, supported_hand_state(), None, fire_only)[0]
+    np.testing.assert_allclose(value[[0, 7]], [0.0926435, 0.3085532], atol=1e-6)
+
+
+@settings(max_examples=25, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1))
+def test_given_each_sums_over_a_world_to_each_tower_s_performance_times_what_it_received(seed):
+    """Every tenth given is held by the neighbour it was given to, so summed over a world's nine towers the
+    neighbourhood term read per neighbour is sum_j P_j held_j received_j, and held_kept's is sum_j P_j held_j kept_j:
+    together the tower performances weighted by what they hold (the world's sum of P_j held_j^2)."""
+    from hivex_dsl.envs.wildfire_resource_management.resources import total_support
+    from hivex_dsl.envs.wildfire_resource_management.statistics import individual_performance
+
+    rng = np.random.default_rng(seed)
+    allocation = np.zeros((4, 9, 4), np.int16)
+    for world in range(4):
+        for tower in range(9):
+            allocation[world, tower] = rng.multinomial(int(rng.integers(0, 11)), np.full(4, 0.25))
+    distance = rng.uniform(0.0, 300.0, (4, 9))
+    sighting = Sighting(cell=np.zeros((4, 9), np.int64), cells=400, offset=np.zeros((4, 9, 3)), distance=distance,
+                        approaching=rng.random((4, 9)) < 0.5)
+    state = SimpleNamespace(sighting=sighting, allocation=allocation, support=total_support(allocation))
+    params = PARAMS  # held_kept and given_each, the defaults
+    performance = individual_performance(None, state, None, params)  # (4, 9) P x held
+    held, kept = state.support / 10, allocation[..., 0] / 10
+    np.testing.assert_allclose(neighbour_performance(None, state, None, params).sum(-1),
+                               (performance * (held - kept)).sum(-1), rtol=1e-9, atol=1e-12)
+    paid = neighbour_performance(None, state, None, params) + watch_tower_performance(None, state, None, params)
+    np.testing.assert_allclose(paid.sum(-1), (performance * held).sum(-1), rtol=1e-9, atol=1e-12)
 
 
 def test_a_tower_holding_more_than_its_share_overshoots_and_the_equation_s_absolute_value_bites():

@@ -7,8 +7,11 @@ networks; the reward table's note 'The untrained towers' says what they mean:
   kept 0.15-0.43 of their Individual Performance and gave 0.51-1.00 of it, at every level and in every task;
 - its main task learned to give about three times its Individual Performance and to keep almost nothing;
 - trained, this toolkit's towers give more and keep less than the published in every task and level;
-- this toolkit's untrained networks give more than twice what the original's gave and keep less than it: the
-  gap the note leaves open (this test fails once the allocation mechanics meet the original's).
+- under the terms as this project read them until session 74 (P r_self^2, the neighbours' summed P times the share
+  given), this toolkit's untrained networks gave more than twice what the original's gave and kept less; with the
+  terms reading what the towers hold (the defaults since: P times the share held times r_self, each neighbour's P
+  times its share held times the share given it) they keep and give what the original's did (the reward table's
+  note 'The terms read what the towers hold').
 """
 
 from __future__ import annotations
@@ -52,12 +55,29 @@ def test_the_original_s_main_task_learned_to_give():
     assert keeping < 0.03 and 2.5 < giving < 3.5
 
 
-def test_this_toolkit_s_untrained_towers_give_far_more_than_the_original_s():
+def original_range_over_every_cell() -> tuple[np.ndarray, np.ndarray]:
+    """((lowest, highest) keeping, (lowest, highest) giving) of the original's untrained point over all 30 cells."""
+    first = np.array([script.original_first_point(*cell)[:2] for cell in CELLS])
+    return np.array([first[:, 0].min(), first[:, 0].max()]), np.array([first[:, 1].min(), first[:, 1].max()])
+
+
+def test_this_toolkit_s_untrained_towers_keep_and_give_as_the_original_s():
+    """At level 1 the original's three first points keep 0.16-0.22 and give 0.68-0.72; over its 30 cells 0.15-0.43
+    and 0.51-1.00. Ours (two training seeds' networks) keep within that range and give within a tenth of it."""
+    pytest.importorskip("torch")
+    keep_range, give_range = original_range_over_every_cell()
+    for seed in (0, 1):
+        keeping, giving = script.untrained_shares(1, seed, worlds=4, decisions=400)
+        assert keep_range[0] < keeping < keep_range[1]
+        assert give_range[0] < giving < give_range[1] + 0.1
+
+
+def test_under_the_terms_as_printed_the_untrained_towers_gave_their_resources_away():
     pytest.importorskip("torch")
     lowest_original_keep = min(script.original_first_point(task, 1)[0] for task in script.TASK_WEIGHTS)
     highest_original_give = max(script.original_first_point(task, 1)[1] for task in script.TASK_WEIGHTS)
     for seed in (0, 1):
-        keeping, giving = script.untrained_shares(1, seed, worlds=4, decisions=400)
+        keeping, giving = script.untrained_shares(1, seed, worlds=4, decisions=400, params=script.AS_PRINTED)
         assert giving > 2 * highest_original_give
         assert keeping < lowest_original_keep
 
@@ -112,12 +132,17 @@ def test_taking_back_what_was_given_keeps_it_from_the_neighbours():
         script.allocation_model("sometimes")
 
 
-def test_giving_read_per_neighbour_never_exceeds_individual_performance():
-    """Each tenth given is held by the neighbour whose P pays for it, so over a world's towers the per-neighbour
-    reading is at most Individual Performance; the reading here is about three times what is given over held."""
+def test_uniform_random_play_read_as_the_terms_now_read_keeps_and_gives_as_the_original_s_untrained_towers():
+    """Each tenth given is held by the neighbour whose P pays for it, so over a world's towers giving read as that
+    neighbour's P times the share given it is at most Individual Performance, which the original's trained towers
+    exceed 2.7-2.8 times (ruled out); read as the neighbour's performance (P times what it holds) times the share
+    given it, it is not bounded so, and random play keeps and gives within the original's untrained range, as the
+    summed reading (about three times what is given over what is held) does not."""
     found = script.readings(1, worlds=4, steps=400)
+    keep_range, give_range = original_range_over_every_cell()
     assert found["given_each"] <= 1.0
-    assert found["given_total"] > 1.5 and found["self_squared"] < found["self_held"]
+    assert found["given_total"] > 1.5 > give_range[1] and found["self_squared"] < keep_range[0] < found["self_held"]
+    assert keep_range[0] < found["self_held"] < keep_range[1] and give_range[0] < found["given_each_held"] < 1.1
 
 
 def test_bad_counts_are_refused_with_exit_2(capsys):

@@ -9,7 +9,7 @@ overrides them under `generators:`).
 
 from __future__ import annotations
 
-from typing import Literal
+from typing import Any, ClassVar, Literal
 
 from pydantic import Field, model_validator
 
@@ -19,6 +19,9 @@ from ..island import RedrawIsland, redraw_island_field
 
 
 class WildfireResourceParams(WindParams, FireSpec):
+    # the terms' readings before session 74, written out: locks and checkpoints from before read them so
+    ADDED_FIELDS: ClassVar[dict[str, Any]] = {"own_term_weight": "kept_squared", "neighbour_term_weight": "given_total"}
+
     island_half_extent_m: float = Field(600.0, ge=50.0, le=10_000.0, description=(
         "[paper] Half the side of the island square (1200 x 1200), shared with Aerial Wildfire Suppression. "
         "Must equal the forest generator's half extent."))
@@ -44,7 +47,22 @@ class WildfireResourceParams(WindParams, FireSpec):
         "one agent's share), 'none' P itself, the fire's alone (this project's reading until issue 52). The "
         "original's pages: on the same fires its Keep All and main-task policies log different performance, as P "
         "times the resources gives and P alone cannot (the reward table's note on the towers' resources). The "
-        "own-tower and neighbourhood terms read P in either case."))
+        "own-tower and neighbourhood terms read it as own_term_weight and neighbour_term_weight say."))
+    own_term_weight: Literal["kept_squared", "held_kept"] = Field("held_kept", description=(
+        "[records] How Watch Tower Performance weighs the own tower: 'held_kept' the tower's performance as "
+        "performance_weight reads it (P times the resources it holds) times the share the agent keeps for itself, "
+        "the equation's R(p, r_distributed, r_supporting) with r_distributed for the first of its two "
+        "r_supporting; 'kept_squared' P times the kept share squared, the equation as printed (this project's "
+        "reading until session 74). The original's untrained towers keep 0.15-0.43 of their Individual "
+        "Performance, 'held_kept' 0.18-0.24, 'kept_squared' 0.06-0.13 (the reward table's note 'The terms read "
+        "what the towers hold')."))
+    neighbour_term_weight: Literal["given_total", "given_each"] = Field("given_each", description=(
+        "[records] How Neighbour Performance weighs the neighbours: 'given_each' each neighbour's performance as "
+        "performance_weight reads it (P times the resources it holds) times the share the agent gives that "
+        "neighbour; 'given_total' the neighbours' summed P times the whole share the agent gives them (this "
+        "project's reading until session 74). The original's untrained towers give 0.51-1.00 of their Individual "
+        "Performance and its trained Keep All 0.03-0.09, 'given_each' 0.68-1.06 and 0.07, 'given_total' 1.9-2.5 "
+        "and 0.27-0.65 (the reward table's note 'The terms read what the towers hold')."))
     initial_self_tenths: int = Field(0, ge=0, le=10, description=(
         "[ours] Tenths of its 1.0 that each tower has allocated to itself at reset; the rest starts unallocated."))
     allocatable_tenths: int = Field(9, ge=1, le=10, description=(

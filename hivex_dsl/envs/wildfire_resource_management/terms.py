@@ -4,11 +4,13 @@ Appendix "Reward Description and Calculation: Wildfire Resource Management": eac
 performance P comes from the distance d1 to the closest observed fire and whether it approaches
 (m = d1 < d0), through a broken power law. The equation is defined for d1 <= d_thresh (beyond it
 the remapped distance of an approaching fire turns negative), so a tower performs only for a fire
-within d_thresh. The own tower's P is weighted by the square of what the agent keeps for itself,
-the neighbours' summed P by what the agent gives its neighbours (the prose), and the collective term is
-the root mean square over all nine towers (the equation) of P times the resources each holds (the original's
-records: its performance statistics read the policy). rewards/wildfire_resource_management.yaml's
-notes give the evidence for each reading.
+within d_thresh. A tower's performance p is P times the resources it holds (the original's records: its
+performance statistics read the policy). The own tower's term is p times the share the agent keeps for itself,
+the neighbourhood term each neighbour's p times the share the agent gives it (the original's records: what its
+untrained and trained towers were paid for keeping and giving), and the collective term is the root mean square
+of p over all nine towers (the equation). rewards/wildfire_resource_management.yaml's notes give the evidence
+for each reading; params name the readings before (P times the kept share squared, the neighbours' summed P
+times the whole share given, P alone).
 """
 
 from __future__ import annotations
@@ -17,11 +19,14 @@ import numpy as np
 
 from ...base.numeric import clamp
 from ...sim.reward.terms import TermRegistry
-from .resources import NEIGHBOURS, NEIGHBOURS_PER_TOWER, TENTHS
+from .resources import MAX_SUPPORT_TENTHS, NEIGHBOURS, TENTHS
 
 TERMS = TermRegistry("wildfire_resource_management")
 POWER_LAW_SCALE = 1000.0  # the paper's d' * 1000 / s
 POWER_LAW_EXPONENT = -0.5  # the paper's (...)^(-1/2)
+# the most a tower's performance can be: P = 1 times every share on it (the centre: 9.0), so the most either
+# weighted term pays, whatever shares weigh it (they add up to at most one)
+MAX_HELD = MAX_SUPPORT_TENTHS / TENTHS
 
 
 def remapped_distance(distance: np.ndarray, approaching: np.ndarray, threshold_m: float) -> np.ndarray:
@@ -78,28 +83,37 @@ def performance_of(distance: np.ndarray, approaching: np.ndarray, seen: np.ndarr
 
 
 @TERMS.term(
-    "watch_tower_performance", title="Watch Tower Performance", paper_row=1, low=0.0, high=1.0, sign="bonus",
+    "watch_tower_performance", title="Watch Tower Performance", paper_row=1, low=0.0, high=MAX_HELD, sign="bonus",
     timing="dense", scope="agent",
-    description="The own tower's performance P, weighted by the square of the resource the agent keeps for itself.",
-    equation=("R = P * r_supporting * r_supporting,  r_supporting = own allocation to itself in [0, 1];  "
+    description=("The own tower's performance (P times the resources it holds), weighted by the resource the agent "
+                 "keeps for itself (own_term_weight 'held_kept', the default; 'kept_squared' is P times the kept "
+                 "share squared, the equation as printed)."),
+    equation=("R = P * r_distributed * r_supporting,  r_distributed = the tower's total support in shares, "
+              "r_supporting = own allocation to itself in [0, 1] (the paper prints r_supporting twice);  "
               "P = (1 + (d' * 1000 / s)^a)^(-1/2),  d' = 0.5 - 0.5 d1n if m else 0.5 + 0.5 d1n,  "
               "d1n = d1 / d_thresh,  m = d1 < d0  (d_thresh = 200, s = 270, a = 5);  "
               "P = idle_performance (0) without a fire within d_thresh"),
 )
 def watch_tower_performance(prev, state, actions, params):
     own = state.allocation[..., 0] / TENTHS
+    if params.own_term_weight == "held_kept":
+        return held_performance(state, params) * own
     return tower_performance(state, params) * own * own
 
 
 @TERMS.term(
-    "neighbour_performance", title="Neighbourhood Performance", paper_row=2, low=0.0,
-    high=float(NEIGHBOURS_PER_TOWER), sign="bonus", timing="dense", scope="team",
-    description=("The sum of the performances P of the tower's three neighbouring towers, weighted by the resource "
-                 "the agent gives its neighbours (the paper's prose; its equation leaves the weight out)."),
-    equation="R_neighbourhood = (sum_{i=1..n} p_i) * r_given over the n = 3 neighbours,  r_given = the agent's "
-             "allocation to its neighbours in [0, 1]",
+    "neighbour_performance", title="Neighbourhood Performance", paper_row=2, low=0.0, high=MAX_HELD,
+    sign="bonus", timing="dense", scope="team",
+    description=("The performances of the tower's three neighbouring towers (each P times the resources it holds), "
+                 "each weighted by the resource the agent gives that neighbour (neighbour_term_weight 'given_each', "
+                 "the default; 'given_total' is the neighbours' summed P times the whole share given)."),
+    equation="R_neighbourhood = sum_{i=1..n} p_i * r_given,i over the n = 3 neighbours,  p_i = P_i * the "
+             "neighbour's total support in shares,  r_given,i = the agent's allocation to neighbour i in [0, 1]",
 )
 def neighbour_performance(prev, state, actions, params):
+    if params.neighbour_term_weight == "given_each":
+        given_each = state.allocation[..., 1:] / TENTHS  # (B, A, 3) the share given each neighbour
+        return np.add.reduce(held_performance(state, params).take(NEIGHBOURS, axis=1) * given_each, axis=-1)
     given = np.add.reduce(state.allocation[..., 1:], axis=-1) / TENTHS  # (B, A) resource given to the neighbours
     return np.add.reduce(tower_performance(state, params).take(NEIGHBOURS, axis=1), axis=-1) * given
 
