@@ -71,13 +71,25 @@ def test_estimated_performance_is_the_law_within_the_threshold_only():
 
 
 def test_keep_or_give_compares_the_weighted_corners():
+    """Giving splits the share over three neighbours, each paying its performance for its third: their mean P."""
+    performance = np.array([[[0.5, 0.1, 0.1, 0.1], [0.2, 0.3, 0.0, 0.0], [0.0, 0.0, 0.0, 0.0],
+                             [0.2, 0.9, 0.0, 0.0]]])
+    # main (1, 1): 0.5 > 0.1 keeps; 0.2 > 0.1 keeps; nothing in range: 1 > 1 is false, gives; 0.2 < 0.3 gives
+    assert keep_all(performance, 1.0, 1.0).tolist() == [[True, True, False, False]]
+    # keep_all (10, 1): 5 > 0.1, 2 > 0.1, idle 10 > 1, 2 > 0.3: keeps
+    assert keep_all(performance, 10.0, 1.0).tolist() == [[True, True, True, True]]
+    # distribute_all (1, 10): 0.5 < 1, 0.2 < 1, idle gives, 0.2 < 3
+    assert keep_all(performance, 1.0, 10.0).tolist() == [[False, False, False, False]]
+
+
+def test_under_the_readings_before_the_neighbours_p_counted_summed():
     performance = np.array([[[0.5, 0.1, 0.1, 0.1], [0.2, 0.3, 0.0, 0.0], [0.0, 0.0, 0.0, 0.0]]])
     # main (1, 1): 0.5 > 0.3 keeps; 0.2 < 0.3 gives; nothing in range: 1 > 3 * 1 is false, gives
-    assert keep_all(performance, 1.0, 1.0).tolist() == [[True, False, False]]
+    assert keep_all(performance, 1.0, 1.0, given_each=False).tolist() == [[True, False, False]]
     # keep_all (10, 1): 5 > 0.3, 2 > 0.3; nothing in range: 10 > 3 keeps
-    assert keep_all(performance, 10.0, 1.0).tolist() == [[True, True, True]]
+    assert keep_all(performance, 10.0, 1.0, given_each=False).tolist() == [[True, True, True]]
     # distribute_all (1, 10): 0.5 < 3, 0.2 < 3, idle gives
-    assert keep_all(performance, 1.0, 10.0).tolist() == [[False, False, False]]
+    assert keep_all(performance, 1.0, 10.0, given_each=False).tolist() == [[False, False, False]]
 
 
 @pytest.mark.parametrize("task, keeps", [("keep_all", True), ("distribute_all", False)])

@@ -59,20 +59,22 @@ ENTRY = register(EnvironmentEntry(
         "idle_performance (0, ours). m compares C with its value at the previous fire step (with "
         "fire_step_interval 1, the previous step); a fire that just came into range approaches, and nothing "
         "approaches at reset. The reward table's notes give the evidence.",
-        "Terms: Watch Tower Performance is P r_s r_s (r_s the agent's allocation to itself), Neighbourhood "
-        "Performance the neighbours' summed P times the agent's allocation to its neighbours (the prose's weight; "
-        "the equation leaves it out), Collective Performance the equation's 1 - |1 - RMS| over the nine towers "
-        "(no action changes it, as in the published results). Keeping pays P_own r^2 and giving pays "
-        "(sum of the neighbours' P) r, so the main and Distribute All tasks pay for giving and Keep All for keeping.",
+        "Terms: a tower's performance p is P times the resources it holds. Watch Tower Performance is p r_s (r_s "
+        "the agent's allocation to itself), Neighbourhood Performance each neighbour's p times the agent's allocation "
+        "to that neighbour (the prose's weight; the equation leaves it out), Collective Performance the equation's "
+        "1 - |1 - RMS| of p over the nine towers. The main and Distribute All tasks pay for giving, Keep All for "
+        "keeping; own_term_weight and neighbour_term_weight name the readings before session 74 (P r_s r_s, the "
+        "neighbours' summed P times the whole allocation to them).",
         "Fire, terrain, forest, ignition and weather are Aerial Wildfire Suppression's but for the spread chance, "
         "0.5 a factor against its 0.2, fitted to the original's Episode Length curves (a new island every episode "
         "unless redraw_island is 'seed', which keeps it across a seed stream; the fire is new every episode). Towers "
         "cannot fight the fire; with one fire step per environment step (fire_step_interval 1, ours) it burns "
         "through the forest and mostly goes out after 100-350 steps, 165-230 on average a level as the original's "
         "(163-228; the reward table's notes), and every task ends then (event fire_out) or after 500 steps.",
-        "Scale (test seed 6000, terrain level 1, ten episodes): the towers' summed P (Individual Performance) is "
-        "about 17.8 per episode and Collective Performance about 39.5, against the published 18.0 and 34.5; the "
-        "scripted officer's resource rewards (Neighbours 41 in the main task, Self 170 in Keep All, Neighbours "
-        "407 in Distribute All) are near the published PPO's (49, 143, 513).",
+        "Scale (test seed 6000, terrain level 1, ten episodes; benchmarks/results/fidelity.json): uniform random "
+        "play's Individual Performance is 14.3 a tower-episode and its Collective Performance 33.0, the scripted "
+        "officer's 25.4 and 57.8 (it gathers the resources where the fire is), against the published PPO's 18.0 "
+        "and 34.5; the officer's resource rewards (Neighbours 26 in the main task, Self 185 in Keep All, Neighbours "
+        "262 in Distribute All) against the published PPO's (49, 143, 513).",
     ),
 ))

@@ -3,12 +3,16 @@
 Each tower reads only its own observation (the closest fire's offset now and one step before) and
 knows where its neighbours stand, as the person in a watchtower would. From the closest fire it
 estimates the performance P of its own tower (exactly) and of each neighbour (from that same fire's
-horizontal distance to it) with the paper's law. Keeping pays w_own P_own r_self^2 and giving pays
-w_neighbours (sum of the neighbours' P) r_given (the reward table's weights of watch_tower_performance
-and neighbour_performance), so one of the two corners is best: keep everything when w_own P_own beats
-w_neighbours times the neighbours' estimated P, else give everything. With no fire in anyone's range
-the resource waits where the task pays more when fire comes: with the own tower when w_own beats
-three times w_neighbours (three neighbours watch three times the ground), else with the neighbours.
+horizontal distance to it) with the paper's law. Keeping pays w_own times the own tower's performance
+times r_self and giving each neighbour's performance times the share it gets, times w_neighbours (the
+reward table's weights of watch_tower_performance and neighbour_performance; a performance is P times
+what the tower holds, which the officer cannot see and takes alike everywhere), so one of the two
+corners is best: keep everything when w_own P_own beats w_neighbours times the neighbours' mean
+estimated P (the whole share split in three), else give everything. With no fire in anyone's range the
+resource waits where the task pays more when fire comes: with the own tower when w_own beats
+w_neighbours, else with the neighbours. Under the terms' readings before session 74
+(neighbour_term_weight 'given_total': the neighbours' summed P times the whole share given) the
+neighbours' P count summed, and idle towers keep only when w_own beats three times w_neighbours.
 Keeping adds to the own tower and subtracts from the neighbours; giving adds to all three neighbours
 and subtracts from the own tower, so the whole resource moves within about ten steps (four to give).
 """
@@ -58,12 +62,15 @@ def estimated_performance(distance: np.ndarray, approaching: np.ndarray, params)
     return np.where(in_range, law, 0.0)
 
 
-def keep_all(performance: np.ndarray, own_weight: float, neighbour_weight: float) -> np.ndarray:
-    """(B, A) bool: keep everything (else give everything) for estimated P (B, A, 4) of self and neighbours."""
+def keep_all(performance: np.ndarray, own_weight: float, neighbour_weight: float,
+             given_each: bool = True) -> np.ndarray:
+    """(B, A) bool: keep everything (else give everything) for estimated P (B, A, 4) of self and neighbours;
+    ``given_each``: each neighbour pays for the share it gets (their mean P counts), else their summed P does."""
+    neighbours = neighbour_weight if given_each else NEIGHBOURS_PER_TOWER * neighbour_weight
     keep = own_weight * performance[..., 0]
-    give = neighbour_weight * performance[..., 1:].sum(axis=-1)
+    give = neighbours * performance[..., 1:].mean(axis=-1)
     idle = (keep == 0.0) & (give == 0.0)
-    return np.where(idle, own_weight > NEIGHBOURS_PER_TOWER * neighbour_weight, keep > give)
+    return np.where(idle, own_weight > neighbours, keep > give)
 
 
 def scripted_policy(compiled) -> Callable[[np.ndarray], np.ndarray]:
@@ -79,7 +86,8 @@ def scripted_policy(compiled) -> Callable[[np.ndarray], np.ndarray]:
         now, before = obs[..., 0:3], obs[..., FRAME:FRAME + 3]
         distance, approaching = candidate_distances(now * radius, before * radius, (now != 0).any(axis=-1),
                                                     (before != 0).any(axis=-1), candidates)
-        keep = keep_all(estimated_performance(distance, approaching, params), own, given)
+        keep = keep_all(estimated_performance(distance, approaching, params), own, given,
+                        params.neighbour_term_weight == "given_each")
         return np.where(keep[..., None], KEEP, GIVE).astype(np.int64)
 
     return act
