@@ -71,8 +71,9 @@ def as_written(scenario: Any) -> Any:
     done then. Anything else, or a scenario this cannot place, is returned as is for the compiler to judge."""
     if not isinstance(scenario, dict) or not isinstance(scenario.get("params"), dict):
         return scenario
-    entry = registry.environments().get(scenario.get("environment"))
-    if entry is None:
+    environment = scenario.get("environment")
+    entry = registry.environments().get(environment) if isinstance(environment, str) else None
+    if entry is None:  # no environment this can place (a list, a misspelt name): the compiler says what is wrong
         return scenario
     missing = {name: before for name, before in entry.params_model.added_fields().items()
                if name not in scenario["params"]}

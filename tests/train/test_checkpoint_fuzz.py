@@ -123,6 +123,14 @@ def test_a_scenario_edited_under_its_fingerprint_is_refused_even_resealed(run, t
                                   "trained on (its scenario was edited after training)")
 
 
+@pytest.mark.parametrize("environment", [["wildfire_resource_management"], {"name": 1}, 7])
+def test_a_scenario_whose_environment_is_no_name_is_refused_with_a_train_error(run, tmp_path, environment):
+    """Found by the fuzz below: a list there once reached the registry's dict lookup and raised TypeError."""
+    data = copy.deepcopy(run["data"])
+    data["scenario"]["environment"] = environment
+    assert "environment" in refused(written(resealed(data), tmp_path / "c.pt"), run)
+
+
 def test_a_checkpoint_of_the_older_format_plays_but_does_not_resume(run, tmp_path):
     """Format 1 checksummed the weights and the training state only: it still plays and evaluates, its scenario
     checked against its fingerprint, but its agent-steps and hyperparameters are not covered, so no run goes on."""
