@@ -97,44 +97,43 @@ def untrained_shares(level: int, seed: int, worlds: int = 4, decisions: int = 40
 
 
 def readings(level: int, worlds: int = 16, steps: int = 1200, seed: int = 1) -> dict[str, float]:
-    """Uniform random play (actions from ``seed``) at ``level`` on the training seed's stream, each step's terms
-    read five ways and summed over the episodes that end, each over Individual Performance (P times the share held):
-    keeping as ``self_squared`` (P r_self^2, the equation as printed) or ``self_held`` (P times the share held times
+    """Uniform random play (actions from ``seed``) at ``level`` on the training seed's stream, each step's terms (the
+    environment's own, under five params) summed over the episodes that end, each over Individual Performance (P
+    times the share held): keeping as ``self_squared`` (P r_self^2, the equation as printed) or ``self_held`` (P times the share held times
     r_self, the default since session 74), giving as ``given_total`` (the neighbours' summed P times the share given),
     ``given_each`` (each neighbour's P times the share given it) or ``given_each_held`` (each neighbour's P times the
     share it holds times the share given it, the default since session 74)."""
-    from hivex_dsl.envs.wildfire_resource_management.resources import NEIGHBOURS as TABLE, TENTHS
-    from hivex_dsl.envs.wildfire_resource_management.terms import tower_performance
+    from hivex_dsl.envs.wildfire_resource_management.statistics import individual_performance
+    from hivex_dsl.envs.wildfire_resource_management.terms import neighbour_performance, watch_tower_performance
     from hivex_dsl.runtime.batched import BatchedEnv
 
     compiled = hivex_dsl.compile({"hivex": 1, "environment": ENVIRONMENT, "terrain_level": level})
     env = BatchedEnv(compiled, batch=worlds, split="train")
     env.reset()
     rng = np.random.default_rng(seed)
-    names = ("individual", "self_squared", "self_held", "given_total", "given_each", "given_each_held")
-    running = {name: np.zeros((worlds, compiled.agents)) for name in names}
-    ended = dict.fromkeys(names, 0.0)
+    params = env.sim.params
+    read = {  # name -> (term, the params that read it so): the environment's own terms, each reading a param
+        "individual": (individual_performance, params),
+        "self_squared": (watch_tower_performance, params.model_copy(update={"own_term_weight": "kept_squared"})),
+        "self_held": (watch_tower_performance, params.model_copy(update={"own_term_weight": "held_kept"})),
+        "given_total": (neighbour_performance, params.model_copy(update={"neighbour_term_weight": "given_total"})),
+        "given_each": (neighbour_performance, params.model_copy(update={"neighbour_term_weight": "given_each",
+                                                                        "performance_weight": "none"})),
+        "given_each_held": (neighbour_performance, params.model_copy(update={"neighbour_term_weight": "given_each"})),
+    }
+    running = {name: np.zeros((worlds, compiled.agents)) for name in read}
+    ended = dict.fromkeys(read, 0.0)
     for _ in range(steps):
         env.step(rng.integers(0, 3, (worlds, compiled.agents, 4)))
-        state = env.state
-        performance = tower_performance(state, env.sim.params)
-        kept, given = state.allocation[..., 0] / TENTHS, state.allocation[..., 1:] / TENTHS
-        held = state.support / TENTHS
-        neighbours = performance[:, TABLE]  # (worlds, towers, 3)
-        neighbours_held = (performance * held)[:, TABLE]
-        running["individual"] += performance * held
-        running["self_squared"] += performance * kept * kept
-        running["self_held"] += performance * held * kept
-        running["given_total"] += neighbours.sum(-1) * given.sum(-1)
-        running["given_each"] += (neighbours * given).sum(-1)
-        running["given_each_held"] += (neighbours_held * given).sum(-1)
+        for name, (term, reading) in read.items():
+            running[name] += term(None, env.state, None, reading)
         done = ~env.alive.any(axis=1)
         if done.any():
-            for name in names:
+            for name in read:
                 ended[name] += running[name][done].sum()
                 running[name][done] = 0.0
             env.reset_worlds(done)
-    return {name: ended[name] / ended["individual"] for name in names[1:]}
+    return {name: ended[name] / ended["individual"] for name in read if name != "individual"}
 
 
 TAKE_BACKS = ("none", "received_first", "proportional")
