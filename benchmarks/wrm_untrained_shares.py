@@ -99,10 +99,11 @@ def untrained_shares(level: int, seed: int, worlds: int = 4, decisions: int = 40
 def readings(level: int, worlds: int = 16, steps: int = 1200, seed: int = 1) -> dict[str, float]:
     """Uniform random play (actions from ``seed``) at ``level`` on the training seed's stream, each step's terms (the
     environment's own, under five params) summed over the episodes that end, each over Individual Performance (P
-    times the share held): keeping as ``self_squared`` (P r_self^2, the equation as printed) or ``self_held`` (P times the share held times
-    r_self, the default since session 74), giving as ``given_total`` (the neighbours' summed P times the share given),
-    ``given_each`` (each neighbour's P times the share given it) or ``given_each_held`` (each neighbour's P times the
-    share it holds times the share given it, the default since session 74)."""
+    times the share held): keeping as ``self_squared`` (P r_self^2, the equation as printed) or ``self_held`` (P
+    times the share held times r_self, the default since session 74), giving as ``given_total`` (the neighbours'
+    summed P times the share given), ``given_each`` (each neighbour's P times the share given it) or
+    ``given_each_held`` (each neighbour's P times the share it holds times the share given it, the default since
+    session 74)."""
     from hivex_dsl.envs.wildfire_resource_management.statistics import individual_performance
     from hivex_dsl.envs.wildfire_resource_management.terms import neighbour_performance, watch_tower_performance
     from hivex_dsl.runtime.batched import BatchedEnv
