@@ -1,9 +1,11 @@
-"""Wildfire Resource Management: what an untrained policy earns for keeping and for giving, here and in the original.
+"""Wildfire Resource Management: what untrained and trained towers earn keeping and giving, here and in the original.
 
     python benchmarks/wrm_untrained_shares.py [--inits 8] [--worlds 4] [--decisions 400] [--levels 1,5,10]
                                               [--as-printed]   # the terms as this project read them until session 74
     python benchmarks/wrm_untrained_shares.py --readings [--levels 1,5,10]   # uniform random play, other readings
     python benchmarks/wrm_untrained_shares.py --model   # the nine towers' allocations alone, other mechanics
+    python benchmarks/wrm_untrained_shares.py --trained   # the last tenth of training, the original's and the grid's
+    python benchmarks/wrm_untrained_shares.py --holdings RUN/checkpoint.pt [...]   # what each trained tower holds
 
 The first training point of every original cell is (mostly) its untrained policy: one network (every config that
 ran has env_settings.seed 5000) on the same fires in all three tasks, whose first points agree. Two ratios of that
@@ -20,8 +22,10 @@ it (``given_each``) or each neighbour's P times the share it holds times the sha
 With --model, the allocations alone (no fire: P alike at every tower and step, so keeping is E[r_self^2] / E[held]
 and giving 3 E[given] / E[held], the readings before session 74) under uniform random play, as the environment moves
 its tenths and with a tower's 'Sub from Self' taking back what its neighbours gave it, first or in proportion to what
-it holds, each from nothing or from nine tenths on the tower itself. The reward table's notes 'The untrained towers'
-and 'The terms read what the towers hold' record what it printed.
+it holds, each from nothing or from nine tenths on the tower itself. With --trained, keeping over the last tenth of
+training, per task and level: the original's runs (their mean and band) and the committed grid's point. With
+--holdings, what each of the nine towers keeps and holds under trained checkpoints (6 test episodes). The reward
+table's notes 'The untrained towers' and 'The terms read what the towers hold' record what it printed.
 """
 
 from __future__ import annotations
@@ -61,6 +65,80 @@ def original_first_point(task: int, level: int) -> tuple[float, float, float]:
         return float(curve.mean_at(curve.band_steps[0]))
 
     return (*shares(first(SELF), first(NEIGHBOURS), first(INDIVIDUAL), task), first(COUNT))
+
+
+def original_trained_keeping(task: int, level: int) -> tuple[float, float, float, float]:
+    """Over the last tenth of the original's training at ``task`` and ``level``: (keeping of the runs' mean, of the
+    band's lower and upper edges, giving of the mean). The band is seaborn's bootstrap interval over three runs,
+    whose edges at a point are (nearly) its lowest and highest run; each edge of Reward for Moving Resources to Self
+    is read over the runs' mean Individual Performance."""
+    cell = original_curves(ENVIRONMENT, task, level)
+    if cell is None:
+        raise HivexError(f"no original cell for task {task} at level {level}")
+    kept = cell.panel(SELF).training
+    steps = kept.band_steps[kept.band_steps >= 0.9 * kept.last_step]
+
+    def mean(panel: str) -> float:
+        return float(cell.panel(panel).training.mean_at(steps).mean())
+
+    at = np.isin(kept.band_steps, steps)
+    lower, upper = (float(edge[at].mean()) for edge in (kept.lower, kept.upper))
+    keep_weight, give_weight = TASK_WEIGHTS[task]
+    individual = mean(INDIVIDUAL)
+    keeping, giving = shares(mean(SELF), mean(NEIGHBOURS), individual, task)
+    return keeping, lower / keep_weight / individual, upper / keep_weight / individual, giving
+
+
+def recorded_trained_keeping(panels: dict[str, list[float]], task: int) -> float:
+    """Keeping over the last tenth of a recorded training curve (a baseline's ``curve_panels``): the paid statistic's
+    sum over its points over Individual Performance's, as :func:`original_trained_keeping` reads the original's."""
+    individual, kept = (np.asarray(panels[name], dtype=float) for name in (INDIVIDUAL, SELF))  # None: no episode
+    last = slice(len(individual) - max(1, len(individual) // 10), None)
+    return shares(float(np.nansum(kept[last])), 0.0, float(np.nansum(individual[last])), task)[0]
+
+
+def tower_holdings(checkpoint: str, episodes: int = 6) -> tuple[np.ndarray, np.ndarray]:
+    """(kept, held), each (9,): the shares a trained policy's towers keep for themselves and hold (what every agent
+    gives them, their own included), averaged over its decisions in its scenario's first ``episodes`` test episodes
+    (actions sampled, torch seeded 0 as `hivex evaluate` seeds it). Towers are numbered 3 x row + column, the
+    centre 4."""
+    import torch
+
+    from hivex_dsl.envs.wildfire_resource_management.resources import TENTHS
+    from hivex_dsl.evaluation.policies import decide
+    from hivex_dsl.runtime.batched import BatchedEnv
+    from hivex_dsl.train.checkpoint import load_checkpoint, policy_for
+    from hivex_dsl.train.evaluate import limited_threads, network_policy
+
+    loaded = load_checkpoint(checkpoint)
+    compiled = loaded["compiled"]
+    act = network_policy(policy_for(loaded, compiled), compiled.agents)
+    core = BatchedEnv(compiled, batch=1, split="test")
+    kept, held = [], []
+    torch.manual_seed(0)
+    with limited_threads(1):
+        for episode in range(episodes):
+            observations = core.reset(0 if episode == 0 else None)
+            while core.alive.any():
+                observations = core.step(decide(act, observations, core)).observations
+                kept.append(core.state.allocation[0, :, 0])
+                held.append(core.state.support[0])
+    return np.mean(kept, axis=0) / TENTHS, np.mean(held, axis=0) / TENTHS
+
+
+def print_trained_keeping() -> None:
+    """Per task and level, keeping over the last tenth of training: the original's runs' mean (its band's edges) and
+    the committed grid's one seed (benchmarks/baselines/grids/wildfire_resource_management.json)."""
+    import json
+    from pathlib import Path
+
+    grid = Path(__file__).resolve().parent / "baselines" / "grids" / f"{ENVIRONMENT}.json"
+    points = {(p["task_index"], p["level"]): p for p in json.loads(grid.read_text())["points"]}
+    print("task  level  original keeping (band)  |  grid")
+    for (task, level), point in sorted(points.items()):
+        keeping, lower, upper, _ = original_trained_keeping(task, level)
+        ours = recorded_trained_keeping(point["curve_panels"], task)
+        print(f"{task:4d}  {level:5d}  {keeping:8.3f} ({lower:.3f}-{upper:.3f})  |  {ours:.3f}", flush=True)
 
 
 def untrained_shares(level: int, seed: int, worlds: int = 4, decisions: int = 400,
@@ -208,11 +286,23 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--model", action="store_true", help="the allocations alone under other mechanics")
     parser.add_argument("--as-printed", action="store_true",
                         help="the untrained networks under the terms' readings before session 74")
+    parser.add_argument("--trained", action="store_true",
+                        help="keeping over the last tenth of training, the original's runs and the committed grid")
+    parser.add_argument("--holdings", nargs="+", metavar="CHECKPOINT",
+                        help="what each tower keeps and holds under trained checkpoints (6 test episodes)")
     args = parser.parse_args(argv)
     try:
         if args.inits < 1 or args.worlds < 1 or args.decisions < 1:
             raise HivexError("--inits, --worlds and --decisions must be at least 1")
         levels = [int(level) for level in args.levels.split(",")]
+        if args.holdings:
+            for checkpoint in args.holdings:
+                kept, held = tower_holdings(checkpoint)
+                print(f"{checkpoint}\n  kept {np.round(kept, 2)}\n  held {np.round(held, 2)}", flush=True)
+            return 0
+        if args.trained:
+            print_trained_keeping()
+            return 0
         if args.model:
             print("take back        from  keeping  giving  held")
             for take_back in TAKE_BACKS:

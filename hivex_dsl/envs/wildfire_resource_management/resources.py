@@ -9,7 +9,10 @@ Towers sit on a 3 x 3 grid, index ``i = 3 * row + col`` with ``x = (col - 1) * s
 
 Each tower's three neighbours are the other towers ordered by distance, ties broken by the lower
 tower index; neighbour 1 is the nearest. On the grid only the centre tower has a tie (four
-towers at distance s); the rule keeps 1, 3, 5 and drops 7.
+towers at distance s); the rule keeps 1, 3, 5 and drops 7. The paper's process figure
+(hivex-environments' docs/images/WRM_process.jpg, numbered as here) draws tower 2's three
+neighbours as 1, 4 and 5 and tower 0's as 1, 3 and 4: a corner's two edges and the centre, as
+the rule gives. So every tower but the centre counts the centre among its neighbours.
 
 Resources are integers in tenths (no float drift). Agent ``i`` owns 10 tenths: ``budget[i]``
 unallocated plus ``allocation[i, k]`` given to target ``k`` (0 itself, 1-3 its neighbours), so
