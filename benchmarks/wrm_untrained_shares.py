@@ -112,6 +112,8 @@ def tower_holdings(checkpoint: str, episodes: int = 6) -> tuple[np.ndarray, np.n
 
     loaded = load_checkpoint(checkpoint)
     compiled = loaded["compiled"]
+    if compiled.environment != ENVIRONMENT:
+        raise HivexError(f"{checkpoint} trained {compiled.environment}, not {ENVIRONMENT}: it has no towers to read")
     act = network_policy(policy_for(loaded, compiled), compiled.agents)
     core = BatchedEnv(compiled, batch=1, split="test")
     kept, held = [], []

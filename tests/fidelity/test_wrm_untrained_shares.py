@@ -200,3 +200,22 @@ def test_uniform_random_play_read_as_the_terms_now_read_keeps_and_gives_as_the_o
 def test_bad_counts_are_refused_with_exit_2(capsys):
     assert script.main(["--inits", "0"]) == 2
     assert "must be at least 1" in capsys.readouterr().err
+
+
+def test_holdings_of_a_missing_or_other_environment_s_checkpoint_are_refused_with_exit_2(tmp_path, capsys):
+    pytest.importorskip("torch")
+    from hivex_dsl.adapters.gymnasium import HivexVectorEnv
+    from hivex_dsl.train.checkpoint import save_checkpoint
+    from hivex_dsl.train.config import make_config
+    from hivex_dsl.train.networks import ActorCritic
+
+    assert script.main(["--holdings", str(tmp_path / "none.pt")]) == 2
+    assert "no checkpoint at" in capsys.readouterr().err
+    compiled = script.hivex_dsl.compile({"hivex": 1, "environment": "wind_farm_control", "episode_length": 20})
+    cfg = make_config("wind_farm_control", {"hidden_units": 8})
+    env = HivexVectorEnv(compiled, num_worlds=1)
+    network = ActorCritic(env.single_observation_space, env.single_action_space, cfg)
+    checkpoint = save_checkpoint(tmp_path / "wfc.pt", network, cfg, compiled, agent_steps=0)
+    assert script.main(["--holdings", str(checkpoint)]) == 2
+    err = capsys.readouterr().err
+    assert "trained wind_farm_control, not wildfire_resource_management" in err and "Traceback" not in err
