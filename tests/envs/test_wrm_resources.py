@@ -32,6 +32,12 @@ def test_neighbour_table_is_the_documented_one():
     assert NEIGHBOURS.tolist() == PAPER_GRID_NEIGHBOURS
 
 
+def test_the_process_figure_s_neighbourhoods_are_the_table_s():
+    """hivex-environments' docs/images/WRM_process.jpg (towers v0-v8 numbered as here, v0 south-west): v2 sends
+    support to v1, v4 and v5, and the 'Neighbourhood' panel of v0 shows v1, v3 and v4."""
+    assert set(NEIGHBOURS[2]) == {1, 4, 5} and set(NEIGHBOURS[0]) == {1, 3, 4}
+
+
 def test_towers_stand_on_the_450_m_grid_in_row_major_order_from_the_south_west():
     metres = grid_offsets() * 450
     assert metres[0].tolist() == [-450, -450] and metres[2].tolist() == [450, -450]
