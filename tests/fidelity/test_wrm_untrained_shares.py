@@ -81,20 +81,10 @@ def test_towers_gather_on_the_centre_the_one_neighbour_of_all_eight_others(tmp_p
     """Every tower but the centre has the centre among its three neighbours (the process figure draws a corner's
     three: its two edges and the centre), so under an untrained network's near-uniform play the centre holds the
     most; a tower keeps no more than it holds, and the nine hold together what the agents allocated (at most 8.1)."""
-    pytest.importorskip("torch")
-    from hivex_dsl.adapters.gymnasium import HivexVectorEnv
     from hivex_dsl.envs.wildfire_resource_management.resources import NEIGHBOURS
-    from hivex_dsl.train.checkpoint import save_checkpoint
-    from hivex_dsl.train.config import make_config
-    from hivex_dsl.train.networks import ActorCritic
 
     assert all(4 in NEIGHBOURS[tower] for tower in range(9) if tower != 4)
-    compiled = script.hivex_dsl.compile({"hivex": 1, "environment": script.ENVIRONMENT, "episode_length": 60})
-    cfg = make_config(script.ENVIRONMENT, {"hidden_units": 8})
-    env = HivexVectorEnv(compiled, num_worlds=1)
-    network = ActorCritic(env.single_observation_space, env.single_action_space, cfg)
-    checkpoint = save_checkpoint(tmp_path / "checkpoint.pt", network, cfg, compiled, agent_steps=0)
-    kept, held = script.tower_holdings(str(checkpoint), episodes=2)
+    kept, held = script.tower_holdings(untrained_checkpoint(tmp_path, script.ENVIRONMENT, 60), episodes=2)
     assert kept.shape == held.shape == (9,)
     assert held.argmax() == 4 and (kept <= held + 1e-12).all() and 0 < held.sum() <= 8.1 + 1e-9
 
@@ -203,19 +193,24 @@ def test_bad_counts_are_refused_with_exit_2(capsys):
 
 
 def test_holdings_of_a_missing_or_other_environment_s_checkpoint_are_refused_with_exit_2(tmp_path, capsys):
+    assert script.main(["--holdings", str(tmp_path / "none.pt")]) == 2
+    assert "no checkpoint at" in capsys.readouterr().err
+    assert script.main(["--holdings", untrained_checkpoint(tmp_path, "wind_farm_control", 20)]) == 2
+    err = capsys.readouterr().err
+    assert "trained wind_farm_control, not wildfire_resource_management" in err and "Traceback" not in err
+
+
+def untrained_checkpoint(folder, environment: str, episode_length: int) -> str:
+    """The path of a checkpoint, as `hivex train` writes one, of an untrained small network of ``environment``'s main
+    scenario with short episodes (skips where torch is missing)."""
     pytest.importorskip("torch")
     from hivex_dsl.adapters.gymnasium import HivexVectorEnv
     from hivex_dsl.train.checkpoint import save_checkpoint
     from hivex_dsl.train.config import make_config
     from hivex_dsl.train.networks import ActorCritic
 
-    assert script.main(["--holdings", str(tmp_path / "none.pt")]) == 2
-    assert "no checkpoint at" in capsys.readouterr().err
-    compiled = script.hivex_dsl.compile({"hivex": 1, "environment": "wind_farm_control", "episode_length": 20})
-    cfg = make_config("wind_farm_control", {"hidden_units": 8})
+    compiled = script.hivex_dsl.compile({"hivex": 1, "environment": environment, "episode_length": episode_length})
+    cfg = make_config(environment, {"hidden_units": 8})
     env = HivexVectorEnv(compiled, num_worlds=1)
     network = ActorCritic(env.single_observation_space, env.single_action_space, cfg)
-    checkpoint = save_checkpoint(tmp_path / "wfc.pt", network, cfg, compiled, agent_steps=0)
-    assert script.main(["--holdings", str(checkpoint)]) == 2
-    err = capsys.readouterr().err
-    assert "trained wind_farm_control, not wildfire_resource_management" in err and "Traceback" not in err
+    return str(save_checkpoint(folder / f"{environment}.pt", network, cfg, compiled, agent_steps=0))
