@@ -21,6 +21,7 @@ import numpy as np
 import pytest
 
 from ..benchmark_scripts import benchmark_script
+from ..untrained import untrained_checkpoint
 
 script = benchmark_script("wrm_untrained_shares")
 CELLS = [(task, level) for task in script.TASK_WEIGHTS for level in range(1, 11)]
@@ -84,7 +85,8 @@ def test_towers_gather_on_the_centre_the_one_neighbour_of_all_eight_others(tmp_p
     from hivex_dsl.envs.wildfire_resource_management.resources import NEIGHBOURS
 
     assert all(4 in NEIGHBOURS[tower] for tower in range(9) if tower != 4)
-    kept, held = script.tower_holdings(untrained_checkpoint(tmp_path, script.ENVIRONMENT, 60), episodes=2)
+    checkpoint = untrained_checkpoint(tmp_path / "c.pt", short(script.ENVIRONMENT, 60))
+    kept, held = script.tower_holdings(str(checkpoint), episodes=2)
     assert kept.shape == held.shape == (9,)
     assert held.argmax() == 4 and (kept <= held + 1e-12).all() and 0 < held.sum() <= 8.1 + 1e-9
 
@@ -195,22 +197,12 @@ def test_bad_counts_are_refused_with_exit_2(capsys):
 def test_holdings_of_a_missing_or_other_environment_s_checkpoint_are_refused_with_exit_2(tmp_path, capsys):
     assert script.main(["--holdings", str(tmp_path / "none.pt")]) == 2
     assert "no checkpoint at" in capsys.readouterr().err
-    assert script.main(["--holdings", untrained_checkpoint(tmp_path, "wind_farm_control", 20)]) == 2
+    checkpoint = untrained_checkpoint(tmp_path / "c.pt", short("wind_farm_control", 20))
+    assert script.main(["--holdings", str(checkpoint)]) == 2
     err = capsys.readouterr().err
     assert "trained wind_farm_control, not wildfire_resource_management" in err and "Traceback" not in err
 
 
-def untrained_checkpoint(folder, environment: str, episode_length: int) -> str:
-    """The path of a checkpoint, as `hivex train` writes one, of an untrained small network of ``environment``'s main
-    scenario with short episodes (skips where torch is missing)."""
-    pytest.importorskip("torch")
-    from hivex_dsl.adapters.gymnasium import HivexVectorEnv
-    from hivex_dsl.train.checkpoint import save_checkpoint
-    from hivex_dsl.train.config import make_config
-    from hivex_dsl.train.networks import ActorCritic
-
-    compiled = script.hivex_dsl.compile({"hivex": 1, "environment": environment, "episode_length": episode_length})
-    cfg = make_config(environment, {"hidden_units": 8})
-    env = HivexVectorEnv(compiled, num_worlds=1)
-    network = ActorCritic(env.single_observation_space, env.single_action_space, cfg)
-    return str(save_checkpoint(folder / f"{environment}.pt", network, cfg, compiled, agent_steps=0))
+def short(environment: str, episode_length: int):
+    """``environment``'s default scenario with ``episode_length``-step episodes, compiled."""
+    return script.hivex_dsl.compile({"hivex": 1, "environment": environment, "episode_length": episode_length})

@@ -19,6 +19,7 @@ from hivex_dsl.replay.trace import FIELDS, episode_data, significant
 from hivex_dsl.runtime.batched import BatchedEnv
 from hivex_dsl.sim.spaces import check_actions
 
+from ..untrained import untrained_checkpoint
 from .conftest import ENVIRONMENTS, SCENARIOS, short_scenario
 
 
@@ -205,19 +206,9 @@ def test_bad_input_is_one_sentence_and_exit_2(what, message, tmp_path, capsys):
 def test_every_environment_main_scenario_replays_with_a_checkpoint(environment, tmp_path):
     """A checkpoint of the environment's main scenario (shortened), as `hivex train` writes one, from an untrained
     network of the paper's hyperparameters: what the replay reads of it is the same as after training."""
-    pytest.importorskip("torch")
-    from hivex_dsl.adapters.gymnasium import HivexVectorEnv
-    from hivex_dsl.train.checkpoint import save_checkpoint
-    from hivex_dsl.train.config import make_config
-    from hivex_dsl.train.networks import ActorCritic
-
     scenario = short_scenario(tmp_path, environment, episode_length=10)
     compiled = compile(str(scenario))
-    cfg = make_config(environment, {"hidden_units": 8})
-    env = HivexVectorEnv(compiled, num_worlds=1)
-    checkpoint = save_checkpoint(tmp_path / "run" / "checkpoint.pt",
-                                 ActorCritic(env.single_observation_space, env.single_action_space, cfg), cfg,
-                                 compiled, agent_steps=123)
+    checkpoint = untrained_checkpoint(tmp_path / "run" / "checkpoint.pt", compiled, agent_steps=123)
     trace = tmp_path / "trace.json"
     assert main(["replay", str(checkpoint), "-o", str(tmp_path / "cp.html"), "--trace", str(trace)]) == 0
     (episode,) = json.loads(trace.read_text())["episodes"]
