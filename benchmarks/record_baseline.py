@@ -3,6 +3,7 @@
     python benchmarks/record_baseline.py RUN_DIR SCENARIO [--episodes 10] [--command "..."] [--note "..."]
     python benchmarks/record_baseline.py --add-seed RUN_DIR [--add-seed RUN_DIR ...]   # other training seeds
     python benchmarks/record_baseline.py --grid RUN_DIR SWEEP [--episodes 10] [--partial]   # a trained sweep: grids/<env>.json
+    python benchmarks/record_baseline.py --grid-add-seed RUN_DIR [...]   # a sweep's points trained on another seed
     python benchmarks/record_baseline.py --replot   # redraw every committed PNG from its JSON
 
 It evaluates the run's checkpoint on the test seeds (as `hivex evaluate` does), measures the random and
@@ -17,8 +18,10 @@ with --partial, a grid still training: the points trained so far, the others lis
 whose run is not in RUN_DIR keeps its row of the grid record already written, when that row is of the same
 scenario (fingerprint), hyperparameters and test episodes: a grid trained in parts (`hivex train SWEEP --points
 14-29`) on machines that do not keep their runs is recorded whole in the end. A grid record of another sweep (by
-content: the points' fingerprints, not the sweep's path) is refused; --replace replaces it. A run is recorded only as
-the scenario it trained (its checkpoint's fingerprint), whatever its name.
+content: the points' fingerprints, not the sweep's path) is refused; --replace replaces it. --grid-add-seed adds the
+points of a sweep trained on another seed (`hivex train SWEEP -o RUN_DIR --seed 1 --points ...`, the grid's
+hyperparameters) to their rows of the environment's committed grid record, which re-recording the grid keeps. A run is
+recorded only as the scenario it trained (its checkpoint's fingerprint), whatever its name.
 """
 
 from __future__ import annotations
@@ -30,6 +33,7 @@ from pathlib import Path
 from hivex_dsl.base.errors import HivexError
 from hivex_dsl.cli.argtypes import positive
 from hivex_dsl.train.baselines import GRIDS, add_seed, read_json, record_baseline, record_grid
+from hivex_dsl.train.grid_seeds import add_grid_seed
 from hivex_dsl.train.plots import learning_curve
 
 OUT = Path(__file__).resolve().parent / "baselines"
@@ -42,6 +46,8 @@ def main() -> None:
     parser.add_argument("--replot", action="store_true", help="only redraw the committed PNGs from their JSON")
     parser.add_argument("--add-seed", action="append", type=Path, default=[], metavar="RUN_DIR",
                         help="add another training seed's run to its environment's committed record")
+    parser.add_argument("--grid-add-seed", action="append", type=Path, default=[], metavar="RUN_DIR",
+                        help="add a sweep's points trained on another seed to its environment's grid record")
     parser.add_argument("--grid", action="store_true",
                         help="RUN_DIR is a trained sweep and SCENARIO its sweep file (writes grids/<environment>.json)")
     parser.add_argument("--episodes", type=positive, default=10)
@@ -76,7 +82,10 @@ def record(parser: argparse.ArgumentParser, args: argparse.Namespace) -> None:
         entry = next(e for e in data["other_seeds"] if e["seed"] == summary["seed"])
         print(f"added seed {entry['seed']} to {OUT / summary['environment']}.json: test return "
               f"{entry['return']['mean']:.2f} ± {entry['return']['std']:.2f}")
-    if args.add_seed:
+    for run_dir in args.grid_add_seed:
+        added = add_seed_to_grid(run_dir)
+        print(f"added seed {added['seed']} to {added['record']} at {added['points']} points")
+    if args.add_seed or args.grid_add_seed:
         return
     if args.run_dir is None or args.scenario is None:
         parser.error("RUN_DIR and SCENARIO are required (or --add-seed, or --replot)")
@@ -94,6 +103,21 @@ def record(parser: argparse.ArgumentParser, args: argparse.Namespace) -> None:
                            args.curve_episodes)
     print(f"wrote {OUT / data['environment']}.json and .png: test return "
           f"{data['test']['return']['mean']:.2f} ± {data['test']['return']['std']:.2f}")
+
+
+def add_seed_to_grid(run_dir: Path) -> dict:
+    """Add the points of the sweep trained in ``run_dir`` to the committed grid record of its environment; -> the
+    record's path, the seed and how many points it gained."""
+    trained = sorted(p for p in Path(run_dir).glob("*/summary.json"))
+    if not trained:
+        raise HivexError(f"{run_dir} holds no trained point of a sweep (no */summary.json)")
+    summary = read_json(trained[0], "summary")
+    record = OUT / GRIDS / f"{summary['environment']}.json"
+    if not record.is_file():
+        raise HivexError(f"no grid record of {summary['environment']} at {record}: record its grid with --grid first")
+    data = add_grid_seed(record, run_dir)
+    count = sum(any(e["seed"] == summary["seed"] for e in p.get("other_seeds", [])) for p in data["points"])
+    return {"record": record, "seed": summary["seed"], "points": count}
 
 
 if __name__ == "__main__":

@@ -134,19 +134,19 @@ def _grid_comparison(record: dict[str, Any]) -> dict[str, Any] | None:
         if cell is None:
             without.append(point["name"])
             continue
-        run = compare.from_record(point | {"environment": environment})
-        measured = [r for r in compare.measure(run, cell) if r.panel == compare.RETURN]
-        end = tail(run, cell)
+        runs = compare.seed_curves(point | {"environment": environment})
+        measured = [r for r in seeds_measure.measure_seeds(runs, cell) if r.panel == compare.RETURN]
+        end = next(e for e in tail_seeds(runs, cell) if e.panel == compare.RETURN)
         rows.append({"task_index": compare.paper_task_index(environment, point["task_index"]), "task": point["task"],
-                     "level": "-" if point["level"] is None else point["level"],
-                     "cells": [f"{compare.number(r.ours.value)}, {r.verdict}" if r.ours.value is not None
+                     "level": "-" if point["level"] is None else point["level"], "seeds": len(runs),
+                     "cells": [f"{compare.number(r.value)}, {r.verdict}" if r.value is not None
                                else "no point" for r in measured],
-                     "tail": "no point" if end.ours is None else
-                             f"{compare.number(end.ours)} / {compare.number(end.theirs)} ({end.ratio:.2f})"})
+                     "tail": "no point" if end.value is None else
+                             f"{compare.number(end.value)} / {compare.number(end.theirs)} ({end.ratio:.2f})"})
     if not rows and not without:
         return None
     return {"environment": environment, "stale": compare.is_stale(record), "rows": rows, "without": without,
-            "fractions": [f"{f:.0%}" for f in compare.FRACTIONS]}
+            "fractions": [f"{f:.0%}" for f in compare.FRACTIONS], "seeded": any(r["seeds"] > 1 for r in rows)}
 
 
 def curve_comparisons(directory: Path | None) -> tuple[list[dict[str, Any]], dict[str, np.ndarray]]:

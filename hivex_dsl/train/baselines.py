@@ -12,7 +12,8 @@ strategy in some seeds and not in others; the page shows every recorded seed and
 
 ``record_grid`` turns a trained sweep (``hivex train SWEEP --eval-episodes N``) into ``grids/<environment>.json``:
 every point's test-seed return and statistics beside the paper's published cell for its task and level, and its
-training curve, which the fidelity page measures against the original's.
+training curve, which the fidelity page measures against the original's; :mod:`.grid_seeds` adds other training
+seeds to its points, which re-recording the grid keeps while they trained what its points train.
 """
 
 from __future__ import annotations
@@ -166,34 +167,52 @@ def add_seed(record: Path, run_dir: Path) -> dict[str, Any]:
     :data:`SEED_CHANGES`, on a training seed other than the record's own."""
     record, run_dir = Path(record), Path(run_dir)
     data = read_json(record, "baseline record")
-    summary = read_json(run_dir / "summary.json", "summary")
-    hyperparameters = read_json(run_dir / "config.json", "config")["hyperparameters"]
     trained = load_checkpoint(run_dir / "checkpoint.pt")
-    # through the config model: a record made before a key existed holds what the key meant then
-    then = older_defaults(data["hyperparameters"], *acting_interface(trained["compiled"]))
-    recorded = PPOConfig(**then).model_dump(mode="json")
-    changed = sorted(k for k, v in hyperparameters.items() if k not in SEED_CHANGES and recorded.get(k) != v)
-    if changed:
-        listing = ", ".join(f"{k}: {recorded.get(k)!r} -> {hyperparameters[k]!r}" for k in changed)
-        raise TrainError(f"{run_dir} is not another seed of {record.name}: its hyperparameters differ ({listing})")
-    if summary["seed"] == data["seed"]:
-        raise TrainError(f"{run_dir} trained on seed {summary['seed']}, the record's own; give another seed's run")
     if trained["fingerprint"] != compile(data["scenario"]).fingerprint:
         raise TrainError(f"{run_dir} trained scenario {trained['compiled'].name!r}, which differs from the "
                          f"record's {data['scenario']}")
+    check_other_seed(run_dir, trained["compiled"], data["hyperparameters"], data["seed"], record.name)
     report = evaluate(run_dir / "checkpoint.pt", split="test", episodes=data["test"]["episodes"])
-    entry = {"seed": summary["seed"], "world_seed": hyperparameters.get("world_seed"),
-             "agent_steps": summary["agent_steps"], "wall_s": summary["wall_s"],
-             "resumed_at": summary.get("resumed_at", []), "threads": hyperparameters["torch_threads"],
-             "return": report["return"], "episode_length": report["episode_length"],
-             "statistics": report["statistics"], **curve_fields(run_dir)}
-    others = [e for e in data.get("other_seeds", []) if e["seed"] != entry["seed"]]
-    data["other_seeds"] = sorted([*others, entry], key=lambda e: e["seed"])
+    data["other_seeds"] = with_seed(data.get("other_seeds", []), seed_entry(run_dir, report))
     record.write_text(dumps(data, record, 1))
     from .plots import learning_curve
 
     learning_curve(data, record.with_suffix(".png"))
     return data
+
+
+def check_other_seed(run_dir: Path, compiled: CompiledScenario, hyperparameters: dict[str, Any], seed: int,
+                     of: str) -> None:
+    """Refuse ``run_dir`` as another training seed of ``of`` (a record, or a grid record's point), which trained
+    ``compiled`` with ``hyperparameters`` on ``seed``, unless its hyperparameters differ from those only in
+    :data:`SEED_CHANGES` and its seed from ``seed``."""
+    ran = read_json(run_dir / "config.json", "config")["hyperparameters"]
+    # through the config model: a record made before a key existed holds what the key meant then
+    recorded = PPOConfig(**older_defaults(hyperparameters, *acting_interface(compiled))).model_dump(mode="json")
+    changed = sorted(k for k, v in ran.items() if k not in SEED_CHANGES and recorded.get(k) != v)
+    if changed:
+        listing = ", ".join(f"{k}: {recorded.get(k)!r} -> {ran[k]!r}" for k in changed)
+        raise TrainError(f"{run_dir} is not another seed of {of}: its hyperparameters differ ({listing})")
+    ran_seed = read_json(run_dir / "summary.json", "summary")["seed"]
+    if ran_seed == seed:
+        raise TrainError(f"{run_dir} trained on seed {ran_seed}, the record's own; give another seed's run")
+
+
+def seed_entry(run_dir: Path, report: dict[str, Any]) -> dict[str, Any]:
+    """One of a record's ``other_seeds``: the run in ``run_dir`` (its seeds, budget, machines and training curve)
+    and its test-seed evaluation ``report``."""
+    summary = read_json(run_dir / "summary.json", "summary")
+    hyperparameters = read_json(run_dir / "config.json", "config")["hyperparameters"]
+    return {"seed": summary["seed"], "world_seed": hyperparameters.get("world_seed"),
+            "agent_steps": summary["agent_steps"], "wall_s": summary["wall_s"],
+            "resumed_at": summary.get("resumed_at", []), "threads": hyperparameters["torch_threads"],
+            "machines": trained_on(summary), "return": report["return"], "episode_length": report["episode_length"],
+            "statistics": report["statistics"], **curve_fields(run_dir)}
+
+
+def with_seed(entries: list[dict[str, Any]], entry: dict[str, Any]) -> list[dict[str, Any]]:
+    """``entries`` (a record's ``other_seeds``) with ``entry`` added, replacing one of its seed, in seed order."""
+    return sorted([*(e for e in entries if e["seed"] != entry["seed"]), entry], key=lambda e: e["seed"])
 
 
 GRIDS = "grids"  # under the baselines folder: grids/<environment>.json
@@ -250,6 +269,7 @@ def record_grid(grid_dir: Path, sweep: str, out_dir: Path, episodes: int = 10, c
                        "return": report["return"], "statistics": report["statistics"], "published": report["published"],
                        **{policy: level_of(point, policy, episodes) for policy in LEVEL_POLICIES},
                        **curve_fields(run_dirs[index])}
+        rows[index] |= _kept_seeds(earlier, point, configs[0], summary["seed"])
     data = {"environment": points[0].environment, "sweep": sweep, "sweep_fingerprint": sweep_fingerprint(points),
             "command": earlier["command"] if command is None else command,
             "note": earlier["note"] if note is None else note, "machine": "; ".join(_grid_machines(rows)),
@@ -316,6 +336,18 @@ def _kept_row(earlier: dict[str, Any], point: CompiledScenario, index: int, epis
         raise TrainError(f"{where} on {earlier['test']['episodes']} test episodes, not {episodes}: record with "
                          f"--episodes {earlier['test']['episodes']}, or train it again")
     return row
+
+
+def _kept_seeds(earlier: dict[str, Any], point: CompiledScenario, hyperparameters: dict[str, Any],
+                seed: int) -> dict[str, Any]:
+    """The ``other_seeds`` of the earlier record's row of ``point`` (:mod:`.grid_seeds`), kept for its fresh row
+    where they trained the same scenario with the same ``hyperparameters`` (but the one on ``seed``, which the fresh
+    row now is); none otherwise."""
+    row = earlier["rows"].get(point.name, {})
+    if row.get("fingerprint") != point.fingerprint or earlier.get("hyperparameters") != hyperparameters:
+        return {}
+    others = [entry for entry in row.get("other_seeds", []) if entry["seed"] != seed]
+    return {"other_seeds": others} if others else {}
 
 
 def _trained(run_dir: Path) -> bool:
