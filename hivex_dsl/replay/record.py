@@ -132,7 +132,7 @@ def record(compiled: CompiledScenario, policy: str | Policy, policy_info: dict[s
     statistics: dict[str, list] = {name: [] for name in core.statistics.names}
     episode = Episode(compiled, policy_info, seed, split, {}, {}, {}, np.zeros(0), np.zeros(0), np.zeros(0),
                       np.zeros(0), {}, frames=[keep_frame(core.render(0))], frame_decisions=[0], frame_step=frame_step,
-                      observation_labels=tuple(getattr(type(core.sim), "observation_labels", ())),
+                      observation_labels=tuple(getattr(core.sim, "observation_labels", ())),
                       action_meanings=str(getattr(core.sim, "action_meanings", "") or ""))
     limit = compiled.episode_decisions if steps is None else steps
     decision = 0

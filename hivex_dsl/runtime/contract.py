@@ -70,7 +70,8 @@ class Simulator(Protocol):
     @property
     def observation_labels(self) -> tuple[str, ...]:
         """A class attribute: one label per value of the vector observation (``"wind direction x"``, ...), in
-        order; the docs' specification table groups ``... x``/``... y`` runs and checks the count."""
+        order, under the default params; the docs' specification table groups ``... x``/``... y`` runs and checks
+        the count. A simulator whose params change what a value is relabels it on the instance."""
 
     def reset(self, rng: np.random.Generator, batch: int) -> Any:
         """The state of ``batch`` new worlds (``B = batch``), drawn from ``rng``."""

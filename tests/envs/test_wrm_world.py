@@ -84,6 +84,24 @@ def test_one_hand_placed_burning_tree_is_observed_relative_to_each_tower():
     assert not state.sighting.approaching.any()  # nothing moved
 
 
+@pytest.mark.parametrize("eighth", ["budget", "fire_detected"])
+def test_the_eighth_value_is_the_budget_or_whether_a_fire_burns_within_600_m(eighth):
+    """One burning tree at (151.5, 1.5) m: towers 0 and 6 (752 m) and 3 (601.5 m, just past the radius) see no
+    fire, the other six do; each agent gave 0.3 to itself, so its budget is 0.7."""
+    sim = simulator(spread_chance_per_factor=0.0, burn_steps=1000, quiet_steps_out=10_000, eighth_observation=eighth)
+    rng = np.random.default_rng(2)
+    state = sim.reset(rng, 1)
+    ignite = np.zeros((1, state.fire.cells, state.fire.cells), bool)
+    ignite[0, 200, 250] = True
+    fire = fire_reset(ignite, ignite)
+    state = replace(state, fire=fire, sighting=sim._sight(fire, state.maps.height, state.tower_ground, None))
+    for _ in range(3):
+        state, _ = sim.step(state, np.tile([1, 0, 0, 0], (1, 9, 1)), rng)
+    expected = [0, 1, 1, 0, 1, 1, 0, 1, 1] if eighth == "fire_detected" else [0.7] * 9
+    np.testing.assert_allclose(sim.observe(state)[0, :, 7], expected, atol=1e-6)
+    assert sim.observation_labels[7] == {"budget": "unallocated budget", "fire_detected": "fire detected"}[eighth]
+
+
 def test_the_second_stack_is_the_previous_frame_and_starts_as_zeros():
     sim = simulator()
     rng = np.random.default_rng(9)

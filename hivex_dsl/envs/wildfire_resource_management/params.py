@@ -19,8 +19,10 @@ from ..island import RedrawIsland, redraw_island_field
 
 
 class WildfireResourceParams(WindParams, FireSpec):
-    # the terms' readings before session 74, written out: locks and checkpoints from before read them so
-    ADDED_FIELDS: ClassVar[dict[str, Any]] = {"own_term_weight": "kept_squared", "neighbour_term_weight": "given_total"}
+    # the terms' readings before session 74, written out: locks and checkpoints from before read them so; the
+    # budget observed before the eighth value became a param
+    ADDED_FIELDS: ClassVar[dict[str, Any]] = {"own_term_weight": "kept_squared", "neighbour_term_weight": "given_total",
+                                              "eighth_observation": "budget"}
 
     island_half_extent_m: float = Field(600.0, ge=50.0, le=10_000.0, description=(
         "[paper] Half the side of the island square (1200 x 1200), shared with Aerial Wildfire Suppression. "
@@ -63,6 +65,11 @@ class WildfireResourceParams(WindParams, FireSpec):
         "project's reading until session 74). The original's untrained towers give 0.51-1.00 of their Individual "
         "Performance and its trained Keep All 0.03-0.09, 'given_each' 0.68-1.06 and 0.07, 'given_total' 1.9-2.5 "
         "and 0.27-0.65 (the reward table's note 'The terms read what the towers hold')."))
+    eighth_observation: Literal["budget", "fire_detected"] = Field("budget", description=(
+        "[ours] The eighth value of each observation stack, which the paper's table (16 values in 2 stacks) leaves "
+        "unnamed: 'budget' the agent's own unallocated budget / 1.0 (this project's choice), 'fire_detected' 1 "
+        "while a burning tree lies within detection_radius_m of the tower, else 0 (the process figure's caption: "
+        "each agent observes 'whether a fire has been detected within 600 meters')."))
     initial_self_tenths: int = Field(0, ge=0, le=10, description=(
         "[ours] Tenths of its 1.0 that each tower has allocated to itself at reset; the rest starts unallocated."))
     allocatable_tenths: int = Field(9, ge=1, le=10, description=(

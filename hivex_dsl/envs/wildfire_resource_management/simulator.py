@@ -55,6 +55,8 @@ class WildfireResourceSimulator:
             raise ValueError(f"Wildfire Resource Management has exactly {TOWERS} towers, got {compiled.agents} agents")
         self.params = p
         self.agents = compiled.agents
+        if p.eighth_observation == "fire_detected":
+            self.observation_labels = (*type(self).observation_labels[:-1], "fire detected")
         self.island = IslandSpecs.of(compiled)
         self.forest_spec, self.weather_spec, self.wind_spec = self.island.forest, self.island.weather, self.island.wind
         self.observation_space = spaces.Box(-1.0, 1.0, (FRAME * STACKS,), np.float32)
@@ -223,8 +225,9 @@ class WildfireResourceSimulator:
         # minimum(maximum()), not np.clip: the same values (no NaN here) without np.clip's Python overhead;
         # one concatenate casts every part to float32 as assigning it into a float32 frame would
         direction = clamp(sighting.offset / self.params.detection_radius_m, -1.0, 1.0)
+        eighth = np.isfinite(sighting.distance) if self.params.eighth_observation == "fire_detected" else budget / TENTHS
         return np.concatenate([direction, tower_weather, support[..., None] / MAX_SUPPORT_TENTHS,
-                               budget[..., None] / TENTHS, previous[..., :FRAME]], axis=-1, dtype=np.float32)
+                               eighth[..., None], previous[..., :FRAME]], axis=-1, dtype=np.float32)
 
     def observe(self, state: WildfireResourceState) -> np.ndarray:
         """(B, A, 16) float32 built in ``step``: 2 stacks (newest first) of the 8 labelled values (read-only: the state keeps it)."""
