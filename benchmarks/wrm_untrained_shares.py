@@ -23,7 +23,7 @@ With --model, the allocations alone (no fire: P alike at every tower and step, s
 and giving 3 E[given] / E[held], the readings before session 74) under uniform random play, as the environment moves
 its tenths and with a tower's 'Sub from Self' taking back what its neighbours gave it, first or in proportion to what
 it holds, each from nothing or from nine tenths on the tower itself. With --trained, keeping over the last tenth of
-training, per task and level: the original's runs (their mean and band) and the committed grid's point. With
+training, per task and level: the original's runs (their mean and band) and every seed of the committed grid's point. With
 --holdings, what each of the nine towers keeps and holds under trained checkpoints (6 test episodes). The reward
 table's notes 'The untrained towers' and 'The terms read what the towers hold' record what it printed.
 """
@@ -128,19 +128,28 @@ def tower_holdings(checkpoint: str, episodes: int = 6) -> tuple[np.ndarray, np.n
     return np.mean(kept, axis=0) / TENTHS, np.mean(held, axis=0) / TENTHS
 
 
+def grid_trained_keeping(point: dict, task: int) -> list[float]:
+    """Keeping over the last tenth of training of every seed a grid record's ``point`` holds (its own, then its
+    ``other_seeds``, :mod:`hivex_dsl.train.grid_seeds`)."""
+    return [recorded_trained_keeping(run["curve_panels"], task) for run in (point, *point.get("other_seeds", []))]
+
+
 def print_trained_keeping() -> None:
     """Per task and level, keeping over the last tenth of training: the original's runs' mean (its band's edges) and
-    the committed grid's one seed (benchmarks/baselines/grids/wildfire_resource_management.json)."""
+    every seed of the committed grid's point (benchmarks/baselines/grids/wildfire_resource_management.json), with
+    their mean where it holds more than one."""
     import json
     from pathlib import Path
 
     grid = Path(__file__).resolve().parent / "baselines" / "grids" / f"{ENVIRONMENT}.json"
     points = {(p["task_index"], p["level"]): p for p in json.loads(grid.read_text())["points"]}
-    print("task  level  original keeping (band)  |  grid")
+    print("task  level  original keeping (band)  |  grid seeds (mean)")
     for (task, level), point in sorted(points.items()):
         keeping, lower, upper, _ = original_trained_keeping(task, level)
-        ours = recorded_trained_keeping(point["curve_panels"], task)
-        print(f"{task:4d}  {level:5d}  {keeping:8.3f} ({lower:.3f}-{upper:.3f})  |  {ours:.3f}", flush=True)
+        ours = grid_trained_keeping(point, task)
+        mean = f" ({np.mean(ours):.3f})" if len(ours) > 1 else ""
+        print(f"{task:4d}  {level:5d}  {keeping:8.3f} ({lower:.3f}-{upper:.3f})  |  "
+              f"{' '.join(f'{v:.3f}' for v in ours)}{mean}", flush=True)
 
 
 def untrained_shares(level: int, seed: int, worlds: int = 4, decisions: int = 400,

@@ -78,6 +78,14 @@ def test_recorded_keeping_reads_the_last_tenth_of_a_curve():
     assert script.recorded_trained_keeping(panels, 1) == pytest.approx(0.3)
 
 
+def test_a_grid_point_s_keeping_is_read_for_each_of_its_seeds():
+    """A point of Self 1 of Individual Performance 4 and another seed of Self 3 of 4 (one point each)."""
+    point = {"curve_panels": {script.SELF: [1.0], script.INDIVIDUAL: [4.0]},
+             "other_seeds": [{"curve_panels": {script.SELF: [3.0], script.INDIVIDUAL: [4.0]}}]}
+    assert script.grid_trained_keeping(point, 0) == pytest.approx([0.25, 0.75])
+    assert script.grid_trained_keeping({"curve_panels": point["curve_panels"]}, 0) == pytest.approx([0.25])
+
+
 def test_towers_gather_on_the_centre_the_one_neighbour_of_all_eight_others(tmp_path):
     """Every tower but the centre has the centre among its three neighbours (the process figure draws a corner's
     three: its two edges and the centre), so under an untrained network's near-uniform play the centre holds the
@@ -122,7 +130,8 @@ def test_trained_towers_here_share_as_the_published_but_the_main_task_keeps_more
     """The committed 30-point grid against the published cell of the same task and level (test episodes) and the
     original's curves (the last tenth of training): Keep All keeps and gives as published (under the readings before
     session 74 it gave 0.27-0.65), Distribute All keeps almost nothing; the main task learns to give at some levels and
-    drifts to keeping at others, as the original's runs do, but keeps more on average over the ten levels."""
+    drifts to keeping at others, as the original's runs do, but keeps more on average over the ten levels, and its
+    seeds disagree where the original's runs agree (benchmarks/baselines/grids: the main task's other seeds)."""
     import json
     from pathlib import Path
 
@@ -143,10 +152,17 @@ def test_trained_towers_here_share_as_the_published_but_the_main_task_keeps_more
                                      .statistics.items()}, task) for task in script.TASK_WEIGHTS}
         assert abs(ours[1][0] - published[1][0]) < 0.05 and ours[1][1] < 0.15, (level, ours[1], published[1])
         assert ours[2][0] < 0.05 and ours[2][1] > 1.8 and published[2][0] < 0.02, (level, ours[2], published[2])
-    main_ours = [script.recorded_trained_keeping(points[(0, level)]["curve_panels"], 0) for level in range(1, 11)]
+    seeds = [script.grid_trained_keeping(points[(0, level)], 0) for level in range(1, 11)]
     main_theirs = [script.original_trained_keeping(0, level) for level in range(1, 11)]
+    assert all(len(keeping) >= 2 for keeping in seeds)  # the main task trained on two or three seeds a level
+    main_ours = [np.mean(keeping) for keeping in seeds]
     assert min(main_ours) < 0.05 and max(main_ours) > 0.4 and max(upper for _, _, upper, _ in main_theirs) > 0.4
     assert np.mean(main_ours) > 2 * np.mean([keeping for keeping, *_ in main_theirs])
+    # like with like: the original's three runs agree (its band about its lowest and highest run), ours wander; at
+    # level 7 its runs keep 0.037-0.045 where two of ours keep over 0.3 and one 0.02
+    wider = [max(k) - min(k) > upper - lower for k, (_, lower, upper, _) in zip(seeds, main_theirs)]
+    assert sum(wider) >= 7, wider
+    assert max(seeds[6]) > 0.3 and min(seeds[6]) < 0.03 and main_theirs[6][2] < 0.05
 
 
 def test_a_tower_takes_back_a_tenth_its_neighbours_gave_it_first_by_hand():
