@@ -98,6 +98,8 @@ def watch_tower_performance(prev, state, actions, params):
     own = state.allocation[..., 0] / TENTHS
     if params.own_term_weight == "held_kept":
         return held_performance(state, params) * own
+    if params.own_term_weight == "allocated_kept":
+        return tower_performance(state, params) * ((TENTHS - state.budget) / TENTHS) * own
     return tower_performance(state, params) * own * own
 
 
