@@ -19,7 +19,7 @@ from ..compiler import registry
 from ..evaluation.original import compare
 from ..evaluation.original import seeds as seeds_measure
 from ..evaluation.original.curves import OriginalCell, original_curves
-from ..evaluation.original.tail import tail, tail_seeds, tail_table
+from ..evaluation.original.tail import tail_seeds, tail_table
 
 IMAGES = "images/curves"  # docs-relative folder of the figures
 
