@@ -190,7 +190,7 @@ def test_a_grid_point_with_its_curve_is_measured_and_one_without_a_page_named(tm
     assert [(g["environment"], g["stale"]) for g in found] == [("wind_farm_control", True),
                                                               ("drone_based_reforestation", False)]
     wfc, dbr = found
-    assert wfc["rows"] == [{"task_index": 0, "task": "generate_energy", "level": 0,
+    assert wfc["rows"] == [{"task_index": 0, "task": "generate_energy", "level": 0, "seeds": 1,
                             "cells": ["no point", "no point", "no point", "4,990, above"],
                             "tail": "4,990 / 4,572 (1.09)"}]  # the original's 20 points past 7.2M: 4,571.7
     assert dbr["rows"] == [] and dbr["without"] == ["dbr-3"]

@@ -243,12 +243,12 @@ def record_grid(grid_dir: Path, sweep: str, out_dir: Path, episodes: int = 10, c
     run_dirs = [point_dir(grid_dir, index, point) for index, point in enumerate(points)]
     earlier = _recorded_rows(out_dir / GRIDS / f"{points[0].environment}.json", sweep, points, replace)
     fresh = [index for index, run_dir in enumerate(run_dirs)
-             if _trained(run_dir) or not (partial or points[index].name in earlier["rows"])]
+             if trained_to_end(run_dir) or not (partial or points[index].name in earlier["rows"])]
     kept = [index for index in range(len(points)) if index not in fresh and points[index].name in earlier["rows"]]
     if not fresh and not kept:
         raise TrainError(f"{grid_dir} has no point of {sweep} trained to its end yet: nothing to record")
     untrained = [points[index].name for index in range(len(points)) if index not in fresh + kept]
-    summaries = {index: _finished_point(run_dirs[index], index, points[index], sweep) for index in fresh}
+    summaries = {index: finished_point(run_dirs[index], index, points[index], sweep) for index in fresh}
     configs = [read_json(run_dirs[index] / "config.json", "config")["hyperparameters"] for index in fresh]
     configs += [earlier["hyperparameters"]] if kept else []
     differing = sorted({k for c in configs for k in c if any(other.get(k) != c[k] for other in configs)})
@@ -260,7 +260,7 @@ def record_grid(grid_dir: Path, sweep: str, out_dir: Path, episodes: int = 10, c
         rows[index] = _kept_row(earlier, points[index], index, episodes)
     for index in fresh:
         point = points[index]
-        report = _test_report(run_dirs[index], point, episodes)
+        report = evaluation_of_point(run_dirs[index], point, episodes)
         summary, test = summaries[index], {"seed": report["seed"], "episodes": episodes, "actions": "sampled"}
         rows[index] = {"name": point.name, "task": point.task_name, "task_index": point.task_index,
                        "level": point.level, "fingerprint": point.fingerprint,
@@ -306,7 +306,7 @@ def _recorded_rows(record: Path, sweep: str, points: list[CompiledScenario], rep
     if not record.is_file() or replace:
         return {"rows": {}, "command": "", "note": ""}
     data = read_json(record, "grid record")
-    if not _of_sweep(data, points):
+    if not of_sweep(data, points):
         raise TrainError(f"{record} records another sweep ({data.get('sweep')!r}, {len(data['points'])} points "
                          f"recorded) than {sweep} ({len(points)} points): give --replace to replace it, or record "
                          "into another folder")
@@ -316,7 +316,7 @@ def _recorded_rows(record: Path, sweep: str, points: list[CompiledScenario], rep
             "command": data.get("command", ""), "note": data.get("note", "")}
 
 
-def _of_sweep(data: dict[str, Any], points: list[CompiledScenario]) -> bool:
+def of_sweep(data: dict[str, Any], points: list[CompiledScenario]) -> bool:
     """Whether the grid record ``data`` records the sweep of ``points``: by its sweep's fingerprint, or (a record
     written before records carried one) every row's point among them by name and fingerprint."""
     if "sweep_fingerprint" in data:
@@ -350,8 +350,8 @@ def _kept_seeds(earlier: dict[str, Any], point: CompiledScenario, hyperparameter
     return {"other_seeds": others} if others else {}
 
 
-def _trained(run_dir: Path) -> bool:
-    """Whether the run in ``run_dir`` trained to its end (which scenario it trained, :func:`_finished_point` checks)."""
+def trained_to_end(run_dir: Path) -> bool:
+    """Whether the run in ``run_dir`` trained to its end (which scenario it trained, :func:`finished_point` checks)."""
     return (run_dir / "checkpoint.pt").is_file() and not _summary(run_dir)["stopped_early"]
 
 
@@ -361,7 +361,7 @@ def _summary(run_dir: Path) -> dict[str, Any]:
     return read_json(path, "summary") if path.is_file() else {"stopped_early": True}
 
 
-def _finished_point(run_dir: Path, index: int, point: CompiledScenario, sweep: str) -> dict[str, Any]:
+def finished_point(run_dir: Path, index: int, point: CompiledScenario, sweep: str) -> dict[str, Any]:
     """The summary of ``run_dir``'s run, which must have trained ``point`` (of ``sweep``) to its end."""
     if not (run_dir / "checkpoint.pt").is_file():
         raise TrainError(f"{run_dir.parent} has no trained point {index} of {sweep} (no {run_dir / 'checkpoint.pt'})")
@@ -374,7 +374,7 @@ def _finished_point(run_dir: Path, index: int, point: CompiledScenario, sweep: s
     return summary
 
 
-def _test_report(run_dir: Path, point: CompiledScenario, episodes: int) -> dict[str, Any]:
+def evaluation_of_point(run_dir: Path, point: CompiledScenario, episodes: int) -> dict[str, Any]:
     """The point's test-seed evaluation of ``episodes`` episodes: the grid's own where it played the checkpoint as
     it is now (its digest; a point resumed and trained on since has another), or a fresh one."""
     written = run_dir / "evaluation.json"

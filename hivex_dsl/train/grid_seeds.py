@@ -14,8 +14,8 @@ from pathlib import Path
 from typing import Any
 
 from ..compiler import compile_all
-from .baselines import (_finished_point, _of_sweep, _test_report, _trained, check_other_seed, read_json, seed_entry,
-                        with_seed)
+from .baselines import (check_other_seed, evaluation_of_point, finished_point, of_sweep, read_json, seed_entry,
+                        trained_to_end, with_seed)
 from .config import TrainError
 from .grid import point_dir
 from .rundir import dumps
@@ -34,7 +34,7 @@ def add_grid_seed(record: Path, grid_dir: Path) -> dict[str, Any]:
     record, grid_dir = Path(record), Path(grid_dir)
     data = read_json(record, "grid record")
     points = compile_all(data["sweep"])
-    if not _of_sweep(data, points):
+    if not of_sweep(data, points):
         raise TrainError(f"{record} records a sweep other than {data['sweep']} holds now (its points' "
                          "fingerprints differ): record the grid again before adding seeds to it")
     rows = {row["name"]: row for row in data["points"]}
@@ -43,16 +43,16 @@ def add_grid_seed(record: Path, grid_dir: Path) -> dict[str, Any]:
         run_dir = point_dir(grid_dir, index, point)
         if not run_dir.exists():
             continue
-        if not _trained(run_dir):
+        if not trained_to_end(run_dir):
             raise TrainError(f"point {index} of {data['sweep']} ({run_dir}) did not train to its end: run its "
                              "`hivex train` command again with --resume, or move it aside")
         if point.name not in rows:
             raise TrainError(f"{record} has no row of point {index} ({point.name!r}) to add a seed to: record the "
                              "point's first seed with --grid first")
-        _finished_point(run_dir, index, point, data["sweep"])
+        finished_point(run_dir, index, point, data["sweep"])
         row = rows[point.name]
         check_other_seed(run_dir, point, data["hyperparameters"], row["seed"], f"{record.name}'s point {index}")
-        report = _test_report(run_dir, point, data["test"]["episodes"])
+        report = evaluation_of_point(run_dir, point, data["test"]["episodes"])
         row["other_seeds"] = with_seed(row.get("other_seeds", []), seed_entry(run_dir, report))
         added += 1
     if not added:
