@@ -88,7 +88,7 @@ def record(parser: argparse.ArgumentParser, args: argparse.Namespace) -> None:
     if args.add_seed or args.grid_add_seed:
         return
     if args.run_dir is None or args.scenario is None:
-        parser.error("RUN_DIR and SCENARIO are required (or --add-seed, or --replot)")
+        parser.error("RUN_DIR and SCENARIO are required (or --add-seed, --grid-add-seed, or --replot)")
     if args.partial and not args.grid:
         parser.error("--partial records a grid still training: it goes with --grid")
     if args.replace and not args.grid:
