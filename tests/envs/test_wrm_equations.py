@@ -139,8 +139,8 @@ HELD_KEPT = AS_PRINTED.model_copy(update={"own_term_weight": "held_kept"})
 GIVEN_EACH = AS_PRINTED.model_copy(update={"neighbour_term_weight": "given_each"})
 
 
-def test_the_terms_read_what_the_towers_hold_by_default():
-    assert (PARAMS.own_term_weight, PARAMS.neighbour_term_weight) == ("held_kept", "given_each")
+def test_the_own_term_reads_what_the_agent_allocated_and_the_neighbour_term_what_they_hold_by_default():
+    assert (PARAMS.own_term_weight, PARAMS.neighbour_term_weight) == ("allocated_kept", "given_each")
 
 
 def supported_hand_state():
@@ -193,7 +193,7 @@ def test_given_each_pays_each_neighbour_s_performance_times_the_share_given_it()
 def test_given_each_sums_over_a_world_to_each_tower_s_performance_times_what_it_received(seed):
     """Every tenth given is held by the neighbour it was given to, so summed over a world's nine towers the
     neighbourhood term read per neighbour is sum_j P_j held_j received_j, and held_kept's is sum_j P_j held_j kept_j:
-    together the tower performances weighted by what they hold (the world's sum of P_j held_j^2)."""
+    together, under held_kept, the tower performances weighted by what they hold (the world's sum of P_j held_j^2)."""
     from hivex_dsl.envs.wildfire_resource_management.resources import total_support
     from hivex_dsl.envs.wildfire_resource_management.statistics import individual_performance
 
@@ -206,7 +206,7 @@ def test_given_each_sums_over_a_world_to_each_tower_s_performance_times_what_it_
     sighting = Sighting(cell=np.zeros((4, 9), np.int64), cells=400, offset=np.zeros((4, 9, 3)), distance=distance,
                         approaching=rng.random((4, 9)) < 0.5)
     state = SimpleNamespace(sighting=sighting, allocation=allocation, support=total_support(allocation))
-    params = PARAMS  # held_kept and given_each, the defaults
+    params = PARAMS.model_copy(update={"own_term_weight": "held_kept"})  # with given_each, the default
     performance = individual_performance(None, state, None, params)  # (4, 9) P x held
     held, kept = state.support / 10, allocation[..., 0] / 10
     np.testing.assert_allclose(neighbour_performance(None, state, None, params).sum(-1),
@@ -281,3 +281,31 @@ def test_terms_keep_their_contracts_on_random_rollouts(seed, steps):
         value = term(prev, state, None, compiled.params)
         assert value.shape == (3, 9) and np.all(np.isfinite(value)), term.name
         assert np.all((value >= term.contract.low) & (value <= term.contract.high)), term.name
+
+
+@settings(max_examples=25, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1))
+def test_allocated_kept_is_blind_to_what_the_neighbours_give_and_pays_the_kept_share_times_the_allocated(seed):
+    """Under allocated_kept (the default) a tower's own term is P x (its allocated tenths / 10) x (its kept tenths /
+    10) whatever the other towers allocate: redrawing every other tower's row leaves the centre's as it was."""
+    from hivex_dsl.envs.wildfire_resource_management.resources import total_support
+
+    rng = np.random.default_rng(seed)
+
+    def state_of(allocation):
+        distance = np.linspace(10.0, 190.0, 9)[None].repeat(2, 0)
+        sighting = Sighting(cell=np.zeros((2, 9), np.int64), cells=400, offset=np.zeros((2, 9, 3)),
+                            distance=distance, approaching=np.zeros((2, 9), bool))
+        return SimpleNamespace(sighting=sighting, allocation=allocation, support=total_support(allocation),
+                               budget=10 - allocation.sum(-1))
+
+    allocation = np.stack([[rng.multinomial(int(rng.integers(0, 10)), np.full(4, 0.25)) for _ in range(9)]
+                           for _ in range(2)]).astype(np.int16)
+    redrawn = np.stack([[rng.multinomial(int(rng.integers(0, 10)), np.full(4, 0.25)) for _ in range(9)]
+                        for _ in range(2)]).astype(np.int16)
+    redrawn[:, 4] = allocation[:, 4]  # the centre's own row kept, every other tower's redrawn
+    before = watch_tower_performance(None, state_of(allocation), None, PARAMS)
+    after = watch_tower_performance(None, state_of(redrawn), None, PARAMS)
+    np.testing.assert_array_equal(before[:, 4], after[:, 4])
+    p = tower_performance(state_of(allocation), PARAMS)
+    np.testing.assert_allclose(before, p * allocation.sum(-1) / 10 * allocation[..., 0] / 10, rtol=1e-12)

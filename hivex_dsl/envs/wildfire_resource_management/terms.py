@@ -85,11 +85,14 @@ def performance_of(distance: np.ndarray, approaching: np.ndarray, seen: np.ndarr
 @TERMS.term(
     "watch_tower_performance", title="Watch Tower Performance", paper_row=1, low=0.0, high=MAX_HELD, sign="bonus",
     timing="dense", scope="agent",
-    description=("The own tower's performance (P times the resources it holds), weighted by the resource the agent "
-                 "keeps for itself (own_term_weight 'held_kept', the default; 'kept_squared' is P times the kept "
-                 "share squared, the equation as printed)."),
-    equation=("R = P * r_distributed * r_supporting,  r_distributed = the tower's total support in shares, "
-              "r_supporting = own allocation to itself in [0, 1] (the paper prints r_supporting twice);  "
+    description=("The own tower's performance P, weighted by the resources the agent has allocated (to itself and its "
+                 "neighbours) and the share it keeps for itself, so what the neighbours give the tower pays its "
+                 "keeping nothing (own_term_weight 'allocated_kept', the default; 'held_kept' is P times the "
+                 "resources the tower holds times the kept share, 'kept_squared' P times the kept share squared, the "
+                 "equation as printed)."),
+    equation=("R = P * r_distributed * r_supporting,  r_distributed = the resources the agent has allocated (to "
+              "itself and its neighbours) in shares, r_supporting = own allocation to itself in [0, 1] (the paper "
+              "prints r_supporting twice);  "
               "P = (1 + (d' * 1000 / s)^a)^(-1/2),  d' = 0.5 - 0.5 d1n if m else 0.5 + 0.5 d1n,  "
               "d1n = d1 / d_thresh,  m = d1 < d0  (d_thresh = 200, s = 270, a = 5);  "
               "P = idle_performance (0) without a fire within d_thresh"),
