@@ -16,8 +16,8 @@ this toolkit's untrained policies: networks initialised as `hivex train` initial
 --inits seed, each on training worlds of its own), each playing its first --decisions decisions, the episodes that end
 pooled as ML-Agents pools a summary point; with --as-printed, under the terms' readings before session 74
 (own_term_weight kept_squared, neighbour_term_weight given_total). With --readings, uniform random play at each level
-read five ways: keeping as P r_self^2 (``self_squared``) or as P times the share held times r_self (``self_held``),
-giving as the neighbours' summed P times the share given (``given_total``), each neighbour's P times the share given
+read six ways: keeping as P r_self^2 (``self_squared``), as P times the share held times r_self (``self_held``) or
+as P times the share allocated times r_self (``self_allocated``), giving as the neighbours' summed P times the share given (``given_total``), each neighbour's P times the share given
 it (``given_each``) or each neighbour's P times the share it holds times the share given it (``given_each_held``).
 With --model, the allocations alone (no fire: P alike at every tower and step, so keeping is E[r_self^2] / E[held]
 and giving 3 E[given] / E[held], the readings before session 74) under uniform random play, as the environment moves
@@ -187,9 +187,10 @@ def untrained_shares(level: int, seed: int, worlds: int = 4, decisions: int = 40
 
 def readings(level: int, worlds: int = 16, steps: int = 1200, seed: int = 1) -> dict[str, float]:
     """Uniform random play (actions from ``seed``) at ``level`` on the training seed's stream, each step's terms (the
-    environment's own, under five params) summed over the episodes that end, each over Individual Performance (P
-    times the share held): keeping as ``self_squared`` (P r_self^2, the equation as printed) or ``self_held`` (P
-    times the share held times r_self, the default since session 74), giving as ``given_total`` (the neighbours'
+    environment's own, under six params) summed over the episodes that end, each over Individual Performance (P
+    times the share held): keeping as ``self_squared`` (P r_self^2, the equation as printed), ``self_held`` (P
+    times the share held times r_self, the default of sessions 74-76) or ``self_allocated`` (P times the share
+    allocated times r_self, the default since session 77), giving as ``given_total`` (the neighbours'
     summed P times the share given), ``given_each`` (each neighbour's P times the share given it) or
     ``given_each_held`` (each neighbour's P times the share it holds times the share given it, the default since
     session 74)."""
@@ -206,6 +207,7 @@ def readings(level: int, worlds: int = 16, steps: int = 1200, seed: int = 1) -> 
         "individual": (individual_performance, params),
         "self_squared": (watch_tower_performance, params.model_copy(update={"own_term_weight": "kept_squared"})),
         "self_held": (watch_tower_performance, params.model_copy(update={"own_term_weight": "held_kept"})),
+        "self_allocated": (watch_tower_performance, params.model_copy(update={"own_term_weight": "allocated_kept"})),
         "given_total": (neighbour_performance, params.model_copy(update={"neighbour_term_weight": "given_total"})),
         "given_each": (neighbour_performance, params.model_copy(update={"neighbour_term_weight": "given_each",
                                                                         "performance_weight": "none"})),
@@ -322,10 +324,11 @@ def main(argv: list[str] | None = None) -> int:
                     print(f"{take_back:15s}  {start:4d}  {keeping:7.3f}  {giving:6.2f}  {held:4.2f}", flush=True)
             return 0
         if args.readings:
-            print("level  keeping: P r^2  P held r  |  giving: summed  each  each held")
+            print("level  keeping: P r^2  P held r  P allocated r  |  giving: summed  each  each held")
             for level in levels:
                 r = readings(level)
-                print(f"{level:5d}  {r['self_squared']:14.3f}  {r['self_held']:8.3f}  |  {r['given_total']:14.2f}  "
+                print(f"{level:5d}  {r['self_squared']:14.3f}  {r['self_held']:8.3f}  {r['self_allocated']:13.3f}  |  "
+                      f"{r['given_total']:14.2f}  "
                       f"{r['given_each']:4.2f}  {r['given_each_held']:9.2f}", flush=True)
             return 0
         print("level  original keeping (tasks 0-2)  giving (tasks 0-2)  count  |  ours keeping  giving (min-max)")

@@ -6,13 +6,14 @@ networks; the reward table's note 'The untrained towers' says what they mean:
 - the original's untrained towers (the first training point, one network on the same fires in all three tasks)
   kept 0.15-0.43 of their Individual Performance and gave 0.51-1.00 of it, at every level and in every task;
 - its main task at level 1 learned to give about three times its Individual Performance and to keep almost nothing;
-- trained, this toolkit's towers keep and give as the published in Keep All and Distribute All; its main task, like
-  the original's, ends keeping almost nothing at some levels and much at others, but keeps more on average;
+- trained (own_term_weight 'allocated_kept', the default since session 77), this toolkit's towers give as the published
+  in Distribute All and learn to give in the main task at every level, keeping less than the original's; Keep All
+  keeps less than the published;
 - under the terms as this project read them until session 74 (P r_self^2, the neighbours' summed P times the share
   given), this toolkit's untrained networks gave more than twice what the original's gave and kept less; with the
-  terms reading what the towers hold (the defaults since: P times the share held times r_self, each neighbour's P
-  times its share held times the share given it) they keep and give what the original's did (the reward table's
-  note 'The terms read what the towers hold').
+  terms reading what the towers hold (P times the share held, or since session 77 the share allocated, times r_self;
+  each neighbour's P times its share held times the share given it) they keep and give what the original's did (the
+  reward table's note 'The terms read what the towers hold').
 """
 
 from __future__ import annotations
@@ -126,12 +127,13 @@ def test_under_the_terms_as_printed_the_untrained_towers_gave_their_resources_aw
         assert keeping < lowest_original_keep
 
 
-def test_trained_towers_here_share_as_the_published_but_the_main_task_keeps_more():
-    """The committed 30-point grid against the published cell of the same task and level (test episodes) and the
-    original's curves (the last tenth of training): Keep All keeps and gives as published (under the readings before
-    session 74 it gave 0.27-0.65), Distribute All keeps almost nothing; the main task learns to give at some levels and
-    drifts to keeping at others, as the original's runs do, but keeps more on average over the ten levels, and its
-    seeds disagree where the original's runs agree (benchmarks/baselines/grids: the main task's other seeds)."""
+def test_trained_towers_here_give_as_the_published_but_keep_all_keeps_less():
+    """The committed 30-point grid (own_term_weight 'allocated_kept', session 77) against the published cell of the same
+    task and level (test episodes) and the original's curves (the last tenth of training): Distribute All keeps almost
+    nothing as published; Keep All keeps less than the published at every level, by under a tenth (a tenth given
+    raises the allocated share the own term pays for; under 'held_kept' it kept 0.850-0.883, about the published); the
+    main task learns to give at every level, its runs keeping most at levels 9 and 10 as the original's do, but less
+    than the original's on average (levels 2-4 keep 0.11-0.29 there and under 0.03 here)."""
     import json
     from pathlib import Path
 
@@ -150,19 +152,14 @@ def test_trained_towers_here_share_as_the_published_but_the_main_task_keeps_more
                                task) for task in script.TASK_WEIGHTS}
         published = {task: measured({name: mean for name, (mean, _) in cell(script.ENVIRONMENT, task, level)
                                      .statistics.items()}, task) for task in script.TASK_WEIGHTS}
-        assert abs(ours[1][0] - published[1][0]) < 0.05 and ours[1][1] < 0.15, (level, ours[1], published[1])
+        assert published[1][0] - 0.1 < ours[1][0] < published[1][0] and ours[1][1] < 0.2, (level, ours[1], published[1])
         assert ours[2][0] < 0.05 and ours[2][1] > 1.8 and published[2][0] < 0.02, (level, ours[2], published[2])
     seeds = [script.grid_trained_keeping(points[(0, level)], 0) for level in range(1, 11)]
-    main_theirs = [script.original_trained_keeping(0, level) for level in range(1, 11)]
-    assert all(len(keeping) >= 2 for keeping in seeds)  # the main task trained on two or three seeds a level
-    main_ours = [np.mean(keeping) for keeping in seeds]
-    assert min(main_ours) < 0.05 and max(main_ours) > 0.4 and max(upper for _, _, upper, _ in main_theirs) > 0.4
-    assert np.mean(main_ours) > 2 * np.mean([keeping for keeping, *_ in main_theirs])
-    # like with like: the original's three runs agree (its band about its lowest and highest run), ours wander; at
-    # level 7 its runs keep 0.037-0.045 where two of ours keep over 0.3 and one 0.02
-    wider = [max(k) - min(k) > upper - lower for k, (_, lower, upper, _) in zip(seeds, main_theirs)]
-    assert sum(wider) >= 7, wider
-    assert max(seeds[6]) > 0.3 and min(seeds[6]) < 0.03 and main_theirs[6][2] < 0.05
+    main_ours = np.array([np.mean(keeping) for keeping in seeds])
+    main_theirs = np.array([script.original_trained_keeping(0, level)[0] for level in range(1, 11)])
+    assert main_ours.max() < 0.1 and main_ours.mean() < main_theirs.mean() / 2
+    highest_ours, highest_theirs = set(np.argsort(main_ours)[-2:] + 1), set(np.argsort(main_theirs)[-3:] + 1)
+    assert highest_ours == {9, 10} and highest_ours < highest_theirs == {2, 9, 10}
 
 
 def test_a_tower_takes_back_a_tenth_its_neighbours_gave_it_first_by_hand():
@@ -203,6 +200,7 @@ def test_uniform_random_play_read_as_the_terms_now_read_keeps_and_gives_as_the_o
     assert found["given_each"] <= 1.0
     assert found["given_total"] > 1.5 > give_range[1] and found["self_squared"] < keep_range[0] < found["self_held"]
     assert keep_range[0] < found["self_held"] < keep_range[1] and give_range[0] < found["given_each_held"] < 1.1
+    assert keep_range[0] < found["self_allocated"] < keep_range[1]  # the own term's default since session 77
 
 
 def test_bad_counts_are_refused_with_exit_2(capsys):
