@@ -160,6 +160,11 @@ def test_trained_towers_here_give_as_the_published_but_keep_all_keeps_less():
     assert main_ours.max() < 0.1 and main_ours.mean() < main_theirs.mean() / 2
     highest_ours, highest_theirs = set(np.argsort(main_ours)[-2:] + 1), set(np.argsort(main_theirs)[-3:] + 1)
     assert highest_ours == {9, 10} and highest_ours < highest_theirs == {2, 9, 10}
+    # like with like: the original's three runs agree (its band about its lowest and highest run), and so do our two
+    # seeds a level, whose range is narrower than its band at eight levels of ten (under 'held_kept': wider at eight)
+    assert all(len(keeping) == 2 for keeping in seeds)
+    bands = [script.original_trained_keeping(0, level)[1:3] for level in range(1, 11)]
+    assert sum(max(k) - min(k) > upper - lower for k, (lower, upper) in zip(seeds, bands)) <= 2
 
 
 def test_a_tower_takes_back_a_tenth_its_neighbours_gave_it_first_by_hand():
