@@ -177,6 +177,20 @@ def test_allocated_kept_pays_p_times_what_the_agent_allocated_times_the_share_it
     assert watch_tower_performance(None, state, None, HELD_KEPT)[0, 4] == pytest.approx(0.3856915, abs=1e-6)
 
 
+def test_kept_pays_p_times_the_share_kept_whatever_is_given_or_received():
+    """The centre keeps 0.5, gives 0.2 to tower 1 and receives 0.5 from towers 0 and 7: 0.7713829 x 0.5 = 0.3856915
+    (allocated_kept 0.2699840, the test above); tower 1 keeps its whole 1.0 and receives 0.4: 0.0775260 x 1.0."""
+    from hivex_dsl.envs.wildfire_resource_management.resources import total_support
+
+    state = supported_hand_state()
+    state.allocation[0, 4, 1] = 2
+    state.support = total_support(state.allocation)
+    state.budget = 10 - state.allocation.sum(-1)
+    kept = AS_PRINTED.model_copy(update={"own_term_weight": "kept"})
+    value = watch_tower_performance(None, state, None, kept)[0]
+    np.testing.assert_allclose(value, [0, 0.0775260, 0, 0, 0.3856915, 0, 0, 0, 0], atol=1e-6)
+
+
 def test_given_each_pays_each_neighbour_s_performance_times_the_share_given_it():
     """Tower 0 gives 0.2 to tower 1 (P 0.0775260, holding 1.2) and 0.1 to tower 4 (P 0.7713829, holding 1.0):
     0.0186062 + 0.0771383 = 0.0957445; tower 7 gives 0.4 to tower 4 and 0.3 each to towers 6 and 8 (no fire):

@@ -103,6 +103,8 @@ def watch_tower_performance(prev, state, actions, params):
         return held_performance(state, params) * own
     if params.own_term_weight == "allocated_kept":
         return tower_performance(state, params) * ((TENTHS - state.budget) / TENTHS) * own
+    if params.own_term_weight == "kept":
+        return tower_performance(state, params) * own
     return tower_performance(state, params) * own * own
 
 
