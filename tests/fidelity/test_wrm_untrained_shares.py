@@ -132,8 +132,9 @@ def test_trained_towers_here_give_as_the_published_but_keep_all_keeps_less():
     task and level (test episodes) and the original's curves (the last tenth of training): Distribute All keeps almost
     nothing as published; Keep All keeps less than the published at every level, by under a tenth (a tenth given
     raises the allocated share the own term pays for; under 'held_kept' it kept 0.850-0.883, about the published); the
-    main task learns to give at every level, its runs keeping most at levels 9 and 10 as the original's do, but less
-    than the original's on average (levels 2-4 keep 0.11-0.29 there and under 0.03 here)."""
+    main task learns to give at every level, its three seeds keeping most at level 9 as the original's runs keep most
+    at levels 2, 9 and 10, but less than the original's on average (levels 2-4 keep 0.11-0.29 there and under 0.03
+    here)."""
     import json
     from pathlib import Path
 
@@ -158,13 +159,14 @@ def test_trained_towers_here_give_as_the_published_but_keep_all_keeps_less():
     main_ours = np.array([np.mean(keeping) for keeping in seeds])
     main_theirs = np.array([script.original_trained_keeping(0, level)[0] for level in range(1, 11)])
     assert main_ours.max() < 0.1 and main_ours.mean() < main_theirs.mean() / 2
-    highest_ours, highest_theirs = set(np.argsort(main_ours)[-2:] + 1), set(np.argsort(main_theirs)[-3:] + 1)
-    assert highest_ours == {9, 10} and highest_ours < highest_theirs == {2, 9, 10}
-    # like with like: the original's three runs agree (its band about its lowest and highest run), and so do our two
-    # seeds a level, whose range is narrower than its band at eight levels of ten (under 'held_kept': wider at eight)
-    assert all(len(keeping) == 2 for keeping in seeds)
+    highest_theirs = set(np.argsort(main_theirs)[-3:] + 1)
+    assert highest_theirs == {2, 9, 10} and int(np.argmax(main_ours)) + 1 == 9
+    # like with like: the original's three runs agree (its band about its lowest and highest run), and so do our three
+    # seeds a level, whose range is narrower than its band at seven levels of ten (two seeds under 'held_kept': wider
+    # at eight)
+    assert all(len(keeping) == 3 for keeping in seeds)
     bands = [script.original_trained_keeping(0, level)[1:3] for level in range(1, 11)]
-    assert sum(max(k) - min(k) > upper - lower for k, (lower, upper) in zip(seeds, bands)) <= 2
+    assert sum(max(k) - min(k) > upper - lower for k, (lower, upper) in zip(seeds, bands)) <= 3
 
 
 def test_a_tower_takes_back_a_tenth_its_neighbours_gave_it_first_by_hand():
