@@ -161,16 +161,22 @@ def test_held_kept_pays_the_tower_s_performance_times_the_share_it_keeps():
     np.testing.assert_allclose(value[[1, 4]], [P_SOUTH * 1.0, P_CENTRE * 0.5], atol=1e-6)
 
 
-def test_allocated_kept_pays_p_times_what_the_agent_allocated_times_the_share_it_keeps():
-    """The centre keeps 0.5 and gives 0.2 to tower 1 (allocated 0.7): 0.7713829 x 0.7 x 0.5 = 0.2699840, whatever the
-    0.5 that towers 0 and 7 give it (held_kept: 0.7713829 x 1.0 held x 0.5 = 0.3856915); tower 1 keeps its whole
-    1.0: 0.0775260; tower 0 keeps nothing: 0."""
+def centre_giving_hand_state():
+    """The supported hand state with the centre giving 0.2 to tower 1 (it keeps 0.5 and receives 0.5 from 0 and 7)."""
     from hivex_dsl.envs.wildfire_resource_management.resources import total_support
 
     state = supported_hand_state()
     state.allocation[0, 4, 1] = 2
     state.support = total_support(state.allocation)
     state.budget = 10 - state.allocation.sum(-1)
+    return state
+
+
+def test_allocated_kept_pays_p_times_what_the_agent_allocated_times_the_share_it_keeps():
+    """The centre keeps 0.5 and gives 0.2 to tower 1 (allocated 0.7): 0.7713829 x 0.7 x 0.5 = 0.2699840, whatever the
+    0.5 that towers 0 and 7 give it (held_kept: 0.7713829 x 1.0 held x 0.5 = 0.3856915); tower 1 keeps its whole
+    1.0: 0.0775260; tower 0 keeps nothing: 0."""
+    state = centre_giving_hand_state()
     allocated = AS_PRINTED.model_copy(update={"own_term_weight": "allocated_kept"})
     value = watch_tower_performance(None, state, None, allocated)[0]
     np.testing.assert_allclose(value, [0, 0.0775260, 0, 0, 0.2699840, 0, 0, 0, 0], atol=1e-6)
@@ -180,12 +186,7 @@ def test_allocated_kept_pays_p_times_what_the_agent_allocated_times_the_share_it
 def test_kept_pays_p_times_the_share_kept_whatever_is_given_or_received():
     """The centre keeps 0.5, gives 0.2 to tower 1 and receives 0.5 from towers 0 and 7: 0.7713829 x 0.5 = 0.3856915
     (allocated_kept 0.2699840, the test above); tower 1 keeps its whole 1.0 and receives 0.4: 0.0775260 x 1.0."""
-    from hivex_dsl.envs.wildfire_resource_management.resources import total_support
-
-    state = supported_hand_state()
-    state.allocation[0, 4, 1] = 2
-    state.support = total_support(state.allocation)
-    state.budget = 10 - state.allocation.sum(-1)
+    state = centre_giving_hand_state()
     kept = AS_PRINTED.model_copy(update={"own_term_weight": "kept"})
     value = watch_tower_performance(None, state, None, kept)[0]
     np.testing.assert_allclose(value, [0, 0.0775260, 0, 0, 0.3856915, 0, 0, 0, 0], atol=1e-6)
