@@ -133,8 +133,8 @@ def test_trained_towers_here_give_as_the_published_but_keep_all_keeps_less():
     nothing as published; Keep All keeps less than the published at every level, by under a tenth (a tenth given
     raises the allocated share the own term pays for; under 'held_kept' it kept 0.850-0.883, about the published); the
     main task learns to give at every level, its three seeds keeping most at level 9 as the original's runs keep most
-    at levels 2, 9 and 10, but less than the original's on average (levels 2-4 keep 0.11-0.29 there and under 0.03
-    here)."""
+    at levels 2, 9 and 10, but less than the original's on average (levels 2-4 keep 0.11-0.29 there and 0.03 or
+    less here)."""
     import json
     from pathlib import Path
 
