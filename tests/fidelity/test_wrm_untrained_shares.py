@@ -207,7 +207,10 @@ def test_uniform_random_play_read_as_the_terms_now_read_keeps_and_gives_as_the_o
     assert found["given_each"] <= 1.0
     assert found["given_total"] > 1.5 > give_range[1] and found["self_squared"] < keep_range[0] < found["self_held"]
     assert keep_range[0] < found["self_held"] < keep_range[1] and give_range[0] < found["given_each_held"] < 1.1
-    assert keep_range[0] < found["self_allocated"] < keep_range[1]  # the own term's default since session 77
+    assert keep_range[0] < found["self_allocated"] < keep_range[1]  # the own term's default of sessions 77-78
+    # P r_self, the default since session 79: a kept tenth pays P / 10 whatever is allocated, so it reads more than
+    # P times the allocated share times r_self, within the original's untrained range
+    assert found["self_allocated"] < found["self_kept"] and keep_range[0] < found["self_kept"] < keep_range[1]
 
 
 def test_bad_counts_are_refused_with_exit_2(capsys):
