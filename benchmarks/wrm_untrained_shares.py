@@ -17,9 +17,9 @@ this toolkit's untrained policies: networks initialised as `hivex train` initial
 pooled as ML-Agents pools a summary point; with --as-printed, under the terms' readings before session 74
 (own_term_weight kept_squared, neighbour_term_weight given_total). With --readings, uniform random play at each level
 read seven ways: keeping as P r_self^2 (``self_squared``), as P times the share held times r_self (``self_held``),
-as P times the share allocated times r_self (``self_allocated``) or as P r_self (``self_kept``), giving as the neighbours' summed P times the share
-given (``given_total``), each neighbour's P times the share given it (``given_each``) or each neighbour's P times the
-share it holds times the share given it (``given_each_held``).
+as P times the share allocated times r_self (``self_allocated``) or as P r_self (``self_kept``), giving as the
+neighbours' summed P times the share given (``given_total``), each neighbour's P times the share given it
+(``given_each``) or each neighbour's P times the share it holds times the share given it (``given_each_held``).
 With --model, the allocations alone (no fire: P alike at every tower and step, so keeping is E[r_self^2] / E[held]
 and giving 3 E[given] / E[held], the readings before session 74) under uniform random play, as the environment moves
 its tenths and with a tower's 'Sub from Self' taking back what its neighbours gave it, first or in proportion to what
