@@ -16,10 +16,10 @@ this toolkit's untrained policies: networks initialised as `hivex train` initial
 --inits seed, each on training worlds of its own), each playing its first --decisions decisions, the episodes that end
 pooled as ML-Agents pools a summary point; with --as-printed, under the terms' readings before session 74
 (own_term_weight kept_squared, neighbour_term_weight given_total). With --readings, uniform random play at each level
-read six ways: keeping as P r_self^2 (``self_squared``), as P times the share held times r_self (``self_held``) or
-as P times the share allocated times r_self (``self_allocated``), giving as the neighbours' summed P times the share
-given (``given_total``), each neighbour's P times the share given it (``given_each``) or each neighbour's P times the
-share it holds times the share given it (``given_each_held``).
+read seven ways: keeping as P r_self^2 (``self_squared``), as P times the share held times r_self (``self_held``),
+as P times the share allocated times r_self (``self_allocated``) or as P r_self (``self_kept``), giving as the
+neighbours' summed P times the share given (``given_total``), each neighbour's P times the share given it
+(``given_each``) or each neighbour's P times the share it holds times the share given it (``given_each_held``).
 With --model, the allocations alone (no fire: P alike at every tower and step, so keeping is E[r_self^2] / E[held]
 and giving 3 E[given] / E[held], the readings before session 74) under uniform random play, as the environment moves
 its tenths and with a tower's 'Sub from Self' taking back what its neighbours gave it, first or in proportion to what
@@ -188,10 +188,11 @@ def untrained_shares(level: int, seed: int, worlds: int = 4, decisions: int = 40
 
 def readings(level: int, worlds: int = 16, steps: int = 1200, seed: int = 1) -> dict[str, float]:
     """Uniform random play (actions from ``seed``) at ``level`` on the training seed's stream, each step's terms (the
-    environment's own, under six params) summed over the episodes that end, each over Individual Performance (P
+    environment's own, under seven params) summed over the episodes that end, each over Individual Performance (P
     times the share held): keeping as ``self_squared`` (P r_self^2, the equation as printed), ``self_held`` (P
-    times the share held times r_self, the default of sessions 74-76) or ``self_allocated`` (P times the share
-    allocated times r_self, the default since session 77), giving as ``given_total`` (the neighbours'
+    times the share held times r_self, the default of sessions 74-76), ``self_allocated`` (P times the share
+    allocated times r_self, the default of sessions 77-78) or ``self_kept`` (P r_self, the default since session
+    79), giving as ``given_total`` (the neighbours'
     summed P times the share given), ``given_each`` (each neighbour's P times the share given it) or
     ``given_each_held`` (each neighbour's P times the share it holds times the share given it, the default since
     session 74)."""
@@ -209,6 +210,7 @@ def readings(level: int, worlds: int = 16, steps: int = 1200, seed: int = 1) -> 
         "self_squared": (watch_tower_performance, params.model_copy(update={"own_term_weight": "kept_squared"})),
         "self_held": (watch_tower_performance, params.model_copy(update={"own_term_weight": "held_kept"})),
         "self_allocated": (watch_tower_performance, params.model_copy(update={"own_term_weight": "allocated_kept"})),
+        "self_kept": (watch_tower_performance, params.model_copy(update={"own_term_weight": "kept"})),
         "given_total": (neighbour_performance, params.model_copy(update={"neighbour_term_weight": "given_total"})),
         "given_each": (neighbour_performance, params.model_copy(update={"neighbour_term_weight": "given_each",
                                                                         "performance_weight": "none"})),
@@ -296,7 +298,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--worlds", type=int, default=4, help="worlds each network plays (default 4)")
     parser.add_argument("--decisions", type=int, default=400, help="decisions each plays (default 400)")
     parser.add_argument("--levels", default="1,5,10", help="terrain levels, comma-separated")
-    parser.add_argument("--readings", action="store_true", help="uniform random play read four ways, per level")
+    parser.add_argument("--readings", action="store_true", help="uniform random play read seven ways, per level")
     parser.add_argument("--model", action="store_true", help="the allocations alone under other mechanics")
     parser.add_argument("--as-printed", action="store_true",
                         help="the untrained networks under the terms' readings before session 74")
@@ -325,10 +327,11 @@ def main(argv: list[str] | None = None) -> int:
                     print(f"{take_back:15s}  {start:4d}  {keeping:7.3f}  {giving:6.2f}  {held:4.2f}", flush=True)
             return 0
         if args.readings:
-            print("level  keeping: P r^2  P held r  P allocated r  |  giving: summed  each  each held")
+            print("level  keeping: P r^2  P held r  P allocated r  P r  |  giving: summed  each  each held")
             for level in levels:
                 r = readings(level)
-                print(f"{level:5d}  {r['self_squared']:14.3f}  {r['self_held']:8.3f}  {r['self_allocated']:13.3f}  |  "
+                print(f"{level:5d}  {r['self_squared']:14.3f}  {r['self_held']:8.3f}  {r['self_allocated']:13.3f}  "
+                      f"{r['self_kept']:5.3f}  |  "
                       f"{r['given_total']:14.2f}  "
                       f"{r['given_each']:4.2f}  {r['given_each_held']:9.2f}", flush=True)
             return 0

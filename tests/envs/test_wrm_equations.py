@@ -137,10 +137,11 @@ def test_the_collective_and_individual_read_p_times_what_a_tower_holds():
 
 HELD_KEPT = AS_PRINTED.model_copy(update={"own_term_weight": "held_kept"})
 GIVEN_EACH = AS_PRINTED.model_copy(update={"neighbour_term_weight": "given_each"})
+ALLOCATED_KEPT = PARAMS.model_copy(update={"own_term_weight": "allocated_kept"})
 
 
-def test_the_own_term_reads_what_the_agent_allocated_and_the_neighbour_term_what_they_hold_by_default():
-    assert (PARAMS.own_term_weight, PARAMS.neighbour_term_weight) == ("allocated_kept", "given_each")
+def test_the_own_term_reads_the_share_kept_and_the_neighbour_term_what_they_hold_by_default():
+    assert (PARAMS.own_term_weight, PARAMS.neighbour_term_weight) == ("kept", "given_each")
 
 
 def supported_hand_state():
@@ -177,18 +178,17 @@ def test_allocated_kept_pays_p_times_what_the_agent_allocated_times_the_share_it
     0.5 that towers 0 and 7 give it (held_kept: 0.7713829 x 1.0 held x 0.5 = 0.3856915); tower 1 keeps its whole
     1.0: 0.0775260; tower 0 keeps nothing: 0."""
     state = centre_giving_hand_state()
-    allocated = AS_PRINTED.model_copy(update={"own_term_weight": "allocated_kept"})
-    value = watch_tower_performance(None, state, None, allocated)[0]
+    value = watch_tower_performance(None, state, None, ALLOCATED_KEPT)[0]
     np.testing.assert_allclose(value, [0, 0.0775260, 0, 0, 0.2699840, 0, 0, 0, 0], atol=1e-6)
     assert watch_tower_performance(None, state, None, HELD_KEPT)[0, 4] == pytest.approx(0.3856915, abs=1e-6)
 
 
 def test_kept_pays_p_times_the_share_kept_whatever_is_given_or_received():
     """The centre keeps 0.5, gives 0.2 to tower 1 and receives 0.5 from towers 0 and 7: 0.7713829 x 0.5 = 0.3856915
-    (allocated_kept 0.2699840, the test above); tower 1 keeps its whole 1.0 and receives 0.4: 0.0775260 x 1.0."""
+    (allocated_kept 0.2699840, the test above); tower 1 keeps its whole 1.0 and receives 0.4: 0.0775260 x 1.0. The
+    default reads it so."""
     state = centre_giving_hand_state()
-    kept = AS_PRINTED.model_copy(update={"own_term_weight": "kept"})
-    value = watch_tower_performance(None, state, None, kept)[0]
+    value = watch_tower_performance(None, state, None, PARAMS)[0]
     np.testing.assert_allclose(value, [0, 0.0775260, 0, 0, 0.3856915, 0, 0, 0, 0], atol=1e-6)
 
 
@@ -299,13 +299,15 @@ def test_terms_keep_their_contracts_on_random_rollouts(seed, steps):
 
 
 @settings(max_examples=25, deadline=None)
-@given(seed=st.integers(0, 2**32 - 1))
-def test_allocated_kept_is_blind_to_what_the_neighbours_give_and_pays_the_kept_share_times_the_allocated(seed):
-    """Under allocated_kept (the default) a tower's own term is P x (its allocated tenths / 10) x (its kept tenths /
-    10) whatever the other towers allocate: redrawing every other tower's row leaves the centre's as it was."""
+@given(seed=st.integers(0, 2**32 - 1), allocated=st.booleans())
+def test_the_own_term_is_blind_to_what_the_neighbours_give_and_pays_the_kept_share(seed, allocated):
+    """Under kept (the default) a tower's own term is P x (its kept tenths / 10), under allocated_kept P x (its
+    allocated tenths / 10) x (its kept tenths / 10), whatever the other towers allocate: redrawing every other
+    tower's row leaves the centre's as it was."""
     from hivex_dsl.envs.wildfire_resource_management.resources import total_support
 
     rng = np.random.default_rng(seed)
+    params = ALLOCATED_KEPT if allocated else PARAMS
 
     def state_of(allocation):
         distance = np.linspace(10.0, 190.0, 9)[None].repeat(2, 0)
@@ -319,8 +321,9 @@ def test_allocated_kept_is_blind_to_what_the_neighbours_give_and_pays_the_kept_s
     redrawn = np.stack([[rng.multinomial(int(rng.integers(0, 10)), np.full(4, 0.25)) for _ in range(9)]
                         for _ in range(2)]).astype(np.int16)
     redrawn[:, 4] = allocation[:, 4]  # the centre's own row kept, every other tower's redrawn
-    before = watch_tower_performance(None, state_of(allocation), None, PARAMS)
-    after = watch_tower_performance(None, state_of(redrawn), None, PARAMS)
+    before = watch_tower_performance(None, state_of(allocation), None, params)
+    after = watch_tower_performance(None, state_of(redrawn), None, params)
     np.testing.assert_array_equal(before[:, 4], after[:, 4])
-    p = tower_performance(state_of(allocation), PARAMS)
-    np.testing.assert_allclose(before, p * allocation.sum(-1) / 10 * allocation[..., 0] / 10, rtol=1e-12)
+    p = tower_performance(state_of(allocation), params)
+    weight = allocation.sum(-1) / 10 if allocated else 1.0
+    np.testing.assert_allclose(before, p * weight * allocation[..., 0] / 10, rtol=1e-12)

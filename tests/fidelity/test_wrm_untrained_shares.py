@@ -6,9 +6,9 @@ networks; the reward table's note 'The untrained towers' says what they mean:
 - the original's untrained towers (the first training point, one network on the same fires in all three tasks)
   kept 0.15-0.43 of their Individual Performance and gave 0.51-1.00 of it, at every level and in every task;
 - its main task at level 1 learned to give about three times its Individual Performance and to keep almost nothing;
-- trained (own_term_weight 'allocated_kept', the default since session 77), this toolkit's towers give as the published
-  in Distribute All and learn to give in the main task at every level, keeping less than the original's; Keep All
-  keeps less than the published;
+- trained (own_term_weight 'kept', the default since session 79), this toolkit's towers give as the published in
+  Distribute All and learn to give in the main task at every level, keeping less than the original's; Keep All
+  keeps a little more than the published;
 - under the terms as this project read them until session 74 (P r_self^2, the neighbours' summed P times the share
   given), this toolkit's untrained networks gave more than twice what the original's gave and kept less; with the
   terms reading what the towers hold (P times the share held, or since session 77 the share allocated, times r_self;
@@ -127,14 +127,13 @@ def test_under_the_terms_as_printed_the_untrained_towers_gave_their_resources_aw
         assert keeping < lowest_original_keep
 
 
-def test_trained_towers_here_give_as_the_published_but_keep_all_keeps_less():
-    """The committed 30-point grid (own_term_weight 'allocated_kept', session 77) against the published cell of the same
-    task and level (test episodes) and the original's curves (the last tenth of training): Distribute All keeps almost
-    nothing as published; Keep All keeps less than the published at every level, by under a tenth (a tenth given
-    raises the allocated share the own term pays for; under 'held_kept' it kept 0.850-0.883, about the published); the
-    main task learns to give at every level, its three seeds keeping most at level 9 as the original's runs keep most
-    at levels 2, 9 and 10, but less than the original's on average (levels 2-4 keep 0.11-0.29 there and 0.03 or
-    less here)."""
+def test_trained_towers_here_give_as_the_published_and_keep_all_keeps_a_little_more():
+    """The committed 30-point grid (own_term_weight 'kept', session 79) against the published cell of the same task and
+    level (test episodes) and the original's curves (the last tenth of training): Distribute All keeps almost nothing
+    as published; Keep All keeps more than the published at every level, by under a tenth (under 'allocated_kept' it
+    kept less at every level: a tenth given raised the allocated share the own term paid for); the main task learns
+    to give at every level, its two seeds keeping most at level 9 as the original's runs keep most at levels 2, 9 and
+    10, but less than the original's on average (levels 2-4 keep 0.11-0.29 there and 0.05 or less here)."""
     import json
     from pathlib import Path
 
@@ -153,7 +152,7 @@ def test_trained_towers_here_give_as_the_published_but_keep_all_keeps_less():
                                task) for task in script.TASK_WEIGHTS}
         published = {task: measured({name: mean for name, (mean, _) in cell(script.ENVIRONMENT, task, level)
                                      .statistics.items()}, task) for task in script.TASK_WEIGHTS}
-        assert published[1][0] - 0.1 < ours[1][0] < published[1][0] and ours[1][1] < 0.2, (level, ours[1], published[1])
+        assert published[1][0] < ours[1][0] < published[1][0] + 0.1 and ours[1][1] < 0.2, (level, ours[1], published[1])
         assert ours[2][0] < 0.05 and ours[2][1] > 1.8 and published[2][0] < 0.02, (level, ours[2], published[2])
     seeds = [script.grid_trained_keeping(points[(0, level)], 0) for level in range(1, 11)]
     main_ours = np.array([np.mean(keeping) for keeping in seeds])
@@ -161,10 +160,10 @@ def test_trained_towers_here_give_as_the_published_but_keep_all_keeps_less():
     assert main_ours.max() < 0.1 and main_ours.mean() < main_theirs.mean() / 2
     highest_theirs = set(np.argsort(main_theirs)[-3:] + 1)
     assert highest_theirs == {2, 9, 10} and int(np.argmax(main_ours)) + 1 == 9
-    # like with like: the original's three runs agree (its band about its lowest and highest run), and so do our three
-    # seeds a level, whose range is narrower than its band at seven levels of ten (two seeds under 'held_kept': wider
-    # at eight)
-    assert all(len(keeping) == 3 for keeping in seeds)
+    # like with like: the original's three runs agree (its band about its lowest and highest run), and so do our two
+    # seeds a level (seed 2 is still to train), whose range is narrower than its band at seven levels of ten (two seeds
+    # under 'held_kept': wider at eight)
+    assert all(len(keeping) == 2 for keeping in seeds)
     bands = [script.original_trained_keeping(0, level)[1:3] for level in range(1, 11)]
     assert sum(max(k) - min(k) > upper - lower for k, (lower, upper) in zip(seeds, bands)) <= 3
 
@@ -207,7 +206,10 @@ def test_uniform_random_play_read_as_the_terms_now_read_keeps_and_gives_as_the_o
     assert found["given_each"] <= 1.0
     assert found["given_total"] > 1.5 > give_range[1] and found["self_squared"] < keep_range[0] < found["self_held"]
     assert keep_range[0] < found["self_held"] < keep_range[1] and give_range[0] < found["given_each_held"] < 1.1
-    assert keep_range[0] < found["self_allocated"] < keep_range[1]  # the own term's default since session 77
+    assert keep_range[0] < found["self_allocated"] < keep_range[1]  # the own term's default of sessions 77-78
+    # P r_self, the default since session 79: a kept tenth pays P / 10 whatever is allocated, so it reads more than
+    # P times the allocated share times r_self, within the original's untrained range
+    assert found["self_allocated"] < found["self_kept"] and keep_range[0] < found["self_kept"] < keep_range[1]
 
 
 def test_bad_counts_are_refused_with_exit_2(capsys):

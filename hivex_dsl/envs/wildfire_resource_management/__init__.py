@@ -59,13 +59,13 @@ ENTRY = register(EnvironmentEntry(
         "idle_performance (0, ours). m compares C with its value at the previous fire step (with "
         "fire_step_interval 1, the previous step); a fire that just came into range approaches, and nothing "
         "approaches at reset. The reward table's notes give the evidence.",
-        "Terms: a tower's performance p is P times the resources it holds. Watch Tower Performance is P r_a r_s (r_a "
-        "what the agent has allocated, to itself and its neighbours, r_s its allocation to itself), Neighbourhood "
-        "Performance each neighbour's p times the agent's allocation to that neighbour (the prose's weight; the "
-        "equation leaves it out), Collective Performance the equation's 1 - |1 - RMS| of p over the nine towers. The "
-        "main and Distribute All tasks pay for giving, Keep All for keeping; own_term_weight and "
-        "neighbour_term_weight name the readings before: p r_s (sessions 74-76), P r_s r_s and the neighbours' summed "
-        "P times the whole allocation to them (until session 74).",
+        "Terms: a tower's performance p is P times the resources it holds. Watch Tower Performance is P r_s (r_s the "
+        "agent's allocation to itself, the prose's 'distributed by self to self'), Neighbourhood Performance each "
+        "neighbour's p times the agent's allocation to that neighbour (the prose's weight; the equation leaves it "
+        "out), Collective Performance the equation's 1 - |1 - RMS| of p over the nine towers. The main and "
+        "Distribute All tasks pay for giving, Keep All for keeping; own_term_weight and neighbour_term_weight name "
+        "the readings before: P r_a r_s (r_a what the agent has allocated; sessions 77-78), p r_s (sessions 74-76), "
+        "P r_s r_s and the neighbours' summed P times the whole allocation to them (until session 74).",
         "Fire, terrain, forest, ignition and weather are Aerial Wildfire Suppression's but for the spread chance, "
         "0.5 a factor against its 0.2, fitted to the original's Episode Length curves (a new island every episode "
         "unless redraw_island is 'seed', which keeps it across a seed stream; the fire is new every episode). Towers "

@@ -50,22 +50,19 @@ class WildfireResourceParams(WindParams, FireSpec):
         "original's pages: on the same fires its Keep All and main-task policies log different performance, as P "
         "times the resources gives and P alone cannot (the reward table's note on the towers' resources). The "
         "own-tower and neighbourhood terms read it as own_term_weight and neighbour_term_weight say."))
-    own_term_weight: Literal["kept_squared", "held_kept", "allocated_kept", "kept"] = Field(
-        "allocated_kept", description=(
-        "[records] How Watch Tower Performance weighs the own tower: 'allocated_kept' P times the share the agent "
-        "has allocated (to itself and its neighbours, the equation's r_distributed read as what the agent "
-        "distributed) times the share it keeps (r_supporting), so what the neighbours give a tower pays its keeping "
-        "nothing (the default since session 77: the original's trained towers keep and give as under it in the main "
-        "task and Distribute All, where under 'held_kept' they keep too much and their seeds wander); 'held_kept' the "
-        "tower's performance as performance_weight reads it (P times the resources it holds) times the share the "
-        "agent keeps, r_distributed for the first of the equation's two r_supporting (the default of sessions "
-        "74-76); 'kept_squared' P times the kept share squared, the equation as printed (this project's reading "
-        "until session 74); 'kept' P times the kept share, r_distributed read as the agent's whole resource (1.0), "
-        "so neither what it gives nor what it is given moves its own term (probed in session 78: the reward "
-        "table's note 'The own term read as the share kept, probed'). The original's untrained towers keep "
-        "0.15-0.43 of their Individual Performance, 'allocated_kept' 0.15-0.21, 'kept' 0.23-0.26 (random play, "
-        "levels 1, 5 and 10), 'held_kept' 0.18-0.24, 'kept_squared' 0.06-0.13 (the reward table's notes "
-        "'The terms read what the towers hold' and 'Three seeds a level')."))
+    own_term_weight: Literal["kept_squared", "held_kept", "allocated_kept", "kept"] = Field("kept", description=(
+        "[records] How Watch Tower Performance weighs the own tower: 'kept' P times the share the agent keeps "
+        "(r_supporting), r_distributed read as the agent's whole resource (1.0), so neither what it gives nor what "
+        "it is given moves its own term, as the prose reads ('weighted by the resources distributed by self to "
+        "self'; the default since session 79: the reward table's note 'The own term reads the share kept');"
+        " 'allocated_kept' P times the share the agent has allocated (to itself and its neighbours) times the share "
+        "it keeps, under which a tenth given raises what keeping pays and Keep All's towers keep too little (the "
+        "default of sessions 77-78); 'held_kept' the tower's performance as performance_weight reads it (P times the "
+        "resources it holds) times the kept share (the default of sessions 74-76); 'kept_squared' P times the kept "
+        "share squared, the equation as printed (this project's reading until session 74). The original's untrained "
+        "towers keep 0.15-0.43 of their Individual Performance, 'kept' 0.23-0.26, 'allocated_kept' 0.15-0.21 "
+        "(random play, levels 1, 5 and 10), 'held_kept' 0.18-0.24, 'kept_squared' 0.06-0.13 (the reward table's "
+        "notes 'The terms read what the towers hold' and 'Three seeds a level')."))
     neighbour_term_weight: Literal["given_total", "given_each"] = Field("given_each", description=(
         "[records] How Neighbour Performance weighs the neighbours: 'given_each' each neighbour's performance as "
         "performance_weight reads it (P times the resources it holds) times the share the agent gives that "

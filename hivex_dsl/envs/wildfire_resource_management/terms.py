@@ -5,7 +5,7 @@ performance P comes from the distance d1 to the closest observed fire and whethe
 (m = d1 < d0), through a broken power law. The equation is defined for d1 <= d_thresh (beyond it
 the remapped distance of an approaching fire turns negative), so a tower performs only for a fire
 within d_thresh. A tower's performance p is P times the resources it holds (the original's records: its
-performance statistics read the policy). The own tower's term is p times the share the agent keeps for itself,
+performance statistics read the policy). The own tower's term is P times the share the agent keeps for itself,
 the neighbourhood term each neighbour's p times the share the agent gives it (the original's records: what its
 untrained and trained towers were paid for keeping and giving), and the collective term is the root mean square
 of p over all nine towers (the equation). rewards/wildfire_resource_management.yaml's notes give the evidence
@@ -85,14 +85,14 @@ def performance_of(distance: np.ndarray, approaching: np.ndarray, seen: np.ndarr
 @TERMS.term(
     "watch_tower_performance", title="Watch Tower Performance", paper_row=1, low=0.0, high=MAX_HELD, sign="bonus",
     timing="dense", scope="agent",
-    description=("The own tower's performance P, weighted by the resources the agent has allocated (to itself and its "
-                 "neighbours) and the share it keeps for itself, so what the neighbours give the tower pays its "
-                 "keeping nothing (own_term_weight 'allocated_kept', the default; 'held_kept' is P times the "
-                 "resources the tower holds times the kept share, 'kept_squared' P times the kept share squared, the "
+    description=("The own tower's performance P, weighted by the share of its resources the agent keeps for itself, "
+                 "so neither what it gives nor what its neighbours give the tower moves the term (own_term_weight "
+                 "'kept', the default; 'allocated_kept' also weighs P by the share the agent has allocated, "
+                 "'held_kept' by the resources the tower holds, 'kept_squared' is P times the kept share squared, the "
                  "equation as printed)."),
-    equation=("R = P * r_distributed * r_supporting,  r_distributed = the resources the agent has allocated (to "
-              "itself and its neighbours) in shares, r_supporting = own allocation to itself in [0, 1] (the paper "
-              "prints r_supporting twice);  "
+    equation=("R = P * r_supporting,  r_supporting = own allocation to itself in [0, 1] (the paper prints "
+              "r_distributed * r_supporting with r_supporting twice; the prose: weighted by the resources distributed "
+              "by self to self);  "
               "P = (1 + (d' * 1000 / s)^a)^(-1/2),  d' = 0.5 - 0.5 d1n if m else 0.5 + 0.5 d1n,  "
               "d1n = d1 / d_thresh,  m = d1 < d0  (d_thresh = 200, s = 270, a = 5);  "
               "P = idle_performance (0) without a fire within d_thresh"),
