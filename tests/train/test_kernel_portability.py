@@ -54,3 +54,19 @@ def test_the_committed_file_holds_the_wfc_record_s_curve_under_the_default_of_so
         f"x86_64, AMD EPYC family {kind}, torch's AVX512 kernels, 2 cores, Linux, Python 3.11.7"
         for kind in ("25 model 17", "26 model 2")]
     assert all(returns[:5] == curve[:5] for returns in defaults.values())  # the first 200,000 agent-steps agree
+
+
+def test_the_committed_file_shows_mkl_s_compatible_path_agreeing_across_vendors():
+    """Session 79 measured the Xeon of family 6 model 207 under every setting: under the default it gives the Xeon of
+    model 167's returns (one vendor's alike processors agree), under MKL_CBWR=AVX2 its own, and under
+    MKL_CBWR=COMPATIBLE (with or without ATen's default kernels) the AMD EPYCs' returns to the digit."""
+    recorded = json.loads(RESULTS.read_text(encoding="utf-8"))
+    groups = script.agreement(recorded)
+
+    def vendors(group: list[str]) -> set[str]:
+        return {"intel" if "Intel" in name else "amd" for name in group}
+
+    for setting in ("mkl-compatible", "mkl-compatible-aten-default"):
+        assert len(groups[setting]) == 1 and vendors(groups[setting][0]) == {"intel", "amd"}, setting
+    assert sorted(tuple(vendors(group)) for group in groups["default"]) == [("amd",), ("intel",)]
+    assert len(groups["mkl-avx2"]) == 2
