@@ -132,7 +132,7 @@ def test_trained_towers_here_give_as_the_published_and_keep_all_keeps_a_little_m
     level (test episodes) and the original's curves (the last tenth of training): Distribute All keeps almost nothing
     as published; Keep All keeps more than the published at every level, by under a tenth (under 'allocated_kept' it
     kept less at every level: a tenth given raised the allocated share the own term paid for); the main task learns
-    to give at every level, its two seeds keeping most at level 9 as the original's runs keep most at levels 2, 9 and
+    to give at every level, its three seeds keeping most at level 9 as the original's runs keep most at levels 2, 9 and
     10, but less than the original's on average (levels 2-4 keep 0.11-0.29 there and 0.05 or less here)."""
     import json
     from pathlib import Path
@@ -160,12 +160,13 @@ def test_trained_towers_here_give_as_the_published_and_keep_all_keeps_a_little_m
     assert main_ours.max() < 0.1 and main_ours.mean() < main_theirs.mean() / 2
     highest_theirs = set(np.argsort(main_theirs)[-3:] + 1)
     assert highest_theirs == {2, 9, 10} and int(np.argmax(main_ours)) + 1 == 9
-    # like with like: the original's three runs agree (its band about its lowest and highest run), and so do our two
-    # seeds a level (seed 2 is still to train), whose range is narrower than its band at seven levels of ten (two seeds
-    # under 'held_kept': wider at eight)
-    assert all(len(keeping) == 2 for keeping in seeds)
+    # like with like: the original's three runs agree (its band about its lowest and highest run), and so do our three
+    # seeds a level: their range is narrower than its band at five levels of ten and never wider than 0.13 (two seeds
+    # under 'held_kept': wider at eight, seeds wandering 0.02-0.52 at level 7)
+    assert all(len(keeping) == 3 for keeping in seeds)
     bands = [script.original_trained_keeping(0, level)[1:3] for level in range(1, 11)]
-    assert sum(max(k) - min(k) > upper - lower for k, (lower, upper) in zip(seeds, bands)) <= 3
+    assert sum(max(k) - min(k) > upper - lower for k, (lower, upper) in zip(seeds, bands)) <= 5
+    assert max(max(k) - min(k) for k in seeds) < 0.13
 
 
 def test_a_tower_takes_back_a_tenth_its_neighbours_gave_it_first_by_hand():
