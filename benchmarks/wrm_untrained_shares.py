@@ -192,10 +192,9 @@ def readings(level: int, worlds: int = 16, steps: int = 1200, seed: int = 1) -> 
     times the share held): keeping as ``self_squared`` (P r_self^2, the equation as printed), ``self_held`` (P
     times the share held times r_self, the default of sessions 74-76), ``self_allocated`` (P times the share
     allocated times r_self, the default of sessions 77-78) or ``self_kept`` (P r_self, the default since session
-    79), giving as ``given_total`` (the neighbours'
-    summed P times the share given), ``given_each`` (each neighbour's P times the share given it) or
-    ``given_each_held`` (each neighbour's P times the share it holds times the share given it, the default since
-    session 74)."""
+    79), giving as ``given_total`` (the neighbours' summed P times the share given), ``given_each`` (each
+    neighbour's P times the share given it) or ``given_each_held`` (each neighbour's P times the share it holds
+    times the share given it, the default since session 74)."""
     from hivex_dsl.envs.wildfire_resource_management.statistics import individual_performance
     from hivex_dsl.envs.wildfire_resource_management.terms import neighbour_performance, watch_tower_performance
     from hivex_dsl.runtime.batched import BatchedEnv

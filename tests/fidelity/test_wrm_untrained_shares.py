@@ -11,9 +11,9 @@ networks; the reward table's note 'The untrained towers' says what they mean:
   keeps a little more than the published;
 - under the terms as this project read them until session 74 (P r_self^2, the neighbours' summed P times the share
   given), this toolkit's untrained networks gave more than twice what the original's gave and kept less; with the
-  terms reading what the towers hold (P times the share held, or since session 77 the share allocated, times r_self;
-  each neighbour's P times its share held times the share given it) they keep and give what the original's did (the
-  reward table's note 'The terms read what the towers hold').
+  terms reading what the towers hold (P times the share held, in sessions 77-78 the share allocated, times r_self,
+  and since session 79 P r_self; each neighbour's P times its share held times the share given it) they keep and
+  give what the original's did (the reward table's note 'The terms read what the towers hold').
 """
 
 from __future__ import annotations
