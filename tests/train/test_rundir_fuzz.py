@@ -95,10 +95,17 @@ def tamper(run: Path, outside: Path, how: str, name: str, at: int, users: dict[s
         return {str(target / "step_000000000777.pt"): mine}
     if not path.is_file():
         return {}
-    changed_users = users.pop(str(path), None) is not None  # a user's own file changed again by the tamper
+    # a user's own file the tamper changes again, reached by its path or through a link (its key may be either)
+    real = path.resolve()
+    known = [key for key in users if Path(key).resolve() == real]
+    if how in ("delete", "link file") and not path.is_symlink():  # the file itself goes, not a link to it
+        for key in known:
+            users.pop(key)
+        known = []
     if how == "edit":
         data = bytearray(path.read_bytes())
-        data[at % len(data)] ^= 0x01 if data else 0
+        if data:
+            data[at % len(data)] ^= 0x01
         path.write_bytes(bytes(data))
     elif how == "truncate":
         path.write_bytes(path.read_bytes()[: at % max(1, path.stat().st_size)])
@@ -113,8 +120,8 @@ def tamper(run: Path, outside: Path, how: str, name: str, at: int, users: dict[s
         path.unlink()
         path.symlink_to(outside / "linked")
         return {str(outside / "linked"): mine}
-    if changed_users and how != "delete":
-        return {str(path): path.read_bytes()}  # what must survive is what the user's file holds now
+    if known and how in ("edit", "truncate", "append"):
+        return {key: real.read_bytes() for key in known}  # what must survive is what the user's file holds now
     return {}
 
 
