@@ -25,6 +25,7 @@ FRAME_STEP = 10  # `hivex render`'s default: 61 frames of 600 decisions, 1.1 MB 
 def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
+    args.owns_process = argv is None  # the command line of this process, which a command may start again
     try:
         code = args.handler(args)
         sys.stdout.flush()  # here, so a reader that went away (`| head -1`) is seen while we can still handle it

@@ -6,6 +6,7 @@ from __future__ import annotations
 import argparse
 import importlib.util
 import json
+import os
 import sys
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -183,6 +184,8 @@ def cmd_evaluate(args) -> int:
     from ..train.evaluate import evaluate, format_report
 
     require_torch()
+    if args.owns_process:
+        _with_the_checkpoint_s_kernels(args.checkpoint)
     if args.point is not None and not args.file:
         raise HivexError("--point chooses a point of a sweep SCENARIO: give the SCENARIO after the CHECKPOINT")
     scenario = one_point(args.file, args.point) if args.file else None
@@ -190,3 +193,21 @@ def cmd_evaluate(args) -> int:
                       args.torch_threads, progress=not args.json)
     sys.stdout.write(json.dumps(report, indent=2) + "\n" if args.json else format_report(report) + "\n")
     return 0
+
+
+def _with_the_checkpoint_s_kernels(checkpoint: Path) -> None:
+    """A checkpoint trained with ``cpu_kernels portable`` plays under those kernels, which must be pinned before torch's
+    first dispatch, and reading a checkpoint dispatches: so the command starts again in a fresh process whose
+    environment pins them from its start (:data:`~hivex_dsl.train.kernels.PORTABLE_ENVIRONMENT`). Nothing to do for a
+    native checkpoint, or where the environment pins them already. Only for the process's own command line: called
+    from Python (``main(argv)``), :func:`~hivex_dsl.train.evaluate.evaluate` says a fresh process is needed."""
+    from ..train.checkpoint import load_checkpoint
+    from ..train.kernels import PORTABLE_ENVIRONMENT
+
+    pinned = all(os.environ.get(name) == value for name, value in PORTABLE_ENVIRONMENT.items())
+    if pinned or load_checkpoint(checkpoint)["config"].cpu_kernels != "portable":
+        return
+    sys.stdout.flush()
+    sys.stderr.flush()
+    os.execve(sys.executable, [sys.executable, "-m", "hivex_dsl.cli", *sys.argv[1:]],
+              os.environ | PORTABLE_ENVIRONMENT)

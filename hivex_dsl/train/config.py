@@ -83,7 +83,11 @@ reproduces to the digit only on a processor that takes the same kernels too, whi
 autocast, on CPU or GPU, not bit-identical; on 2 CPU cores it trained OPC (ResNet encoders, curiosity) 1.4x faster
 (372 -> 514 agent-steps/s), DBR 1.1x and AWS (simple encoder) no faster; ``tf32``: float32 storage with
 TensorFloat-32 matrix products and convolutions, a GPU mode. An approximate run says so in its config.json and on
-the baselines page).
+the baselines page), ``cpu_kernels`` (``native``, the default and what every record trained with: MKL, ATen and oneDNN
+take the processor's own kernels, the fastest, and a run reproduces to the digit on alike processors only;
+``portable``: MKL's compatible code path, ATen's default kernels and no oneDNN, pinned in the training process
+before its first product, which trained alike on the Intel and AMD processors measured, at a cost in speed;
+``kernels.py`` says what each pins and what is measured).
 
 Choices where this toolkit first did otherwise than ML-Agents. Each defaults to ML-Agents; the named earlier
 choice is what the baselines recorded before the default changed trained with (their commands set it), and a
@@ -155,6 +159,7 @@ DEVICES = "cpu, cuda or cuda:N (one GPU of several)"  # what the training loop r
 THREADS = "an integer from 1 to 256, or auto (this machine's cores, at most 8)"
 WORLD_SEEDS = "an integer from 0 to 4294967295, or scenario (the scenario's seeds.train)"
 Precision = Literal["exact", "bf16", "tf32"]
+CpuKernels = Literal["native", "portable"]  # what each pins: kernels.py
 MAX_AUTO_THREADS = 8  # past 8 the small networks' updates gain little; more belongs to concurrent runs
 MINIBATCH_KEYS = ("batch_size", "buffer_size")
 ML_AGENTS_SECTIONS = frozenset({"behaviors", "hyperparameters", "network_settings", "reward_signals", "extrinsic",
@@ -205,6 +210,7 @@ class PPOConfig(StrictModel):
     torch_threads: Union[Annotated[int, Field(ge=1, le=256)], Literal["auto"]] = Field(
         "auto", json_schema_extra={"x-expected": THREADS})
     precision: Precision = "exact"
+    cpu_kernels: CpuKernels = "native"
     curiosity_strength: float = Field(0.0, ge=0.0, le=1.0)
     curiosity_gamma: float = Field(0.99, ge=0.0, le=1.0)
     curiosity_encoding_size: int = Field(256, ge=1, le=8192)

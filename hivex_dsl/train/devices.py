@@ -11,6 +11,7 @@ from typing import Iterator
 import torch
 
 from .config import DEVICES, TrainError
+from .kernels import mkl_words
 
 
 def torch_device(name: str) -> torch.device:
@@ -58,10 +59,13 @@ def machine(device: str = "cpu") -> str:
     """The machine in words: processor (its model and the kernels torch picks on it), cores, OS, Python, and the GPU
     when ``device`` is a CUDA one. A run reproduces its record to the digit only on a processor taking the same
     kernels: MKL and torch pick them by the instruction sets they find, and a last-bit difference in one update
-    grows into another run (WFC's seed 0 left its record at 240k agent-steps on an AVX-512 Xeon)."""
+    grows into another run (WFC's seed 0 left its record at 240k agent-steps on an AVX-512 Xeon). MKL's code path is
+    named where something pinned it (``cpu_kernels portable``, or MKL_CBWR in the environment)."""
     processor = platform.processor() or platform.machine()
+    pinned = mkl_words()
     words = (f"{processor}, {cpu_model()}, torch's {torch.backends.cpu.get_cpu_capability()} kernels, "
-             f"{os.cpu_count()} cores, {platform.system()}, Python {platform.python_version()}")
+             + (f"{pinned}, " if pinned else "")
+             + f"{os.cpu_count()} cores, {platform.system()}, Python {platform.python_version()}")
     if device.startswith("cuda"):
         words += f", {torch.cuda.get_device_name(torch.device(device))} (torch {torch.__version__})"
     return words

@@ -20,6 +20,7 @@ from ..evaluation.original.evidence import EPISODE_LENGTH
 from ..evaluation.progress import EpisodeBar, bar
 from ..evaluation.rollout import rollout
 from .checkpoint import load_checkpoint, policy_for
+from .kernels import cpu_kernels
 from .networks import fixed_weights, to_tensors
 
 
@@ -120,13 +121,16 @@ def evaluate(checkpoint: str | Path, scenario: CompiledScenario | None = None, s
     shows a bar on stderr where it is a terminal."""
     loaded = load_checkpoint(checkpoint)
     compiled = scenario if scenario is not None else loaded["compiled"]
-    agent = policy_for(loaded, compiled)
-    played = play(compiled, agent, episodes, split, deterministic, seed, torch_threads, progress)
+    kernels = loaded["config"].cpu_kernels
+    with cpu_kernels(kernels):  # as it trained: a portable run's test returns are then alike on other processors
+        agent = policy_for(loaded, compiled)
+        played = play(compiled, agent, episodes, split, deterministic, seed, torch_threads, progress)
     return {"checkpoint": str(checkpoint), "scenario": compiled.name, "environment": compiled.environment,
             "task_index": compiled.task_index, "level": compiled.level, "trained_agent_steps": loaded["agent_steps"],
             "trained_wall_s": loaded.get("wall_s"),
             "split": split, "seed": getattr(compiled.seeds, split), "episodes": episodes,
             "agent_episodes": int(played["return"].size), "actions": "mode" if deterministic else "sampled",
+            "cpu_kernels": kernels,
             "return": _spread(played["return"]), "episode_length": _spread(played["episode_length"]),
             "statistics": {k: _spread(v) | ({"pooled": played["pooled"][k]} if k in played["pooled"] else {})
                            for k, v in played["statistics"].items()},

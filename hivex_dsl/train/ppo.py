@@ -26,6 +26,7 @@ from .checkpoint import resume_state, save_checkpoint, save_numbered_checkpoint
 from .config import PPOConfig, TrainError
 from .curiosity import Curiosity
 from .devices import autocast, machine, matmul_precision, torch_device
+from .kernels import cpu_kernels
 from .logs import EpisodeLog, Progress, ScalarLog
 from .networks import VALUE_HEADS, ActorCritic, fixed_weights, to_tensors
 from .buffer import FinishedTrajectories, Rollout, in_chunks, minibatches, update_data
@@ -311,10 +312,11 @@ def train(compiled: CompiledScenario, cfg: PPOConfig, run_dir: Path, progress: b
     ``run``: the run directory already claimed (by a grid's point, which writes its evaluation there after)."""
     if cfg.precision_problem():
         raise TrainError(cfg.precision_problem())
-    if run is not None:
-        return _train(compiled, cfg, run, progress, on_update, resume, stop_event)
-    with RunDir.claim(Path(run_dir), resume, overwrite) as claimed:
-        return _train(compiled, cfg, claimed, progress, on_update, resume, stop_event)
+    with cpu_kernels(cfg.cpu_kernels):  # pinned before the run directory is touched: a refusal writes nothing
+        if run is not None:
+            return _train(compiled, cfg, run, progress, on_update, resume, stop_event)
+        with RunDir.claim(Path(run_dir), resume, overwrite) as claimed:
+            return _train(compiled, cfg, claimed, progress, on_update, resume, stop_event)
 
 
 def _train(compiled: CompiledScenario, cfg: PPOConfig, run: RunDir, progress: bool,
