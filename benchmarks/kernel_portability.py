@@ -12,7 +12,8 @@ vector kernels. This script trains the WFC main record's command (seed 0, one to
 a fresh process, stops it after --points summary points, and writes each point's return. With -o the rows are
 merged into the file, one per machine (``hivex_dsl.train.devices.machine``), so that sessions on other processors
 add theirs; --report says, per setting, which machines agree to the last digit. A setting every machine agrees
-under is a portable way to train a record; none is the default until two processor kinds agree under it.
+under is a portable way to train a record. ``portable`` sets no variable: it is `hivex train --set
+cpu_kernels=portable`, which pins the paths in the training process itself (hivex_dsl.train.kernels).
 """
 
 from __future__ import annotations
@@ -37,25 +38,29 @@ SETTINGS: dict[str, dict[str, str]] = {
     "mkl-compatible": {"MKL_CBWR": "COMPATIBLE,STRICT"},
     "mkl-avx2": {"MKL_CBWR": "AVX2,STRICT"},
     "mkl-compatible-aten-default": {"MKL_CBWR": "COMPATIBLE,STRICT", "ATEN_CPU_CAPABILITY": "default"},
+    "portable": {},  # no variable: `hivex train` pins the paths itself (cpu_kernels portable, hivex_dsl.train.kernels)
 }
+SETTING_ARGUMENTS = {"portable": ["--set", "cpu_kernels=portable"]}  # beside COMMAND
 KERNEL_VARIABLES = ("MKL_CBWR", "ATEN_CPU_CAPABILITY", "MKL_ENABLE_INSTRUCTIONS", "NPY_DISABLE_CPU_FEATURES")
 
 
-def first_points(setting: dict[str, str], points: int, timeout_s: float = 1_800.0) -> list[float]:
-    """The returns of the first ``points`` summary points of :data:`COMMAND` trained under ``setting`` (environment
-    variables set before torch loads; any of :data:`KERNEL_VARIABLES` the caller's shell set is cleared)."""
-    env = {k: v for k, v in os.environ.items() if k not in KERNEL_VARIABLES} | setting
+def first_points(name: str, points: int, timeout_s: float = 1_800.0) -> list[float]:
+    """The returns of the first ``points`` summary points of :data:`COMMAND` trained under the setting ``name``
+    (its environment variables set before torch loads, any of :data:`KERNEL_VARIABLES` the caller's shell set
+    cleared; its :data:`SETTING_ARGUMENTS` added to the command)."""
+    env = {k: v for k, v in os.environ.items() if k not in KERNEL_VARIABLES} | SETTINGS[name]
     with tempfile.TemporaryDirectory() as scratch:
         curve = Path(scratch) / "run" / "curve.json"
-        process = subprocess.Popen([*COMMAND, "-o", str(Path(scratch) / "run")], cwd=ROOT, env=env,
+        command = [*COMMAND, *SETTING_ARGUMENTS.get(name, []), "-o", str(Path(scratch) / "run")]
+        process = subprocess.Popen(command, cwd=ROOT, env=env,
                                    stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
         start = time.monotonic()
         try:
             while len(read := _curve(curve)) < points:
                 if process.poll() is not None:
-                    raise RuntimeError(f"training under {setting} ended early: {process.stderr.read()[-2000:]}")
+                    raise RuntimeError(f"training under {name} ended early: {process.stderr.read()[-2000:]}")
                 if time.monotonic() - start > timeout_s:
-                    raise RuntimeError(f"training under {setting} logged {len(read)} points in {timeout_s:.0f} s")
+                    raise RuntimeError(f"training under {name} logged {len(read)} points in {timeout_s:.0f} s")
                 time.sleep(0.5)
         finally:
             process.kill()
@@ -79,7 +84,9 @@ def merge(recorded: dict, this_machine: str, measured: dict[str, list[float]], p
                          f"{recorded['points']}")
     machines = dict(recorded.get("machines", {}))
     machines[this_machine] = dict(machines.get(this_machine, {})) | measured
-    return {"scenario": SCENARIO, "command": " ".join(COMMAND), "settings": SETTINGS, "points": points,
+    settings = {name: variables | ({"arguments": " ".join(SETTING_ARGUMENTS[name])} if name in SETTING_ARGUMENTS else {})
+                for name, variables in SETTINGS.items()}
+    return {"scenario": SCENARIO, "command": " ".join(COMMAND), "settings": settings, "points": points,
             "notes": recorded.get("notes", []), "machines": machines}
 
 
@@ -121,7 +128,7 @@ def main(argv: list[str] | None = None) -> int:
     if args.report:
         print("\n".join(report(json.loads(args.report.read_text(encoding="utf-8")), record_curve)))
         return 0
-    measured = {name: first_points(SETTINGS[name], args.points) for name in args.setting or SETTINGS}
+    measured = {name: first_points(name, args.points) for name in args.setting or SETTINGS}
     recorded = json.loads(args.output.read_text(encoding="utf-8")) if args.output and args.output.is_file() else {}
     merged = merge(recorded, machine(), measured, args.points)
     if args.output:

@@ -70,3 +70,17 @@ def test_the_committed_file_shows_mkl_s_compatible_path_agreeing_across_vendors(
         assert len(groups[setting]) == 1 and vendors(groups[setting][0]) == {"intel", "amd"}, setting
     assert sorted(tuple(vendors(group)) for group in groups["default"]) == [("amd",), ("intel",)]
     assert len(groups["mkl-avx2"]) == 2
+
+
+def test_the_committed_file_shows_cpu_kernels_portable_training_as_the_amd_epycs_did():
+    """Session 80: `hivex train --set cpu_kernels=portable` on the Intel Xeon of family 6 model 207, with no kernel
+    variable in its environment, gives to the digit the returns both AMD EPYCs gave under the variables it stands for
+    (MKL_CBWR=COMPATIBLE,STRICT and ATEN_CPU_CAPABILITY=default), and parts from the record's curve (the AMD EPYCs'
+    default) where the Xeon's default does."""
+    recorded = json.loads(RESULTS.read_text(encoding="utf-8"))
+    assert recorded["settings"]["portable"] == {"arguments": "--set cpu_kernels=portable"}
+    portable = {name: row["portable"] for name, row in recorded["machines"].items() if "portable" in row}
+    assert portable and all("Intel" in name for name in portable)
+    amd = [row["mkl-compatible-aten-default"] for name, row in recorded["machines"].items() if "AMD" in name]
+    assert len(amd) == 2 and all(returns == amd[0] for returns in [*amd, *portable.values()])
+    assert all(recorded["machines"][name]["default"] != amd[0] for name in portable)
