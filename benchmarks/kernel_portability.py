@@ -1,14 +1,17 @@
-"""Which math-kernel settings make a training run the same on every processor: the WFC main record's first points.
+"""Which math-kernel settings make a training run the same on every processor: a main record's first points.
 
-    python benchmarks/kernel_portability.py [--points 8] [--setting NAME ...] [-o benchmarks/results/kernel_portability.json]
-    python benchmarks/kernel_portability.py --report   # the committed file's machines, setting by setting
+    python benchmarks/kernel_portability.py [--env ID] [--points 8] [--setting NAME ...] [-o RESULTS]
+    python benchmarks/kernel_portability.py --report [RESULTS]   # a results file's machines, setting by setting
+
+RESULTS: benchmarks/results/kernel_portability.json for Wind Farm Control (the default, an MLP), and
+kernel_portability_<ID>.json for another environment's main scenario (Aerial Wildfire Suppression's: convolutions).
 
 A run of `hivex train` reproduces to the digit on an alike processor only: float32 matrix products take the
 kernels MKL picks for the processor, and their rounding parts two runs' learning within a few hundred thousand
 agent-steps (Wind Farm Control's seed 0 leaves its record's curve at 240,040 agent-steps on an Intel Xeon of
 family 6 model 167, and follows it to the digit on the AMD EPYC of family 26 model 2). MKL's Conditional
 Numerical Reproducibility (MKL_CBWR) pins one code path; ATen (ATEN_CPU_CAPABILITY) and NumPy choose their own
-vector kernels. This script trains the WFC main record's command (seed 0, one torch thread) under each setting in
+vector kernels. This script trains a main record's command (seed 0, one torch thread) under each setting in
 a fresh process, stops it after --points summary points, and writes each point's return. With -o the rows are
 merged into the file, one per machine (``hivex_dsl.train.devices.machine``), so that sessions on other processors
 add theirs; --report says, per setting, which machines agree to the last digit. A setting every machine agrees
@@ -31,8 +34,7 @@ from hivex_dsl.train.devices import machine
 from hivex_dsl.train.rundir import dumps
 
 ROOT = Path(__file__).resolve().parents[1]
-SCENARIO = "scenarios/wind_farm_control/main.yaml"
-COMMAND = ["hivex", "train", SCENARIO, "--seed", "0", "--set", "torch_threads=1", "--no-progress"]
+DEFAULT_ENVIRONMENT = "wind_farm_control"
 SETTINGS: dict[str, dict[str, str]] = {
     "default": {},
     "mkl-compatible": {"MKL_CBWR": "COMPATIBLE,STRICT"},
@@ -40,18 +42,36 @@ SETTINGS: dict[str, dict[str, str]] = {
     "mkl-compatible-aten-default": {"MKL_CBWR": "COMPATIBLE,STRICT", "ATEN_CPU_CAPABILITY": "default"},
     "portable": {},  # no variable: `hivex train` pins the paths itself (cpu_kernels portable, hivex_dsl.train.kernels)
 }
-SETTING_ARGUMENTS = {"portable": ["--set", "cpu_kernels=portable"]}  # beside COMMAND
+SETTING_ARGUMENTS = {"portable": ["--set", "cpu_kernels=portable"]}  # beside the record's command
+# curve.json is written with each checkpoint: often, so that the first points are read soon (saving draws no random
+# number and changes nothing a run learns: WFC's rows are the same with it and without)
+SOON = ["--set", "checkpoint_every=10000"]
 KERNEL_VARIABLES = ("MKL_CBWR", "ATEN_CPU_CAPABILITY", "MKL_ENABLE_INSTRUCTIONS", "NPY_DISABLE_CPU_FEATURES")
 
 
-def first_points(name: str, points: int, timeout_s: float = 1_800.0) -> list[float]:
-    """The returns of the first ``points`` summary points of :data:`COMMAND` trained under the setting ``name``
-    (its environment variables set before torch loads, any of :data:`KERNEL_VARIABLES` the caller's shell set
-    cleared; its :data:`SETTING_ARGUMENTS` added to the command)."""
+def scenario_of(environment: str) -> str:
+    return f"scenarios/{environment}/main.yaml"
+
+
+def command_of(environment: str) -> list[str]:
+    """The record's command: the main scenario, seed 0, one torch thread (what the records pin)."""
+    return ["hivex", "train", scenario_of(environment), "--seed", "0", "--set", "torch_threads=1", "--no-progress"]
+
+
+def results_file(environment: str) -> Path:
+    suffix = "" if environment == DEFAULT_ENVIRONMENT else f"_{environment}"
+    return ROOT / "benchmarks" / "results" / f"kernel_portability{suffix}.json"
+
+
+def first_points(name: str, points: int, environment: str = DEFAULT_ENVIRONMENT, timeout_s: float = 1_800.0
+                 ) -> list[float]:
+    """The returns of the first ``points`` summary points of ``environment``'s :func:`command_of` trained under the
+    setting ``name`` (its environment variables set before torch loads, any of :data:`KERNEL_VARIABLES` the
+    caller's shell set cleared; its :data:`SETTING_ARGUMENTS` added to the command)."""
     env = {k: v for k, v in os.environ.items() if k not in KERNEL_VARIABLES} | SETTINGS[name]
     with tempfile.TemporaryDirectory() as scratch:
         curve = Path(scratch) / "run" / "curve.json"
-        command = [*COMMAND, *SETTING_ARGUMENTS.get(name, []), "-o", str(Path(scratch) / "run")]
+        command = [*command_of(environment), *SETTING_ARGUMENTS.get(name, []), *SOON, "-o", str(Path(scratch) / "run")]
         process = subprocess.Popen(command, cwd=ROOT, env=env,
                                    stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
         start = time.monotonic()
@@ -75,18 +95,23 @@ def _curve(path: Path) -> list[dict]:
         return []
 
 
-def merge(recorded: dict, this_machine: str, measured: dict[str, list[float]], points: int) -> dict:
+def merge(recorded: dict, this_machine: str, measured: dict[str, list[float]], points: int,
+          environment: str = DEFAULT_ENVIRONMENT) -> dict:
     """``recorded`` (the results file's content, or {}) with ``this_machine``'s row set to ``measured``'s settings
     (its other settings kept); rows of other machines and the file's notes unchanged. Rows must read the same
-    number of points."""
+    number of points of the same scenario."""
     if recorded and recorded["points"] != points:
         raise ValueError(f"the file holds {recorded['points']} points a setting, this run {points}: use --points "
                          f"{recorded['points']}")
+    if recorded and recorded["scenario"] != scenario_of(environment):
+        raise ValueError(f"the file holds {recorded['scenario']}'s points, this run {scenario_of(environment)}'s: "
+                         f"write them to {results_file(environment).relative_to(ROOT)}")
     machines = dict(recorded.get("machines", {}))
     machines[this_machine] = dict(machines.get(this_machine, {})) | measured
     settings = {name: variables | ({"arguments": " ".join(SETTING_ARGUMENTS[name])} if name in SETTING_ARGUMENTS else {})
                 for name, variables in SETTINGS.items()}
-    return {"scenario": SCENARIO, "command": " ".join(COMMAND), "settings": settings, "points": points,
+    return {"scenario": scenario_of(environment), "command": " ".join(command_of(environment)), "settings": settings,
+            "points": points,
             "notes": recorded.get("notes", []), "machines": machines}
 
 
@@ -117,24 +142,30 @@ def report(recorded: dict, record_curve: list[float] | None = None) -> list[str]
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--points", type=int, default=8, help="summary points a setting (40,000 agent-steps each)")
+    parser.add_argument("--env", default=DEFAULT_ENVIRONMENT, help="whose main scenario (default wind_farm_control)")
+    parser.add_argument("--points", type=int, default=8, help="summary points a setting (its summary_freq each)")
     parser.add_argument("--setting", action="append", choices=sorted(SETTINGS), help="only these (repeatable)")
     parser.add_argument("-o", "--output", type=Path, help="merge this machine's row into this JSON file")
-    parser.add_argument("--report", type=Path, nargs="?", const=ROOT / "benchmarks/results/kernel_portability.json",
-                        help="report a results file's agreement instead of measuring")
+    parser.add_argument("--report", type=Path, nargs="?", const=True,
+                        help="report a results file's agreement instead of measuring (default --env's file)")
     args = parser.parse_args(argv)
-    record = json.loads((ROOT / "benchmarks/baselines/wind_farm_control.json").read_text(encoding="utf-8"))
-    record_curve = [round(point[2], 4) for point in record["curve"]]
     if args.report:
-        print("\n".join(report(json.loads(args.report.read_text(encoding="utf-8")), record_curve)))
+        recorded = json.loads((results_file(args.env) if args.report is True else args.report).read_text("utf-8"))
+        print("\n".join(report(recorded, record_curve(recorded["scenario"]))))
         return 0
-    measured = {name: first_points(name, args.points) for name in args.setting or SETTINGS}
+    measured = {name: first_points(name, args.points, args.env) for name in args.setting or SETTINGS}
     recorded = json.loads(args.output.read_text(encoding="utf-8")) if args.output and args.output.is_file() else {}
-    merged = merge(recorded, machine(), measured, args.points)
+    merged = merge(recorded, machine(), measured, args.points, args.env)
     if args.output:
         args.output.write_text(dumps(merged, args.output, 1), encoding="utf-8")
-    print("\n".join(report(merged, record_curve)))
+    print("\n".join(report(merged, record_curve(merged["scenario"]))))
     return 0
+
+
+def record_curve(scenario: str) -> list[float]:
+    """The returns of the committed record of ``scenario`` (its environment's main), rounded as the rows are."""
+    record = ROOT / "benchmarks" / "baselines" / f"{Path(scenario).parent.name}.json"
+    return [round(point[2], 4) for point in json.loads(record.read_text(encoding="utf-8"))["curve"]]
 
 
 if __name__ == "__main__":

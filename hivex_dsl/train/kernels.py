@@ -14,8 +14,9 @@ each library to one code path, in this process, before its first product:
 - oneDNN off (``torch.backends.mkldnn``), so that convolutions take ATen's im2col and MKL's products.
 
 ``benchmarks/kernel_portability.py`` measures it (``benchmarks/results/kernel_portability.json``): the first points
-of Wind Farm Control's record agree to the last digit on an Intel Xeon and two AMD EPYCs under it, where they part
-under ``native``. The price is speed (docs/performance.md). NumPy keeps its own vector dispatch (it can be pinned
+of Wind Farm Control's record (an MLP) agree to the last digit on an Intel Xeon and two AMD EPYCs under it, where
+they part under ``native``; the convolutional environments' rows (``kernel_portability_<environment>.json``) hold one
+processor so far. The price is speed (docs/performance.md). NumPy keeps its own vector dispatch (it can be pinned
 only before NumPy loads, by ``NPY_DISABLE_CPU_FEATURES``); the processors measured share AVX-512. A GPU's own
 kernels are another matter: ``portable`` pins the CPU's only. `hivex evaluate` plays a checkpoint under the kernels it
 trained with; the other commands that play one (render, replay, audit) compute with their process's own.

@@ -29,6 +29,16 @@ def test_rows_of_another_length_are_refused():
         script.merge(recorded, "xeon", {"default": [1.0, 2.0, 3.0]}, 3)
 
 
+def test_rows_of_another_scenario_are_refused_and_each_environment_has_its_file():
+    recorded = script.merge({}, "amd", {"default": [1.0, 2.0]}, 2, "aerial_wildfire_suppression")
+    assert recorded["scenario"] == "scenarios/aerial_wildfire_suppression/main.yaml"
+    assert recorded["command"].startswith("hivex train scenarios/aerial_wildfire_suppression/main.yaml --seed 0")
+    with pytest.raises(ValueError, match=r"write them to benchmarks/results/kernel_portability\.json"):
+        script.merge(recorded, "xeon", {"default": [1.0, 2.0]}, 2, "wind_farm_control")
+    assert script.results_file("wind_farm_control") == RESULTS
+    assert script.results_file("aerial_wildfire_suppression").name == "kernel_portability_aerial_wildfire_suppression.json"
+
+
 def test_machines_are_grouped_by_identical_returns_per_setting():
     recorded = {"points": 2, "machines": {
         "amd": {"default": [1.0, 2.0], "mkl-compatible": [1.0, 5.0]},
