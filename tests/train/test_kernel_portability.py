@@ -94,3 +94,17 @@ def test_the_committed_file_shows_cpu_kernels_portable_training_as_the_amd_epycs
     amd = [row["mkl-compatible-aten-default"] for name, row in recorded["machines"].items() if "AMD" in name]
     assert len(amd) == 2 and all(returns == amd[0] for returns in [*amd, *portable.values()])
     assert all(recorded["machines"][name]["default"] != amd[0] for name in portable)
+
+
+def test_the_aws_file_tells_the_kernels_apart_within_its_points():
+    """Aerial Wildfire Suppression (convolutions): on the Xeon of session 80 cpu_kernels portable parts from the
+    default at the 27th of 40 points, and the default follows the committed record for 27, so an AMD row will tell
+    whether the portable convolution path is alike across vendors."""
+    recorded = json.loads((RESULTS.parent / "kernel_portability_aerial_wildfire_suppression.json").read_text("utf-8"))
+    assert recorded["scenario"] == "scenarios/aerial_wildfire_suppression/main.yaml" and recorded["points"] == 40
+    record = json.loads((RESULTS.parents[1] / "baselines" / "aerial_wildfire_suppression.json").read_text("utf-8"))
+    curve = [round(point[2], 4) for point in record["curve"][:40]]
+    (xeon,) = [row for name, row in recorded["machines"].items() if "Intel" in name and "model 207" in name]
+    default, portable = xeon["default"], xeon["portable"]
+    assert default[:27] == curve[:27] and default[27] != curve[27]
+    assert portable[:26] == default[:26] and portable[26] != default[26]
