@@ -108,7 +108,8 @@ def merge(recorded: dict, this_machine: str, measured: dict[str, list[float]], p
                          f"write them to {results_file(environment).relative_to(ROOT)}")
     machines = dict(recorded.get("machines", {}))
     machines[this_machine] = dict(machines.get(this_machine, {})) | measured
-    settings = {name: variables | ({"arguments": " ".join(SETTING_ARGUMENTS[name])} if name in SETTING_ARGUMENTS else {})
+    settings = {name: variables | ({"arguments": " ".join(SETTING_ARGUMENTS[name])} if name in SETTING_ARGUMENTS
+                                   else {})
                 for name, variables in SETTINGS.items()}
     return {"scenario": scenario_of(environment), "command": " ".join(command_of(environment)), "settings": settings,
             "points": points,

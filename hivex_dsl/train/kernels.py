@@ -16,10 +16,11 @@ each library to one code path, in this process, before its first product:
 ``benchmarks/kernel_portability.py`` measures it (``benchmarks/results/kernel_portability.json``): the first points
 of Wind Farm Control's record (an MLP) agree to the last digit on an Intel Xeon and two AMD EPYCs under it, where
 they part under ``native``; the convolutional environments' rows (``kernel_portability_<environment>.json``) hold one
-processor so far. The price is speed (docs/performance.md). NumPy keeps its own vector dispatch (it can be pinned
-only before NumPy loads, by ``NPY_DISABLE_CPU_FEATURES``); the processors measured share AVX-512. A GPU's own
-kernels are another matter: ``portable`` pins the CPU's only. `hivex evaluate` plays a checkpoint under the kernels it
-trained with; the other commands that play one (render, replay, audit) compute with their process's own.
+processor so far. The price is speed (the README's training section; the results file's notes). NumPy keeps its own
+vector dispatch (it can be pinned only before NumPy loads, by ``NPY_DISABLE_CPU_FEATURES``); the processors measured
+share AVX-512. A GPU's own kernels are another matter: ``portable`` pins the CPU's only. `hivex evaluate` plays a
+checkpoint under the kernels it trained with; the other commands that play one (render, replay, audit) compute with
+their process's own.
 """
 
 from __future__ import annotations
@@ -83,21 +84,25 @@ def mkl_words() -> str | None:
 
 def pin_portable() -> None:
     """Pin this process's CPU kernels to the portable paths (module docstring), or a clear error where it has
-    computed with other ones already. Idempotent."""
+    computed with other ones already, changing nothing then. Idempotent. ATen first: any product dispatches through
+    it, so a process that computed is refused there, before MKL's path is touched."""
     library = _mkl()
     if library is None:
         raise TrainError("cpu_kernels portable pins MKL's compatible code path, and this torch has no MKL (or does "
                          "not export its mkl_cbwr calls): train with cpu_kernels native here")
+    asked = os.environ.get("ATEN_CPU_CAPABILITY")
+    if asked is not None and asked.lower() != "default":
+        raise TrainError(f"cpu_kernels portable runs ATen's default kernels, and this process's environment asks for "
+                         f"ATEN_CPU_CAPABILITY={asked}: unset it, or train with cpu_kernels native")
+    os.environ["ATEN_CPU_CAPABILITY"] = "default"  # read at torch's first dispatch, if it is still to come
+    capability = torch.backends.cpu.get_cpu_capability()
+    if capability != "DEFAULT":
+        if asked is None:  # not left behind for the processes this one starts
+            del os.environ["ATEN_CPU_CAPABILITY"]
+        raise TrainError(_too_late(f"torch has dispatched to its {capability} kernels"))
     if library.mkl_serv_cbwr_get(MKL_CBWR_ALL) != PORTABLE_MKL:
         if library.mkl_serv_cbwr_set(PORTABLE_MKL) != MKL_CBWR_SUCCESS:
             raise TrainError(_too_late("MKL has computed in its " + (mkl_words() or "processor's own") + " path"))
-    asked = os.environ.setdefault("ATEN_CPU_CAPABILITY", "default")  # read at torch's first dispatch, if to come
-    if asked.lower() != "default":
-        raise TrainError(f"cpu_kernels portable runs ATen's default kernels, and this process's environment asks for "
-                         f"ATEN_CPU_CAPABILITY={asked}: unset it, or train with cpu_kernels native")
-    capability = torch.backends.cpu.get_cpu_capability()
-    if capability != "DEFAULT":
-        raise TrainError(_too_late(f"torch has dispatched to its {capability} kernels"))
     _portable_since.append(True)
 
 

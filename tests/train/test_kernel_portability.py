@@ -36,7 +36,8 @@ def test_rows_of_another_scenario_are_refused_and_each_environment_has_its_file(
     with pytest.raises(ValueError, match=r"write them to benchmarks/results/kernel_portability\.json"):
         script.merge(recorded, "xeon", {"default": [1.0, 2.0]}, 2, "wind_farm_control")
     assert script.results_file("wind_farm_control") == RESULTS
-    assert script.results_file("aerial_wildfire_suppression").name == "kernel_portability_aerial_wildfire_suppression.json"
+    aws = script.results_file("aerial_wildfire_suppression")
+    assert aws.name == "kernel_portability_aerial_wildfire_suppression.json"
 
 
 def test_machines_are_grouped_by_identical_returns_per_setting():
