@@ -109,3 +109,17 @@ def test_the_aws_file_tells_the_kernels_apart_within_its_points():
     default, portable = xeon["default"], xeon["portable"]
     assert default[:27] == curve[:27] and default[27] != curve[27]
     assert portable[:26] == default[:26] and portable[26] != default[26]
+
+
+def test_the_dbr_file_tells_the_kernels_apart_within_its_points():
+    """Drone-Based Reforestation (ML-Agents' ResNet encoders): on the Xeon of session 80 the default follows the
+    committed record, reproduced on an AMD EPYC, for 12 of 40 points, and cpu_kernels portable parts from the
+    default at the 15th."""
+    recorded = json.loads((RESULTS.parent / "kernel_portability_drone_based_reforestation.json").read_text("utf-8"))
+    assert recorded["scenario"] == "scenarios/drone_based_reforestation/main.yaml" and recorded["points"] == 40
+    record = json.loads((RESULTS.parents[1] / "baselines" / "drone_based_reforestation.json").read_text("utf-8"))
+    curve = [round(point[2], 4) for point in record["curve"][:40]]
+    (xeon,) = [row for name, row in recorded["machines"].items() if "Intel" in name and "model 207" in name]
+    default, portable = xeon["default"], xeon["portable"]
+    assert default[:12] == curve[:12] and default[12] != curve[12]
+    assert portable[:14] == default[:14] and portable[14] != default[14]
