@@ -16,7 +16,6 @@ import pytest
 from hivex_dsl.train.config import TrainError, make_config, parse_assignments
 from hivex_dsl.train.kernels import PORTABLE_ENVIRONMENT
 
-pytest.importorskip("torch")
 ROOT = Path(__file__).resolve().parents[2]
 KERNEL_VARIABLES = ("MKL_CBWR", "ATEN_CPU_CAPABILITY")
 
