@@ -97,29 +97,19 @@ def test_the_committed_file_shows_cpu_kernels_portable_training_as_the_amd_epycs
     assert all(recorded["machines"][name]["default"] != amd[0] for name in portable)
 
 
-def test_the_aws_file_tells_the_kernels_apart_within_its_points():
-    """Aerial Wildfire Suppression (convolutions): on the Xeon of session 80 cpu_kernels portable parts from the
-    default at the 27th of 40 points, and the default follows the committed record for 27, so an AMD row will tell
-    whether the portable convolution path is alike across vendors."""
-    recorded = json.loads((RESULTS.parent / "kernel_portability_aerial_wildfire_suppression.json").read_text("utf-8"))
-    assert recorded["scenario"] == "scenarios/aerial_wildfire_suppression/main.yaml" and recorded["points"] == 40
-    record = json.loads((RESULTS.parents[1] / "baselines" / "aerial_wildfire_suppression.json").read_text("utf-8"))
-    curve = [round(point[2], 4) for point in record["curve"][:40]]
+@pytest.mark.parametrize("environment, follows_record, portable_agrees", [
+    ("aerial_wildfire_suppression", 27, 26),  # convolutions ('simple'): the record's machine is not named
+    ("drone_based_reforestation", 12, 14),  # ML-Agents' ResNet encoders: the record reproduced on an AMD EPYC
+])
+def test_a_convolutional_file_tells_the_kernels_apart_within_its_points(environment, follows_record, portable_agrees):
+    """On the Xeon of session 80, over 40 points, the default follows the committed record for ``follows_record``
+    points and cpu_kernels portable parts from the default after ``portable_agrees``: so an AMD row will tell whether
+    the portable convolution path is alike across vendors."""
+    recorded = json.loads(script.results_file(environment).read_text("utf-8"))
+    assert recorded["scenario"] == script.scenario_of(environment) and recorded["points"] == 40
+    curve = script.record_curve(recorded["scenario"])[:40]
     (xeon,) = [row for name, row in recorded["machines"].items() if "Intel" in name and "model 207" in name]
     default, portable = xeon["default"], xeon["portable"]
-    assert default[:27] == curve[:27] and default[27] != curve[27]
-    assert portable[:26] == default[:26] and portable[26] != default[26]
-
-
-def test_the_dbr_file_tells_the_kernels_apart_within_its_points():
-    """Drone-Based Reforestation (ML-Agents' ResNet encoders): on the Xeon of session 80 the default follows the
-    committed record, reproduced on an AMD EPYC, for 12 of 40 points, and cpu_kernels portable parts from the
-    default at the 15th."""
-    recorded = json.loads((RESULTS.parent / "kernel_portability_drone_based_reforestation.json").read_text("utf-8"))
-    assert recorded["scenario"] == "scenarios/drone_based_reforestation/main.yaml" and recorded["points"] == 40
-    record = json.loads((RESULTS.parents[1] / "baselines" / "drone_based_reforestation.json").read_text("utf-8"))
-    curve = [round(point[2], 4) for point in record["curve"][:40]]
-    (xeon,) = [row for name, row in recorded["machines"].items() if "Intel" in name and "model 207" in name]
-    default, portable = xeon["default"], xeon["portable"]
-    assert default[:12] == curve[:12] and default[12] != curve[12]
-    assert portable[:14] == default[:14] and portable[14] != default[14]
+    assert default[:follows_record] == curve[:follows_record] and default[follows_record] != curve[follows_record]
+    assert portable[:portable_agrees] == default[:portable_agrees]
+    assert portable[portable_agrees] != default[portable_agrees]
