@@ -17,6 +17,8 @@ merged into the file, one per machine (``hivex_dsl.train.devices.machine``), so 
 add theirs; --report says, per setting, which machines agree to the last digit. A setting every machine agrees
 under is a portable way to train a record. ``portable`` sets no variable: it is `hivex train --set
 cpu_kernels=portable`, which pins the paths in the training process itself (hivex_dsl.train.kernels).
+``numpy-avx2`` and ``portable-numpy-avx2`` add NumPy's kernels as a processor with AVX2 alone takes them (an AVX-512
+processor imitating one by NPY_DISABLE_CPU_FEATURES).
 """
 
 from __future__ import annotations
@@ -41,8 +43,13 @@ SETTINGS: dict[str, dict[str, str]] = {
     "mkl-avx2": {"MKL_CBWR": "AVX2,STRICT"},
     "mkl-compatible-aten-default": {"MKL_CBWR": "COMPATIBLE,STRICT", "ATEN_CPU_CAPABILITY": "default"},
     "portable": {},  # no variable: `hivex train` pins the paths itself (cpu_kernels portable, hivex_dsl.train.kernels)
+    # NumPy as on a processor with AVX2 alone (its AVX-512 groups off): what such a processor computes where MKL and
+    # ATen take one code path on every processor, as under portable (tests/test_portable_math.py)
+    "numpy-avx2": {"NPY_DISABLE_CPU_FEATURES": "X86_V4 AVX512_ICL AVX512_SPR"},
+    "portable-numpy-avx2": {"NPY_DISABLE_CPU_FEATURES": "X86_V4 AVX512_ICL AVX512_SPR"},
 }
-SETTING_ARGUMENTS = {"portable": ["--set", "cpu_kernels=portable"]}  # beside the record's command
+PORTABLE = ["--set", "cpu_kernels=portable"]
+SETTING_ARGUMENTS = {"portable": PORTABLE, "portable-numpy-avx2": PORTABLE}  # beside the record's command
 # curve.json is written with each checkpoint: often, so that the first points are read soon (saving draws no random
 # number and changes nothing a run learns: WFC's rows are the same with it and without)
 SOON = ["--set", "checkpoint_every=10000"]

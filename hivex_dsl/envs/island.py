@@ -18,6 +18,7 @@ from ..compiler.registry import GeneratorSlot
 from ..runtime.global_state import StateComponent
 from ..sim.batching import pad_by_world, put_worlds, replace_worlds, select_worlds
 from ..sim.fire import FireState, TreeState, fire_put_worlds, fire_reset
+from ..sim.fire.summary import burning_share
 from ..sim.procgen.forest import (ForestSpec, IgnitionSpec, cell_centre_xy, ignition_candidates, load_forest_preset,
                                   place_forest, rank_by_weather, ranked_ignition_mask)
 from ..sim.procgen.terrain import TerrainSpec, generate_terrain, terrain_spec_for_level
@@ -378,5 +379,5 @@ def island_fire_facts(state: Any, half: float) -> dict[str, list[float]]:
     """World 0's fire facts of the global state, counted off the tree grid (the tests' check of fire_summary)."""
     x, y = burning_cells_xy(state, half)
     cells = state.fire.trees.shape[1]
-    return {"fire burning": [float(np.log1p(len(x)) / np.log1p(cells * cells))],
+    return {"fire burning": [float(burning_share(len(x), cells))],
             "fire front centre": [float(x.mean() / half), float(y.mean() / half)] if len(x) else [0.0, 0.0]}

@@ -16,9 +16,11 @@ each library to one code path, in this process, before its first product:
 ``benchmarks/kernel_portability.py`` measures it (``benchmarks/results/kernel_portability.json``): the first points
 of Wind Farm Control's record (an MLP) agree to the last digit on an Intel Xeon and two AMD EPYCs under it, where
 they part under ``native``; the convolutional environments' rows (``kernel_portability_<environment>.json``) hold one
-processor so far. The price is speed (the README's training section; the results file's notes). NumPy keeps its own
-vector dispatch (it can be pinned only before NumPy loads, by ``NPY_DISABLE_CPU_FEATURES``); the processors measured
-share AVX-512. A GPU's own kernels are another matter: ``portable`` pins the CPU's only. `hivex evaluate` plays a
+processor so far. The price is speed (the README's training section; the results file's notes). NumPy's kernels
+need no pin: its exp, log, arctan2 and ** take AVX-512 kernels where the processor has them and libm's elsewhere,
+so the simulators compute those with :mod:`hivex_dsl.base.portable`, which reaches libm on every processor
+(tests/test_portable_math.py imitates AVX2-only and SSE4.2-only processors by ``NPY_DISABLE_CPU_FEATURES``). A GPU's
+own kernels are another matter: ``portable`` pins the CPU's only. `hivex evaluate` plays a
 checkpoint under the kernels it trained with; the other commands that play one (render, replay, audit) compute with
 their process's own.
 """

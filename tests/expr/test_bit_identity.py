@@ -6,8 +6,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from hivex_dsl.lang.expr import Quantity, compile_expression
+from hivex_dsl.base import portable
 from hivex_dsl.base.numeric import clamp, constant
+from hivex_dsl.lang.expr import Quantity, compile_expression
 
 QUANTITIES = (
     Quantity("theta_deg", "agent", "number", "deg", 0.0, 180.0, "angle between wind and rotor facing"),
@@ -28,8 +29,10 @@ FORMULAS = {
         lambda s, p: np.where(s["theta_deg"] <= _NINETY, s["theta_deg"] / _NINETY, _TWO - s["theta_deg"] / _NINETY),
     # Wind Farm Control's generate_energy
     "clip(performance, 0, 1)": lambda s, p: clamp(s["performance"], constant(0.0), constant(1.0)),
-    # Wildfire Resource Management's power law, with Python floats
-    "(1 + (remapped * (2 / 3)) ** 1.5) ** -0.5": lambda s, p: (1.0 + (s["remapped"] * (2.0 / 3.0)) ** 1.5) ** -0.5,
+    # Wildfire Resource Management's power law, as its term writes it (the same bits on every processor)
+    "(1 + (remapped * (2 / 3)) ** 1.5) ** -0.5":
+        lambda s, p: portable.power(1.0 + portable.power(s["remapped"] * (2.0 / 3.0), 1.5), -0.5),
+    "remapped ** 2 + remapped ** 0.5": lambda s, p: s["remapped"] ** 2 + np.sqrt(s["remapped"]),
     # Ocean Plastic Collection's pebble gain
     "max(delta(nearby), 0)": lambda s, p: np.maximum(s["nearby"] - p["nearby"], 0.0),
     # Ocean Plastic Collection's lowest count, one value per world
@@ -40,9 +43,9 @@ FORMULAS = {
     # Drone-Based Reforestation's energy cost while holding a seed
     "where(prev(holding), -1 / 250, 0)": lambda s, p: np.where(p["holding"], -1.0 / 250, 0.0),
     "exp(-(sqrt(dx_m ** 2 + dy_m ** 2) / 100{m}) ** 2)":
-        lambda s, p: np.exp(-(np.sqrt(s["dx_m"] ** 2 + s["dy_m"] ** 2) / 100.0) ** 2),
+        lambda s, p: portable.exp(-(np.sqrt(s["dx_m"] ** 2 + s["dy_m"] ** 2) / 100.0) ** 2),
     "log(1 + abs(performance)) - performance * performance / 3":
-        lambda s, p: np.log(1 + np.abs(s["performance"])) - s["performance"] * s["performance"] / 3,
+        lambda s, p: portable.log(1 + np.abs(s["performance"])) - s["performance"] * s["performance"] / 3,
 }
 
 

@@ -8,6 +8,7 @@ import operator
 import numpy as np
 from hypothesis import HealthCheck, assume, given, settings
 
+from hivex_dsl.base import portable
 from hivex_dsl.lang.expr import ExpressionError, compile_expression
 from hivex_dsl.lang.expr.syntax import Binary, Call, Compare, Name, Number, Unary, parse
 
@@ -17,7 +18,8 @@ _BINARY = {"+": operator.add, "-": operator.sub, "*": operator.mul, "/": operato
            "and": np.logical_and, "or": np.logical_or}
 _COMPARE = {"<": operator.lt, "<=": operator.le, ">": operator.gt, ">=": operator.ge, "==": operator.eq,
             "!=": operator.ne}
-_CALLS = {"min": np.minimum, "max": np.maximum, "abs": np.abs, "exp": np.exp, "log": np.log, "sqrt": np.sqrt,
+# exp, log and ** as the language defines them: the same bits on every processor (hivex_dsl.base.portable)
+_CALLS = {"min": np.minimum, "max": np.maximum, "abs": np.abs, "exp": portable.exp, "log": portable.log, "sqrt": np.sqrt,
           "where": np.where, "clip": lambda x, lo, hi: np.minimum(np.maximum(x, lo), hi),
           "team_mean": lambda x: x.mean(axis=1, keepdims=True), "team_sum": lambda x: x.sum(axis=1, keepdims=True),
           "team_min": lambda x: x.min(axis=1, keepdims=True), "team_max": lambda x: x.max(axis=1, keepdims=True)}
@@ -35,8 +37,8 @@ def reference(node, now, before, vocabulary, then=False):
         return np.logical_not(value(node.operand)) if node.op.text == "not" else -value(node.operand)
     if isinstance(node, Binary) and node.op.text == "**":
         exponent = -node.right.operand.value if isinstance(node.right, Unary) else node.right.value
-        base = value(node.left)  # as an array: NumPy's array power may differ in the last bit from its scalar one
-        return (np.atleast_1d(base) ** (int(exponent) if exponent.is_integer() else exponent)).reshape(np.shape(base))
+        base = value(node.left)
+        return portable.power(base, exponent)
     if isinstance(node, Binary):
         return _BINARY[node.op.text](value(node.left), value(node.right))
     if isinstance(node, Compare):

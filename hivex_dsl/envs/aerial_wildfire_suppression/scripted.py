@@ -11,6 +11,7 @@ from typing import Callable
 
 import numpy as np
 
+from ...base import portable
 from ...sim.procgen.wind import wrap_angle
 
 PATROL_RADIUS_M = 380.0  # middle of the forested band between village surroundings and coast
@@ -26,7 +27,7 @@ SEARCH_OUTER_M = 680.0
 def steer_towards(position: np.ndarray, heading: np.ndarray, target: np.ndarray, turn_rad: float) -> np.ndarray:
     """(B, A) steer in [-1, 1] turning the heading toward ``target`` (B, A, 2) as fast as allowed."""
     gap = target - position
-    error = wrap_angle(np.arctan2(gap[..., 1], gap[..., 0]) - heading)
+    error = wrap_angle(portable.arctan2(gap[..., 1], gap[..., 0]) - heading)
     return np.clip(error / turn_rad, -1.0, 1.0)
 
 
@@ -42,14 +43,14 @@ def coast_target(position: np.ndarray, island_half: float, border_half: float) -
 
 def patrol_target(position: np.ndarray, radius: float) -> np.ndarray:
     """(B, A, 2): a point ahead on the patrol circle, so planes sweep the forest ring."""
-    angle = np.arctan2(position[..., 1], position[..., 0]) + PATROL_LEAD_RAD
+    angle = portable.arctan2(position[..., 1], position[..., 0]) + PATROL_LEAD_RAD
     return radius * np.stack([np.cos(angle), np.sin(angle)], axis=-1)
 
 
 def spiral_target(position: np.ndarray, spacing: float, outer: float) -> np.ndarray:
     """(B, A, 2): a point ahead on the outward spiral r = spacing x (arm + angle / 2 pi), counter-clockwise, on the
     arm nearest the plane; past ``outer`` the innermost arm, so the sweep starts over from the centre."""
-    angle = np.arctan2(position[..., 1], position[..., 0])
+    angle = portable.arctan2(position[..., 1], position[..., 0])
     turns = np.mod(angle, 2.0 * np.pi) / (2.0 * np.pi)  # [0, 1) of a turn
     arm = np.maximum(np.round(np.hypot(position[..., 0], position[..., 1]) / spacing - turns), 0.0)
     ahead = turns + PATROL_LEAD_RAD / (2.0 * np.pi)
@@ -71,7 +72,7 @@ def scripted_policy(compiled) -> Callable[[dict], dict]:
 
     def act(observations: dict) -> dict:
         vector = observations["vector"].astype(np.float64)
-        position, heading = vector[..., 0:2] * scale, np.arctan2(vector[..., 3], vector[..., 2])
+        position, heading = vector[..., 0:2] * scale, portable.arctan2(vector[..., 3], vector[..., 2])
         water, fire_seen = vector[..., 4] > 0.5, vector[..., 7] > 0.5
         fire = vector[..., 5:7] * scale
         if search:

@@ -14,10 +14,12 @@ its seed once the spiral has taken it ``BLIND_DROP_M`` from the station.
 
 from __future__ import annotations
 
+import math
 from typing import Callable
 
 import numpy as np
 
+from ...base import portable
 from ...sim.procgen.wind import wrap_angle
 from .camera import NEW_TREE_BELOW, TREE_BELOW, pixel_offsets
 from .simulator import returns_reload
@@ -51,7 +53,7 @@ def scripted_policy(compiled) -> Callable[[dict], dict]:
     p = compiled.params
     half = compiled.generators["terrain"].extent_m / 2.0
     bound = p.height_bound_m
-    view = np.tan(np.radians(p.camera_fov_deg) / 2.0)
+    view = math.tan(math.radians(p.camera_fov_deg) / 2.0)
     period = compiled.decision_period  # an action is held this many physics steps: the gains are per decision
     turn = np.radians(p.turn_rate_deg) * period
     east, north = _pixel_grid()
@@ -63,7 +65,7 @@ def scripted_policy(compiled) -> Callable[[dict], dict]:
     # without a seed it heads for trees only where finding them pays (elsewhere it cruises on, exploring)
     seeks_trees = w.get("find_close_tree", 0.0) > 0.0 or w.get("high_fertility_location_delta", 0.0) > 0.0
     reach = np.hypot(east, north)
-    bearing = np.arctan2(north, east)
+    bearing = portable.arctan2(north, east)
 
     def steer_toward(heading: np.ndarray, target: np.ndarray, slow_within: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(throttle, steer) turning toward bearing ``target``; slow while turning or within ``slow_within`` m."""
@@ -115,7 +117,7 @@ def scripted_policy(compiled) -> Callable[[dict], dict]:
         v = frames[..., :10].astype(np.float64) / p.vector_observation_gain
         image = observations["visual"][..., 0].reshape(v.shape[:2] + (-1,))
         above, x, y, z = v[..., 0] * bound, v[..., 1] * half, v[..., 2] * half, v[..., 3] * bound
-        heading = np.arctan2(v[..., 5], v[..., 4])
+        heading = portable.arctan2(v[..., 5], v[..., 4])
         station_z, holding, energy = v[..., 7] * bound, v[..., 8] > 0.5, v[..., 9]
         ground = z - above
         home_distance = np.hypot(x, y)
@@ -148,16 +150,16 @@ def scripted_policy(compiled) -> Callable[[dict], dict]:
         # searching: straight on, turning back near the border toward a line 30 degrees off the centre, so that each
         # crossing sweeps new ground (straight back through the centre a drone can shuttle on one line all episode)
         outward = (np.abs(x) > BORDER * half) | (np.abs(y) > BORDER * half)
-        target = np.where(outward, np.arctan2(-y, -x) + SWEEP_OFFSET, heading)
+        target = np.where(outward, portable.arctan2(-y, -x) + SWEEP_OFFSET, heading)
         # looking for trees: to the team's last drop spot if there is one, else out and round the station on a spiral
         # (an Archimedean one: outward by SPIRAL_GAP_M a turn, so each turn's view borders the last's)
         looking = holding | seeks_trees
         spot = remembered(x, y, fresh, looking & ~sees_tree)
         known = looking & np.isfinite(spot[..., 0])
-        around = np.arctan2(y, x) + np.pi / 2.0 - np.arctan2(SPIRAL_GAP_M, 2.0 * np.pi * np.maximum(home_distance, 1.0))
-        spiral = np.where(home_distance < SPIRAL_START_M, np.arctan2(y, x), around)
+        around = portable.arctan2(y, x) + np.pi / 2.0 - portable.arctan2(SPIRAL_GAP_M, 2.0 * np.pi * np.maximum(home_distance, 1.0))
+        spiral = np.where(home_distance < SPIRAL_START_M, portable.arctan2(y, x), around)
         target = np.where(looking & ~outward, spiral, target)
-        target = np.where(known, np.arctan2(spot[..., 1] - y, spot[..., 0] - x), target)
+        target = np.where(known, portable.arctan2(spot[..., 1] - y, spot[..., 0] - x), target)
         height = np.full(x.shape, CRUISE_HEIGHT_M)
         # trees in sight: approach the nearest; too close (or a planted tree here): slide along the edge
         target = np.where(sees_tree, tree_bearing, target)
@@ -176,7 +178,7 @@ def scripted_policy(compiled) -> Callable[[dict], dict]:
         # home: straight to the station, slowing within 4 m and what a held throttle flies in the rest of a decision,
         # then down onto the pad
         home_throttle, home_steer = steer_toward(
-            heading, np.arctan2(-y, -x), home_distance / (4.0 + (period - 1) * p.drone_speed_m))
+            heading, portable.arctan2(-y, -x), home_distance / (4.0 + (period - 1) * p.drone_speed_m))
         home_throttle = np.where(home_distance < PAD_HOVER_M, 0.0, home_throttle)  # over the pad: hover, dock
         throttle, steer = np.where(seeking, throttle, home_throttle), np.where(seeking, steer, home_steer)
         home_z = np.where(home_distance < 6.0, station_z + LANDING_HEIGHT_M, ground + HOME_HEIGHT_M)

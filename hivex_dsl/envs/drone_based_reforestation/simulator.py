@@ -7,6 +7,8 @@ at reset: distances to the forest (the hidden fertility field) and the camera's 
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from gymnasium import spaces
 
@@ -92,7 +94,7 @@ class DroneReforestationSimulator:
         self._depletion = np.array([1.0 / p.energy_steps_without_seed, 1.0 / p.energy_steps_with_seed])
         # steps a docking lasts: the time to charge an empty battery, whatever this one held
         self.charging_cycle = int(np.ceil(1.0 / p.charge_per_step - 1e-9))
-        self._view = np.tan(np.radians(p.camera_fov_deg) / 2.0)
+        self._view = math.tan(math.radians(p.camera_fov_deg) / 2.0)
         gain = p.vector_observation_gain
         vector = spaces.Box(-gain, gain, (VECTOR_SIZE * self.observation_stacks,), np.float32)
         visual = spaces.Box(0.0, 1.0, (16, 16, 1), np.float32)

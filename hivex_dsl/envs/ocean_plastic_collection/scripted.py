@@ -20,6 +20,7 @@ from typing import Callable
 
 import numpy as np
 
+from ...base import portable
 from .camera import CAMERA_CELL_M, CAMERA_CELLS, CAMERA_HALF_M
 from .simulator import Motion, move
 
@@ -59,7 +60,7 @@ def bearing_of(direction: np.ndarray, offset: np.ndarray) -> np.ndarray:
     """Signed angle (B, A) from the heading ``direction`` (unit, (B, A, 2)) to ``offset``; positive to the right."""
     cross = direction[..., 0] * offset[..., 1] - direction[..., 1] * offset[..., 0]
     dot = (direction * offset).sum(axis=-1)
-    return -np.arctan2(cross, dot)
+    return -portable.arctan2(cross, dot)
 
 
 def trash_target(density, worth, position, direction, safe_m, neighbour, clear_m):
@@ -79,7 +80,7 @@ def trash_target(density, worth, position, direction, safe_m, neighbour, clear_m
     best = np.argmax(score, axis=-1)
     found = np.take_along_axis(score, best[..., None], axis=-1)[..., 0] > 0.0
     f, r = forward.reshape(-1)[best], right.reshape(-1)[best]
-    return found, np.arctan2(r, f), np.hypot(f, r)
+    return found, portable.arctan2(r, f), np.hypot(f, r)
 
 
 def cruise_rules(position, direction, half, found, steer, throttle):
@@ -133,7 +134,7 @@ def scripted_policy(compiled) -> Callable[[dict], np.ndarray]:
     half = compiled.generators["pollution"].half_extent_m
     top_speed = params.top_speed_m
     forward, right = cell_centres()
-    steps_away = np.hypot(forward, right) / top_speed + np.abs(np.arctan2(right, forward)) / np.radians(params.turn_rate_deg)
+    steps_away = np.hypot(forward, right) / top_speed + np.abs(portable.arctan2(right, forward)) / np.radians(params.turn_rate_deg)
     worth = 1.0 / (1.0 + steps_away / PATIENCE_STEPS)
     period = compiled.decision_period  # the stacked positions are a decision, this many physics steps, apart
     hold_still = weights.get("collect_trash", 0.0) < 0.0

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ...base import portable
 from ...base.numeric import clamp
 from ...sim.reward.terms import TermRegistry
 from .resources import MAX_SUPPORT_TENTHS, NEIGHBOURS, TENTHS
@@ -41,7 +42,7 @@ def remapped_distance(distance: np.ndarray, approaching: np.ndarray, threshold_m
 
 def broken_power_law(remapped: np.ndarray, s: float, a: float) -> np.ndarray:
     """The paper's d1n'' = P = (1 + (d1n' * 1000 / s)^a)^(-1/2), for d1n' >= 0."""
-    return (1.0 + (remapped * (POWER_LAW_SCALE / s)) ** a) ** POWER_LAW_EXPONENT
+    return portable.power(1.0 + portable.power(remapped * (POWER_LAW_SCALE / s), a), POWER_LAW_EXPONENT)
 
 
 def tower_performance(state, params) -> np.ndarray:
@@ -79,7 +80,8 @@ def performance_of(distance: np.ndarray, approaching: np.ndarray, seen: np.ndarr
     remapped = normalised * np.where(approaching, -0.5, 0.5)
     remapped += 0.5
     scaled = remapped * (POWER_LAW_SCALE / params.power_law_s)
-    return np.where(in_range, (1.0 + scaled ** params.power_law_a) ** POWER_LAW_EXPONENT, params.idle_performance)
+    performance = portable.power(1.0 + portable.power(scaled, params.power_law_a), POWER_LAW_EXPONENT)
+    return np.where(in_range, performance, params.idle_performance)
 
 
 @TERMS.term(

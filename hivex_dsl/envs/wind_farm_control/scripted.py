@@ -6,6 +6,7 @@ from typing import Callable
 
 import numpy as np
 
+from ...base import portable
 from ...sim.procgen.wind import wrap_angle
 
 
@@ -25,8 +26,8 @@ def scripted_policy(compiled) -> Callable[[np.ndarray], np.ndarray]:
     tolerance = np.radians(compiled.params.rotation_speed_deg) / 2.0
 
     def act(observations: np.ndarray) -> np.ndarray:
-        heading = np.arctan2(observations[..., 3], observations[..., 2])
-        wind = np.arctan2(observations[..., 5], observations[..., 4])
+        heading = portable.arctan2(observations[..., 3], observations[..., 2])
+        wind = portable.arctan2(observations[..., 5], observations[..., 4])
         error = wrap_angle(ideal_heading(heading, wind, perpendicular) - heading)
         return np.where(error > tolerance, 1, np.where(error < -tolerance, 2, 0)).astype(np.int64)
 

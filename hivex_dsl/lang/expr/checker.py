@@ -4,13 +4,13 @@ and building its evaluation plan, and refuses a node at its own source span when
 from __future__ import annotations
 
 import difflib
-import operator
 from dataclasses import dataclass
 from fractions import Fraction
 from typing import Mapping
 
 import numpy as np
 
+from ...base import portable
 from ...base.errors import did_you_mean
 from . import intervals, narrowing, plan, units
 from .errors import ExpressionError
@@ -148,7 +148,7 @@ class Checker:
                 raise ExpressionError(f"'**': {error}", node.op.offset, len(node.op.text)) from None
         interval = _refusing(node.op, lambda: intervals.checked(intervals.power(base.interval, exponent), "'**'"))
         n = int(exponent) if exponent.is_integer() else exponent
-        return Typed("number", base.per, unit, interval, plan.apply2(operator.pow, base.op, ("c", n)))
+        return Typed("number", base.per, unit, interval, plan.apply2(portable.power, base.op, ("c", n)))
 
     def compare(self, node: Compare, before: bool) -> Typed:
         operands = [self.check(operand, before) for operand in node.operands]
@@ -215,7 +215,7 @@ class Checker:
         if a.unit:
             raise ExpressionError(f"{name} needs a dimensionless argument, got {units.format_unit(a.unit)}",
                                   node.args[0].offset, node.args[0].length)
-        rule, ufunc = (intervals.exp, np.exp) if name == "exp" else (intervals.log, np.log)
+        rule, ufunc = (intervals.exp, portable.exp) if name == "exp" else (intervals.log, portable.log)
         interval = _refusing(token, lambda: intervals.checked(rule(a.interval), name))
         return Typed("number", per, a.unit, interval, plan.apply1(ufunc, a.op))
 

@@ -22,6 +22,7 @@ from typing import Callable
 
 import numpy as np
 
+from ...base import portable
 from ..batching import assemble
 from ..procgen.wind import TWO_PI
 from .engine import BURNING, BURNT, EXISTING, FireSpec, FireState, vector
@@ -65,7 +66,7 @@ def _block_of(radius: int, cells: int, index: type) -> tuple[np.ndarray, np.ndar
 def _offset_directions(radius: int) -> np.ndarray:
     """(N,) float64 direction atan2(d_row, d_col) of each block offset."""
     d_row, d_col = block_offsets(radius)
-    angle = np.arctan2(d_row, d_col)
+    angle = portable.arctan2(d_row, d_col)
     angle.flags.writeable = False
     return angle
 

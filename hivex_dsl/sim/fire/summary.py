@@ -8,10 +8,17 @@ from __future__ import annotations
 
 import numpy as np
 
+from ...base import portable
 from .engine import FireState, split_flat
 
 FIRE_FACTS = 5  # values of fire_summary per world
 SQRT2 = float(np.sqrt(2.0))
+
+
+def burning_share(count: np.ndarray | int, cells: int) -> np.ndarray:
+    """log(1 + n) / log(1 + C^2) for n burning trees (any shape) on the C x C grid, the same bits on every
+    processor (:mod:`hivex_dsl.base.portable`)."""
+    return portable.log(1.0 + np.asarray(count, dtype=np.float64)) / portable.log(1.0 + cells * cells)
 
 
 def fire_summary(fire: FireState, half_extent_m: float, spacing_m: float) -> np.ndarray:
@@ -34,7 +41,7 @@ def fire_summary(fire: FireState, half_extent_m: float, spacing_m: float) -> np.
     square = np.bincount(world, weights=x * x + y * y, minlength=batch) / n
     spread = np.sqrt(np.maximum(square - mean_x * mean_x - mean_y * mean_y, 0.0))
     out = np.empty((batch, FIRE_FACTS))
-    out[:, 0] = np.log1p(count) / np.log1p(cells * cells)
+    out[:, 0] = burning_share(count, cells)
     out[:, 1] = mean_x / half_extent_m
     out[:, 2] = mean_y / half_extent_m
     out[:, 3] = spread / (SQRT2 * half_extent_m)

@@ -26,6 +26,7 @@ from typing import Literal
 import numpy as np
 from pydantic import Field, model_validator
 
+from ...base import portable
 from ...lang.spec.common import SCHEMA_VERSION, StrictModel
 from .noise import draw_lattice, fractal2d, require_int
 from .presets import load_preset
@@ -161,7 +162,7 @@ def _background(rng: np.random.Generator, spec: PollutionSpec, batch: int) -> np
     y = np.broadcast_to(ys / spec.noise_scale_m, (batch,) + ys.shape)
     noise = fractal2d(perm, grads, x, y, octaves=spec.noise_octaves, persistence=spec.noise_persistence)
     low, high = noise.min(axis=(1, 2), keepdims=True), noise.max(axis=(1, 2), keepdims=True)
-    return ((noise - low) / np.maximum(high - low, 1e-12)) ** spec.contrast
+    return portable.power((noise - low) / np.maximum(high - low, 1e-12), spec.contrast)
 
 
 def _hotspots(rng: np.random.Generator, spec: PollutionSpec, batch: int) -> np.ndarray:
@@ -169,7 +170,7 @@ def _hotspots(rng: np.random.Generator, spec: PollutionSpec, batch: int) -> np.n
     reach = spec.half_extent_m - spec.hotspot_margin_m
     centres = rng.uniform(-reach, reach, size=(batch, spec.hotspot_count, 2))
     offsets = _cell_centres(spec)[None, None, :, None] - centres[:, :, None, :]  # (B, K, R, 2)
-    profiles = np.exp(-0.5 * (offsets / spec.hotspot_radius_m) ** 2)  # separable Gaussian factors
+    profiles = portable.exp(-0.5 * (offsets / spec.hotspot_radius_m) ** 2)  # separable Gaussian factors
     # sum_k gy[b, k, i] * gx[b, k, j] as a batched matrix product: no (B, K, R, R) intermediate.
     return spec.hotspot_weight * np.matmul(profiles[..., 1].transpose(0, 2, 1), profiles[..., 0])
 

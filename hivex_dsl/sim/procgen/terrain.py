@@ -19,6 +19,7 @@ from typing import Literal
 import numpy as np
 from pydantic import Field, model_validator
 
+from ...base import portable
 from ...base.errors import is_integer
 from ...lang.spec.common import SCHEMA_VERSION, StrictModel
 from .noise import draw_lattice, fractal2d
@@ -207,9 +208,9 @@ def _island(rng: np.random.Generator, spec: TerrainSpec) -> np.ndarray:
     edge = np.abs(np.linspace(-1.0, 1.0, n))
     v = np.maximum(edge[None, :], edge[:, None])
     a, b = spec.falloff_a, spec.falloff_b
-    falloff = v**a / (v**a + (b - b * v) ** a)
+    falloff = portable.power(v, a) / (portable.power(v, a) + portable.power(b - b * v, a))
     t = np.clip(value - falloff, 0.0, 1.0)
-    return t**spec.height_exponent * (spec.height_multiplier * spec.metres_per_multiplier)
+    return portable.power(t, spec.height_exponent) * (spec.height_multiplier * spec.metres_per_multiplier)
 
 
 def _place_village(rng: np.random.Generator, raw: Terrain, spec: TerrainSpec) -> np.ndarray:

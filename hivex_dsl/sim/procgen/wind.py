@@ -23,6 +23,7 @@ from typing import Any, ClassVar
 import numpy as np
 from pydantic import Field
 
+from ...base import portable
 from ...base.numeric import constant
 from ...lang.spec.common import AS_DEFAULT, StrictModel
 from ..batching import assemble, pad_by_world, replace_worlds, select_worlds
@@ -198,7 +199,7 @@ def _original_frame(state: WindState, draws: np.ndarray, constants: _WindOperand
     fraction = np.where(reached, 0.0, state.fraction) + np.where(frame, constants.lerp_growth, 0.0)
     goal = np.stack([np.cos(target), np.sin(target)], axis=1)
     vector = state.vector + np.where(frame, np.minimum(fraction, 1.0), 0.0)[:, None] * (goal - state.vector)
-    return np.arctan2(vector[:, 1], vector[:, 0]), target, vector, fraction
+    return portable.arctan2(vector[:, 1], vector[:, 0]), target, vector, fraction
 
 
 @dataclass(frozen=True)
