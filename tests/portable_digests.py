@@ -5,7 +5,7 @@
 Run in a fresh Python whose NumPy takes the kernels of the processor imitated (NPY_DISABLE_CPU_FEATURES). Per
 environment, its main scenario's training worlds from two seeds: every state after reset (terrain, forest, maps),
 then a uniform random and the scripted policy, each for DECISIONS decisions, every observation, reward, reward term,
-global state and the state they end in. Beside them, NumPy's own functions that take processor-dependent kernels and
+global state and the state they end in (and of :data:`VARIANTS`, params that take other paths). Beside them, NumPy's own functions that take processor-dependent kernels and
 :mod:`hivex_dsl.base.portable`'s, on one sample.
 """
 
@@ -19,6 +19,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+import yaml
 
 from hivex_dsl.base import portable
 from hivex_dsl.compiler import compile
@@ -29,6 +30,8 @@ from hivex_dsl.runtime.global_state import GlobalState
 ROOT = Path(__file__).resolve().parents[1]
 DECISIONS = 120
 SEEDS = (3, 14)
+# params that take another path through the portable functions than the main scenario's: name -> (environment, params)
+VARIANTS = {"wind_farm_control, the release's wind law": ("wind_farm_control", {"wind_original_law": 1})}
 
 
 def feed(digest: Any, value: Any) -> None:
@@ -50,8 +53,9 @@ def feed(digest: Any, value: Any) -> None:
         digest.update(repr(value).encode())
 
 
-def environment_digest(environment: str) -> str:
-    compiled = compile(ROOT / "scenarios" / environment / "main.yaml")
+def environment_digest(environment: str, params: dict | None = None) -> str:
+    scenario = yaml.safe_load((ROOT / "scenarios" / environment / "main.yaml").read_text(encoding="utf-8"))
+    compiled = compile(scenario | {"params": {**scenario.get("params", {}), **(params or {})}})
     core = BatchedEnv(compiled, batch=2, split="train")
     world_state = GlobalState.of(core)
     digest = hashlib.sha256()
@@ -82,4 +86,6 @@ def function_digests() -> dict[str, str]:
 
 
 if __name__ == "__main__":
-    print(json.dumps({**function_digests(), **{name: environment_digest(name) for name in sys.argv[1:]}}))
+    environments = sys.argv[1:]
+    variants = {name: environment_digest(*variant) for name, variant in VARIANTS.items() if variant[0] in environments}
+    print(json.dumps({**function_digests(), **{name: environment_digest(name) for name in environments}, **variants}))

@@ -113,3 +113,17 @@ def test_a_convolutional_file_tells_the_kernels_apart_within_its_points(environm
     assert default[:follows_record] == curve[:follows_record] and default[follows_record] != curve[follows_record]
     assert portable[:portable_agrees] == default[:portable_agrees]
     assert portable[portable_agrees] != default[portable_agrees]
+
+
+def test_numpy_s_kernels_of_an_avx2_only_processor_train_wrm_alike():
+    """Session 81, Wildfire Resource Management (whose power law took NumPy's processor-dependent pow until then):
+    NumPy imitating an AVX2-only processor gives the processor's own returns under the default and under cpu_kernels
+    portable, over 40 points; the default is the committed record's curve (trained on this Xeon) and portable parts
+    from it, so the two settings are told apart within the points."""
+    recorded = json.loads(script.results_file("wildfire_resource_management").read_text("utf-8"))
+    assert recorded["points"] == 40
+    assert recorded["settings"]["portable-numpy-avx2"] == {
+        "NPY_DISABLE_CPU_FEATURES": "X86_V4 AVX512_ICL AVX512_SPR", "arguments": "--set cpu_kernels=portable"}
+    (xeon,) = [row for name, row in recorded["machines"].items() if "Intel" in name and "model 207" in name]
+    assert xeon["numpy-avx2"] == xeon["default"] == script.record_curve(recorded["scenario"])[:40]
+    assert xeon["portable-numpy-avx2"] == xeon["portable"] != xeon["default"]

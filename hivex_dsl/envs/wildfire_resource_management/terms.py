@@ -10,7 +10,8 @@ the neighbourhood term each neighbour's p times the share the agent gives it (th
 untrained and trained towers were paid for keeping and giving), and the collective term is the root mean square
 of p over all nine towers (the equation). rewards/wildfire_resource_management.yaml's notes give the evidence
 for each reading; params name the readings before (P times the kept share squared, the neighbours' summed P
-times the whole share given, P alone).
+times the whole share given, P alone). The power law takes libm's pow on every processor (hivex_dsl.base.portable):
+NumPy's own ** took other kernels on AVX-512 processors, and the rewards' last bits followed the machine.
 """
 
 from __future__ import annotations
