@@ -1,4 +1,4 @@
-"""Float64 functions that give the same bits on every x86-64 processor.
+"""Float64 functions that give the same bits on every x86-64 processor with AVX2, under one C library.
 
 NumPy picks a ufunc's kernel by the processor it runs on. On one with AVX-512, ``np.exp``, ``np.log``,
 ``np.log1p``, ``np.arctan2``, ``np.tan`` and ``x ** y`` (``y`` other than -1, 0, 0.5, 1 and 2) take NumPy's own
@@ -17,9 +17,12 @@ These functions reach libm on every processor, through NumPy loops that are neve
 - :func:`log` is the real part of libm's ``clog`` of ``x + 0j``, which computes ``log |x|`` its own way (not bit
   for bit ``log(x)``, but the same on every processor).
 
-So each equals what NumPy computes on an AVX2-only processor (``log`` aside), and costs a few times as much: use
-them where a result decides a trajectory, and plain NumPy elsewhere (a picture, a report). ``np.sqrt``, ``np.sin``,
-``np.cos``, ``np.hypot``, ``x ** 2`` and the four arithmetic operations give the same bits everywhere already.
+libm is the C library's: glibc picks its FMA code for these on every processor with AVX2 (Intel's since 2013, AMD's
+since 2015), so the bits are alike there; an older processor, or another C library (macOS's, musl), may round some
+results otherwise. So each equals what NumPy computes on an AVX2-only processor (``log`` aside), and costs a few
+times as much: use them where a result decides a trajectory, and plain NumPy elsewhere (a picture, a report).
+``np.sqrt``, ``np.sin``, ``np.cos``, ``np.hypot``, ``x ** 2`` and the four arithmetic operations give the same bits
+whatever kernels NumPy takes already.
 """
 
 from __future__ import annotations
