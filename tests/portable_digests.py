@@ -5,8 +5,8 @@
 Run in a fresh Python whose NumPy takes the kernels of the processor imitated (NPY_DISABLE_CPU_FEATURES). Per
 environment, its main scenario's training worlds from two seeds: every state after reset (terrain, forest, maps),
 then a uniform random and the scripted policy, each for DECISIONS decisions, every observation, reward, reward term,
-global state and the state they end in (and of :data:`VARIANTS`, params that take other paths). Beside them, NumPy's own functions that take processor-dependent kernels and
-:mod:`hivex_dsl.base.portable`'s, on one sample.
+global state and the state they end in; the same for :data:`VARIANTS`, params that take other paths. Beside them,
+NumPy's own functions that take processor-dependent kernels and :mod:`hivex_dsl.base.portable`'s, on one sample.
 """
 
 from __future__ import annotations
@@ -31,7 +31,9 @@ ROOT = Path(__file__).resolve().parents[1]
 DECISIONS = 120
 SEEDS = (3, 14)
 # params that take another path through the portable functions than the main scenario's: name -> (environment, params)
-VARIANTS = {"wind_farm_control, the release's wind law": ("wind_farm_control", {"wind_original_law": 1})}
+VARIANTS = {
+    "wind_farm_control, the release's wind law": ("wind_farm_control", {"wind_original_law": 1}),
+}
 
 
 def feed(digest: Any, value: Any) -> None:

@@ -156,7 +156,8 @@ def scripted_policy(compiled) -> Callable[[dict], dict]:
         looking = holding | seeks_trees
         spot = remembered(x, y, fresh, looking & ~sees_tree)
         known = looking & np.isfinite(spot[..., 0])
-        around = portable.arctan2(y, x) + np.pi / 2.0 - portable.arctan2(SPIRAL_GAP_M, 2.0 * np.pi * np.maximum(home_distance, 1.0))
+        circumference = 2.0 * np.pi * np.maximum(home_distance, 1.0)
+        around = portable.arctan2(y, x) + np.pi / 2.0 - portable.arctan2(SPIRAL_GAP_M, circumference)
         spiral = np.where(home_distance < SPIRAL_START_M, portable.arctan2(y, x), around)
         target = np.where(looking & ~outward, spiral, target)
         target = np.where(known, portable.arctan2(spot[..., 1] - y, spot[..., 0] - x), target)

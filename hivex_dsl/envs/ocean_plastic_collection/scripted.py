@@ -134,7 +134,8 @@ def scripted_policy(compiled) -> Callable[[dict], np.ndarray]:
     half = compiled.generators["pollution"].half_extent_m
     top_speed = params.top_speed_m
     forward, right = cell_centres()
-    steps_away = np.hypot(forward, right) / top_speed + np.abs(portable.arctan2(right, forward)) / np.radians(params.turn_rate_deg)
+    turning = np.abs(portable.arctan2(right, forward)) / np.radians(params.turn_rate_deg)
+    steps_away = np.hypot(forward, right) / top_speed + turning
     worth = 1.0 / (1.0 + steps_away / PATIENCE_STEPS)
     period = compiled.decision_period  # the stacked positions are a decision, this many physics steps, apart
     hold_still = weights.get("collect_trash", 0.0) < 0.0
