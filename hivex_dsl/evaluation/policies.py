@@ -55,10 +55,12 @@ def decide(act: Policy, observations: Any, core: Any) -> Any:
 
 def in_float64(observations: Any) -> Any:
     """``observations`` (an array or a dict of them) with every float32 array as float64, for the scripted
-    policies. Their trigonometry on float32 differs by CPU: numpy's float32 arctan2 is not correctly rounded
+    policies. Their trigonometry on float32 differed by CPU: numpy's float32 arctan2 is not correctly rounded
     (16% of random angles on an AVX2 machine) and takes another SIMD path on AVX-512 ones, and a last-bit
     difference near a threshold flips a hold-or-turn decision (WFC's scripted return moved by 3.5e-5 between
-    two machines). In float64 a last bit is 5e8 times smaller (2.2e-16 against 1.2e-7)."""
+    two machines). In float64 a last bit is 5e8 times smaller (2.2e-16 against 1.2e-7), and the policies take
+    their angles from :func:`hivex_dsl.base.portable.arctan2`, libm's on every processor, where NumPy's float64
+    arctan2 differs too."""
     if isinstance(observations, dict):
         return {key: in_float64(value) for key, value in observations.items()}
     if isinstance(observations, np.ndarray) and observations.dtype == np.float32:
