@@ -2,8 +2,10 @@
 
 NumPy picks the kernels of exp, log, arctan2 and ** by processor: its own AVX-512 ones where the processor has them,
 libm's elsewhere, and the two differ in the last bit of some results. A Wildfire Resource Management tower's
-performance (a broken power law) did so from its eighth decision, so a run on an AVX2-only processor parted from
-the same run on an AVX-512 one even with ``cpu_kernels portable``. NumPy's NPY_DISABLE_CPU_FEATURES imitates
+performance (a broken power law) did so from its eighth decision, so an AVX2-only processor and an AVX-512 one logged
+different rewards and statistics from the same seed, even under ``cpu_kernels portable`` (a training run kept its
+first 40 points, float32 dropping those bits: benchmarks/results/kernel_portability_wildfire_resource_management.json),
+and the scripted policies took other decisions. NumPy's NPY_DISABLE_CPU_FEATURES imitates
 an AVX2-only processor (X86_V4 and the AVX-512 groups above it off) and one with SSE4.2 alone (X86_V3 off as well)
 in a fresh Python; tests/portable_digests.py computes what each environment and function gives there.
 """
@@ -31,7 +33,7 @@ IMITATED = {"AVX2 alone": AVX512, "SSE4.2 alone": ("X86_V3",) + AVX512}
 def test_each_function_is_libm_s():
     rng = np.random.default_rng(1)
     x, y = rng.uniform(-5.0, 5.0, 2000), rng.uniform(-5.0, 5.0, 2000)
-    x[:8] = y[:8] = [0.0, -0.0, 0.0, -0.0, np.inf, -np.inf, 1.0, -1.0]
+    x[:8] = [0.0, -0.0, 0.0, -0.0, np.inf, -np.inf, 1.0, -1.0]  # signed zeros and infinities: atan2's quadrants
     y[:8] = [0.0, 0.0, -0.0, -0.0, 1.0, 1.0, np.inf, -np.inf]
     assert [float(v) for v in portable.arctan2(y, x)] == [math.atan2(b, a) for a, b in zip(x, y)]
     assert [float(v) for v in portable.exp(x[8:])] == [math.exp(a) for a in x[8:]]

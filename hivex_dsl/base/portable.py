@@ -4,7 +4,7 @@ NumPy picks a ufunc's kernel by the processor it runs on. On one with AVX-512, `
 ``np.log1p``, ``np.arctan2``, ``np.tan`` and ``x ** y`` (``y`` other than -1, 0, 0.5, 1 and 2) take NumPy's own
 AVX-512 kernels; on one with AVX2 alone the C library's (libm). Both are accurate to about an ulp, and they differ in
 the last bit of some results. A simulator that computes with them then gives another trajectory on another
-processor, and so does a training run. An AVX2-only processor can be imitated on an AVX-512 one by starting Python
+processor, and a training run may part in turn. An AVX2-only processor can be imitated on an AVX-512 one by starting Python
 with ``NPY_DISABLE_CPU_FEATURES="X86_V4 AVX512_ICL AVX512_SPR"`` (tests/test_portable_math.py does).
 
 These functions reach libm on every processor, through NumPy loops that are never vectorised:
