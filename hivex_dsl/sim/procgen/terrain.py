@@ -208,7 +208,8 @@ def _island(rng: np.random.Generator, spec: TerrainSpec) -> np.ndarray:
     edge = np.abs(np.linspace(-1.0, 1.0, n))
     v = np.maximum(edge[None, :], edge[:, None])
     a, b = spec.falloff_a, spec.falloff_b
-    falloff = portable.power(v, a) / (portable.power(v, a) + portable.power(b - b * v, a))
+    rising = portable.power(v, a)
+    falloff = rising / (rising + portable.power(b - b * v, a))
     t = np.clip(value - falloff, 0.0, 1.0)
     return portable.power(t, spec.height_exponent) * (spec.height_multiplier * spec.metres_per_multiplier)
 
