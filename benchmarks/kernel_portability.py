@@ -32,6 +32,7 @@ import tempfile
 import time
 from pathlib import Path
 
+from hivex_dsl.base.portable import AVX512_GROUPS
 from hivex_dsl.train.devices import machine
 from hivex_dsl.train.rundir import dumps
 
@@ -45,8 +46,8 @@ SETTINGS: dict[str, dict[str, str]] = {
     "portable": {},  # no variable: `hivex train` pins the paths itself (cpu_kernels portable, hivex_dsl.train.kernels)
     # NumPy as on a processor with AVX2 alone (its AVX-512 groups off): what such a processor computes where MKL and
     # ATen take one code path on every processor, as under portable (tests/test_portable_math.py)
-    "numpy-avx2": {"NPY_DISABLE_CPU_FEATURES": "X86_V4 AVX512_ICL AVX512_SPR"},
-    "portable-numpy-avx2": {"NPY_DISABLE_CPU_FEATURES": "X86_V4 AVX512_ICL AVX512_SPR"},
+    "numpy-avx2": {"NPY_DISABLE_CPU_FEATURES": " ".join(AVX512_GROUPS)},
+    "portable-numpy-avx2": {"NPY_DISABLE_CPU_FEATURES": " ".join(AVX512_GROUPS)},
 }
 PORTABLE = ["--set", "cpu_kernels=portable"]
 SETTING_ARGUMENTS = {"portable": PORTABLE, "portable-numpy-avx2": PORTABLE}  # beside the record's command

@@ -26,8 +26,7 @@ from hivex_dsl.base import portable
 from hivex_dsl.compiler import registry
 
 ROOT = Path(__file__).resolve().parents[1]
-AVX512 = ("X86_V4", "AVX512_ICL", "AVX512_SPR")  # NumPy 2's groups of AVX-512 features
-IMITATED = {"AVX2 alone": AVX512, "SSE4.2 alone": ("X86_V3",) + AVX512}
+IMITATED = {"AVX2 alone": portable.AVX512_GROUPS, "SSE4.2 alone": ("X86_V3",) + portable.AVX512_GROUPS}
 
 
 def test_each_function_is_libm_s():

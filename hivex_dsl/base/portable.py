@@ -4,8 +4,9 @@ NumPy picks a ufunc's kernel by the processor it runs on. On one with AVX-512, `
 ``np.log1p``, ``np.arctan2``, ``np.tan`` and ``x ** y`` (``y`` other than -1, 0, 0.5, 1 and 2) take NumPy's own
 AVX-512 kernels; on one with AVX2 alone the C library's (libm). Both are accurate to about an ulp, and they differ in
 the last bit of some results. A simulator that computes with them then gives another trajectory on another
-processor, and a training run may part in turn. An AVX2-only processor can be imitated on an AVX-512 one by starting Python
-with ``NPY_DISABLE_CPU_FEATURES="X86_V4 AVX512_ICL AVX512_SPR"`` (tests/test_portable_math.py does).
+processor, and a training run may part in turn. An AVX2-only processor can be imitated on an AVX-512 one by
+starting Python with ``NPY_DISABLE_CPU_FEATURES`` naming :data:`AVX512_GROUPS` (tests/test_portable_math.py and
+benchmarks/kernel_portability.py do).
 
 These functions reach libm on every processor, through NumPy loops that are never vectorised:
 
@@ -29,6 +30,9 @@ from __future__ import annotations
 
 import numpy as np
 
+# NumPy 2's groups of AVX-512 features: with these named in NPY_DISABLE_CPU_FEATURES, NumPy takes the kernels of an
+# AVX2-only processor
+AVX512_GROUPS = ("X86_V4", "AVX512_ICL", "AVX512_SPR")
 
 # NumPy computes an array to these scalar powers as a reciprocal, ones, a square root, a copy and a square: IEEE
 # operations, correctly rounded everywhere
