@@ -242,6 +242,18 @@ def test_a_training_average_is_the_runs_mean_over_every_summary_point(wfc_event_
         evidence.training_average("wind_farm_control", 0, 0, "No Such Panel")
 
 
+def test_a_training_spread_is_how_far_the_runs_mean_scatters(wfc_event_runs):
+    """WFC pattern 0's return: the sample standard deviation of the three runs' mean over its 200 training points,
+    by the event files and by the digitised curve, within the 2 pt line tolerance (each point's error bounded by it,
+    so their deviation moves by at most as much)."""
+    runs = _events(wfc_event_runs, "train")["Environment/Cumulative Reward"][1]
+    panel = original_curves("wind_farm_control", 0, 0).panel("Cumulative Reward")
+    spread = evidence.training_spread("wind_farm_control", 0, 0, "Cumulative Reward")
+    assert spread == pytest.approx(runs.mean(axis=0).std(ddof=1), abs=2 * panel.y_per_pt)
+    with pytest.raises(evidence.EvidenceError, match="no training band of 'No Such Panel'"):
+        evidence.training_spread("wind_farm_control", 0, 0, "No Such Panel")
+
+
 def test_opc_main_task_vessel_episodes_end_early():
     points = evidence.learning_points("ocean_plastic_collection", 0, None, evidence.EPISODE_LENGTH)
     assert points[0].mean < 50  # a few dozen decisions for the untrained policy

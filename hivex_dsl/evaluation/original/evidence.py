@@ -144,12 +144,25 @@ def training_average(environment: str, task_index: int, level: int | None, panel
     episodes would. Where no policy changes the panel (WRM's Episode Length: :func:`runs_agree` is 1) every
     point samples the same episodes' distribution, the untrained first one included, and this is its most
     precise reading."""
+    return float(training_points(environment, task_index, level, panel).mean())
+
+
+def training_spread(environment: str, task_index: int, level: int | None, panel: str = EPISODE_LENGTH) -> float:
+    """How far one cell's training summary points (each the mean over the three runs) scatter: their standard
+    deviation (the sample's). Where no policy changes the panel it reads how widely the episodes behind the points spread, each
+    point pooling the episodes that ended in its window; this toolkit's runs compare like with like when their
+    episodes are pooled in the same windows (benchmarks/wrm_fire_length.py)."""
+    return float(training_points(environment, task_index, level, panel).std(ddof=1))
+
+
+def training_points(environment: str, task_index: int, level: int | None, panel: str = EPISODE_LENGTH) -> np.ndarray:
+    """(k,) one cell's panel at each training summary point, the mean over the three runs."""
     cell = original_curves(environment, task_index, level)
     found = cell.panel(panel) if cell is not None else None
     if found is None or found.training is None or not len(found.training.band_steps):
         raise EvidenceError(f"{environment} task {task_index} level {level}: no training band of {panel!r}")
     curve = found.training
-    return float(curve.mean_at(curve.band_steps).mean())
+    return np.asarray(curve.mean_at(curve.band_steps), dtype=float)
 
 
 @dataclass(frozen=True)
@@ -280,7 +293,8 @@ def pooled_ratio(environment: str, task_index: int, level: int | None, numerator
 
 __all__ = ["APPENDIX", "BestOfThree", "Budget", "CellLength", "EpisodeCeiling", "EvidenceError", "LearningPoint",
            "MAX_STEP", "best_of_three", "budgets", "curve_points", "decision_period", "episode_ceiling",
-           "learning_points", "pooled_ratio", "runs_agree", "sheet_rows", "summary", "training_average"]
+           "learning_points", "pooled_ratio", "runs_agree", "sheet_rows", "summary", "training_average",
+           "training_points", "training_spread"]
 
 
 def _level(level: int | None) -> str:
