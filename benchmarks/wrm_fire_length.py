@@ -53,9 +53,11 @@ def stream_spread(worlds: np.ndarray, ends: np.ndarray, values: np.ndarray, wind
 def streams(level: int, worlds: int, steps: int, params: dict,
             generators: dict | None = None) -> tuple[np.ndarray, ...]:
     """(world, end step, length, Collective Performance) (N,) of every episode ended within ``steps`` steps of
-    ``worlds`` continuous all-zeros streams at ``level``, under the scenario's ``params`` and ``generators``."""
+    ``worlds`` continuous all-zeros streams at ``level``, under the scenario's ``params`` and ``generators``. A
+    tower's performance is its P alone unless ``params`` say otherwise (performance_weight 'none': all-zeros towers
+    hold no share, so the default reading would log no Collective Performance), the fire's own yield."""
     scenario = {"hivex": 1, "environment": ENVIRONMENT, "terrain_level": level, "agents": 9, "episode_length": 500,
-                "seeds": {"train": 5000, "test": 6000}, "params": params}
+                "seeds": {"train": 5000, "test": 6000}, "params": {"performance_weight": "none", **params}}
     compiled = hivex_dsl.compile({**scenario, "generators": generators} if generators else scenario)
     env = BatchedEnv(compiled, batch=worlds, split="train")
     env.reset()

@@ -148,10 +148,10 @@ def training_average(environment: str, task_index: int, level: int | None, panel
 
 
 def training_spread(environment: str, task_index: int, level: int | None, panel: str = EPISODE_LENGTH) -> float:
-    """How far one cell's training summary points (each the mean over the three runs) scatter: their standard
-    deviation (the sample's). Where no policy changes the panel it reads how widely the episodes behind the points spread, each
-    point pooling the episodes that ended in its window; this toolkit's runs compare like with like when their
-    episodes are pooled in the same windows (benchmarks/wrm_fire_length.py)."""
+    """How far one cell's training summary points (each the mean over the three runs) scatter: their sample
+    standard deviation. Where no policy changes the panel it reads how widely the episodes behind the points
+    spread, each point pooling the episodes that ended in its window; this toolkit's runs compare like with like
+    when their episodes are pooled in the same windows (benchmarks/wrm_fire_length.py)."""
     return float(training_points(environment, task_index, level, panel).std(ddof=1))
 
 
