@@ -5,7 +5,6 @@
     python benchmarks/wrm_untrained_shares.py --readings [--levels 1,5,10]   # uniform random play, other readings
     python benchmarks/wrm_untrained_shares.py --model   # the nine towers' allocations alone, other mechanics
     python benchmarks/wrm_untrained_shares.py --trained   # the last tenth of training, the original's and the grid's
-    python benchmarks/wrm_untrained_shares.py --phases   # the main task's keeping over training, pooled over levels
     python benchmarks/wrm_untrained_shares.py --holdings RUN/checkpoint.pt [...]   # what each trained tower holds
 
 The first training point of every original cell is (mostly) its untrained policy: one network (every config that
@@ -25,9 +24,7 @@ With --model, the allocations alone (no fire: P alike at every tower and step, s
 and giving 3 E[given] / E[held], the readings before session 74) under uniform random play, as the environment moves
 its tenths and with a tower's 'Sub from Self' taking back what its neighbours gave it, first or in proportion to what
 it holds, each from nothing or from nine tenths on the tower itself. With --trained, keeping over the last tenth of
-training, per task and level: the original's runs (their mean and band) and every seed of the committed grid's point;
-with --phases, the main task's keeping in phases of the budget, the original's runs' mean and the mean of the grid's
-seeds, per level and over the ten levels (a level's end is one stream's outcome, the mean over levels the pull). With
+training, per task and level: the original's runs (their mean and band) and every seed of the committed grid's point. With
 --holdings, what each of the nine towers keeps and holds under trained checkpoints (6 test episodes). The reward
 table's notes 'The untrained towers' and 'The terms read what the towers hold' record what it printed.
 """
@@ -154,58 +151,6 @@ def print_trained_keeping() -> None:
         mean = f" ({np.mean(ours):.3f})" if len(ours) > 1 else ""
         print(f"{task:4d}  {level:5d}  {keeping:8.3f} ({lower:.3f}-{upper:.3f})  |  "
               f"{' '.join(f'{v:.3f}' for v in ours)}{mean}", flush=True)
-
-
-PHASES = ((0.0, 0.1), (0.1, 0.25), (0.25, 0.5), (0.5, 0.75), (0.9, 1.0))  # fractions of the budget
-
-
-def phase_keeping(fractions: np.ndarray, kept: np.ndarray, individual: np.ndarray, task: int = 0) -> list[float]:
-    """Keeping in each of :data:`PHASES` (lower bound excluded, upper included) of a training curve: its summary
-    points at ``fractions`` (k,) of the budget, the paid statistic ``kept`` (k,) summed over a phase's points over
-    ``individual``'s (k,; NaN where a point held no episode); NaN for a phase whose points logged none."""
-    found = []
-    for low, high in PHASES:
-        here = (fractions > low) & (fractions <= high) & np.isfinite(individual)
-        total = float(individual[here].sum())
-        found.append(shares(float(np.nansum(kept[here])), 0.0, total, task)[0] if total > 0 else float("nan"))
-    return found
-
-
-def original_phase_keeping(level: int, task: int = 0) -> list[float]:
-    """:func:`phase_keeping` of the original's runs' mean at ``task`` and ``level``."""
-    cell = original_curves(ENVIRONMENT, task, level)
-    if cell is None:
-        raise HivexError(f"no original cell for task {task} at level {level}")
-    kept, individual = (cell.panel(name).training for name in (SELF, INDIVIDUAL))
-    return phase_keeping(kept.band_steps / kept.last_step, kept.mean_at(kept.band_steps),
-                         individual.mean_at(kept.band_steps), task)
-
-
-def recorded_phase_keeping(run: dict, budget: float, task: int = 0) -> list[float]:
-    """:func:`phase_keeping` of one recorded run (a grid point or one of its ``other_seeds``) of ``budget``
-    agent-steps."""
-    steps = np.array([row[0] for row in run["curve"]], dtype=float)
-    kept, individual = (np.array([np.nan if v is None else v for v in run["curve_panels"][name]], dtype=float)
-                        for name in (SELF, INDIVIDUAL))
-    return phase_keeping(steps / budget, kept, individual, task)
-
-
-def print_phase_keeping() -> None:
-    """The main task's keeping in :data:`PHASES`, per level and over the ten levels: the original's runs' mean and
-    the mean over the committed grid's seeds."""
-    import json
-    from pathlib import Path
-
-    grid = json.loads((Path(__file__).resolve().parent / "baselines" / "grids" / f"{ENVIRONMENT}.json").read_text())
-    main = sorted((p for p in grid["points"] if p["task_index"] == 0), key=lambda p: p["level"])
-    theirs, ours = [], []
-    print("level  " + "  ".join(f"{low:.2f}-{high:.2f} original / ours" for low, high in PHASES))
-    for point in main:
-        theirs.append(original_phase_keeping(point["level"]))
-        ours.append(np.mean([recorded_phase_keeping(run, point["agent_steps"])
-                             for run in (point, *point.get("other_seeds", []))], axis=0))
-        print(f"{point['level']:5d}  " + "  ".join(f"{a:9.3f} / {b:.3f}    " for a, b in zip(theirs[-1], ours[-1])))
-    print("mean   " + "  ".join(f"{a:9.3f} / {b:.3f}    " for a, b in zip(np.mean(theirs, 0), np.mean(ours, 0))))
 
 
 def untrained_shares(level: int, seed: int, worlds: int = 4, decisions: int = 400,
@@ -358,8 +303,6 @@ def main(argv: list[str] | None = None) -> int:
                         help="the untrained networks under the terms' readings before session 74")
     parser.add_argument("--trained", action="store_true",
                         help="keeping over the last tenth of training, the original's runs and the committed grid")
-    parser.add_argument("--phases", action="store_true",
-                        help="the main task's keeping in phases of training, the original's and the grid's")
     parser.add_argument("--holdings", nargs="+", metavar="CHECKPOINT",
                         help="what each tower keeps and holds under trained checkpoints (6 test episodes)")
     args = parser.parse_args(argv)
@@ -374,9 +317,6 @@ def main(argv: list[str] | None = None) -> int:
             return 0
         if args.trained:
             print_trained_keeping()
-            return 0
-        if args.phases:
-            print_phase_keeping()
             return 0
         if args.model:
             print("take back        from  keeping  giving  held")
