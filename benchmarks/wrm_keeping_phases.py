@@ -54,8 +54,7 @@ def recorded_phase_keeping(run: dict, budget: float) -> list[float]:
     """:func:`phase_keeping` of one recorded run (a grid point or one of its ``other_seeds``) of ``budget``
     agent-steps."""
     steps = np.array([row[0] for row in run["curve"]], dtype=float)
-    kept, individual = (np.array([np.nan if v is None else v for v in run["curve_panels"][name]], dtype=float)
-                        for name in (SELF, INDIVIDUAL))
+    kept, individual = (np.asarray(run["curve_panels"][name], dtype=float) for name in (SELF, INDIVIDUAL))  # None: NaN
     return phase_keeping(steps / budget, kept, individual)
 
 

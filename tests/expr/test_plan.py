@@ -20,8 +20,7 @@ _COMPARE = {"<": operator.lt, "<=": operator.le, ">": operator.gt, ">=": operato
             "!=": operator.ne}
 # exp, log and ** as the language defines them: the same bits on every processor (hivex_dsl.base.portable)
 _CALLS = {"min": np.minimum, "max": np.maximum, "abs": np.abs, "exp": portable.exp, "log": portable.log,
-          "sqrt": np.sqrt,
-          "where": np.where, "clip": lambda x, lo, hi: np.minimum(np.maximum(x, lo), hi),
+          "sqrt": np.sqrt, "where": np.where, "clip": lambda x, lo, hi: np.minimum(np.maximum(x, lo), hi),
           "team_mean": lambda x: x.mean(axis=1, keepdims=True), "team_sum": lambda x: x.sum(axis=1, keepdims=True),
           "team_min": lambda x: x.min(axis=1, keepdims=True), "team_max": lambda x: x.max(axis=1, keepdims=True)}
 
