@@ -37,6 +37,9 @@ catalogue) trains on :class:`PPOConfig`'s own defaults. How each key maps onto t
   environment of 8 turbines (16,384, 16,384 and 7,232 experiences: 600 updates in 8M agent-steps, read from its logged
   epsilon), as ``trajectories`` with one world does, where ``rollout`` with 8 worlds updated every 2,048 (3,906
   updates), learned about 1.5-2 times as fast and ended far more decided (rewards/wind_farm_control.yaml).
+- ``policy_lag_steps`` (ML-Agents' ``threaded``, true in every config that ran, read as steps): the first N steps of
+  each rollout act with the weights from before the last update, as the environment stepped on while ML-Agents'
+  trainer thread updated (``lag.py`` gives the original's timing); 0, the default, acts with the current weights.
 - ``ended_agents`` (ours: in ML-Agents the environment's code decides): what the training vector env does with an
   agent whose episode ended while its world goes on (a battery run out, a crash). ``respawn``, the default, starts
   it again at once in its running world, so its next episode is cut at the world's end (a short tail); ``wait``
@@ -199,6 +202,7 @@ class PPOConfig(StrictModel):
     summary_freq: int = Field(40_000, ge=1)
     num_worlds: int = Field(4, ge=1, le=4096)
     buffer_fill: Literal["rollout", "trajectories"] = "rollout"
+    policy_lag_steps: int = Field(0, ge=0, le=100_000)
     ended_agents: EndedAgents = "respawn"
     max_grad_norm: float = Field(0.0, ge=0.0)
     checkpoint_every: int = Field(500_000, ge=1)

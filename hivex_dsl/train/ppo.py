@@ -27,6 +27,7 @@ from .config import PPOConfig, TrainError
 from .curiosity import Curiosity
 from .devices import autocast, machine, matmul_precision, torch_device
 from .kernels import cpu_kernels
+from .lag import PolicyLag
 from .logs import EpisodeLog, Progress, ScalarLog
 from .networks import VALUE_HEADS, ActorCritic, fixed_weights, to_tensors
 from .buffer import FinishedTrajectories, Rollout, in_chunks, minibatches, update_data
@@ -142,26 +143,28 @@ def forward_precision(cfg: PPOConfig):
 
 def collect(env: HivexVectorEnv, agent: ActorCritic, buf: Rollout, state: dict[str, Any], cfg: PPOConfig,
             episodes: EpisodeLog, on_step: Callable[[], None] | None = None,
-            until: Callable[[np.ndarray, np.ndarray], bool] | None = None, steps: int | None = None) -> torch.Tensor:
+            until: Callable[[np.ndarray, np.ndarray], bool] | None = None, steps: int | None = None,
+            lag: PolicyLag | None = None) -> torch.Tensor:
     """Fill ``buf`` with one rollout from ``state`` (obs, previous done, active, mask) of ``steps`` (default: the
     storage's capacity); -> V(next obs) (S,). ``on_step`` (optional) is called after each step of every slot (the
     progress bar moves within a rollout). ``until`` (optional; :func:`update_due`) is asked after each step with the
     slots whose step was an experience and those whose episode ended (both (S,) bool); when it says True the rollout
-    ends there, ``buf`` limited to the steps taken.
+    ends there, ``buf`` limited to the steps taken. ``lag`` (optional): its kept weights act the first steps
+    (:mod:`.lag`).
 
     The policy acts step by step; the critic values every frame once the rollout is done (as ML-Agents' trajectory
     processing does), in batches of thousands rather than one slot batch a step: the weights are the same
     throughout, so are the values (``tests/train/test_exact_speedups.py``), at a fraction of the CPU time."""
     buf.limit(buf.capacity if steps is None else steps)
     with fixed_weights():
-        _act_and_step(env, agent, buf, state, cfg, episodes, on_step, until)
+        _act_and_step(env, agent, buf, state, cfg, episodes, on_step, until, lag)
     buf.end(state["obs"])
     return rollout_values(agent, buf, cfg)
 
 
 def _act_and_step(env: HivexVectorEnv, agent: ActorCritic, buf: Rollout, state: dict[str, Any], cfg: PPOConfig,
                   episodes: EpisodeLog, on_step: Callable[[], None] | None,
-                  until: Callable[[np.ndarray, np.ndarray], bool] | None) -> None:
+                  until: Callable[[np.ndarray, np.ndarray], bool] | None, lag: PolicyLag | None = None) -> None:
     """:func:`collect`'s steps: the policy acts on ``state``, the environment steps, ``buf`` records both."""
     for t in range(buf.rewards.shape[0]):
         obs = state["obs"]
@@ -174,7 +177,7 @@ def _act_and_step(env: HivexVectorEnv, agent: ActorCritic, buf: Rollout, state: 
         if mask is not None:
             buf.mask[t] = mask
         with torch.no_grad(), forward_precision(cfg):
-            cont, disc, logp = agent.act(obs, mask=mask)
+            cont, disc, logp = (agent if lag is None else lag.actor(agent, t)).act(obs, mask=mask)
         buf.cont[t], buf.disc[t], buf.logp[t] = cont, disc, logp
         next_obs, reward, terminated, truncated, infos = env.step(agent.layout.to_env(cont, disc))
         done = terminated | truncated
@@ -344,6 +347,7 @@ def _train(compiled: CompiledScenario, cfg: PPOConfig, run: RunDir, progress: bo
                 module.load_state_dict(resumed["training"][name])
     slots, steps = env.num_envs, cfg.rollout_length(env.num_envs)
     state, buf = start_rollouts(obs, agent, steps, infos)
+    lag = PolicyLag(agent, cfg.policy_lag_steps) if cfg.policy_lag_steps else None
     run.write_json("config.json", {"hyperparameters": cfg.model_dump(mode="json"), "scenario": compiled.resolved()})
     episodes, scalars = EpisodeLog(), ScalarLog(run)
     bar = Progress(planned_agent_steps(cfg.max_steps, done_before, slots), enabled=progress, label=compiled.name,
@@ -375,12 +379,14 @@ def _train(compiled: CompiledScenario, cfg: PPOConfig, run: RunDir, progress: bo
                 group["lr"] = lr
             length = min(steps, -(-(cfg.max_steps - agent_steps) // slots))  # the last rollout stops at the budget
             next_value = collect(env, agent, buf, state, cfg, episodes, on_step=lambda: bar.advance(slots, None),
-                                 until=update_due(cfg, slots), steps=length)
+                                 until=update_due(cfg, slots), steps=length, lag=lag)
             length = buf.rewards.shape[0]
             episodes.record_estimates(VALUE_HEADS[:agent.signals], buf.values.numpy(), buf.valid.numpy() > 0,
                                       buf.done.numpy() > 0, cfg.time_horizon)
             agent.observe(buf.flat_obs())
             advantages, returns, signal_charts = advantages_and_returns(buf, next_value, cfg, curiosity, episodes)
+            if lag is not None:
+                lag.keep(agent)
             losses = update(agent, optimizer, buf, advantages, returns, cfg, beta, epsilon, rng,
                             None if curiosity is None else (curiosity, curiosity_optimizer))
             agent_steps += length * slots
