@@ -161,3 +161,21 @@ def test_the_page_shows_the_whole_grid_with_the_beaten_cells_marked():
     assert "- Task 4 `protect_village`, beaten by a trivial policy: At level 1 the random policy earns" in page
     assert "- Task 5 `pick_up_water`, beaten by a trivial policy: At level 1 the all-zeros policy" in page
     assert "### Wildfire Resource Management: 30 published cells, 0 beaten by a trivial policy" in page
+
+
+def test_a_trivial_lead_within_the_standard_error_is_listed_as_a_tie():
+    """Issue 52's last condition: a trivial policy above the published PPO is either beaten (bold, with its reading)
+    or a tie within the standard error, which the page lists by name with its numbers (worked by hand below)."""
+    from hivex_dsl.docsgen.fidelity_page import beaten, ties
+
+    ppo = published.cell("aerial_wildfire_suppression", 5, 3).return_mean  # Pick Up Water, level 3: 94.67
+    random = {"mean": ppo + 1.0, "std": 4.0}  # 4 episodes: a standard error of 2.0, twice the lead
+    audit = {"environment": "aerial_wildfire_suppression", "task_index": 5, "level": 3, "episodes": 4,
+             "policies": {"zeros": {"return": {"mean": ppo - 1.0, "std": 0.0}}, "random": {"return": random}}}
+    assert not beaten(audit)
+    assert ties(audit) == [{"policy": "random", "mean": f"{ppo + 1.0:,.4g}", "error": "2", "ppo": f"{ppo:,.4g}"}]
+    random["mean"] = ppo + 2.5  # beyond the error: beaten, no longer a tie
+    assert beaten(audit) and ties(audit) == []
+    random["mean"] = ppo - 0.5  # below the PPO: neither
+    assert not beaten(audit) and ties(audit) == []
+    assert ties(audit | {"environment": "drone_based_reforestation", "task_index": 2, "level": 1}) == []  # no cell

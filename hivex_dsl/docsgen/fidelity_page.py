@@ -66,6 +66,18 @@ def beaten(audit: dict[str, Any]) -> bool:
         audit["policies"][p]["return"]["mean"] - standard_error(audit, p) > cell.return_mean for p in TRIVIAL_POLICIES)
 
 
+def ties(audit: dict[str, Any]) -> list[dict[str, Any]]:
+    """The trivial policies whose mean return is above the published PPO return of the audit's cell, but by no more
+    than its standard error (:func:`beaten` calls that a tie): each with its mean, that error and the PPO return."""
+    cell = published.cell(audit["environment"], audit["task_index"], audit["level"])
+    if cell is None:
+        return []
+    return [{"policy": p, "mean": _num(audit["policies"][p]["return"]["mean"]),
+             "error": _num(standard_error(audit, p)), "ppo": _num(cell.return_mean)}
+            for p in TRIVIAL_POLICIES
+            if cell.return_mean < audit["policies"][p]["return"]["mean"] <= cell.return_mean + standard_error(audit, p)]
+
+
 def _grid_cell(audit: dict[str, Any]) -> str:
     cell = published.cell(audit["environment"], audit["task_index"], audit["level"])
     if cell is None:
@@ -86,8 +98,11 @@ def _grid(entry: registry.EnvironmentEntry, audits: list[dict[str, Any]]) -> dic
     published_audits = [a for a in audits if published.cell(a["environment"], a["task_index"], a["level"])]
     evidence = [{"task_index": task.index, "task": task.name, "text": task.trivial_beats_ppo}
                 for task in entry.reward_table.tasks if task.trivial_beats_ppo]
+    tied = [{"task_index": a["task_index"], "task": a["task"], "level": a["level"], "policies": ties(a)}
+            for a in sorted(published_audits, key=lambda a: (a["task_index"], a["level"] or 0))
+            if ties(a) and not beaten(a)]
     return {"levels": levels, "rows": rows, "cells": len(published_audits),
-            "beaten": [a["scenario"] for a in published_audits if beaten(a)], "evidence": evidence}
+            "beaten": [a["scenario"] for a in published_audits if beaten(a)], "evidence": evidence, "ties": tied}
 
 
 def _environment(env_id: str, entry: registry.EnvironmentEntry, audits: list[dict[str, Any]]) -> dict[str, Any]:
