@@ -98,9 +98,9 @@ def _grid(entry: registry.EnvironmentEntry, audits: list[dict[str, Any]]) -> dic
     published_audits = [a for a in audits if published.cell(a["environment"], a["task_index"], a["level"])]
     evidence = [{"task_index": task.index, "task": task.name, "text": task.trivial_beats_ppo}
                 for task in entry.reward_table.tasks if task.trivial_beats_ppo]
-    tied = [{"task_index": a["task_index"], "task": a["task"], "level": a["level"], "policies": ties(a)}
-            for a in sorted(published_audits, key=lambda a: (a["task_index"], a["level"] or 0))
-            if ties(a) and not beaten(a)]
+    in_order = sorted(published_audits, key=lambda a: (a["task_index"], a["level"] or 0))
+    tied = [{"task_index": a["task_index"], "task": a["task"], "level": a["level"], "policies": leads}
+            for a, leads in ((a, [] if beaten(a) else ties(a)) for a in in_order) if leads]
     return {"levels": levels, "rows": rows, "cells": len(published_audits),
             "beaten": [a["scenario"] for a in published_audits if beaten(a)], "evidence": evidence, "ties": tied}
 
