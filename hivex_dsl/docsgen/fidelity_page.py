@@ -58,24 +58,27 @@ def standard_error(audit: dict[str, Any], policy: str) -> float:
     return audit["policies"][policy]["return"]["std"] / math.sqrt(audit["episodes"])
 
 
+def _trivial_leads(audit: dict[str, Any]) -> list[tuple[str, float, float, float]]:
+    """(policy, its mean return, that mean's standard error, the published PPO return) of each trivial policy, in
+    the audit's published cell; none where the cell is not published."""
+    cell = published.cell(audit["environment"], audit["task_index"], audit["level"])
+    if cell is None:
+        return []
+    return [(p, audit["policies"][p]["return"]["mean"], standard_error(audit, p), cell.return_mean)
+            for p in TRIVIAL_POLICIES]
+
+
 def beaten(audit: dict[str, Any]) -> bool:
     """Whether a trivial policy's mean return is above the published PPO return of the audit's cell by more than its
     standard error: a lead within it is a tie, which another draw of test episodes could turn around."""
-    cell = published.cell(audit["environment"], audit["task_index"], audit["level"])
-    return cell is not None and any(
-        audit["policies"][p]["return"]["mean"] - standard_error(audit, p) > cell.return_mean for p in TRIVIAL_POLICIES)
+    return any(mean - error > ppo for _, mean, error, ppo in _trivial_leads(audit))
 
 
 def ties(audit: dict[str, Any]) -> list[dict[str, Any]]:
     """The trivial policies whose mean return is above the published PPO return of the audit's cell, but by no more
     than its standard error (:func:`beaten` calls that a tie): each with its mean, that error and the PPO return."""
-    cell = published.cell(audit["environment"], audit["task_index"], audit["level"])
-    if cell is None:
-        return []
-    return [{"policy": p, "mean": _num(audit["policies"][p]["return"]["mean"]),
-             "error": _num(standard_error(audit, p)), "ppo": _num(cell.return_mean)}
-            for p in TRIVIAL_POLICIES
-            if cell.return_mean < audit["policies"][p]["return"]["mean"] <= cell.return_mean + standard_error(audit, p)]
+    return [{"policy": p, "mean": _num(mean), "error": _num(error), "ppo": _num(ppo)}
+            for p, mean, error, ppo in _trivial_leads(audit) if ppo < mean <= ppo + error]
 
 
 def _grid_cell(audit: dict[str, Any]) -> str:
