@@ -2,12 +2,14 @@
 village, how often it goes out, how much it burns.
 
     python benchmarks/aws_fire_course.py [--worlds 64] [--level 1] [--steps 3000] [--set key=value ...]
+                                         [--generators '{"weather": {"octaves": 1}}']
 
 Plays ``--worlds`` test-seed worlds of the main task for ``--steps`` steps with every plane circling (steer 1, no
 drop), so nothing fights the fire and no plane leaves, and prints the share of worlds whose fire came within the
 village radius (and the median step it did), the share whose fire went out, and the median trees burnt and still
 burning at the end. ``--set`` overrides a param (``--set fire_step_interval=33 --set low_overcast=0``: the release's
-fire cadence and overcast rule; the reward table's notes record what it printed, issue 52).
+fire cadence and overcast rule; the reward table's notes record what it printed, issue 52); ``--generators`` the
+scenario's generators section, as JSON (the release's weather: the note 'The release's weather').
 """
 
 from __future__ import annotations
@@ -20,6 +22,7 @@ import numpy as np
 
 import hivex_dsl
 from hivex_dsl.base.errors import HivexError
+from hivex_dsl.cli import argtypes
 from hivex_dsl.sim.fire.engine import TreeState
 from hivex_dsl.train.config import parse_assignments
 
@@ -34,11 +37,13 @@ class Course:
     burning: np.ndarray  # (B,) trees burning at the end
 
 
-def fire_course(params: dict, worlds: int, level: int = 1, steps: int = 3000) -> Course:
-    """Run ``worlds`` test-seed worlds of the main task at ``level`` with ``params`` for ``steps`` steps, every
-    plane circling without a drop."""
-    compiled = hivex_dsl.compile({"hivex": 1, "environment": ENVIRONMENT, "task": "main", "terrain_level": level,
-                                  "episode_length": steps, "params": params})
+def fire_course(params: dict, worlds: int, level: int = 1, steps: int = 3000, generators: dict | None = None
+                ) -> Course:
+    """Run ``worlds`` test-seed worlds of the main task at ``level`` with ``params`` (and ``generators``, the
+    scenario's section) for ``steps`` steps, every plane circling without a drop."""
+    scenario = {"hivex": 1, "environment": ENVIRONMENT, "task": "main", "terrain_level": level,
+                "episode_length": steps, "params": params}
+    compiled = hivex_dsl.compile({**scenario, "generators": generators} if generators else scenario)
     sim = compiled.entry.make_simulator(compiled)
     rng = np.random.default_rng(compiled.seeds.test)
     state = sim.reset(rng, worlds)
@@ -66,14 +71,16 @@ def main(argv=None) -> int:
     parser.add_argument("--level", type=int, default=1)
     parser.add_argument("--steps", type=int, default=3000)
     parser.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
+    parser.add_argument("--generators", type=argtypes.generators, default=None, metavar="JSON",
+                        help="the scenario's generators section, as JSON")
     args = parser.parse_args(argv)
     try:
         params = dict(parse_assignments(args.set).values)  # each value a YAML scalar, as `hivex train --set`
-        course = fire_course(params, args.worlds, args.level, args.steps)
+        course = fire_course(params, args.worlds, args.level, args.steps, args.generators)
     except HivexError as exc:
         print(f"aws_fire_course: {exc}", file=sys.stderr)
         return 2
-    print(params or "defaults", describe(course))
+    print(params or "defaults", *([args.generators] if args.generators else []), describe(course))
     return 0
 
 

@@ -26,6 +26,7 @@ import numpy as np
 
 import hivex_dsl
 from hivex_dsl.base.errors import HivexError
+from hivex_dsl.cli import argtypes
 from hivex_dsl.evaluation.original.evidence import EPISODE_LENGTH, training_average, training_spread
 from hivex_dsl.runtime.batched import BatchedEnv
 
@@ -88,24 +89,13 @@ def parse_params(assignments: list[str]) -> dict:
     return params
 
 
-def parse_generators(text: str) -> dict:
-    """``'{"weather": {"noise_scale_m": 6000}}'`` -> that mapping; anything else an argparse error that says so."""
-    try:
-        value = json.loads(text)
-    except json.JSONDecodeError as error:
-        raise argparse.ArgumentTypeError(f"{text!r} is not JSON ({error})") from None
-    if not isinstance(value, dict):
-        raise argparse.ArgumentTypeError(f"{text!r}: expected a JSON object of generator overrides")
-    return value
-
-
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--worlds", type=int, default=12, help="continuous streams a level (default 12)")
     parser.add_argument("--steps", type=int, default=2000, help="steps of each stream (default 2000: 4 windows)")
     parser.add_argument("--levels", default="1,2,3,4,5,6,7,8,9,10", help="terrain levels, comma-separated")
     parser.add_argument("--param", action="append", default=[], help="NAME=VALUE of the scenario's params")
-    parser.add_argument("--generators", type=parse_generators, default=None,
+    parser.add_argument("--generators", type=argtypes.generators, default=None,
                         help="the scenario's generators mapping, as JSON (the language's generators section)")
     args = parser.parse_args(argv)
     try:

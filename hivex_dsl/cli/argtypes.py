@@ -1,8 +1,9 @@
-"""Value types of the command line's numeric options: a bad value is argparse's usage error naming it."""
+"""Value types of the command line's options: a bad value is argparse's usage error naming it."""
 
 from __future__ import annotations
 
 import argparse
+import json
 
 from ..lang.spec.common import MAX_SEED
 
@@ -21,6 +22,18 @@ def seed(text: str) -> int:
     value = _integer(text, expected)
     if not 0 <= value <= MAX_SEED:
         raise argparse.ArgumentTypeError(f"expected {expected}, got {text}")
+    return value
+
+
+def generators(text: str) -> dict:
+    """A scenario's generators section as JSON (``'{"weather": {"noise_scale_m": 926}}'``), for the benchmarks
+    that play a scenario under other generators; the scenario validates what it names."""
+    try:
+        value = json.loads(text)
+    except json.JSONDecodeError as error:
+        raise argparse.ArgumentTypeError(f"{text!r} is not JSON ({error})") from None
+    if not isinstance(value, dict):
+        raise argparse.ArgumentTypeError(f"{text!r}: expected a JSON object of generator overrides")
     return value
 
 

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import pytest
+
 from ..benchmark_scripts import benchmark_script
 
 script = benchmark_script("aws_fire_course")
@@ -27,3 +29,28 @@ def test_the_command_line_reads_each_set_as_a_number_where_it_is_one(capsys):
                         "low_overcast=0"]) == 0
     out = capsys.readouterr().out
     assert out.startswith("{'fire_step_interval': 1000, 'low_overcast': 0}") and "out in 0%" in out
+
+
+HOT_AND_DRY = {"weather": {"temperature_mean": 1.0, "temperature_contrast": 0.0, "humidity_mean": 0.0,
+                           "humidity_contrast": 0.0}}
+COOL_AND_HUMID = {"weather": {"temperature_mean": 0.0, "temperature_contrast": 0.0, "humidity_mean": 1.0,
+                              "humidity_contrast": 0.0}}
+
+
+def test_the_generators_reach_the_fire():
+    """Everywhere hot and dry, each try of the spread counts two factors more than everywhere cool and humid, on
+    the same islands and draws: the same 40 fire steps burn more trees."""
+    hot = script.fire_course({"fire_step_interval": 1}, worlds=2, steps=40, generators=HOT_AND_DRY)
+    cool = script.fire_course({"fire_step_interval": 1}, worlds=2, steps=40, generators=COOL_AND_HUMID)
+    assert (hot.burnt + hot.burning > cool.burnt + cool.burning).all(), (hot, cool)
+
+
+def test_the_command_line_reads_the_generators_as_json_and_refuses_anything_else(capsys):
+    assert script.main(["--worlds", "1", "--steps", "5", "--generators", '{"weather": {"octaves": 1}}']) == 0
+    assert "{'weather': {'octaves': 1}}" in capsys.readouterr().out
+    for bad, why in (("{weather", "is not JSON"), ("[1, 2]", "expected a JSON object")):
+        with pytest.raises(SystemExit):
+            script.main(["--generators", bad])
+        assert why in capsys.readouterr().err
+    assert script.main(["--worlds", "1", "--steps", "5", "--generators", '{"weather": {"octaves": 99}}']) == 2
+    assert "octaves" in capsys.readouterr().err

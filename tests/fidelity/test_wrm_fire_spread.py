@@ -52,3 +52,21 @@ def test_this_fire_scatters_under_half_as_far_as_the_originals():
     logged = script.window_means(worlds, ends, lengths).mean()
     assert logged == pytest.approx(evidence.training_average(script.ENVIRONMENT, 0, LEVEL), rel=0.15)
     assert ours < 0.5 * original, (ours, original)
+
+
+def test_the_originals_points_hardly_depend_on_the_last_one():
+    """Consecutive points of the original's curve correlate little: the lag-1 autocorrelation lies within -0.11 and
+    0.29 at every level and averages 0.09, where 100 independent points give 0 within about 0.1 (a level) and 0.03
+    (the ten levels' mean); at lag 2 the mean is 0.03. So the points are close to independent draws, and their
+    spread reads how far the fires behind them differ, not a drift of the run (the note 'The release's weather and
+    the fire's spread')."""
+    lag1 = np.array([evidence.training_autocorrelation(script.ENVIRONMENT, 0, level) for level in LEVELS])
+    assert lag1.min() > -0.15 and lag1.max() < 0.30, np.round(lag1, 3)
+    assert 0.0 < lag1.mean() < 0.15, lag1.mean()
+    lag2 = np.array([evidence.training_autocorrelation(script.ENVIRONMENT, 0, level, lag=2) for level in LEVELS])
+    assert abs(lag2.mean()) < 0.06, np.round(lag2, 3)
+
+
+def test_the_autocorrelation_is_refused_past_the_points():
+    with pytest.raises(evidence.EvidenceError, match="lag 100 must lie in"):
+        evidence.training_autocorrelation(script.ENVIRONMENT, 0, LEVEL, lag=100)

@@ -155,6 +155,18 @@ def training_spread(environment: str, task_index: int, level: int | None, panel:
     return float(training_points(environment, task_index, level, panel).std(ddof=1))
 
 
+def training_autocorrelation(environment: str, task_index: int, level: int | None, panel: str = EPISODE_LENGTH,
+                             lag: int = 1) -> float:
+    """The lag-``lag`` autocorrelation of one cell's training summary points (each the mean over the three runs):
+    near 0 where a point's episodes do not depend on the last point's, toward 1 where a slowly changing condition
+    of the run (a weather field that stays with it) carries over from point to point."""
+    points = training_points(environment, task_index, level, panel)
+    if not 1 <= lag < len(points):
+        raise EvidenceError(f"lag {lag} must lie in [1, {len(points) - 1}] for {len(points)} training points")
+    deviations = points - points.mean()
+    return float((deviations[:-lag] * deviations[lag:]).sum() / (deviations * deviations).sum())
+
+
 def training_points(environment: str, task_index: int, level: int | None, panel: str = EPISODE_LENGTH) -> np.ndarray:
     """(k,) one cell's panel at each training summary point, the mean over the three runs."""
     cell = original_curves(environment, task_index, level)
