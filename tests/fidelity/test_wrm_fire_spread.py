@@ -70,3 +70,11 @@ def test_the_originals_points_hardly_depend_on_the_last_one():
 def test_the_autocorrelation_is_refused_past_the_points():
     with pytest.raises(evidence.EvidenceError, match="lag 100 must lie in"):
         evidence.training_autocorrelation(script.ENVIRONMENT, 0, LEVEL, lag=100)
+
+
+def test_the_autocorrelation_by_hand(monkeypatch):
+    """Points 1, 2, 3, 4: deviations -1.5, -0.5, 0.5, 1.5, lag-1 products 0.75 - 0.25 + 0.75 = 1.25 over the squares'
+    5: 0.25. Points alternating 1, -1, 1, -1: -3 over 4."""
+    for points, expected in (([1.0, 2.0, 3.0, 4.0], 0.25), ([1.0, -1.0, 1.0, -1.0], -0.75)):
+        monkeypatch.setattr(evidence, "training_points", lambda *args, points=points: np.array(points))
+        assert evidence.training_autocorrelation(script.ENVIRONMENT, 0, LEVEL) == pytest.approx(expected)
