@@ -26,7 +26,8 @@ class AerialWildfireParams(WindParams, FireSpec, CameraParams):
     # tasks' planes that dropped and refilled (session 40)
     ADDED_FIELDS: ClassVar[dict[str, Any]] = {
         "turn_rule": "proportional", "finished_planes": "respawn", "spawn_rule": "ours", "episodes_continue": 0,
-        "water_in_find_tasks": True, "terrain_cast": "step", "drop_mask": "flying", "drop_ground": "island"}
+        "water_in_find_tasks": True, "terrain_cast": "step", "drop_mask": "flying", "drop_ground": "island",
+        "village_zone": "circle", "extinguished_spread": False}
 
     border_half_extent_m: float = Field(750.0, ge=100.0, le=10_000.0, description=(
         "[paper] Half the side of the square border (1500 x 1500); crossing it finishes that plane (see "
@@ -105,10 +106,24 @@ class AerialWildfireParams(WindParams, FireSpec, CameraParams):
     drop_point_spacing_m: float = Field(20.0, ge=0.0, le=100.0, description="[orig] Metres between swath points, ahead of the plane.")
     drop_radius_m: float = Field(30.0, gt=0.0, le=60.0, description=(
         "[orig] Existing or burning trees within this distance of a swath point become wet."))
+    extinguished_spread: bool = Field(False, description=(
+        "[orig] Whether a burning tree that water reaches goes on trying its neighbours for the rest of its burn, "
+        "as the release's fire does (true): its BurnNext spreads from every tree of its burning list, whatever the "
+        "tree's state, and no drop touches that list, so an extinguished tree stops counting as burning (planes no "
+        "longer see it, the village does not, Extinguishing Trees counts it) but not spreading; false stops it at "
+        "once, this toolkit's reading before (the reward table's note 'Water does not stop the fire's spread')."))
     fire_view_half_m: float = Field(150.0, gt=0.0, le=1_000.0, description=(
         "[orig] The closest burning tree is observed within +/- this many metres (a square) of the plane."))
     village_radius_m: float = Field(150.0, gt=0.0, le=1_000.0, description=(
-        "[paper] Fire this close to the village centre costs 'too close to village'; a plane this close has found it."))
+        "[paper] Fire this close to the village centre costs 'too close to village' (village_zone says how close is "
+        "measured); a plane this close has found it."))
+    village_zone: Literal["circle", "square"] = Field("circle", description=(
+        "[orig] Where a burning tree costs 'too close to village' and counts in Fire too Close to City: 'square' the "
+        "release's zone, every forest cell within village_radius_m of the village's in x and in y (CityGenerator."
+        "FindClosestTrees keeps the trees standing within 50 cells, 150 m, of the village's cell each way, and "
+        "CheckCloseTreeBurning sets the flag once any of them burns), so a fire coming at a corner is flagged up to "
+        "212 m away; 'circle' [paper] a burning tree whose cell centre lies within village_radius_m, this "
+        "toolkit's reading before (the reward table's note 'The village's zone')."))
     camera_pixel_m: float = Field(5.0, gt=0.0, le=50.0, description=(
         "[ours] Ground metres per camera pixel; 42 pixels see 210 m, centred under the plane, forward up."))
     camera_sees_border: bool = Field(True, description=(

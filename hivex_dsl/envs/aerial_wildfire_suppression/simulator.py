@@ -275,7 +275,8 @@ class AerialWildfireSimulator:
         rows, cols = self.swath_cells(pos, dirs)
         owner = np.repeat(owners, rows.shape[1])
         radius = self.params.drop_radius_m / self.cell_m
-        fire, out, wet = douse(fire, owner // agents, rows.ravel(), cols.ravel(), radius, owner, batch * agents)
+        fire, out, wet = douse(fire, owner // agents, rows.ravel(), cols.ravel(), radius, owner, batch * agents,
+                               self.params.extinguished_spread)
         redraw_cells(look, fire.trees, window_cells(owner // agents, rows.ravel(), cols.ravel(), radius,
                                                     self.forest_spec.cells), self.frame)
         return fire, out.reshape(batch, agents).astype(np.int32), wet.reshape(batch, agents).astype(np.int32)
@@ -309,7 +310,9 @@ class AerialWildfireSimulator:
         xy = np.where(found[:, None], xy, 0.0)
         planes = batch * agents
         village_gap = xy[planes:] - village
-        threat = found[planes:] & (np.hypot(village_gap[:, 0], village_gap[:, 1]) <= k.village_radius)
+        threat = found[planes:]  # a burning tree in the village's square (the query's box)
+        if p.village_zone == "circle":
+            threat = threat & (np.hypot(village_gap[:, 0], village_gap[:, 1]) <= k.village_radius)
         return assemble(Sighting, plane_found=found[:planes].reshape(batch, agents) & flying,
                         plane_xy=xy[:planes].reshape(batch, agents, 2), village_threat=threat)
 

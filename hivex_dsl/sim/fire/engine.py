@@ -83,6 +83,11 @@ EXISTING, BURNING, BURNT, WET = (np.uint8(value) for value in
                                  (TreeState.EXISTING, TreeState.BURNING, TreeState.BURNT, TreeState.WET))
 
 
+NO_CELLS = np.zeros(0, np.int64)  # an empty doused list (read-only: states share it)
+NO_AGES = np.zeros(0, np.int32)
+NO_CELLS.flags.writeable = NO_AGES.flags.writeable = False
+
+
 @dataclass(frozen=True)
 class FireState:
     """Fires of ``B`` worlds on a ``C x C`` grid with ``K`` burning trees in all.
@@ -96,6 +101,10 @@ class FireState:
     spent (K,) uint8: 0, or a radius r such that the (2r+1) x (2r+1) block of the burning tree held no
     existing tree at a fire step; it cannot hold one later (no cell turns back into an existing tree
     while its world burns), so spread skips the tree for any radius <= r. Optional (None: all 0).
+
+    doused (D,) int64 flat cells and doused_age (D,) int32: trees that water reached while they burnt and that
+    still try their neighbours, as the release's fire does (``douse(..., spreading=True)``): wet in ``trees``, in
+    no search for burning trees, they age with the list and leave it at ``burn_steps``. Optional (None: none).
     """
 
     trees: np.ndarray
@@ -106,8 +115,16 @@ class FireState:
     ignited: np.ndarray
     burnt_out: np.ndarray
     spent: np.ndarray | None = None
+    doused: np.ndarray | None = None
+    doused_age: np.ndarray | None = None
 
     def __post_init__(self) -> None:
+        if self.doused is None and self.doused_age is None:
+            object.__setattr__(self, "doused", NO_CELLS)
+            object.__setattr__(self, "doused_age", NO_AGES)
+        elif self.doused is None or self.doused_age is None or self.doused.shape != self.doused_age.shape \
+                or self.doused.ndim != 1:
+            raise ValueError("doused and doused_age must be given together as equal-length 1-D arrays")
         if self.spent is None:
             object.__setattr__(self, "spent", np.zeros(self.burning.shape, np.uint8))
         elif self.spent.shape != self.burning.shape or self.spent.dtype != np.uint8:
@@ -242,11 +259,15 @@ def fire_put_worlds(state: FireState, mask: np.ndarray, fresh: FireState) -> Fir
     keep = ~mask[state.burning // area]
     fresh_world, cell = np.divmod(fresh.burning, area)
     burning = np.concatenate([state.burning[keep], worlds[fresh_world] * area + cell])
+    kept = ~mask[state.doused // area]
+    fresh_world, cell = np.divmod(fresh.doused, area)
+    doused = np.concatenate([state.doused[kept], worlds[fresh_world] * area + cell])
     return FireState(trees=state.trees, burning=burning,
                      age=np.concatenate([state.age[keep], fresh.age]), quiet=put_worlds(state.quiet, mask, fresh.quiet),
                      out=put_worlds(state.out, mask, fresh.out), ignited=put_worlds(state.ignited, mask, fresh.ignited),
                      burnt_out=put_worlds(state.burnt_out, mask, fresh.burnt_out),
-                     spent=np.concatenate([state.spent[keep], fresh.spent]))
+                     spent=np.concatenate([state.spent[keep], fresh.spent]), doused=doused,
+                     doused_age=np.concatenate([state.doused_age[kept], fresh.doused_age]))
 
 
 def fire_copy(state: FireState) -> FireState:
@@ -261,9 +282,12 @@ def burning_count(state: FireState) -> np.ndarray:
 
 
 def any_burning(state: FireState) -> np.ndarray:
-    """(B,) bool: some tree of the world burns (one world: no count needed)."""
+    """(B,) bool: the world's fire goes on, some tree burns or a doused one still spreads (one world: no count
+    needed)."""
     if state.batch == 1:
-        return np.array([state.burning.size > 0])
+        return np.array([state.burning.size + state.doused.size > 0])
+    if state.doused.size:
+        return (burning_count(state) + np.bincount(state.doused // (state.cells ** 2), minlength=state.batch)) > 0
     return burning_count(state) > 0
 
 

@@ -295,7 +295,8 @@ def fire_step(state: FireState, rng: np.random.Generator, spec: FireSpec, downwi
     cell_height (B, C, C) terrain height at cell centres (C-contiguous, else copied each call);
     ``conditions`` (see :data:`Conditions`) is called at most once, with the burning trees that have
     an existing tree in their block (or a :class:`.factors.FactorGrid` of the same weather, read per
-    pair). Spread (:func:`spread`) uses the trees burning at the start;
+    pair). Spread (:func:`spread`) uses the trees burning at the start, then the doused trees that still spread
+    (``FireState.doused``, which age alike and leave at ``burn_steps``, staying wet);
     then their ages grow by one, those reaching ``burn_steps`` become BURNT and leave the list, and
     the new ignitions join it with age 0 in flat-index order. ``quiet`` restarts at 0 in a world
     with a new ignition and grows by one otherwise; a world is out once ``quiet >= quiet_steps_out``
@@ -314,17 +315,41 @@ def fire_step_unchecked(state: FireState, rng: np.random.Generator, spec: FireSp
     construction: ``downwind_rad`` a finite (B,) float64 array, ``cell_height`` a numeric (B, C, C) array
     (C-contiguous, else copied each call) of the fire's shape. Other arguments are undefined behaviour."""
     trees = state.trees
-    new, spent = spread(state, rng, spec, downwind_rad, cell_height, conditions, cell_m)
+    if state.doused.size:
+        new, spent, doused, doused_age = _spread_with_doused(state, rng, spec, downwind_rad, cell_height, conditions,
+                                                             cell_m)
+    else:
+        new, spent = spread(state, rng, spec, downwind_rad, cell_height, conditions, cell_m)
+        doused, doused_age = state.doused, state.doused_age
     ended, burning, age, spent = _burn_out(state, spent, spec.burn_steps)
     flat = trees.reshape(-1)
     flat[ended] = BURNT
     flat[new] = BURNING
     burning = np.concatenate([burning, new])
     tally = _tally_one if trees.shape[0] == 1 else _tally
-    quiet, out, ignited, burnt_out = tally(state, len(new), len(ended), burning, spec.quiet_steps_out, new, ended)
+    alive = burning if not doused.size else np.concatenate([burning, doused])
+    quiet, out, ignited, burnt_out = tally(state, len(new), len(ended), alive, spec.quiet_steps_out, new, ended)
     return assemble(FireState, trees=trees, burning=burning, age=np.concatenate([age, np.zeros(len(new), np.int32)]),
                     quiet=quiet, out=out, ignited=ignited, burnt_out=burnt_out,
-                    spent=np.concatenate([spent, np.zeros(len(new), np.uint8)]))
+                    spent=np.concatenate([spent, np.zeros(len(new), np.uint8)]), doused=doused, doused_age=doused_age)
+
+
+def _spread_with_doused(state: FireState, rng: np.random.Generator, spec: FireSpec, downwind_rad: np.ndarray | Winds,
+                        cell_height: np.ndarray, conditions: Conditions | FactorGrid, cell_m: float | None
+                        ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`spread` from the burning trees and then the doused ones, which try their neighbours as burning trees
+    do (the release's BurnNext reads its burning list, which water never touches); -> (new ignitions, the burning
+    trees' ``spent``, then the doused trees (D',) and their ages (D',) after they aged a step, those reaching
+    ``burn_steps`` gone: they stay wet)."""
+    burnt = len(state.burning)
+    sources = FireState(trees=state.trees, burning=np.concatenate([state.burning, state.doused]),
+                        age=np.concatenate([state.age, state.doused_age]), quiet=state.quiet, out=state.out,
+                        ignited=state.ignited, burnt_out=state.burnt_out,
+                        spent=np.concatenate([state.spent, np.zeros(len(state.doused), np.uint8)]))
+    new, spent = spread(sources, rng, spec, downwind_rad, cell_height, conditions, cell_m)
+    age = state.doused_age + 1
+    going = age < spec.burn_steps
+    return new, spent[:burnt], state.doused[going], age[going]
 
 
 def _tally(state: FireState, ignitions: int, burnt: int, burning: np.ndarray, quiet_steps_out: int,

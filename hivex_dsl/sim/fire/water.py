@@ -48,14 +48,16 @@ def _lowest_owner(flat: np.ndarray, owner: np.ndarray, owners: int) -> tuple[np.
 
 
 def douse(state: FireState, world: np.ndarray, rows: np.ndarray, cols: np.ndarray, radius_cells: float,
-          owner: np.ndarray, owners: int) -> tuple[FireState, np.ndarray, np.ndarray]:
+          owner: np.ndarray, owners: int, spreading: bool = False) -> tuple[FireState, np.ndarray, np.ndarray]:
     """Wet every existing or burning tree whose cell centre lies within ``radius_cells`` of a drop point.
 
     The P points are given by world (P,) int, rows/cols (P,) fractional cell coordinates (anywhere,
     even off the grid) and owner (P,) int in [0, owners). Writes ``state.trees`` in place (``state``
     is consumed). Returns (state, extinguished (owners,), prepared (owners,)) int64: burning -> wet
     and existing -> wet trees credited per owner; a tree covered by several owners is credited once,
-    to the lowest owner id. Wet trees leave the burning list; nothing else changes.
+    to the lowest owner id. Wet trees leave the burning list; with ``spreading`` they join ``doused`` with their
+    ages and go on trying their neighbours until their burn ends (the release's fire: water never touches its
+    burning list); nothing else changes.
     """
     cells, batch = state.cells, state.batch
     world = vector("world", world, integer=True)
@@ -81,6 +83,11 @@ def douse(state: FireState, world: np.ndarray, rows: np.ndarray, cols: np.ndarra
     trees[cell] = WET
     if was_burning.any():
         still = trees[state.burning] == BURNING
+        doused, doused_age = state.doused, state.doused_age
+        if spreading:
+            doused = np.concatenate([doused, state.burning[~still]])
+            doused_age = np.concatenate([doused_age, state.age[~still]])
         state = FireState(trees=state.trees, burning=state.burning[still], age=state.age[still], quiet=state.quiet,
-                          out=state.out, ignited=state.ignited, burnt_out=state.burnt_out, spent=state.spent[still])
+                          out=state.out, ignited=state.ignited, burnt_out=state.burnt_out, spent=state.spent[still],
+                          doused=doused, doused_age=doused_age)
     return state, extinguished, prepared
