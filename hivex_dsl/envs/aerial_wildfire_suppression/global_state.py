@@ -19,8 +19,8 @@ def state_components(self) -> tuple[StateComponent, ...]:
                        "positions are observed."),
         StateComponent("fire to village", 1, 0.0, 1.0, "Distance from the village centre to the nearest burning "
                        "tree / the island's diagonal (1 without fire)."),
-        StateComponent("village threatened", 1, 0.0, 1.0, "1 while a burning tree lies within village_radius_m "
-                       "of the village, else 0."),
+        StateComponent("village threatened", 1, 0.0, 1.0, "1 while a burning tree lies in the village's zone "
+                       "(params.village_zone), else 0."),
     )
 
 

@@ -27,7 +27,7 @@ class AerialWildfireParams(WindParams, FireSpec, CameraParams):
     ADDED_FIELDS: ClassVar[dict[str, Any]] = {
         "turn_rule": "proportional", "finished_planes": "respawn", "spawn_rule": "ours", "episodes_continue": 0,
         "water_in_find_tasks": True, "terrain_cast": "step", "drop_mask": "flying", "drop_ground": "island",
-        "village_zone": "circle", "extinguished_spread": False}
+        "village_zone": "circle", "extinguished_spread": False, "village_distance": "horizontal"}
 
     border_half_extent_m: float = Field(750.0, ge=100.0, le=10_000.0, description=(
         "[paper] Half the side of the square border (1500 x 1500); crossing it finishes that plane (see "
@@ -117,13 +117,19 @@ class AerialWildfireParams(WindParams, FireSpec, CameraParams):
     village_radius_m: float = Field(150.0, gt=0.0, le=1_000.0, description=(
         "[paper] Fire this close to the village centre costs 'too close to village' (village_zone says how close is "
         "measured); a plane this close has found it."))
+    village_distance: Literal["horizontal", "release"] = Field("horizontal", description=(
+        "[orig] How a plane's distance to the village is read for Find Village: 'release' in 3-D, as the release's "
+        "FindVillageTask (Vector3.Distance under 150 m) from the plane, which its AutoAdjustHeight keeps 100 m above "
+        "the terrain its last frame's cast hit, to the village on its ground, so a plane over the village's level "
+        "ground finds it about 112 m away; 'horizontal' [ours] the horizontal distance, this toolkit's reading before "
+        "(the reward table's note 'The village's zone and distance')."))
     village_zone: Literal["circle", "square"] = Field("circle", description=(
         "[orig] Where a burning tree costs 'too close to village' and counts in Fire too Close to City: 'square' the "
         "release's zone, every forest cell within village_radius_m of the village's in x and in y (CityGenerator."
         "FindClosestTrees keeps the trees standing within 50 cells, 150 m, of the village's cell each way, and "
         "CheckCloseTreeBurning sets the flag once any of them burns), so a fire coming at a corner is flagged up to "
         "212 m away; 'circle' [paper] a burning tree whose cell centre lies within village_radius_m, this "
-        "toolkit's reading before (the reward table's note 'The village's zone')."))
+        "toolkit's reading before (the reward table's note 'The village's zone and distance')."))
     camera_pixel_m: float = Field(5.0, gt=0.0, le=50.0, description=(
         "[ours] Ground metres per camera pixel; 42 pixels see 210 m, centred under the plane, forward up."))
     camera_sees_border: bool = Field(True, description=(

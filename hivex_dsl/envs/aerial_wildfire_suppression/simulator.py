@@ -24,7 +24,7 @@ from ..island import (IslandMaps, IslandSpecs, fire_wind, grid_lookup, restart_w
 from .camera import pixel_offsets
 from .global_state import state_components, world_state
 from .params import CAMERA_PIXELS, AerialWildfireParams
-from .ground import MASK_TERRAIN_M, over_land, over_terrain
+from .ground import MASK_TERRAIN_M, near_village, over_land, over_terrain
 from .respawn import continue_worlds, respawn_where, world_goes_on
 from .spawn import spawn, spawn_out_of_sight
 from .waiting import count_finishes
@@ -178,9 +178,8 @@ class AerialWildfireSimulator:
         # a waiting plane still observes (the release collects a frozen agent's observations)
         sighting = self._sight_of(fire, prev.maps.village, flight.position, self._playing(flight.flying))
         found_fire = and_not(sighting.plane_found & flight.flying, prev.seen_fire)  # found by flying to it
-        gap = flight.position - prev.maps.village[:, None, :]
-        near_village = flight.flying & (np.hypot(gap[..., 0], gap[..., 1]) <= self.operands.village_radius)
-        found_village = and_not(near_village, prev.seen_village)
+        near = self._near_village(prev.maps, flight.position, flight.cast_at, flight.flying)
+        found_village = and_not(near, prev.seen_village)
         reached = prev.village_reached | sighting.village_threat
         threatened = and_not(reached, prev.village_hit)  # once an episode, again in a continued world's next
         went_out = and_not(fire.out, prev.fire.out)
@@ -260,6 +259,7 @@ class AerialWildfireSimulator:
 
     _over_land = over_land  # the ground under the planes: see ground.py
     _over_terrain = over_terrain
+    _near_village = near_village
 
     def _drop(self, fire, look: np.ndarray, position: np.ndarray, direction: np.ndarray, dropping: np.ndarray):
         """Wet the swath of every dropping plane and redraw it in ``look``.

@@ -46,7 +46,7 @@ def fire_out(prev, state, actions, params):
 
 
 @STATISTICS.counter("Fire too Close to City",
-                    "Times a burning tree first came within the village radius (every plane of the world).")
+                    "Times a burning tree first came into the village's zone (every plane of the world).")
 def fire_too_close_to_city(prev, state, actions, params):
     return _every_plane(state, state.village_threatened)
 

@@ -18,7 +18,7 @@ class Sighting:
 
     plane_found: np.ndarray  # (B, A) bool: a burning tree within the view square
     plane_xy: np.ndarray  # (B, A, 2) metres of that tree (0 where none)
-    village_threat: np.ndarray  # (B,) bool: a burning tree within village_radius_m of the village
+    village_threat: np.ndarray  # (B,) bool: a burning tree in the village's zone (params.village_zone)
 
 
 @dataclass(frozen=True)

@@ -40,7 +40,7 @@ def declare(compiled) -> dict:
                  "Distance from the closest burning tree in the plane's view to the village; 0 when none is in view."),
         quantity("burning_trees", "world", "number", "trees", 0.0, float(cells * cells),
                  "Trees burning on the island after the step."),
-        flag("fire_near_village", "world", "A burning tree lies within village_radius_m of the village."),
+        flag("fire_near_village", "world", "A burning tree lies in the village's zone (params.village_zone)."),
         quantity("extinguished_trees", "agent", "number", "trees", 0.0, MAX_TREES_PER_DROP,
                  "Burning trees the plane's drop made wet this step."),
         quantity("prepared_trees", "agent", "number", "trees", 0.0, MAX_TREES_PER_DROP,
@@ -50,7 +50,7 @@ def declare(compiled) -> dict:
         quantity("burning_near_village", "world", "number", "trees", 0.0, float(_window(compiled)[0].size),
                  "Burning trees whose cell centre lies within village_radius_m of the village."),
         flag("crossed_border", "agent", "The plane crossed the border this step (its episode ends)."),
-        flag("village_threatened", "world", "Fire came within village_radius_m of the village for the first time."),
+        flag("village_threatened", "world", "Fire came into the village's zone for the first time."),
     ]
     items += [flag(event, "world" if event == "fire_out" else "agent", description[:1].upper() + description[1:] + ".")
               for event, description in EVENTS.items()]
