@@ -8,3 +8,7 @@ since; these remain params, and the tests that work a mechanism by hand under th
 
 LONE_PLANES = {"plane_speed_m": 3.0, "turn_rule": "proportional", "finished_planes": "respawn", "spawn_rule": "ours",
                "episodes_continue": 0}
+
+# The village's zone and distance and the water before issue 52's session 85, when the release's were made the
+# defaults (the reward table's note 'The village's zone, its distance and the water that does not stop the fire')
+VILLAGE_AND_WATER_BEFORE = {"village_zone": "circle", "village_distance": "horizontal", "extinguished_spread": False}

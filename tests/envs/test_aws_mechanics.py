@@ -149,10 +149,13 @@ def test_the_closest_burning_tree_in_the_view_square_is_observed(base):
 
 def test_find_fire_and_find_village_pay_once_per_episode(compiled, base):
     trees = [(0.0, 120.0, TreeState.BURNING)]
-    sim, state = world(base, [(0.0, 0.0, 0.0), (-400.0, -250.0, -90.0)], trees, village=(-400.0, -400.0))
+    sim, state = world(base, [(0.0, 0.0, 0.0), (-400.0, -287.0, -90.0)], trees, village=(-400.0, -400.0))
+    state = replace(state, maps=replace(state.maps, terrain=np.zeros_like(state.maps.terrain)))  # all at 0 m
     first, outcome = sim.step(state, act([0, 0], [0, 0]), np.random.default_rng(1))
     assert term(compiled, "find_fire", state, first)[0].tolist() == [100.0, 0.0]
-    assert term(compiled, "find_village", state, first)[0].tolist() == [0.0, 100.0]  # 150 m -> 145 m after the move
+    # the release's 3-D distance from 100 m up (village_distance): 113 m away, sqrt(113^2 + 100^2) = 150.9 m; after
+    # the 3 m move 110 m, 148.7 m
+    assert term(compiled, "find_village", state, first)[0].tolist() == [0.0, 100.0]
     assert outcome.events["found_fire"][0].tolist() == [True, False]
     second, outcome = sim.step(first, act([0, 0], [0, 0]), np.random.default_rng(2))
     assert term(compiled, "find_fire", first, second).sum() == 0 and term(compiled, "find_village", first, second).sum() == 0
@@ -173,7 +176,10 @@ def test_the_fire_going_out_pays_10_and_is_an_event_for_every_plane(compiled, ba
     sim, state = world(base, [(0.0, 0.0, 0.0), (10.0, 0.0, 0.0)], trees)
     state = replace(state, position=np.array([[[195.0, 200.0], [10.0, 0.0]]]))
     new, outcome = sim.step(state, act([0, 0], [1, 0]), np.random.default_rng(1))
-    assert new.extinguished[0, 0] == 1 and not new.burning[0]
+    # extinguished, but still spreading (extinguished_spread, the release's fire): nothing is left to catch, so it
+    # goes out once quiet_steps_out fire steps lit nothing
+    assert new.extinguished[0, 0] == 1 and new.fire.burning.size == 0 and new.fire.doused.size == 1
+    assert new.burning[0]
     steps = 0
     while not outcome.events["fire_out"].any():
         new, outcome = sim.step(new, act([0, 0], [0, 0]), np.random.default_rng(steps))

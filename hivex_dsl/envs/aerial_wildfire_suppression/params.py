@@ -106,7 +106,7 @@ class AerialWildfireParams(WindParams, FireSpec, CameraParams):
     drop_point_spacing_m: float = Field(20.0, ge=0.0, le=100.0, description="[orig] Metres between swath points, ahead of the plane.")
     drop_radius_m: float = Field(30.0, gt=0.0, le=60.0, description=(
         "[orig] Existing or burning trees within this distance of a swath point become wet."))
-    extinguished_spread: bool = Field(False, description=(
+    extinguished_spread: bool = Field(True, description=(
         "[orig] Whether a burning tree that water reaches goes on trying its neighbours for the rest of its burn, "
         "as the release's fire does (true): its BurnNext spreads from every tree of its burning list, whatever the "
         "tree's state, and no drop touches that list, so an extinguished tree stops counting as burning (planes no "
@@ -117,13 +117,13 @@ class AerialWildfireParams(WindParams, FireSpec, CameraParams):
     village_radius_m: float = Field(150.0, gt=0.0, le=1_000.0, description=(
         "[paper] Fire this close to the village centre costs 'too close to village' (village_zone says how close is "
         "measured); a plane this close has found it."))
-    village_distance: Literal["horizontal", "release"] = Field("horizontal", description=(
+    village_distance: Literal["horizontal", "release"] = Field("release", description=(
         "[orig] How a plane's distance to the village is read for Find Village: 'release' in 3-D, as the release's "
         "FindVillageTask (Vector3.Distance under 150 m) from the plane, which its AutoAdjustHeight keeps 100 m above "
         "the terrain its last frame's cast hit, to the village on its ground, so a plane over the village's level "
         "ground finds it about 112 m away; 'horizontal' [ours] the horizontal distance, this toolkit's reading before "
         "(the reward table's note 'The village's zone and distance')."))
-    village_zone: Literal["circle", "square"] = Field("circle", description=(
+    village_zone: Literal["circle", "square"] = Field("square", description=(
         "[orig] Where a burning tree costs 'too close to village' and counts in Fire too Close to City: 'square' the "
         "release's zone, every forest cell within village_radius_m of the village's in x and in y (CityGenerator."
         "FindClosestTrees keeps the trees standing within 50 cells, 150 m, of the village's cell each way, and "

@@ -17,9 +17,10 @@ from ...sim.procgen.wind import wrap_angle
 PATROL_RADIUS_M = 380.0  # middle of the forested band between village surroundings and coast
 PATROL_LEAD_RAD = np.radians(35.0)  # aim this far ahead along the patrol circle (counter-clockwise)
 PREPARE_BAND_M = 40.0  # when preparing trees: drop within this distance of the patrol circle
-# the village is found within 150 m of it and stands within 450 m of the centre on each axis: spiral arms 200 m apart
-# out to 680 m (past the square's corners, 636 m out, and short of the border) pass within 111 m of every such point,
-# one sweep about 2,400 steps at 3 m a step, 1,440 at 5 m
+# the village is found within 150 m of it (horizontally; in 3-D from 100 m above the ground under village_distance
+# 'release', about 112 m across over level ground) and stands within 450 m of the centre on each axis: spiral arms
+# 200 m apart out to 680 m (past the square's corners, 636 m out, and short of the border) pass within 111 m of every
+# such point, one sweep about 2,400 steps at 3 m a step, 1,440 at 5 m (closer arms sweep slower than the fire burns)
 SEARCH_ARM_SPACING_M = 200.0
 SEARCH_OUTER_M = 680.0
 

@@ -57,8 +57,7 @@ def fire_out(prev, state, actions, params):
 @TERMS.term(
     "too_close_to_village", title="Too Close to Village", paper_row=4, low=-50.0, high=0.0, sign="penalty",
     timing="event", scope="global",
-    description=("-50 to every plane, once per episode, when a burning tree comes within 150 m of the village centre "
-                 "(params.village_zone: a circle, or the release's square of cells within 150 m each way)."),
+    description="-50 to every plane, once per episode, when a burning tree comes within 150 m of the village centre.",
     equation="r_cv = -50 if some tree within 150 m of the village burns (first time this episode) else 0",
 )
 def too_close_to_village(prev, state, actions, params):
@@ -85,8 +84,7 @@ def find_fire(prev, state, actions, params):
 
 @TERMS.term(
     "find_village", title="Find Village", paper_row=7, low=0.0, high=100.0, sign="bonus", timing="event",
-    scope="agent", description=("+100 the first time in an episode the plane is within 150 m of the village centre "
-                                "(params.village_distance: horizontally, or in 3-D from 100 m above the ground)."),
+    scope="agent", description="+100 the first time in an episode the plane is within 150 m of the village centre.",
     equation="r_v = 100 if |p - village| <= 150 (first time this episode) else 0",
 )
 def find_village(prev, state, actions, params):
