@@ -85,10 +85,12 @@ def test_resetting_a_world_drops_its_doused_trees_and_keeps_the_others():
     state, _, _ = douse(state, np.array([0, 1]), np.array([0.0, 0.0]), np.array([0.0, 0.0]), 0.5, np.array([0, 1]), 2,
                         spreading=True)
     area = state.cells * state.cells
-    assert state.doused.tolist() == [0, area]
+    assert state.doused.tolist() == [0, area] and state.burning.size == 0
+    assert any_burning(state).tolist() == [True, True]  # both fires go on through their doused trees
     fresh = reset(["T......"] + ["......."] * 6)
     state = fire_put_worlds(state, np.array([True, False]), fresh)
     assert state.doused.tolist() == [area] and state.doused_age.tolist() == [0]
+    assert any_burning(state).tolist() == [False, True]
 
 
 def test_doused_and_its_ages_come_together():

@@ -82,6 +82,11 @@ ENTRY = register(EnvironmentEntry(
         "trained planes); Fire Out, which the original's first points log in a few per cent of world-episodes at six "
         "levels, happens once in the twenty level-runs of two training seeds here (benchmarks/aws_early_fire.py; the "
         "reward table's notes).",
+        "The village as the release reads it: Too Close to Village and Fire too Close to City watch the forest cells "
+        "within 150 m of the village's cell in x and in y, a square (village_zone), and Find Village takes the 3-D "
+        "distance from a plane flying 100 m above the ground, about 112 m across over level ground "
+        "(village_distance). A burning tree that water reaches stops burning but goes on spreading for the rest of "
+        "its burn, as the release's burning list does (extinguished_spread; the reward table's notes).",
         "Protect Village (task 4): the published policy learned to leave the world before the fire reaches the "
         "village at levels 2-10 (Crash Count 0.99-1.0, Fire too Close to City 0.00-0.03, returns 66-190), so a "
         "plane that crosses the border early escapes the village penalty here too. With the fitted fire timer a "

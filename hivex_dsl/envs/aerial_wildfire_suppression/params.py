@@ -111,7 +111,8 @@ class AerialWildfireParams(WindParams, FireSpec, CameraParams):
         "as the release's fire does (true): its BurnNext spreads from every tree of its burning list, whatever the "
         "tree's state, and no drop touches that list, so an extinguished tree stops counting as burning (planes no "
         "longer see it, the village does not, Extinguishing Trees counts it) but not spreading; false stops it at "
-        "once, this toolkit's reading before (the reward table's note 'Water does not stop the fire's spread')."))
+        "once, this toolkit's reading before (the reward table's note 'The village's zone, its distance and the "
+        "water that does not stop the fire')."))
     fire_view_half_m: float = Field(150.0, gt=0.0, le=1_000.0, description=(
         "[orig] The closest burning tree is observed within +/- this many metres (a square) of the plane."))
     village_radius_m: float = Field(150.0, gt=0.0, le=1_000.0, description=(
@@ -122,14 +123,15 @@ class AerialWildfireParams(WindParams, FireSpec, CameraParams):
         "FindVillageTask (Vector3.Distance under 150 m) from the plane, which its AutoAdjustHeight keeps 100 m above "
         "the terrain its last frame's cast hit, to the village on its ground, so a plane over the village's level "
         "ground finds it about 112 m away; 'horizontal' [ours] the horizontal distance, this toolkit's reading before "
-        "(the reward table's note 'The village's zone and distance')."))
+        "(the reward table's note 'The village's zone, its distance and the water that does not stop the fire')."))
     village_zone: Literal["circle", "square"] = Field("square", description=(
         "[orig] Where a burning tree costs 'too close to village' and counts in Fire too Close to City: 'square' the "
         "release's zone, every forest cell within village_radius_m of the village's in x and in y (CityGenerator."
         "FindClosestTrees keeps the trees standing within 50 cells, 150 m, of the village's cell each way, and "
         "CheckCloseTreeBurning sets the flag once any of them burns), so a fire coming at a corner is flagged up to "
         "212 m away; 'circle' [paper] a burning tree whose cell centre lies within village_radius_m, this "
-        "toolkit's reading before (the reward table's note 'The village's zone and distance')."))
+        "toolkit's reading before (the reward table's note 'The village's zone, its distance and the water that "
+        "does not stop the fire')."))
     camera_pixel_m: float = Field(5.0, gt=0.0, le=50.0, description=(
         "[ours] Ground metres per camera pixel; 42 pixels see 210 m, centred under the plane, forward up."))
     camera_sees_border: bool = Field(True, description=(
