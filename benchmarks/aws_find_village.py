@@ -2,10 +2,11 @@
 
     python benchmarks/aws_find_village.py [--worlds 64] [--level 1] [--set key=value ...]
 
-Plays the first episode of ``--worlds`` test-seed worlds twice, with straight flights (all-zeros) and with uniform
-random steering (its own seeded stream), and prints for each the mean return a plane-episode, the share of planes
+Plays the first episode of ``--worlds`` test-seed worlds twice, with the audit's all-zeros policy (straight flights)
+and its random policy (hivex_dsl.evaluation.policies), and prints for each the mean return a plane-episode, the share of planes
 that found the village and the mean length of a world's episode. The worlds are the same under any ``--set``, so
-two rules compare on matched flights (``--set village_distance=release``: the release's 3-D distance; the reward
+two rules compare on matched flights (a batch of worlds, where `hivex audit` plays its episodes one after another in
+one world, so a rule that ends one episode sooner draws the next ones afresh) (``--set village_distance=release``: the release's 3-D distance; the reward
 table's note 'The village's zone, its distance and the water that does not stop the fire', issue 52).
 """
 
@@ -18,6 +19,7 @@ import numpy as np
 
 import hivex_dsl
 from hivex_dsl.base.errors import HivexError
+from hivex_dsl.evaluation.policies import make_policy
 from hivex_dsl.runtime import BatchedEnv
 from hivex_dsl.train.config import parse_assignments
 
@@ -26,18 +28,17 @@ AGENTS = 3
 
 def first_episodes(params: dict, worlds: int, level: int, policy: str, seed: int = 1) -> tuple[float, float, float]:
     """(mean return a plane-episode, share of planes that found the village, mean world-episode length) of the
-    first episode of ``worlds`` test-seed worlds, every plane flying straight ('zeros') or steering at random."""
+    first episode of ``worlds`` test-seed worlds under the audit's 'zeros' or 'random' policy."""
     compiled = hivex_dsl.compile({"hivex": 1, "environment": "aerial_wildfire_suppression", "task": "find_village",
                                   "terrain_level": level, "agents": AGENTS, "episode_length": 3000, "params": params})
     env = BatchedEnv(compiled, batch=worlds)
-    env.reset(seed=compiled.seeds.test)
-    rng = np.random.default_rng(seed)
-    shape = (worlds, AGENTS, 1)
+    observations = env.reset(seed=compiled.seeds.test)
+    act = make_policy(policy, compiled, env.sim.action_space, env.shape, seed=seed)
     total, found = np.zeros((worlds, AGENTS)), np.zeros((worlds, AGENTS))
     ended, length = np.zeros(worlds, bool), np.zeros(worlds)
     for _ in range(compiled.episode_length):
-        steer = np.zeros(shape, np.float32) if policy == "zeros" else rng.uniform(-1.0, 1.0, shape).astype(np.float32)
-        step = env.step({"continuous": steer, "discrete": np.zeros(shape, np.int64)})
+        step = env.step(act(observations))
+        observations = step.observations
         going = ~ended[:, None]
         total += np.where(going, step.rewards, 0.0)
         found += going & env.state.found_village

@@ -23,13 +23,13 @@ import pytest
 
 import hivex_dsl
 from hivex_dsl.envs.aerial_wildfire_suppression.simulator import AerialWildfireSimulator
-from hivex_dsl.sim.fire import FireState, TreeState
+from hivex_dsl.sim.fire import fire_reset
 from hivex_dsl.sim.grids import terrain_grid
 
 
-def one_tree_burning(zone: str, offset_m: tuple[float, float]):
-    """The simulator, its one-world state and the village threat with a lone burning tree whose cell centre lies
-    ``offset_m`` (x, y) from the village centre (the village moved onto a cell centre so offsets are exact)."""
+def one_tree_burning(zone: str, offset_m: tuple[float, float]) -> bool:
+    """Whether the village is threatened by a lone burning tree whose cell centre lies ``offset_m`` (x, y) from the
+    village centre (the village moved onto a cell centre so offsets are exact)."""
     compiled = hivex_dsl.compile({"hivex": 1, "environment": "aerial_wildfire_suppression", "agents": 1,
                                   "params": {"village_zone": zone}})
     sim = AerialWildfireSimulator(compiled)
@@ -39,11 +39,9 @@ def one_tree_burning(zone: str, offset_m: tuple[float, float]):
     village = np.array([[-half + (centre_col + 0.5) * cell_m, -half + (centre_row + 0.5) * cell_m]])
     col = centre_col + int(round(offset_m[0] / cell_m))
     row = centre_row + int(round(offset_m[1] / cell_m))
-    trees = np.zeros((1, cells, cells), np.uint8)
-    trees[0, row, col] = TreeState.BURNING
-    fire = FireState(trees=trees, burning=np.array([row * cells + col]), age=np.zeros(1, np.int32),
-                     quiet=np.zeros(1, np.int32), out=np.zeros(1, bool), ignited=np.zeros(1, np.int64),
-                     burnt_out=np.zeros(1, np.int64))
+    lone = np.zeros((1, cells, cells), bool)
+    lone[0, row, col] = True
+    fire = fire_reset(lone, lone)
     far_away = np.array([[[-half + 10.0, -half + 10.0]]])  # the plane sees nothing near the village
     sighting = sim._sight_of(fire, village, far_away, np.ones((1, 1), bool))
     return bool(sighting.village_threat[0])
@@ -61,8 +59,6 @@ def one_tree_burning(zone: str, offset_m: tuple[float, float]):
 def test_the_release_flags_a_burning_tree_in_the_square_the_paper_s_circle_only_within_150_m(offset_m, square, circle):
     assert one_tree_burning("square", offset_m) is square
     assert one_tree_burning("circle", offset_m) is circle
-
-
 
 
 def plane_near_village(distance: str, horizontal_m: float, cast_x_m: float | None = None, ground_m: float = 0.0,

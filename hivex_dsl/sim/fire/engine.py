@@ -256,18 +256,23 @@ def fire_put_worlds(state: FireState, mask: np.ndarray, fresh: FireState) -> Fir
                          f"got trees {fresh.trees.shape}")
     area = state.cells * state.cells
     state.trees[worlds] = fresh.trees
-    keep = ~mask[state.burning // area]
-    fresh_world, cell = np.divmod(fresh.burning, area)
-    burning = np.concatenate([state.burning[keep], worlds[fresh_world] * area + cell])
-    kept = ~mask[state.doused // area]
-    fresh_world, cell = np.divmod(fresh.doused, area)
-    doused = np.concatenate([state.doused[kept], worlds[fresh_world] * area + cell])
+    keep, burning = _put_cells(state.burning, fresh.burning, mask, worlds, area)
+    kept, doused = _put_cells(state.doused, fresh.doused, mask, worlds, area)
     return FireState(trees=state.trees, burning=burning,
                      age=np.concatenate([state.age[keep], fresh.age]), quiet=put_worlds(state.quiet, mask, fresh.quiet),
                      out=put_worlds(state.out, mask, fresh.out), ignited=put_worlds(state.ignited, mask, fresh.ignited),
                      burnt_out=put_worlds(state.burnt_out, mask, fresh.burnt_out),
                      spent=np.concatenate([state.spent[keep], fresh.spent]), doused=doused,
                      doused_age=np.concatenate([state.doused_age[kept], fresh.doused_age]))
+
+
+def _put_cells(cells: np.ndarray, fresh: np.ndarray, mask: np.ndarray, worlds: np.ndarray, area: int
+               ) -> tuple[np.ndarray, np.ndarray]:
+    """(keep (K,) bool: the flat ``cells`` of the worlds not in ``mask``, the list with them first, then the
+    ``fresh`` list's cells moved into the masked ``worlds``)."""
+    keep = ~mask[cells // area]
+    fresh_world, cell = np.divmod(fresh, area)
+    return keep, np.concatenate([cells[keep], worlds[fresh_world] * area + cell])
 
 
 def fire_copy(state: FireState) -> FireState:
