@@ -1,0 +1,139 @@
+"""Aerial Wildfire Suppression's Fire Out at the end of training beside the crashes it follows, ours against the
+original's, level by level.
+
+    python benchmarks/aws_fire_out.py [--grid] [--record] [RUN_DIR ...]
+
+The release's HivexAgent.FireReward pays and counts Fire Out only on a plane that still flies: a plane that crossed
+the border is frozen until its world ends and logs none. So a plane-episode's Fire Out reads both how often its
+world's fire went out and whether the plane was still up when it did. Over the last tenth of the budget
+(hivex_dsl.evaluation.original.tail, each side pooled as `hivex curves` pools it) this prints, level by level, Fire
+Out, Crash Count and Fire Out a plane that did not crash (Fire Out / (1 - Crash Count): a frozen plane crashes at most
+once an episode), first the original's with the correlation of Fire Out and Crash Count over its ten levels and the
+least-squares line through them, then ours (``--grid``: the committed ten-level grid record; ``--record``: the main
+record's seeds; RUN_DIR: runs of `hivex train`, a sweep's folder of them or one run) with that line read at our Crash
+Count: what the original's levels log at the crash rate our planes reach (the reward table's notes record what it
+printed, issue 52).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from hivex_dsl.evaluation.original.compare import CompareError, RunCurve, from_record, original_cell, seed_curves
+from hivex_dsl.evaluation.original.runs import read_run
+from hivex_dsl.evaluation.original.tail import tail
+
+ENVIRONMENT = "aerial_wildfire_suppression"
+LEVELS = range(1, 11)
+FIRE_OUT, CRASHES = "Fire Out", "Crash Count"
+GRID = Path(__file__).parent / "baselines" / "grids" / f"{ENVIRONMENT}.json"
+RECORD = Path(__file__).parent / "baselines" / f"{ENVIRONMENT}.json"
+
+
+@dataclass(frozen=True)
+class End:
+    """Fire Out and Crash Count a plane-episode over the last tenth of the budget, at one level."""
+
+    level: int
+    fire_out: float
+    crashes: float
+
+    @property
+    def per_plane_up(self) -> float:
+        """Fire Out a plane-episode whose plane did not crash."""
+        return self.fire_out / (1.0 - self.crashes) if self.crashes < 1.0 else float("nan")
+
+
+def original_ends() -> list[End]:
+    """The original's main task at every level: the means of its summary points over the last tenth."""
+    ends = []
+    for level in LEVELS:
+        cell = original_cell(ENVIRONMENT, 0, level)
+        empty = RunCurve(steps=np.zeros(0), episodes=np.zeros(0), panels={})
+        ends.append(End(level, tail(empty, cell, FIRE_OUT).theirs, tail(empty, cell, CRASHES).theirs))
+    return ends
+
+
+def our_end(curve: RunCurve, level: int) -> End:
+    """Ours at ``level``: the points over the last tenth of the original's budget, weighted by their episodes."""
+    cell = original_cell(ENVIRONMENT, 0, level)
+    fire_out, crashes = tail(curve, cell, FIRE_OUT).ours, tail(curve, cell, CRASHES).ours
+    if fire_out is None or crashes is None:
+        raise CompareError(f"the run at level {level} has no point in the last tenth of the original's budget")
+    return End(level, fire_out, crashes)
+
+
+def line(ends: list[End]) -> tuple[float, float, float]:
+    """(intercept, slope, correlation) of Fire Out on Crash Count over ``ends``."""
+    crashes = np.array([end.crashes for end in ends])
+    fire_out = np.array([end.fire_out for end in ends])
+    slope, intercept = np.polyfit(crashes, fire_out, 1)
+    return float(intercept), float(slope), float(np.corrcoef(crashes, fire_out)[0, 1])
+
+
+def ours_from_args(args: argparse.Namespace) -> list[tuple[str, RunCurve, int]]:
+    """(label, curve, level) of every run asked for."""
+    runs = []
+    if args.grid:
+        for point in json.loads(GRID.read_text())["points"]:
+            runs.append((f"grid L{point['level']}", from_record({**point, "environment": ENVIRONMENT}),
+                         point["level"]))
+    if args.record:
+        record = json.loads(RECORD.read_text())
+        for index, curve in enumerate(seed_curves(record)):
+            runs.append((f"main record seed {index}", curve, record["level"]))
+    for path in args.runs:
+        folders = [path] if (path / "summary.json").exists() else sorted(p.parent for p in path.glob("*/summary.json"))
+        if not folders:
+            raise CompareError(f"{path}: no finished run of `hivex train` (no summary.json in it or its folders)")
+        for folder in folders:
+            run = read_run(folder)
+            if run.environment != ENVIRONMENT or run.task_index != 0:
+                raise CompareError(f"{folder}: not a run of the main task of {ENVIRONMENT}")
+            runs.append((folder.name, run.curve, run.level))
+    return runs
+
+
+def report(ours: list[tuple[str, RunCurve, int]]) -> list[str]:
+    theirs = original_ends()
+    intercept, slope, correlation = line(theirs)
+    lines = ["the original's main task over the last tenth of its budget, a plane-episode:"]
+    lines += [f"  L{e.level}: Fire Out {e.fire_out:.3f}, Crash Count {e.crashes:.2f}, Fire Out a plane up "
+              f"{e.per_plane_up:.3f}" for e in theirs]
+    lines.append(f"  over its ten levels Fire Out = {intercept:.3f} {slope:+.3f} x Crash Count, correlation "
+                 f"{correlation:.2f}")
+    if ours:
+        lines.append("ours over the same steps (the original's line at our Crash Count; its level's Fire Out a plane "
+                     "up):")
+    for label, curve, level in ours:
+        end, there = our_end(curve, level), theirs[level - 1]
+        expected = intercept + slope * end.crashes
+        lines.append(f"  {label}: Fire Out {end.fire_out:.3f}, Crash Count {end.crashes:.2f} (line {expected:.3f}, "
+                     f"ratio {end.fire_out / expected:.2f}); a plane up {end.per_plane_up:.3f} against "
+                     f"{there.per_plane_up:.3f} (ratio {end.per_plane_up / there.per_plane_up:.2f})")
+    return lines
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("runs", nargs="*", type=Path, metavar="RUN_DIR")
+    parser.add_argument("--grid", action="store_true", help="the committed ten-level grid record")
+    parser.add_argument("--record", action="store_true", help="the main record's seeds (level 1)")
+    args = parser.parse_args(argv)
+    try:
+        lines = report(ours_from_args(args))
+    except CompareError as error:
+        print(f"error: {error}", file=sys.stderr)
+        return 2
+    print("\n".join(lines))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,55 @@
+"""benchmarks/aws_fire_out.py: Fire Out at the end of training beside the crashes, ours against the original's."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from hivex_dsl.evaluation.original.compare import CompareError, RunCurve
+
+from ..benchmark_scripts import benchmark_script
+
+script = benchmark_script("aws_fire_out")
+
+
+def _curve(steps, episodes, fire_out, crashes) -> RunCurve:
+    return RunCurve(steps=np.array(steps, dtype=float), episodes=np.array(episodes, dtype=float),
+                    panels={"Fire Out": np.array(fire_out, dtype=float), "Crash Count": np.array(crashes, dtype=float)})
+
+
+def test_a_plane_that_crashed_logs_no_fire_out_so_the_rate_a_plane_up_divides_by_the_planes_up():
+    # 0.3 fire-outs a plane-episode with a quarter of the planes frozen: 0.3 / 0.75 a plane still up
+    assert script.End(1, 0.3, 0.25).per_plane_up == pytest.approx(0.4)
+    assert np.isnan(script.End(1, 0.0, 1.0).per_plane_up)
+
+
+def test_ours_pools_the_last_tenth_of_the_original_s_budget_weighted_by_episodes():
+    # the original's level-1 budget is 1,800,000 agent-steps: the point at 1,000,000 lies before its last tenth;
+    # (1 x 1 + 0 x 3) / 4 fire-outs and (0 x 1 + 1/3 x 3) / 4 crashes a plane-episode
+    curve = _curve([1_000_000, 1_700_000, 1_750_000], [5, 1, 3], [1.0, 1.0, 0.0], [1.0, 0.0, 1 / 3])
+    end = script.our_end(curve, 1)
+    assert (end.fire_out, end.crashes) == (pytest.approx(0.25), pytest.approx(0.25))
+    assert end.per_plane_up == pytest.approx(1 / 3)
+
+
+def test_a_run_that_stopped_before_the_last_tenth_is_a_clear_error():
+    with pytest.raises(CompareError, match="no point in the last tenth"):
+        script.our_end(_curve([500_000], [3], [0.0], [0.0]), 1)
+
+
+def test_the_original_s_fire_out_follows_its_crashes_over_its_ten_levels():
+    """The original's own records (its pages, last tenth of the budget): level 1, the one level whose planes kept
+    crashing (0.52 a plane-episode), logs the least Fire Out (0.11); over the ten levels Fire Out falls as Crash
+    Count rises (correlation -0.73), as its drops do (the reward table's note on the drops)."""
+    ends = script.original_ends()
+    assert [end.level for end in ends] == list(range(1, 11))
+    assert min(ends, key=lambda end: end.fire_out).level == 1
+    assert max(ends, key=lambda end: end.crashes).level == 1
+    intercept, slope, correlation = script.line(ends)
+    assert slope < 0 and correlation < -0.6
+    assert ends[0].fire_out == pytest.approx(0.111, abs=0.001) and ends[0].crashes == pytest.approx(0.52, abs=0.005)
+
+
+def test_a_folder_without_runs_is_a_clear_error(tmp_path, capsys):
+    assert script.main([str(tmp_path)]) == 2
+    assert "no finished run" in capsys.readouterr().err
