@@ -21,8 +21,8 @@ def test_the_coast_looper_logs_the_originals_late_drops_trees_and_return(level):
     """Against the original's training at the end of its budget (the lowest and highest of its three runs), level
     7: Water Drop 31.0-123.0, Preparing Trees 19.7-2,238.7, the return 23.0-1,144.8; level 9: 16.5-194.3,
     94.7-814.5 and 571.4-1,886.7. The looper logs 66.2, 775.5 and 868.4 at level 7 and 87.1, 755.0 and 925.2 at
-    level 9 over these 16 test worlds, where this toolkit's trained planes (the grid record, same levels) drop 18.1
-    and 22.1 times. Measured under the village and water readings before session 85, as the note did (the note
+    level 9 over these 16 test worlds, where this toolkit's trained planes (the grid record of session 86, its test)
+    drop 10.6 and 46.1 times. Measured under the village and water readings before session 85, as the note did (the note
     'The village's zone, its distance and the water that does not stop the fire' gives the looper under the
     release's)."""
     ours, end = script.looped(level, WORLDS, VILLAGE_AND_WATER_BEFORE), script.original_end(level)
