@@ -111,12 +111,16 @@ def report(ours: list[tuple[str, RunCurve, int]]) -> list[str]:
     if ours:
         lines.append("ours over the same steps (the original's line at our Crash Count; its level's Fire Out a plane "
                      "up):")
-    for label, curve, level in ours:
-        end, there = our_end(curve, level), theirs[level - 1]
-        expected = intercept + slope * end.crashes
+    ends = [our_end(curve, level) for _, curve, level in ours]
+    for (label, _, level), end in zip(ours, ends):
+        there, expected = theirs[level - 1], intercept + slope * end.crashes
         lines.append(f"  {label}: Fire Out {end.fire_out:.3f}, Crash Count {end.crashes:.2f} (line {expected:.3f}, "
                      f"ratio {end.fire_out / expected:.2f}); a plane up {end.per_plane_up:.3f} against "
                      f"{there.per_plane_up:.3f} (ratio {end.per_plane_up / there.per_plane_up:.2f})")
+    if len(ends) >= 3:
+        intercept, slope, correlation = line(ends)
+        lines.append(f"  over these runs Fire Out = {intercept:.3f} {slope:+.3f} x Crash Count, correlation "
+                     f"{correlation:.2f}")
     return lines
 
 

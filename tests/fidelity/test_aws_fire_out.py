@@ -53,3 +53,13 @@ def test_the_original_s_fire_out_follows_its_crashes_over_its_ten_levels():
 def test_a_folder_without_runs_is_a_clear_error(tmp_path, capsys):
     assert script.main([str(tmp_path)]) == 2
     assert "no finished run" in capsys.readouterr().err
+
+
+def test_the_line_through_levels_is_least_squares_fire_out_on_crashes():
+    # three points on Fire Out = 0.4 - 0.5 x Crash Count, and a fourth off it that pulls the fit by hand's amount
+    on_line = [script.End(level, 0.4 - 0.5 * crashes, crashes) for level, crashes in ((1, 0.0), (2, 0.2), (3, 0.4))]
+    assert script.line(on_line) == (pytest.approx(0.4), pytest.approx(-0.5), pytest.approx(-1.0))
+    # with (0.6, 0.2) added: means 0.3 and 0.275; Sxy = -0.0375 - 0.0025 - 0.0075 - 0.0225 = -0.07 over
+    # Sxx = 0.09 + 0.01 + 0.01 + 0.09 = 0.2: slope -0.35, intercept 0.275 + 0.35 x 0.3 = 0.38
+    intercept, slope, _ = script.line(on_line + [script.End(4, 0.2, 0.6)])
+    assert (intercept, slope) == (pytest.approx(0.38), pytest.approx(-0.35))
