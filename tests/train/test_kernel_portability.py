@@ -98,19 +98,21 @@ def test_the_committed_file_shows_cpu_kernels_portable_training_as_the_amd_epycs
 
 
 @pytest.mark.parametrize("environment, follows_record, portable_agrees", [
-    ("aerial_wildfire_suppression", 27, 26),  # convolutions ('simple'): the record's machine is not named
+    ("aerial_wildfire_suppression", 40, 13),  # convolutions ('simple'): the record trained on this Xeon (session 86)
     ("drone_based_reforestation", 12, 14),  # ML-Agents' ResNet encoders: the record reproduced on an AMD EPYC
 ])
 def test_a_convolutional_file_tells_the_kernels_apart_within_its_points(environment, follows_record, portable_agrees):
-    """On the Xeon of session 80, over 40 points, the default follows the committed record for ``follows_record``
-    points and cpu_kernels portable parts from the default after ``portable_agrees``: so an AMD row will tell whether
-    the portable convolution path is alike across vendors."""
+    """On the Xeon of family 6 model 207, over 40 points, the default follows the committed record for
+    ``follows_record`` points (all 40 where the record trained on it) and cpu_kernels portable parts from the default
+    after ``portable_agrees``: so an AMD row will tell whether the portable convolution path is alike across
+    vendors."""
     recorded = json.loads(script.results_file(environment).read_text("utf-8"))
     assert recorded["scenario"] == script.scenario_of(environment) and recorded["points"] == 40
     curve = script.record_curve(recorded["scenario"])[:40]
     (xeon,) = [row for name, row in recorded["machines"].items() if "Intel" in name and "model 207" in name]
     default, portable = xeon["default"], xeon["portable"]
-    assert default[:follows_record] == curve[:follows_record] and default[follows_record] != curve[follows_record]
+    assert default[:follows_record] == curve[:follows_record]
+    assert follows_record == 40 or default[follows_record] != curve[follows_record]
     assert portable[:portable_agrees] == default[:portable_agrees]
     assert portable[portable_agrees] != default[portable_agrees]
 
