@@ -77,6 +77,12 @@ def line(ends: list[End]) -> tuple[float, float, float]:
     return float(intercept), float(slope), float(np.corrcoef(crashes, fire_out)[0, 1])
 
 
+def _ratio(ours: float, theirs: float) -> str:
+    """``ours`` over ``theirs`` to two places, or '-' where ``theirs`` is not positive (a line read past its zero, a
+    level whose planes all crashed)."""
+    return f"{ours / theirs:.2f}" if theirs > 0 else "-"
+
+
 def ours_from_args(args: argparse.Namespace) -> list[tuple[str, RunCurve, int]]:
     """(label, curve, level) of every run asked for."""
     runs = []
@@ -115,8 +121,8 @@ def report(ours: list[tuple[str, RunCurve, int]]) -> list[str]:
     for (label, _, level), end in zip(ours, ends):
         there, expected = theirs[level - 1], intercept + slope * end.crashes
         lines.append(f"  {label}: Fire Out {end.fire_out:.3f}, Crash Count {end.crashes:.2f} (line {expected:.3f}, "
-                     f"ratio {end.fire_out / expected:.2f}); a plane up {end.per_plane_up:.3f} against "
-                     f"{there.per_plane_up:.3f} (ratio {end.per_plane_up / there.per_plane_up:.2f})")
+                     f"ratio {_ratio(end.fire_out, expected)}); a plane up {end.per_plane_up:.3f} against "
+                     f"{there.per_plane_up:.3f} (ratio {_ratio(end.per_plane_up, there.per_plane_up)})")
     if len(ends) >= 3:
         intercept, slope, correlation = line(ends)
         lines.append(f"  over these runs Fire Out = {intercept:.3f} {slope:+.3f} x Crash Count, correlation "

@@ -63,3 +63,9 @@ def test_the_line_through_levels_is_least_squares_fire_out_on_crashes():
     # Sxx = 0.09 + 0.01 + 0.01 + 0.09 = 0.2: slope -0.35, intercept 0.275 + 0.35 x 0.3 = 0.38
     intercept, slope, _ = script.line(on_line + [script.End(4, 0.2, 0.6)])
     assert (intercept, slope) == (pytest.approx(0.38), pytest.approx(-0.35))
+
+
+def test_a_ratio_over_nothing_reads_as_a_dash():
+    assert script._ratio(0.3, 0.2) == "1.50"
+    for nothing in (0.0, -0.04, float("nan")):  # a line read past its zero, a level whose planes all crashed
+        assert script._ratio(0.3, nothing) == "-"
