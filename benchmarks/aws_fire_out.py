@@ -92,8 +92,8 @@ def ours_from_args(args: argparse.Namespace) -> list[tuple[str, RunCurve, int]]:
                          point["level"]))
     if args.record:
         record = json.loads(RECORD.read_text())
-        for index, curve in enumerate(seed_curves(record)):
-            runs.append((f"main record seed {index}", curve, record["level"]))
+        for curve in seed_curves(record):
+            runs.append((f"main record, {curve.label.split(', ', 1)[-1]}", curve, record["level"]))
     for path in args.runs:
         folders = [path] if (path / "summary.json").exists() else sorted(p.parent for p in path.glob("*/summary.json"))
         if not folders:

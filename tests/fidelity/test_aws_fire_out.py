@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import json
+
 import numpy as np
 import pytest
 
@@ -69,3 +71,24 @@ def test_a_ratio_over_nothing_reads_as_a_dash():
     assert script._ratio(0.3, 0.2) == "1.50"
     for nothing in (0.0, -0.04, float("nan")):  # a line read past its zero, a level whose planes all crashed
         assert script._ratio(0.3, nothing) == "-"
+
+
+def _run_dir(folder, environment: str, level: int):
+    folder.mkdir(parents=True)
+    summary = {"environment": environment, "task_index": 0, "level": level, "seed": 0}
+    (folder / "summary.json").write_text(json.dumps(summary))
+    points = [{"agent_steps": 1_700_000, "return": 1.0, "episodes": 4, "length": 2_000,
+               "statistics": {"Fire Out": 0.5, "Crash Count": 0.5}}]
+    (folder / "curve.json").write_text(json.dumps(points))
+
+
+def test_a_sweep_folder_reads_every_point_and_refuses_another_environment(tmp_path, capsys):
+    _run_dir(tmp_path / "grid" / "000-a", script.ENVIRONMENT, 1)
+    _run_dir(tmp_path / "grid" / "001-b", script.ENVIRONMENT, 2)
+    assert script.main([str(tmp_path / "grid")]) == 0
+    out = capsys.readouterr().out
+    # 0.5 fire-outs with half the planes frozen: 1.0 a plane still up
+    assert "000-a: Fire Out 0.500, Crash Count 0.50" in out and "a plane up 1.000" in out and "001-b:" in out
+    _run_dir(tmp_path / "other", "wind_farm_control", 1)
+    assert script.main([str(tmp_path / "other")]) == 2
+    assert "not a run of the main task of aerial_wildfire_suppression" in capsys.readouterr().err
