@@ -3,11 +3,12 @@
     python benchmarks/aws_find_village.py [--worlds 64] [--level 1] [--set key=value ...]
 
 Plays the first episode of ``--worlds`` test-seed worlds twice, with the audit's all-zeros policy (straight flights)
-and its random policy (hivex_dsl.evaluation.policies), and prints for each the mean return a plane-episode, the share of planes
-that found the village and the mean length of a world's episode. The worlds are the same under any ``--set``, so
-two rules compare on matched flights (a batch of worlds, where `hivex audit` plays its episodes one after another in
-one world, so a rule that ends one episode sooner draws the next ones afresh) (``--set village_distance=release``: the release's 3-D distance; the reward
-table's note 'The village's zone, its distance and the water that does not stop the fire', issue 52).
+and its random policy (hivex_dsl.evaluation.policies), and prints for each the mean return a plane-episode, the share
+of planes that found the village and the mean length of a world's episode. The worlds are the same under any
+``--set``, so two rules compare on matched flights: a batch of worlds, where `hivex audit` plays its episodes one after
+another in one world, so that a rule that ends one episode sooner draws the next ones afresh (``--set
+village_distance=release``: the release's 3-D distance; the reward table's note 'The village's zone, its distance and
+the water that does not stop the fire', issue 52).
 """
 
 from __future__ import annotations
