@@ -17,6 +17,7 @@ import hivex_dsl
 from hivex_dsl.envs.aerial_wildfire_suppression import view
 from hivex_dsl.envs.aerial_wildfire_suppression.camera import OUTSIDE, PALETTE_FLOAT, WATER_RING, cameras
 from hivex_dsl.envs.aerial_wildfire_suppression.simulator import AerialWildfireSimulator
+from hivex_dsl.sim.fire import FireState, TreeState
 from hivex_dsl.envs.island import conditions_reader, sample_conditions, weather_reader
 
 CELLS = 400
@@ -141,8 +142,10 @@ def test_colour_triples_are_the_single_colours(count):
     np.testing.assert_array_equal(view.colours(index), PALETTE_FLOAT[index])
 
 
-def test_the_look_stays_the_picture_of_the_trees_through_fires_drops_and_restarts():
-    compiled = hivex_dsl.compile("aerial_wildfire_suppression/main")
+@pytest.mark.parametrize("burn_list", ["age", "release"])  # the release's list shows trees burnt it ignited
+def test_the_look_stays_the_picture_of_the_trees_through_fires_drops_and_restarts(burn_list):
+    compiled = hivex_dsl.compile({"hivex": 1, "environment": "aerial_wildfire_suppression", "task": "main",
+                                  "params": {"burn_list": burn_list}})
     sim = AerialWildfireSimulator(compiled)
     act = compiled.entry.scripted_policy(compiled)
     rng = np.random.default_rng(11)
@@ -157,6 +160,22 @@ def test_the_look_stays_the_picture_of_the_trees_through_fires_drops_and_restart
     fresh = view.build_look(state.fire.trees, state.maps.ground, sim.frame_template, sim.frame)
     np.testing.assert_array_equal(state.look, fresh)
     np.testing.assert_array_equal(sim.observe(state)["visual"], sim.derive(state).visual)
+
+
+def test_a_fire_step_redraws_a_tree_the_release_showed_burnt_as_it_caught():
+    """Under burn_list 'release' a tree can catch fire and fall in its list's oldest fifth in one step (a list that
+    lost most of its trees): it goes to the doused list at age 0, BURNT, and the look must show it so."""
+    sim = simulator("default")
+    state = sim.reset(np.random.default_rng(3), 1)
+    fire = state.fire
+    cell = int(np.flatnonzero(fire.trees.reshape(-1) == TreeState.EXISTING)[0])
+    fire.trees.reshape(-1)[cell] = TreeState.BURNT
+    after = FireState(trees=fire.trees, burning=fire.burning, age=fire.age, quiet=fire.quiet, out=fire.out,
+                      ignited=fire.ignited, burnt_out=fire.burnt_out, doused=np.array([cell]),
+                      doused_age=np.zeros(1, np.int32))
+    view.redraw_fire_step(state.look, fire.burning, after, sim.frame)
+    np.testing.assert_array_equal(state.look, view.build_look(fire.trees, state.maps.ground, sim.frame_template,
+                                                              sim.frame))
 
 
 def test_the_observed_camera_is_read_only(sim):

@@ -242,10 +242,11 @@ def redraw_cells(look: np.ndarray, trees: np.ndarray, flat: np.ndarray, frame: V
 
 def redraw_fire_step(look: np.ndarray, burning_before: np.ndarray, fire: FireState, frame: ViewFrame) -> None:
     """Redraw in ``look`` what a fire step changed: the trees of ``burning_before`` (K,) that burnt out, and
-    the new ignitions of ``fire`` (the state after the step: age 0)."""
+    the new ignitions of ``fire`` (the state after the step: age 0), those the release's list showed burnt at
+    once (``burn_list`` 'release', on the doused list at age 0) too."""
     trees = fire.trees.reshape(-1)
     ended = burning_before[trees.take(burning_before) == np.uint8(TreeState.BURNT)]
-    changed = np.concatenate([ended, fire.burning[fire.age == 0]])
+    changed = np.concatenate([ended, fire.burning[fire.age == 0], fire.doused[fire.doused_age == 0]])
     paint_cells(look, changed, trees.take(changed), frame)
 
 

@@ -73,8 +73,18 @@ class FireSpec(StrictModel):
         "[ours] The wind the downwind factor reads: 'main' the world's main wind; 'local' [orig] the wind at the "
         "burning tree, the main wind turned by the wind's noise field, as the release's Wind.GetWindAtLocation."))
 
+    burn_list: Literal["age", "release"] = Field("age", description=(
+        "[ours] 'age': a tree tries its neighbours for burn_steps fire steps, and the fire is out once nothing "
+        "tries and quiet_steps_out steps passed without an ignition. "
+        "'release' [orig]: the release's ForestDataGenerator.BurnNext keeps its burning list as a queue that drops "
+        "from its front, each step, as many trees as caught fire 10 steps before, a count that never held the "
+        "fire's first trees; so the list always keeps, past their burn_steps, as many of the youngest trees as the "
+        "fire started with, burnt but still trying; each step it shows its oldest fifth burnt (seen by no plane "
+        "or village, wetted by no drop), still trying; and the fire is out once quiet_steps_out steps pass "
+        "without an ignition, whatever the list holds (hivex_dsl.sim.fire.queue)."))
+
     ADDED_FIELDS: ClassVar[dict[str, Any]] = dict.fromkeys(
-        ("spread_weather_at", "spread_max_distance_m", "spread_wind"), AS_DEFAULT)
+        ("spread_weather_at", "spread_max_distance_m", "spread_wind", "burn_list"), AS_DEFAULT)
 
 
 # The tree states as NumPy scalars: comparing a uint8 grid with an IntEnum member casts the whole grid
@@ -102,9 +112,14 @@ class FireState:
     existing tree at a fire step; it cannot hold one later (no cell turns back into an existing tree
     while its world burns), so spread skips the tree for any radius <= r. Optional (None: all 0).
 
-    doused (D,) int64 flat cells and doused_age (D,) int32: trees that water reached while they burnt and that
-    still try their neighbours, as the release's fire does (``douse(..., spreading=True)``): wet in ``trees``, in
-    no search for burning trees, they age with the list and leave it at ``burn_steps``. Optional (None: none).
+    doused (D,) int64 flat cells and doused_age (D,) int32: trees that still try their neighbours but no longer
+    burn in ``trees``, in no search for burning trees: those water reached while they burnt, as the release's fire
+    does (``douse(..., spreading=True)``), wet, and under ``FireSpec.burn_list`` 'release' the burnt trees its
+    queue keeps. They age with the list and leave it at ``burn_steps`` (the kept ones as the queue says).
+    Optional (None: none).
+
+    carry (B,) int32: how many trees past their burn the release's queue keeps in each world, as many as its
+    fire started with (:func:`fire_reset`); read only under ``burn_list`` 'release'. Optional (None: 0).
     """
 
     trees: np.ndarray
@@ -117,6 +132,7 @@ class FireState:
     spent: np.ndarray | None = None
     doused: np.ndarray | None = None
     doused_age: np.ndarray | None = None
+    carry: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         if self.doused is None and self.doused_age is None:
@@ -137,7 +153,9 @@ class FireState:
             raise ValueError("trees must be C-contiguous: the engine writes it in place through a flat view")
         if self.burning.shape != self.age.shape or self.burning.ndim != 1:
             raise ValueError(f"burning and age must be equal-length 1-D arrays, got {self.burning.shape} and {self.age.shape}")
-        for name in ("quiet", "out", "ignited", "burnt_out"):
+        if self.carry is None:
+            object.__setattr__(self, "carry", np.zeros(trees.shape[0], np.int32))
+        for name in ("quiet", "out", "ignited", "burnt_out", "carry"):
             if getattr(self, name).shape != trees.shape[:1]:
                 raise ValueError(f"{name} must have shape ({trees.shape[0]},), got {getattr(self, name).shape}")
 
@@ -208,7 +226,8 @@ def _fresh_trees(exists: np.ndarray, ignite: np.ndarray) -> np.ndarray:
 def fire_reset(exists: np.ndarray, ignite: np.ndarray) -> FireState:
     """New fires: trees where ``exists`` (B, C, C) bool, burning where ``ignite`` (B, C, C) bool.
 
-    The burning list is in flat-index order; every age, quiet counter and burnt_out count is 0.
+    The burning list is in flat-index order; every age, quiet counter and burnt_out count is 0; ``carry`` is
+    each world's count of first trees.
     """
     trees = _fresh_trees(exists, ignite)
     batch = trees.shape[0]
@@ -216,7 +235,7 @@ def fire_reset(exists: np.ndarray, ignite: np.ndarray) -> FireState:
     ignited = np.bincount(burning // (trees.shape[1] * trees.shape[2]), minlength=batch).astype(np.int64)
     return FireState(trees=trees, burning=burning, age=np.zeros(len(burning), np.int32),
                      quiet=np.zeros(batch, np.int32), out=np.zeros(batch, bool), ignited=ignited,
-                     burnt_out=np.zeros(batch, np.int64))
+                     burnt_out=np.zeros(batch, np.int64), carry=ignited.astype(np.int32))
 
 
 def fire_reset_where(state: FireState, mask: np.ndarray, exists: np.ndarray, ignite: np.ndarray) -> FireState:
@@ -263,7 +282,8 @@ def fire_put_worlds(state: FireState, mask: np.ndarray, fresh: FireState) -> Fir
                      out=put_worlds(state.out, mask, fresh.out), ignited=put_worlds(state.ignited, mask, fresh.ignited),
                      burnt_out=put_worlds(state.burnt_out, mask, fresh.burnt_out),
                      spent=np.concatenate([state.spent[keep], fresh.spent]), doused=doused,
-                     doused_age=np.concatenate([state.doused_age[kept], fresh.doused_age]))
+                     doused_age=np.concatenate([state.doused_age[kept], fresh.doused_age]),
+                     carry=put_worlds(state.carry, mask, fresh.carry))
 
 
 def _put_cells(cells: np.ndarray, fresh: np.ndarray, mask: np.ndarray, worlds: np.ndarray, area: int

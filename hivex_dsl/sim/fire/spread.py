@@ -25,8 +25,9 @@ import numpy as np
 from ...base import portable
 from ..batching import assemble
 from ..procgen.wind import TWO_PI
-from .engine import BURNING, BURNT, EXISTING, FireSpec, FireState, vector
+from .engine import BURNING, BURNT, EXISTING, NO_CELLS, FireSpec, FireState, vector
 from .factors import FactorGrid, factor_count
+from .queue import keep_youngest, list_lengths, settle
 
 # conditions(world (N,), row (N,), col (N,)) int64 -> (temperature (N,), humidity (N,), overcast (N,)) in [0, 1]
 Conditions = Callable[[np.ndarray, np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray, np.ndarray]]
@@ -301,6 +302,8 @@ def fire_step(state: FireState, rng: np.random.Generator, spec: FireSpec, downwi
     the new ignitions join it with age 0 in flat-index order. ``quiet`` restarts at 0 in a world
     with a new ignition and grows by one otherwise; a world is out once ``quiet >= quiet_steps_out``
     and nothing burns there. Worlds already out have nothing burning, so nothing changes there.
+    Under ``spec.burn_list`` 'release' the youngest ``state.carry`` trees past their burn go on trying from the
+    doused list, and a world is out once ``quiet >= quiet_steps_out``, both its lists then emptied (:mod:`.queue`).
     """
     trees = state.trees
     downwind = _checked_wind(downwind_rad, trees.shape[0])
@@ -315,32 +318,42 @@ def fire_step_unchecked(state: FireState, rng: np.random.Generator, spec: FireSp
     construction: ``downwind_rad`` a finite (B,) float64 array, ``cell_height`` a numeric (B, C, C) array
     (C-contiguous, else copied each call) of the fire's shape. Other arguments are undefined behaviour."""
     trees = state.trees
+    queue = spec.burn_list == "release"
+    before = list_lengths(state) if queue else None
     if state.doused.size:
         new, spent, doused, doused_age = _spread_with_doused(state, rng, spec, downwind_rad, cell_height, conditions,
-                                                             cell_m)
+                                                             cell_m, keep_aged=queue)
     else:
         new, spent = spread(state, rng, spec, downwind_rad, cell_height, conditions, cell_m)
         doused, doused_age = state.doused, state.doused_age
     ended, burning, age, spent = _burn_out(state, spent, spec.burn_steps)
+    if queue:
+        doused, doused_age = keep_youngest(ended, doused, doused_age, state.carry, spec.burn_steps, trees[0].size)
     flat = trees.reshape(-1)
     flat[ended] = BURNT
     flat[new] = BURNING
     burning = np.concatenate([burning, new])
+    age = np.concatenate([age, np.zeros(len(new), np.int32)])
+    spent = np.concatenate([spent, np.zeros(len(new), np.uint8)])
     tally = _tally_one if trees.shape[0] == 1 else _tally
-    alive = burning if not doused.size else np.concatenate([burning, doused])
+    alive = NO_CELLS if queue else burning if not doused.size else np.concatenate([burning, doused])
     quiet, out, ignited, burnt_out = tally(state, len(new), len(ended), alive, spec.quiet_steps_out, new, ended)
-    return assemble(FireState, trees=trees, burning=burning, age=np.concatenate([age, np.zeros(len(new), np.int32)]),
-                    quiet=quiet, out=out, ignited=ignited, burnt_out=burnt_out,
-                    spent=np.concatenate([spent, np.zeros(len(new), np.uint8)]), doused=doused, doused_age=doused_age)
+    if queue:
+        lists = settle(trees, before, out > state.out, (burning, age, spent, doused, doused_age))
+        burning, age, spent, doused, doused_age, burnt = lists
+        burnt_out = burnt_out + burnt
+    return assemble(FireState, trees=trees, burning=burning, age=age, quiet=quiet, out=out, ignited=ignited,
+                    burnt_out=burnt_out, spent=spent, doused=doused, doused_age=doused_age, carry=state.carry)
 
 
 def _spread_with_doused(state: FireState, rng: np.random.Generator, spec: FireSpec, downwind_rad: np.ndarray | Winds,
-                        cell_height: np.ndarray, conditions: Conditions | FactorGrid, cell_m: float | None
-                        ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+                        cell_height: np.ndarray, conditions: Conditions | FactorGrid, cell_m: float | None,
+                        keep_aged: bool = False) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """:func:`spread` from the burning trees and then the doused ones, which try their neighbours as burning trees
     do (the release's BurnNext reads its burning list, which water never touches); -> (new ignitions, the burning
     trees' ``spent``, then the doused trees (D',) and their ages (D',) after they aged a step, those reaching
-    ``burn_steps`` gone: they stay wet)."""
+    ``burn_steps`` gone unless ``keep_aged`` (the release's queue then picks: :mod:`.queue`): they stay as they
+    are in ``trees``)."""
     burnt = len(state.burning)
     sources = FireState(trees=state.trees, burning=np.concatenate([state.burning, state.doused]),
                         age=np.concatenate([state.age, state.doused_age]), quiet=state.quiet, out=state.out,
@@ -348,6 +361,8 @@ def _spread_with_doused(state: FireState, rng: np.random.Generator, spec: FireSp
                         spent=np.concatenate([state.spent, np.zeros(len(state.doused), np.uint8)]))
     new, spent = spread(sources, rng, spec, downwind_rad, cell_height, conditions, cell_m)
     age = state.doused_age + 1
+    if keep_aged:
+        return new, spent[:burnt], state.doused, age
     going = age < spec.burn_steps
     return new, spent[:burnt], state.doused[going], age[going]
 

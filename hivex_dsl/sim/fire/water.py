@@ -89,5 +89,5 @@ def douse(state: FireState, world: np.ndarray, rows: np.ndarray, cols: np.ndarra
             doused_age = np.concatenate([doused_age, state.age[~still]])
         state = FireState(trees=state.trees, burning=state.burning[still], age=state.age[still], quiet=state.quiet,
                           out=state.out, ignited=state.ignited, burnt_out=state.burnt_out, spent=state.spent[still],
-                          doused=doused, doused_age=doused_age)
+                          doused=doused, doused_age=doused_age, carry=state.carry)
     return state, extinguished, prepared
