@@ -162,12 +162,13 @@ class IslandSpecs:
     wind: WindSpec
     half_extent_m: float
     weather_cells: int
+    fire_start: str = "running"
 
     @classmethod
     def of(cls, compiled) -> "IslandSpecs":
         gens, p = compiled.generators, compiled.params
         return cls(gens["terrain"], gens["forest"], gens["ignition"], gens["weather"], p.wind_spec(),
-                   p.island_half_extent_m, p.weather_grid_cells)
+                   p.island_half_extent_m, p.weather_grid_cells, p.fire_start)
 
 
 def draw_maps(rng: np.random.Generator, count: int, specs: IslandSpecs) -> IslandMaps:
@@ -192,7 +193,7 @@ def start_islands(rng: np.random.Generator, count: int, specs: IslandSpecs, maps
     fields = sample_points(weather, specs.weather, grid if probes is None else np.concatenate([grid, probes]))
     conditions = fields[:, :len(grid)].reshape(count, specs.weather_cells, specs.weather_cells, 3)
     maps = draw_maps(rng, count, specs) if maps is None else maps
-    ignite = ignite_worlds(maps.exists, maps.village, conditions, specs.forest, specs.ignition)
+    ignite = ignite_worlds(maps.exists, maps.village, conditions, specs.forest, specs.ignition, specs.fire_start)
     return IslandStart(maps, fire_reset(maps.exists, ignite), wind, weather, conditions,
                        None if probes is None else fields[:, len(grid):])
 
@@ -309,10 +310,10 @@ def grid_lookup(cells_of_forest: int, weather_cells: int) -> np.ndarray:
 
 
 def build_island(rng: np.random.Generator, terrain_spec: TerrainSpec, forest_spec: ForestSpec,
-                 ignition_spec: IgnitionSpec, conditions: np.ndarray) -> Island:
+                 ignition_spec: IgnitionSpec, conditions: np.ndarray, fire_start: str = "running") -> Island:
     """Draw one world. ``conditions`` (G, G, 3) is the world's weather grid (ignition prefers dry, hot cells)."""
     height, ground, village, exists, _ = draw_island(rng, terrain_spec, forest_spec)
-    ignite = ignition_of(exists, village, conditions, forest_spec, ignition_spec)
+    ignite = ignition_of(exists, village, conditions, forest_spec, ignition_spec, fire_start)
     return Island(height=height, ground=ground, village=village, exists=exists, ignite=ignite)
 
 
@@ -331,8 +332,9 @@ def draw_island(rng: np.random.Generator, terrain_spec: TerrainSpec, forest_spec
 
 
 def ignition_of(exists: np.ndarray, village: np.ndarray, conditions: np.ndarray, forest_spec: ForestSpec,
-                ignition_spec: IgnitionSpec) -> np.ndarray:
-    """(C, C) bool cells set burning on a forest ``exists`` (C, C) under the weather grid ``conditions`` (G, G, 3).
+                ignition_spec: IgnitionSpec, fire_start: str = "running") -> np.ndarray:
+    """(C, C) bool cells set burning on a forest ``exists`` (C, C) under the weather grid ``conditions`` (G, G, 3),
+    by the params' ``fire_start`` rule (:func:`~hivex_dsl.sim.procgen.forest.ranked_ignition_mask`).
 
     :func:`~hivex_dsl.sim.procgen.forest.ignition_mask` with each forest cell's weather read from the weather
     cell holding it (the grid is not upsampled to the forest's: only the candidate cells are read).
@@ -341,15 +343,16 @@ def ignition_of(exists: np.ndarray, village: np.ndarray, conditions: np.ndarray,
     lookup = grid_lookup(forest_spec.cells, conditions.shape[0])
     weather = conditions[lookup[cells[:, 0]], lookup[cells[:, 1]]]  # (M, 3)
     ranked = rank_by_weather(cells, weather[:, 0], weather[:, 1], weather[:, 2])
-    return ranked_ignition_mask(exists, ignition_spec, ranked)
+    return ranked_ignition_mask(exists, ignition_spec, ranked, fire_start)
 
 
 def ignite_worlds(exists: np.ndarray, village: np.ndarray, conditions: np.ndarray, forest_spec: ForestSpec,
-                  ignition_spec: IgnitionSpec) -> np.ndarray:
+                  ignition_spec: IgnitionSpec, fire_start: str = "running") -> np.ndarray:
     """(M, C, C) bool ignition of M kept islands (exists (M, C, C), village (M, 2), conditions (M, G, G, 3))."""
     if len(exists) == 0:
         return np.zeros_like(exists)
-    return np.stack([ignition_of(e, v, c, forest_spec, ignition_spec) for e, v, c in zip(exists, village, conditions)])
+    return np.stack([ignition_of(e, v, c, forest_spec, ignition_spec, fire_start)
+                     for e, v, c in zip(exists, village, conditions)])
 
 
 def ground_palette(height: np.ndarray, centres: np.ndarray, village: np.ndarray, spec: TerrainSpec) -> np.ndarray:

@@ -43,7 +43,7 @@ class TreeState(enum.IntEnum):
 
 
 class FireSpec(StrictModel):
-    """Constants of fire spread, burn-out and the end of the fire."""
+    """Constants of fire spread, burn-out and the end of the fire, and the rule of its start."""
 
     spread_radius_cells: int = Field(2, ge=1, le=10, description=(
         "[orig] A burning tree tries the trees of the (2r+1) x (2r+1) cells around it (r = 2: within 10 m on a 3 m grid)."))
@@ -83,8 +83,16 @@ class FireSpec(StrictModel):
         "or village, wetted by no drop), still trying; and the fire is out once quiet_steps_out steps pass "
         "without an ignition, whatever the list holds (hivex_dsl.sim.fire.queue)."))
 
+    fire_start: Literal["running", "release"] = Field("running", description=(
+        "[ours] 'running': the ignition generator's ranked candidates' blocks burn in rank order until their "
+        "running count of trees exceeds its min_burning, so a fire often starts in two places or more. "
+        "'release' [orig]: the release's ForestDataGenerator.InitiateFireEnvProbability: only candidates with a "
+        "tree on their own cell, and one block, the first candidate's if it holds min_burning trees or more, else "
+        "the first in rank order holding more alone, else the last candidate's (its loop replaces the list with "
+        "each candidate's block): the fire starts in one place."))
+
     ADDED_FIELDS: ClassVar[dict[str, Any]] = dict.fromkeys(
-        ("spread_weather_at", "spread_max_distance_m", "spread_wind", "burn_list"), AS_DEFAULT)
+        ("spread_weather_at", "spread_max_distance_m", "spread_wind", "burn_list", "fire_start"), AS_DEFAULT)
 
 
 # The tree states as NumPy scalars: comparing a uint8 grid with an IntEnum member casts the whole grid

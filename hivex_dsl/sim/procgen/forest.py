@@ -321,10 +321,14 @@ def ignition_mask(exists: np.ndarray, forest_spec: ForestSpec, spec: IgnitionSpe
     return ranked_ignition_mask(exists, spec, ranked)
 
 
-def ranked_ignition_mask(exists: np.ndarray, spec: IgnitionSpec, ranked: np.ndarray) -> np.ndarray:
-    """(cells, cells) bool: the trees of ``exists`` in the blocks of the ``ranked`` (M, 2) candidates taken
-    in order until more than min_burning trees burn (every candidate's if they never do)."""
+def ranked_ignition_mask(exists: np.ndarray, spec: IgnitionSpec, ranked: np.ndarray, rule: str = "running"
+                         ) -> np.ndarray:
+    """(cells, cells) bool: the trees of ``exists`` in the blocks of the ``ranked`` (M, 2) candidates the ``rule``
+    takes. 'running': in order until more than min_burning trees burn (every candidate's if they never do), so
+    the fire may start in several places. 'release' (:func:`release_ignition_block`): one block."""
     mask = np.zeros(exists.shape, bool)
+    if rule == "release":
+        ranked = ranked[exists[ranked[:, 0], ranked[:, 1]]] if len(ranked) else ranked
     if len(ranked) == 0:
         return mask
     half = spec.block // 2
@@ -333,11 +337,26 @@ def ranked_ignition_mask(exists: np.ndarray, spec: IgnitionSpec, ranked: np.ndar
         rows, cols, inside = _block_cells(exists.shape, cells, half)
         return inside & exists[rows, cols]
 
-    taken, _ = _first_blocks(trees_in_blocks, ranked, spec)
-    rows, cols, inside = _block_cells(exists.shape, ranked[:taken], half)
+    if rule == "release":
+        chosen = release_ignition_block(np.count_nonzero(trees_in_blocks(ranked), axis=1), spec.min_burning)
+        taken = ranked[chosen:chosen + 1]
+    else:
+        taken = ranked[:_first_blocks(trees_in_blocks, ranked, spec)[0]]
+    rows, cols, inside = _block_cells(exists.shape, taken, half)
     burning = inside & exists[rows, cols]
     mask[rows[burning], cols[burning]] = True
     return mask
+
+
+def release_ignition_block(counts: np.ndarray, min_burning: int) -> int:
+    """Which candidate's block the release's InitiateFireEnvProbability sets burning, from the trees ``counts``
+    (M >= 1,) of the ranked candidates' blocks (candidates with a tree on their own cell): the first's if it holds
+    at least ``min_burning`` trees; else the first in rank order holding more than ``min_burning``; else the
+    last's (its loop replaces the list with each candidate's block and stops past ``min_burning``)."""
+    if counts[0] >= min_burning:
+        return 0
+    more = np.flatnonzero(counts > min_burning)
+    return int(more[0]) if more.size else len(counts) - 1
 
 
 def _first_blocks(trees_in_blocks: Callable[[np.ndarray], np.ndarray], ranked: np.ndarray, spec: IgnitionSpec
