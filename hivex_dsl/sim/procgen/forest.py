@@ -70,7 +70,9 @@ class IgnitionSpec(StrictModel):
     block: int = Field(5, ge=1, le=99, description=(
         "[orig] A chosen candidate ignites the trees of the block x block cells centred on it (odd, <= candidate_stride)."))
     min_burning: int = Field(15, ge=0, le=100_000, description=(
-        "[orig] Blocks are taken in rank order until strictly more than this many trees burn."))
+        "[orig] Blocks are taken in rank order until strictly more than this many trees burn (params.fire_start "
+        "'running'); under 'release' one block burns, the first candidate's if it holds this many trees or more, "
+        "else the first holding more."))
 
     @model_validator(mode="after")
     def _consistent(self) -> "IgnitionSpec":
