@@ -1,11 +1,11 @@
 """The release's burning queue: ``FireSpec.burn_list`` 'release' and ``FireState.carry`` (hivex_dsl.sim.fire.queue).
 
-ForestDataGenerator.BurnNext drops from its burning list's front, each fire step, as many trees as caught fire ten
-steps before; the fire's first trees were never counted, so the list keeps, past their burn, as many of the
-youngest trees as the fire started with, and they go on trying their neighbours until the fire is out (ten steps
-without an ignition), and each step it shows its oldest fifth burnt. Worked by hand: every factor but the wind is false (cool, damp, overcast, flat), one factor
-is worth a certain ignition and the cone is exact, so a tree sets its neighbour alight exactly when the wind blows
-from it to that neighbour.
+ForestDataGenerator.BurnNext drops from its burning list's front, each fire step, as many trees as caught fire ten steps
+before; the fire's first trees were never counted, so the list keeps, past their burn, as many of the youngest trees as
+the fire started with, and they go on trying their neighbours until the fire is out (ten steps without an ignition), and
+each step it shows its oldest fifth burnt. Worked by hand: every factor but the wind is false (cool, damp, overcast,
+flat), one factor is worth a certain ignition and the cone is exact, so a tree sets its neighbour alight exactly when
+the wind blows from it to that neighbour.
 """
 
 from __future__ import annotations

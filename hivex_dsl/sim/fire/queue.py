@@ -1,14 +1,14 @@
 """The release's burning list: a queue that keeps, past their burn, as many trees as the fire started with.
 
-ForestDataGenerator.BurnNext (the Aerial Wildfire Suppression release, read from its IL: the reward table's note
-'The release's burning queue') appends each fire step's ignitions to its burning list and their count to
-``burningCountHistory``; once that history holds more than ten counts, it drops from the list's front as many trees
-as the oldest count says, and that count. The fire's first trees (InitiateFireEnvProbability, 16 to 25 of them)
-stand at the list's front but were never counted, so every drop lands one batch short: the list holds the last ten
-steps' ignitions and, besides them, as many older trees as the fire started with, the youngest of those whose ten
-steps are over. Every tree of the list tries its neighbours, whatever it shows, and each step shows the list's
-oldest fifth (of its length before the step) burnt. The fire is out once the ten counts are all 0 (``burning``
-false), whatever the list still holds.
+ForestDataGenerator.BurnNext (the Aerial Wildfire Suppression release, read from its IL: the reward table's note 'The
+release's fire start and burning queue') appends each fire step's ignitions to its burning list and their count to
+``burningCountHistory``; once that history holds more than ten counts, it drops from the list's front as many trees as
+the oldest count says, and that count. The fire's first trees (InitiateFireEnvProbability, 15 to 25 of them) stand at
+the list's front but were never counted, so every drop lands one batch short: the list holds the last ten steps'
+ignitions and, besides them, as many older trees as the fire started with, the youngest of those whose ten steps are
+over. Every tree of the list tries its neighbours, whatever it shows, and each step shows the list's oldest fifth (of
+its length before the step) burnt. The fire is out once the ten counts are all 0 (``burning`` false), whatever the list
+still holds.
 
 Here a tree tries its neighbours for ``burn_steps`` fire steps while it is on the burning list (or the doused
 list, when water reached it); under ``FireSpec.burn_list`` 'release' the ``FireState.carry`` youngest of the trees
@@ -60,7 +60,6 @@ def put_out(trees: np.ndarray, out: np.ndarray, burning: np.ndarray, age: np.nda
     trees.reshape(-1)[ended] = BURNT
     staying = ~out[doused // area]
     return burning[going], age[going], spent[going], doused[staying], doused_age[staying], ended
-
 
 
 def list_lengths(state: FireState) -> np.ndarray:
