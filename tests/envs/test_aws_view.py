@@ -17,8 +17,8 @@ import hivex_dsl
 from hivex_dsl.envs.aerial_wildfire_suppression import view
 from hivex_dsl.envs.aerial_wildfire_suppression.camera import OUTSIDE, PALETTE_FLOAT, WATER_RING, cameras
 from hivex_dsl.envs.aerial_wildfire_suppression.simulator import AerialWildfireSimulator
-from hivex_dsl.sim.fire import FireState, TreeState
 from hivex_dsl.envs.island import conditions_reader, sample_conditions, weather_reader
+from hivex_dsl.sim.fire import FireState, TreeState
 
 CELLS = 400
 

@@ -20,7 +20,7 @@ def test_planes_that_never_find_the_village_fly_straight_to_the_border():
     assert 0 < length <= 2121 / 5 + 1
 
 
-def test_both_policies_play_the_same_worlds():
+def test_the_same_policy_replays_the_same_worlds_to_the_digit():
     """The worlds depend on the test seed alone: the same policy twice gives the same flights, to the digit."""
     first = script.first_episodes({}, worlds=2, level=1, policy="random")
     assert script.first_episodes({}, worlds=2, level=1, policy="random") == first

@@ -41,11 +41,17 @@ def keep_youngest(ended: np.ndarray, doused: np.ndarray, doused_age: np.ndarray,
     world = old // area
     later_first = -np.arange(len(old))
     order = np.lexsort((later_first, old_age, world))  # each world's youngest first, the later of a tie first
-    runs = world[order]
-    rank = np.arange(len(order)) - np.searchsorted(runs, runs, side="left")
-    kept = np.sort(order[rank < carry[runs]])
+    kept = np.sort(_first_of_each_world(order, world, carry))
     return (np.concatenate([doused[young], old[kept]]),
             np.concatenate([doused_age[young], old_age[kept]]).astype(np.int32, copy=False))
+
+
+def _first_of_each_world(order: np.ndarray, world: np.ndarray, quota: np.ndarray) -> np.ndarray:
+    """The entries of ``order`` (N,), indices sorted by ``world`` (N,) first, that come among the first ``quota[w]``
+    (``quota`` (B,)) of their world ``w``'s run."""
+    runs = world[order]
+    rank = np.arange(len(order)) - np.searchsorted(runs, runs, side="left")
+    return order[rank < quota[runs]]
 
 
 def put_out(trees: np.ndarray, out: np.ndarray, burning: np.ndarray, age: np.ndarray, spent: np.ndarray,
@@ -85,9 +91,7 @@ def show_front_burnt(trees: np.ndarray, before: np.ndarray, burning: np.ndarray,
     ages = np.concatenate([doused_age, age]).astype(np.int64)
     world = cells // area
     order = np.lexsort((np.arange(len(cells)), -ages, world))  # each world's oldest first
-    runs = world[order]
-    rank = np.arange(len(order)) - np.searchsorted(runs, runs, side="left")
-    front = order[rank < zone[runs]]
+    front = _first_of_each_world(order, world, zone)
     moved = np.sort(front[front >= len(doused)]) - len(doused)
     if moved.size == 0:
         return burning, age, spent, doused, doused_age, burning[:0]
