@@ -83,18 +83,22 @@ def test_the_committed_file_shows_mkl_s_compatible_path_agreeing_across_vendors(
     assert len(groups["mkl-avx2"]) == 2
 
 
-def test_the_committed_file_shows_cpu_kernels_portable_training_as_the_amd_epycs_did():
+def test_the_committed_file_shows_cpu_kernels_portable_training_alike_on_both_vendors():
     """Session 80: `hivex train --set cpu_kernels=portable` on the Intel Xeon of family 6 model 207, with no kernel
     variable in its environment, gives to the digit the returns both AMD EPYCs gave under the variables it stands for
     (MKL_CBWR=COMPATIBLE,STRICT and ATEN_CPU_CAPABILITY=default), and parts from the record's curve (the AMD EPYCs'
-    default) where the Xeon's default does."""
+    default) where the Xeon's default does. Session 88: the AMD EPYC of family 25 model 17 trained under
+    cpu_kernels portable itself gives the same returns, and NumPy's kernels of an AVX2-only processor change nothing
+    there under either setting."""
     recorded = json.loads(RESULTS.read_text(encoding="utf-8"))
     assert recorded["settings"]["portable"] == {"arguments": "--set cpu_kernels=portable"}
     portable = {name: row["portable"] for name, row in recorded["machines"].items() if "portable" in row}
-    assert portable and all("Intel" in name for name in portable)
+    assert {"Intel" in name for name in portable} == {True, False}
     amd = [row["mkl-compatible-aten-default"] for name, row in recorded["machines"].items() if "AMD" in name]
     assert len(amd) == 2 and all(returns == amd[0] for returns in [*amd, *portable.values()])
     assert all(recorded["machines"][name]["default"] != amd[0] for name in portable)
+    (epyc,) = [row for name, row in recorded["machines"].items() if "numpy-avx2" in row]
+    assert epyc["numpy-avx2"] == epyc["default"] and epyc["portable-numpy-avx2"] == epyc["portable"]
 
 
 @pytest.mark.parametrize("environment, follows_record, portable_agrees", [
@@ -104,8 +108,8 @@ def test_the_committed_file_shows_cpu_kernels_portable_training_as_the_amd_epycs
 def test_a_convolutional_file_tells_the_kernels_apart_within_its_points(environment, follows_record, portable_agrees):
     """On the Xeon of family 6 model 207, over 40 points, the default follows the committed record for
     ``follows_record`` points (all 40 where the record trained on it) and cpu_kernels portable parts from the default
-    after ``portable_agrees``: so an AMD row will tell whether the portable convolution path is alike across
-    vendors."""
+    after ``portable_agrees``: so the AMD EPYC's row (the test below) tells whether the portable convolution path is
+    alike across vendors."""
     recorded = json.loads(script.results_file(environment).read_text("utf-8"))
     assert recorded["scenario"] == script.scenario_of(environment) and recorded["points"] == 40
     curve = script.record_curve(recorded["scenario"])[:40]
@@ -115,6 +119,24 @@ def test_a_convolutional_file_tells_the_kernels_apart_within_its_points(environm
     assert follows_record == 40 or default[follows_record] != curve[follows_record]
     assert portable[:portable_agrees] == default[:portable_agrees]
     assert portable[portable_agrees] != default[portable_agrees]
+
+
+@pytest.mark.parametrize("environment, defaults_part", [
+    ("aerial_wildfire_suppression", 13),  # convolutions ('simple')
+    ("drone_based_reforestation", 10),  # ML-Agents' ResNet encoders
+])
+def test_cpu_kernels_portable_trains_convolutions_alike_across_vendors(environment, defaults_part):
+    """Session 88, the AMD EPYC of family 25 model 17 beside the Intel Xeon of family 6 model 207: under each one's
+    native kernels the two part at point ``defaults_part`` of 40; under cpu_kernels portable (no oneDNN: im2col and
+    MKL's compatible products) they give the same returns at all 40 points, which differ from either's default."""
+    recorded = json.loads(script.results_file(environment).read_text("utf-8"))
+    rows = recorded["machines"]
+    (xeon,) = [row for name, row in rows.items() if "Intel" in name and "model 207" in name]
+    (epyc,) = [row for name, row in rows.items() if "AMD EPYC family 25 model 17" in name]
+    assert len(epyc["portable"]) == 40 and epyc["portable"] == xeon["portable"]
+    assert epyc["default"][:defaults_part] == xeon["default"][:defaults_part]
+    assert epyc["default"][defaults_part] != xeon["default"][defaults_part]
+    assert epyc["portable"] != epyc["default"] and xeon["portable"] != xeon["default"]
 
 
 def test_numpy_s_kernels_of_an_avx2_only_processor_train_wrm_alike():
@@ -129,3 +151,16 @@ def test_numpy_s_kernels_of_an_avx2_only_processor_train_wrm_alike():
     (xeon,) = [row for name, row in recorded["machines"].items() if "Intel" in name and "model 207" in name]
     assert xeon["numpy-avx2"] == xeon["default"] == script.record_curve(recorded["scenario"])[:40]
     assert xeon["portable-numpy-avx2"] == xeon["portable"] != xeon["default"]
+
+
+def test_wrm_trains_alike_across_vendors_under_cpu_kernels_portable_whatever_numpy_s_kernels():
+    """Session 88, the AMD EPYC of family 25 model 17 beside the Xeon of family 6 model 207, Wildfire Resource
+    Management's MLP over 40 points: portable (with NumPy's own kernels or an AVX2-only processor's) gives the
+    Xeon's returns; the default follows the Xeon's (the committed record's curve) for 13 points and parts at the
+    14th; NumPy's AVX2 kernels change nothing on the EPYC either."""
+    rows = json.loads(script.results_file("wildfire_resource_management").read_text("utf-8"))["machines"]
+    (xeon,) = [row for name, row in rows.items() if "Intel" in name and "model 207" in name]
+    (epyc,) = [row for name, row in rows.items() if "AMD EPYC family 25 model 17" in name]
+    assert epyc["portable"] == epyc["portable-numpy-avx2"] == xeon["portable"]
+    assert epyc["numpy-avx2"] == epyc["default"]
+    assert epyc["default"][:13] == xeon["default"][:13] and epyc["default"][13] != xeon["default"][13]
