@@ -10,8 +10,9 @@ aerial_wildfire_suppression.json, the defaults it was trained at). Over the firs
 Fire too Close to City and Fire Out a plane-decision (the statistic over Episode Length, summed over the points,
 each of ours weighted by the episodes it pools, the original's summary points alike) and prints them beside the
 original's pages at the same level, with the ratio and its median over the levels. ``--seeds`` takes the runs
-named as seeds of one level and ``--main-record`` adds the main record's three seeds (level 1): each then reports
-the mean of its runs, as the original's pages draw the mean of theirs. Both statistics are events of a
+named as seeds (one level each, or sweeps of the same levels) and ``--main-record`` adds the main record's three
+seeds (level 1): each then reports the mean of its runs level by level, as the original's pages draw the mean of
+theirs. Both statistics are events of a
 whole world at most once an episode, set by how fast the fire runs while the planes are still untrained, so they
 measure the fire's pace where the policy matters least (the reward table's notes record what it printed, issue 52).
 
@@ -144,13 +145,15 @@ def record_seeds() -> dict[int, RunCurve]:
     return {record["level"]: mean_of_runs(seed_curves(record))}
 
 
-def seeds_of_one_cell(paths: list[Path]) -> dict[int, RunCurve]:
-    """The runs under ``paths`` as seeds of one level: the mean of their runs."""
+def seeds_by_level(paths: list[Path]) -> dict[int, RunCurve]:
+    """The runs under ``paths`` as seeds, one a path (each a run directory, or a sweep's folder of the same levels
+    as the others): per level, the mean of its runs."""
     found = [run_curves(path) for path in paths]
-    levels = {level for curves in found for level in curves}
-    if len(levels) != 1 or any(len(curves) != 1 for curves in found):
-        raise CompareError(f"--seeds takes runs of one level, one run a path; these hold levels {sorted(levels)}")
-    return {levels.pop(): mean_of_runs([next(iter(curves.values())) for curves in found])}
+    levels = set(found[0])
+    if any(set(curves) != levels for curves in found):
+        raise CompareError("--seeds takes runs of one level, or sweeps of the same levels, one seed a path; these hold "
+                           + "; ".join(f"levels {sorted(curves)}" for curves in found))
+    return {level: mean_of_runs([curves[level] for curves in found]) for level in sorted(levels)}
 
 
 def grid_curves() -> dict[int, RunCurve]:
@@ -179,7 +182,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--main-record", action="store_true",
                         help="also the committed main record's seeds (level 1), as the mean of their runs")
     parser.add_argument("--seeds", action="store_true",
-                        help="the runs named are seeds of one level: report the mean of their runs")
+                        help="the runs named are seeds (of one level, or sweeps of the same levels): report the "
+                             "mean of their runs, level by level")
     parser.add_argument("--steps", type=float, default=90_000.0, help="agent-steps pooled (default 90,000)")
     parser.add_argument("--by-length", action="store_true",
                         help="Fire too Close to City a plane-episode by the points' Episode Length instead")
@@ -188,7 +192,7 @@ def main(argv: list[str] | None = None) -> int:
         sources = [("grid record", grid_curves())] if args.record else []
         sources += [("main record's seeds", record_seeds())] if args.main_record else []
         if args.seeds:
-            sources.append((f"mean of {len(args.runs)} runs", seeds_of_one_cell(args.runs)))
+            sources.append((f"mean of {len(args.runs)} runs", seeds_by_level(args.runs)))
         else:
             sources += [(str(path), run_curves(path)) for path in args.runs]
         if not sources:

@@ -105,12 +105,35 @@ def test_the_main_records_three_seeds_read_the_early_fire_as_measured_by_hand():
     assert float(lines[1].rsplit("median ratio ", 1)[1]) == pytest.approx(0.68, abs=0.005)
 
 
+def _write_run(folder, level: int, points: list[tuple[float, float, float]]) -> None:
+    """A run of the main task at ``level`` whose curve holds (agent-steps, Episode Length, Fire too Close to City)
+    points of 3 episodes each."""
+    folder.mkdir(parents=True)
+    (folder / "summary.json").write_text(json.dumps({"environment": script.ENVIRONMENT, "task_index": 0,
+                                                     "level": level}))
+    (folder / "curve.json").write_text(json.dumps([
+        {"agent_steps": steps, "episodes": 3, "return": 1.0, "length": length,
+         "statistics": {"Fire too Close to City": close}} for steps, length, close in points]))
+
+
 def test_seeds_of_different_levels_are_a_clear_error(tmp_path, capsys):
-    for name, level in (("a", 1), ("b", 2)):
-        run = tmp_path / name
-        run.mkdir()
-        (run / "summary.json").write_text(json.dumps({"environment": script.ENVIRONMENT, "task_index": 0,
-                                                      "level": level}))
-        (run / "curve.json").write_text(json.dumps([{"agent_steps": 9_000, "episodes": 3, "return": 1.0, "length": 300.0}]))
+    _write_run(tmp_path / "a", 1, [(9_000, 300.0, 0.0)])
+    _write_run(tmp_path / "b", 2, [(9_000, 300.0, 0.0)])
     assert script.main(["--seeds", "--by-length", str(tmp_path / "a"), str(tmp_path / "b")]) == 2
-    assert "one level" in capsys.readouterr().err
+    assert "levels [1]; levels [2]" in capsys.readouterr().err
+
+
+def test_sweeps_as_seeds_average_each_level_over_its_runs(tmp_path):
+    """Two seeds' sweeps of levels 1 and 2: each level's mean weighs each run once (level 1 at 9,000 agent-steps:
+    Episode Length (300 + 700) / 2 = 500, Fire too Close to City (0 + 1) / 2), so the by-length table puts one
+    level-1 point of 0.5 in the 500-800 bin where neither run lies."""
+    for seed, (length, close) in enumerate(((300.0, 0.0), (700.0, 1.0))):
+        sweep = tmp_path / f"s{seed}"
+        _write_run(sweep / "000-level=1", 1, [(9_000, length, close)])
+        _write_run(sweep / "001-level=2", 2, [(9_000, 100.0, 0.0)])
+    means = script.seeds_by_level([tmp_path / "s0", tmp_path / "s1"])
+    assert sorted(means) == [1, 2]
+    assert means[1].panels["Episode Length"].tolist() == [500.0]
+    assert means[1].panels["Fire too Close to City"].tolist() == [0.5]
+    rows = {row[0]: row for row in script.by_length(means, 9_000)}
+    assert rows[500.0][2:4] == (0.5, 1) and rows[0.0][2:4] == (0.0, 1)
