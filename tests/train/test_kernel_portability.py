@@ -11,6 +11,14 @@ from .conftest import benchmark_script
 
 script = benchmark_script("kernel_portability")
 RESULTS = Path(__file__).resolve().parents[2] / "benchmarks" / "results" / "kernel_portability.json"
+XEON = "Intel(R) Xeon(R) Processor family 6 model 207"
+EPYC = "AMD EPYC family 25 model 17"
+
+
+def row_of(machines: dict[str, dict], processor: str) -> dict[str, list[float]]:
+    """The one row of ``machines`` whose machine names ``processor``."""
+    (row,) = [row for name, row in machines.items() if processor in name]
+    return row
 
 
 def test_a_machine_s_row_replaces_only_the_settings_it_measured():
@@ -113,7 +121,7 @@ def test_a_convolutional_file_tells_the_kernels_apart_within_its_points(environm
     recorded = json.loads(script.results_file(environment).read_text("utf-8"))
     assert recorded["scenario"] == script.scenario_of(environment) and recorded["points"] == 40
     curve = script.record_curve(recorded["scenario"])[:40]
-    (xeon,) = [row for name, row in recorded["machines"].items() if "Intel" in name and "model 207" in name]
+    xeon = row_of(recorded["machines"], XEON)
     default, portable = xeon["default"], xeon["portable"]
     assert default[:follows_record] == curve[:follows_record]
     assert follows_record == 40 or default[follows_record] != curve[follows_record]
@@ -131,8 +139,8 @@ def test_cpu_kernels_portable_trains_convolutions_alike_across_vendors(environme
     MKL's compatible products) they give the same returns at all 40 points, which differ from either's default."""
     recorded = json.loads(script.results_file(environment).read_text("utf-8"))
     rows = recorded["machines"]
-    (xeon,) = [row for name, row in rows.items() if "Intel" in name and "model 207" in name]
-    (epyc,) = [row for name, row in rows.items() if "AMD EPYC family 25 model 17" in name]
+    xeon = row_of(rows, XEON)
+    epyc = row_of(rows, EPYC)
     assert len(epyc["portable"]) == 40 and epyc["portable"] == xeon["portable"]
     assert epyc["default"][:defaults_part] == xeon["default"][:defaults_part]
     assert epyc["default"][defaults_part] != xeon["default"][defaults_part]
@@ -148,7 +156,7 @@ def test_numpy_s_kernels_of_an_avx2_only_processor_train_wrm_alike():
     assert recorded["points"] == 40
     assert recorded["settings"]["portable-numpy-avx2"] == {
         "NPY_DISABLE_CPU_FEATURES": "X86_V4 AVX512_ICL AVX512_SPR", "arguments": "--set cpu_kernels=portable"}
-    (xeon,) = [row for name, row in recorded["machines"].items() if "Intel" in name and "model 207" in name]
+    xeon = row_of(recorded["machines"], XEON)
     assert xeon["numpy-avx2"] == xeon["default"] == script.record_curve(recorded["scenario"])[:40]
     assert xeon["portable-numpy-avx2"] == xeon["portable"] != xeon["default"]
 
@@ -159,8 +167,8 @@ def test_wrm_trains_alike_across_vendors_under_cpu_kernels_portable_whatever_num
     Xeon's returns; the default follows the Xeon's (the committed record's curve) for 13 points and parts at the
     14th; NumPy's AVX2 kernels change nothing on the EPYC either."""
     rows = json.loads(script.results_file("wildfire_resource_management").read_text("utf-8"))["machines"]
-    (xeon,) = [row for name, row in rows.items() if "Intel" in name and "model 207" in name]
-    (epyc,) = [row for name, row in rows.items() if "AMD EPYC family 25 model 17" in name]
+    xeon = row_of(rows, XEON)
+    epyc = row_of(rows, EPYC)
     assert epyc["portable"] == epyc["portable-numpy-avx2"] == xeon["portable"]
     assert epyc["numpy-avx2"] == epyc["default"]
     assert epyc["default"][:13] == xeon["default"][:13] and epyc["default"][13] != xeon["default"][13]
