@@ -137,3 +137,12 @@ def test_sweeps_as_seeds_average_each_level_over_its_runs(tmp_path):
     assert means[1].panels["Fire too Close to City"].tolist() == [0.5]
     rows = {row[0]: row for row in script.by_length(means, 9_000)}
     assert rows[500.0][2:4] == (0.5, 1) and rows[0.0][2:4] == (0.0, 1)
+
+
+def test_the_length_ratio_weighs_each_bin_by_the_original_s_points_and_leaves_out_empty_ones():
+    """Bins of ratio 2 (the original's 3 points) and 1/2 (its 1 point): exp((3 ln 2 - ln 2) / 4) = 2 ** 0.5; a bin
+    where ours logged no event, one where ours has no point and one where the original has none are left out."""
+    rows = [(0.0, 300.0, 0.2, 5, 0.1, 3), (300.0, 500.0, 0.1, 4, 0.2, 1), (500.0, 800.0, 0.0, 2, 0.3, 9),
+            (800.0, 1_200.0, float("nan"), 0, 0.4, 9), (1_200.0, 1_800.0, 0.5, 3, float("nan"), 0)]
+    assert script.length_ratio(rows) == pytest.approx(2 ** 0.5)
+    assert np.isnan(script.length_ratio(rows[2:]))
