@@ -12,9 +12,9 @@ each of ours weighted by the episodes it pools, the original's summary points al
 original's pages at the same level, with the ratio and its median over the levels. ``--seeds`` takes the runs
 named as seeds (one level each, or sweeps of the same levels) and ``--main-record`` adds the main record's three
 seeds (level 1): each then reports the mean of its runs level by level, as the original's pages draw the mean of
-theirs. Both statistics are events of a
-whole world at most once an episode, set by how fast the fire runs while the planes are still untrained, so they
-measure the fire's pace where the policy matters least (the reward table's notes record what it printed, issue 52).
+theirs. Both statistics are events of a whole world at most once an episode, set by how fast the fire runs while
+the planes are still untrained, so they measure the fire's pace where the policy matters least (the reward table's
+notes record what it printed, issue 52).
 
 A plane-decision still counts the planes' survival: under the release's rules every plane-episode of a world lasts
 until its last plane finishes, and a fire needs hundreds of decisions to reach the village, so a run whose planes

@@ -135,8 +135,9 @@ def test_a_convolutional_file_tells_the_kernels_apart_within_its_points(environm
 ])
 def test_cpu_kernels_portable_trains_convolutions_alike_across_vendors(environment, defaults_part):
     """Session 88, the AMD EPYC of family 25 model 17 beside the Intel Xeon of family 6 model 207: under each one's
-    native kernels the two part at point ``defaults_part`` of 40; under cpu_kernels portable (no oneDNN: im2col and
-    MKL's compatible products) they give the same returns at all 40 points, which differ from either's default."""
+    native kernels the two part at the point of 0-based index ``defaults_part`` of 40; under cpu_kernels portable (no
+    oneDNN: im2col and MKL's compatible products) they give the same returns at all 40 points, which differ from
+    either's default."""
     recorded = json.loads(script.results_file(environment).read_text("utf-8"))
     rows = recorded["machines"]
     xeon = row_of(rows, XEON)
