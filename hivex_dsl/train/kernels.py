@@ -15,14 +15,15 @@ each library to one code path, in this process, before its first product:
 
 ``benchmarks/kernel_portability.py`` measures it (``benchmarks/results/kernel_portability.json``): the first points
 of Wind Farm Control's record (an MLP) agree to the last digit on an Intel Xeon and two AMD EPYCs under it, where
-they part under ``native``; the convolutional environments' rows (``kernel_portability_<environment>.json``) hold one
-processor so far. The price is speed (the README's training section; the results file's notes). NumPy's kernels
-need no pin: its exp, log, arctan2 and ** take AVX-512 kernels where the processor has them and libm's elsewhere,
-so the simulators compute those with :mod:`hivex_dsl.base.portable`, which reaches libm on every processor
-(tests/test_portable_math.py imitates AVX2-only and SSE4.2-only processors by ``NPY_DISABLE_CPU_FEATURES``). A GPU's
-own kernels are another matter: ``portable`` pins the CPU's only. `hivex evaluate` plays a
-checkpoint under the kernels it trained with; the other commands that play one (render, replay, audit) compute with
-their process's own.
+they part under ``native``, and so do the first 40 points of Aerial Wildfire Suppression's and Drone-Based
+Reforestation's convolutions and Wildfire Resource Management's MLP (``kernel_portability_<environment>.json``) on
+an Intel Xeon and an AMD EPYC. The price is speed (the README's training section; the results file's notes). NumPy's
+kernels need no pin: its exp, log, arctan2 and ** take AVX-512 kernels where the processor has them and libm's
+elsewhere, so the simulators compute those with :mod:`hivex_dsl.base.portable`, which reaches libm on every
+processor (tests/test_portable_math.py imitates AVX2-only and SSE4.2-only processors by
+``NPY_DISABLE_CPU_FEATURES``). A GPU's own kernels are another matter: ``portable`` pins the CPU's only. `hivex
+evaluate` plays a checkpoint under the kernels it trained with; the other commands that play one (render, replay,
+audit) compute with their process's own.
 """
 
 from __future__ import annotations
@@ -44,7 +45,7 @@ MKL_CBWR_STRICT = 0x10000
 MKL_CBWR_SUCCESS = 0
 PORTABLE_MKL = MKL_CBWR_COMPATIBLE | MKL_CBWR_STRICT
 PORTABLE_ENVIRONMENT = {"MKL_CBWR": "COMPATIBLE,STRICT", "ATEN_CPU_CAPABILITY": "default"}  # the same, set outside
-MKL_BRANCHES = {3: "compatible", 4: "SSE2", 6: "SSSE3", 7: "SSE4.1", 8: "SSE4.2", 9: "AVX", 10: "AVX2",
+MKL_BRANCHES = {2: "automatic", 3: "compatible", 4: "SSE2", 6: "SSSE3", 7: "SSE4.1", 8: "SSE4.2", 9: "AVX", 10: "AVX2",
                 11: "AVX-512 (Xeon Phi)", 12: "AVX-512", 13: "AVX-512 E1 (Xeon Phi)", 14: "AVX-512 E1"}  # mkl_cbwr.h
 
 _portable_since: list[bool] = []  # set once this process pinned the portable paths (they cannot be undone)
@@ -77,11 +78,19 @@ def mkl_mode() -> int | None:
 def mkl_words() -> str | None:
     """MKL's code path in words where something pinned it ("MKL's compatible path, strict"), None where MKL picks
     by the processor (its default) or there is no MKL."""
-    mode = mkl_mode()
-    if mode is None or mode & 0xFFFF in (0, 1, 2):
+    return words_of_mode(mkl_mode())
+
+
+def words_of_mode(mode: int | None) -> str | None:
+    """:func:`mkl_words` of the mode ``mkl_cbwr_get(MKL_CBWR_ALL)`` returned. MKL's automatic branch (2) is its
+    default, and what it reports on a processor not Intel's when asked for an instruction set's branch (MKL_CBWR=AVX2
+    on an AMD EPYC): named only where the strict flag is set, which changes its sums."""
+    if mode is None:
         return None
-    strict = ", strict" if mode & MKL_CBWR_STRICT else ""
-    return f"MKL's {MKL_BRANCHES.get(mode & 0xFFFF, f'branch {mode & 0xFFFF}')} path{strict}"
+    branch, strict = mode & 0xFFFF, bool(mode & MKL_CBWR_STRICT)
+    if branch in (0, 1) or (branch == 2 and not strict):
+        return None
+    return f"MKL's {MKL_BRANCHES.get(branch, f'branch {branch}')} path" + (", strict" if strict else "")
 
 
 def pin_portable() -> None:
