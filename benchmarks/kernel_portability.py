@@ -19,6 +19,10 @@ under is a portable way to train a record. ``portable`` sets no variable: it is 
 cpu_kernels=portable`, which pins the paths in the training process itself (hivex_dsl.train.kernels).
 ``numpy-avx2`` and ``portable-numpy-avx2`` add NumPy's kernels as a processor with AVX2 alone takes them (an AVX-512
 processor imitating one by NPY_DISABLE_CPU_FEATURES).
+
+A file names the scenario's fingerprint its rows trained: once a default changes, main.yaml trains something else
+under the same path, and a row of it is refused from that file (its rows stay the record of what they trained; a
+file whose record was replaced since keeps that record's curve, ``record_curve``).
 """
 
 from __future__ import annotations
@@ -32,6 +36,7 @@ import tempfile
 import time
 from pathlib import Path
 
+import hivex_dsl
 from hivex_dsl.base.portable import AVX512_GROUPS
 from hivex_dsl.train.devices import machine
 from hivex_dsl.train.rundir import dumps
@@ -59,6 +64,12 @@ KERNEL_VARIABLES = ("MKL_CBWR", "ATEN_CPU_CAPABILITY", "MKL_ENABLE_INSTRUCTIONS"
 
 def scenario_of(environment: str) -> str:
     return f"scenarios/{environment}/main.yaml"
+
+
+def fingerprint_of(environment: str) -> str:
+    """What ``environment``'s main scenario trains now, by content: a default changed since a file's rows were measured
+    changes it, though the scenario's path stays."""
+    return hivex_dsl.compile(scenario_of(environment)).fingerprint
 
 
 def command_of(environment: str) -> list[str]:
@@ -104,23 +115,30 @@ def _curve(path: Path) -> list[dict]:
 
 
 def merge(recorded: dict, this_machine: str, measured: dict[str, list[float]], points: int,
-          environment: str = DEFAULT_ENVIRONMENT) -> dict:
+          environment: str = DEFAULT_ENVIRONMENT, fingerprint: str | None = None) -> dict:
     """``recorded`` (the results file's content, or {}) with ``this_machine``'s row set to ``measured``'s settings
     (its other settings kept); rows of other machines and the file's notes unchanged. Rows must read the same
-    number of points of the same scenario."""
+    number of points of the same scenario, by path and by content (``fingerprint``, by default what the scenario
+    resolves to now)."""
+    fingerprint = fingerprint or fingerprint_of(environment)
     if recorded and recorded["points"] != points:
         raise ValueError(f"the file holds {recorded['points']} points a setting, this run {points}: use --points "
                          f"{recorded['points']}")
     if recorded and recorded["scenario"] != scenario_of(environment):
         raise ValueError(f"the file holds {recorded['scenario']}'s points, this run {scenario_of(environment)}'s: "
                          f"write them to {results_file(environment).relative_to(ROOT)}")
+    if recorded and recorded.get("fingerprint") != fingerprint:
+        raise ValueError(f"the file holds the points of {recorded['scenario']} as it resolved when they were measured "
+                         f"(fingerprint {recorded.get('fingerprint')}), this run trains it as it resolves now "
+                         f"({fingerprint}): a default changed since. Its rows stay a record of what they trained; "
+                         "write these to a file of their own (-o)")
     machines = dict(recorded.get("machines", {}))
     machines[this_machine] = dict(machines.get(this_machine, {})) | measured
     settings = {name: variables | ({"arguments": " ".join(SETTING_ARGUMENTS[name])} if name in SETTING_ARGUMENTS
                                    else {})
                 for name, variables in SETTINGS.items()}
-    return {"scenario": scenario_of(environment), "command": " ".join(command_of(environment)), "settings": settings,
-            "points": points,
+    return {"scenario": scenario_of(environment), "fingerprint": fingerprint,
+            "command": " ".join(command_of(environment)), "settings": settings, "points": points,
             "notes": recorded.get("notes", []), "machines": machines}
 
 
@@ -160,20 +178,27 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     if args.report:
         recorded = json.loads((results_file(args.env) if args.report is True else args.report).read_text("utf-8"))
-        print("\n".join(report(recorded, record_curve(recorded["scenario"]))))
+        print("\n".join(report(recorded, record_curve(recorded))))
         return 0
     measured = {name: first_points(name, args.points, args.env) for name in args.setting or SETTINGS}
     recorded = json.loads(args.output.read_text(encoding="utf-8")) if args.output and args.output.is_file() else {}
     merged = merge(recorded, machine(), measured, args.points, args.env)
     if args.output:
         args.output.write_text(dumps(merged, args.output, 1), encoding="utf-8")
-    print("\n".join(report(merged, record_curve(merged["scenario"]))))
+    print("\n".join(report(merged, record_curve(merged))))
     return 0
 
 
-def record_curve(scenario: str) -> list[float]:
-    """The returns of the committed record of ``scenario`` (its environment's main), rounded as the rows are."""
-    record = ROOT / "benchmarks" / "baselines" / f"{Path(scenario).parent.name}.json"
+def record_curve(recorded: dict) -> list[float] | None:
+    """The returns of the record a results file's rows are of, rounded as the rows are: its own ``record_curve``
+    where it keeps one (a record replaced since), else the committed record of its scenario (its environment's
+    main) while the scenario resolves as when the rows were measured; None otherwise."""
+    if "record_curve" in recorded:
+        return recorded["record_curve"]
+    environment = Path(recorded["scenario"]).parent.name
+    if recorded.get("fingerprint") != fingerprint_of(environment):
+        return None
+    record = ROOT / "benchmarks" / "baselines" / f"{environment}.json"
     return [round(point[2], 4) for point in json.loads(record.read_text(encoding="utf-8"))["curve"]]
 
 

@@ -2,8 +2,9 @@
 
 For every published cell whose PPO return is above 0.5, the all-zeros and the uniform random policy
 stay below PPO x 1.1 and the scripted policy reaches at least half of it. Each policy's return is
-the mean per-agent return of the first two episodes of the test seed stream (seed 6000), rolled one
-after the other in one world (each episode draws its own world); the random policy is seeded 0.
+the mean per-agent return of the first episodes of the test seed stream (seed 6000), two (sixteen for
+Aerial Wildfire Suppression's random policy), rolled one after the other in one world (each episode
+draws its own world); the random policy is seeded 0.
 Level 1 is terrain level 1, or layout pattern 0 for Wind Farm Control. WRM and OPC, whose files
 beside this one also check which published statistics fire, carry their own bounds there.
 """
@@ -19,6 +20,12 @@ from hivex_dsl.evaluation import published
 from hivex_dsl.evaluation.rollout import rollout
 
 EPISODES = 2
+# AWS's returns have a heavy tail: under the release's fire (fire_start and burn_list 'release', issue 52's
+# session 89) one random drop on a dense fire at level 1 wets about 125 burning trees, 6,250 at task 1's x50,
+# and the second test episode holds one: 1,033 over two episodes, 197 over sixteen, 152 over 24 (published PPO
+# 817.8). The original's first training points show such drops too (Extinguishing Trees 9.6 an episode at level
+# 6 after 27,000 agent-steps); ours average 0.48 an episode over the first 50,000 (session 89's note).
+EPISODES_OF = {("aerial_wildfire_suppression", "random"): 16}
 LEVEL_KEY = {"wind_farm_control": ("pattern", 0), "drone_based_reforestation": ("terrain_level", 1),
              "aerial_wildfire_suppression": ("terrain_level", 1)}
 # The published cells above 0.5 at level 1, read by hand from the results file: DBR has no result for
@@ -43,7 +50,7 @@ def _id(cell) -> str:
 def mean_return(env: str, task: int, policy: str) -> float:
     key, level = LEVEL_KEY[env]
     compiled = hivex_dsl.compile({"hivex": 1, "environment": env, "task": task, key: level})
-    return float(rollout(compiled, policy, EPISODES, split="test").returns.mean())
+    return float(rollout(compiled, policy, EPISODES_OF.get((env, policy), EPISODES), split="test").returns.mean())
 
 
 @pytest.mark.parametrize("env", sorted(LEVEL_KEY))

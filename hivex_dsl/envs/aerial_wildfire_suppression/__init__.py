@@ -72,16 +72,16 @@ ENTRY = register(EnvironmentEntry(
         "(0, 0) with flag 0 when none burns within +/-150 m.",
         "Fire spread, water drops and the fire view use forest cell centres; the +/-1.5 m jitter of a tree inside "
         "its 3 m cell is small against the 10 m spread, 30 m drop and 150 m view radii.",
-        "The fire steps every fire_step_interval environment steps (22, fitted to the original's first training "
-        "points) by the release's spread rule (ForestDataGenerator.BurnNNeighbourIndexes, read from its compiled "
-        "build): a burning tree tries the trees within 10 m in 3-D for 10 fire steps, 0.2 a factor among downwind "
-        "of the local wind at the burning tree, uphill, and hot and dry read at the tree it tries; the overcast counts "
-        "nowhere (the release counts it only where it is exactly 0). Fire too Close to City over the first 90,000 "
-        "agent-steps is then 0.97 times the original's (median over the ten levels; 1.50 with the fire before issue "
-        "52's refit, a fire step every 15 steps under this toolkit's rules, fitted to the published Fire Out of "
-        "trained planes); Fire Out, which the original's first points log in a few per cent of world-episodes at six "
-        "levels, happens once in the twenty level-runs of two training seeds here (benchmarks/aws_early_fire.py; the "
-        "reward table's notes).",
+        "The fire steps every fire_step_interval environment steps (17, fitted to the original's first training "
+        "points) by the release's rules (read from its compiled build): it starts in one place "
+        "(ForestDataGenerator.InitiateFireEnvProbability, fire_start), a burning tree tries the trees within 10 m in "
+        "3-D for 10 fire steps (BurnNNeighbourIndexes), 0.2 a factor among downwind of the local wind at the "
+        "burning tree, uphill, and hot and dry read at the tree it tries; the overcast counts nowhere (the release "
+        "counts it only where it is exactly 0); and the burning list is the release's queue, whose youngest trees "
+        "go on trying past their burn (BurnNext, burn_list). Fire too Close to City over the first 90,000 "
+        "agent-steps, binned by Episode Length, is then 1.06 times the original's (three seeds at each of the ten "
+        "levels; 22 steps under this toolkit's fire start and age-kept list until issue 52's session 89); "
+        "benchmarks/aws_early_fire.py and the reward table's notes.",
         "The village as the release reads it: Too Close to Village and Fire too Close to City watch the forest cells "
         "within 150 m of the village's cell in x and in y, a square (village_zone), and Find Village takes the 3-D "
         "distance from a plane flying 100 m above the ground, about 112 m across over level ground "

@@ -27,7 +27,8 @@ class AerialWildfireParams(WindParams, FireSpec, CameraParams):
     ADDED_FIELDS: ClassVar[dict[str, Any]] = {
         "turn_rule": "proportional", "finished_planes": "respawn", "spawn_rule": "ours", "episodes_continue": 0,
         "water_in_find_tasks": True, "terrain_cast": "step", "drop_mask": "flying", "drop_ground": "island",
-        "village_zone": "circle", "extinguished_spread": False, "village_distance": "horizontal"}
+        "village_zone": "circle", "extinguished_spread": False, "village_distance": "horizontal",
+        "burn_list": "age", "fire_start": "running"}
 
     border_half_extent_m: float = Field(750.0, ge=100.0, le=10_000.0, description=(
         "[paper] Half the side of the square border (1500 x 1500); crossing it finishes that plane (see "
@@ -141,14 +142,15 @@ class AerialWildfireParams(WindParams, FireSpec, CameraParams):
         "and only the observed position tells a plane where the border is (the reward table's notes). Drawn only "
         "under camera_images rendered: the blank camera of the original's runs (the default) shows no border at "
         "all, so the default stays true, as every record trained."))
-    fire_step_interval: int = Field(22, ge=1, le=1_000, description=(
-        "[records] Environment steps per fire step, fitted to the original's first training points: with the "
-        "release's spread rules a fire step every 22 steps makes Fire too Close to City a plane-decision over the "
-        "first 90,000 agent-steps 0.97 times the original's under the lone planes' rules (median over the ten "
-        "levels; 15 gave 1.50, 18 1.19, 33 0.55; benchmarks/aws_early_fire.py). Under the release's rules the main "
-        "record's three seeds read 0.80 at level 1 as the mean of their runs, and binned by Episode Length the "
-        "grid's fire reaches the village as often as the original's (the reward table's notes). A tree burns for "
-        "220 steps. The release's frames read literally give 33 (a fire step every two rendered frames)."))
+    fire_step_interval: int = Field(17, ge=1, le=1_000, description=(
+        "[records] Environment steps per fire step, fitted to the original's first training points under the "
+        "release's spread rules, its fire start and its burning list (fire_start, burn_list release): over the "
+        "first 90,000 agent-steps of the ten levels (three seeds each, the mean of their runs), Fire too Close to "
+        "City binned by Episode Length is 1.06 times the original's at 17 steps, as one by-length geometric mean "
+        "(16 gave 1.15, 18 0.81, 20 0.61, 22 0.47; benchmarks/aws_early_fire.py --by-length). 22 was the fit "
+        "under this toolkit's fire start and age-kept list, the default until issue 52's session 89 (the reward "
+        "table's notes). A tree burns for 170 steps. The release's frames read literally give 33 (a fire step "
+        "every two rendered frames)."))
     low_overcast: float = Field(0.0, ge=0.0, le=1.0, description=(
         "[orig] Overcast below this counts as a factor of spread. The release counts it only where the overcast "
         "is exactly 0, which its raw Perlin overcast map almost never is: 0 counts it nowhere."))
@@ -161,6 +163,20 @@ class AerialWildfireParams(WindParams, FireSpec, CameraParams):
     spread_wind: Literal["main", "local"] = Field("local", description=(
         "[orig] The downwind factor reads the wind at the burning tree, the main wind turned by the wind's noise "
         "field, as the release's Wind.GetWindAtLocation ('main': the world's main wind)."))
+    burn_list: Literal["age", "release"] = Field("release", description=(
+        "[orig] The release's ForestDataGenerator.BurnNext keeps its burning list as a queue that drops from its "
+        "front, each step, as many trees as caught fire 10 steps before, a count that never held the fire's first "
+        "trees: the youngest trees, as many as the fire started with, go on trying past their burn, burnt; the "
+        "list's oldest fifth shows burnt; the fire is out once quiet_steps_out steps pass without an ignition "
+        "(hivex_dsl.sim.fire.queue). 'age' [ours], the default until issue 52's session 89: a tree tries for "
+        "burn_steps fire steps, and the fire is out once nothing tries and quiet_steps_out steps passed without an "
+        "ignition."))
+    fire_start: Literal["running", "release"] = Field("release", description=(
+        "[orig] The release's ForestDataGenerator.InitiateFireEnvProbability: one block burns, the first "
+        "candidate's if it holds min_burning trees or more, else the first in rank order holding more alone, else "
+        "the last candidate's: the fire starts in one place. 'running' [ours], the default until issue 52's "
+        "session 89: the ranked candidates' blocks burn in rank order until their running count of trees exceeds "
+        "min_burning, so a fire often starts in two places or more."))
     wind_original_law: int = Field(1, ge=0, le=1, description=(
         "[orig] The release's Wind.CalcMainWind (1): once a rendered frame the main wind's vector lerps toward the "
         "target by a fraction growing by wind_lerp_speed a game second (the AWS scene's 0.001: a 60-degree shift "
