@@ -12,7 +12,3 @@ LONE_PLANES = {"plane_speed_m": 3.0, "turn_rule": "proportional", "finished_plan
 # The village's zone and distance and the water before issue 52's session 85, when the release's were made the
 # defaults (the reward table's note 'The village's zone, its distance and the water that does not stop the fire')
 VILLAGE_AND_WATER_BEFORE = {"village_zone": "circle", "village_distance": "horizontal", "extinguished_spread": False}
-
-# The fire's start, its burning list and its cadence before issue 52's session 89, when the release's start and list
-# at a fire step every 17 steps were made the defaults (the reward table's note on the release's fire start and queue)
-FIRE_BEFORE = {"burn_list": "age", "fire_start": "running", "fire_step_interval": 22}
