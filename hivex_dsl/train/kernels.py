@@ -15,9 +15,10 @@ each library to one code path, in this process, before its first product:
 
 ``benchmarks/kernel_portability.py`` measures it (``benchmarks/results/kernel_portability.json``): the first points
 of Wind Farm Control's record (an MLP) agree to the last digit on an Intel Xeon and two AMD EPYCs under it, where
-they part under ``native``, and so do the first 40 points of Aerial Wildfire Suppression's and Drone-Based
-Reforestation's convolutions and Wildfire Resource Management's MLP (``kernel_portability_<environment>.json``) on
-an Intel Xeon and an AMD EPYC. The price is speed (the README's training section; the results file's notes). NumPy's
+they part under ``native``, and so do the first 40 points of Aerial Wildfire Suppression's (under its fire before
+session 89) and Drone-Based Reforestation's convolutions and Wildfire Resource Management's MLP
+(``kernel_portability_<environment>*.json``, each naming the fingerprint of the scenario its rows trained) on an
+Intel Xeon and an AMD EPYC. The price is speed (the README's training section; the results file's notes). NumPy's
 kernels need no pin: its exp, log, arctan2 and ** take AVX-512 kernels where the processor has them and libm's
 elsewhere, so the simulators compute those with :mod:`hivex_dsl.base.portable`, which reaches libm on every
 processor (tests/test_portable_math.py imitates AVX2-only and SSE4.2-only processors by
@@ -45,8 +46,9 @@ MKL_CBWR_STRICT = 0x10000
 MKL_CBWR_SUCCESS = 0
 PORTABLE_MKL = MKL_CBWR_COMPATIBLE | MKL_CBWR_STRICT
 PORTABLE_ENVIRONMENT = {"MKL_CBWR": "COMPATIBLE,STRICT", "ATEN_CPU_CAPABILITY": "default"}  # the same, set outside
-MKL_BRANCHES = {2: "automatic", 3: "compatible", 4: "SSE2", 6: "SSSE3", 7: "SSE4.1", 8: "SSE4.2", 9: "AVX", 10: "AVX2",
-                11: "AVX-512 (Xeon Phi)", 12: "AVX-512", 13: "AVX-512 E1 (Xeon Phi)", 14: "AVX-512 E1"}  # mkl_cbwr.h
+MKL_BRANCHES = {2: "automatic", 3: "compatible", 4: "SSE2", 6: "SSSE3", 7: "SSE4.1", 8: "SSE4.2", 9: "AVX",
+                10: "AVX2", 11: "AVX-512 (Xeon Phi)", 12: "AVX-512", 13: "AVX-512 E1 (Xeon Phi)",
+                14: "AVX-512 E1"}  # mkl_cbwr.h
 
 _portable_since: list[bool] = []  # set once this process pinned the portable paths (they cannot be undone)
 
