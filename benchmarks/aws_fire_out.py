@@ -13,6 +13,12 @@ least-squares line through them, then ours (``--grid``: the committed ten-level 
 record's seeds; RUN_DIR: runs of `hivex train`, a sweep's folder of them or one run) with that line read at our Crash
 Count: what the original's levels log at the crash rate our planes reach (the reward table's notes record what it
 printed, issue 52).
+
+``--stages`` prints instead, tenth of the budget by tenth, the mean over the runs' levels of Fire Out, Crash Count,
+Fire Out a plane still up, Water Drop and the trees a drop extinguished and prepared, the original's beside ours, and,
+over every (level, tenth) window from half the budget on, how Fire Out a plane still up correlates with the drops and
+the trees they wet: whether a fire goes out more often where the planes drop more, and whether the same water puts
+ours out as often as the original's.
 """
 
 from __future__ import annotations
@@ -32,6 +38,10 @@ from hivex_dsl.evaluation.original.tail import tail
 ENVIRONMENT = "aerial_wildfire_suppression"
 LEVELS = range(1, 11)
 FIRE_OUT, CRASHES = "Fire Out", "Crash Count"
+DROPS, EXTINGUISHED, PREPARED = "Water Drop", "Extinguishing Trees", "Preparing Trees"
+STAGE_PANELS = (FIRE_OUT, CRASHES, DROPS, EXTINGUISHED, PREPARED)
+TENTHS = 10
+LATE = 0.5  # the windows the correlations read start at half the budget or later
 GRID = Path(__file__).parent / "baselines" / "grids" / f"{ENVIRONMENT}.json"
 RECORD = Path(__file__).parent / "baselines" / f"{ENVIRONMENT}.json"
 
@@ -130,14 +140,94 @@ def report(ours: list[tuple[str, RunCurve, int]]) -> list[str]:
     return lines
 
 
+def original_windows(level: int) -> np.ndarray:
+    """(TENTHS, len(STAGE_PANELS)) the original's training mean at ``level``, each panel averaged over its summary
+    points in each tenth (start, end] of the budget."""
+    cell = original_cell(ENVIRONMENT, 0, level)
+    windows = np.full((TENTHS, len(STAGE_PANELS)), np.nan)
+    for column, panel in enumerate(STAGE_PANELS):
+        training = cell.panels[panel].training
+        budget = training.last_step
+        for tenth in range(TENTHS):
+            steps = training.band_steps
+            inside = steps[(steps > tenth / TENTHS * budget) & (steps <= (tenth + 1) / TENTHS * budget)]
+            if len(inside):
+                windows[tenth, column] = float(np.mean(training.mean_at(inside)))
+    return windows
+
+
+def our_windows(curve: RunCurve, level: int) -> np.ndarray:
+    """(TENTHS, len(STAGE_PANELS)) ours: each panel over our points in each tenth of the original's budget at
+    ``level``, weighted by their episodes (NaN where no point lies)."""
+    budget = original_cell(ENVIRONMENT, 0, level).panels[FIRE_OUT].training.last_step
+    windows = np.full((TENTHS, len(STAGE_PANELS)), np.nan)
+    for tenth in range(TENTHS):
+        inside = (curve.steps > tenth / TENTHS * budget) & (curve.steps <= (tenth + 1) / TENTHS * budget)
+        weights = curve.episodes[inside]
+        if weights.sum() > 0:
+            for column, panel in enumerate(STAGE_PANELS):
+                windows[tenth, column] = float((curve.panels[panel][inside] * weights).sum() / weights.sum())
+    return windows
+
+
+def per_plane_up(windows: np.ndarray) -> np.ndarray:
+    """Fire Out a plane still up of every window (..., TENTHS, panels): Fire Out / (1 - Crash Count)."""
+    crashes = windows[..., STAGE_PANELS.index(CRASHES)]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(crashes < 1.0, windows[..., STAGE_PANELS.index(FIRE_OUT)] / (1.0 - crashes), np.nan)
+
+
+def late_correlations(windows: np.ndarray) -> tuple[list[float], int]:
+    """Over the (run, tenth) windows of ``windows`` (runs, TENTHS, panels) from LATE of the budget on: the
+    correlation of Fire Out a plane still up with Water Drop, Extinguishing Trees and Preparing Trees, and how many
+    windows they read."""
+    late = windows[:, int(LATE * TENTHS):].reshape(-1, len(STAGE_PANELS))
+    up = per_plane_up(late)
+    known = ~np.isnan(up) & ~np.isnan(late).any(axis=1)
+    columns = [STAGE_PANELS.index(panel) for panel in (DROPS, EXTINGUISHED, PREPARED)]
+    return [float(np.corrcoef(late[known, column], up[known])[0, 1]) for column in columns], int(known.sum())
+
+
+def stages(ours: list[tuple[str, RunCurve, int]]) -> list[str]:
+    """The ``--stages`` report: ours and the original's at the runs' levels, tenth of the budget by tenth."""
+    if not ours:
+        raise CompareError("--stages reads runs of ours: name RUN_DIRs, --grid or --record")
+    theirs = np.stack([original_windows(level) for _, _, level in ours])
+    mine = np.stack([our_windows(curve, level) for _, curve, level in ours])
+    levels = sorted({level for _, _, level in ours})
+    lines = [f"the main task by tenth of the budget, the mean over {len(ours)} run{'s' * (len(ours) > 1)} at "
+             f"level{'s' * (len(levels) > 1)} {', '.join(map(str, levels))}, the original's / ours (a plane-episode):"]
+    column = {panel: STAGE_PANELS.index(panel) for panel in STAGE_PANELS}
+    for tenth in range(TENTHS):
+        two = [np.nanmean(side[:, tenth], axis=0) if not np.isnan(side[:, tenth]).all() else
+               np.full(len(STAGE_PANELS), np.nan) for side in (theirs, mine)]
+        up = [per_plane_up(side) for side in two]
+        per_drop = [[side[column[panel]] / side[column[DROPS]] for side in two] for panel in (EXTINGUISHED, PREPARED)]
+        lines.append(
+            f"  {10 * tenth}-{10 * tenth + 10}%: Fire Out {two[0][column[FIRE_OUT]]:.2f}/{two[1][column[FIRE_OUT]]:.2f},"
+            f" Crash Count {two[0][column[CRASHES]]:.2f}/{two[1][column[CRASHES]]:.2f}, a plane up {up[0]:.2f}/"
+            f"{up[1]:.2f} (ratio {_ratio(up[1], up[0])}), Water Drop {two[0][column[DROPS]]:.1f}/"
+            f"{two[1][column[DROPS]]:.1f}, a drop extinguishes {per_drop[0][0]:.2f}/{per_drop[0][1]:.2f} and prepares "
+            f"{per_drop[1][0]:.1f}/{per_drop[1][1]:.1f} trees")
+    lines.append(f"Fire Out a plane up against Water Drop, Extinguishing Trees and Preparing Trees over the windows "
+                 f"from {LATE:.0%} of the budget on, correlations:")
+    for label, side in (("the original's", theirs), ("ours", mine)):
+        correlations, count = late_correlations(side)
+        lines.append(f"  {label}: {', '.join(f'{c:+.2f}' for c in correlations)} ({count} windows)")
+    return lines
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("runs", nargs="*", type=Path, metavar="RUN_DIR")
     parser.add_argument("--grid", action="store_true", help="the committed ten-level grid record")
     parser.add_argument("--record", action="store_true", help="the main record's seeds (level 1)")
+    parser.add_argument("--stages", action="store_true",
+                        help="tenth of the budget by tenth, and the late windows' correlations with the water")
     args = parser.parse_args(argv)
     try:
-        lines = report(ours_from_args(args))
+        runs = ours_from_args(args)
+        lines = stages(runs) if args.stages else report(runs)
     except CompareError as error:
         print(f"error: {error}", file=sys.stderr)
         return 2
