@@ -185,6 +185,8 @@ def late_correlations(windows: np.ndarray) -> tuple[list[float], int]:
     up = per_plane_up(late)
     known = ~np.isnan(up) & ~np.isnan(late).any(axis=1)
     columns = [STAGE_PANELS.index(panel) for panel in (DROPS, EXTINGUISHED, PREPARED)]
+    if known.sum() < 3:  # a run stopped before the late windows: nothing to correlate
+        return [float("nan")] * len(columns), int(known.sum())
     return [float(np.corrcoef(late[known, column], up[known])[0, 1]) for column in columns], int(known.sum())
 
 

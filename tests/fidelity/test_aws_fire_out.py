@@ -130,6 +130,9 @@ def test_fire_out_a_plane_up_over_the_late_windows_correlates_with_what_it_follo
     assert abs(correlations[1]) < 0.5
     windows[1, 7, column["Crash Count"]] = 1.0  # every plane crashed: no plane up, the window is left out
     assert script.late_correlations(windows)[1] == 9
+    windows[:, 5:] = np.nan  # runs stopped at half the budget: no late window, no correlation
+    correlations, count = script.late_correlations(windows)
+    assert count == 0 and np.isnan(correlations).all()
 
 
 def test_the_same_water_puts_our_fire_out_about_twice_as_often_as_the_original_s():
