@@ -58,13 +58,11 @@ def shares(trees: np.ndarray) -> tuple[float, float, float, float]:
 def policy_of(name: str, compiled, core: BatchedEnv, level: int, grid: Path | None):
     if name == "random":
         return make_policy("random", compiled, core.sim.action_space, core.shape, seed=level)
-    from hivex_dsl.train.evaluate import checkpoint_policies
+    from hivex_dsl.train.evaluate import checkpoint_policies, level_checkpoint
 
-    found = sorted(grid.glob(f"*level={level}/checkpoint.pt")) if grid is not None else []
-    if len(found) != 1:
-        raise HivexError(f"--grid {grid}: expected one run of terrain level {level} with a checkpoint.pt, "
-                         f"found {len(found)}")
-    return checkpoint_policies(found[0])(compiled)
+    if grid is None:
+        raise HivexError("--policy trained plays the checkpoints of a `hivex train` level sweep: name it with --grid")
+    return checkpoint_policies(level_checkpoint(grid, level))(compiled)
 
 
 def play(level: int, episodes: int, params: dict, policy: str = "trained", grid: Path | None = None,

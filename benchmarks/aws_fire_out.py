@@ -206,7 +206,8 @@ def stages(ours: list[tuple[str, RunCurve, int]]) -> list[str]:
         up = [per_plane_up(side) for side in two]
         per_drop = [[side[column[panel]] / side[column[DROPS]] for side in two] for panel in (EXTINGUISHED, PREPARED)]
         lines.append(
-            f"  {10 * tenth}-{10 * tenth + 10}%: Fire Out {two[0][column[FIRE_OUT]]:.2f}/{two[1][column[FIRE_OUT]]:.2f},"
+            f"  {10 * tenth}-{10 * tenth + 10}%: Fire Out {two[0][column[FIRE_OUT]]:.2f}/"
+            f"{two[1][column[FIRE_OUT]]:.2f},"
             f" Crash Count {two[0][column[CRASHES]]:.2f}/{two[1][column[CRASHES]]:.2f}, a plane up {up[0]:.2f}/"
             f"{up[1]:.2f} (ratio {_ratio(up[1], up[0])}), Water Drop {two[0][column[DROPS]]:.1f}/"
             f"{two[1][column[DROPS]]:.1f}, a drop extinguishes {per_drop[0][0]:.2f}/{per_drop[0][1]:.2f} and prepares "

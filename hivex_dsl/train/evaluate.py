@@ -20,6 +20,7 @@ from ..evaluation.original.evidence import EPISODE_LENGTH
 from ..evaluation.progress import EpisodeBar, bar
 from ..evaluation.rollout import rollout
 from .checkpoint import load_checkpoint, policy_for
+from .config import TrainError
 from .kernels import cpu_kernels
 from .networks import fixed_weights, to_tensors
 
@@ -112,6 +113,15 @@ def checkpoint_policies(checkpoint: str | Path, deterministic: bool = False, see
         return network_policy(agent, compiled.agents, deterministic)
 
     return for_scenario
+
+
+def level_checkpoint(sweep: Path, level: int) -> Path:
+    """The checkpoint.pt of a level sweep's one run at terrain level ``level`` (`hivex train` names a point's folder by
+    its swept values, ending ``terrain_level=<level>``); a TrainError says what it found otherwise."""
+    found = sorted(Path(sweep).glob(f"*level={level}/checkpoint.pt"))
+    if len(found) != 1:
+        raise TrainError(f"{sweep}: expected one run of terrain level {level} with a checkpoint.pt, found {len(found)}")
+    return found[0]
 
 
 def evaluate(checkpoint: str | Path, scenario: CompiledScenario | None = None, split: str = "test",

@@ -5,6 +5,7 @@ episodes end early (WRM: when the fire goes out), where counting the first episo
 from __future__ import annotations
 
 import numpy as np
+import pytest
 import torch
 import yaml
 
@@ -52,3 +53,18 @@ def test_the_network_plays_on_the_threads_asked_for_and_torch_keeps_its_own(monk
         assert set(seen) == {3} and torch.get_num_threads() == 2
     finally:
         torch.set_num_threads(before)
+
+
+def test_a_level_sweep_s_checkpoint_is_its_one_run_at_that_level(tmp_path):
+    from hivex_dsl.train.config import TrainError
+    from hivex_dsl.train.evaluate import level_checkpoint
+
+    for index, level in enumerate((1, 10)):
+        run = tmp_path / f"{index:03d}-aws-main-levels_terrain_level={level}"
+        run.mkdir()
+        (run / "checkpoint.pt").write_bytes(b"")
+    # level 1 is not level 10's prefix match: a folder ends with its level
+    assert level_checkpoint(tmp_path, 1).parent.name.endswith("terrain_level=1")
+    assert level_checkpoint(tmp_path, 10).parent.name.endswith("terrain_level=10")
+    with pytest.raises(TrainError, match="expected one run of terrain level 3 with a checkpoint.pt, found 0"):
+        level_checkpoint(tmp_path, 3)
