@@ -15,6 +15,7 @@ from .engine import (
     fire_put_worlds,
     fire_reset,
     fire_reset_where,
+    fire_take_worlds,
     length_in_cells,
 )
 from .factors import FactorGrid, count_factors, grid_cell_table
@@ -40,6 +41,7 @@ __all__ = [
     "fire_put_worlds",
     "fire_reset",
     "fire_reset_where",
+    "fire_take_worlds",
     "fire_step",
     "fire_step_unchecked",
     "grid_cell_table",

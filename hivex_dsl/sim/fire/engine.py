@@ -294,6 +294,27 @@ def fire_put_worlds(state: FireState, mask: np.ndarray, fresh: FireState) -> Fir
                      carry=put_worlds(state.carry, mask, fresh.carry))
 
 
+def fire_take_worlds(state: FireState, mask: np.ndarray) -> FireState:
+    """The worlds where ``mask`` (B,) bool holds, as a fire of their own (M worlds, in order; every array a copy):
+    what a caller steps alone and puts back with :func:`fire_put_worlds`. Each world's lists keep their order."""
+    mask = _checked_mask(state, mask)
+    worlds = np.flatnonzero(mask)
+    area = state.cells * state.cells
+    renumber = np.cumsum(mask) - 1  # a kept world's index among the M
+
+    def take(cells: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        world, cell = np.divmod(cells, area)
+        keep = mask[world]
+        return keep, renumber[world[keep]] * area + cell[keep]
+
+    keep, burning = take(state.burning)
+    kept, doused = take(state.doused)
+    return FireState(trees=state.trees[worlds], burning=burning, age=state.age[keep], quiet=state.quiet[worlds],
+                     out=state.out[worlds], ignited=state.ignited[worlds], burnt_out=state.burnt_out[worlds],
+                     spent=state.spent[keep], doused=doused, doused_age=state.doused_age[kept],
+                     carry=state.carry[worlds])
+
+
 def _put_cells(cells: np.ndarray, fresh: np.ndarray, mask: np.ndarray, worlds: np.ndarray, area: int
                ) -> tuple[np.ndarray, np.ndarray]:
     """(keep (K,) bool: the flat ``cells`` of the worlds not in ``mask``, the list with them first, then the
