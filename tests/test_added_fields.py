@@ -40,7 +40,7 @@ def test_the_session_39_checkpoint_scenario_keeps_the_fingerprint_it_was_stored_
     missing = set(compiled.resolved()["params"]) - set(OLD["scenario"]["params"])
     assert missing == {"camera_images", "camera_sees_border", "water_in_find_tasks", "episodes_continue", "terrain_cast",
                        "drop_mask", "drop_ground", "village_zone", "village_distance", "extinguished_spread",
-                       "burn_list", "fire_start"}
+                       "burn_list", "fire_start", "fire_cadence"}
 
 
 def test_it_plays_what_was_done_when_it_was_written():
@@ -55,6 +55,7 @@ def test_it_plays_what_was_done_when_it_was_written():
     assert (params.village_zone, params.village_distance, params.extinguished_spread) == ("circle", "horizontal", False)
     assert params.burn_list == "age"  # a tree tried its neighbours for its burn alone (session 87 added the queue)
     assert params.fire_start == "running"  # blocks lit until 15 trees burnt (session 87 added the release's one)
+    assert params.fire_cadence == "interval"  # every fire_step_interval steps (session 91 added the release's frames)
 
 
 def test_an_old_lock_compiles_under_its_stored_fingerprint():

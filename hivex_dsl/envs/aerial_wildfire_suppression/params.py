@@ -28,7 +28,7 @@ class AerialWildfireParams(WindParams, FireSpec, CameraParams):
         "turn_rule": "proportional", "finished_planes": "respawn", "spawn_rule": "ours", "episodes_continue": 0,
         "water_in_find_tasks": True, "terrain_cast": "step", "drop_mask": "flying", "drop_ground": "island",
         "village_zone": "circle", "extinguished_spread": False, "village_distance": "horizontal",
-        "burn_list": "age", "fire_start": "running"}
+        "burn_list": "age", "fire_start": "running", "fire_cadence": "interval"}
 
     border_half_extent_m: float = Field(750.0, ge=100.0, le=10_000.0, description=(
         "[paper] Half the side of the square border (1500 x 1500); crossing it finishes that plane (see "
@@ -149,8 +149,15 @@ class AerialWildfireParams(WindParams, FireSpec, CameraParams):
         "City binned by Episode Length is 1.06 times the original's at 17 steps, as one by-length geometric mean "
         "(16 gave 1.15, 18 0.81, 20 0.61, 22 0.47; benchmarks/aws_early_fire.py --by-length). 22 was the fit "
         "under this toolkit's fire start and age-kept list, the default until issue 52's session 89 (the reward "
-        "table's notes). A tree burns for 170 steps. The release's frames read literally give 33 (a fire step "
-        "every two rendered frames)."))
+        "table's notes). A tree burns for 170 steps. The release itself steps its fire every rendered frame, 16.7 "
+        "steps, after a stream's first world, and every two frames before (fire_cadence 'frames')."))
+    fire_cadence: Literal["interval", "frames"] = Field("interval", description=(
+        "When the fire steps. 'interval' [records]: every fire_step_interval steps in every world. 'frames' [orig]: "
+        "as the release's BurnNext coroutine steps it (read from its IL): at the end of a rendered frame "
+        "(wind_frame_steps), every other frame in a stream's first world, and every frame once a redraw of the "
+        "world lands while a BurnNext waits (ResetForest clears its flag without stopping it, so two chains "
+        "alternate from then on); a fire going out always lands so, a redraw by the planes' finishes at every "
+        "other frame (burn_clock.py; the reward table's notes)."))
     low_overcast: float = Field(0.0, ge=0.0, le=1.0, description=(
         "[orig] Overcast below this counts as a factor of spread. The release counts it only where the overcast "
         "is exactly 0, which its raw Perlin overcast map almost never is: 0 counts it nowhere."))

@@ -21,6 +21,7 @@ from ...sim.procgen.weather import weather_step
 from ...sim.procgen.wind import frame_ends, wind_step, wrap_angle
 from ..island import (IslandMaps, IslandSpecs, fire_wind, grid_lookup, restart_where, start_islands,
                       weather_reader)
+from .burn_clock import of_worlds, step_worlds, stepping_worlds
 from .camera import pixel_offsets
 from .global_state import state_components, world_state
 from .params import CAMERA_PIXELS, AerialWildfireParams
@@ -115,6 +116,7 @@ class AerialWildfireSimulator:
             extinguished=np.zeros(shape, np.int32), prepared=np.zeros(shape, np.int32),
             fire_went_out=np.zeros(batch, bool), village_threatened=np.zeros(batch, bool),
             burning=any_burning(island.fire), finishes=np.zeros(batch, np.int64), look=look,
+            burn_running=np.zeros(batch, bool), burn_waiting=np.zeros(batch, bool),
             visual=self._cameras(position, heading, look, island.fire.trees, island.maps.ground))
 
     def reset_where(self, state: AerialWildfireState, mask: np.ndarray, rng: np.random.Generator) -> AerialWildfireState:
@@ -159,16 +161,18 @@ class AerialWildfireSimulator:
                                                   flight.dropping)
         wind = wind_step(state.wind, rng, self.wind_spec)
         weather = weather_step(state.weather, wind.main, self.weather_spec)
-        tick = state.tick + 1
-        if tick % p.fire_step_interval == 0:
+        worlds, running, waiting = stepping_worlds(p, state.tick, fire.out, state.burn_running, state.burn_waiting)
+        if worlds is None or worlds.any():
             burning = fire.burning
             conditions = weather_reader(weather, self.weather_spec, p.island_half_extent_m, p.weather_grid_cells,
                                         self.weather_lookup)
             winds = fire_wind(p, wind, self.wind_spec, p.island_half_extent_m, self.cell_m)
-            fire = fire_step_unchecked(fire, rng, p, winds, state.maps.height, conditions, self.cell_m)
+            fire = step_worlds(fire, worlds, lambda some, index: fire_step_unchecked(
+                some, rng, p, of_worlds(winds, index), of_worlds(state.maps.height, index),
+                of_worlds(conditions, index), self.cell_m))
             redraw_fire_step(state.look, burning, fire, self.frame)
-        moved = {"fire": fire, "wind": wind, "weather": weather, "tick": tick, "extinguished": extinguished,
-                 "prepared": prepared}
+        moved = {"fire": fire, "wind": wind, "weather": weather, "tick": state.tick + 1, "extinguished": extinguished,
+                 "prepared": prepared, "burn_running": running, "burn_waiting": waiting}
         return self._sense(state, moved, flight)
 
     def _sense(self, prev: AerialWildfireState, moved: dict, flight: Flight):
@@ -409,4 +413,5 @@ class Flight(NamedTuple):
 # Per-world arrays of the state (world axis first) that a partial reset replaces.
 _PER_WORLD = ("position", "heading", "water", "flying", "cast_at", "seen_fire", "seen_village", "village_hit",
               "village_reached", "crossed", "picked_up", "dropped", "found_fire", "found_village", "extinguished",
-              "prepared", "fire_went_out", "village_threatened", "burning", "finishes", "visual")
+              "prepared", "fire_went_out", "village_threatened", "burning", "finishes", "visual",
+              "burn_running")  # not burn_waiting: a waiting BurnNext outlives its world (burn_clock.py)

@@ -29,7 +29,7 @@ class AerialWildfireState:
     fire: FireState
     wind: WindState
     weather: WeatherState
-    tick: int  # steps since the batch was created; the fire steps every fire_step_interval ticks
+    tick: int  # steps since the batch was created: the clock of the fire's cadence and of the rendered frames
     position: np.ndarray  # (B, A, 2)
     heading: np.ndarray  # (B, A)
     water: np.ndarray  # (B, A) bool holding water
@@ -57,6 +57,10 @@ class AerialWildfireState:
     village_threatened: np.ndarray  # (B,) bool: the first step fire came too close
     burning: np.ndarray  # (B,) bool: some tree burns after the step
     finishes: np.ndarray  # (B,) int64 the release's AgentDone calls this episode (finished_planes: wait; else 0)
+    # the release's BurnNext clock (params.fire_cadence 'frames', burn_clock.py): its burnCoroutineRunning flag,
+    # and whether a BurnNext started at the last frame waits (it outlives a redraw of its world)
+    burn_running: np.ndarray  # (B,) bool
+    burn_waiting: np.ndarray  # (B,) bool
     # what the cameras see: the palette image of each world (see view.py), written in place like fire.trees
     look: np.ndarray  # uint8, row-major (B, S, S) or tiled (B, S / 8, S / 8, 8, 8): see view.is_tiled
     visual: np.ndarray  # (B, A, P, P, 3) float32 the planes' cameras after the step
