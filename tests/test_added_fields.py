@@ -40,7 +40,8 @@ def test_the_session_39_checkpoint_scenario_keeps_the_fingerprint_it_was_stored_
     missing = set(compiled.resolved()["params"]) - set(OLD["scenario"]["params"])
     assert missing == {"camera_images", "camera_sees_border", "water_in_find_tasks", "episodes_continue", "terrain_cast",
                        "drop_mask", "drop_ground", "village_zone", "village_distance", "extinguished_spread",
-                       "burn_list", "fire_start", "fire_cadence"}
+                       "burn_list", "fire_start", "fire_cadence",
+                       "downwind_angle"}
 
 
 def test_it_plays_what_was_done_when_it_was_written():
@@ -56,6 +57,7 @@ def test_it_plays_what_was_done_when_it_was_written():
     assert params.burn_list == "age"  # a tree tried its neighbours for its burn alone (session 87 added the queue)
     assert params.fire_start == "running"  # blocks lit until 15 trees burnt (session 87 added the release's one)
     assert params.fire_cadence == "interval"  # every fire_step_interval steps (session 91 added the release's frames)
+    assert params.downwind_angle == "horizontal"  # downwind on the map (session 91 added the release's 3-D angle)
 
 
 def test_an_old_lock_compiles_under_its_stored_fingerprint():

@@ -73,6 +73,12 @@ class FireSpec(StrictModel):
         "[ours] The wind the downwind factor reads: 'main' the world's main wind; 'local' [orig] the wind at the "
         "burning tree, the main wind turned by the wind's noise field, as the release's Wind.GetWindAtLocation."))
 
+    downwind_angle: Literal["horizontal", "3d"] = Field("horizontal", description=(
+        "[ours] 'horizontal': a target counts as downwind by its direction on the map. '3d' [orig]: by the angle in "
+        "3-D between its offset from the burning tree, heights included, and the level wind, as the release's "
+        "BurnNNeighbourIndexes reads it (Vector3.Angle of the trees' positions' difference and "
+        "Wind.GetWindAtLocation), so on a slope fewer targets count as downwind. Needs cell_m."))
+
     burn_list: Literal["age", "release"] = Field("age", description=(
         "[ours] 'age': a tree tries its neighbours for burn_steps fire steps, and the fire is out once nothing "
         "tries and quiet_steps_out steps passed without an ignition. "
@@ -92,7 +98,8 @@ class FireSpec(StrictModel):
         "each candidate's block): the fire starts in one place."))
 
     ADDED_FIELDS: ClassVar[dict[str, Any]] = dict.fromkeys(
-        ("spread_weather_at", "spread_max_distance_m", "spread_wind", "burn_list", "fire_start"), AS_DEFAULT)
+        ("spread_weather_at", "spread_max_distance_m", "spread_wind", "burn_list", "fire_start", "downwind_angle"),
+        AS_DEFAULT)
 
 
 # The tree states as NumPy scalars: comparing a uint8 grid with an IntEnum member casts the whole grid

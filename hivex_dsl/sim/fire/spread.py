@@ -216,6 +216,31 @@ def _pair_downwind(spec: FireSpec, downwind: np.ndarray | Winds, k: np.ndarray, 
     return table.take(o if len(downwind) == 1 else (source // area) * table.shape[1] + o)
 
 
+def _downwind_in_3d(spec: FireSpec, downwind: np.ndarray | Winds, down: np.ndarray, k: np.ndarray, o: np.ndarray,
+                    source: np.ndarray, climb: np.ndarray, area: int, cells: int, radius: int, cell_m: float | None
+                    ) -> np.ndarray:
+    """(P,) bool: the pairs of ``down`` (within the cone on the map) whose target also lies within it in 3-D, its
+    offset of r metres on the map and ``climb`` (P,) metres up: the angle's cosine to the level wind is the map
+    angle's times r / sqrt(r^2 + climb^2), so a target as far up or down as away is never downwind."""
+    if cell_m is None:
+        raise ValueError("downwind_angle '3d' is set: pass cell_m, the forest grid's cell side in metres")
+    pick = np.flatnonzero(down & (climb != 0))  # level targets keep the map's reading
+    if not pick.size:
+        return down
+    if callable(downwind):
+        wind = np.asarray(_per_source(downwind, k.take(pick), source.take(pick), area, cells), dtype=np.float64)
+    else:
+        wind = downwind.take(0 if len(downwind) == 1 else source.take(pick) // area)
+    along = np.cos(_offset_directions(radius).take(o.take(pick)) - wind)
+    run2 = _offset_reach2(radius).take(o.take(pick)) * (cell_m * cell_m)
+    rise = climb.take(pick).astype(np.float64)
+    limit = np.cos(np.radians(spec.downwind_cone_deg))
+    inside = (along > 0.0) & (along * along * run2 >= limit * limit * (run2 + rise * rise))
+    down = down.copy()
+    down[pick] = inside
+    return down
+
+
 def _within_reach(spec: FireSpec, o: np.ndarray, climb: np.ndarray, radius: int, cell_m: float | None) -> np.ndarray:
     """(P,) bool: each pair's target lies within ``spec.spread_max_distance_m`` of its source in 3-D, from its block
     offset o (P,) on cells of ``cell_m`` metres and the height difference ``climb`` (P,) in metres."""
@@ -255,8 +280,12 @@ def spread(state: FireState, rng: np.random.Generator, spec: FireSpec, downwind_
     t = target.take(pick)
     source = src.take(k)
     factors = _pair_weather(spec, conditions, k, source, t, area, cells)
-    factors += _pair_downwind(spec, downwind_rad, k, o, source, area, cells, radius)
+    down = _pair_downwind(spec, downwind_rad, k, o, source, area, cells, radius)
     target_height, source_height = height.take(t), height.take(source)
+    if spec.downwind_angle == "3d":
+        down = _downwind_in_3d(spec, downwind_rad, down, k, o, source, target_height - source_height, area, cells,
+                               radius, cell_m)
+    factors += down
     factors += target_height > source_height
     hit = rng.random(len(pick), dtype=np.float32) < _chances(spec.spread_chance_per_factor).take(factors)
     if spec.spread_max_distance_m > 0.0:
