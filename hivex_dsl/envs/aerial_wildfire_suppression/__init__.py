@@ -73,7 +73,9 @@ ENTRY = register(EnvironmentEntry(
         "Fire spread, water drops and the fire view use forest cell centres; the +/-1.5 m jitter of a tree inside "
         "its 3 m cell is small against the 10 m spread, 30 m drop and 150 m view radii.",
         "The fire steps every fire_step_interval environment steps (17, fitted to the original's first training "
-        "points) by the release's rules (read from its compiled build): it starts in one place "
+        "points; the release's own coroutine steps it every rendered frame, 16.7 steps, after a stream's first "
+        "world and every two frames before, which fire_cadence 'frames' models) by the release's rules (read from "
+        "its compiled build): it starts in one place "
         "(ForestDataGenerator.InitiateFireEnvProbability, fire_start), a burning tree tries the trees within 10 m in "
         "3-D for 10 fire steps (BurnNNeighbourIndexes), 0.2 a factor among downwind of the local wind at the "
         "burning tree, uphill, and hot and dry read at the tree it tries; the overcast counts nowhere (the release "
