@@ -98,3 +98,20 @@ def test_the_simulator_steps_the_fire_at_every_other_frame_then_every_frame_afte
     # both worlds at the first frame; then world 0 alone at every frame end, both at every other one
     expected = [(16, 2)] + [(t, 1 if i % 2 else 2) for i, t in enumerate(frame_ticks[1:], 1)]
     assert stepped_at == expected
+
+
+def test_worlds_stepping_apart_stay_deterministic():
+    def played(seed: int) -> np.ndarray:
+        env = BatchedEnv(compiled(fire_cadence="frames", episodes_continue=0), batch=3)
+        env.reset(seed=seed)
+        calm = {"continuous": np.zeros((3, 3, 1), np.float32), "discrete": np.zeros((3, 3, 1), np.int64)}
+        for tick in range(134):
+            env.step(calm)
+            if tick == 20:
+                env.reset_worlds(np.array([False, True, False]))  # world 1 alone steps at every frame from here
+        assert env.state.burn_waiting.tolist() == [False, True, False]  # the frame ended at tick 133 stepped world 1 alone
+        return env.state.fire.trees.copy()
+
+    first = played(3)
+    assert np.array_equal(first, played(3))
+    assert not np.array_equal(first, played(4))
