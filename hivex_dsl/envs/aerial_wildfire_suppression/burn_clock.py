@@ -21,7 +21,8 @@ import numpy as np
 from ...sim.fire import FireState, fire_put_worlds, fire_take_worlds
 from ...sim.procgen.wind import frame_ends
 
-_NONE = np.zeros(0, bool)
+_NONE = np.zeros(0, bool)  # no world steps (read-only: every caller shares it)
+_NONE.flags.writeable = False
 
 
 def burn_frame(fire_out: np.ndarray, running: np.ndarray, waiting: np.ndarray
