@@ -67,7 +67,7 @@ def test_interval_cadence_steps_every_world_together():
 
 @pytest.fixture()
 def fire_ticks(monkeypatch):
-    """The ticks (steps before) and world indices of every fire step the simulator makes."""
+    """How many worlds each fire step the simulator makes steps, in order."""
     ticks = []
     real = aws_simulator.fire_step_unchecked
 

@@ -210,10 +210,18 @@ def _pair_downwind(spec: FireSpec, downwind: np.ndarray | Winds, k: np.ndarray, 
     ``downwind`` (B,) radians or a :data:`Winds` callable asked once per distinct source."""
     directions = _offset_directions(radius)
     if callable(downwind):
-        wind = np.asarray(_per_source(downwind, k, source, area, cells), dtype=np.float64)
-        return _downwind(wind, directions.take(o)[:, None], spec.downwind_cone_deg)[:, 0]
+        return _downwind(_source_wind(downwind, k, source, area, cells), directions.take(o)[:, None],
+                         spec.downwind_cone_deg)[:, 0]
     table = _downwind(downwind, directions, spec.downwind_cone_deg)
     return table.take(o if len(downwind) == 1 else (source // area) * table.shape[1] + o)
+
+
+def _source_wind(downwind: np.ndarray | Winds, k: np.ndarray, source: np.ndarray, area: int, cells: int) -> np.ndarray:
+    """(P,) float64 radians: the wind at each pair's source, from the world's main wind ``downwind`` (B,) or a
+    :data:`Winds` callable asked once per distinct source (k (P,) ascending, source (P,) flat cells)."""
+    if callable(downwind):
+        return np.asarray(_per_source(downwind, k, source, area, cells), dtype=np.float64)
+    return downwind.take(0 if len(downwind) == 1 else source // area)
 
 
 def _downwind_in_3d(spec: FireSpec, downwind: np.ndarray | Winds, down: np.ndarray, k: np.ndarray, o: np.ndarray,
@@ -227,10 +235,7 @@ def _downwind_in_3d(spec: FireSpec, downwind: np.ndarray | Winds, down: np.ndarr
     pick = np.flatnonzero(down & (climb != 0))  # level targets keep the map's reading
     if not pick.size:
         return down
-    if callable(downwind):
-        wind = np.asarray(_per_source(downwind, k.take(pick), source.take(pick), area, cells), dtype=np.float64)
-    else:
-        wind = downwind.take(0 if len(downwind) == 1 else source.take(pick) // area)
+    wind = _source_wind(downwind, k.take(pick), source.take(pick), area, cells)
     along = np.cos(_offset_directions(radius).take(o.take(pick)) - wind)
     run2 = _offset_reach2(radius).take(o.take(pick)) * (cell_m * cell_m)
     rise = climb.take(pick).astype(np.float64)
