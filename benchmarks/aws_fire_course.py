@@ -7,10 +7,11 @@ village, how often it goes out, how much it burns.
 Plays ``--worlds`` test-seed worlds of the main task for ``--steps`` steps with every plane circling (steer 1, no
 drop), so nothing fights the fire and no plane leaves, and prints the share of worlds whose fire came within the
 village radius (and the median step it did), the share whose fire went out, and the median trees burnt and still
-burning at the end. ``--set`` overrides a param (``--set fire_cadence=frames``: the release's cadence, which without
-a redraw steps the fire every two frames as in a stream's first world; ``--set fire_step_interval=33``; the reward
-table's notes record what it printed, issue 52); ``--generators`` the scenario's generators section, as JSON (the
-release's weather: the note 'The release's weather').
+burning at the end. ``--set`` overrides a param. Under the default cadence (fire_cadence frames, the release's) no
+world is redrawn here, so the fire steps every two frames as in a stream's first world, 33.3 steps; ``--set
+fire_cadence=interval --set fire_step_interval=17`` steps it every 17, the release's pace after a stream's first
+world (the reward table's notes record what it printed, issue 52). ``--generators`` the scenario's generators
+section, as JSON (the release's weather: the note 'The release's weather').
 """
 
 from __future__ import annotations

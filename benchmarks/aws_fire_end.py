@@ -1,7 +1,7 @@
 """How much of the island Aerial Wildfire Suppression's fire has burnt when it goes out, under a trained policy.
 
     python benchmarks/aws_fire_end.py [--grid runs/aws-grid17] [--levels 6,10] [--episodes 8]
-                                      [--policy trained|random] [--set fire_step_interval=33 ...]
+                                      [--policy trained|random] [--set fire_cadence=interval ...]
 
 Plays test-seed episodes of the main task, one world at a time (``--policy trained``: the checkpoint of ``--grid``'s
 run of that level, played on the params set), and for each episode logs whether the fire went out in it and, the

@@ -58,7 +58,7 @@ def compiled(**params):
 
 
 def test_interval_cadence_steps_every_world_together():
-    params = compiled(fire_step_interval=17).params
+    params = compiled(fire_cadence="interval", fire_step_interval=17).params
     running = np.array([False, True])
     assert stepping_worlds(params, 16, NO, running, running)[0] is None  # the 17th step
     worlds, after, _ = stepping_worlds(params, 17, NO, running, running)

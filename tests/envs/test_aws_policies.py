@@ -70,11 +70,12 @@ def test_the_scripted_pilot_finds_the_village_in_every_test_episode():
     horizontal distance reads it: under the release's 3-D distance the sweep's arms pass the village at up to 111 m,
     about the release's reach over level ground, and it misses a village set below the ground the plane last cast
     over in some episodes (the note 'The village's zone, its distance and the water that does not stop the fire').
-    Under the release's fire start (session 89) the worlds are drawn from other random numbers, and in the fourth
-    episode two planes find the village together and are paid twice each, their world ending a step sooner."""
+    Under the release's fire start (session 89, a fire step every 17 steps) the worlds were drawn from other random
+    numbers, and in the fourth episode two planes found the village together and were paid twice each; under the
+    release's cadence (session 92) one plane finds it first in all four."""
     compiled = hivex_dsl.compile({"hivex": 1, "environment": "aerial_wildfire_suppression", "task": "find_village",
                                   "episode_length": 3000, "params": {"village_distance": "horizontal"}})
     _, sums = collect_returns(compiled, "scripted", episodes=4, split="test", seed=SEEDS[0])
-    expected = [[0.0, 0.0, 300.0], [0.0, 0.0, 300.0], [0.0, 0.0, 300.0], [0.0, 200.0, 200.0]]
+    expected = [[0.0, 0.0, 300.0]] * 4
     assert np.sort(sums["find_village"], axis=1).tolist() == expected
     assert np.all(sums["crossed_border"] == 0.0)

@@ -12,14 +12,14 @@ script = benchmark_script("aws_fire_course")
 def test_a_fire_that_never_steps_keeps_its_ignition_burning_and_far_from_the_village():
     """No fire step within the run: nothing spreads or burns out, so the ignition's more than 15 trees (lit more
     than 300 m from the village) still burn, none is burnt, the fire is not out and never reached the village."""
-    course = script.fire_course({"fire_step_interval": 1000}, worlds=2, steps=60)
+    course = script.fire_course({"fire_cadence": "interval", "fire_step_interval": 1000}, worlds=2, steps=60)
     assert (course.burning > 15).all() and (course.burnt == 0).all()
     assert (course.reached_step == -1).all() and (course.out_step == -1).all()
 
 
 def test_a_fire_stepping_every_step_burns_its_ignition_out_within_the_run():
     """A fire step every step for 60 steps: every tree lit at the start has burnt its 10 fire steps (burn_steps)."""
-    course = script.fire_course({"fire_step_interval": 1}, worlds=2, steps=60)
+    course = script.fire_course({"fire_cadence": "interval", "fire_step_interval": 1}, worlds=2, steps=60)
     assert (course.burnt > 15).all()
     assert "village reached in" in script.describe(course)
 
@@ -40,8 +40,8 @@ COOL_AND_HUMID = {"weather": {"temperature_mean": 0.0, "temperature_contrast": 0
 def test_the_generators_reach_the_fire():
     """Everywhere hot and dry, each try of the spread counts two factors more than everywhere cool and humid, on
     the same islands and draws: the same 40 fire steps burn more trees."""
-    hot = script.fire_course({"fire_step_interval": 1}, worlds=2, steps=40, generators=HOT_AND_DRY)
-    cool = script.fire_course({"fire_step_interval": 1}, worlds=2, steps=40, generators=COOL_AND_HUMID)
+    hot = script.fire_course({"fire_cadence": "interval", "fire_step_interval": 1}, worlds=2, steps=40, generators=HOT_AND_DRY)
+    cool = script.fire_course({"fire_cadence": "interval", "fire_step_interval": 1}, worlds=2, steps=40, generators=COOL_AND_HUMID)
     assert (hot.burnt + hot.burning > cool.burnt + cool.burning).all(), (hot, cool)
 
 

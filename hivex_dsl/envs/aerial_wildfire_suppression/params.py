@@ -28,7 +28,8 @@ class AerialWildfireParams(WindParams, FireSpec, CameraParams):
         "turn_rule": "proportional", "finished_planes": "respawn", "spawn_rule": "ours", "episodes_continue": 0,
         "water_in_find_tasks": True, "terrain_cast": "step", "drop_mask": "flying", "drop_ground": "island",
         "village_zone": "circle", "extinguished_spread": False, "village_distance": "horizontal",
-        "burn_list": "age", "fire_start": "running", "fire_cadence": "interval"}
+        "burn_list": "age", "fire_start": "running", "fire_cadence": "interval",
+        "downwind_angle": "horizontal"}
 
     border_half_extent_m: float = Field(750.0, ge=100.0, le=10_000.0, description=(
         "[paper] Half the side of the square border (1500 x 1500); crossing it finishes that plane (see "
@@ -143,16 +144,18 @@ class AerialWildfireParams(WindParams, FireSpec, CameraParams):
         "under camera_images rendered: the blank camera of the original's runs (the default) shows no border at "
         "all, so the default stays true, as every record trained."))
     fire_step_interval: int = Field(17, ge=1, le=1_000, description=(
-        "[records] Environment steps per fire step, fitted to the original's first training points under the "
-        "release's spread rules, its fire start and its burning list (fire_start, burn_list release): over the "
-        "first 90,000 agent-steps of the ten levels (three seeds each, the mean of their runs), Fire too Close to "
-        "City binned by Episode Length is 1.06 times the original's at 17 steps, as one by-length geometric mean "
-        "(16 gave 1.15, 18 0.81, 20 0.61, 22 0.47; benchmarks/aws_early_fire.py --by-length). 22 was the fit "
-        "under this toolkit's fire start and age-kept list, the default until issue 52's session 89 (the reward "
-        "table's notes). A tree burns for 170 steps. The release itself steps its fire every rendered frame, 16.7 "
-        "steps, after a stream's first world, and every two frames before (fire_cadence 'frames')."))
-    fire_cadence: Literal["interval", "frames"] = Field("interval", description=(
-        "When the fire steps. 'interval' [records]: every fire_step_interval steps in every world. 'frames' [orig]: "
+        "[records] Environment steps per fire step under fire_cadence 'interval', fitted to the original's first "
+        "training points under the release's spread rules, its fire start and its burning list (fire_start, "
+        "burn_list release): over the first 90,000 agent-steps of the ten levels (three seeds each, the mean of "
+        "their runs), Fire too Close to City binned by Episode Length is 1.06 times the original's at 17 steps, as "
+        "one by-length geometric mean (16 gave 1.15, 18 0.81, 20 0.61, 22 0.47; benchmarks/aws_early_fire.py "
+        "--by-length). 22 was the fit under this toolkit's fire start and age-kept list, the default until issue "
+        "52's session 89 (the reward table's notes). A tree burns for 170 steps. The release itself steps its "
+        "fire every rendered frame, 16.7 steps, after a stream's first world, and every two frames before: "
+        "fire_cadence 'frames', the default, which does not read this field."))
+    fire_cadence: Literal["interval", "frames"] = Field("frames", description=(
+        "When the fire steps. 'interval' [records]: every fire_step_interval steps in every world, the default "
+        "until issue 52's session 92. 'frames' [orig]: "
         "as the release's BurnNext coroutine steps it (read from its IL): at the end of a rendered frame "
         "(wind_frame_steps), every other frame in a stream's first world, and every frame once a redraw of the "
         "world lands while a BurnNext waits (ResetForest clears its flag without stopping it, so two chains "
@@ -170,6 +173,10 @@ class AerialWildfireParams(WindParams, FireSpec, CameraParams):
     spread_wind: Literal["main", "local"] = Field("local", description=(
         "[orig] The downwind factor reads the wind at the burning tree, the main wind turned by the wind's noise "
         "field, as the release's Wind.GetWindAtLocation ('main': the world's main wind)."))
+    downwind_angle: Literal["horizontal", "3d"] = Field("3d", description=(
+        "[orig] A target counts as downwind by the angle in 3-D between its offset from the burning tree, heights "
+        "included, and the level wind, as the release's BurnNNeighbourIndexes reads it (Vector3.Angle); "
+        "'horizontal' by its direction on the map, the default until issue 52's session 92."))
     burn_list: Literal["age", "release"] = Field("release", description=(
         "[orig] The release's ForestDataGenerator.BurnNext keeps its burning list as a queue that drops from its "
         "front, each step, as many trees as caught fire 10 steps before, a count that never held the fire's first "
