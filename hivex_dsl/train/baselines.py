@@ -28,7 +28,7 @@ from ..evaluation.report import collect_returns
 from .checkpoint import RESUMABLE_CHANGES, acting_interface, load_checkpoint, older_defaults
 from .config import PPOConfig, TrainError
 from .devices import machine
-from .evaluate import evaluate
+from .evaluate import evaluate, published_result
 from .grid import point_dir
 from .rundir import dumps, file_digest
 
@@ -376,7 +376,9 @@ def finished_point(run_dir: Path, index: int, point: CompiledScenario, sweep: st
 
 def evaluation_of_point(run_dir: Path, point: CompiledScenario, episodes: int) -> dict[str, Any]:
     """The point's test-seed evaluation of ``episodes`` episodes: the grid's own where it played the checkpoint as
-    it is now (its digest; a point resumed and trained on since has another), or a fresh one."""
+    it is now (its digest; a point resumed and trained on since has another), or a fresh one. Its published cell is
+    read now: whether a scenario is the paper's setting depends on the defaults as they are, and a point trained from
+    a copy that wrote out params that became the defaults later is the paper's cell now, the same by its fingerprint."""
     written = run_dir / "evaluation.json"
     if written.is_file():
         try:
@@ -386,5 +388,5 @@ def evaluation_of_point(run_dir: Path, point: CompiledScenario, episodes: int) -
         same = {"split": "test", "episodes": episodes, "actions": "sampled", "fingerprint": point.fingerprint,
                 "checkpoint_sha256": file_digest(run_dir / "checkpoint.pt")}
         if isinstance(report, dict) and all(report.get(key) == value for key, value in same.items()):
-            return report
+            return report | {"published": published_result(point)}
     return evaluate(run_dir / "checkpoint.pt", split="test", episodes=episodes)

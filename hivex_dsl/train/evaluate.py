@@ -29,7 +29,8 @@ def _spread(values: np.ndarray) -> dict[str, float]:
     return {"mean": float(values.mean()), "std": float(values.std())}
 
 
-def _published(compiled: CompiledScenario) -> dict[str, Any] | None:
+def published_result(compiled: CompiledScenario) -> dict[str, Any] | None:
+    """The paper's PPO result for the cell the scenario reproduces (its return and statistics), or None."""
     cell = published.cell_for(compiled)
     if cell is None:
         return None
@@ -147,7 +148,7 @@ def evaluate(checkpoint: str | Path, scenario: CompiledScenario | None = None, s
             "reward_terms": {k: _spread(v) for k, v in played["reward_terms"].items()},
             "weighted_reward_terms": {k: _spread(v) for k, v in played["weighted_reward_terms"].items()},
             "weights": {k: compiled.weights[k] for k in played["reward_terms"]},
-            "published": _published(compiled), "original_episode_length": _original_episode_length(compiled),
+            "published": published_result(compiled), "original_episode_length": _original_episode_length(compiled),
             "caveat": published.caveat(compiled)}
 
 

@@ -318,6 +318,19 @@ def test_a_point_s_evaluation_is_reused_only_for_the_checkpoint_it_played(grid, 
     assert data["points"][1]["return"] == fresh["return"] != {"mean": -1.0, "std": 0.0}
 
 
+def test_a_reused_evaluation_is_set_beside_the_published_cell_as_the_defaults_read_now(grid, tmp_path):
+    """Issue 52, session 92: AWS's grid trained from a copy of its sweep that wrote out two params, the defaults since;
+    the evaluations it wrote then found no published cell (the params then differed from the paper's setting), and the
+    record took their missing cell although the points are the paper's cells now, the same by their fingerprints."""
+    shutil.copytree(grid / "runs", tmp_path / "runs")
+    folder = next((tmp_path / "runs").glob("001-*"))
+    written = json.loads((folder / "evaluation.json").read_text())
+    (folder / "evaluation.json").write_text(json.dumps(written | {"published": None}))
+    data = record_grid(tmp_path / "runs", str(grid / "sweep.yaml"), tmp_path / "out", episodes=2)
+    assert data["points"][1]["published"]["return"] == pytest.approx(dict(zip(("mean", "std"), PUBLISHED[1])))
+    assert data["points"][1]["return"] == written["return"]  # the evaluation itself is still the one written
+
+
 def test_a_run_is_recorded_only_as_the_scenario_it_trained(tmp_path):
     """Issue 54, item 7: a run of another scenario only named ``wfc-main`` (short episodes) was recorded as the
     bundled main scenario: PPO 0.10 beside random 1,367."""
