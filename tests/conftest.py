@@ -73,3 +73,20 @@ def restepped():
         return dataclasses.replace(compiled, entry=entry, **({} if ends_on is None else {"ends_on": ends_on}))
 
     return rewire
+
+
+@pytest.fixture()
+def aws_fire_ticks(monkeypatch) -> list[int]:
+    """How many worlds each fire step Aerial Wildfire Suppression's simulator makes steps, in order, recorded as it
+    makes them (its burn clock decides when: params.fire_cadence)."""
+    from hivex_dsl.envs.aerial_wildfire_suppression import simulator
+
+    ticks = []
+    real = simulator.fire_step_unchecked
+
+    def recording(fire, *args):
+        ticks.append(fire.batch)
+        return real(fire, *args)
+
+    monkeypatch.setattr(simulator, "fire_step_unchecked", recording)
+    return ticks

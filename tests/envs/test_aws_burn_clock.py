@@ -9,7 +9,6 @@ import numpy as np
 import pytest
 
 import hivex_dsl
-from hivex_dsl.envs.aerial_wildfire_suppression import simulator as aws_simulator
 from hivex_dsl.envs.aerial_wildfire_suppression.burn_clock import burn_frame, stepping_worlds
 from hivex_dsl.runtime import BatchedEnv
 from hivex_dsl.sim.procgen.wind import frame_ends
@@ -65,31 +64,17 @@ def test_interval_cadence_steps_every_world_together():
     assert not worlds.any() and after is running
 
 
-@pytest.fixture()
-def fire_ticks(monkeypatch):
-    """How many worlds each fire step the simulator makes steps, in order."""
-    ticks = []
-    real = aws_simulator.fire_step_unchecked
-
-    def recording(fire, *args):
-        ticks.append(fire.batch)
-        return real(fire, *args)
-
-    monkeypatch.setattr(aws_simulator, "fire_step_unchecked", recording)
-    return ticks
-
-
-def test_the_simulator_steps_the_fire_at_every_other_frame_then_every_frame_after_a_waiting_redraw(fire_ticks):
+def test_the_simulator_steps_the_fire_at_every_other_frame_then_every_frame_after_a_waiting_redraw(aws_fire_ticks):
     env = BatchedEnv(compiled(fire_cadence="frames", episodes_continue=0), batch=2)
     env.reset(seed=0)
     calm = {"continuous": np.zeros((2, 3, 1), np.float32), "discrete": np.zeros((2, 3, 1), np.int64)}
     stepped_at = []
     frame = 50.0 / 3.0
     for _ in range(120):
-        tick, before = env.state.tick, len(fire_ticks)
+        tick, before = env.state.tick, len(aws_fire_ticks)
         env.step(calm)
-        if len(fire_ticks) > before:
-            stepped_at.append((tick, fire_ticks[-1]))
+        if len(aws_fire_ticks) > before:
+            stepped_at.append((tick, aws_fire_ticks[-1]))
         if tick == 20:  # after the first frame's Update (tick 16) started a BurnNext, before the next frame's end
             assert env.state.burn_waiting.all() and env.state.burn_running.all()
             env.reset_worlds(np.array([True, False]))  # world 0 redrawn while its BurnNext waits

@@ -56,23 +56,7 @@ def test_the_command_line_reads_the_generators_as_json_and_refuses_anything_else
     assert "octaves" in capsys.readouterr().err
 
 
-@pytest.fixture()
-def fire_steps(monkeypatch):
-    """How many fire steps the simulator makes, counted as it makes them."""
-    from hivex_dsl.envs.aerial_wildfire_suppression import simulator
-
-    made = []
-    real = simulator.fire_step_unchecked
-
-    def counting(fire, *args):
-        made.append(fire.batch)
-        return real(fire, *args)
-
-    monkeypatch.setattr(simulator, "fire_step_unchecked", counting)
-    return made
-
-
-def test_a_stream_s_world_steps_its_fire_every_frame_and_a_first_world_every_other(fire_steps):
+def test_a_stream_s_world_steps_its_fire_every_frame_and_a_first_world_every_other(aws_fire_ticks):
     """Under the release's cadence (the default) a frame ends every 50 / 3 steps (wind_frame_steps): 18 frames within
     the first 300 steps (floor(300 / (50 / 3)) = 18, the 18th ending with the step from tick 299). A world after its
     stream's first redraw (``stream``) steps its fire at each of them; a first world at every other, from the first:
@@ -83,7 +67,7 @@ def test_a_stream_s_world_steps_its_fire_every_frame_and_a_first_world_every_oth
     assert AerialWildfireParams().wind_frame_steps == pytest.approx(50 / 3)
     assert int(sum(frame_ends(tick, 50 / 3) for tick in range(300))) == 18
     script.fire_course({}, worlds=1, steps=300, stream=True)
-    assert len(fire_steps) == 18
-    fire_steps.clear()
+    assert len(aws_fire_ticks) == 18
+    aws_fire_ticks.clear()
     script.fire_course({}, worlds=1, steps=300)
-    assert len(fire_steps) == 9
+    assert len(aws_fire_ticks) == 9
