@@ -40,8 +40,9 @@ COOL_AND_HUMID = {"weather": {"temperature_mean": 0.0, "temperature_contrast": 0
 def test_the_generators_reach_the_fire():
     """Everywhere hot and dry, each try of the spread counts two factors more than everywhere cool and humid, on
     the same islands and draws: the same 40 fire steps burn more trees."""
-    hot = script.fire_course({"fire_cadence": "interval", "fire_step_interval": 1}, worlds=2, steps=40, generators=HOT_AND_DRY)
-    cool = script.fire_course({"fire_cadence": "interval", "fire_step_interval": 1}, worlds=2, steps=40, generators=COOL_AND_HUMID)
+    every_step = {"fire_cadence": "interval", "fire_step_interval": 1}
+    hot = script.fire_course(every_step, worlds=2, steps=40, generators=HOT_AND_DRY)
+    cool = script.fire_course(every_step, worlds=2, steps=40, generators=COOL_AND_HUMID)
     assert (hot.burnt + hot.burning > cool.burnt + cool.burning).all(), (hot, cool)
 
 
