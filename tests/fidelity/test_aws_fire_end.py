@@ -21,7 +21,8 @@ def test_a_fire_that_cannot_spread_goes_out_on_its_own_island_and_is_read_before
     """No try ignites (spread chance 0), a fire step every step and the fire out after one quiet step: the start's
     trees burn and the fire is out within a few steps; the shares read then are of that island, nearly all its trees
     standing and some burning, and sum to one."""
-    params = {"spread_chance_per_factor": 0.0, "fire_cadence": "interval", "fire_step_interval": 1, "quiet_steps_out": 1}
+    params = {"spread_chance_per_factor": 0.0, "fire_cadence": "interval", "fire_step_interval": 1,
+              "quiet_steps_out": 1}
     ends = script.play(1, 1, params, policy="random", episode_length=200)
     (end,) = ends
     assert end.went_out and 0 < end.out_step <= 5

@@ -88,7 +88,8 @@ def test_each_committed_file_names_the_content_its_rows_trained():
         scenario = yaml.safe_load((RESULTS.parents[2] / before["scenario"]).read_text("utf-8"))
         then = {**scenario, "params": before["params_then"]}
         assert hivex_dsl.compile(then).fingerprint == before["fingerprint"], path.name
-        assert script.record_curve(before) == before["record_curve"] == row_of(before["machines"], trained_on)["default"]
+        trained = row_of(before["machines"], trained_on)["default"]
+        assert script.record_curve(before) == before["record_curve"] == trained
         without_its_curve = {key: value for key, value in before.items() if key != "record_curve"}
         assert script.record_curve(without_its_curve) is None  # the committed record is of another content now
     assert len(fingerprints | {script.fingerprint_of("aerial_wildfire_suppression")}) == 3
