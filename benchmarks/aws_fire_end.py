@@ -1,6 +1,6 @@
 """How much of the island Aerial Wildfire Suppression's fire has burnt when it goes out, under a trained policy.
 
-    python benchmarks/aws_fire_end.py [--grid runs/aws-grid17] [--levels 6,10] [--episodes 8]
+    python benchmarks/aws_fire_end.py [--grid runs/aws-grid-f3d] [--levels 6,10] [--episodes 8]
                                       [--policy trained|random] [--set fire_cadence=interval ...]
 
 Plays test-seed episodes of the main task, one world at a time (``--policy trained``: the checkpoint of ``--grid``'s
@@ -104,7 +104,7 @@ def report(level: int, ends: list[FireEnd]) -> list[str]:
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--grid", type=Path, default=Path("runs/aws-grid17"))
+    parser.add_argument("--grid", type=Path, default=Path("runs/aws-grid-f3d"))
     parser.add_argument("--levels", default="6,10")
     parser.add_argument("--episodes", type=int, default=8)
     parser.add_argument("--policy", choices=("trained", "random"), default="trained")
