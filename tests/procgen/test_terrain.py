@@ -203,3 +203,50 @@ def test_terrain_rejects_inconsistent_arrays():
         Terrain(heights=np.zeros((3, 3)), cell_m=1.0, extent_m=3.0, village=np.zeros(2))
     with pytest.raises(ValueError, match="village"):
         Terrain(heights=np.zeros((3, 3)), cell_m=1.0, extent_m=2.0, village=np.zeros(3))
+
+
+# The release's assets (Aerial Wildfire Suppression's build; the reward table's note 'The release's terrain assets'):
+# TerrainData 'Default Terrain' holds uniformScale 7 and meshHeightCurve's two keyframes (time, value, in and out
+# slopes), and the mesh spans mapChunkSize 239 - 1 units of a noise map of 239 + 2 samples.
+RELEASE_UNIFORM_SCALE = 7.0
+RELEASE_CURVE_KEYS = ((0.0, 0.0, 0.0, 0.0), (1.0, 1.0, 2.0, 2.0))
+RELEASE_MAP_CHUNK_SIZE = 239
+
+
+def unity_curve(t: np.ndarray, keys=RELEASE_CURVE_KEYS) -> np.ndarray:
+    """Unity's AnimationCurve between its two unweighted keys: the cubic Hermite of their values and slopes."""
+    (t0, v0, _, out0), (t1, v1, in1, _) = keys
+    span = t1 - t0
+    s = (np.asarray(t, dtype=np.float64) - t0) / span
+    h00, h10, h01, h11 = 2 * s**3 - 3 * s**2 + 1, s**3 - 2 * s**2 + s, -2 * s**3 + 3 * s**2, s**3 - s**2
+    return h00 * v0 + h10 * span * out0 + h01 * v1 + h11 * span * in1
+
+
+def test_the_release_s_curve_keys_make_the_height_curve_t_squared():
+    t = np.linspace(0.0, 1.0, 101)
+    np.testing.assert_allclose(unity_curve(t), t ** TerrainSpec().height_exponent, atol=1e-12)
+    # a key's slope changed is another curve: the check reads the keys, not the exponent alone
+    assert not np.allclose(unity_curve(t, ((0.0, 0.0, 0.0, 1.0), (1.0, 1.0, 1.0, 1.0))), t**2)
+
+
+def test_the_map_is_the_release_s_mesh_scaled_by_its_uniform_scale():
+    spec = TerrainSpec()
+    assert spec.size == RELEASE_MAP_CHUNK_SIZE + 2
+    assert spec.extent_m == pytest.approx((RELEASE_MAP_CHUNK_SIZE - 1) * RELEASE_UNIFORM_SCALE)
+    assert spec.metres_per_multiplier == RELEASE_UNIFORM_SCALE
+
+
+def test_land_stands_at_the_release_s_curve_times_the_multiplier_times_its_uniform_scale():
+    """Recomputed with the curve evaluated from the release's keys and its scale (rng: lattice first)."""
+    seed, level = 1, 7
+    t = terrain(level, seed)
+    perm, grads = draw_lattice(np.random.default_rng(seed), 1, 256)
+    cols, rows = np.meshgrid(np.arange(241) / 40.0, np.arange(241) / 40.0)
+    noise = fractal2d(perm, grads, cols[None], rows[None], 4, 0.3, 2.2)[0]
+    x, y = grid(t)
+    v = np.maximum(np.abs(x), np.abs(y)) / 833.0
+    falloff = v**5 / (v**5 + (2.5 - 2.5 * v) ** 5)
+    local = (noise - noise.min()) / (noise.max() - noise.min())  # normalizeMode Local
+    expected = unity_curve(np.clip(local - falloff, 0, 1)) * HAND_MULTIPLIERS[level - 1] * RELEASE_UNIFORM_SCALE
+    far = np.hypot(x - t.village[0], y - t.village[1]) > 100.0 + 1e-6
+    np.testing.assert_allclose(t.heights[far], expected[far], rtol=1e-9, atol=1e-9)

@@ -31,8 +31,12 @@ PRESET_FILE = "terrain.yaml"
 class TerrainSpec(StrictModel):
     """Constants of one height map; :func:`terrain_spec_for_level` sets ``height_multiplier``."""
 
-    size: int = Field(241, ge=3, le=2049, description="[orig] Grid cells per side of the height map.")
-    extent_m: float = Field(1666.0, ge=10.0, le=100_000.0, description="[orig] Side of the square map in metres (about 1666 m).")
+    size: int = Field(241, ge=3, le=2049, description=(
+        "[orig] Grid cells per side of the height map: 241 in Aerial Wildfire Suppression's release, its noise map "
+        "of mapChunkSize 239 + 2."))
+    extent_m: float = Field(1666.0, ge=10.0, le=100_000.0, description=(
+        "[orig] Side of the square map in metres: 1,666 in Aerial Wildfire Suppression's release, whose mesh spans "
+        "238 units of its noise map, scaled by its TerrainData asset's uniformScale 7."))
     noise_scale: float = Field(40.0, ge=1.0, le=10_000.0, description=(
         "[orig] Perlin scale: the noise is sampled at (cell index / noise_scale), so it is grid cells per lattice unit."))
     noise_period: int = Field(256, ge=2, le=4096, description="[ours] Period of the random noise lattice, in lattice units.")
@@ -41,12 +45,16 @@ class TerrainSpec(StrictModel):
     lacunarity: float = Field(2.2, ge=1.0, le=4.0, description="[orig] Frequency ratio between successive octaves.")
     falloff_a: float = Field(5.0, gt=0.0, le=20.0, description="[orig] Exponent a of the island falloff v^a / (v^a + (b - b v)^a).")
     falloff_b: float = Field(2.5, gt=0.0, le=20.0, description="[orig] Factor b of the island falloff; larger b means a wider island.")
-    height_exponent: float = Field(2.0, ge=0.5, le=8.0, description="[orig] The height curve t^p applied after the falloff (t^2).")
+    height_exponent: float = Field(2.0, ge=0.5, le=8.0, description=(
+        "[orig] The height curve t^p applied after the falloff: Aerial Wildfire Suppression's release draws its "
+        "meshHeightCurve, keys (0, 0) with slope 0 and (1, 1) with slope 2, whose Hermite cubic is t^2 exactly."))
     height_multiplier: int = Field(8, ge=1, le=100, description=(
         "[orig] Height multiplier, 8..30 for terrain levels 1..10 (height_multiplier_for_level); the default is level 1's."))
     metres_per_multiplier: float = Field(7.0, gt=0.0, le=100.0, description=(
-        "[ours] Metres of peak height per multiplier unit: 8 x 7 ~ 56 m at level 1 and 30 x 7 = 210 m at level 10, "
-        "the peaks ENVIRONMENTS.md reports."))
+        "[orig] Metres of peak height per multiplier unit: 7 in Aerial Wildfire Suppression's release, whose "
+        "TerrainData asset scales its mesh by uniformScale 7 on every axis, so 8 x 7 = 56 m peaks at level 1 and "
+        "30 x 7 = 210 m at level 10, the peaks ENVIRONMENTS.md reports (its reward table's note 'The release's "
+        "terrain assets')."))
     village_half_range_m: float = Field(450.0, ge=0.0, le=50_000.0, description=(
         "[orig] The village lies within +/- this of the centre in x and in y."))
     village_flat_radius_m: float = Field(60.0, ge=0.0, le=10_000.0, description=(
@@ -193,9 +201,10 @@ class Terrain:
 def _island(rng: np.random.Generator, spec: TerrainSpec) -> np.ndarray:
     """The raw (size, size) height map in metres, before the village is flattened.
 
-    The noise is min-max normalised over the map (a map-local mapping onto [0, 1]); with the
-    fixed mapping (n + 1) / 2 the peaks would stay near 36 m at level 1 instead of the 56 m the
-    original shows, because fractal noise seldom nears +/-1.
+    The noise is min-max normalised over the map (a map-local mapping onto [0, 1]), as the
+    release's NoiseData asset asks (normalizeMode Local: InverseLerp over the map's lowest and
+    highest noise); with the fixed mapping (n + 1) / 2 the peaks would stay near 36 m at level 1
+    instead of the 56 m the original shows, because fractal noise seldom nears +/-1.
     """
     n = spec.size
     index = np.arange(n) / spec.noise_scale
