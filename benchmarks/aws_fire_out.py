@@ -1,7 +1,7 @@
 """Aerial Wildfire Suppression's Fire Out at the end of training beside the crashes it follows, ours against the
 original's, level by level.
 
-    python benchmarks/aws_fire_out.py [--grid] [--record] [RUN_DIR ...]
+    python benchmarks/aws_fire_out.py [--grid] [--record] [--stages | --crashes] [RUN_DIR ...]
 
 The release's HivexAgent.FireReward pays and counts Fire Out only on a plane that still flies: a plane that crossed
 the border is frozen until its world ends and logs none. So a plane-episode's Fire Out reads both how often its
@@ -19,6 +19,10 @@ Fire Out a plane still up, Water Drop and the trees a drop extinguished and prep
 over every (level, tenth) window from half the budget on, how Fire Out a plane still up correlates with the drops and
 the trees they wet: whether a fire goes out more often where the planes drop more, and whether the same water puts
 ours out as often as the original's.
+
+``--crashes`` prints Crash Count level by level and fifth of the budget by fifth, the original's beside ours, with the
+median of ours over the original's and the correlation over the levels a fifth at a time: when in training our planes
+part from the original's at the border, and whether they crash most at the levels where the original's did.
 """
 
 from __future__ import annotations
@@ -26,6 +30,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -41,6 +46,7 @@ FIRE_OUT, CRASHES = "Fire Out", "Crash Count"
 DROPS, EXTINGUISHED, PREPARED = "Water Drop", "Extinguishing Trees", "Preparing Trees"
 STAGE_PANELS = (FIRE_OUT, CRASHES, DROPS, EXTINGUISHED, PREPARED)
 TENTHS = 10
+FIFTHS = 5  # --crashes pools two tenths a column
 LATE = 0.5  # the windows the correlations read start at half the budget or later
 GRID = Path(__file__).parent / "baselines" / "grids" / f"{ENVIRONMENT}.json"
 RECORD = Path(__file__).parent / "baselines" / f"{ENVIRONMENT}.json"
@@ -220,17 +226,51 @@ def stages(ours: list[tuple[str, RunCurve, int]]) -> list[str]:
     return lines
 
 
+def crash_fifths(windows: np.ndarray) -> np.ndarray:
+    """(..., FIFTHS) Crash Count over each fifth of the budget: the mean of its two tenths of ``windows`` (...,
+    TENTHS, panels), the one where the other has no point."""
+    crashes = windows[..., STAGE_PANELS.index(CRASHES)]
+    pairs = crashes.reshape(crashes.shape[:-1] + (FIFTHS, TENTHS // FIFTHS))
+    with np.errstate(invalid="ignore"), warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # a fifth with no point of ours stays NaN
+        return np.nanmean(pairs, axis=-1)
+
+
+def crashes_by_level(ours: list[tuple[str, RunCurve, int]]) -> list[str]:
+    """The ``--crashes`` report: Crash Count a plane-episode, level by level and fifth of the budget by fifth, the
+    original's / ours; then, a fifth at a time, the median of ours over the original's and how the levels' two
+    columns correlate (whether ours crash most where the original's did)."""
+    if not ours:
+        raise CompareError("--crashes reads runs of ours: name RUN_DIRs, --grid or --record")
+    theirs = crash_fifths(np.stack([original_windows(level) for _, _, level in ours]))
+    mine = crash_fifths(np.stack([our_windows(curve, level) for _, curve, level in ours]))
+    heads = " ".join(f"{20 * fifth}-{20 * fifth + 20}%".rjust(11) for fifth in range(FIFTHS))
+    lines = ["Crash Count a plane-episode by fifth of the budget, the original's / ours:", f"  {'':16}{heads}"]
+    for (label, _, _), there, here in zip(ours, theirs, mine):
+        lines.append(f"  {label:16}" + " ".join(f"{a:.2f}/{b:.2f}".rjust(11) for a, b in zip(there, here)))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratios = np.nanmedian(np.where(theirs > 0, mine / theirs, np.nan), axis=0)
+    lines.append(f"  {'median ratio':16}" + " ".join(f"{r:.2f}".rjust(11) for r in ratios))
+    if len({level for _, _, level in ours}) >= 3:  # a correlation over levels needs levels that differ
+        correlations = [np.corrcoef(theirs[:, fifth], mine[:, fifth])[0, 1] for fifth in range(FIFTHS)]
+        lines.append(f"  {'correlation':16}" + " ".join(f"{c:+.2f}".rjust(11) for c in correlations))
+    return lines
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("runs", nargs="*", type=Path, metavar="RUN_DIR")
     parser.add_argument("--grid", action="store_true", help="the committed ten-level grid record")
     parser.add_argument("--record", action="store_true", help="the main record's seeds (level 1)")
-    parser.add_argument("--stages", action="store_true",
-                        help="tenth of the budget by tenth, and the late windows' correlations with the water")
+    shown = parser.add_mutually_exclusive_group()
+    shown.add_argument("--stages", action="store_true",
+                       help="tenth of the budget by tenth, and the late windows' correlations with the water")
+    shown.add_argument("--crashes", action="store_true",
+                       help="Crash Count level by level and fifth of the budget by fifth, with the levels' correlation")
     args = parser.parse_args(argv)
     try:
         runs = ours_from_args(args)
-        lines = stages(runs) if args.stages else report(runs)
+        lines = stages(runs) if args.stages else crashes_by_level(runs) if args.crashes else report(runs)
     except CompareError as error:
         print(f"error: {error}", file=sys.stderr)
         return 2
