@@ -6,8 +6,8 @@ village, how often it goes out, how much it burns.
 
 Plays ``--worlds`` test-seed worlds of the main task for ``--steps`` steps with every plane circling (steer 1, no
 drop), so nothing fights the fire and no plane leaves, and prints the share of worlds whose fire came within the
-village radius (and the median step it did), the share whose fire went out, and the median trees burnt and still
-burning at the end. ``--set`` overrides a param. Under the default cadence (fire_cadence frames, the release's) no
+village radius (and the median step it did), the share whose fire went out (and the median step it did), and the
+median trees burnt and still burning at the end. ``--set`` overrides a param. Under the default cadence (fire_cadence frames, the release's) no
 world is redrawn here, so the fire steps every two frames as in a stream's first world, 33.3 steps; ``--stream``
 starts every world as a world of a stream after its first redraw, a BurnNext waiting, so the fire steps every frame
 (16.7 steps), the release's pace for nearly all of a training or test run; ``--set fire_cadence=interval --set
@@ -67,9 +67,10 @@ def fire_course(params: dict, worlds: int, level: int = 1, steps: int = 3000, ge
 
 
 def describe(course: Course) -> str:
-    reached = course.reached_step >= 0
+    reached, out = course.reached_step >= 0, course.out_step >= 0
     when = f"median step {np.median(course.reached_step[reached]):.0f}" if reached.any() else "never"
-    return (f"village reached in {reached.mean():.0%} of worlds ({when}), out in {(course.out_step >= 0).mean():.0%}, "
+    ended = f" (median step {np.median(course.out_step[out]):.0f})" if out.any() else ""
+    return (f"village reached in {reached.mean():.0%} of worlds ({when}), out in {out.mean():.0%}{ended}, "
             f"burnt trees median {np.median(course.burnt):.0f}, burning at the end median {np.median(course.burning):.0f}")
 
 
