@@ -107,20 +107,25 @@ def test_peaks_rise_with_level_and_match_the_reported_heights():
     assert 210.0 / 1.6 <= peaks[-1] <= 210.0 * 1.6
 
 
-def test_heights_follow_the_documented_recipe_away_from_the_village():
-    """Recomputed from ENVIRONMENTS.md's recipe with the same noise draws (rng: lattice first)."""
-    seed = 0
-    t = terrain(3, seed)
+def recipe_height_value(t: Terrain, seed: int) -> tuple[np.ndarray, np.ndarray]:
+    """(n, n) the recipe's height value t = clip(noise normalised over the map - falloff, 0, 1), recomputed with the
+    same noise draws (rng: lattice first), and (n, n) bool the cells more than 100 m from the village."""
     perm, grads = draw_lattice(np.random.default_rng(seed), 1, 256)
     cols, rows = np.meshgrid(np.arange(241) / 40.0, np.arange(241) / 40.0)
     noise = fractal2d(perm, grads, cols[None], rows[None], 4, 0.3, 2.2)[0]
     x, y = grid(t)
     v = np.maximum(np.abs(x), np.abs(y)) / 833.0
     falloff = v**5 / (v**5 + (2.5 - 2.5 * v) ** 5)
-    value = (noise - noise.min()) / (noise.max() - noise.min())
-    expected = np.clip(value - falloff, 0, 1) ** 2 * 13 * 7.0
+    local = (noise - noise.min()) / (noise.max() - noise.min())
     far = np.hypot(x - t.village[0], y - t.village[1]) > 100.0 + 1e-6
-    np.testing.assert_allclose(t.heights[far], expected[far], rtol=1e-12, atol=1e-12)
+    return np.clip(local - falloff, 0, 1), far
+
+
+def test_heights_follow_the_documented_recipe_away_from_the_village():
+    """Recomputed from ENVIRONMENTS.md's recipe: t^2 x multiplier 13 (level 3) x 7 m."""
+    t = terrain(3, 0)
+    value, far = recipe_height_value(t, 0)
+    np.testing.assert_allclose(t.heights[far], (value**2 * 13 * 7.0)[far], rtol=1e-12, atol=1e-12)
 
 
 @pytest.mark.parametrize("level", [1, 10])
@@ -237,16 +242,10 @@ def test_the_map_is_the_release_s_mesh_scaled_by_its_uniform_scale():
 
 
 def test_land_stands_at_the_release_s_curve_times_the_multiplier_times_its_uniform_scale():
-    """Recomputed with the curve evaluated from the release's keys and its scale (rng: lattice first)."""
+    """Recomputed with the curve evaluated from the release's keys and its scale (the noise normalised over the map,
+    the release's normalizeMode Local)."""
     seed, level = 1, 7
     t = terrain(level, seed)
-    perm, grads = draw_lattice(np.random.default_rng(seed), 1, 256)
-    cols, rows = np.meshgrid(np.arange(241) / 40.0, np.arange(241) / 40.0)
-    noise = fractal2d(perm, grads, cols[None], rows[None], 4, 0.3, 2.2)[0]
-    x, y = grid(t)
-    v = np.maximum(np.abs(x), np.abs(y)) / 833.0
-    falloff = v**5 / (v**5 + (2.5 - 2.5 * v) ** 5)
-    local = (noise - noise.min()) / (noise.max() - noise.min())  # normalizeMode Local
-    expected = unity_curve(np.clip(local - falloff, 0, 1)) * HAND_MULTIPLIERS[level - 1] * RELEASE_UNIFORM_SCALE
-    far = np.hypot(x - t.village[0], y - t.village[1]) > 100.0 + 1e-6
+    value, far = recipe_height_value(t, seed)
+    expected = unity_curve(value) * HAND_MULTIPLIERS[level - 1] * RELEASE_UNIFORM_SCALE
     np.testing.assert_allclose(t.heights[far], expected[far], rtol=1e-9, atol=1e-9)
