@@ -5,6 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from hivex_dsl.sim.procgen.weather import load_weather_preset
+
 from ..benchmark_scripts import benchmark_script
 
 script = benchmark_script("aws_fire_course")
@@ -75,11 +77,8 @@ def test_a_stream_s_world_steps_its_fire_every_frame_and_a_first_world_every_oth
     assert len(aws_fire_ticks) == 9
 
 
-# The AWS release's weather (the reward table's note 'The release's weather'): one octave of about 926 m a lattice
-# cell, moving 0.0556 m a step, 0.465 where the noise is 0 and a standard deviation of about 0.17
-RELEASE_WEATHER = {"weather": {"noise_scale_m": 926, "octaves": 1, "drift_m_per_step": 0.0556,
-                               "temperature_mean": 0.465, "temperature_contrast": 0.564, "humidity_mean": 0.465,
-                               "humidity_contrast": 0.564, "overcast_mean": 0.465, "overcast_contrast": 0.564}}
+# The AWS release's weather (generators/weather.yaml's `release`: the reward table's note 'The release's weather')
+RELEASE_WEATHER = {"weather": load_weather_preset().release.model_dump()}
 
 
 def _median_step(steps: np.ndarray, never: int) -> float:

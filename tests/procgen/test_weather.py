@@ -12,6 +12,7 @@ from hivex_dsl.sim.procgen.weather import (
     WeatherSpec,
     load_weather_preset,
     weather_at,
+    weather_fields,
     weather_reset,
     weather_reset_where,
     weather_step,
@@ -119,6 +120,22 @@ def test_bad_arguments_are_value_errors():
 
 def test_preset_matches_the_code():
     assert load_weather_preset().defaults == WeatherSpec()
+
+
+def test_the_release_s_weather_reads_the_aws_scene():
+    """The scene (the reward tables' note 'The release's weather'): temperature's and humidity's noise step 0.0075
+    units a map cell over 243 cells laid on 241 x 7 m, so a lattice cell is 1 / 0.0075 x 1,687 / 243 m; the fields
+    shift 0.001 units a rendered frame, one frame every 50 / 3 academy steps; one octave; 0.465 where the noise is 0
+    ((0 + 0.69) / 1.483); and a contrast that spreads one octave of this noise by the release's 0.17."""
+    release = load_weather_preset().release
+    cell_m = (1 / 0.0075) * (241 * 7.0 / 243)
+    assert release.noise_scale_m == pytest.approx(cell_m, abs=0.5)
+    assert release.drift_m_per_step == pytest.approx(0.001 * cell_m / (50 / 3), abs=1e-4)
+    assert release.octaves == 1 and release.temperature_mean == pytest.approx(0.69 / 1.483, abs=5e-4)
+    state = weather_reset(np.random.default_rng(0), 64, release)
+    points = np.random.default_rng(1).uniform(-600.0, 600.0, (64, 400, 2))
+    temperature = weather_fields(state, points, release)[0]
+    assert temperature.std() == pytest.approx(0.17, abs=0.02)
 
 
 @pytest.mark.parametrize("bad", [np.nan, np.inf])

@@ -63,11 +63,13 @@ class WeatherSpec(StrictModel):
 
 
 class WeatherPreset(StrictModel):
-    """generators/weather.yaml: the WeatherSpec defaults."""
+    """generators/weather.yaml: the WeatherSpec defaults, and the AWS release's weather as this generator reads it
+    (``release``: the reward tables' note 'The release's weather'; a scenario sets it under ``generators:``)."""
 
     hivex: Literal[SCHEMA_VERSION]
     generator: Literal["weather"]
     defaults: WeatherSpec
+    release: WeatherSpec
 
 
 def load_weather_preset() -> WeatherPreset:
