@@ -9,7 +9,8 @@ an octave, sums (noise x 2 - 1) x amplitude, and normalises the map over its own
 (normalizeMode Local); GenerateMapData subtracts the falloff read at i / size, and the mesh stands t^2 x multiplier
 x 7 m high (the reward table's note 'The release's terrain assets'). This prints, a level at a time, the share of the
 map above 10 m and above 7 m, the peak and the trees the forest rule grows, ours and the pipeline's, over the same
-islands' count (the note records what it printed, issue 52).
+islands' count, and ours read through the release's simplified mesh (every other sample, 14 m apart) as its
+raycasts read its terrain (the note records what it printed, issue 52).
 """
 
 from __future__ import annotations
@@ -85,19 +86,31 @@ def release_heights(rng: np.random.Generator, level: int, spec: TerrainSpec = Te
 
 
 def island_row(heights: np.ndarray, terrain: Terrain, seed: int) -> tuple[float, float, float, int]:
-    """(share of the map above 10 m, above 7 m, the peak, the trees the forest rule grows on it)."""
+    """(share of the map above 10 m, above 7 m, the peak, the trees the forest rule grows on ``heights`` laid over
+    ``terrain``'s extent)."""
     surface = Terrain(heights=heights, cell_m=terrain.cell_m, extent_m=terrain.extent_m, village=terrain.village)
     trees = place_forest(np.random.default_rng(1000 + seed), ForestSpec(), surface.height_at, terrain.village)
     return float((heights > 10).mean()), float((heights > 7).mean()), float(heights.max()), len(trees.positions)
 
 
+def simplified_mesh(terrain: Terrain) -> Terrain:
+    """The release's mesh of the same map: every other inner sample (meshSimplificationIncrement 2), 120 x 120
+    vertices 14 m apart over the same 1,666 m, read bilinearly here where the release reads its triangles."""
+    coarse = terrain.heights[1:-1:2, 1:-1:2]
+    extent = terrain.extent_m * (coarse.shape[0] - 1) * 2 / (terrain.heights.shape[0] - 1)
+    return Terrain(heights=coarse, cell_m=extent / (coarse.shape[0] - 1), extent_m=extent, village=terrain.village)
+
+
 def compare(level: int, islands: int) -> dict[str, np.ndarray]:
-    """Means over ``islands`` islands of :func:`island_row`, ours and the release's pipeline."""
-    rows: dict[str, list] = {"ours": [], "improved noise": []}
+    """Means over ``islands`` islands of :func:`island_row`: ours, the release's pipeline over improved noise, and
+    our map read through the release's simplified mesh."""
+    rows: dict[str, list] = {"ours": [], "improved noise": [], "ours, simplified mesh": []}
     for seed in range(islands):
         terrain = generate_terrain(np.random.default_rng(seed), terrain_spec_for_level(level))
         rows["ours"].append(island_row(terrain.heights, terrain, seed))
         rows["improved noise"].append(island_row(release_heights(np.random.default_rng(seed), level), terrain, seed))
+        mesh = simplified_mesh(terrain)
+        rows["ours, simplified mesh"].append(island_row(mesh.heights, mesh, seed))
     return {name: np.array(values, dtype=float).mean(axis=0) for name, values in rows.items()}
 
 

@@ -62,3 +62,16 @@ def test_improved_noise_makes_the_islands_this_toolkit_makes():
     result = script.compare(5, 6)
     ours, theirs = result["ours"], result["improved noise"]
     assert abs(ours[0] - theirs[0]) < 0.02 and theirs[3] == pytest.approx(ours[3], rel=0.05)
+
+
+def test_the_simplified_mesh_keeps_every_other_inner_sample_where_it_stood():
+    from hivex_dsl.sim.procgen.terrain import generate_terrain, terrain_spec_for_level
+
+    terrain = generate_terrain(np.random.default_rng(3), terrain_spec_for_level(4))
+    mesh = script.simplified_mesh(terrain)
+    assert mesh.heights.shape == (120, 120) and mesh.cell_m == pytest.approx(2 * terrain.cell_m)
+    # vertex (i, j) of the mesh is sample (1 + 2i, 1 + 2j) of the map, at the same place
+    rows, cols = np.array([0, 7, 119]), np.array([5, 60, 118])
+    xy = np.stack([mesh.coords[cols], mesh.coords[rows]], axis=-1)
+    np.testing.assert_allclose(terrain.height_at(xy), terrain.heights[1 + 2 * rows, 1 + 2 * cols], atol=1e-9)
+    np.testing.assert_allclose(mesh.heights[rows, cols], terrain.heights[1 + 2 * rows, 1 + 2 * cols])
