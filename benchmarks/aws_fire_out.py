@@ -231,7 +231,7 @@ def crash_fifths(windows: np.ndarray) -> np.ndarray:
     TENTHS, panels), the one where the other has no point."""
     crashes = windows[..., STAGE_PANELS.index(CRASHES)]
     pairs = crashes.reshape(crashes.shape[:-1] + (FIFTHS, TENTHS // FIFTHS))
-    with np.errstate(invalid="ignore"), warnings.catch_warnings():
+    with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)  # a fifth with no point of ours stays NaN
         return np.nanmean(pairs, axis=-1)
 
