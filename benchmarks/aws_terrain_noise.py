@@ -20,8 +20,9 @@ import argparse
 import numpy as np
 
 from hivex_dsl.sim.procgen.forest import ForestSpec, place_forest
+from hivex_dsl.sim.procgen.noise import fade
 from hivex_dsl.sim.procgen.terrain import (Terrain, TerrainSpec, generate_terrain, height_multiplier_for_level,
-                                           terrain_spec_for_level)
+                                           island_heights, terrain_spec_for_level)
 
 # Ken Perlin's permutation (Improving Noise, 2002)
 PERMUTATION = np.array([
@@ -37,11 +38,6 @@ PERMUTATION = np.array([
     84, 204, 176, 115, 121, 50, 45, 127, 4, 150, 254, 138, 236, 205, 93, 222, 114, 67, 29, 24, 72, 243, 141, 128, 195,
     78, 66, 215, 61, 156, 180])
 DOUBLED = np.concatenate([PERMUTATION, PERMUTATION])
-RELEASE_SCALE_M = 7.0  # TerrainData's uniformScale
-
-
-def _fade(t: np.ndarray) -> np.ndarray:
-    return t * t * t * (t * (t * 6 - 15) + 10)
 
 
 def _gradient(hashed: np.ndarray, x: np.ndarray, y: np.ndarray) -> np.ndarray:
@@ -58,7 +54,7 @@ def improved_noise(x: np.ndarray, y: np.ndarray) -> np.ndarray:
     cell_x, cell_y = np.floor(x), np.floor(y)
     ix, iy = cell_x.astype(np.int64) & 255, cell_y.astype(np.int64) & 255
     fx, fy = x - cell_x, y - cell_y
-    u, v = _fade(fx), _fade(fy)
+    u, v = fade(fx), fade(fy)
     a, b = DOUBLED[ix] + iy, DOUBLED[ix + 1] + iy
     corner = {key: DOUBLED[DOUBLED[index]] for key, index in (("aa", a), ("ab", a + 1), ("ba", b), ("bb", b + 1))}
     low = (1 - u) * _gradient(corner["aa"], fx, fy) + u * _gradient(corner["ba"], fx - 1, fy)
@@ -78,11 +74,9 @@ def release_heights(rng: np.random.Generator, level: int, spec: TerrainSpec = Te
         total += (improved_noise(x.astype(np.float64), y.astype(np.float64)) * 2 - 1) * amplitude
         amplitude, frequency = amplitude * spec.persistence, frequency * spec.lacunarity
     value = (total - total.min()) / (total.max() - total.min())
-    edge = np.abs(np.arange(size) / size * 2 - 1)
-    v = np.maximum(edge[None, :], edge[:, None])
-    a, b = spec.falloff_a, spec.falloff_b
-    falloff = v**a / (v**a + (b - b * v) ** a)
-    return np.clip(value - falloff, 0.0, 1.0) ** 2 * height_multiplier_for_level(level) * RELEASE_SCALE_M
+    # the release reads its falloff at i / size, not at i / (size - 1) as this toolkit's map does
+    level_spec = spec.model_copy(update={"height_multiplier": height_multiplier_for_level(level)})
+    return island_heights(value, np.abs(np.arange(size) / size * 2 - 1), level_spec)
 
 
 def island_row(heights: np.ndarray, terrain: Terrain, seed: int) -> tuple[float, float, float, int]:

@@ -26,7 +26,7 @@ import numpy as np
 from ...base.errors import is_integer
 from ...base.numeric import clamp, constant
 
-__all__ = ["draw_lattice", "perlin2d", "fractal2d", "fractal_unchecked", "octave_frequencies", "octave_points",
+__all__ = ["draw_lattice", "fade", "perlin2d", "fractal2d", "fractal_unchecked", "octave_frequencies", "octave_points",
            "corner_gradients", "blend_corners", "sum_octaves"]
 
 # Unit-gradient 2D Perlin noise peaks at sqrt(2)/2 in magnitude; this factor maps it onto [-1, 1].
@@ -96,7 +96,7 @@ def _checked_inputs(
     return perm.astype(np.int64, copy=False), grads, x, y
 
 
-def _fade(t: np.ndarray) -> np.ndarray:
+def fade(t: np.ndarray) -> np.ndarray:
     """Quintic smoothstep 6t^5 - 15t^4 + 10t^3 (zero first and second derivative at 0 and 1), t float64."""
     return t * t * t * (t * (t * _SIX - _FIFTEEN) + _TEN)
 
@@ -149,10 +149,10 @@ def blend_corners(gx: np.ndarray, gy: np.ndarray, offset: np.ndarray) -> np.ndar
     corner_x, corner_y = _corner_columns(gx.ndim)
     dots = gx * (offset[0] - corner_x)
     dots += gy * (offset[1] - corner_y)
-    fade = _fade(offset)
-    bottom = dots[0] + fade[0] * (dots[1] - dots[0])  # corners (0, 0) and (1, 0)
-    top = dots[2] + fade[0] * (dots[3] - dots[2])  # corners (0, 1) and (1, 1)
-    blended = bottom + fade[1] * (top - bottom)
+    weights = fade(offset)
+    bottom = dots[0] + weights[0] * (dots[1] - dots[0])  # corners (0, 0) and (1, 0)
+    top = dots[2] + weights[0] * (dots[3] - dots[2])  # corners (0, 1) and (1, 1)
+    blended = bottom + weights[1] * (top - bottom)
     return clamp(_RANGE_SCALE_0D * blended, _MINUS_ONE, _ONE)
 
 

@@ -214,7 +214,13 @@ def _island(rng: np.random.Generator, spec: TerrainSpec) -> np.ndarray:
     noise = fractal2d(perm, grads, x, y, spec.octaves, spec.persistence, spec.lacunarity)[0]
     span = noise.max() - noise.min()
     value = (noise - noise.min()) / span if span > 0 else np.zeros_like(noise)
-    edge = np.abs(np.linspace(-1.0, 1.0, n))
+    return island_heights(value, np.abs(np.linspace(-1.0, 1.0, n)), spec)
+
+
+def island_heights(value: np.ndarray, edge: np.ndarray, spec: TerrainSpec) -> np.ndarray:
+    """(n, n) metres from the normalised noise ``value`` (n, n) in [0, 1]: the square island falloff subtracted,
+    clamped to [0, 1], the height curve and the multiplier's metres. ``edge`` (n,) is each row's and column's
+    distance from the centre in [0, 1] (the falloff reads their larger)."""
     v = np.maximum(edge[None, :], edge[:, None])
     a, b = spec.falloff_a, spec.falloff_b
     rising = portable.power(v, a)
