@@ -135,29 +135,30 @@ def test_fire_out_a_plane_up_over_the_late_windows_correlates_with_what_it_follo
     assert count == 0 and np.isnan(correlations).all()
 
 
-def test_the_same_water_puts_our_fire_out_about_twice_as_often_as_the_original_s():
+def test_the_same_water_puts_our_fire_out_half_again_as_often_as_the_original_s():
     """The grid record's ten levels beside the original's pages, tenth of the budget by tenth (measured by hand with
     plain loops over the record's JSON and the pages' training means: the mean over the levels of each panel over
-    the tenth's points, ours weighted by their episodes; the grid of sessions 91-92, the release's cadence). At
+    the tenth's points, ours weighted by their episodes; the grid of sessions 93-94, the release's weather). At
     10-20%, 60-70% and 90-100% of the budget the original's planes drop 5.85, 37.4 and 39.9 times a plane-episode,
-    ours 5.75, 37.4 and 38.2; they crash 0.74, 0.27 and 0.22 times, ours 0.81, 0.13 and 0.09; a drop extinguishes
-    1.60, 0.47 and 0.40 trees, ours 1.78, 0.47 and 0.56; yet a plane still up sees the fire go out 0.15, 0.27 and 0.28
-    times, ours 0.28, 0.50 and 0.49 (the grid of sessions 89-90, a fire step every 17 steps: 0.28, 0.49 and 0.50).
-    Over the fifty (level, tenth) windows from half the budget on, Fire Out a plane up correlates with Water Drop,
-    Extinguishing Trees and Preparing Trees at +0.17, +0.10 and +0.03 in the original and -0.37, -0.29 and -0.39 here
-    (before: +0.12, -0.04 and -0.18): in neither does the fire go out more where the planes drop more. So the gap is
-    not the planes fighting harder but the fire answering the same water (the reward table's note 'Fire Out, the
-    crashes and the planes still up')."""
+    ours 5.2, 38.0 and 35.9; they crash 0.74, 0.27 and 0.22 times, ours 0.89, 0.20 and 0.13; a drop extinguishes
+    1.60, 0.47 and 0.40 trees, ours 1.41, 0.46 and 0.52; yet a plane still up sees the fire go out 0.15, 0.27 and 0.28
+    times, ours 0.26, 0.40 and 0.39 (the grid of sessions 91-92, this toolkit's weather: 0.28, 0.50 and 0.49). Over
+    the fifty (level, tenth) windows from half the budget on, Fire Out a plane up correlates with Water Drop,
+    Extinguishing Trees and Preparing Trees at +0.17, +0.10 and +0.03 in the original and +0.35, +0.24 and +0.07 here
+    (under this toolkit's weather -0.37, -0.29 and -0.39): as in the original's, the fire goes out a little more often
+    where the planes drop more. So the gap, 1.4-1.7 times from a tenth of the budget on, is not the planes fighting
+    harder but the fire answering the same water (the reward table's notes 'Fire Out, the crashes and the planes
+    still up' and 'The release's weather')."""
     lines = script.stages([(f"L{p['level']}", curve, p["level"]) for p, curve in _grid_points()])
-    assert lines[2].startswith("  10-20%: Fire Out 0.04/0.05, Crash Count 0.74/0.81, a plane up 0.15/0.28")
-    assert "Water Drop 5.9/5.7, a drop extinguishes 1.60/1.78" in lines[2]
-    assert lines[7].startswith("  60-70%: Fire Out 0.19/0.44, Crash Count 0.27/0.13, a plane up 0.27/0.50")
-    assert lines[10].startswith("  90-100%: Fire Out 0.22/0.44, Crash Count 0.22/0.09, a plane up 0.28/0.49")
-    assert "Water Drop 39.9/38.2, a drop extinguishes 0.40/0.56" in lines[10]
+    assert lines[2].startswith("  10-20%: Fire Out 0.04/0.03, Crash Count 0.74/0.89, a plane up 0.15/0.26")
+    assert "Water Drop 5.9/5.2, a drop extinguishes 1.60/1.41" in lines[2]
+    assert lines[7].startswith("  60-70%: Fire Out 0.19/0.32, Crash Count 0.27/0.20, a plane up 0.27/0.40")
+    assert lines[10].startswith("  90-100%: Fire Out 0.22/0.34, Crash Count 0.22/0.13, a plane up 0.28/0.39")
+    assert "Water Drop 39.9/35.9, a drop extinguishes 0.40/0.52" in lines[10]
     for line in lines[2:11]:
-        assert float(line.split("(ratio ")[1].split(")")[0]) > 1.5
+        assert 1.3 < float(line.split("(ratio ")[1].split(")")[0]) < 1.9
     assert lines[-2] == "  the original's: +0.17, +0.10, +0.03 (50 windows)"
-    assert lines[-1] == "  ours: -0.37, -0.29, -0.39 (50 windows)"
+    assert lines[-1] == "  ours: +0.35, +0.24, +0.07 (50 windows)"
 
 
 def _grid_points():
@@ -180,19 +181,22 @@ def test_a_fifth_of_the_budget_is_the_mean_of_its_two_tenths_or_the_one_with_a_p
     assert fifths[:3] == pytest.approx([0.8, 0.5, 0.3]) and np.isnan(fifths[3]) and fifths[4] == pytest.approx(0.15)
 
 
-def test_our_planes_crash_as_the_original_s_level_by_level_until_the_second_half_of_the_budget():
+def test_our_planes_crash_as_often_as_the_original_s_through_half_the_budget_and_less_after():
     """The grid record's ten levels beside the original's pages, by fifth of the budget (measured by hand with plain
-    loops over the record's JSON and the pages' training means, each fifth the mean of its two tenths): ours over the
-    original's, the median over the levels, is 1.08 and 1.04 through the first two fifths, then 0.81, 0.53 and 0.42,
-    and over the levels the two correlate at +0.57, +0.64, +0.61 and +0.52 from the second fifth on. Level 1, whose
-    planes crash most in the original's records, is ours' second, first and first over the second to fourth fifths
-    and third in the last (0.14 against the original's 0.54). So our planes learn the border as fast as the
-    original's, level by level, and part from them after half the budget (the reward table's note 'Fire Out, the
-    crashes and the planes still up')."""
+    loops over the record's JSON, each fifth the mean of its two tenths, against the pages' training means as this
+    script prints them to two places): ours over the original's, the median over the levels, is 1.12, 1.10 and 1.00
+    through the first three fifths, then 0.65 and 0.71 (the grid of sessions 91-92, this toolkit's weather: 1.08,
+    1.04, 0.81, 0.53 and 0.42), and over the levels the two correlate at +0.46, +0.11, +0.20, -0.07 and +0.01 (that
+    grid: +0.57, +0.64, +0.61 and +0.52 from the second fifth on). Level 1, whose planes crash most in the original's
+    records, crashes 0.98, 0.46, 0.15, 0.07 and 0.10 times here (its run is the main record's seed 0; seed 1 crashes as
+    the original's level 1: the note 'The release's weather'), and level 3's run crashes most from the second fifth on.
+    So our planes learn the border as fast as the original's to half the budget and then part from them, more crash-
+    free, with each level's run its own (the reward table's note 'Fire Out, the crashes and the planes still up')."""
     lines = script.crashes_by_level([(f"L{p['level']}", curve, p["level"]) for p, curve in _grid_points()])
-    assert lines[2].split() == ["L1", "0.82/0.88", "0.70/0.85", "0.57/0.46", "0.46/0.29", "0.54/0.14"]
-    assert lines[-2].split()[2:] == ["1.08", "1.04", "0.81", "0.53", "0.42"]
-    assert [float(c) for c in lines[-1].split()[1:]][1:] == pytest.approx([0.57, 0.64, 0.61, 0.52], abs=0.005)
+    assert lines[2].split() == ["L1", "0.82/0.98", "0.70/0.46", "0.57/0.15", "0.46/0.07", "0.54/0.10"]
+    assert lines[4].split() == ["L3", "0.87/0.97", "0.72/0.83", "0.34/0.71", "0.24/0.63", "0.21/0.63"]
+    assert [float(c) for c in lines[-2].split()[2:]] == pytest.approx([1.12, 1.10, 1.00, 0.65, 0.71], abs=0.025)
+    assert [float(c) for c in lines[-1].split()[1:]] == pytest.approx([0.46, 0.11, 0.20, -0.07, 0.01], abs=0.03)
 
 
 def test_crashes_without_runs_is_a_clear_error(capsys):

@@ -138,6 +138,23 @@ def test_the_release_s_weather_reads_the_aws_scene():
     assert temperature.std() == pytest.approx(0.17, abs=0.02)
 
 
+def test_aws_draws_the_release_s_weather_and_wrm_the_shared_defaults():
+    """Aerial Wildfire Suppression's fire runs on the release's rules alone, so it takes the release's weather; Wildfire
+    Resource Management's fire spread was fitted under the shared defaults, which it keeps (the note 'The release's
+    weather'). A scenario's own ``generators: weather:`` still wins over either."""
+    import hivex_dsl
+
+    def weather_of(environment, **generators):
+        agents = {"aerial_wildfire_suppression": 3, "wildfire_resource_management": 9}[environment]
+        return hivex_dsl.compile({"hivex": 1, "name": "w", "environment": environment, "task": "main", "agents": agents,
+                                  "episode_length": 300, "generators": generators}).generators["weather"]
+
+    preset = load_weather_preset()
+    assert weather_of("aerial_wildfire_suppression") == preset.release
+    assert weather_of("wildfire_resource_management") == preset.defaults
+    assert weather_of("aerial_wildfire_suppression", weather={"octaves": 2}).octaves == 2
+
+
 @pytest.mark.parametrize("bad", [np.nan, np.inf])
 def test_a_wind_that_is_not_finite_is_refused(bad):
     state = weather_reset(np.random.default_rng(3), 2, SPEC)

@@ -21,6 +21,8 @@ AWS_BEFORE = RESULTS.parent / "kernel_portability_aerial_wildfire_suppression_be
 # AWS's rows of session 89, under the release's fire start and queue at a fire step every 17 steps (session 92 made
 # the release's cadence and 3-D downwind angle the defaults)
 AWS_BEFORE_92 = RESULTS.parent / "kernel_portability_aerial_wildfire_suppression_before_session_92.json"
+# AWS's rows of session 92, under the shared weather (session 94 made the release's weather AWS's default)
+AWS_BEFORE_94 = RESULTS.parent / "kernel_portability_aerial_wildfire_suppression_before_session_94.json"
 
 
 def cross_vendor_file(environment: str) -> Path:
@@ -72,9 +74,9 @@ def test_rows_of_the_same_path_but_another_content_are_refused():
 
 def test_each_committed_file_names_the_content_its_rows_trained():
     """Every file of the scenario as it resolves now names its fingerprint and is set against the committed record;
-    AWS's rows from before sessions 89 and 92 name the params then and keep the curve of the record they were
-    measured against, whose seed 0 the default of the processor that trained it followed for all 40 points (the Xeon
-    before session 89, the AMD EPYC of family 25 model 17 in session 89)."""
+    AWS's rows from before sessions 89, 92 and 94 name the params and the weather then and keep the curve of the
+    record they were measured against, whose seed 0 the default of the processor that trained it followed for all 40
+    points (the Xeon before session 89, the AMD EPYC of family 25 model 17 in sessions 89 and 92)."""
     for environment in ("wind_farm_control", "wildfire_resource_management", "drone_based_reforestation",
                         "aerial_wildfire_suppression"):
         recorded = json.loads(script.results_file(environment).read_text("utf-8"))
@@ -82,17 +84,17 @@ def test_each_committed_file_names_the_content_its_rows_trained():
         assert script.record_curve(recorded)[:3] == [round(point[2], 4) for point in json.loads(
             (RESULTS.parents[1] / "baselines" / f"{environment}.json").read_text("utf-8"))["curve"][:3]]
     fingerprints = set()
-    for path, trained_on in ((AWS_BEFORE, XEON), (AWS_BEFORE_92, EPYC)):
+    for path, trained_on in ((AWS_BEFORE, XEON), (AWS_BEFORE_92, EPYC), (AWS_BEFORE_94, EPYC)):
         before = json.loads(path.read_text("utf-8"))
         fingerprints.add(before["fingerprint"])
         scenario = yaml.safe_load((RESULTS.parents[2] / before["scenario"]).read_text("utf-8"))
-        then = {**scenario, "params": before["params_then"]}
+        then = {**scenario, "params": before["params_then"], "generators": before["generators_then"]}
         assert hivex_dsl.compile(then).fingerprint == before["fingerprint"], path.name
         trained = row_of(before["machines"], trained_on)["default"]
         assert script.record_curve(before) == before["record_curve"] == trained
         without_its_curve = {key: value for key, value in before.items() if key != "record_curve"}
         assert script.record_curve(without_its_curve) is None  # the committed record is of another content now
-    assert len(fingerprints | {script.fingerprint_of("aerial_wildfire_suppression")}) == 3
+    assert len(fingerprints | {script.fingerprint_of("aerial_wildfire_suppression")}) == 4
 
 
 def test_machines_are_grouped_by_identical_returns_per_setting():
@@ -234,12 +236,23 @@ def test_aws_under_the_release_s_fire_followed_its_record_on_the_processor_that_
     assert epyc["portable"][:6] == epyc["default"][:6] and epyc["portable"][6] != epyc["default"][6]
 
 
-def test_aws_under_the_release_s_cadence_follows_its_record_on_the_processor_that_trained_it():
-    """Session 92, the scenario under the release's fire cadence and 3-D downwind angle: the AMD EPYC of family 25
-    model 17, which trained the record, gives its curve at all 40 points under the default kernels, and cpu_kernels
-    portable parts from them at the point of 0-based index 24."""
+def test_aws_under_the_release_s_cadence_followed_its_record_on_the_processor_that_trained_it():
+    """Session 92, the scenario under the release's fire cadence and 3-D downwind angle (and the shared weather): the
+    AMD EPYC of family 25 model 17, which trained that record, gave its curve at all 40 points under the default
+    kernels, and cpu_kernels portable parted from them at the point of 0-based index 24."""
+    recorded = json.loads(AWS_BEFORE_94.read_text("utf-8"))
+    assert recorded["points"] == 40
+    epyc = row_of(recorded["machines"], EPYC)
+    assert epyc["default"] == script.record_curve(recorded)[:40]
+    assert epyc["portable"][:24] == epyc["default"][:24] and epyc["portable"][24] != epyc["default"][24]
+
+
+def test_aws_under_the_release_s_weather_follows_its_record_on_the_processor_that_trained_it():
+    """Session 94, the scenario under the release's weather (its default since then): the AMD EPYC of family 25 model
+    17, which trained the record in session 93, gives its curve at all 40 points under the default kernels, and
+    cpu_kernels portable parts from them at the point of 0-based index 17."""
     recorded = json.loads(script.results_file("aerial_wildfire_suppression").read_text("utf-8"))
     assert recorded["points"] == 40 and "record_curve" not in recorded
     epyc = row_of(recorded["machines"], EPYC)
     assert epyc["default"] == script.record_curve(recorded)[:40]
-    assert epyc["portable"][:24] == epyc["default"][:24] and epyc["portable"][24] != epyc["default"][24]
+    assert epyc["portable"][:17] == epyc["default"][:17] and epyc["portable"][17] != epyc["default"][17]

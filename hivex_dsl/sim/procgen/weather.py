@@ -63,8 +63,9 @@ class WeatherSpec(StrictModel):
 
 
 class WeatherPreset(StrictModel):
-    """generators/weather.yaml: the WeatherSpec defaults, and the AWS release's weather as this generator reads it
-    (``release``: the reward tables' note 'The release's weather'; a scenario sets it under ``generators:``)."""
+    """generators/weather.yaml: the WeatherSpec defaults (Wildfire Resource Management's), and the AWS release's
+    weather as this generator reads it (``release``, Aerial Wildfire Suppression's default: the reward tables' note
+    'The release's weather')."""
 
     hivex: Literal[SCHEMA_VERSION]
     generator: Literal["weather"]
