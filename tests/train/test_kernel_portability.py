@@ -225,34 +225,20 @@ def test_wrm_trains_alike_across_vendors_under_cpu_kernels_portable_whatever_num
     assert epyc["default"][:13] == xeon["default"][:13] and epyc["default"][13] != xeon["default"][13]
 
 
-def test_aws_under_the_release_s_fire_followed_its_record_on_the_processor_that_trained_it():
-    """Session 89, the scenario under the release's fire start and burning queue at 17 steps: the AMD EPYC of family
-    25 model 17, which trained that record, gave its curve at all 40 points under the default kernels, and cpu_kernels
-    portable parted from them at the point of 0-based index 6."""
-    recorded = json.loads(AWS_BEFORE_92.read_text("utf-8"))
+@pytest.mark.parametrize("results, portable_parts_at", [
+    (AWS_BEFORE_92, 6),  # session 89: the release's fire start and burning queue at a fire step every 17 steps
+    (AWS_BEFORE_94, 24),  # session 92: the release's fire cadence and 3-D downwind angle, the shared weather
+    (script.results_file("aerial_wildfire_suppression"), 17),  # session 94: the release's weather, the defaults now
+])
+def test_aws_follows_its_record_on_the_processor_that_trained_it(results, portable_parts_at):
+    """Each AWS scenario whose record the AMD EPYC of family 25 model 17 trained (sessions 89, 91 and 93): on that
+    processor the default kernels give the record's curve at all 40 points, and cpu_kernels portable parts from them
+    at the point of 0-based index ``portable_parts_at``. The rows of a scenario since replaced keep the curve of the
+    record they were measured against (``record_curve``); the file of the defaults now reads the committed record."""
+    recorded = json.loads(results.read_text("utf-8"))
     assert recorded["points"] == 40
+    assert ("record_curve" in recorded) == (results != script.results_file("aerial_wildfire_suppression"))
     epyc = row_of(recorded["machines"], EPYC)
     assert epyc["default"] == script.record_curve(recorded)[:40]
-    assert epyc["portable"][:6] == epyc["default"][:6] and epyc["portable"][6] != epyc["default"][6]
-
-
-def test_aws_under_the_release_s_cadence_followed_its_record_on_the_processor_that_trained_it():
-    """Session 92, the scenario under the release's fire cadence and 3-D downwind angle (and the shared weather): the
-    AMD EPYC of family 25 model 17, which trained that record, gave its curve at all 40 points under the default
-    kernels, and cpu_kernels portable parted from them at the point of 0-based index 24."""
-    recorded = json.loads(AWS_BEFORE_94.read_text("utf-8"))
-    assert recorded["points"] == 40
-    epyc = row_of(recorded["machines"], EPYC)
-    assert epyc["default"] == script.record_curve(recorded)[:40]
-    assert epyc["portable"][:24] == epyc["default"][:24] and epyc["portable"][24] != epyc["default"][24]
-
-
-def test_aws_under_the_release_s_weather_follows_its_record_on_the_processor_that_trained_it():
-    """Session 94, the scenario under the release's weather (its default since then): the AMD EPYC of family 25 model
-    17, which trained the record in session 93, gives its curve at all 40 points under the default kernels, and
-    cpu_kernels portable parts from them at the point of 0-based index 17."""
-    recorded = json.loads(script.results_file("aerial_wildfire_suppression").read_text("utf-8"))
-    assert recorded["points"] == 40 and "record_curve" not in recorded
-    epyc = row_of(recorded["machines"], EPYC)
-    assert epyc["default"] == script.record_curve(recorded)[:40]
-    assert epyc["portable"][:17] == epyc["default"][:17] and epyc["portable"][17] != epyc["default"][17]
+    at = portable_parts_at
+    assert epyc["portable"][:at] == epyc["default"][:at] and epyc["portable"][at] != epyc["default"][at]
