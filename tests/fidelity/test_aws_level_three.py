@@ -60,8 +60,9 @@ def test_level_3_s_best_run_stands_furthest_above_its_other_two_and_its_runs_are
 
 
 def test_our_level_3_point_tests_within_the_original_s_three_runs():
-    """Between the original's worst and best level-3 runs (the grid of sessions 91-92: 622.4, above the other two
-    runs' mean of 231 and below the published 1,321.5; of session 89, 728.6; of session 86, 555.6; of session 64,
+    """Between the original's worst and best level-3 runs (the grid of sessions 93-94, under the release's weather:
+    399.6, a run that learned to crash, above the other two runs' mean of 231 and below the published 1,321.5; of
+    sessions 91-92: 622.4; of session 89, 728.6; of session 86, 555.6; of session 64,
     645.3; the grid of session 48, 259.7; of session 44, 161.2, below the other two runs' mean as most of that
     grid's points lie below the published; the grid before, 1,032.3)."""
     point = next(p for p in json.loads(GRID.read_text())["points"] if p["level"] == 3)

@@ -242,3 +242,13 @@ def test_aws_follows_its_record_on_the_processor_that_trained_it(results, portab
     assert epyc["default"] == script.record_curve(recorded)[:40]
     at = portable_parts_at
     assert epyc["portable"][:at] == epyc["default"][:at] and epyc["portable"][at] != epyc["default"][at]
+
+
+def test_numpy_s_avx2_kernels_train_aws_as_its_own_on_the_epyc():
+    """Session 94, the scenario under the release's weather: NumPy imitating an AVX2-only processor (the island's
+    noise, the fire, the planes) gives the EPYC's own returns under the default kernels and under cpu_kernels portable
+    at all 40 points: NumPy's kernel choice alone does not part an AWS run on an AVX2-only processor."""
+    recorded = json.loads(script.results_file("aerial_wildfire_suppression").read_text("utf-8"))
+    epyc = row_of(recorded["machines"], EPYC)
+    assert len(epyc["numpy-avx2"]) == 40
+    assert epyc["numpy-avx2"] == epyc["default"] and epyc["portable-numpy-avx2"] == epyc["portable"]
