@@ -146,7 +146,7 @@ def test_the_same_water_puts_our_fire_out_half_again_as_often_as_the_original_s(
     the fifty (level, tenth) windows from half the budget on, Fire Out a plane up correlates with Water Drop,
     Extinguishing Trees and Preparing Trees at +0.17, +0.10 and +0.03 in the original and +0.35, +0.24 and +0.07 here
     (under this toolkit's weather -0.37, -0.29 and -0.39): as in the original's, the fire goes out a little more often
-    where the planes drop more. So the gap, 1.4-1.7 times from a tenth of the budget on, is not the planes fighting
+    where the planes drop more. So the gap, 1.4-1.9 times from a tenth of the budget on, is not the planes fighting
     harder but the fire answering the same water (the reward table's notes 'Fire Out, the crashes and the planes
     still up' and 'The release's weather')."""
     lines = script.stages([(f"L{p['level']}", curve, p["level"]) for p, curve in _grid_points()])
