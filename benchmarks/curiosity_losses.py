@@ -35,28 +35,45 @@ SCENARIOS = Path(__file__).resolve().parents[1] / "scenarios"
 
 
 def random_transitions(environment: str, params: dict, decisions: int, worlds: int = 8, seed: int = 0):
-    """(env, obs, next_obs, continuous actions, discrete actions) of random play in the main scenario's training
-    worlds, the steps that ended an episode left out, observations as dicts of tensors (N, ...). A discrete choice is
-    drawn among the open ones where the environment masks (as a masked untrained policy draws it)."""
+    """(env, obs, next_obs, continuous actions, discrete actions, entropy) of random play in the main scenario's
+    training worlds, the steps that ended an episode left out, observations as dicts of tensors (N, ...). A discrete
+    choice is drawn among the open ones where the environment masks (as a masked untrained policy draws it);
+    ``entropy`` is the mean entropy of those draws in nats, the discrete inverse loss of a model that sees nothing of
+    the action (the original's Entropy panel beside its Curiosity Inverse Loss reads the same gap)."""
     scenario = yaml.safe_load((SCENARIOS / environment / "main.yaml").read_text())
     env = HivexVectorEnv(hivex_dsl.compile(scenario | {"params": params}), num_worlds=worlds)
     layout = ActionLayout.of(env.single_action_space)
     rng = np.random.default_rng(seed)
     obs, infos = env.reset(seed=seed)
-    before, after, conts, discs = [], [], [], []
+    obs = as_dict(obs)
+    before, after, conts, discs, entropies = [], [], [], [], []
     for _ in range(decisions):
         cont = rng.normal(size=(env.num_envs, layout.continuous)).astype(np.float32)
         disc = open_choices(rng, layout.nvec, infos.get("action_mask"), env.num_envs)
+        entropy = open_entropy(layout.nvec, infos.get("action_mask"), env.num_envs)
         following, _, terminated, truncated, infos = env.step(
             layout.to_env(torch.as_tensor(cont), torch.as_tensor(disc)))
+        following = as_dict(following)
         kept = ~(terminated | truncated)
         before.append({k: v[kept] for k, v in obs.items()})
         after.append({k: v[kept] for k, v in following.items()})
         conts.append(cont[kept])
         discs.append(disc[kept])
+        entropies.append(entropy[kept])
         obs = following
     return env, joined(before), joined(after), torch.as_tensor(np.concatenate(conts)), \
-        torch.as_tensor(np.concatenate(discs))
+        torch.as_tensor(np.concatenate(discs)), float(np.concatenate(entropies).mean())
+
+
+def as_dict(observations) -> dict[str, np.ndarray]:
+    """A vector env's observations keyed as the trainer keys them: a Box's array as "obs" (Wildfire Resource
+    Management), a Dict's arrays by their own keys ("vector", "visual")."""
+    return observations if isinstance(observations, dict) else {"obs": observations}
+
+
+def vector_key(obs: dict) -> str:
+    """The key of the vector observation: "vector" in a Dict space, "obs" for a Box."""
+    return "vector" if "vector" in obs else "obs"
 
 
 def joined(frames: list[dict]) -> dict[str, torch.Tensor]:
@@ -75,13 +92,22 @@ def open_choices(rng: np.random.Generator, nvec, mask: np.ndarray | None, slots:
     return np.stack(columns, axis=1).astype(np.int64) if columns else np.zeros((slots, 0), np.int64)
 
 
+def open_entropy(nvec, mask: np.ndarray | None, slots: int) -> np.ndarray:
+    """(slots,) the entropy in nats of :func:`open_choices`' draw: the sum over branches of log(open choices)."""
+    if mask is None:
+        return np.full(slots, float(np.log(np.asarray(nvec, float)).sum()))
+    counts = np.add.reduceat(np.asarray(mask, bool).astype(np.int64), np.cumsum([0, *nvec[:-1]]), axis=1)
+    return np.log(counts).sum(axis=1)
+
+
 def with_noise(obs: dict, following: dict, sigma: float, stacks: int = 2, seed: int = 1) -> tuple[dict, dict]:
     """The transitions with N(0, sigma) noise on each vector frame (N, stacks x frame, newest first; two stacks, as
     the camera environments observe): the newest frame of ``obs`` carries the same noise as the older stack of
     ``following`` (one frame, observed twice), and an older stack of zeros (a first observation's) stays zeros."""
     if stacks != 2:
         raise ValueError(f"with_noise takes two stacks, not {stacks}")
-    vector, later = obs["vector"].clone(), following["vector"].clone()
+    key = vector_key(obs)
+    vector, later = obs[key].clone(), following[key].clone()
     frame = vector.shape[1] // stacks
     gen = torch.Generator().manual_seed(seed)
     older, shared, newest = (torch.randn(len(vector), frame, generator=gen) * sigma for _ in range(3))
@@ -89,7 +115,7 @@ def with_noise(obs: dict, following: dict, sigma: float, stacks: int = 2, seed: 
     vector[:, :frame] += shared
     later[:, frame:] += shared
     later[:, :frame] += newest
-    return {**obs, "vector": vector}, {**following, "vector": later}
+    return {**obs, key: vector}, {**following, key: later}
 
 
 def train_module(environment, env, obs, following, cont, disc, scale: float, steps: int) -> None:
@@ -98,7 +124,8 @@ def train_module(environment, env, obs, following, cont, disc, scale: float, ste
     cfg = make_config(environment)
     module = Curiosity(env.single_observation_space, ActionLayout.of(env.single_action_space), cfg)
     optimizer = torch.optim.Adam(module.parameters(), lr=cfg.curiosity_learning_rate)
-    scaled = [{**o, "vector": o["vector"] * scale} for o in (obs, following)]
+    key = vector_key(obs)
+    scaled = [{**o, key: o[key] * scale} for o in (obs, following)]
     for step in range(steps + 1):
         rows = torch.randint(0, len(disc), (256,))
         total, forward, inverse = module.loss(*({k: v[rows] for k, v in o.items()} for o in scaled), cont[rows], disc[rows])
@@ -140,9 +167,12 @@ def main() -> None:
     args = parser.parse_args()
     torch.set_num_threads(1)
     params = scenario_params(args.set)
-    env, obs, following, cont, disc = random_transitions(args.environment, params, args.decisions)
+    env, obs, following, cont, disc, entropy = random_transitions(args.environment, params, args.decisions)
+    if disc.shape[1]:
+        print(f"the random draws' entropy {entropy:.3f} nats: the discrete inverse loss of a model that sees nothing "
+              "of the action")
     print(f"{len(disc)} transitions; vector observation's change a decision, std by component: "
-          + " ".join(f"{v:.4f}" for v in (following["vector"] - obs["vector"]).std(0).tolist()))
+          + " ".join(f"{v:.4f}" for v in (following[vector_key(obs)] - obs[vector_key(obs)]).std(0).tolist()))
     for sigma in args.noise:
         noisy = with_noise(obs, following, sigma, env.core.sim.observation_stacks) if sigma > 0 else (obs, following)
         if len(args.noise) > 1:

@@ -47,6 +47,7 @@ class EpisodeLog:
         self._open: np.ndarray | None = None  # (S, 1 + K) each slot's open trajectory: experiences, then value sums
         self._estimates: list[np.ndarray] = []  # (n, K) the mean value estimates of trajectories cut since a drain
         self._heads: tuple[str, ...] = ()
+        self._losses: dict[str, list[float]] = {}  # loss -> each update's value since a drain
 
     def record(self, infos: dict[str, Any]) -> None:
         summary = episode_summaries(infos)
@@ -83,6 +84,13 @@ class EpisodeLog:
                 self._estimates.append(self._open[cut, 1:] / self._open[cut, :1])
                 self._open[cut] = 0.0
 
+    def record_losses(self, losses: dict[str, float]) -> None:
+        """Add one update's losses (``update``'s means over its minibatches: ``entropy``, ``curiosity_forward``,
+        ...); a drain reports each one's mean over the updates since the last, as ML-Agents' StatsReporter reports
+        ``Policy/Entropy`` and ``Losses/...`` at a summary point."""
+        for name, value in losses.items():
+            self._losses.setdefault(name, []).append(float(value))
+
     def values(self) -> dict[str, Any]:
         """Every recorded summary concatenated (same layout as one summary); {} if none."""
         if not self._parts:
@@ -98,8 +106,9 @@ class EpisodeLog:
 
     def drain(self) -> dict[str, Any]:
         """Means since the last drain: ``{"return", "length", "episodes", "reward_terms", "statistics", "signals",
-        "estimates"}`` (``signals``: each trainer signal's mean episode sum, where an episode ended with one;
-        ``estimates``: each value head's mean over the trajectories cut, :meth:`record_estimates`). A
+        "estimates", "losses"}`` (``signals``: each trainer signal's mean episode sum, where an episode ended with
+        one; ``estimates``: each value head's mean over the trajectories cut, :meth:`record_estimates`; ``losses``:
+        each loss's mean over the updates recorded, :meth:`record_losses`). A
         running-mean statistic is pooled, as the original's TensorBoard point is: every value added in any of the
         episodes weighs the same (:func:`hivex_dsl.sim.statistics.pooled`), not each episode's mean."""
         values = self.values()
@@ -108,14 +117,15 @@ class EpisodeLog:
             self._signal_sums = {}
             return {}
         estimates = dict(zip(self._heads, np.concatenate(self._estimates).mean(0).tolist())) if self._estimates else {}
-        self._parts, self._signal_sums, self._estimates = [], {}, []
+        losses = {name: float(np.mean(values)) for name, values in self._losses.items()}
+        self._parts, self._signal_sums, self._estimates, self._losses = [], {}, [], {}
         mean = lambda group: {k: float(v.mean()) for k, v in group.items() if v.size}  # noqa: E731
         pooled_means = {name: pooled(parts["sums"], parts["counts"]) for name, parts in values["running"].items()
                         if parts["sums"].size}
         return {"return": float(values["return"].mean()), "length": float(values["length"].mean()),
                 "episodes": int(values["return"].size), "reward_terms": mean(values["reward_terms"]),
                 "statistics": mean(values["statistics"]) | pooled_means, "signals": signals,
-                "estimates": estimates}
+                "estimates": estimates, "losses": losses}
 
 
 class ScalarLog:

@@ -389,6 +389,7 @@ def _train(compiled: CompiledScenario, cfg: PPOConfig, run: RunDir, progress: bo
                 lag.keep(agent)
             losses = update(agent, optimizer, buf, advantages, returns, cfg, beta, epsilon, rng,
                             None if curiosity is None else (curiosity, curiosity_optimizer))
+            episodes.record_losses(losses)
             agent_steps += length * slots
             wall = wall_before + time.perf_counter() - started
             summarise = agent_steps >= next_summary or agent_steps >= cfg.max_steps or stop.requested
@@ -399,7 +400,8 @@ def _train(compiled: CompiledScenario, cfg: PPOConfig, run: RunDir, progress: bo
                               "episodes": summary["episodes"], "length": summary["length"],
                               "statistics": summary["statistics"],
                               **{f"{k}_reward": v for k, v in summary["signals"].items()},
-                              **{f"{k}_value_estimate": v for k, v in summary["estimates"].items()}})
+                              **{f"{k}_value_estimate": v for k, v in summary["estimates"].items()},
+                              **({"losses": summary["losses"]} if summary["losses"] else {})})
             scalars.write(agent_steps, summary, losses, {"learning_rate": lr, "beta": beta, "epsilon": epsilon,
                                                          "agent_steps_per_s": (agent_steps - done_before)
                                                          / max(wall - wall_before, 1e-9),

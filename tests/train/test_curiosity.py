@@ -183,19 +183,30 @@ def test_training_logs_each_agent_episode_s_curiosity_sum_as_the_original_s_pane
     for key, panel in (("extrinsic_value_estimate", "Extrinsic Value Estimate"),
                        ("curiosity_value_estimate", "Curiosity Value Estimate")):
         assert from_points(points).panels[panel].tolist() == [p[key] for p in points]
+    # the updates' losses as the original's Entropy and Curiosity Forward and Inverse Loss panels: four three-way
+    # branches hold at most 4 ln 3 nats, and the inverse model's cross-entropy starts near it
+    for key, panel in (("entropy", "Entropy"), ("curiosity_forward", "Curiosity Forward Loss"),
+                       ("curiosity_inverse", "Curiosity Inverse Loss")):
+        assert from_points(points).panels[panel].tolist() == [p["losses"][key] for p in points]
+    assert all(0.0 < p["losses"]["entropy"] <= 4 * np.log(3) + 1e-6 for p in points)
+    assert all(p["losses"]["curiosity_forward"] >= 0.0 for p in points)
+    assert 0.5 * 4 * np.log(3) < points[0]["losses"]["curiosity_inverse"] < 2 * 4 * np.log(3)
     cfg = make_config("wildfire_resource_management", tiny, {"curiosity_strength": 0.0})
     ppo.train(compiled, cfg, tmp_path / "plain", progress=False)
     plain = json.loads((tmp_path / "plain" / "curve.json").read_text())
     assert not any("curiosity_reward" in p or "curiosity_value_estimate" in p for p in plain)
     assert all(np.isfinite(p["extrinsic_value_estimate"]) for p in plain)
-    assert {"Curiosity Reward", "Curiosity Value Estimate"}.isdisjoint(from_points(plain).panels)
+    assert {"Curiosity Reward", "Curiosity Value Estimate", "Curiosity Forward Loss",
+            "Curiosity Inverse Loss"}.isdisjoint(from_points(plain).panels)
+    assert "Entropy" in from_points(plain).panels
 
 
 def test_the_losses_benchmark_reads_a_set_param_as_yaml_does():
     script = benchmark_script("curiosity_losses")
     params = script.scenario_params(["turn_rate_deg=18", "camera_images=rendered"])
     assert params == {"turn_rate_deg": 18, "camera_images": "rendered"}
-    _, obs, following, cont, _ = script.random_transitions("drone_based_reforestation", params, decisions=3, worlds=1)
+    _, obs, following, cont, _, _ = script.random_transitions("drone_based_reforestation", params, decisions=3,
+                                                              worlds=1)
     assert cont.shape == (len(obs["vector"]), 3) and following["vector"].shape == obs["vector"].shape
 
 

@@ -34,6 +34,18 @@ def test_the_log_drains_means():
     assert log.drain() == {}
 
 
+def test_the_losses_are_the_mean_over_the_updates_since_the_last_point():
+    log = EpisodeLog()
+    log.record_losses({"entropy": 4.0, "curiosity_forward": 0.5})
+    log.record_losses({"entropy": 3.0, "curiosity_forward": 0.25})
+    assert log.drain() == {}  # no episode ended: no point, and the updates' losses wait for the next one
+    log.record_losses({"entropy": 2.0, "curiosity_forward": 0.0})
+    log.record(_infos("hivex_episode"))
+    assert log.drain()["losses"] == {"entropy": 3.0, "curiosity_forward": 0.25}
+    log.record(_infos("hivex_episode"))
+    assert log.drain()["losses"] == {}  # no update since
+
+
 def test_a_running_mean_is_pooled_not_averaged_over_episodes():
     # two episodes of a running mean: totals added 6 over 3 changes (mean 2) and 5 over 1 (mean 5)
     infos = {"hivex_episode": {"return": np.array([1.0, 1.0]), "length": np.array([9, 9]),

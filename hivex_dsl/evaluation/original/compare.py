@@ -54,6 +54,12 @@ FULL_SHARE = 0.5  # of a full point's episodes: what ours at a step pools at lea
 # original's panel of the same number
 SIGNAL_PANELS = {"curiosity_reward": "Curiosity Reward", "extrinsic_value_estimate": "Extrinsic Value Estimate",
                  "curiosity_value_estimate": "Curiosity Value Estimate"}
+# a curve.json ``losses`` key (the updates' means since the last point) -> the original's panel of the same number:
+# the policy's entropy as ML-Agents sums it (each discrete branch's, plus the Gaussian's mean over its dimensions)
+# and the curiosity module's two losses as its CuriosityRewardProvider computes them. The policy and value losses
+# stay out: ML-Agents logs the clipped surrogate's absolute value and its value heads' mean, not ours as written.
+LOSS_PANELS = {"entropy": "Entropy", "curiosity_forward": "Curiosity Forward Loss",
+               "curiosity_inverse": "Curiosity Inverse Loss"}
 
 
 class CompareError(HivexError, ValueError):
@@ -80,8 +86,8 @@ class RunCurve:
 
 
 def from_points(points: Sequence[dict[str, Any]], label: str = "this toolkit") -> RunCurve:
-    """A run directory's curve.json rows (``agent_steps``, ``return``, ``episodes``; ``length``, ``statistics`` and
-    ``curiosity_reward`` and the value estimates where the run wrote them) as a :class:`RunCurve`."""
+    """A run directory's curve.json rows (``agent_steps``, ``return``, ``episodes``; ``length``, ``statistics``,
+    ``curiosity_reward``, the value estimates and ``losses`` where the run wrote them) as a :class:`RunCurve`."""
     if not points:
         raise CompareError("the run's curve has no point: no episode ended while it trained")
     steps = np.array([p["agent_steps"] for p in points], dtype=float)
@@ -95,6 +101,9 @@ def from_points(points: Sequence[dict[str, Any]], label: str = "this toolkit") -
     for key, panel in SIGNAL_PANELS.items():
         if any(key in p for p in points):
             panels[panel] = np.array([p.get(key, np.nan) for p in points], dtype=float)
+    for key, panel in LOSS_PANELS.items():
+        if any(key in p.get("losses", {}) for p in points):
+            panels[panel] = np.array([p.get("losses", {}).get(key, np.nan) for p in points], dtype=float)
     return RunCurve(steps, episodes, panels, label)
 
 
