@@ -76,11 +76,13 @@ def test_the_record_keeps_episode_length_and_every_statistic_beside_the_return(r
     assert data["curve_episodes"] == [p["episodes"] for p in curve]
     assert data["curve_panels"]["Episode Length"] == [round(p["length"], 4) for p in curve]
     names = {name for p in curve for name in p["statistics"]}
-    # and the critic's mean estimate (Wind Farm Control trains no curiosity: one value head)
-    assert names and set(data["curve_panels"]) == {"Episode Length", "Extrinsic Value Estimate"} | names
+    # and the critic's mean estimate and the updates' mean entropy (Wind Farm Control trains no curiosity: one value
+    # head and no curiosity losses)
+    assert names and set(data["curve_panels"]) == {"Episode Length", "Extrinsic Value Estimate", "Entropy"} | names
     for name in names:
         assert data["curve_panels"][name] == [round(p["statistics"][name], 4) for p in curve]
     assert data["curve_panels"]["Extrinsic Value Estimate"] == [round(p["extrinsic_value_estimate"], 4) for p in curve]
+    assert data["curve_panels"]["Entropy"] == [round(p["losses"]["entropy"], 4) for p in curve]
 
 
 def test_the_test_episode_length_sits_beside_the_original_s_test_average(recorded):
