@@ -409,3 +409,9 @@ def test_the_original_s_test_average_of_a_paper_cell(wfc_event_runs):
     # the pages' "Task: 2" of DBR is not the paper's task 2 (issue 52 item 11), so no value is lent to it
     assert compare.original_test_average("drone_based_reforestation", 2, 1, "Environment/Episode Length") is None
     assert compare.original_test_average("drone_based_reforestation", 0, 1, "Environment/Episode Length") <= 399
+
+
+def test_a_small_value_keeps_two_significant_digits_in_the_tables():
+    """A curiosity loss of 0.0053 would read 0.01 at two decimals, and the original's 0.0026 0.00."""
+    assert [compare.number(v) for v in (0.0053, 0.0026, -0.012, 0.0, 0.5, 4.25, 1234.5)] == [
+        "0.0053", "0.0026", "-0.012", "0.00", "0.50", "4.25", "1,234"]

@@ -323,7 +323,10 @@ def original_test_average(environment: str, task_index: int, level: int | None, 
 
 
 def number(value: float) -> str:
-    """A value as the tables show it: two decimals below 100, whole numbers with thousands separators above."""
+    """A value as the tables show it: two significant digits below 0.1 (a curiosity loss of 0.0053, not 0.01), two
+    decimals below 100, whole numbers with thousands separators above."""
+    if 0 < abs(value) < 0.1:
+        return f"{value:.2g}"
     return f"{value:,.2f}" if abs(value) < 100 else f"{value:,.0f}"
 
 
