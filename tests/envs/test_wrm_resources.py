@@ -141,7 +141,9 @@ def test_the_step_table_applies_the_actions_in_order(parts, actions):
 
 
 def test_the_simulator_keeps_the_books_and_the_observation_shows_them():
-    compiled = hivex_dsl.compile({"hivex": 1, "environment": "wildfire_resource_management"})
+    # the budget observed as the eighth value (the default observes whether a fire is detected: test_wrm_world.py)
+    compiled = hivex_dsl.compile({"hivex": 1, "environment": "wildfire_resource_management",
+                                  "params": {"eighth_observation": "budget"}})
     sim = compiled.entry.make_simulator(compiled)
     rng = np.random.default_rng(11)
     state = sim.reset(rng, 2)

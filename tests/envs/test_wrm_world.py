@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import copy
 from dataclasses import replace
 
 import numpy as np
@@ -100,6 +101,23 @@ def test_the_eighth_value_is_the_budget_or_whether_a_fire_burns_within_600_m(eig
     expected = [0, 1, 1, 0, 1, 1, 0, 1, 1] if eighth == "fire_detected" else [0.7] * 9
     np.testing.assert_allclose(sim.observe(state)[0, :, 7], expected, atol=1e-6)
     assert sim.observation_labels[7] == {"budget": "unallocated budget", "fire_detected": "fire detected"}[eighth]
+
+
+@pytest.mark.parametrize("eighth, shown_at", [("fire_detected", []), ("budget", [7])])
+def test_a_gift_to_a_neighbour_shows_in_the_giver_s_next_observation_only_through_the_budget(eighth, shown_at):
+    """The original's Curiosity Inverse Loss lies within 0.03 nats of its policy's Entropy: what its towers observed
+    hardly showed their own actions (the reward table's note 'What the towers observe'). Observing the fire's
+    detection, an agent that gives 0.1 to a neighbour observes next exactly what it would have without giving (the
+    same draws); observing its budget, the budget shows the gift, 0.1 less."""
+    sim = simulator(eighth_observation=eighth)
+    rng = np.random.default_rng(4)
+    state = sim.reset(rng, 1)
+    give, hold = np.zeros((1, 9, 4), np.int64), np.zeros((1, 9, 4), np.int64)
+    give[0, 0, 1] = 1  # agent 0 adds 0.1 to its first neighbour
+    gave, held = (sim.observe(sim.step(state, actions, copy.deepcopy(rng))[0])[0, 0] for actions in (give, hold))
+    assert np.flatnonzero(gave != held).tolist() == shown_at
+    if shown_at:
+        assert held[7] - gave[7] == pytest.approx(0.1)
 
 
 def test_the_second_stack_is_the_previous_frame_and_starts_as_zeros():

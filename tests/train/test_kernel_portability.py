@@ -23,11 +23,16 @@ AWS_BEFORE = RESULTS.parent / "kernel_portability_aerial_wildfire_suppression_be
 AWS_BEFORE_92 = RESULTS.parent / "kernel_portability_aerial_wildfire_suppression_before_session_92.json"
 # AWS's rows of session 92, under the shared weather (session 94 made the release's weather AWS's default)
 AWS_BEFORE_94 = RESULTS.parent / "kernel_portability_aerial_wildfire_suppression_before_session_94.json"
+# WRM's rows of sessions 81 and 88, with the agent's budget observed (session 95 made the fire's detection the default)
+WRM_BEFORE_95 = RESULTS.parent / "kernel_portability_wildfire_resource_management_before_session_95.json"
+# every file of rows measured under defaults since replaced, and the processor whose default trained its record
+BEFORE_FILES = ((AWS_BEFORE, XEON), (AWS_BEFORE_92, EPYC), (AWS_BEFORE_94, EPYC), (WRM_BEFORE_95, XEON))
 
 
 def cross_vendor_file(environment: str) -> Path:
     """The results file holding the Xeon's and the EPYC's rows of ``environment`` (one scenario's content)."""
-    return AWS_BEFORE if environment == "aerial_wildfire_suppression" else script.results_file(environment)
+    return {"aerial_wildfire_suppression": AWS_BEFORE,
+            "wildfire_resource_management": WRM_BEFORE_95}.get(environment, script.results_file(environment))
 
 
 def row_of(machines: dict[str, dict], processor: str) -> dict[str, list[float]]:
@@ -74,19 +79,20 @@ def test_rows_of_the_same_path_but_another_content_are_refused():
 
 def test_each_committed_file_names_the_content_its_rows_trained():
     """Every file of the scenario as it resolves now names its fingerprint and is set against the committed record;
-    AWS's rows from before sessions 89, 92 and 94 name the params and the weather then and keep the curve of the
-    record they were measured against, whose seed 0 the default of the processor that trained it followed for all 40
-    points (the Xeon before session 89, the AMD EPYC of family 25 model 17 in sessions 89 and 92)."""
+    AWS's rows from before sessions 89, 92 and 94 and WRM's from before session 95 name the params and the weather
+    then and keep the curve of the record they were measured against, whose seed 0 the default of the processor that
+    trained it followed for all 40 points (the Xeon before session 89 and for WRM's, the AMD EPYC of family 25 model
+    17 in sessions 89 and 92)."""
     for environment in ("wind_farm_control", "wildfire_resource_management", "drone_based_reforestation",
                         "aerial_wildfire_suppression"):
         recorded = json.loads(script.results_file(environment).read_text("utf-8"))
         assert recorded["fingerprint"] == script.fingerprint_of(environment)
         assert script.record_curve(recorded)[:3] == [round(point[2], 4) for point in json.loads(
             (RESULTS.parents[1] / "baselines" / f"{environment}.json").read_text("utf-8"))["curve"][:3]]
-    fingerprints = set()
-    for path, trained_on in ((AWS_BEFORE, XEON), (AWS_BEFORE_92, EPYC), (AWS_BEFORE_94, EPYC)):
+    fingerprints: dict[str, set[str]] = {}
+    for path, trained_on in BEFORE_FILES:
         before = json.loads(path.read_text("utf-8"))
-        fingerprints.add(before["fingerprint"])
+        fingerprints.setdefault(before["scenario"], set()).add(before["fingerprint"])
         scenario = yaml.safe_load((RESULTS.parents[2] / before["scenario"]).read_text("utf-8"))
         then = {**scenario, "params": before["params_then"], "generators": before["generators_then"]}
         assert hivex_dsl.compile(then).fingerprint == before["fingerprint"], path.name
@@ -94,7 +100,9 @@ def test_each_committed_file_names_the_content_its_rows_trained():
         assert script.record_curve(before) == before["record_curve"] == trained
         without_its_curve = {key: value for key, value in before.items() if key != "record_curve"}
         assert script.record_curve(without_its_curve) is None  # the committed record is of another content now
-    assert len(fingerprints | {script.fingerprint_of("aerial_wildfire_suppression")}) == 4
+    for environment, contents in (("aerial_wildfire_suppression", 4), ("wildfire_resource_management", 2)):
+        then = fingerprints[script.scenario_of(environment)]
+        assert len(then | {script.fingerprint_of(environment)}) == contents, environment
 
 
 def test_machines_are_grouped_by_identical_returns_per_setting():
@@ -203,7 +211,7 @@ def test_numpy_s_kernels_of_an_avx2_only_processor_train_wrm_alike():
     NumPy imitating an AVX2-only processor gives the processor's own returns under the default and under cpu_kernels
     portable, over 40 points; the default is the committed record's curve (trained on this Xeon) and portable parts
     from it, so the two settings are told apart within the points."""
-    recorded = json.loads(script.results_file("wildfire_resource_management").read_text("utf-8"))
+    recorded = json.loads(WRM_BEFORE_95.read_text("utf-8"))
     assert recorded["points"] == 40
     assert recorded["settings"]["portable-numpy-avx2"] == {
         "NPY_DISABLE_CPU_FEATURES": "X86_V4 AVX512_ICL AVX512_SPR", "arguments": "--set cpu_kernels=portable"}
@@ -217,12 +225,24 @@ def test_wrm_trains_alike_across_vendors_under_cpu_kernels_portable_whatever_num
     Management's MLP over 40 points: portable (with NumPy's own kernels or an AVX2-only processor's) gives the
     Xeon's returns; the default follows the Xeon's (the committed record's curve) for 13 points and parts at the
     14th; NumPy's AVX2 kernels change nothing on the EPYC either."""
-    rows = json.loads(script.results_file("wildfire_resource_management").read_text("utf-8"))["machines"]
+    rows = json.loads(WRM_BEFORE_95.read_text("utf-8"))["machines"]
     xeon = row_of(rows, XEON)
     epyc = row_of(rows, EPYC)
     assert epyc["portable"] == epyc["portable-numpy-avx2"] == xeon["portable"]
     assert epyc["numpy-avx2"] == epyc["default"]
     assert epyc["default"][:13] == xeon["default"][:13] and epyc["default"][13] != xeon["default"][13]
+
+
+def test_wrm_follows_its_record_on_the_processor_that_trained_it():
+    """Session 95, the scenario observing whether a fire is detected: on the AMD EPYC of family 25 model 17, which
+    trained the record, the default kernels give the record's curve at all 40 points, with NumPy's own kernels or an
+    AVX2-only processor's; cpu_kernels portable parts from them at the point of 0-based index 9."""
+    recorded = json.loads(script.results_file("wildfire_resource_management").read_text("utf-8"))
+    assert recorded["points"] == 40 and "record_curve" not in recorded
+    epyc = row_of(recorded["machines"], EPYC)
+    assert epyc["default"] == epyc["numpy-avx2"] == script.record_curve(recorded)[:40]
+    assert epyc["portable"] == epyc["portable-numpy-avx2"]
+    assert epyc["portable"][:9] == epyc["default"][:9] and epyc["portable"][9] != epyc["default"][9]
 
 
 @pytest.mark.parametrize("results, portable_parts_at", [

@@ -51,8 +51,9 @@ ENTRY = register(EnvironmentEntry(
         "offset from the tower x, y, z / detection_radius_m (z = its ground height minus the tower's; (0, 0, 0) "
         "when none is within 600 m), temperature, humidity and overcast at the tower (re-sampled every "
         "weather_refresh_interval steps), the tower's total support (from itself and every agent that "
-        "supports it) / 9.0, the most any tower can receive, and the agent's own unallocated budget (ours: the "
-        "paper's table lists 7 of the 8 values per stack).",
+        "supports it) / 9.0, the most any tower can receive, and whether a burning tree lies within 600 m "
+        "(1 or 0; the paper's table lists 7 of the 8 values per stack, its process figure's caption this one; "
+        "params.eighth_observation 'budget' observes the agent's own unallocated budget instead).",
         "Tower performance: the closest fire is the horizontally nearest burning tree within detection_radius_m; "
         "C(x) is the 3-D distance to it. P follows the paper's law for a fire within d_thresh = 200 m (d1n = "
         "d1 / d_thresh in [0, 1]); a tower whose closest fire is farther, or that sees none, has P = "

@@ -70,11 +70,15 @@ class WildfireResourceParams(WindParams, FireSpec):
         "project's reading until session 74). The original's untrained towers give 0.51-1.00 of their Individual "
         "Performance and its trained Keep All 0.03-0.09, 'given_each' 0.68-1.06 and 0.07, 'given_total' 1.9-2.5 "
         "and 0.27-0.65 (the reward table's note 'The terms read what the towers hold')."))
-    eighth_observation: Literal["budget", "fire_detected"] = Field("budget", description=(
-        "[ours] The eighth value of each observation stack, which the paper's table (16 values in 2 stacks) leaves "
-        "unnamed: 'budget' the agent's own unallocated budget / 1.0 (this project's choice), 'fire_detected' 1 "
-        "while a burning tree lies within detection_radius_m of the tower, else 0 (the process figure's caption: "
-        "each agent observes 'whether a fire has been detected within 600 meters')."))
+    eighth_observation: Literal["budget", "fire_detected"] = Field("fire_detected", description=(
+        "[records] The eighth value of each observation stack, which the paper's table (16 values in 2 stacks) "
+        "leaves unnamed: 'fire_detected' 1 while a burning tree lies within detection_radius_m of the tower, else 0 "
+        "(the process figure's caption: each agent observes 'whether a fire has been detected within 600 meters'); "
+        "'budget' the agent's own unallocated budget / 1.0 (this project's choice until session 95). The original's "
+        "Curiosity Inverse Loss lies within 0.03 nats of its policy's Entropy at every point of its main task: its "
+        "towers' observations showed the curiosity module almost nothing of their own actions, as the flag's do and "
+        "the budget's, moved 0.1 by every add or subtract, do not (0.3-0.4 nats; the reward table's note 'What the "
+        "towers observe')."))
     initial_self_tenths: int = Field(0, ge=0, le=10, description=(
         "[ours] Tenths of its 1.0 that each tower has allocated to itself at reset; the rest starts unallocated."))
     allocatable_tenths: int = Field(9, ge=1, le=10, description=(

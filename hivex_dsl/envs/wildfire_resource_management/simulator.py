@@ -42,7 +42,7 @@ class WildfireResourceSimulator:
     """B worlds of one compiled Wildfire Resource Management scenario."""
 
     observation_labels = ("closest fire x", "closest fire y", "closest fire z", "temperature", "humidity",
-                          "overcast", "total support", "unallocated budget")
+                          "overcast", "total support", "fire detected")
     observation_stacks = STACKS
     stacked_fields = ("frame",)  # shifted every physics step; the runtime stacks them per decision
     action_meanings = ("one branch per target (self, neighbour 1, neighbour 2, neighbour 3): "
@@ -55,8 +55,8 @@ class WildfireResourceSimulator:
             raise ValueError(f"Wildfire Resource Management has exactly {TOWERS} towers, got {compiled.agents} agents")
         self.params = p
         self.agents = compiled.agents
-        if p.eighth_observation == "fire_detected":
-            self.observation_labels = (*type(self).observation_labels[:-1], "fire detected")
+        if p.eighth_observation == "budget":
+            self.observation_labels = (*type(self).observation_labels[:-1], "unallocated budget")
         self.island = IslandSpecs.of(compiled)
         self.forest_spec, self.weather_spec, self.wind_spec = self.island.forest, self.island.weather, self.island.wind
         self.observation_space = spaces.Box(-1.0, 1.0, (FRAME * STACKS,), np.float32)
