@@ -75,10 +75,10 @@ class WildfireResourceParams(WindParams, FireSpec):
         "leaves unnamed: 'fire_detected' 1 while a burning tree lies within detection_radius_m of the tower, else 0 "
         "(the process figure's caption: each agent observes 'whether a fire has been detected within 600 meters'); "
         "'budget' the agent's own unallocated budget / 1.0 (this project's choice until session 95). The original's "
-        "Curiosity Inverse Loss lies within 0.03 nats of its policy's Entropy at every point of its main task: its "
-        "towers' observations showed the curiosity module almost nothing of their own actions, as the flag's do and "
-        "the budget's, moved 0.1 by every add or subtract, do not (0.3-0.4 nats; the reward table's note 'What the "
-        "towers observe')."))
+        "Curiosity Inverse Loss lies within 0.03 nats of its policy's Entropy over 10-25, 25-50, 50-75 and 75-100% "
+        "of its main task's budget: its towers' observations showed the curiosity module almost nothing of their "
+        "own actions, as the flag's do and the budget's, moved 0.1 by every add or subtract, do not (0.35-0.44 "
+        "nats; the reward table's note 'What the towers observe')."))
     initial_self_tenths: int = Field(0, ge=0, le=10, description=(
         "[ours] Tenths of its 1.0 that each tower has allocated to itself at reset; the rest starts unallocated."))
     allocatable_tenths: int = Field(9, ge=1, le=10, description=(
