@@ -55,9 +55,11 @@ FULL_SHARE = 0.5  # of a full point's episodes: what ours at a step pools at lea
 SIGNAL_PANELS = {"curiosity_reward": "Curiosity Reward", "extrinsic_value_estimate": "Extrinsic Value Estimate",
                  "curiosity_value_estimate": "Curiosity Value Estimate"}
 # a curve.json ``losses`` key (the updates' means since the last point) -> the original's panel of the same number:
-# the policy's entropy as ML-Agents sums it (each discrete branch's, plus the Gaussian's mean over its dimensions)
-# and the curiosity module's two losses as its CuriosityRewardProvider computes them. The policy and value losses
-# stay out: ML-Agents logs the clipped surrogate's absolute value and its value heads' mean, not ours as written.
+# the policy's entropy as ML-Agents sums it (each discrete branch's, plus the Gaussian's mean over its dimensions;
+# its AgentProcessor adds each decision's under the acting policy, ours is the update's minibatch mean over the same
+# decisions, the policy moving only within its epochs) and the curiosity module's two losses as its
+# CuriosityRewardProvider computes them. The policy and value losses stay out: ML-Agents logs the clipped
+# surrogate's absolute value and its value heads' mean, not ours as written.
 LOSS_PANELS = {"entropy": "Entropy", "curiosity_forward": "Curiosity Forward Loss",
                "curiosity_inverse": "Curiosity Inverse Loss"}
 
