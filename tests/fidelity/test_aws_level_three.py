@@ -16,8 +16,10 @@ import pytest
 
 import hivex_dsl
 from hivex_dsl.envs.island import IslandSpecs, draw_maps
+from hivex_dsl.evaluation.original.compare import seed_curves
 from hivex_dsl.evaluation.original.curves import original_curves
 from hivex_dsl.evaluation.original.evidence import best_of_three
+from hivex_dsl.evaluation.original.tail import tail
 from hivex_dsl.sim.procgen.terrain import height_multiplier_for_level
 
 AWS = "aerial_wildfire_suppression"
@@ -71,17 +73,6 @@ def test_our_level_3_point_tests_within_the_original_s_three_runs():
     assert read.lowest < ours < read.highest
 
 
-
-def _last_tenth_crashes(run: dict) -> float:
-    """Crash Count a plane-episode over the last tenth of the 1,800,000-agent-step budget, the points weighted by
-    their episodes (plain loops over a grid row's recorded curve)."""
-    crashes = episodes = 0.0
-    for (steps, *_), count, value in zip(run["curve"], run["curve_episodes"], run["curve_panels"]["Crash Count"]):
-        if steps > 1_620_000:
-            crashes, episodes = crashes + value * count, episodes + count
-    return crashes / episodes
-
-
 def test_level_3_s_three_seeds_crash_as_the_original_s_runs_spread_and_none_finds_its_best():
     """Level 3 on three seeds under the release's weather (session 94): over the last tenth of the budget seeds 0
     and 1 crash 0.52 and 0.43 times a plane-episode and seed 2 0.03, as the original's band there spreads from 0.03
@@ -91,9 +82,11 @@ def test_level_3_s_three_seeds_crash_as_the_original_s_runs_spread_and_none_find
     point = next(p for p in json.loads(GRID.read_text())["points"] if p["level"] == 3)
     runs = [point, *point["other_seeds"]]
     assert [run.get("seed", point["seed"]) for run in runs] == [0, 1, 2]
-    crashes = [_last_tenth_crashes(run) for run in runs]
+    cell = original_curves(AWS, 0, 3)
+    # Crash Count a plane-episode over the last tenth of the budget, each seed's points weighted by their episodes
+    crashes = [tail(curve, cell, "Crash Count").ours for curve in seed_curves(point)]
     assert crashes == pytest.approx([0.515, 0.432, 0.026], abs=0.001)
-    band = original_curves(AWS, 0, 3).panel("Crash Count").training
+    band = cell.panel("Crash Count").training
     late = band.band_steps > 1_620_000
     assert band.lower[late].mean() == pytest.approx(0.025, abs=0.005)
     assert band.upper[late].mean() == pytest.approx(0.489, abs=0.005)
@@ -101,6 +94,7 @@ def test_level_3_s_three_seeds_crash_as_the_original_s_runs_spread_and_none_find
     tests = [run["return"]["mean"] for run in runs]
     assert tests == pytest.approx([399.6, 267.9, 420.0], abs=0.05)
     assert all(read.lowest < ours < read.published for ours in tests)
+
 
 def _islands(level: int, seed: int, count: int):
     compiled = hivex_dsl.compile({"hivex": 1, "environment": AWS, "task": "main", "terrain_level": level})
